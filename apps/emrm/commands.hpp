@@ -1,0 +1,15 @@
+#pragma once
+
+// Each command registers itself on the top-level app. A command's callback does its work and
+// stores its exit code; bad input escapes as emrm::InputError, which main() maps to exit 2.
+
+#include <CLI/CLI.hpp>
+
+namespace emrm::cli {
+
+/// `emrm analyze SAFETY.yaml`: checks a safety case and writes its traceability.
+void register_analyze_command(CLI::App& app, int& exit_code);
+/// `emrm fsm FSM.yaml`: checks and explores a hazard–loss finite state machine.
+void register_fsm_command(CLI::App& app, int& exit_code);
+
+}  // namespace emrm::cli

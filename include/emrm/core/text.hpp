@@ -1,0 +1,28 @@
+#pragma once
+
+// Small text helpers shared by the tables every command writes.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace emrm::core {
+
+using Row = std::vector<std::string>;
+
+/// Joins `parts` with `separator`.
+[[nodiscard]] std::string join(const std::vector<std::string>& parts, std::string_view separator);
+
+/// One CSV line (RFC 4180 quoting, "\n" terminated).
+[[nodiscard]] std::string csv_line(const Row& fields);
+/// A whole CSV document: header then rows.
+[[nodiscard]] std::string csv_table(const Row& header, const std::vector<Row>& rows);
+/// A GitHub-flavoured Markdown table; '|' and newlines inside cells are escaped.
+[[nodiscard]] std::string markdown_table(const Row& header, const std::vector<Row>& rows);
+
+/// Writes a file atomically (temporary file, then rename), creating parent folders.
+/// Throws emrm::Error when the file cannot be written.
+void write_file(const std::filesystem::path& path, std::string_view content);
+
+}  // namespace emrm::core

@@ -1,0 +1,256 @@
+#pragma once
+
+// YAML input and output that always knows where it is: every value read through these helpers
+// can name its file, line and column in an InputError. Configuration structs describe their
+// fields once, in a `template <class Archive> void serialize(Archive& a)` member, and the same
+// member serves reading (YamlReader) and writing (YamlWriter), in the spirit of Drake's
+// Serialize(Archive*).
+
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <concepts>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "emrm/core/error.hpp"
+
+namespace emrm::core {
+
+/// A YAML node plus the name of the file it came from. Cheap to copy (shares the tree).
+class YamlNode {
+ public:
+  YamlNode(YAML::Node node, std::shared_ptr<const std::string> file);
+
+  /// Reads and parses a file. Throws InputError if it cannot be read or is not valid YAML.
+  static YamlNode load_file(const std::filesystem::path& path);
+  /// Parses text; `file_name` is used in messages. Throws InputError on malformed YAML.
+  static YamlNode parse(const std::string& text, std::string file_name);
+
+  [[nodiscard]] const YAML::Node& raw() const noexcept { return node_; }
+  [[nodiscard]] const std::string& file() const noexcept { return *file_; }
+  [[nodiscard]] SourceLocation location() const;
+  /// Throws InputError at this node's location.
+  [[noreturn]] void fail(const std::string& message) const;
+
+  [[nodiscard]] bool is_map() const { return node_.IsMap(); }
+  [[nodiscard]] bool is_sequence() const { return node_.IsSequence(); }
+  [[nodiscard]] bool is_scalar() const { return node_.IsScalar(); }
+  [[nodiscard]] bool is_null() const { return !node_.IsDefined() || node_.IsNull(); }
+  /// "a mapping", "a list", "a scalar 'x'" or "nothing": for messages.
+  [[nodiscard]] std::string describe() const;
+
+  /// The value under `key` of a mapping, if present. Throws InputError if this is not a mapping.
+  [[nodiscard]] std::optional<YamlNode> find(std::string_view key) const;
+  /// The value under `key`; throws InputError naming the missing field at this mapping.
+  [[nodiscard]] YamlNode at(std::string_view key) const;
+  /// Elements of a list; throws InputError if this is not a list.
+  [[nodiscard]] std::vector<YamlNode> elements() const;
+  /// Keys and values of a mapping, in file order; throws InputError on a duplicate key.
+  [[nodiscard]] std::vector<std::pair<YamlNode, YamlNode>> entries() const;
+
+  /// Scalar conversions; each throws InputError saying what was expected.
+  [[nodiscard]] std::string as_string() const;
+  [[nodiscard]] double as_double() const;  ///< finite numbers only
+  [[nodiscard]] long long as_int() const;
+  [[nodiscard]] bool as_bool() const;
+
+ private:
+  YAML::Node node_;
+  std::shared_ptr<const std::string> file_;
+};
+
+/// How one type is read from and written to YAML. Specialise for your own types.
+template <class T, class Enable = void>
+struct YamlCodec;
+
+/// Names of an enum's values, for YamlCodec. Specialise with
+/// `static constexpr std::array<std::pair<E, std::string_view>, N> kNames{...};`.
+template <class E>
+struct EnumNames;
+
+template <class E>
+concept NamedEnum = std::is_enum_v<E> && requires { EnumNames<E>::kNames; };
+
+/// The name of an enum value from its EnumNames table.
+template <NamedEnum E>
+[[nodiscard]] std::string_view enum_name(E value) {
+  for (const auto& [v, name] : EnumNames<E>::kNames)
+    if (v == value) return name;
+  return "?";
+}
+
+/// The enum value of a name, if it is one.
+template <NamedEnum E>
+[[nodiscard]] std::optional<E> enum_from_name(std::string_view name) {
+  for (const auto& [v, n] : EnumNames<E>::kNames)
+    if (n == name) return v;
+  return std::nullopt;
+}
+
+/// "a, b or c" of an enum's names, for messages.
+template <NamedEnum E>
+[[nodiscard]] std::string enum_choices() {
+  std::string out;
+  const auto& names = EnumNames<E>::kNames;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += (i + 1 == names.size()) ? " or " : ", ";
+    out += names[i].second;
+  }
+  return out;
+}
+
+class YamlReader;
+
+template <class T>
+concept YamlSerializable = requires(T& value, YamlReader& reader) { value.serialize(reader); };
+
+/// Fills a struct from one YAML mapping. Fields not visited are rejected by finish(), so a
+/// misspelt key is an error and not a silently ignored default.
+class YamlReader {
+ public:
+  static constexpr bool kReading = true;
+  explicit YamlReader(YamlNode map);
+
+  template <class T>
+  void required(std::string_view key, T& value) {
+    known_.emplace_back(key);
+    YamlCodec<T>::read(node_.at(key), value);
+  }
+  template <class T>
+  void optional(std::string_view key, T& value) {
+    known_.emplace_back(key);
+    if (auto child = node_.find(key); child && !child->is_null()) YamlCodec<T>::read(*child, value);
+  }
+  /// Records where the mapping being read starts.
+  void location(SourceLocation& where) const { where = node_.location(); }
+  /// Throws InputError for the first key that no field claimed, listing the expected keys.
+  void finish() const;
+  [[nodiscard]] const YamlNode& node() const noexcept { return node_; }
+
+ private:
+  YamlNode node_;
+  std::vector<std::string> known_;
+};
+
+/// Writes a struct as one YAML mapping, fields in the order serialize() visits them.
+class YamlWriter {
+ public:
+  static constexpr bool kReading = false;
+
+  template <class T>
+  void required(std::string_view key, const T& value) {
+    node_[std::string(key)] = YamlCodec<T>::write(value);
+  }
+  template <class T>
+  void optional(std::string_view key, const T& value) {
+    node_[std::string(key)] = YamlCodec<T>::write(value);
+  }
+  void location(const SourceLocation& /*where*/) const {}
+  [[nodiscard]] YAML::Node node() const { return node_; }
+
+ private:
+  YAML::Node node_{YAML::NodeType::Map};
+};
+
+/// Reads a whole struct from a mapping (and rejects unknown keys).
+template <YamlSerializable T>
+void read_yaml(const YamlNode& node, T& value) {
+  YamlReader reader(node);
+  value.serialize(reader);
+  reader.finish();
+}
+
+/// Writes a whole struct as a mapping.
+template <class T>
+[[nodiscard]] YAML::Node write_yaml(const T& value) {
+  YamlWriter writer;
+  const_cast<T&>(value).serialize(writer);  // serialize() only reads fields when writing
+  return writer.node();
+}
+
+/// YAML text of a node, block style.
+[[nodiscard]] std::string to_yaml_text(const YAML::Node& node);
+
+// ---- codecs for the usual types ------------------------------------------------------------
+
+template <>
+struct YamlCodec<std::string> {
+  static void read(const YamlNode& n, std::string& v) { v = n.as_string(); }
+  static YAML::Node write(const std::string& v) { return YAML::Node(v); }
+};
+template <>
+struct YamlCodec<double> {
+  static void read(const YamlNode& n, double& v) { v = n.as_double(); }
+  static YAML::Node write(double v) { return YAML::Node(v); }
+};
+template <>
+struct YamlCodec<bool> {
+  static void read(const YamlNode& n, bool& v) { v = n.as_bool(); }
+  static YAML::Node write(bool v) { return YAML::Node(v); }
+};
+template <std::integral T>
+  requires(!std::same_as<T, bool>)
+struct YamlCodec<T> {
+  static void read(const YamlNode& n, T& v) {
+    const long long x = n.as_int();
+    if (x < static_cast<long long>(std::numeric_limits<T>::min()) ||
+        static_cast<unsigned long long>(x) > static_cast<unsigned long long>(std::numeric_limits<T>::max()))
+      n.fail("integer out of range");
+    v = static_cast<T>(x);
+  }
+  static YAML::Node write(T v) { return YAML::Node(v); }
+};
+template <class T>
+struct YamlCodec<std::vector<T>> {
+  static void read(const YamlNode& n, std::vector<T>& v) {
+    v.clear();
+    for (const auto& element : n.elements()) {
+      T item{};
+      YamlCodec<T>::read(element, item);
+      v.push_back(std::move(item));
+    }
+  }
+  static YAML::Node write(const std::vector<T>& v) {
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const auto& item : v) out.push_back(YamlCodec<T>::write(item));
+    return out;
+  }
+};
+template <class T>
+struct YamlCodec<std::optional<T>> {
+  static void read(const YamlNode& n, std::optional<T>& v) {
+    T item{};
+    YamlCodec<T>::read(n, item);
+    v = std::move(item);
+  }
+  static YAML::Node write(const std::optional<T>& v) {
+    return v ? YamlCodec<T>::write(*v) : YAML::Node(YAML::NodeType::Null);
+  }
+};
+template <NamedEnum E>
+struct YamlCodec<E> {
+  static void read(const YamlNode& n, E& v) {
+    const std::string text = n.as_string();
+    if (auto value = enum_from_name<E>(text)) {
+      v = *value;
+      return;
+    }
+    n.fail("expected " + enum_choices<E>() + ", got '" + text + "'");
+  }
+  static YAML::Node write(E v) { return YAML::Node(std::string(enum_name(v))); }
+};
+template <YamlSerializable T>
+struct YamlCodec<T> {
+  static void read(const YamlNode& n, T& v) { read_yaml(n, v); }
+  static YAML::Node write(const T& v) { return write_yaml(v); }
+};
+
+}  // namespace emrm::core

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs everything emrm needs to build, test and run on Debian 12 (bookworm), as root.
+# Idempotent: packages already present are left alone.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev libmuparser-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  graphviz
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

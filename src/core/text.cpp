@@ -1,0 +1,86 @@
+#include "emrm/core/text.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <system_error>
+
+#include "emrm/core/error.hpp"
+
+namespace emrm::core {
+
+std::string join(const std::vector<std::string>& parts, std::string_view separator) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i > 0) out += separator;
+    out += parts[i];
+  }
+  return out;
+}
+
+std::string csv_line(const Row& fields) {
+  std::string out;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i > 0) out += ',';
+    const std::string& f = fields[i];
+    if (f.find_first_of(",\"\n\r") == std::string::npos) {
+      out += f;
+      continue;
+    }
+    out += '"';
+    for (char c : f) {
+      if (c == '"') out += '"';
+      out += c;
+    }
+    out += '"';
+  }
+  out += '\n';
+  return out;
+}
+
+std::string csv_table(const Row& header, const std::vector<Row>& rows) {
+  std::string out = csv_line(header);
+  for (const auto& row : rows) out += csv_line(row);
+  return out;
+}
+
+namespace {
+std::string markdown_cell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|') out += "\\|";
+    else if (c == '\n') out += "<br>";
+    else out += c;
+  }
+  return out;
+}
+}  // namespace
+
+std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
+  auto line = [](const Row& cells) {
+    std::string out = "|";
+    for (const auto& c : cells) out += " " + markdown_cell(c) + " |";
+    return out + "\n";
+  };
+  std::string out = line(header) + "|";
+  for (std::size_t i = 0; i < header.size(); ++i) out += " --- |";
+  out += "\n";
+  for (const auto& row : rows) out += line(row);
+  return out;
+}
+
+void write_file(const std::filesystem::path& path, std::string_view content) {
+  std::error_code ec;
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) throw Error(fmt::format("cannot create folder '{}': {}", path.parent_path().string(), ec.message()));
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!out) throw Error(fmt::format("cannot write '{}'", temporary.string()));
+  }
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) throw Error(fmt::format("cannot write '{}': {}", path.string(), ec.message()));
+}
+
+}  // namespace emrm::core

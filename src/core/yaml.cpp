@@ -1,0 +1,163 @@
+#include "emrm/core/yaml.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace emrm::core {
+namespace {
+
+SourceLocation location_of(const std::string& file, const YAML::Mark& mark) {
+  if (mark.is_null()) return {file, 0, 0};
+  return {file, mark.line + 1, mark.column + 1};
+}
+
+YAML::Node parse_text(const std::string& text, const std::string& file) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(location_of(file, e.mark), "malformed YAML: " + e.msg);
+  }
+}
+
+std::string join_keys(const std::vector<std::string>& keys) {
+  std::string out;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += keys[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file)
+    : node_(std::move(node)), file_(std::move(file)) {}
+
+YamlNode YamlNode::load_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path.string(), 0, 0}, "cannot open file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError({path.string(), 0, 0}, "cannot read file");
+  return parse(text.str(), path.string());
+}
+
+YamlNode YamlNode::parse(const std::string& text, std::string file_name) {
+  YAML::Node root = parse_text(text, file_name);
+  auto file = std::make_shared<const std::string>(std::move(file_name));
+  if (!root.IsDefined() || root.IsNull())
+    throw InputError({*file, 1, 1}, "the file is empty; expected a YAML mapping");
+  return YamlNode(std::move(root), std::move(file));
+}
+
+SourceLocation YamlNode::location() const { return location_of(*file_, node_.Mark()); }
+
+void YamlNode::fail(const std::string& message) const { throw InputError(location(), message); }
+
+std::string YamlNode::describe() const {
+  if (is_null()) return "nothing";
+  if (node_.IsMap()) return "a mapping";
+  if (node_.IsSequence()) return "a list";
+  return fmt::format("'{}'", node_.Scalar());
+}
+
+std::optional<YamlNode> YamlNode::find(std::string_view key) const {
+  if (!node_.IsMap()) fail(fmt::format("expected a mapping with field '{}', got {}", key, describe()));
+  for (const auto& entry : node_) {
+    if (entry.first.IsScalar() && entry.first.Scalar() == key) return YamlNode(entry.second, file_);
+  }
+  return std::nullopt;
+}
+
+YamlNode YamlNode::at(std::string_view key) const {
+  auto child = find(key);
+  if (!child || child->is_null()) fail(fmt::format("missing required field '{}'", key));
+  return *child;
+}
+
+std::vector<YamlNode> YamlNode::elements() const {
+  if (!node_.IsSequence()) fail("expected a list, got " + describe());
+  std::vector<YamlNode> out;
+  out.reserve(node_.size());
+  for (const auto& element : node_) out.emplace_back(element, file_);
+  return out;
+}
+
+std::vector<std::pair<YamlNode, YamlNode>> YamlNode::entries() const {
+  if (!node_.IsMap()) fail("expected a mapping, got " + describe());
+  std::vector<std::pair<YamlNode, YamlNode>> out;
+  std::set<std::string> seen;
+  for (const auto& entry : node_) {
+    YamlNode key(entry.first, file_);
+    if (!entry.first.IsScalar()) key.fail("expected a plain key, got " + key.describe());
+    if (!seen.insert(entry.first.Scalar()).second)
+      key.fail(fmt::format("duplicate key '{}'", entry.first.Scalar()));
+    out.emplace_back(std::move(key), YamlNode(entry.second, file_));
+  }
+  return out;
+}
+
+std::string YamlNode::as_string() const {
+  if (!node_.IsScalar()) fail("expected a text value, got " + describe());
+  return node_.Scalar();
+}
+
+double YamlNode::as_double() const {
+  if (!node_.IsScalar()) fail("expected a number, got " + describe());
+  const std::string& text = node_.Scalar();
+  double value = 0.0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  auto [ptr, ec] = std::from_chars(first, last, value);
+  if (ec != std::errc() || ptr != last || first == last) fail(fmt::format("expected a number, got '{}'", text));
+  if (!std::isfinite(value)) fail(fmt::format("expected a finite number, got '{}'", text));
+  return value;
+}
+
+long long YamlNode::as_int() const {
+  if (!node_.IsScalar()) fail("expected an integer, got " + describe());
+  const std::string& text = node_.Scalar();
+  long long value = 0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  auto [ptr, ec] = std::from_chars(first, last, value);
+  if (ec != std::errc() || ptr != last || first == last) fail(fmt::format("expected an integer, got '{}'", text));
+  return value;
+}
+
+bool YamlNode::as_bool() const {
+  if (node_.IsScalar()) {
+    const std::string& text = node_.Scalar();
+    if (text == "true" || text == "True" || text == "yes") return true;
+    if (text == "false" || text == "False" || text == "no") return false;
+  }
+  fail("expected true or false, got " + describe());
+}
+
+YamlReader::YamlReader(YamlNode map) : node_(std::move(map)) {
+  if (!node_.is_map()) node_.fail("expected a mapping, got " + node_.describe());
+}
+
+void YamlReader::finish() const {
+  for (const auto& [key, value] : node_.entries()) {
+    const std::string name = key.as_string();
+    bool known = false;
+    for (const auto& k : known_) known = known || k == name;
+    if (!known) key.fail(fmt::format("unknown field '{}'; expected one of: {}", name, join_keys(known_)));
+  }
+}
+
+std::string to_yaml_text(const YAML::Node& node) {
+  YAML::Emitter out;
+  out << node;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace emrm::core

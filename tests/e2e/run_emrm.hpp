@@ -1,0 +1,68 @@
+#pragma once
+
+// Runs the real emrm binary for end-to-end tests and captures what it printed.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace emrm::e2e {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  ///< standard output
+  std::string err;  ///< standard error
+};
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+/// A fresh, empty folder for one test, under the build tree's temp folder.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("emrm-e2e-" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::string example(const std::string& name) {
+  return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name;
+}
+
+/// Runs `emrm ARGS` through the shell (ARGS is shell text; quote paths yourself).
+inline RunResult run_emrm(const std::string& args) {
+  static int counter = 0;
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-e2e-run-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto out_path = dir / ("out" + std::to_string(counter));
+  const auto err_path = dir / ("err" + std::to_string(counter++));
+  const std::string command =
+      std::string("'") + EMRM_BINARY + "' " + args + " >'" + out_path.string() + "' 2>'" + err_path.string() + "' </dev/null";
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = read_text(out_path);
+  result.err = read_text(err_path);
+  return result;
+}
+
+/// Single-quotes a path for run_emrm's shell text.
+inline std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+}  // namespace emrm::e2e
