@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -22,6 +23,13 @@ YAML::Node parse_text(const std::string& text, const std::string& file) {
   } catch (const YAML::ParserException& e) {
     throw InputError(location_of(file, e.mark), "malformed YAML: " + e.msg);
   }
+}
+
+// YAML spells these .nan, .inf, -.inf (any case); from_chars does not know them.
+bool is_yaml_non_finite(const std::string& text) {
+  std::string t;
+  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return t == ".nan" || t == ".inf" || t == "+.inf" || t == "-.inf";
 }
 
 std::string join_keys(const std::vector<std::string>& keys) {
@@ -110,6 +118,7 @@ std::string YamlNode::as_string() const {
 double YamlNode::as_double() const {
   if (!node_.IsScalar()) fail("expected a number, got " + describe());
   const std::string& text = node_.Scalar();
+  if (is_yaml_non_finite(text)) fail(fmt::format("expected a finite number, got '{}'", text));
   double value = 0.0;
   const char* first = text.data();
   const char* last = text.data() + text.size();

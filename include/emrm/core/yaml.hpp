@@ -18,6 +18,7 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <utility>
 #include <vector>
 
 #include "emrm/core/error.hpp"
@@ -201,9 +202,7 @@ template <std::integral T>
 struct YamlCodec<T> {
   static void read(const YamlNode& n, T& v) {
     const long long x = n.as_int();
-    if (x < static_cast<long long>(std::numeric_limits<T>::min()) ||
-        static_cast<unsigned long long>(x) > static_cast<unsigned long long>(std::numeric_limits<T>::max()))
-      n.fail("integer out of range");
+    if (!std::in_range<T>(x)) n.fail("integer out of range");
     v = static_cast<T>(x);
   }
   static YAML::Node write(T v) { return YAML::Node(v); }

@@ -1,0 +1,70 @@
+#pragma once
+
+// The integrated mapping M_HARA-STPA : C × UCA → {H, L, R} (paper eq. 2) and the traceability
+// matrix UCA × hazard × loss × FSM transition × scenarios built from it.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "emrm/core/text.hpp"
+#include "emrm/safety/checks.hpp"
+#include "emrm/safety/model.hpp"
+
+namespace emrm::safety {
+
+/// The risk measure R of one UCA: the highest ASIL among its hazards, and the worst loss they
+/// lead to (losses are declared from least to most severe, as the paper's L1…L7).
+struct RiskMeasure {
+  Asil asil = Asil::kQM;
+  std::string worst_loss;     ///< empty when the UCA reaches no loss
+  bool irreversible = false;  ///< some reachable loss is irreversible
+};
+
+/// One value of M_HARA-STPA: what one UCA leads to. References that do not resolve are left out
+/// (they are SAF001 findings).
+struct MappingEntry {
+  std::string uca;
+  std::vector<std::string> hazards;
+  std::vector<std::string> losses;  ///< union over the hazards, in declaration order
+  RiskMeasure risk;
+};
+
+[[nodiscard]] std::vector<MappingEntry> map_hara_stpa(const SafetyCase& sc);
+
+/// One row of the traceability matrix: a (UCA, hazard, loss) triple with the FSM transitions
+/// and region of the UCA. `scenarios` is filled by scenario generation (empty until then).
+struct TraceRow {
+  std::string uca;
+  std::string uca_type;
+  std::string control_action;
+  std::string hazard;
+  std::string asil;
+  std::string smil;
+  std::string loss;
+  std::string loss_name;
+  bool loss_reversible = true;
+  std::vector<std::string> transitions;  ///< "S3 -execute_maneuver-> S4"
+  std::string region;
+  std::vector<std::string> scenarios;
+};
+
+/// Rows in the order UCA, then hazard, then loss, as declared.
+[[nodiscard]] std::vector<TraceRow> traceability_matrix(const SafetyCase& sc);
+
+[[nodiscard]] core::Row traceability_header();
+[[nodiscard]] core::Row to_row(const TraceRow& row);
+[[nodiscard]] std::string traceability_csv(const std::vector<TraceRow>& rows);
+[[nodiscard]] std::string traceability_markdown(const std::vector<TraceRow>& rows);
+
+/// Per hazard: S, E, C, the ASIL they give, the stated ASIL, the extended ratings, the SMIL the
+/// table gives and the stated SMIL.
+[[nodiscard]] core::Row asil_header();
+[[nodiscard]] std::vector<core::Row> asil_rows(const SafetyCase& sc);
+
+/// The whole analysis as JSON: summary counts, findings, ASIL table, mapping and matrix.
+[[nodiscard]] nlohmann::json analysis_json(const SafetyCase& sc, const std::vector<Finding>& findings);
+[[nodiscard]] nlohmann::json findings_json(const std::vector<Finding>& findings);
+
+}  // namespace emrm::safety
