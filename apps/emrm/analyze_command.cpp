@@ -43,18 +43,24 @@ std::optional<safety::FsmTransitions> load_fsm_transitions(const AnalyzeOptions&
   return known;
 }
 
+std::string counted(std::size_t n, std::string_view one, std::string_view many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
 void print_text(const safety::SafetyCase& sc, const std::optional<safety::FsmTransitions>& fsm,
                 const std::vector<safety::Finding>& findings) {
   auto& out = std::cout;
   out << fmt::format("Safety case '{}' ({})\n", sc.name, sc.file);
-  out << fmt::format("  {} losses, {} hazards, {} control actions, {} UCAs, {} factors\n", sc.losses.size(),
-                     sc.hazards.size(), sc.control_actions.size(), sc.ucas.size(), sc.factors.size());
+  out << fmt::format("  {}, {}, {}, {}, {}\n", counted(sc.losses.size(), "loss", "losses"),
+                     counted(sc.hazards.size(), "hazard", "hazards"),
+                     counted(sc.control_actions.size(), "control action", "control actions"),
+                     counted(sc.ucas.size(), "UCA", "UCAs"), counted(sc.factors.size(), "factor", "factors"));
   if (fsm) out << fmt::format("  FSM transitions checked against {} ({} transitions)\n", fsm->file, fsm->transitions.size());
 
   const auto errors = safety::count(findings, safety::FindingSeverity::kError);
   const auto warnings = safety::count(findings, safety::FindingSeverity::kWarning);
-  out << fmt::format("\nFindings: {} error{}, {} warning{}\n", errors, errors == 1 ? "" : "s", warnings,
-                     warnings == 1 ? "" : "s");
+  out << fmt::format("\nFindings: {}, {}\n", counted(errors, "error", "errors"),
+                     counted(warnings, "warning", "warnings"));
   for (const auto& f : findings)
     out << fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code, f.subject,
                        f.message);

@@ -62,7 +62,9 @@ inline RunResult run_emrm(const std::string& args) {
   return result;
 }
 
-/// Single-quotes a path for run_emrm's shell text.
-inline std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+/// Single-quotes a path for run_emrm's shell text. (The std::string overload is a better match
+/// than std::quoted, which argument-dependent lookup would otherwise find.)
+inline std::string quoted(const std::string& path) { return "'" + path + "'"; }
+inline std::string quoted(const std::filesystem::path& path) { return quoted(path.string()); }
 
 }  // namespace emrm::e2e
