@@ -1,0 +1,53 @@
+#pragma once
+
+// Small 2-D geometry: vectors, oriented rectangles and their separating-axis test.
+// Everything is in metres and radians, in the road frame (x along the main road, y to the left).
+
+#include <array>
+#include <cmath>
+
+namespace emrm::core {
+
+struct Vec2 {
+  double x = 0.0;
+  double y = 0.0;
+
+  constexpr Vec2 operator+(Vec2 o) const { return {x + o.x, y + o.y}; }
+  constexpr Vec2 operator-(Vec2 o) const { return {x - o.x, y - o.y}; }
+  constexpr Vec2 operator*(double k) const { return {x * k, y * k}; }
+  constexpr Vec2 operator-() const { return {-x, -y}; }
+  constexpr bool operator==(const Vec2&) const = default;
+  [[nodiscard]] constexpr double dot(Vec2 o) const { return x * o.x + y * o.y; }
+  /// z-component of the 3-D cross product.
+  [[nodiscard]] constexpr double cross(Vec2 o) const { return x * o.y - y * o.x; }
+  [[nodiscard]] double norm() const { return std::hypot(x, y); }
+  /// Unit vector at `angle_rad` from +x.
+  [[nodiscard]] static Vec2 unit(double angle_rad) { return {std::cos(angle_rad), std::sin(angle_rad)}; }
+};
+
+/// A rectangle of `length` along its heading and `width` across it, centred at `center`.
+struct OrientedBox {
+  Vec2 center;
+  double heading_rad = 0.0;
+  double length_m = 0.0;
+  double width_m = 0.0;
+
+  /// Corners counter-clockwise: front-right, front-left, rear-left, rear-right.
+  [[nodiscard]] std::array<Vec2, 4> corners() const;
+};
+
+/// True when the two rectangles overlap or touch (separating-axis test on the four edge normals).
+[[nodiscard]] bool overlaps(const OrientedBox& a, const OrientedBox& b) noexcept;
+
+/// Contact between two rectangles found by the separating-axis test.
+struct Contact {
+  bool touching = false;
+  Vec2 normal;         ///< unit, pointing from a towards b, along the axis of least penetration
+  double depth_m = 0;  ///< penetration along `normal` (0 when not touching)
+  Vec2 point;          ///< a representative contact point (deepest corner inside the other box)
+};
+
+/// The contact of a with b; `touching` false when they are apart.
+[[nodiscard]] Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept;
+
+}  // namespace emrm::core

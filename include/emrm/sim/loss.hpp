@@ -1,0 +1,50 @@
+#pragma once
+
+// Energy-based loss assessment (DESIGN.md §8): Δv of the ego from momentum conservation, injury
+// and fatality risk curves, and the loss level of an outcome.
+
+#include "emrm/core/geometry.hpp"
+#include "emrm/sim/scene.hpp"
+
+namespace emrm::sim {
+
+/// A rigid body at the moment of impact, in the road frame.
+struct ImpactBody {
+  double mass_kg = 0.0;
+  double yaw_inertia_kgm2 = 0.0;
+  core::Vec2 position_m;  ///< centre of mass
+  core::Vec2 velocity_mps;
+  double yaw_rate_radps = 0.0;
+};
+
+struct ImpactAssessment {
+  double impact_speed_mps = 0.0;  ///< ego speed at contact
+  double delta_v_mps = 0.0;       ///< ego's change of velocity through the impact
+  double p_mais3 = 0.0;
+  double p_fatal = 0.0;
+  int loss_level = 0;  ///< 0, 4, 6 or 7
+};
+
+/// Central impact: Δv = (1 + e) · m_other / (m_ego + m_other) · |v_rel,n|.
+[[nodiscard]] double central_delta_v_mps(double ego_mass_kg, double other_mass_kg, double relative_normal_speed_mps,
+                                         double restitution) noexcept;
+/// P(MAIS3+) = 1 / (1 + exp(a − b·Δv)).
+[[nodiscard]] double p_mais3(double delta_v_mps, const SeverityConfig& c) noexcept;
+/// P(fatal) = min(1, (Δv / ref)^n).
+[[nodiscard]] double p_fatal(double delta_v_mps, const SeverityConfig& c) noexcept;
+/// 0 without contact or departure; L4 on either; L6 when P(MAIS3+) ≥ its threshold; L7 when
+/// P(fatal) ≥ its threshold.
+[[nodiscard]] int loss_level(bool contact, bool road_departure, double p_mais3_value, double p_fatal_value,
+                             const SeverityConfig& c) noexcept;
+
+/// Impact of `ego` on `other` at `contact` (normal from ego towards other): the normal impulse
+/// uses the effective mass including rotation, J_n = (1+e) m_eff v_rel,n; the tangential impulse
+/// is limited by contact friction. Δv = |J| / m_ego. Separating bodies give Δv = 0.
+[[nodiscard]] ImpactAssessment assess_impact(const ImpactBody& ego, const ImpactBody& other,
+                                             const core::Contact& contact, const SeverityConfig& c) noexcept;
+
+/// The unmitigated reference of a cell: the ego hits the truck's side head-on at its initial
+/// speed, with no action (central impact, relative normal speed = v).
+[[nodiscard]] ImpactAssessment unmitigated_impact(const Scene& scene) noexcept;
+
+}  // namespace emrm::sim

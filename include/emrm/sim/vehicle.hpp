@@ -1,0 +1,122 @@
+#pragma once
+
+// Vehicle dynamics (DESIGN.md §6). The default model is a single-track (bicycle) model with
+// Fiala brush tires per axle, a friction circle per axle, quasi-static longitudinal load
+// transfer and a blend to the kinematic model at low speed; a kinematic bicycle model is kept
+// for comparison. Models are picked by name from a registry; all are pure and thread-safe.
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emrm/core/yaml.hpp"
+
+namespace emrm::sim {
+
+inline constexpr double kGravity_mps2 = 9.81;
+
+/// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i).
+struct VehicleParams {
+  double length_m = 4.508;
+  double width_m = 1.610;
+  double mass_kg = 1093.0;
+  double yaw_inertia_kgm2 = 1792.0;
+  double cg_to_front_axle_m = 1.156;  ///< l_f
+  double cg_to_rear_axle_m = 1.423;   ///< l_r
+  double cg_height_m = 0.575;
+  double max_steer_rad = 0.6;          ///< road-wheel angle
+  double max_steer_rate_radps = 0.8;
+  double front_cornering_stiffness_n_per_rad = 130000.0;  ///< independent of mu
+  double rear_cornering_stiffness_n_per_rad = 105000.0;
+  double kinematic_blend_speed_mps = 1.0;  ///< below this the kinematic model takes over
+
+  [[nodiscard]] double wheelbase_m() const { return cg_to_front_axle_m + cg_to_rear_axle_m; }
+  /// Overhangs are equal front and rear: CG to front bumper.
+  [[nodiscard]] double cg_to_front_m() const { return cg_to_front_axle_m + (length_m - wheelbase_m()) / 2.0; }
+  [[nodiscard]] double cg_to_rear_m() const { return length_m - cg_to_front_m(); }
+
+  template <class A>
+  void serialize(A& a) {
+    a.optional("length_m", length_m);
+    a.optional("width_m", width_m);
+    a.optional("mass_kg", mass_kg);
+    a.optional("yaw_inertia_kgm2", yaw_inertia_kgm2);
+    a.optional("cg_to_front_axle_m", cg_to_front_axle_m);
+    a.optional("cg_to_rear_axle_m", cg_to_rear_axle_m);
+    a.optional("cg_height_m", cg_height_m);
+    a.optional("max_steer_rad", max_steer_rad);
+    a.optional("max_steer_rate_radps", max_steer_rate_radps);
+    a.optional("front_cornering_stiffness_n_per_rad", front_cornering_stiffness_n_per_rad);
+    a.optional("rear_cornering_stiffness_n_per_rad", rear_cornering_stiffness_n_per_rad);
+    a.optional("kinematic_blend_speed_mps", kinematic_blend_speed_mps);
+  }
+};
+
+/// The state of the vehicle: CG position and yaw in the road frame, velocities in the body frame.
+struct VehicleState {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+  double vx_mps = 0.0;  ///< body-frame longitudinal velocity
+  double vy_mps = 0.0;  ///< body-frame lateral velocity (left positive)
+  double yaw_rate_radps = 0.0;
+  double steer_rad = 0.0;  ///< road-wheel steering angle (left positive)
+
+  [[nodiscard]] double speed_mps() const;
+  /// Body slip angle atan2(vy, vx); 0 at standstill.
+  [[nodiscard]] double slip_angle_rad() const;
+};
+
+/// What the planner commands; held constant over a control interval.
+struct Control {
+  double steer_rate_radps = 0.0;  ///< clamped to ±max_steer_rate; the angle stops at ±max_steer
+  double brake = 0.0;             ///< 0…1, fraction of the friction-limited (ABS) force on each rolling axle
+  bool rear_lock = false;         ///< rear wheels locked: the rear axle slides at mu·F_z against its velocity
+};
+
+/// Forces and state of one axle, for diagnostics and constraints.
+struct AxleForces {
+  double normal_load_n = 0.0;    ///< F_z after load transfer
+  double slip_angle_rad = 0.0;
+  double longitudinal_n = 0.0;   ///< F_x in the wheel frame
+  double lateral_n = 0.0;        ///< F_y in the wheel frame
+  double lateral_limit_n = 0.0;  ///< sqrt((mu F_z)^2 - F_x^2)
+  bool saturated = false;        ///< sliding: |alpha| beyond the Fiala sliding angle, or locked
+};
+
+struct TireForces {
+  AxleForces front;
+  AxleForces rear;
+};
+
+/// A vehicle model: state derivative plus fixed-step integration.
+class VehicleModel {
+ public:
+  explicit VehicleModel(VehicleParams params) : params_(params) {}
+  virtual ~VehicleModel() = default;
+
+  [[nodiscard]] virtual std::string_view name() const = 0;
+  /// d(state)/dt under `control` on a road of friction `mu`. `steer_rad` of the result is the
+  /// (limited) steering rate.
+  [[nodiscard]] virtual VehicleState derivative(const VehicleState& s, const Control& u, double mu) const = 0;
+  /// Tire forces at this state (zeros for models without tires).
+  [[nodiscard]] virtual TireForces tire_forces(const VehicleState& s, const Control& u, double mu) const = 0;
+
+  /// One classic RK4 step of `dt_s`. Keeps the steering angle within its limit, and a vehicle
+  /// that comes to rest under braking stays at rest (no creeping backwards).
+  [[nodiscard]] VehicleState step(const VehicleState& s, const Control& u, double mu, double dt_s) const;
+
+  [[nodiscard]] const VehicleParams& params() const noexcept { return params_; }
+
+ protected:
+  VehicleParams params_;
+};
+
+/// Creates a model by name ("single_track_fiala", "kinematic_bicycle"). Throws emrm::Error for an
+/// unknown name (the message lists the known ones).
+[[nodiscard]] std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const VehicleParams& params);
+/// Names known to make_vehicle_model, in registration order.
+[[nodiscard]] std::vector<std::string> vehicle_model_names();
+
+}  // namespace emrm::sim
