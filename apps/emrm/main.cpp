@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   emrm::cli::register_analyze_command(app, exit_code);
   emrm::cli::register_fsm_command(app, exit_code);
+  emrm::cli::register_simulate_command(app, exit_code);
 
   try {
     app.parse(argc, argv);

@@ -1,24 +1,16 @@
 #include "emrm/fsm/dot.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <optional>
-#include <sstream>
-#include <system_error>
 #include <utility>
 
-extern char** environ;  // POSIX: the environment handed to the child process
+#include "emrm/core/error.hpp"
+#include "emrm/core/process.hpp"
 
 namespace emrm::fsm {
 namespace {
@@ -106,55 +98,6 @@ std::string count_attributes(std::size_t count, std::size_t max_count) {
                      std::min(shade, 9), 1.0 + 2.5 * share);
 }
 
-/// Finds an executable: `program` itself if it contains '/', else the first match on PATH.
-std::optional<std::filesystem::path> find_program(const std::string& program) {
-  const auto executable = [](const std::filesystem::path& p) {
-    std::error_code ec;
-    return std::filesystem::is_regular_file(p, ec) && ::access(p.c_str(), X_OK) == 0;
-  };
-  if (program.empty()) return std::nullopt;
-  if (program.find('/') != std::string::npos) {
-    if (executable(program)) return std::filesystem::path(program);
-    return std::nullopt;
-  }
-  const char* path = std::getenv("PATH");
-  std::istringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    const auto candidate = std::filesystem::path(dir.empty() ? "." : dir) / program;
-    if (executable(candidate)) return candidate;
-  }
-  return std::nullopt;
-}
-
-/// A private temporary folder, removed when this goes out of scope.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "emrm-dot-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr)
-      throw Error("fsm: cannot create a temporary folder for Graphviz");
-    path_ = pattern;
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
-
-std::string read_all(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 std::string to_dot(const Generator& g, const DotOptions& options) {
@@ -218,47 +161,24 @@ std::string to_dot(const Generator& g, const DotOptions& options) {
   return out;
 }
 
-bool dot_available(const std::string& dot_program) { return find_program(dot_program).has_value(); }
+bool dot_available(const std::string& dot_program) { return core::find_program(dot_program).has_value(); }
 
 std::string render_svg(const std::string& dot_source, const std::string& dot_program) {
-  const auto program = find_program(dot_program);
+  const auto program = core::find_program(dot_program);
   if (!program)
     throw Error(
         fmt::format("cannot render SVG: the Graphviz program '{}' was not found on PATH; install Graphviz "
                     "(for example `apt install graphviz`) or write DOT with --dot instead",
                     dot_program));
-  TempDir dir;
+  core::TempDir dir("emrm-dot");
   const auto input = dir.path() / "graph.dot";
   const auto output = dir.path() / "graph.svg";
-  const auto errors = dir.path() / "stderr.txt";
   { std::ofstream(input, std::ios::binary) << dot_source; }
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0600);
-  std::string arg0 = program->string();
-  std::string format = "-Tsvg";
-  std::string flag_o = "-o";
-  std::string out_arg = output.string();
-  std::string in_arg = input.string();
-  std::vector<char*> argv{arg0.data(), format.data(), flag_o.data(), out_arg.data(), in_arg.data(), nullptr};
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, arg0.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0)
-    throw Error(fmt::format("cannot run '{}': {}", arg0, std::generic_category().message(spawned)));
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw Error(fmt::format("cannot wait for '{}'", arg0));
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::string message = read_all(errors);
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
-    throw Error(fmt::format("'{} -Tsvg' failed{}{}", arg0, message.empty() ? "" : ": ", message));
-  }
-  return read_all(output);
+  const auto run = core::run_program(*program, {"-Tsvg", "-o", output.string(), input.string()});
+  if (run.exit_code != 0)
+    throw Error(fmt::format("'{} -Tsvg' failed{}{}", program->string(), run.error_output.empty() ? "" : ": ",
+                            run.error_output));
+  return core::read_file(output);
 }
 
 }  // namespace emrm::fsm

@@ -1,0 +1,547 @@
+#include "emrm/sim/planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "emrm/core/geometry.hpp"
+
+namespace emrm::sim {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kStoppedSpeed_mps = 0.05;
+// The rear axle "slides" (dodge's constraint) when it is saturated at a real slip angle; a
+// straight ABS stop saturates the axle longitudinally at zero slip angle and is within grip.
+constexpr double kSlidingSlipAngle_rad = 0.035;
+
+core::Vec2 world_velocity(const VehicleState& s) {
+  const double c = std::cos(s.yaw_rad);
+  const double sn = std::sin(s.yaw_rad);
+  return {s.vx_mps * c - s.vy_mps * sn, s.vx_mps * sn + s.vy_mps * c};
+}
+
+struct Extent {
+  double min_x, max_x, min_y, max_y;
+};
+
+Extent extent_of(const core::OrientedBox& box) {
+  Extent e{kInfinity, -kInfinity, kInfinity, -kInfinity};
+  for (const auto& c : box.corners()) {
+    e.min_x = std::min(e.min_x, c.x);
+    e.max_x = std::max(e.max_x, c.x);
+    e.min_y = std::min(e.min_y, c.y);
+    e.max_y = std::max(e.max_y, c.y);
+  }
+  return e;
+}
+
+// The share of the friction limit left for braking after the current lateral acceleration.
+double friction_circle_share(const VehicleState& s, double mu) {
+  const double lateral = std::abs(s.vx_mps * s.yaw_rate_radps) / (mu * kGravity_mps2);
+  return std::sqrt(std::max(0.0, 1.0 - lateral * lateral));
+}
+
+ImpactAssessment impact_with_truck(const Scene& scene, const VehicleState& s, const core::OrientedBox& ego_box,
+                                   const TruckState& truck) {
+  const auto& cfg = scene.config();
+  const core::Contact c = core::contact(ego_box, truck.box);
+  const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
+                       s.yaw_rate_radps};
+  const ImpactBody other{cfg.truck.mass_kg, cfg.truck.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps, 0.0};
+  return assess_impact(ego, other, c, cfg.severity);
+}
+
+}  // namespace
+
+double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p, double mu,
+                          double dt_s) noexcept {
+  const double dx = target.x - s.x_m;
+  const double dy = target.y - s.y_m;
+  const double alpha = std::remainder(std::atan2(dy, dx) - s.yaw_rad, 2.0 * M_PI);
+  const double lookahead = std::max(std::hypot(dx, dy), 1.0);
+  // Within grip: no sharper than the steady-state angle for 0.9 mu g of lateral acceleration.
+  const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
+  const double grip_limit = std::min(p.max_steer_rad, std::atan(p.wheelbase_m() * 0.9 * mu * kGravity_mps2 / v2));
+  const double wanted =
+      std::clamp(std::atan(2.0 * p.wheelbase_m() * std::sin(alpha) / lookahead), -grip_limit, grip_limit);
+  return std::clamp((wanted - s.steer_rad) / (2.0 * dt_s), -p.max_steer_rate_radps, p.max_steer_rate_radps);
+}
+
+bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept {
+  if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;
+  return a.delta_v_mps < b.delta_v_mps;
+}
+
+Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
+    : scene_(scene), model_(model), limits_(limits) {}
+
+RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
+                           const std::optional<Tail>& tail, int record_every) const {
+  const auto& cfg = scene_.config();
+  const double dt = cfg.simulation.dt_s;
+  const double mu = scene_.cell().mu;
+  const double horizon = cfg.simulation.horizon_s;
+  const double truck_near_x = scene_.initial_distance_m();
+  const double truck_far_x = scene_.truck_far_x_m();
+
+  RolloutResult r;
+  r.min_ttc_s = kInfinity;
+  VehicleState s = start;
+  double t = t0_s;
+  const double max_rate = model_.params().max_steer_rate_radps;
+
+  std::size_t segment = 0;
+  double segment_left = plan.empty() ? 0.0 : plan.front().duration_s;
+  int step = 0;
+  auto finish = [&](Termination why, const Control& u) {
+    r.termination = why;
+    r.end_time_s = t;
+    r.end_state = s;
+    if (r.path.back().t_s != t) r.path.push_back({t, s, u});
+  };
+
+  while (true) {
+    // Which control applies now: the plan's current segment, else the tail, else the edge ends.
+    while (segment < plan.size() && segment_left <= 1e-9) {
+      ++segment;
+      if (segment < plan.size()) segment_left = plan[segment].duration_s;
+    }
+    Control u;
+    if (segment < plan.size()) {
+      u = plan[segment].control;
+      if (plan[segment].pursue) {
+        u.steer_rate_radps = pursuit_steer_rate(s, *plan[segment].pursue, model_.params(), mu, dt);
+        if (plan[segment].friction_circle_brake) u.brake *= friction_circle_share(s, mu);
+      }
+    } else if (tail) {
+      u = tail->control;
+      // Back to straight at the largest rate that does not overshoot within a few steps.
+      if (tail->straighten) u.steer_rate_radps = std::clamp(-s.steer_rad / (5.0 * dt), -max_rate, max_rate);
+      if (tail->friction_circle_brake) u.brake *= friction_circle_share(s, mu);
+    } else {
+      if (r.path.empty()) r.path.push_back({t, s, u});
+      finish(Termination::kOpen, u);
+      return r;
+    }
+    if (!limits_.allow_rear_lock) u.rear_lock = false;
+    if (step == 0) r.path.push_back({t, s, u});  // the start, with the control applied from it
+
+    const VehicleState before = s;
+    s = model_.step(s, u, mu, dt);
+    t += dt;
+    segment_left -= dt;
+    ++step;
+
+    if (limits_.forbid_rear_sliding) {
+      const AxleForces rear = model_.tire_forces(s, u, mu).rear;
+      if (u.rear_lock || (rear.saturated && std::abs(rear.slip_angle_rad) > kSlidingSlipAngle_rad)) {
+        finish(Termination::kConstraint, u);
+        return r;
+      }
+    }
+
+    const core::OrientedBox ego = scene_.ego_box(s);
+    const TruckState truck = scene_.truck_at(t);
+    if (core::overlaps(ego, truck.box)) {
+      // Contact began somewhere in the last step: find its moment by bisection, so the impact
+      // speed is not a step late.
+      double lo = 0.0;
+      double hi = dt;
+      for (int i = 0; i < 8; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        const VehicleState probe = model_.step(before, u, mu, mid);
+        if (core::overlaps(scene_.ego_box(probe), scene_.truck_at(t - dt + mid).box)) hi = mid;
+        else lo = mid;
+      }
+      s = model_.step(before, u, mu, hi);
+      t = t - dt + hi;
+      const core::OrientedBox touching = scene_.ego_box(s);
+      r.impact = impact_with_truck(scene_, s, touching, scene_.truck_at(t));
+      r.min_ttc_s = 0.0;
+      finish(Termination::kContact, u);
+      return r;
+    }
+    if (!scene_.on_drivable_area(ego)) {
+      finish(Termination::kRoadDeparture, u);
+      return r;
+    }
+
+    const Extent e = extent_of(ego);
+    const Extent tr = extent_of(truck.box);
+    const core::Vec2 v = world_velocity(s);
+    if (v.x > 1e-6 && e.max_y > tr.min_y && e.min_y < tr.max_y && e.max_x < truck_near_x)
+      r.min_ttc_s = std::min(r.min_ttc_s, (truck_near_x - e.max_x) / v.x);
+
+    if (step % record_every == 0) r.path.push_back({t, s, u});
+
+    if (e.min_x > truck_far_x) {
+      finish(Termination::kPassed, u);
+      return r;
+    }
+    const double speed = s.speed_mps();
+    if (speed < kStoppedSpeed_mps) {
+      finish(Termination::kStopped, u);
+      return r;
+    }
+    // Braking straight at the friction limit, the rest is closed form: stop short of the truck.
+    if (u.brake >= 0.999 && !u.rear_lock && std::abs(s.yaw_rad) < 0.02 && std::abs(s.steer_rad) < 0.005 &&
+        std::abs(s.yaw_rate_radps) < 0.01 && std::abs(s.vy_mps) < 0.05) {
+      const double stop_distance = speed * speed / (2.0 * mu * kGravity_mps2);
+      if (e.max_x + stop_distance + 0.05 < truck_near_x && tr.max_y > e.min_y) {
+        r.path.push_back({t, s, u});
+        s.x_m += stop_distance * std::cos(s.yaw_rad);
+        s.y_m += stop_distance * std::sin(s.yaw_rad);
+        t += speed / (mu * kGravity_mps2);
+        s.vx_mps = s.vy_mps = s.yaw_rate_radps = 0.0;
+        finish(Termination::kStopped, u);
+        return r;
+      }
+    }
+    if (t >= horizon - 1e-9) {
+      finish(Termination::kHorizon, u);
+      return r;
+    }
+  }
+}
+
+namespace {
+
+struct Node {
+  VehicleState state;
+  double t_s = 0.0;
+  int parent = -1;
+  std::vector<PathPoint> edge;  // the path that led here from the parent
+};
+
+class Rrt {
+ public:
+  Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
+      : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {}
+
+  PlanResult run() {
+    const auto started = std::chrono::steady_clock::now();
+    const auto& cfg = scene_.config();
+    const auto& pc = cfg.planner;
+
+    // Latency: nothing is actuated until latency_s.
+    Node root;
+    root.state = scene_.ego_initial();
+    if (cfg.simulation.latency_s > 0.0) {
+      RolloutResult coast = roller_.roll(root.state, 0.0, {hold(Control{}, cfg.simulation.latency_s)}, std::nullopt, 5);
+      ++result_.stats.rollouts;
+      if (coast.termination != Termination::kOpen) {
+        if (coast.termination == Termination::kRoadDeparture) coast.impact.loss_level = 4;
+        result_.collision = std::move(coast);
+        return finish(started);
+      }
+      root.state = coast.end_state;
+      root.t_s = coast.end_time_s;
+      root.edge = coast.path;
+    }
+    nodes_.push_back(std::move(root));
+    result_.stats.nodes = 1;
+    if (fail_safes(0)) return finish(started);
+
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    while (result_.stats.nodes < pc.max_nodes && iterations_ < 3 * pc.max_nodes) {
+      if (elapsed_ms(started) > pc.max_time_ms) {
+        result_.stats.time_limited = true;
+        break;
+      }
+      const core::Vec2 target = sample_target(unit(rng_) < pc.goal_bias);
+      // Half the time a uniformly chosen node: in a kinodynamic tree the nearest node in the plane is
+      // nearly always a deep one, and the early decisions (where a short TTC is won or lost) would
+      // never be revisited.
+      const int near = unit(rng_) < 0.5 ? random_moving_node() : nearest(target);
+      if (near < 0) break;
+      if (extend(near, target)) break;
+    }
+    return finish(started);
+  }
+
+ private:
+  static double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
+  }
+
+  PlanResult finish(std::chrono::steady_clock::time_point started) {
+    result_.stats.time_ms = elapsed_ms(started);
+    return std::move(result_);
+  }
+
+  core::Vec2 sample_target(bool towards_passage) {
+    const auto& road = scene_.config().road;
+    const auto& ego = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double y_min = road.drivable_min_y_m();
+    const double x0 = nodes_.front().state.x_m;
+    const double far_x = scene_.truck_far_x_m() + ego.length_m;
+    if (towards_passage) {
+      // The free band between the road edge and the truck's front once it has stopped (or later).
+      const double front = scene_.truck_front_y_at(scene_.config().simulation.horizon_s);
+      const double lo = y_min + ego.width_m / 2.0;
+      const double hi = std::max(lo, front - ego.width_m / 2.0);
+      const double near_x = scene_.initial_distance_m() - ego.length_m;
+      return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
+    }
+    return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.drivable_max_y_m() - y_min)};
+  }
+
+  int random_moving_node() {
+    std::vector<int> moving;
+    for (std::size_t i = 0; i < nodes_.size(); ++i)
+      if (nodes_[i].state.speed_mps() >= 0.5) moving.push_back(static_cast<int>(i));
+    if (moving.empty()) return -1;
+    return moving[std::uniform_int_distribution<std::size_t>(0, moving.size() - 1)(rng_)];
+  }
+
+  // The node nearest to the target in the plane, among nodes still moving and behind it.
+  int nearest(const core::Vec2& target) const {
+    int best = -1;
+    double best_d2 = kInfinity;
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      const auto& s = nodes_[i].state;
+      if (s.speed_mps() < 0.5) continue;
+      const double dx = target.x - s.x_m;
+      const double dy = target.y - s.y_m;
+      const double d2 = dx * dx + dy * dy + (dx < 0 ? 4.0 * dx * dx : 0.0);
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = static_cast<int>(i);
+      }
+    }
+    return best;
+  }
+
+  // A control that steers towards the target: the heading error decides the steering direction.
+  Control sample_control(const VehicleState& s, const core::Vec2& target, bool greedy) {
+    const auto& p = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Control u;
+    if (greedy) {
+      const double wanted = std::atan2(target.y - s.y_m, target.x - s.x_m);
+      double error = std::remainder(wanted - s.yaw_rad, 2.0 * M_PI);
+      const double desired_steer = std::clamp(2.0 * error, -p.max_steer_rad, p.max_steer_rad);
+      u.steer_rate_radps = std::clamp((desired_steer - s.steer_rad) / 0.1, -p.max_steer_rate_radps,
+                                      p.max_steer_rate_radps);
+    } else {
+      u.steer_rate_radps = (2.0 * unit(rng_) - 1.0) * p.max_steer_rate_radps;
+    }
+    const double b = unit(rng_);
+    u.brake = b < 0.4 ? 0.0 : (b < 0.7 ? unit(rng_) : 1.0);
+    u.rear_lock = limits_.allow_rear_lock && unit(rng_) < 0.25;
+    return u;
+  }
+
+  // Grows the goal tree from `from` towards `target` (best of a few sampled controls). Returns
+  // true when the search is over (its objective is met).
+  bool extend(int from, const core::Vec2& target) {
+    const auto& pc = scene_.config().planner;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const Node& base = nodes_[static_cast<std::size_t>(from)];
+    std::optional<RolloutResult> best;
+    double best_d2 = kInfinity;
+    for (int k = 0; k < 3; ++k) {
+      const Control u = sample_control(base.state, target, k == 0);
+      const double duration = pc.min_duration_s + unit(rng_) * (pc.max_duration_s - pc.min_duration_s);
+      // Mostly closed-loop (pursue the sampled point); sometimes an open-loop constant control, which
+      // reaches states pure pursuit would not (a hard turn-in, a counter-steer).
+      ControlSegment segment = hold(u, duration);
+      if (k < 2) segment.pursue = target;
+      if (k == 1) {
+        segment.friction_circle_brake = true;
+        segment.control.brake = unit(rng_) < 0.2 ? 0.5 : 1.0;
+      }
+      RolloutResult r = roller_.roll(base.state, base.t_s, {segment}, std::nullopt, 5);
+      ++result_.stats.rollouts;
+      if (keep_tree_) result_.tree.push_back({r.path, false});
+      if (r.termination == Termination::kPassed || r.termination == Termination::kStopped ||
+          r.termination == Termination::kHorizon) {
+        record_avoidance(from, r);
+        return true;
+      }
+      if (r.termination != Termination::kOpen) {
+        consider_failure_from(from, std::move(r), limits_.accept_contact);
+        continue;
+      }
+      const double dx = target.x - r.end_state.x_m;
+      const double dy = target.y - r.end_state.y_m;
+      if (dx * dx + dy * dy < best_d2) {
+        best_d2 = dx * dx + dy * dy;
+        best = std::move(r);
+      }
+    }
+    ++iterations_;
+    ++result_.stats.nodes;  // an extension attempt counts against the budget even if all fail
+    if (!best) return false;
+    Node node;
+    node.state = best->end_state;
+    node.t_s = best->end_time_s;
+    node.parent = from;
+    node.edge = std::move(best->path);
+    nodes_.push_back(std::move(node));
+    return fail_safes(static_cast<int>(nodes_.size()) - 1);
+  }
+
+  // Fail-safe branches from a node: a full stop, and with contact accepted, minimum-momentum
+  // collisions (full braking steering away from the truck, and a braked drift). Returns true when
+  // one of them avoids the truck.
+  bool fail_safes(int index) {
+    const Node& n = nodes_[static_cast<std::size_t>(index)];
+    const auto& p = scene_.config().ego;
+    std::vector<Tail> tails{Tail::full_stop()};
+    if (limits_.accept_contact) {
+      Tail swerve{Control{-p.max_steer_rate_radps, 1.0, false}, false, false};
+      tails.push_back(swerve);
+      swerve.control.rear_lock = true;
+      tails.push_back(swerve);
+    }
+    for (const Tail& tail : tails) {
+      RolloutResult r = roller_.roll(n.state, n.t_s, {}, tail, 5);
+      ++result_.stats.rollouts;
+      if (keep_tree_) result_.tree.push_back({r.path, true});
+      if (r.avoided()) {
+        record_avoidance(index, r);
+        return true;
+      }
+      // A fail-safe is what the car does when its search fails: its collision always counts.
+      consider_failure_from(index, std::move(r), true);
+    }
+    return false;
+  }
+
+  std::vector<PathPoint> chain(int index) const {
+    std::vector<int> order;
+    for (int i = index; i >= 0; i = nodes_[static_cast<std::size_t>(i)].parent) order.push_back(i);
+    std::vector<PathPoint> path;
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      const auto& edge = nodes_[static_cast<std::size_t>(*it)].edge;
+      path.insert(path.end(), edge.begin(), edge.end());
+    }
+    return path;
+  }
+
+  void record_avoidance(int from, RolloutResult r) {
+    prepend_chain(from, r);
+    result_.avoidance = std::move(r);
+  }
+
+  // Makes a rollout from node `from` a whole path from t = 0.
+  void prepend_chain(int from, RolloutResult& r) const {
+    auto path = chain(from);
+    path.insert(path.end(), r.path.begin(), r.path.end());
+    r.path = std::move(path);
+    r.min_ttc_s = std::min(r.min_ttc_s, chain_min_ttc(from));
+  }
+
+  // Keeps the least-loss failed rollout; `admissible` says whether a collision on this branch may
+  // be the strategy's outcome (always for fail-safes, for goal-tree edges only with contact accepted).
+  void consider_failure_from(int from, RolloutResult r, bool admissible) {
+    if (r.termination == Termination::kConstraint) return;  // violates the strategy
+    if (r.termination == Termination::kRoadDeparture) r.impact.loss_level = 4;
+    if (r.termination == Termination::kContact && !admissible) return;
+    if (result_.collision && !less_loss(r.impact, result_.collision->impact)) return;
+    prepend_chain(from, r);
+    result_.collision = std::move(r);
+  }
+
+  double chain_min_ttc(int index) const {
+    // TTC along the tree path is not stored per node; the edges' recorded points give a bound.
+    double best = kInfinity;
+    const double truck_near_x = scene_.initial_distance_m();
+    for (const auto& p : chain(index)) {
+      const core::Vec2 v = world_velocity(p.state);
+      const auto ego = extent_of(scene_.ego_box(p.state));
+      const auto truck = extent_of(scene_.truck_at(p.t_s).box);
+      if (v.x > 1e-6 && ego.max_y > truck.min_y && ego.min_y < truck.max_y && ego.max_x < truck_near_x)
+        best = std::min(best, (truck_near_x - ego.max_x) / v.x);
+    }
+    return best;
+  }
+
+  const Scene& scene_;
+  Roller roller_;
+  ControlLimits limits_;
+  std::mt19937_64 rng_;
+  bool keep_tree_;
+  std::vector<Node> nodes_;
+  PlanResult result_;
+  int iterations_ = 0;  // extension attempts, some of which add no node
+};
+
+}  // namespace
+
+PlanResult plan_rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed,
+                    bool keep_tree) {
+  return Rrt(scene, model, limits, seed, keep_tree).run();
+}
+
+PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const ControlLimits& limits) {
+  const auto& cfg = scene.config();
+  const auto& p = cfg.ego;
+  const Roller roller(scene, model, limits);
+  PlanResult result;
+  const auto started = std::chrono::steady_clock::now();
+  const VehicleState start = scene.ego_initial();
+  const Tail stop = Tail::full_stop();
+
+  auto consider = [&](RolloutResult r) {
+    ++result.stats.rollouts;
+    if (r.avoided()) {
+      if (!result.avoidance) result.avoidance = std::move(r);
+      return;
+    }
+    if (r.termination == Termination::kConstraint) return;
+    if (r.termination == Termination::kRoadDeparture) r.impact.loss_level = 4;
+    if (!result.collision || less_loss(r.impact, result.collision->impact)) result.collision = std::move(r);
+  };
+
+  const double latency = cfg.simulation.latency_s;
+  const std::vector<ControlSegment> wait =
+      latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : std::vector<ControlSegment>{};
+  consider(roller.roll(start, 0.0, wait, stop, 5));
+
+  // Swerve right (towards the passage): steer in to a peak, hold, counter-steer, then brake out.
+  const std::vector<double> peaks{0.1, 0.2, 0.3, 0.45, 0.6};
+  const std::vector<double> holds{0.0, 0.2, 0.4, 0.7, 1.0};
+  const std::vector<double> counters{0.0, 0.5, 1.0};
+  const std::vector<double> counter_holds{0.3, 0.6};
+  const std::vector<double> brakes{0.0, 0.3, 0.6};
+  const std::vector<bool> locks = limits.allow_rear_lock ? std::vector<bool>{false, true} : std::vector<bool>{false};
+  for (double peak : peaks) {
+    const double in_time = std::min(peak, p.max_steer_rad) / p.max_steer_rate_radps;
+    for (double hold_s : holds)
+      for (double counter : counters)
+        for (double counter_hold : counter_holds)
+          for (double brake : brakes)
+            for (bool lock : locks) {
+              std::vector<ControlSegment> plan = wait;
+              Control u;
+              u.brake = brake;
+              u.steer_rate_radps = -p.max_steer_rate_radps;
+              plan.push_back(hold(u, in_time));
+              Control h = u;
+              h.steer_rate_radps = 0.0;
+              h.rear_lock = lock;
+              plan.push_back(hold(h, hold_s));
+              Control c = u;
+              c.steer_rate_radps = p.max_steer_rate_radps;
+              plan.push_back(hold(c, in_time * (1.0 + counter)));
+              Control ch = c;
+              ch.steer_rate_radps = 0.0;
+              plan.push_back(hold(ch, counter_hold));
+              Control straighten = ch;
+              straighten.steer_rate_radps = -p.max_steer_rate_radps * counter;
+              plan.push_back(hold(straighten, in_time * counter));
+              consider(roller.roll(start, 0.0, plan, stop, 5));
+            }
+  }
+  result.stats.nodes = result.stats.rollouts;
+  result.stats.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace emrm::sim

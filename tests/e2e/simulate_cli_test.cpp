@@ -1,0 +1,123 @@
+// End-to-end: `emrm simulate` as a user runs it.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+
+void expect_bad_input(const RunResult& r, const std::string& what) {
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(what));
+}
+
+TEST(SimulateCli, PrintsATableWithTheRegionAndEveryStrategy) {
+  const auto r = run_emrm("simulate --speed-kph 50 --ttc-s 1.0");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("Region: G"));
+  for (const char* s : {"emergency_stop", "dodge", "drift_to_avoid", "drift_to_accident", "emrm"})
+    EXPECT_THAT(r.out, HasSubstr(s));
+  EXPECT_THAT(r.out, HasSubstr("EMRM FSM trace: S1 hazard_detected S2"));
+}
+
+TEST(SimulateCli, JsonHasTheDocumentedShape) {
+  const auto r = run_emrm("simulate --speed-kph 60 --ttc-s 0.6 --mu 0.8 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"}) EXPECT_TRUE(j["input"].contains(key));
+  EXPECT_TRUE(j["feasible"].get<bool>());
+  EXPECT_THAT(std::string("G Y O R"), HasSubstr(j["region"].get<std::string>()));
+  for (const char* key : {"impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level"})
+    EXPECT_TRUE(j["unmitigated"].contains(key)) << key;
+  ASSERT_EQ(j["strategies"].size(), 5u);
+  for (const auto& [name, s] : j["strategies"].items()) {
+    for (const char* key : {"avoided", "impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level",
+                            "delta_loss", "min_ttc_s", "fsm_trace", "planner"})
+      EXPECT_TRUE(s.contains(key)) << name << " " << key;
+    EXPECT_TRUE(s["planner"].contains("nodes"));
+    if (s["avoided"].get<bool>()) {
+      EXPECT_EQ(s["impact_speed_kph"].get<double>(), 0.0) << name;
+      EXPECT_EQ(s["loss_level"].get<int>(), 0) << name;
+    }
+    EXPECT_EQ(s["delta_loss"].get<int>(), j["unmitigated"]["loss_level"].get<int>() - s["loss_level"].get<int>());
+  }
+}
+
+TEST(SimulateCli, SameSeedGivesByteIdenticalJson) {
+  const std::string args = "simulate --speed-kph 66 --ttc-s 0.7 --mu 0.9 --passage-m 2.5 --seed 5 --json --paths";
+  const auto a = run_emrm(args);
+  const auto b = run_emrm(args);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_GT(a.out.size(), 1000u);
+}
+
+TEST(SimulateCli, TimingIsOptInBecauseItVaries) {
+  const auto r = run_emrm("simulate --speed-kph 66 --ttc-s 0.7 --json --timing");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["strategies"]["dodge"]["planner"].contains("time_ms"));
+}
+
+TEST(SimulateCli, ShippedSceneFileEqualsTheBuiltInDefaults) {
+  const auto builtin = run_emrm("simulate --speed-kph 55 --ttc-s 0.8 --json");
+  const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) + " --speed-kph 55 --ttc-s 0.8 --json");
+  ASSERT_EQ(shipped.exit_code, 0) << shipped.err;
+  EXPECT_EQ(builtin.out, shipped.out);
+}
+
+TEST(SimulateCli, OneStrategyCanBeAskedFor) {
+  const auto r = run_emrm("simulate --speed-kph 40 --ttc-s 0.5 --strategy emergency_stop --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["strategies"].size(), 1u);
+  EXPECT_FALSE(j["strategies"]["emergency_stop"]["avoided"].get<bool>());
+}
+
+TEST(SimulateCli, InfeasibleCellsAreReportedNotSimulated) {
+  const auto r = run_emrm("simulate --speed-kph 72 --ttc-s 2.9 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j["feasible"].get<bool>());
+  EXPECT_EQ(j["region"], "infeasible");
+}
+
+TEST(SimulateCli, FiguresAreWrittenAsSvgAndPng) {
+  const auto dir = scratch_dir("simulate-figure");
+  const auto svg = dir / "cell.svg";
+  const auto png = dir / "cell.png";
+  ASSERT_EQ(run_emrm("simulate --speed-kph 60 --ttc-s 0.8 --figure " + quoted(svg)).exit_code, 0);
+  ASSERT_EQ(run_emrm("simulate --speed-kph 60 --ttc-s 0.8 --figure " + quoted(png)).exit_code, 0);
+  EXPECT_THAT(read_text(svg), HasSubstr("<svg"));
+  const std::string header = read_text(png).substr(0, 8);
+  EXPECT_EQ(header, std::string("\x89PNG\r\n\x1a\n", 8));
+  expect_bad_input(run_emrm("simulate --speed-kph 60 --ttc-s 0.8 --figure " + quoted(dir / "cell.gif")), ".png or .svg");
+}
+
+TEST(SimulateCli, BadCellsExitTwoWithOneMessage) {
+  expect_bad_input(run_emrm("simulate --speed-kph -5 --ttc-s 1"), "speed");
+  expect_bad_input(run_emrm("simulate --speed-kph nan --ttc-s 1"), "speed");
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --mu 0"), "mu");
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --mu 2.5"), "mu");
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --passage-m 12"), "passage");
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --strategy teleport"), "unknown strategy 'teleport'");
+  EXPECT_EQ(run_emrm("simulate --ttc-s 1").exit_code, 2);
+}
+
+TEST(SimulateCli, MalformedSceneFileExitsTwoNamingLineAndColumn) {
+  const auto dir = scratch_dir("simulate-scene");
+  write_text(dir / "scene.yaml", "truck:\n  mass_kg: heavy\n");
+  const auto r = run_emrm("simulate --scene " + quoted(dir / "scene.yaml") + " --speed-kph 50 --ttc-s 1");
+  expect_bad_input(r, "scene.yaml:2:");
+  write_text(dir / "scene2.yaml", "road: [1, 2\n");
+  expect_bad_input(run_emrm("simulate --scene " + quoted(dir / "scene2.yaml") + " --speed-kph 50 --ttc-s 1"),
+                   "malformed YAML");
+}
+
+}  // namespace
+}  // namespace emrm::e2e

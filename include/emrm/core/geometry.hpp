@@ -44,10 +44,10 @@ struct Contact {
   bool touching = false;
   Vec2 normal;         ///< unit, pointing from a towards b, along the axis of least penetration
   double depth_m = 0;  ///< penetration along `normal` (0 when not touching)
-  Vec2 point;          ///< a representative contact point (deepest corner inside the other box)
+  Vec2 point;          ///< a representative contact point: the centroid of the overlap (inside both)
 };
 
-/// The contact of a with b; `touching` false when they are apart.
+/// The contact of a with b; `touching` is exactly overlaps(a, b), and the rest is zero when false.
 [[nodiscard]] Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept;
 
 }  // namespace emrm::core

@@ -23,6 +23,8 @@ struct ImpactAssessment {
   double p_mais3 = 0.0;
   double p_fatal = 0.0;
   int loss_level = 0;  ///< 0, 4, 6 or 7
+  /// Impulse the ego receives (N·s, road frame); the other body receives its opposite.
+  core::Vec2 ego_impulse_ns;
 };
 
 /// Central impact: Δv = (1 + e) · m_other / (m_ego + m_other) · |v_rel,n|.
@@ -39,7 +41,10 @@ struct ImpactAssessment {
 
 /// Impact of `ego` on `other` at `contact` (normal from ego towards other): the normal impulse
 /// uses the effective mass including rotation, J_n = (1+e) m_eff v_rel,n; the tangential impulse
-/// is limited by contact friction. Δv = |J| / m_ego. Separating bodies give Δv = 0.
+/// is limited by contact friction. Δv = |J| / m_ego. Separating bodies give Δv = 0 (loss level
+/// L4: they touch). No contact gives an all-zero assessment. The ego's mass must be positive; a
+/// non-positive mass or yaw inertia of `other` (or inertia of the ego) stands for an infinite one:
+/// an immovable obstacle, or a body that does not turn.
 [[nodiscard]] ImpactAssessment assess_impact(const ImpactBody& ego, const ImpactBody& other,
                                              const core::Contact& contact, const SeverityConfig& c) noexcept;
 

@@ -5,6 +5,7 @@
 // transfer and a blend to the kinematic model at low speed; a kinematic bicycle model is kept
 // for comparison. Models are picked by name from a registry; all are pure and thread-safe.
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -112,6 +113,65 @@ class VehicleModel {
  protected:
   VehicleParams params_;
 };
+
+/// Single-track model with Fiala brush tires ("single_track_fiala", DESIGN.md §6): friction circle
+/// per axle, quasi-static longitudinal load transfer, ABS braking at the friction limit, a sliding
+/// locked rear axle, and a blend to the kinematic model below `kinematic_blend_speed_mps`.
+class SingleTrackFiala final : public VehicleModel {
+ public:
+  static constexpr std::string_view kName = "single_track_fiala";
+  using VehicleModel::VehicleModel;
+
+  [[nodiscard]] std::string_view name() const override { return kName; }
+  [[nodiscard]] VehicleState derivative(const VehicleState& s, const Control& u, double mu) const override;
+  /// Axle forces of the dynamic (unblended) model. Slip angles lie in [-pi/2, pi/2]: a wheel
+  /// moving backwards is measured from its backward direction, so the lateral force always
+  /// opposes the lateral sliding.
+  [[nodiscard]] TireForces tire_forces(const VehicleState& s, const Control& u, double mu) const override;
+};
+
+/// Kinematic single-track model ("kinematic_bicycle"): no tires; the CG moves at the slip angle
+/// beta = atan(l_r tan(delta) / L); braking decelerates at brake*mu*g, a rear lock at mu*g. For
+/// comparison only: it has no friction limit on lateral acceleration.
+class KinematicBicycle final : public VehicleModel {
+ public:
+  static constexpr std::string_view kName = "kinematic_bicycle";
+  using VehicleModel::VehicleModel;
+
+  [[nodiscard]] std::string_view name() const override { return kName; }
+  [[nodiscard]] VehicleState derivative(const VehicleState& s, const Control& u, double mu) const override;
+  /// Always zeros: the model has no tires.
+  [[nodiscard]] TireForces tire_forces(const VehicleState& s, const Control& u, double mu) const override;
+};
+
+namespace detail {
+
+/// Below this speed the rolling direction of a wheel is undefined.
+inline constexpr double kRollingEpsilon_mps = 1e-3;
+/// Rolling direction of a wheel moving at `u_mps` along itself: ±1, ramping linearly through zero
+/// within ±kRollingEpsilon_mps so that braking forces vanish at rest instead of chattering.
+[[nodiscard]] inline double rolling_sign(double u_mps) {
+  return std::clamp(u_mps / kRollingEpsilon_mps, -1.0, 1.0);
+}
+
+/// Commanded steering rate limited to ±max_steer_rate, and zero at the angle limit when pushing
+/// further out.
+[[nodiscard]] double limited_steer_rate(const VehicleParams& p, const VehicleState& s, const Control& u);
+
+/// d(vx, vy, r)/dt of the kinematic model for a signed path acceleration `speed_rate_mps2`. Also
+/// relaxes vx, vy and r towards the kinematic values for the current speed and steering, so a
+/// state that is not (yet) kinematic, e.g. handed over by the dynamic model, converges to one; the
+/// translational part of that correction is at most `max_correction_mps2` (friction pays for it).
+struct KinematicBodyRates {
+  double vx_mps2 = 0.0;
+  double vy_mps2 = 0.0;
+  double yaw_rate_radps2 = 0.0;
+};
+[[nodiscard]] KinematicBodyRates kinematic_body_rates(const VehicleParams& p, const VehicleState& s,
+                                                      double steer_rate_radps, double speed_rate_mps2,
+                                                      double max_correction_mps2);
+
+}  // namespace detail
 
 /// Creates a model by name ("single_track_fiala", "kinematic_bicycle"). Throws emrm::Error for an
 /// unknown name (the message lists the known ones).

@@ -1,0 +1,122 @@
+// Rollouts, the RRT and the reference planner.
+
+#include "emrm/sim/planner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::sim {
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kComparisonCells = 40;  // the sanitizer build checks the mechanism, not the rate
+#else
+constexpr int kComparisonCells = 200;
+#endif
+
+TEST(Roller, CoastingHitsTheTruckAtTheTimeToCollision) {
+  const SceneConfig config;
+  const Scene scene(config, {50.0, 1.2, 1.0, 3.0, 10.0});
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  const Roller roller(scene, *model, {});
+  const auto r = roller.roll(scene.ego_initial(), 0.0, {}, Tail{}, 5);
+  ASSERT_EQ(r.termination, Termination::kContact);
+  EXPECT_NEAR(r.end_time_s, 1.2, config.simulation.dt_s / 100);
+  EXPECT_NEAR(r.impact.impact_speed_mps, 50.0 / 3.6, 1e-6);
+}
+
+TEST(Roller, FullStopOnAnOpenRoadStopsAtTheClosedFormDistance) {
+  const SceneConfig config;
+  const Scene scene(config, {60.0, 2.0, 0.7, 3.0, 10.0});  // 33 m to the truck, 20 m needed
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  const auto r = Roller(scene, *model, {}).roll(scene.ego_initial(), 0.0, {}, Tail::full_stop(), 1);
+  ASSERT_EQ(r.termination, Termination::kStopped);
+  const double v = 60.0 / 3.6;
+  const double travelled = r.end_state.x_m - scene.ego_initial().x_m;
+  EXPECT_NEAR(travelled, v * v / (2 * 0.7 * kGravity_mps2), v * config.simulation.dt_s);
+}
+
+TEST(Rrt, SameSeedSamePlan) {
+  const SceneConfig config;
+  const Scene scene(config, {60.0, 0.8, 1.0, 3.0, 10.0});
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  const ControlLimits drift{true, false, false};
+  const auto a = plan_rrt(scene, *model, drift, 42, true);
+  const auto b = plan_rrt(scene, *model, drift, 42, true);
+  EXPECT_EQ(a.stats.nodes, b.stats.nodes);
+  EXPECT_EQ(a.stats.rollouts, b.stats.rollouts);
+  ASSERT_EQ(a.tree.size(), b.tree.size());
+  ASSERT_EQ(a.avoidance.has_value(), b.avoidance.has_value());
+  if (a.avoidance) {
+    ASSERT_EQ(a.avoidance->path.size(), b.avoidance->path.size());
+    EXPECT_EQ(a.avoidance->path.back().state.x_m, b.avoidance->path.back().state.x_m);
+  }
+}
+
+TEST(Rrt, DodgePathsNeverLockOrSlideTheRearAxle) {
+  const SceneConfig config;
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  int found = 0;
+  for (double ttc : {0.7, 0.8, 0.9})
+    for (double speed : {50.0, 60.0, 70.0}) {
+      const Scene scene(config, {speed, ttc, 1.0, 3.0, 10.0});
+      const auto plan = plan_rrt(scene, *model, {false, true, false}, 3, false);
+      if (!plan.avoidance) continue;
+      ++found;
+      for (const auto& p : plan.avoidance->path) {
+        EXPECT_FALSE(p.control.rear_lock);
+        const auto rear = model->tire_forces(p.state, p.control, 1.0).rear;
+        EXPECT_FALSE(rear.saturated && std::abs(rear.slip_angle_rad) > 0.035)
+            << "t " << p.t_s << " v " << p.state.speed_mps() << " slip " << rear.slip_angle_rad << " brake " << p.control.brake;
+      }
+    }
+  EXPECT_GT(found, 0);
+}
+
+// The RRT should find an avoidance wherever the dense reference family finds one. The target is
+// 99 % of the cells of a seeded sample of the ODD; today the RRT misses about 6 % (thin sets of
+// swerve-then-stop maneuvers at the braking boundary, docs/planner.md), so this test guards
+// against regressions at 10 % and prints the rate it measured.
+TEST(Rrt, FindsNearlyEveryAvoidanceTheReferencePlannerFinds) {
+  const SceneConfig config;
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> speed(30, 72), ttc(0.25, 2.95), mu(0.1, 1.0), passage(1.0, 3.0);
+  int cells = 0;
+  int reference_avoids = 0;
+  int rrt_misses = 0;
+  while (cells < kComparisonCells) {
+    const CellInput cell{speed(rng), ttc(rng), mu(rng), passage(rng), 10.0};
+    const Scene scene(config, cell);
+    if (!scene.feasible()) continue;
+    ++cells;
+    const auto result = simulate_cell(config, cell, {});
+    for (const auto& [name, limits] : {std::pair{std::string("dodge"), ControlLimits{false, true, false}},
+                                       std::pair{std::string("drift_to_avoid"), ControlLimits{true, false, false}}}) {
+      const auto reference = plan_reference(scene, *model, limits);
+      if (!reference.avoidance) continue;
+      ++reference_avoids;
+      bool avoided = false;
+      for (const auto& o : result.strategies)
+        if (o.strategy == name) avoided = o.avoided;
+      if (!avoided) {
+        ++rrt_misses;
+        std::printf("miss: %s at %.1f km/h, TTC %.2f s, mu %.2f, passage %.2f m\n", name.c_str(), cell.speed_kph,
+                    cell.ttc_s, cell.mu, cell.passage_m);
+      }
+    }
+  }
+  std::printf("RRT vs reference: %d cells, reference avoids %d strategy-cells, RRT misses %d\n", cells,
+              reference_avoids, rrt_misses);
+  RecordProperty("reference_avoids", reference_avoids);
+  RecordProperty("rrt_misses", rrt_misses);
+  EXPECT_GT(reference_avoids, 0);
+  EXPECT_LE(rrt_misses * 10, reference_avoids);
+}
+
+}  // namespace
+}  // namespace emrm::sim

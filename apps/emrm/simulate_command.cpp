@@ -1,0 +1,123 @@
+// `emrm simulate`: one scenario cell under every strategy (paper Algorithm 1, step 7).
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/report/trajectory_figure.hpp"
+#include "emrm/sim/json.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::cli {
+namespace {
+
+struct SimulateOptions {
+  std::string scene_file;
+  sim::CellInput cell;
+  bool truck_speed_given = false;
+  std::vector<std::string> strategies{"all"};
+  std::uint64_t seed = 1;
+  bool json = false;
+  bool timing = false;
+  bool paths = false;
+  std::string figure;
+};
+
+std::string yes_no(bool b) { return b ? "yes" : "no"; }
+
+void print_table(const sim::CellResult& r, const sim::SceneConfig& config, std::uint64_t seed) {
+  auto& out = std::cout;
+  const auto& c = r.input;
+  out << fmt::format("Cell: {:g} km/h, TTC {:g} s, mu {:g}, passage {:g} m, truck {:g} km/h (seed {})\n", c.speed_kph,
+                     c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph, seed);
+  const double v = c.speed_kph / 3.6;
+  out << fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n", v * c.ttc_s,
+                     v / (2.0 * c.mu * sim::kGravity_mps2));
+  if (!r.feasible) {
+    out << fmt::format("Infeasible: the initial distance exceeds max_initial_distance_m = {:g} m\n",
+                       config.max_initial_distance_m);
+    return;
+  }
+  const auto& u = r.unmitigated;
+  out << fmt::format("Region: {}\n", sim::region_name(r.region));
+  out << fmt::format("Unmitigated: impact {:.1f} km/h, delta-v {:.1f} km/h, P(MAIS3+) {:.3f}, P(fatal) {:.3f}, L{}\n\n",
+                     u.impact_speed_mps * 3.6, u.delta_v_mps * 3.6, u.p_mais3, u.p_fatal, u.loss_level);
+  std::vector<core::Row> rows;
+  for (const auto& o : r.strategies)
+    rows.push_back({o.strategy, yes_no(o.avoided), fmt::format("{:.1f}", o.impact.impact_speed_mps * 3.6),
+                    fmt::format("{:.1f}", o.impact.delta_v_mps * 3.6), fmt::format("{:.3f}", o.impact.p_mais3),
+                    fmt::format("{:.3f}", o.impact.p_fatal), fmt::format("L{}", o.impact.loss_level),
+                    std::to_string(o.delta_loss), fmt::format("{:.3f}", o.min_ttc_s), std::to_string(o.planner.nodes),
+                    o.chosen_strategy.empty() ? o.adopted_from : "chose " + o.chosen_strategy});
+  out << core::markdown_table({"strategy", "avoided", "impact_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss",
+                               "delta_loss", "min_ttc_s", "nodes", "note"},
+                              rows);
+  for (const auto& o : r.strategies)
+    if (o.strategy == "emrm") {
+      out << "\nEMRM FSM trace: " << core::join(o.fsm_trace, " ") << "\n";
+      if (!o.loss_evaluation_trace.empty())
+        out << "Loss-evaluation FSM trace: " << core::join(o.loss_evaluation_trace, " ") << "\n";
+    }
+}
+
+int run(const SimulateOptions& options) {
+  const sim::SceneConfig config =
+      options.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(options.scene_file);
+  sim::CellInput cell = options.cell;
+  if (!options.truck_speed_given) cell.truck_speed_kph = config.truck.speed_kph;
+  sim::CellOptions cell_options;
+  cell_options.seed = options.seed;
+  cell_options.keep_trees = !options.figure.empty();
+  const bool all = std::find(options.strategies.begin(), options.strategies.end(), "all") != options.strategies.end();
+  if (!all) {
+    for (const auto& s : options.strategies) sim::validate_strategy(s);
+    cell_options.strategies = options.strategies;
+  }
+  const sim::CellResult result = sim::simulate_cell(config, cell, cell_options);
+  if (options.json) {
+    std::cout << sim::to_json(result, options.seed, {options.timing, options.paths}).dump(2) << "\n";
+  } else {
+    print_table(result, config, options.seed);
+  }
+  if (!options.figure.empty()) {
+    report::draw_cell_figure(result, config, options.figure);
+    if (!options.json) std::cout << "Figure written to " << options.figure << "\n";
+  }
+  return static_cast<int>(ExitCode::kSuccess);
+}
+
+}  // namespace
+
+void register_simulate_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<SimulateOptions>();
+  auto* cmd = app.add_subcommand("simulate",
+                                 "Simulate one scenario cell of the T-junction under every strategy and report\n"
+                                 "avoidance, impact, loss level and the cell's region (G, Y, O, R).");
+  cmd->add_option("--scene", o->scene_file, "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--speed-kph", o->cell.speed_kph, "Ego speed when the hazard appears (km/h)")->required();
+  cmd->add_option("--ttc-s", o->cell.ttc_s, "Time to collision when the hazard appears (s)")->required();
+  cmd->add_option("--mu", o->cell.mu, "Tire-road friction coefficient, (0, 2]")->capture_default_str();
+  cmd->add_option("--passage-m", o->cell.passage_m, "Free gap beside the stopped truck (m)")->capture_default_str();
+  cmd->add_option_function<double>(
+      "--truck-speed-kph",
+      [o](double v) {
+        o->cell.truck_speed_kph = v;
+        o->truck_speed_given = true;
+      },
+      "Truck crossing speed (km/h; default: the scene's, 10)");
+  cmd->add_option("--strategy", o->strategies,
+                  "emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm, or all (repeatable)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed of the planners")->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
+  cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");
+  cmd->add_flag("--paths", o->paths, "Add the executed trajectories to the JSON");
+  cmd->add_option("--figure", o->figure, "Draw the trajectory trees to FILE.svg or FILE.png (gnuplot)");
+  cmd->callback([o, &exit_code] { exit_code = run(*o); });
+}
+
+}  // namespace emrm::cli

@@ -1,0 +1,72 @@
+#pragma once
+
+// One scenario cell under every strategy (DESIGN.md §7–9): the outcome of each strategy, the
+// unmitigated reference, the cell's region, and the traces through the EMRM and loss-evaluation
+// FSMs. Pure: the same config, cell and seed give the same result on any thread.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emrm/fsm/generator.hpp"
+#include "emrm/sim/loss.hpp"
+#include "emrm/sim/planner.hpp"
+#include "emrm/sim/scene.hpp"
+
+namespace emrm::sim {
+
+/// Mitigability region of a cell (DESIGN.md §9).
+enum class Region { kG, kY, kO, kR, kInfeasible };
+[[nodiscard]] std::string_view region_name(Region r) noexcept;
+
+struct StrategyOutcome {
+  std::string strategy;
+  bool avoided = false;
+  bool contact = false;
+  bool road_departure = false;
+  ImpactAssessment impact;  ///< zeros when avoided
+  int delta_loss = 0;       ///< unmitigated level − this outcome's level
+  double min_ttc_s = 0.0;
+  std::vector<std::string> fsm_trace;              ///< EMRM FSM: s0 e1 s1 e2 s2 …
+  std::vector<std::string> loss_evaluation_trace;  ///< emrm only
+  std::string chosen_strategy;                     ///< emrm only
+  std::string adopted_from;  ///< set when the outcome is another strategy's (see docs)
+  PlannerStats planner;
+  std::vector<PathPoint> path;  ///< executed trajectory
+  std::vector<TreeEdge> tree;   ///< when trees are kept
+};
+
+struct CellResult {
+  CellInput input;
+  bool feasible = false;
+  Region region = Region::kInfeasible;
+  ImpactAssessment unmitigated;
+  std::vector<StrategyOutcome> strategies;  ///< in the order asked for
+};
+
+/// The shipped FSMs (compiled in from examples/tjunction/*.yaml).
+[[nodiscard]] const fsm::Generator& default_emrm_fsm();
+[[nodiscard]] const fsm::Generator& default_loss_evaluation_fsm();
+
+/// Strategy names in evaluation order: emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm.
+[[nodiscard]] const std::vector<std::string>& strategy_names();
+/// Throws UsageError naming the known strategies when `name` is not one.
+void validate_strategy(std::string_view name);
+
+struct CellOptions {
+  std::vector<std::string> strategies = strategy_names();
+  std::uint64_t seed = 1;
+  bool keep_trees = false;
+  const fsm::Generator* emrm_fsm = nullptr;             ///< default_emrm_fsm() when null
+  const fsm::Generator* loss_evaluation_fsm = nullptr;  ///< default_loss_evaluation_fsm() when null
+};
+
+/// Simulates one cell. Infeasible cells are returned with no strategies simulated.
+[[nodiscard]] CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options);
+
+/// A 64-bit seed from a campaign seed and a key (FNV-1a over the key, mixed with splitmix64).
+[[nodiscard]] std::uint64_t derive_seed(std::uint64_t seed, std::string_view key) noexcept;
+
+}  // namespace emrm::sim
