@@ -56,14 +56,13 @@ ImpactAssessment impact_with_truck(const Scene& scene, const VehicleState& s, co
 }  // namespace
 
 double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p, double mu,
-                          double dt_s) noexcept {
+                          double grip, double dt_s) noexcept {
   const double dx = target.x - s.x_m;
   const double dy = target.y - s.y_m;
   const double alpha = std::remainder(std::atan2(dy, dx) - s.yaw_rad, 2.0 * M_PI);
   const double lookahead = std::max(std::hypot(dx, dy), 1.0);
-  // Within grip: no sharper than the steady-state angle for 0.9 mu g of lateral acceleration.
   const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
-  const double grip_limit = std::min(p.max_steer_rad, std::atan(p.wheelbase_m() * 0.9 * mu * kGravity_mps2 / v2));
+  const double grip_limit = std::min(p.max_steer_rad, std::atan(p.wheelbase_m() * grip * mu * kGravity_mps2 / v2));
   const double wanted =
       std::clamp(std::atan(2.0 * p.wheelbase_m() * std::sin(alpha) / lookahead), -grip_limit, grip_limit);
   return std::clamp((wanted - s.steer_rad) / (2.0 * dt_s), -p.max_steer_rate_radps, p.max_steer_rate_radps);
@@ -112,13 +111,15 @@ RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::ve
     if (segment < plan.size()) {
       u = plan[segment].control;
       if (plan[segment].pursue) {
-        u.steer_rate_radps = pursuit_steer_rate(s, *plan[segment].pursue, model_.params(), mu, dt);
+        u.steer_rate_radps =
+            pursuit_steer_rate(s, *plan[segment].pursue, model_.params(), mu, plan[segment].pursuit_grip, dt);
         if (plan[segment].friction_circle_brake) u.brake *= friction_circle_share(s, mu);
       }
     } else if (tail) {
       u = tail->control;
       // Back to straight at the largest rate that does not overshoot within a few steps.
       if (tail->straighten) u.steer_rate_radps = std::clamp(-s.steer_rad / (5.0 * dt), -max_rate, max_rate);
+      if (tail->pursue) u.steer_rate_radps = pursuit_steer_rate(s, *tail->pursue, model_.params(), mu, 0.9, dt);
       if (tail->friction_circle_brake) u.brake *= friction_circle_share(s, mu);
     } else {
       if (r.path.empty()) r.path.push_back({t, s, u});
@@ -218,7 +219,12 @@ struct Node {
 class Rrt {
  public:
   Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
-      : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {}
+      : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {
+    const auto& cfg = scene.config();
+    const double lo = cfg.road.drivable_min_y_m() + cfg.ego.width_m / 2.0 + 0.1;
+    const double hi = scene.truck_front_y_at(cfg.simulation.horizon_s) - cfg.ego.width_m / 2.0 - 0.1;
+    if (hi > lo) passage_band_ = std::pair{lo, hi};
+  }
 
   PlanResult run() {
     const auto started = std::chrono::steady_clock::now();
@@ -289,12 +295,22 @@ class Rrt {
     return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.drivable_max_y_m() - y_min)};
   }
 
+  // A random moving node, early ones preferred (weight e^(-t/0.3 s)): with a short TTC the first
+  // few tenths of a second decide the outcome, so that is where the search should branch most.
   int random_moving_node() {
-    std::vector<int> moving;
+    weights_.assign(nodes_.size(), 0.0);
+    double total = 0.0;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
-      if (nodes_[i].state.speed_mps() >= 0.5) moving.push_back(static_cast<int>(i));
-    if (moving.empty()) return -1;
-    return moving[std::uniform_int_distribution<std::size_t>(0, moving.size() - 1)(rng_)];
+      if (nodes_[i].state.speed_mps() >= 0.5) total += weights_[i] = std::exp(-nodes_[i].t_s / 0.3);
+    if (total <= 0.0) return -1;
+    double pick = std::uniform_real_distribution<double>(0.0, total)(rng_);
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      pick -= weights_[i];
+      if (pick <= 0.0 && weights_[i] > 0.0) return static_cast<int>(i);
+    }
+    for (std::size_t i = nodes_.size(); i-- > 0;)
+      if (weights_[i] > 0.0) return static_cast<int>(i);
+    return -1;
   }
 
   // The node nearest to the target in the plane, among nodes still moving and behind it.
@@ -343,18 +359,24 @@ class Rrt {
     const Node& base = nodes_[static_cast<std::size_t>(from)];
     std::optional<RolloutResult> best;
     double best_d2 = kInfinity;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
       const Control u = sample_control(base.state, target, k == 0);
       const double duration = pc.min_duration_s + unit(rng_) * (pc.max_duration_s - pc.min_duration_s);
-      // Mostly closed-loop (pursue the sampled point); sometimes an open-loop constant control, which
-      // reaches states pure pursuit would not (a hard turn-in, a counter-steer).
-      ControlSegment segment = hold(u, duration);
-      if (k < 2) segment.pursue = target;
-      if (k == 1) {
-        segment.friction_circle_brake = true;
-        segment.control.brake = unit(rng_) < 0.2 ? 0.5 : 1.0;
+      // Closed-loop pursuit of the sampled point (plain, and braking as hard as the turn allows); an
+      // open-loop constant control, which reaches states pursuit would not; and a lane-change
+      // primitive (steer in, hold, counter-steer), the maneuver class of the reference planner.
+      std::vector<ControlSegment> plan{hold(u, duration)};
+      if (k < 2) {
+        plan[0].pursue = target;
+        // Within grip, or beyond it: on low friction a saturated front still turns hardest.
+        plan[0].pursuit_grip = unit(rng_) < 0.5 ? 0.9 : 2.0;
       }
-      RolloutResult r = roller_.roll(base.state, base.t_s, {segment}, std::nullopt, 5);
+      if (k == 1) {
+        plan[0].friction_circle_brake = true;
+        plan[0].control.brake = 1.0;
+      }
+      if (k == 3) plan = lane_change_primitive(base.state, target);
+      RolloutResult r = roller_.roll(base.state, base.t_s, plan, std::nullopt, 5);
       ++result_.stats.rollouts;
       if (keep_tree_) result_.tree.push_back({r.path, false});
       if (r.termination == Termination::kPassed || r.termination == Termination::kStopped ||
@@ -385,6 +407,36 @@ class Rrt {
     return fail_safes(static_cast<int>(nodes_.size()) - 1);
   }
 
+  // Steer towards the target's side at the full rate up to a sampled peak, hold, counter-steer
+  // through straight to a sampled fraction of the peak, and straighten; brake held at a sampled level.
+  std::vector<ControlSegment> lane_change_primitive(const VehicleState& s, const core::Vec2& target) {
+    const auto& p = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double side = target.y < s.y_m ? -1.0 : 1.0;
+    // Peaks scale with the steady-state steering angle at the friction limit (small on ice and at
+    // speed), from half of it to four times it (a saturated front still turns hardest).
+    const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
+    const double grip_angle = std::atan(p.wheelbase_m() * scene_.cell().mu * kGravity_mps2 / v2);
+    const double peak = std::min(p.max_steer_rad, grip_angle * (0.5 + 3.5 * unit(rng_)));
+    const double counter = unit(rng_);
+    const double rate = p.max_steer_rate_radps;
+    Control c;
+    c.brake = unit(rng_) < 0.5 ? 0.0 : unit(rng_);
+    c.rear_lock = false;
+    std::vector<ControlSegment> plan;
+    c.steer_rate_radps = side * rate;
+    plan.push_back(hold(c, std::max(0.0, (side * peak - s.steer_rad) / (side * rate))));
+    c.steer_rate_radps = 0.0;
+    plan.push_back(hold(c, unit(rng_) * 1.2));  // long holds matter on low friction
+    c.steer_rate_radps = -side * rate;
+    plan.push_back(hold(c, peak * (1.0 + counter) / rate));
+    c.steer_rate_radps = 0.0;
+    plan.push_back(hold(c, unit(rng_) * 1.0));
+    c.steer_rate_radps = side * rate;
+    plan.push_back(hold(c, peak * counter / rate));
+    return plan;
+  }
+
   // Fail-safe branches from a node: a full stop, and with contact accepted, minimum-momentum
   // collisions (full braking steering away from the truck, and a braked drift). Returns true when
   // one of them avoids the truck.
@@ -392,8 +444,15 @@ class Rrt {
     const Node& n = nodes_[static_cast<std::size_t>(index)];
     const auto& p = scene_.config().ego;
     std::vector<Tail> tails{Tail::full_stop()};
+    // A braking swerve: stop as hard as grip allows while steering into the free passage.
+    if (passage_band_) {
+      const double speed = n.state.speed_mps();
+      const double reach = speed * speed / (2.0 * scene_.cell().mu * kGravity_mps2) + 2.0;
+      tails.push_back(Tail{Control{0.0, 1.0, false}, false, true,
+                           core::Vec2{n.state.x_m + reach, 0.5 * (passage_band_->first + passage_band_->second)}});
+    }
     if (limits_.accept_contact) {
-      Tail swerve{Control{-p.max_steer_rate_radps, 1.0, false}, false, false};
+      Tail swerve{Control{-p.max_steer_rate_radps, 1.0, false}, false, false, std::nullopt};
       tails.push_back(swerve);
       swerve.control.rear_lock = true;
       tails.push_back(swerve);
@@ -468,6 +527,8 @@ class Rrt {
   bool keep_tree_;
   std::vector<Node> nodes_;
   PlanResult result_;
+  std::optional<std::pair<double, double>> passage_band_;
+  std::vector<double> weights_;  // scratch for random_moving_node  // y range the ego's CG may use beside the truck
   int iterations_ = 0;  // extension attempts, some of which add no node
 };
 

@@ -73,17 +73,21 @@ struct ControlSegment {
   /// With `pursue`: `control.brake` scales the braking that the friction circle leaves after the
   /// current lateral acceleration (a driver braking as hard as the turn allows).
   bool friction_circle_brake = false;
+  /// With `pursue`: the steering limit, as the lateral acceleration (in mu·g) of the steady-state
+  /// angle; above 1 it allows the transient over-steering of a quick lane change.
+  double pursuit_grip = 0.9;
 };
 
 /// A segment that holds `control` for `duration_s`.
 [[nodiscard]] inline ControlSegment hold(const Control& control, double duration_s) {
-  return {control, duration_s, std::nullopt, false};
+  return {control, duration_s, std::nullopt, false, 0.9};
 }
 
 /// Pure pursuit: the steering rate (within limits) that turns the wheels towards the angle whose
-/// arc passes through `target`, never sharper than what 0.9·mu·g of lateral acceleration allows.
+/// arc passes through `target`, never sharper than the steady-state angle for `grip`·mu·g of
+/// lateral acceleration.
 [[nodiscard]] double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p,
-                                        double mu, double dt_s) noexcept;
+                                        double mu, double grip, double dt_s) noexcept;
 
 /// What happens after a plan runs out: `control` is held until the rollout ends; with
 /// `straighten`, its steering rate is replaced by one that brings the wheels back to straight.
@@ -92,10 +96,12 @@ struct Tail {
   bool straighten = false;
   /// `control.brake` scales the braking the friction circle leaves after the lateral acceleration.
   bool friction_circle_brake = false;
+  /// Steer by pure pursuit towards this point instead (a braking swerve into the passage).
+  std::optional<core::Vec2> pursue;
 
   /// The full-stop fail-safe: steering back to straight while braking as hard as the friction
   /// circle allows, which is full ABS braking once the car runs straight.
-  [[nodiscard]] static Tail full_stop() { return {Control{0.0, 1.0, false}, true, true}; }
+  [[nodiscard]] static Tail full_stop() { return {Control{0.0, 1.0, false}, true, true, std::nullopt}; }
 };
 
 /// Simulates from `start` at time `t0` under `plan` (then, if the plan runs out, `tail` until an

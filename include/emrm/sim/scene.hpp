@@ -90,8 +90,8 @@ struct SeverityConfig {
 
 /// Search budget of the RRT strategies (DESIGN.md §7).
 struct PlannerConfig {
-  int max_nodes = 300;
-  double max_time_ms = 50.0;   ///< wall-clock guard; the node budget is what makes runs repeatable
+  int max_nodes = 2000;
+  double max_time_ms = 5000.0;  ///< wall-clock guard; the node budget is what makes runs repeatable
   double min_duration_s = 0.1;  ///< control intervals are sampled in [min, max]
   double max_duration_s = 0.4;
   double goal_bias = 0.3;       ///< probability of extending towards the passage
