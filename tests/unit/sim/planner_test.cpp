@@ -12,11 +12,7 @@
 namespace emrm::sim {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr int kComparisonCells = 40;  // the sanitizer build checks the mechanism, not the rate
-#else
 constexpr int kComparisonCells = 200;
-#endif
 
 TEST(Roller, CoastingHitsTheTruckAtTheTimeToCollision) {
   const SceneConfig config;
@@ -77,11 +73,9 @@ TEST(Rrt, DodgePathsNeverLockOrSlideTheRearAxle) {
   EXPECT_GT(found, 0);
 }
 
-// The RRT should find an avoidance wherever the dense reference family finds one. The target is
-// 99 % of the cells of a seeded sample of the ODD; today the RRT misses about 6 % (thin sets of
-// swerve-then-stop maneuvers at the braking boundary, docs/planner.md), so this test guards
-// against regressions at 10 % and prints the rate it measured.
-TEST(Rrt, FindsNearlyEveryAvoidanceTheReferencePlannerFinds) {
+// The RRT must find an avoidance wherever the dense reference family finds one, in at least 99 %
+// of the cells of a seeded sample of the ODD (200 feasible cells; dodge and drift_to_avoid).
+TEST(Rrt, FindsAnAvoidanceWhereverTheReferencePlannerDoesIn99PercentOfCells) {
   const SceneConfig config;
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
   std::mt19937_64 rng(2026);
@@ -115,7 +109,7 @@ TEST(Rrt, FindsNearlyEveryAvoidanceTheReferencePlannerFinds) {
   RecordProperty("reference_avoids", reference_avoids);
   RecordProperty("rrt_misses", rrt_misses);
   EXPECT_GT(reference_avoids, 0);
-  EXPECT_LE(rrt_misses * 10, reference_avoids);
+  EXPECT_LE(rrt_misses * 100, reference_avoids);
 }
 
 }  // namespace
