@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <sstream>
 #include <system_error>
 
 #include "emrm/core/error.hpp"
@@ -67,6 +68,15 @@ std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
   out += "\n";
   for (const auto& row : rows) out += line(row);
   return out;
+}
+
+std::string read_input_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path.string(), 0, 0}, "cannot open file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError({path.string(), 0, 0}, "cannot read file");
+  return text.str();
 }
 
 void write_file(const std::filesystem::path& path, std::string_view content) {

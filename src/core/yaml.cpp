@@ -1,5 +1,7 @@
 #include "emrm/core/yaml.hpp"
 
+#include "emrm/core/text.hpp"
+
 #include <fmt/format.h>
 
 #include <cctype>
@@ -47,12 +49,7 @@ YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file)
     : node_(std::move(node)), file_(std::move(file)) {}
 
 YamlNode YamlNode::load_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path.string(), 0, 0}, "cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError({path.string(), 0, 0}, "cannot read file");
-  return parse(text.str(), path.string());
+  return parse(read_input_file(path), path.string());
 }
 
 YamlNode YamlNode::parse(const std::string& text, std::string file_name) {

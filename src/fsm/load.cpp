@@ -14,11 +14,7 @@
 namespace emrm::fsm {
 namespace {
 
-/// A name that refers to a state or an event, with where it was written.
-struct Ref {
-  std::string id;
-  SourceLocation where;
-};
+using core::Ref;  // a name that refers to a state or an event, with where it was written
 
 /// A state or an event: `{id: X, description: ...}` or just `X`.
 struct Declaration {
@@ -74,14 +70,6 @@ struct FsmFile {
 }  // namespace emrm::fsm
 
 namespace emrm::core {
-
-template <>
-struct YamlCodec<fsm::Ref> {
-  static void read(const YamlNode& n, fsm::Ref& v) {
-    v.where = n.location();
-    v.id = n.as_string();
-  }
-};
 
 template <>
 struct YamlCodec<fsm::Declaration> {
@@ -223,12 +211,7 @@ std::vector<Trace> parse_traces(const std::string& text, const std::string& file
 }
 
 std::vector<Trace> load_traces(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path.string(), 0, 0}, "cannot open trace file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError({path.string(), 0, 0}, "cannot read trace file");
-  return parse_traces(text.str(), path.string());
+  return parse_traces(core::read_input_file(path), path.string());
 }
 
 }  // namespace emrm::fsm

@@ -21,6 +21,10 @@ using Row = std::vector<std::string>;
 /// A GitHub-flavoured Markdown table; '|' and newlines inside cells are escaped.
 [[nodiscard]] std::string markdown_table(const Row& header, const std::vector<Row>& rows);
 
+/// The whole content of a user's input file. Throws InputError naming the file when it cannot be
+/// opened or read.
+[[nodiscard]] std::string read_input_file(const std::filesystem::path& path);
+
 /// Writes a file atomically (temporary file, then rename), creating parent folders.
 /// Throws emrm::Error when the file cannot be written.
 void write_file(const std::filesystem::path& path, std::string_view content);

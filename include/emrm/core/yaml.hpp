@@ -246,6 +246,22 @@ struct YamlCodec<E> {
   }
   static YAML::Node write(E v) { return YAML::Node(std::string(enum_name(v))); }
 };
+/// A reference to another entity by id, with the place it was written (so a dangling reference
+/// can be reported where it stands). Written in YAML as the bare id.
+struct Ref {
+  std::string id;
+  SourceLocation where;
+};
+
+template <>
+struct YamlCodec<Ref> {
+  static void read(const YamlNode& n, Ref& v) {
+    v.id = n.as_string();
+    v.where = n.location();
+  }
+  static YAML::Node write(const Ref& v) { return YAML::Node(v.id); }
+};
+
 template <YamlSerializable T>
 struct YamlCodec<T> {
   static void read(const YamlNode& n, T& v) { read_yaml(n, v); }

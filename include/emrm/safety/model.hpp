@@ -33,11 +33,7 @@ inline constexpr std::array<UcaType, 4> kAllUcaTypes{UcaType::kNotProvided, UcaT
                                                       UcaType::kWrongTimingOrOrder,
                                                       UcaType::kStoppedTooSoonOrAppliedTooLong};
 
-/// A reference to another entity by id, with the place it was written.
-struct Ref {
-  std::string id;
-  SourceLocation where;
-};
+using core::Ref;
 
 /// A reference to a transition of the hazard–loss FSM (DESIGN.md §4).
 struct TransitionRef {
@@ -301,16 +297,6 @@ struct EnumNames<safety::UcaType> {
       std::pair{safety::UcaType::kWrongTimingOrOrder, std::string_view("wrong_timing_or_order")},
       std::pair{safety::UcaType::kStoppedTooSoonOrAppliedTooLong,
                 std::string_view("stopped_too_soon_or_applied_too_long")}};
-};
-
-/// A reference is written as its id; reading remembers where.
-template <>
-struct YamlCodec<safety::Ref> {
-  static void read(const YamlNode& n, safety::Ref& v) {
-    v.id = n.as_string();
-    v.where = n.location();
-  }
-  static YAML::Node write(const safety::Ref& v) { return YAML::Node(v.id); }
 };
 
 }  // namespace emrm::core
