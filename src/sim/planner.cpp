@@ -68,6 +68,18 @@ double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const
   return std::clamp((wanted - s.steer_rad) / (2.0 * dt_s), -p.max_steer_rate_radps, p.max_steer_rate_radps);
 }
 
+double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path) {
+  double best = kInfinity;
+  const double horizon = scene.config().simulation.horizon_s;
+  for (const auto& p : path) {
+    const TruckState truck = scene.truck_at(p.t_s);
+    if (const auto ttc = core::time_to_overlap(scene.ego_box(p.state), world_velocity(p.state), truck.box,
+                                               truck.velocity_mps, horizon))
+      best = std::min(best, *ttc);
+  }
+  return best;
+}
+
 bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept {
   if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;
   return a.delta_v_mps < b.delta_v_mps;
@@ -86,7 +98,6 @@ RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::ve
   const double truck_far_x = scene_.truck_far_x_m();
 
   RolloutResult r;
-  r.min_ttc_s = kInfinity;
   VehicleState s = start;
   double t = t0_s;
   const double max_rate = model_.params().max_steer_rate_radps;
@@ -160,7 +171,6 @@ RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::ve
       t = t - dt + hi;
       const core::OrientedBox touching = scene_.ego_box(s);
       r.impact = impact_with_truck(scene_, s, touching, scene_.truck_at(t));
-      r.min_ttc_s = 0.0;
       finish(Termination::kContact, u);
       return r;
     }
@@ -171,10 +181,6 @@ RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::ve
 
     const Extent e = extent_of(ego);
     const Extent tr = extent_of(truck.box);
-    const core::Vec2 v = world_velocity(s);
-    if (v.x > 1e-6 && e.max_y > tr.min_y && e.min_y < tr.max_y && e.max_x < truck_near_x)
-      r.min_ttc_s = std::min(r.min_ttc_s, (truck_near_x - e.max_x) / v.x);
-
     if (step % record_every == 0) r.path.push_back({t, s, u});
 
     if (e.min_x > truck_far_x) {
@@ -492,7 +498,6 @@ class Rrt {
     auto path = chain(from);
     path.insert(path.end(), r.path.begin(), r.path.end());
     r.path = std::move(path);
-    r.min_ttc_s = std::min(r.min_ttc_s, chain_min_ttc(from));
   }
 
   // Keeps the least-loss failed rollout; `admissible` says whether a collision on this branch may
@@ -504,20 +509,6 @@ class Rrt {
     if (result_.collision && !less_loss(r.impact, result_.collision->impact)) return;
     prepend_chain(from, r);
     result_.collision = std::move(r);
-  }
-
-  double chain_min_ttc(int index) const {
-    // TTC along the tree path is not stored per node; the edges' recorded points give a bound.
-    double best = kInfinity;
-    const double truck_near_x = scene_.initial_distance_m();
-    for (const auto& p : chain(index)) {
-      const core::Vec2 v = world_velocity(p.state);
-      const auto ego = extent_of(scene_.ego_box(p.state));
-      const auto truck = extent_of(scene_.truck_at(p.t_s).box);
-      if (v.x > 1e-6 && ego.max_y > truck.min_y && ego.min_y < truck.max_y && ego.max_x < truck_near_x)
-        best = std::min(best, (truck_near_x - ego.max_x) / v.x);
-    }
-    return best;
   }
 
   const Scene& scene_;

@@ -162,7 +162,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   emrm.loss_evaluation_trace = loss_trace;
   if (!at_risk) {
     // Nothing to evade: the EMRM FSM returns to normal driving and the car carries on.
-    emrm = outcome_of("emrm", no_action, result.unmitigated, cell.ttc_s);
+    emrm = outcome_of("emrm", no_action, result.unmitigated, scene);
     emrm.chosen_strategy = "none";
     emrm.fsm_trace = trace_through(emrm_fsm, emrm_events(false, true));
   }

@@ -7,7 +7,7 @@
 namespace emrm::sim {
 
 StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout,
-                           const ImpactAssessment& unmitigated, double initial_ttc_s) {
+                           const ImpactAssessment& unmitigated, const Scene& scene) {
   StrategyOutcome o;
   o.strategy = strategy;
   o.avoided = rollout.avoided();
@@ -15,7 +15,7 @@ StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollo
   o.road_departure = rollout.termination == Termination::kRoadDeparture;
   if (!o.avoided) o.impact = rollout.impact;
   o.delta_loss = unmitigated.loss_level - o.impact.loss_level;
-  o.min_ttc_s = std::min(rollout.min_ttc_s, initial_ttc_s);
+  o.min_ttc_s = o.contact ? 0.0 : min_ttc_along(scene, rollout.path);
   o.path = rollout.path;
   return o;
 }
@@ -33,7 +33,7 @@ class EmergencyStop final : public Strategy {
     const std::vector<ControlSegment> wait =
         latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : kNoPlan;
     const RolloutResult r = roller.roll(c.scene.ego_initial(), 0.0, wait, Tail::full_stop(), 1);
-    StrategyOutcome o = outcome_of(name(), r, c.unmitigated, c.scene.cell().ttc_s);
+    StrategyOutcome o = outcome_of(name(), r, c.unmitigated, c.scene);
     o.planner.rollouts = 1;
     return o;
   }
@@ -62,9 +62,9 @@ class RrtStrategy final : public Strategy {
     const PlanResult plan = plan_rrt(c.scene, c.model, limits_, c.seed, c.keep_tree);
     StrategyOutcome o;
     if (plan.avoidance) {
-      o = outcome_of(name_, *plan.avoidance, c.unmitigated, c.scene.cell().ttc_s);
+      o = outcome_of(name_, *plan.avoidance, c.unmitigated, c.scene);
     } else if (plan.collision) {
-      o = outcome_of(name_, *plan.collision, c.unmitigated, c.scene.cell().ttc_s);
+      o = outcome_of(name_, *plan.collision, c.unmitigated, c.scene);
     } else {
       // Every branch broke the strategy's constraint: it cannot be executed here; the car falls
       // back to what an emergency stop would give.

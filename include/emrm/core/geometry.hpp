@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 namespace emrm::core {
 
@@ -49,5 +50,10 @@ struct Contact {
 
 /// The contact of a with b; `touching` is exactly overlaps(a, b), and the rest is zero when false.
 [[nodiscard]] Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept;
+
+/// Time to collision of two boxes moving at constant velocities: the first τ in [0, horizon] at
+/// which they overlap (0 if they already do), or nothing. Exact (swept separating-axis test).
+[[nodiscard]] std::optional<double> time_to_overlap(const OrientedBox& a, Vec2 velocity_a, const OrientedBox& b,
+                                                    Vec2 velocity_b, double horizon_s) noexcept;
 
 }  // namespace emrm::core

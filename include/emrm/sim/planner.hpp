@@ -54,7 +54,6 @@ struct RolloutResult {
   std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
   double end_time_s = 0.0;
   VehicleState end_state;
-  double min_ttc_s = 0.0;  ///< least TTC to the truck along the rollout (infinity if never closing)
   ImpactAssessment impact;  ///< when termination is contact
   /// avoided: no contact, no departure, no violated constraint.
   [[nodiscard]] bool avoided() const {
@@ -151,6 +150,10 @@ struct PlanResult {
 /// The reference planner: a dense search over a parametric maneuver family (steer direction,
 /// peak steer, hold and counter-steer timing, brake level, rear lock). For tests and diagnostics.
 [[nodiscard]] PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
+
+/// The least time to collision along a path: at each point, when ego and truck would first touch
+/// if both kept their velocities (0 in contact); infinity if they never would within the horizon.
+[[nodiscard]] double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path);
 
 /// Least-loss order: lower level first, then lower Δv.
 [[nodiscard]] bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept;

@@ -41,8 +41,9 @@ class Strategy {
 /// it is the loss-evaluation FSM choosing among these (see simulate_cell).
 [[nodiscard]] const Strategy* find_strategy(std::string_view name);
 
-/// The outcome of one rollout, with its loss fields against the unmitigated reference.
+/// The outcome of one rollout, with its loss fields against the unmitigated reference and its
+/// least time to collision along the path (min_ttc_along; 0 on contact).
 [[nodiscard]] StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout,
-                                         const ImpactAssessment& unmitigated, double initial_ttc_s);
+                                         const ImpactAssessment& unmitigated, const Scene& scene);
 
 }  // namespace emrm::sim

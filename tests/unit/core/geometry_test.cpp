@@ -330,3 +330,60 @@ TEST(Contact, AgreesWithOverlapsAndIsTheMinimumTranslation) {
 
 }  // namespace
 }  // namespace emrm::core
+
+namespace emrm::core {
+namespace {
+
+TEST(TimeToOverlap, HeadOnClosingGivesGapOverClosingSpeed) {
+  const OrientedBox a{{0.0, 0.0}, 0.0, 2.0, 1.0};
+  const OrientedBox b{{10.0, 0.0}, 0.0, 2.0, 1.0};
+  const auto ttc = time_to_overlap(a, {4.0, 0.0}, b, {0.0, 0.0}, 10.0);
+  ASSERT_TRUE(ttc.has_value());
+  EXPECT_NEAR(*ttc, 8.0 / 4.0, 1e-12);
+  EXPECT_NEAR(*time_to_overlap(a, {4.0, 0.0}, b, {-4.0, 0.0}, 10.0), 1.0, 1e-12);
+}
+
+TEST(TimeToOverlap, MissesBeyondTheHorizonOrSidewaysAreNothing) {
+  const OrientedBox a{{0.0, 0.0}, 0.0, 2.0, 1.0};
+  const OrientedBox b{{10.0, 3.0}, 0.0, 2.0, 1.0};
+  EXPECT_FALSE(time_to_overlap(a, {4.0, 0.0}, b, {0.0, 0.0}, 10.0).has_value());  // passes beside
+  EXPECT_FALSE(time_to_overlap(a, {1.0, 0.3}, b, {0.0, 0.0}, 5.0).has_value());   // too late
+  EXPECT_FALSE(time_to_overlap(a, {-4.0, 0.0}, b, {0.0, 0.0}, 10.0).has_value());  // moving away
+}
+
+TEST(TimeToOverlap, OverlappingBoxesHaveZero) {
+  const OrientedBox a{{0.0, 0.0}, 0.3, 2.0, 1.0};
+  EXPECT_EQ(*time_to_overlap(a, {0.0, 0.0}, a, {1.0, 0.0}, 1.0), 0.0);
+}
+
+TEST(TimeToOverlap, AgreesWithSampledSeparatingAxisTests) {
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> pos(-10.0, 10.0), ang(-3.1, 3.1), size(0.5, 5.0), vel(-5.0, 5.0);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const OrientedBox a{{pos(rng), pos(rng)}, ang(rng), size(rng), size(rng)};
+    const OrientedBox b{{pos(rng), pos(rng)}, ang(rng), size(rng), size(rng)};
+    const Vec2 va{vel(rng), vel(rng)};
+    const Vec2 vb{vel(rng), vel(rng)};
+    const auto ttc = time_to_overlap(a, va, b, vb, 4.0);
+    // First sampled overlap, 1 ms resolution.
+    std::optional<double> sampled;
+    for (int k = 0; k <= 4000 && !sampled; ++k) {
+      const double t = k * 1e-3;
+      OrientedBox a_t = a, b_t = b;
+      a_t.center = a.center + va * t;
+      b_t.center = b.center + vb * t;
+      if (overlaps(a_t, b_t)) sampled = t;
+    }
+    ASSERT_EQ(ttc.has_value(), sampled.has_value()) << i;
+    if (ttc) {
+      ++hits;
+      EXPECT_LE(*ttc, *sampled + 1e-9) << i;
+      EXPECT_GE(*ttc, *sampled - 1e-3 - 1e-9) << i;
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
+}  // namespace
+}  // namespace emrm::core
