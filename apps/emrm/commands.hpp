@@ -13,5 +13,9 @@ void register_analyze_command(CLI::App& app, int& exit_code);
 void register_fsm_command(CLI::App& app, int& exit_code);
 /// `emrm simulate`: one scenario cell under every strategy.
 void register_simulate_command(CLI::App& app, int& exit_code);
+/// `emrm sweep CAMPAIGN.yaml` and `emrm merge DIR...`: campaigns over the ODD.
+void register_sweep_commands(CLI::App& app, int& exit_code);
+/// `emrm reproduce -o DIR`: the paper's whole case study.
+void register_reproduce_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli
