@@ -1,0 +1,44 @@
+// Benchmarks of the campaign engine: a 40-cell sweep with 1 and 2 threads, in cells per second.
+// The speed-up of Arg(2) over Arg(1) is the load balance the sweep promises (>= 1.8x on 2 cores).
+// Run: cmake --workflow --preset bench && ./build/bench/bench/emrm_bench --benchmark_filter=Sweep
+
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/sweep.hpp"
+
+namespace {
+
+// 40 cells mixing the cheap (green, infeasible) and the dear (red, orange), as a real map does.
+const char* const kCampaign =
+    "seed: 1\n"
+    "grids:\n"
+    "  - name: bench\n"
+    "    speed_kph: {from: 30, to: 72, levels: 5}\n"
+    "    ttc_s: {from: 0.25, to: 2.95, levels: 8}\n";
+
+void BM_Sweep40Cells(benchmark::State& state) {
+  const emrm::campaign::Campaign campaign = emrm::campaign::parse_campaign(kCampaign, "bench.yaml", ".");
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("emrm-bench-sweep-" + std::to_string(::getpid()));
+  emrm::campaign::SweepOptions options;
+  options.output_dir = dir;
+  options.threads = static_cast<int>(state.range(0));
+  options.progress = false;
+  std::size_t cells = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::filesystem::remove_all(dir);
+    state.ResumeTiming();
+    cells += emrm::campaign::sweep(campaign, options).cells_simulated;
+  }
+  std::filesystem::remove_all(dir);
+  state.counters["cells/s"] = benchmark::Counter(static_cast<double>(cells), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Sweep40Cells)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+}  // namespace

@@ -1,8 +1,252 @@
+// `emrm reproduce -o DIR`: the paper's whole case study on the shipped T-junction example —
+// analysis of the safety case, checks of both FSMs, the campaign sweep, the tables beside the
+// paper's numbers and the diagnostics. Exit 1 when the analysis finds errors or an FSM check
+// fails; bad input escapes as emrm::InputError / UsageError (exit 2).
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "commands.hpp"
+#include "emrm/campaign/aggregate.hpp"
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/store.hpp"
+#include "emrm/campaign/sweep.hpp"
+#include "emrm/campaign/tables.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/fsm/dot.hpp"
+#include "emrm/fsm/load.hpp"
+#include "emrm/fsm/operations.hpp"
+#include "emrm/safety/asil.hpp"
+#include "emrm/safety/checks.hpp"
+#include "emrm/safety/load.hpp"
+#include "emrm/safety/traceability.hpp"
 
 namespace emrm::cli {
-void register_reproduce_command(CLI::App& app, int& exit_code) {
-  (void)app;
-  (void)exit_code;
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReproduceOptions {
+  std::string output_dir;
+  std::string examples_dir;  // empty: search (see find_examples)
+  int threads = 0;
+  std::size_t sample = 40;
+};
+
+constexpr const char* kExampleFiles[] = {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
+                                         "campaign.yaml", "paper_reference.yaml"};
+
+bool is_example_dir(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / "campaign.yaml", ec) && fs::is_regular_file(dir / "safety.yaml", ec);
 }
+
+// The shipped example: ./examples/tjunction, then the same under every parent folder (running
+// from inside a build tree), then next to the executable (an installed tree's share/emrm).
+fs::path find_examples(const ReproduceOptions& options) {
+  if (!options.examples_dir.empty()) {
+    if (!fs::is_directory(options.examples_dir))
+      throw UsageError(fmt::format("--examples: '{}' is not a folder", options.examples_dir));
+    for (const char* name : kExampleFiles)
+      if (!fs::is_regular_file(fs::path(options.examples_dir) / name))
+        throw UsageError(fmt::format("--examples: '{}' has no {} (expected {})", options.examples_dir, name,
+                                     core::join({std::begin(kExampleFiles), std::end(kExampleFiles)}, ", ")));
+    return options.examples_dir;
+  }
+  std::vector<fs::path> tried;
+  std::error_code ec;
+  for (fs::path dir = fs::current_path(ec); !dir.empty(); dir = dir.parent_path()) {
+    tried.push_back(dir / "examples" / "tjunction");
+    if (is_example_dir(tried.back())) return tried.back();
+    if (dir == dir.root_path()) break;
+  }
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    tried.push_back(exe.parent_path() / ".." / "share" / "emrm" / "examples" / "tjunction");
+    if (is_example_dir(tried.back())) return fs::weakly_canonical(tried.back());
+    for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path()) {
+      tried.push_back(dir / "examples" / "tjunction");
+      if (is_example_dir(tried.back())) return tried.back();
+    }
+  }
+  throw UsageError(fmt::format(
+      "cannot find the shipped example folder examples/tjunction (looked in the current folder, its parents "
+      "and {}); run from the repository or pass --examples DIR",
+      tried.empty() ? std::string("nowhere")
+                    : (exe.parent_path() / ".." / "share" / "emrm" / "examples").string()));
+}
+
+std::string pct(double v) { return campaign::format_number(v, 1); }
+
+// Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
+bool run_analysis(const fs::path& examples, const fs::path& out) {
+  const auto safety_file = examples / "safety.yaml";
+  const safety::SafetyCase sc = safety::load_safety_case(safety_file);
+  std::optional<safety::FsmTransitions> known;
+  if (sc.fsm) {
+    const auto path = examples / *sc.fsm;
+    const fsm::Generator g = fsm::load_generator(path);
+    known = safety::FsmTransitions{path.string(), {}};
+    for (const auto& t : g.transitions()) known->transitions.insert({t.from, t.event, t.to});
+  }
+  const auto findings = safety::check(sc, known);
+  const auto dir = out / "analysis";
+  const auto matrix = safety::traceability_matrix(sc);
+  core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
+  core::write_file(dir / "traceability.md",
+                   "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
+  core::write_file(dir / "findings.json", safety::findings_json(findings).dump(2) + "\n");
+  core::write_file(dir / "asil.csv", core::csv_table(safety::asil_header(), safety::asil_rows(sc)));
+  const auto errors = safety::count(findings, safety::FindingSeverity::kError);
+  const auto warnings = safety::count(findings, safety::FindingSeverity::kWarning);
+  fmt::print(
+      "analysis  {}: {} losses, {} hazards, {} UCAs; {} errors, {} warnings; {} traceability rows -> {}\n",
+      safety_file.string(), sc.losses.size(), sc.hazards.size(), sc.ucas.size(), errors, warnings,
+      matrix.size(), dir.string());
+  return errors == 0;
+}
+
+// Step 5: the structural checks of one FSM, its report and its plain diagram.
+bool run_fsm_check(const fs::path& file, const fs::path& out) {
+  const fsm::Generator g = fsm::load_generator(file);
+  const auto r = fsm::check_all(g);
+  const std::string stem = file.stem().string();
+  nlohmann::ordered_json j{
+      {"fsm", g.name()},
+      {"file", file.string()},
+      {"states", g.states().size()},
+      {"transitions", g.transitions().size()},
+      {"ok", r.ok()},
+      {"accessible", {{"ok", r.accessible.ok()}, {"unreachable", r.accessible.unreachable}}},
+      {"coaccessible",
+       {{"ok", r.coaccessible.ok()}, {"cannot_reach_marked", r.coaccessible.cannot_reach_marked}}},
+      {"deterministic", {{"ok", r.deterministic.ok()}, {"choices", r.deterministic.choices.size()}}},
+      {"nonblocking", {{"ok", r.nonblocking.ok()}, {"blocking", r.nonblocking.blocking}}}};
+  const auto dir = out / "fsm";
+  core::write_file(dir / (stem + "_check.json"), j.dump(2) + "\n");
+  const std::string dot = fsm::to_dot(g);
+  core::write_file(dir / (stem + "_plain.dot"), dot);
+  if (fsm::dot_available()) core::write_file(dir / (stem + "_plain.svg"), fsm::render_svg(dot));
+  fmt::print(
+      "fsm       {}: {} states, {} transitions; accessible {}, co-accessible {}, deterministic {}, "
+      "non-blocking {}\n",
+      file.string(), g.states().size(), g.transitions().size(), r.accessible.ok() ? "ok" : "FAILED",
+      r.coaccessible.ok() ? "ok" : "FAILED", r.deterministic.ok() ? "ok" : "FAILED",
+      r.nonblocking.ok() ? "ok" : "FAILED");
+  return r.ok();
+}
+
+// The grid the headline tables read: the paper's fine grid if the campaign has it, else the largest.
+std::string headline_grid(const std::vector<campaign::CellRecord>& records, const std::string& wanted) {
+  std::string best;
+  std::size_t best_n = 0;
+  for (const auto& g : campaign::grid_names(records)) {
+    if (g == wanted) return g;
+    const auto n = campaign::count_regions(records, g).cells;
+    if (n > best_n) best = g, best_n = n;
+  }
+  return best.empty() ? wanted : best;
+}
+
+int run(const ReproduceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const fs::path examples = find_examples(options);
+  const fs::path out = options.output_dir;
+  // Read every input before any long work, so bad input fails in a second and not after the sweep.
+  const campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
+  const campaign::PaperReference paper = campaign::load_paper_reference(examples / "paper_reference.yaml");
+  fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
+
+  bool ok = run_analysis(examples, out);
+  ok = run_fsm_check(examples / "emrm_fsm.yaml", out) && ok;
+  ok = run_fsm_check(examples / "loss_evaluation_fsm.yaml", out) && ok;
+
+  campaign::SweepOptions sweep_options;
+  sweep_options.output_dir = out;
+  sweep_options.threads = options.threads;
+  sweep_options.progress = ::isatty(STDERR_FILENO) != 0;
+  const auto s = campaign::sweep(plan, sweep_options);
+  fmt::print("sweep     {}: {} cells, {} already stored, {} simulated in {:.1f} s -> {}\n",
+             (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated,
+             s.seconds, (out / "results.sqlite").string());
+
+  const auto records = campaign::read_results(out / "results.sqlite");
+  campaign::TableOptions table_options;
+  table_options.grid = headline_grid(records, paper.fine_grid.grid);
+  table_options.cuts.car_width_m = plan.scene.ego.width_m;
+  campaign::write_tables(out, records, paper, table_options);
+
+  campaign::DiagnosticsOptions diagnostics_options;
+  diagnostics_options.reference_sample = options.sample;
+  diagnostics_options.seed = plan.seed;
+  diagnostics_options.threads = options.threads;
+  const auto diagnostics = campaign::run_diagnostics(records, plan.scene, diagnostics_options);
+  campaign::write_diagnostics(out, diagnostics);
+
+  // The summary: the headline numbers, ours beside the paper's.
+  const auto regions = campaign::count_regions(records, table_options.grid);
+  const auto& pr = paper.fine_grid.regions_pct;
+  fmt::print("\nRegions of grid '{}' (% of feasible cells), ours vs paper:\n", table_options.grid);
+  fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n",
+             regions.feasible, paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g,
+             pct(regions.pct(regions.y)), pr.y, pct(regions.pct(regions.o)), pr.o,
+             pct(regions.pct(regions.r)), pr.r);
+  const auto table = campaign::emrm_vs_baseline_table(records, paper, table_options.grid);
+  fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
+  const auto& sb = diagnostics.stop_boundary;
+  const auto& rc = diagnostics.reference;
+  fmt::print(
+      "\nDiagnostics: {} analytically stoppable cells classified R{}; {} G cells below the stop boundary; "
+      "{} monotonicity reversals; reference planner on {} cells: RRT missed {} dodges, {} drifts; "
+      "FSM transition coverage {}/{} (EMRM), {}/{} (loss evaluation)\n",
+      sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
+      sb.green_not_stoppable.size(), diagnostics.monotonicity.total_reversals, rc.sampled, rc.dodge_missed,
+      rc.drift_missed, diagnostics.emrm_fsm.coverage.covered, diagnostics.emrm_fsm.coverage.counts.size(),
+      diagnostics.loss_evaluation_fsm.coverage.covered,
+      diagnostics.loss_evaluation_fsm.coverage.counts.size());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fmt::print(
+      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims}}.{{md,csv,tex}}, kpis.csv; "
+      "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
+      out.string(), out.string(), out.string(), out.string(), seconds);
+  if (!ok) fmt::print("reproduce: the analysis found errors or an FSM check failed (exit 1)\n");
+  return static_cast<int>(ok ? ExitCode::kSuccess : ExitCode::kFindings);
+}
+
+}  // namespace
+
+void register_reproduce_command(CLI::App& app, int& exit_code) {
+  auto options = std::make_shared<ReproduceOptions>();
+  auto* cmd = app.add_subcommand(
+      "reproduce",
+      "Run the paper's whole case study on the shipped T-junction example: analysis, FSM checks, the "
+      "campaign\n"
+      "sweep (resumable), tables beside the paper's numbers and diagnostics (docs/results.md).\n"
+      "Exit 0: done; 1: the analysis found errors or an FSM check failed; 2: bad input.");
+  cmd->add_option("-o,--output", options->output_dir,
+                  "Output folder (a rerun resumes the sweep stored there)")
+      ->required()
+      ->type_name("DIR");
+  cmd->add_option("--threads", options->threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--examples", options->examples_dir,
+                  "Example folder (default: examples/tjunction here or above, or beside the executable)")
+      ->type_name("DIR");
+  cmd->add_option("--sample", options->sample, "Cells checked against the reference planner (default 40)")
+      ->type_name("N");
+  cmd->callback([options, &exit_code] { exit_code = run(*options); });
+}
+
 }  // namespace emrm::cli

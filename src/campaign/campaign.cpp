@@ -1,0 +1,371 @@
+#include "emrm/campaign/campaign.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+
+#include "emrm/core/text.hpp"
+#include "emrm/core/yaml.hpp"
+#include "emrm/version.hpp"
+
+namespace emrm::campaign {
+namespace {
+
+constexpr std::array<std::string_view, 5> kFactors{"speed_kph", "ttc_s", "mu", "passage_m",
+                                                   "truck_speed_kph"};
+
+// Rounded to 1e-9 so that 0.25 + 0.06·k is written, hashed and seeded as the number a user reads.
+double round_1e9(double x) { return std::round(x * 1e9) / 1e9; }
+
+double& factor_of(sim::CellInput& cell, std::size_t factor) {
+  switch (factor) {
+    case 0:
+      return cell.speed_kph;
+    case 1:
+      return cell.ttc_s;
+    case 2:
+      return cell.mu;
+    case 3:
+      return cell.passage_m;
+    default:
+      return cell.truck_speed_kph;
+  }
+}
+
+std::optional<std::size_t> factor_index(std::string_view key) {
+  for (std::size_t i = 0; i < kFactors.size(); ++i)
+    if (kFactors[i] == key) return i;
+  return std::nullopt;
+}
+
+std::string factor_list() { return "speed_kph, ttc_s, mu, passage_m or truck_speed_kph"; }
+
+double scalar_number(const core::YamlNode& node) {
+  if (!node.is_scalar()) node.fail("expected a number, got " + node.describe());
+  return node.as_double();
+}
+
+std::vector<double> expand_range(const core::YamlNode& node) {
+  std::optional<core::YamlNode> from, to, step, levels;
+  for (const auto& [key, value] : node.entries()) {
+    const std::string k = key.as_string();
+    if (k == "from")
+      from = value;
+    else if (k == "to")
+      to = value;
+    else if (k == "step")
+      step = value;
+    else if (k == "levels")
+      levels = value;
+    else
+      key.fail("unknown range field '" + k + "'; expected from, to and step or levels");
+  }
+  if (!from || !to) node.fail("a range needs 'from' and 'to' (and 'step' or 'levels')");
+  if (step.has_value() == levels.has_value()) node.fail("a range needs exactly one of 'step' or 'levels'");
+  const double lo = scalar_number(*from);
+  const double hi = scalar_number(*to);
+  if (hi < lo) node.fail(fmt::format("reversed range: 'to' ({:g}) is below 'from' ({:g})", hi, lo));
+  std::vector<double> values;
+  if (step) {
+    const double dx = scalar_number(*step);
+    if (!(dx > 0.0)) step->fail(fmt::format("step must be > 0, got {:g}", dx));
+    const double q = (hi - lo) / dx;
+    // `to` counts as reached within 1e-9 relative: 0.25 + 45·0.06 is 2.9500000000000002.
+    const double n = std::floor(q + 1e-9 * std::max(1.0, q));
+    if (n > 1e8) node.fail(fmt::format("range of {:g} values is too large", n + 1));
+    for (long long i = 0; i <= static_cast<long long>(n); ++i)
+      values.push_back(round_1e9(lo + static_cast<double>(i) * dx));
+  } else {
+    const long long count = levels->as_int();
+    if (count < 1) levels->fail(fmt::format("levels must be >= 1, got {}", count));
+    if (count > 100000000) levels->fail(fmt::format("levels must be <= 1e8, got {}", count));
+    if (count == 1) {
+      if (hi != lo) levels->fail("levels 1 needs from == to");
+      values.push_back(round_1e9(lo));
+    } else {
+      for (long long i = 0; i < count; ++i)
+        values.push_back(round_1e9(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(count - 1)));
+    }
+  }
+  return values;
+}
+
+struct FactorValues {
+  std::vector<double> values;
+  std::optional<core::YamlNode> node;
+};
+
+sim::CellInput default_cell(const sim::SceneConfig& scene) {
+  sim::CellInput cell;
+  cell.truck_speed_kph = scene.truck.speed_kph;
+  return cell;
+}
+
+GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells,
+                   bool force) {
+  if (!node.is_map()) node.fail("expected a grid (a mapping with name and factors), got " + node.describe());
+  GridSpec grid;
+  grid.where = node.location();
+  std::array<FactorValues, kFactors.size()> factors;
+  std::optional<core::YamlNode> cells_node;
+  bool named = false;
+  for (const auto& [key, value] : node.entries()) {
+    const std::string k = key.as_string();
+    if (k == "name") {
+      grid.name = value.as_string();
+      if (grid.name.empty()) value.fail("a grid name must not be empty");
+      named = true;
+    } else if (k == "cells") {
+      cells_node = value;
+    } else if (k == "description") {
+      (void)value.as_string();
+    } else if (auto f = factor_index(k)) {
+      factors[*f].values = expand_factor(value);
+      factors[*f].node = value;
+    } else {
+      key.fail("unknown grid field '" + k + "'; expected name, description, cells or a factor (" +
+               factor_list() + ")");
+    }
+  }
+  if (!named) node.fail("a grid needs a 'name'");
+
+  sim::CellInput base = default_cell(scene);
+  const auto check_cell = [&](const sim::CellInput& cell, const core::YamlNode& where) {
+    try {
+      sim::validate_cell(scene, cell);
+    } catch (const UsageError& e) {
+      where.fail(fmt::format("grid '{}': {}", grid.name, e.what()));
+    }
+  };
+
+  if (cells_node) {
+    // Grid-level factors are the defaults of every listed cell, so they must be single values.
+    sim::CellInput defaults = base;
+    for (std::size_t f = 0; f < kFactors.size(); ++f) {
+      if (!factors[f].node) continue;
+      if (factors[f].values.size() != 1)
+        factors[f].node->fail(fmt::format(
+            "grid '{}' lists its cells: {} at grid level must be one value (the default of every cell)",
+            grid.name, kFactors[f]));
+      factor_of(defaults, f) = factors[f].values[0];
+    }
+    const auto elements = cells_node->elements();
+    if (elements.empty()) cells_node->fail(fmt::format("grid '{}' has an empty cells list", grid.name));
+    if (elements.size() > max_cells && !force)
+      node.fail(
+          fmt::format("grid '{}' has {} cells, more than the maximum {}; raise max_cells or pass --force",
+                      grid.name, elements.size(), max_cells));
+    for (const auto& element : elements) {
+      if (!element.is_map())
+        element.fail("expected a cell (a mapping of factors), got " + element.describe());
+      sim::CellInput cell = defaults;
+      for (const auto& [key, value] : element.entries()) {
+        const std::string k = key.as_string();
+        if (k == "name" || k == "description") {
+          (void)value.as_string();  // a label for readers of the campaign file
+          continue;
+        }
+        const auto f = factor_index(k);
+        if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list() + " (or name, description)");
+        factor_of(cell, *f) = round_1e9(scalar_number(value));
+      }
+      check_cell(cell, element);
+      grid.cells.push_back(cell);
+    }
+    return grid;
+  }
+
+  double count = 1.0;
+  for (std::size_t f = 0; f < kFactors.size(); ++f) {
+    if (!factors[f].node) factors[f].values = {factor_of(base, f)};
+    count *= static_cast<double>(factors[f].values.size());
+  }
+  if (count > static_cast<double>(max_cells) && !force)
+    node.fail(
+        fmt::format("grid '{}' has {:.0f} cells, more than the maximum {}; raise max_cells or pass --force",
+                    grid.name, count, max_cells));
+  grid.cells.reserve(static_cast<std::size_t>(count));
+  for (double speed : factors[0].values)
+    for (double ttc : factors[1].values)
+      for (double mu : factors[2].values)
+        for (double passage : factors[3].values)
+          for (double truck : factors[4].values) grid.cells.push_back({speed, ttc, mu, passage, truck});
+  // Each factor value is checked once, at its own node, so the message points at the culprit.
+  for (std::size_t f = 0; f < kFactors.size(); ++f) {
+    if (!factors[f].node) continue;
+    for (double v : factors[f].values) {
+      sim::CellInput cell = base;
+      factor_of(cell, f) = v;
+      check_cell(cell, *factors[f].node);
+    }
+  }
+  for (const auto& cell : grid.cells) check_cell(cell, node);
+  return grid;
+}
+
+}  // namespace
+
+std::vector<double> expand_factor(const core::YamlNode& node) {
+  if (node.is_scalar()) return {round_1e9(node.as_double())};
+  if (node.is_sequence()) {
+    std::vector<double> values;
+    for (const auto& element : node.elements()) values.push_back(round_1e9(scalar_number(element)));
+    if (values.empty()) node.fail("empty list of values");
+    return values;
+  }
+  if (node.is_map()) return expand_range(node);
+  node.fail("expected a value, a list, {from, to, step} or {from, to, levels}, got " + node.describe());
+}
+
+Campaign parse_campaign(const std::string& text, const std::string& file_name,
+                        const std::filesystem::path& base_dir, bool force) {
+  const core::YamlNode root = core::YamlNode::parse(text, file_name);
+  if (!root.is_map())
+    root.fail("expected a campaign (a mapping with scene, seed, strategies, grids), got " + root.describe());
+  Campaign campaign;
+  campaign.file = file_name;
+  campaign.text = text;
+  std::optional<core::YamlNode> grids_node;
+  for (const auto& [key, value] : root.entries()) {
+    const std::string k = key.as_string();
+    if (k == "scene") {
+      if (value.is_null()) continue;
+      campaign.scene_file = value.as_string();
+      std::filesystem::path scene_path = *campaign.scene_file;
+      if (scene_path.is_relative()) scene_path = base_dir / scene_path;
+      if (!std::filesystem::is_regular_file(scene_path))
+        value.fail("scene file '" + scene_path.string() + "' does not exist");
+      campaign.scene = sim::load_scene_config(scene_path);
+    } else if (k == "seed") {
+      const long long seed = value.as_int();
+      if (seed < 0) value.fail(fmt::format("seed must be >= 0, got {}", seed));
+      campaign.seed = static_cast<std::uint64_t>(seed);
+    } else if (k == "strategies") {
+      campaign.strategies.clear();
+      for (const auto& element : value.elements()) {
+        const std::string name = element.as_string();
+        try {
+          sim::validate_strategy(name);
+        } catch (const UsageError& e) {
+          element.fail(e.what());
+        }
+        if (std::find(campaign.strategies.begin(), campaign.strategies.end(), name) !=
+            campaign.strategies.end())
+          element.fail("strategy '" + name + "' is listed twice");
+        campaign.strategies.push_back(name);
+      }
+      if (campaign.strategies.empty()) value.fail("the list of strategies is empty");
+    } else if (k == "max_cells") {
+      const long long max = value.as_int();
+      if (max < 1) value.fail(fmt::format("max_cells must be >= 1, got {}", max));
+      campaign.max_cells = static_cast<std::size_t>(max);
+    } else if (k == "grids") {
+      grids_node = value;
+    } else if (k == "name" || k == "description") {
+      (void)value.as_string();
+    } else {
+      key.fail("unknown campaign field '" + k +
+               "'; expected scene, seed, strategies, max_cells, grids, name or description");
+    }
+  }
+  if (!grids_node) root.fail("a campaign needs 'grids'");
+  // Grids come after the scene is known: the truck speed default and the cell checks need it.
+  std::set<std::string> names;
+  for (const auto& element : grids_node->elements()) {
+    GridSpec grid = read_grid(element, campaign.scene, campaign.max_cells, force);
+    if (!names.insert(grid.name).second) element.fail("duplicate grid name '" + grid.name + "'");
+    campaign.grids.push_back(std::move(grid));
+  }
+  if (campaign.grids.empty()) grids_node->fail("a campaign needs at least one grid");
+  return campaign;
+}
+
+Campaign load_campaign(const std::filesystem::path& path, bool force) {
+  const std::string text = core::read_input_file(path);
+  return parse_campaign(text, path.string(), path.parent_path(), force);
+}
+
+std::string cell_key(const std::string& grid, const sim::CellInput& cell) {
+  return fmt::format("{} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}", grid, cell.speed_kph, cell.ttc_s, cell.mu,
+                     cell.passage_m, cell.truck_speed_kph);
+}
+
+std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const sim::CellInput& cell) {
+  return sim::derive_seed(campaign.seed, cell_key(grid, cell));
+}
+
+std::string config_hash(const Campaign& campaign) {
+  // FNV-1a over a canonical text of everything that decides a cell's result.
+  std::uint64_t h = 14695981039346656037ull;
+  const auto feed = [&h](std::string_view text) {
+    for (char c : text) {
+      h ^= static_cast<unsigned char>(c);
+      h *= 1099511628211ull;
+    }
+    h ^= 0xff;  // separator, so that "ab"+"c" and "a"+"bc" differ
+    h *= 1099511628211ull;
+  };
+  feed(fmt::format("emrm {}", kVersion));
+  feed(sim::to_yaml(campaign.scene));
+  feed(fmt::format("seed {}", campaign.seed));
+  feed("strategies " + core::join(campaign.strategies, " "));
+  for (const auto& grid : campaign.grids) {
+    feed("grid " + grid.name);
+    for (const auto& cell : grid.cells) feed(cell_key("", cell));
+  }
+  return fmt::format("{:016x}", h);
+}
+
+std::size_t total_cells(const Campaign& campaign) noexcept {
+  std::size_t n = 0;
+  for (const auto& grid : campaign.grids) n += grid.cells.size();
+  return n;
+}
+
+CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
+                     const sim::CellResult& result) {
+  constexpr double kKph = 3.6;
+  CellRecord r;
+  r.grid = grid;
+  r.index = index;
+  r.speed_kph = result.input.speed_kph;
+  r.ttc_s = result.input.ttc_s;
+  r.mu = result.input.mu;
+  r.passage_m = result.input.passage_m;
+  r.truck_speed_kph = result.input.truck_speed_kph;
+  r.seed = seed;
+  r.feasible = result.feasible;
+  r.region = std::string(sim::region_name(result.region));
+  r.unmitigated_impact_speed_kph = result.unmitigated.impact_speed_mps * kKph;
+  r.unmitigated_delta_v_kph = result.unmitigated.delta_v_mps * kKph;
+  r.unmitigated_p_mais3 = result.unmitigated.p_mais3;
+  r.unmitigated_p_fatal = result.unmitigated.p_fatal;
+  r.unmitigated_loss_level = result.unmitigated.loss_level;
+  for (const auto& o : result.strategies) {
+    OutcomeRecord out;
+    out.strategy = o.strategy;
+    out.avoided = o.avoided;
+    out.contact = o.contact;
+    out.road_departure = o.road_departure;
+    out.impact_speed_kph = o.impact.impact_speed_mps * kKph;
+    out.delta_v_kph = o.impact.delta_v_mps * kKph;
+    out.p_mais3 = o.impact.p_mais3;
+    out.p_fatal = o.impact.p_fatal;
+    out.loss_level = o.impact.loss_level;
+    out.delta_loss = o.delta_loss;
+    out.min_ttc_s = o.min_ttc_s;
+    out.planner_nodes = o.planner.nodes;
+    out.planner_rollouts = o.planner.rollouts;
+    out.fsm_trace = o.fsm_trace;
+    out.loss_evaluation_trace = o.loss_evaluation_trace;
+    out.chosen_strategy = o.chosen_strategy;
+    out.adopted_from = o.adopted_from;
+    r.outcomes.push_back(std::move(out));
+  }
+  return r;
+}
+
+}  // namespace emrm::campaign

@@ -1,0 +1,131 @@
+// `emrm reproduce` end to end on a small copy of the shipped example: every step runs, the tables
+// show ours beside the paper's, and the fine grid's G cells are exactly the analytically stoppable ones.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// speeds 30, 50, 72 × TTCs 0.25, 1.0, 2.0 at mu 1: 7 feasible cells (v·TTC <= 24.5 m).
+constexpr const char* kSmallCampaign = R"(scene: scene.yaml
+seed: 1
+strategies: [emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm]
+grids:
+  - name: fine
+    speed_kph: [30, 50, 72]
+    ttc_s: [0.25, 1.0, 2.0]
+    mu: 1.0
+    passage_m: 3.0
+)";
+
+fs::path small_example(const std::string& name) {
+  const auto dir = scratch_dir(name) / "example";
+  fs::create_directories(dir);
+  for (const char* file :
+       {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml", "scene.yaml", "paper_reference.yaml"})
+    fs::copy_file(example(file), dir / file);
+  write_text(dir / "campaign.yaml", kSmallCampaign);
+  return dir;
+}
+
+TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
+  const auto example_dir = small_example("reproduce");
+  const auto out = example_dir.parent_path() / "out";
+  const auto r = run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) +
+                          " --sample 3 --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("G "));
+  EXPECT_THAT(r.out, HasSubstr("vs 44.5"));
+  EXPECT_THAT(r.out, HasSubstr("(paper 45)"));
+
+  for (const char* f :
+       {"tables/emrm_vs_baseline.md", "tables/emrm_vs_baseline.csv", "tables/emrm_vs_baseline.tex",
+        "tables/by_parameter.md", "tables/regions.md", "tables/kpis.csv", "diagnostics.json",
+        "analysis/traceability.csv", "fsm/emrm_fsm_check.json", "fsm/emrm_fsm.dot",
+        "fsm/loss_evaluation_fsm.dot", "results.sqlite"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+
+  const auto baseline = read_text(out / "tables/emrm_vs_baseline.md");
+  EXPECT_THAT(baseline, HasSubstr("(paper 81)"));
+  EXPECT_THAT(baseline, HasSubstr("(paper 18.9)"));
+  EXPECT_THAT(read_text(out / "tables/by_parameter.md"), HasSubstr("(paper 96 / 83 / 46)"));
+  const auto regions = read_text(out / "tables/regions.md");
+  EXPECT_THAT(regions, HasSubstr("| fine (paper) |"));
+  EXPECT_THAT(regions, HasSubstr("44.5"));
+
+  const auto diagnostics = nlohmann::json::parse(read_text(out / "diagnostics.json"));
+  EXPECT_EQ(diagnostics["stop_boundary"]["stoppable_red_count"].get<int>(), 0);
+  EXPECT_EQ(diagnostics["rrt_vs_reference"]["sampled"].get<int>(), 3);
+  EXPECT_GT(diagnostics["fsm_coverage"]["emrm_fsm"]["covered"].get<int>(), 0);
+
+  // G exactly where the analytic stop boundary says: TTC >= v / (2 mu g).
+  std::istringstream csv(read_text(out / "regions.csv"));
+  std::string header;
+  std::getline(csv, header);
+  std::vector<std::string> columns;
+  for (std::stringstream h(header); h.good();) {
+    std::string c;
+    std::getline(h, c, ',');
+    columns.push_back(c);
+  }
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(columns.begin(), columns.end(), name);
+    EXPECT_NE(it, columns.end()) << name << " in " << header;
+    return static_cast<std::size_t>(it - columns.begin());
+  };
+  const auto speed_at = column("speed_kph"), ttc_at = column("ttc_s"), mu_at = column("mu"),
+             feasible_at = column("feasible"), region_at = column("region");
+  int feasible = 0, green = 0;
+  for (std::string line; std::getline(csv, line);) {
+    std::vector<std::string> f;
+    for (std::stringstream l(line); l.good();) {
+      std::string c;
+      std::getline(l, c, ',');
+      f.push_back(c);
+    }
+    ASSERT_GT(f.size(), region_at) << line;
+    if (f[feasible_at] != "1") continue;
+    ++feasible;
+    const double v = std::stod(f[speed_at]) / 3.6, ttc = std::stod(f[ttc_at]), mu = std::stod(f[mu_at]);
+    const bool stoppable = ttc >= v / (2.0 * mu * 9.81);
+    EXPECT_EQ(f[region_at] == "G", stoppable) << line;
+    green += f[region_at] == "G";
+  }
+  EXPECT_EQ(feasible, 7);
+  EXPECT_EQ(green, 3);  // (30, 1.0), (30, 2.0), (50, 1.0)
+
+  // A rerun resumes: nothing is simulated again.
+  const auto again =
+      run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 1");
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_THAT(again.out, HasSubstr("9 already stored, 0 simulated"));
+}
+
+TEST(ReproduceCli, MissingExamplesFolderIsBadInput) {
+  const auto out = scratch_dir("reproduce-missing");
+  const auto r = run_emrm("reproduce -o " + quoted(out / "out") + " --examples " + quoted(out / "nowhere"));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr("nowhere"));
+}
+
+TEST(ReproduceCli, BadPaperReferenceIsBadInputWithLocation) {
+  const auto example_dir = small_example("reproduce-bad-reference");
+  write_text(example_dir / "paper_reference.yaml", "version: 7\n");
+  const auto r = run_emrm("reproduce -o " + quoted(example_dir.parent_path() / "out") + " --examples " +
+                          quoted(example_dir));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr("paper_reference.yaml:1:10"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e

@@ -1,0 +1,241 @@
+#include "emrm/campaign/store.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace emrm::campaign {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / ("emrm-store-test-" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+CampaignMeta test_meta(const std::string& hash = "0123456789abcdef") {
+  CampaignMeta meta;
+  meta.config_hash = hash;
+  meta.emrm_version = "test";
+  meta.campaign_yaml = "grids: []\n";
+  meta.scene_yaml = "name: x\n";
+  meta.seed = 18446744073709551557ull;  // above INT64_MAX: must survive the store
+  meta.strategies = {"emergency_stop", "emrm"};
+  meta.grids = {"first", "second"};
+  return meta;
+}
+
+CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
+  CellRecord r;
+  r.grid = grid;
+  r.index = index;
+  r.speed_kph = 30.0 + 0.1 * static_cast<double>(index);
+  r.ttc_s = 0.31;
+  r.mu = 0.65;
+  r.passage_m = 2.4;
+  r.truck_speed_kph = 10.0;
+  r.seed = 0xfedcba9876543210ull + static_cast<std::uint64_t>(index);
+  r.feasible = feasible;
+  r.region = feasible ? "Y" : "infeasible";
+  r.unmitigated_impact_speed_kph = 1.0 / 3.0;
+  r.unmitigated_delta_v_kph = 12.5;
+  r.unmitigated_p_mais3 = 0.123456789012345;
+  r.unmitigated_p_fatal = 1e-17;
+  r.unmitigated_loss_level = 6;
+  if (!feasible) return r;
+  OutcomeRecord stop;
+  stop.strategy = "emergency_stop";
+  stop.contact = true;
+  stop.impact_speed_kph = 20.0 / 3.0;
+  stop.delta_v_kph = 5.5;
+  stop.p_mais3 = 0.01;
+  stop.p_fatal = 0.001;
+  stop.loss_level = 4;
+  stop.delta_loss = 2;
+  stop.min_ttc_s = 0.0;
+  stop.fsm_trace = {"S1", "hazard_detected", "S2"};
+  OutcomeRecord emrm;
+  emrm.strategy = "emrm";
+  emrm.avoided = true;
+  emrm.road_departure = true;
+  emrm.delta_loss = 6;
+  emrm.min_ttc_s = std::numeric_limits<double>::infinity();
+  emrm.planner_nodes = 123;
+  emrm.planner_rollouts = 45;
+  emrm.fsm_trace = {"S1", "hazard_detected", "S2", "high_risk", "S3"};
+  emrm.loss_evaluation_trace = {"L0", "evaluate", "L1"};
+  emrm.chosen_strategy = "dodge";
+  emrm.adopted_from = "dodge";
+  r.outcomes = {stop, emrm};
+  return r;
+}
+
+void expect_equal(const CellRecord& a, const CellRecord& b) {
+  EXPECT_EQ(a.grid, b.grid);
+  EXPECT_EQ(a.index, b.index);
+  EXPECT_EQ(a.speed_kph, b.speed_kph);
+  EXPECT_EQ(a.ttc_s, b.ttc_s);
+  EXPECT_EQ(a.mu, b.mu);
+  EXPECT_EQ(a.passage_m, b.passage_m);
+  EXPECT_EQ(a.truck_speed_kph, b.truck_speed_kph);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.feasible, b.feasible);
+  EXPECT_EQ(a.region, b.region);
+  EXPECT_EQ(a.unmitigated_impact_speed_kph, b.unmitigated_impact_speed_kph);
+  EXPECT_EQ(a.unmitigated_delta_v_kph, b.unmitigated_delta_v_kph);
+  EXPECT_EQ(a.unmitigated_p_mais3, b.unmitigated_p_mais3);
+  EXPECT_EQ(a.unmitigated_p_fatal, b.unmitigated_p_fatal);
+  EXPECT_EQ(a.unmitigated_loss_level, b.unmitigated_loss_level);
+  ASSERT_EQ(a.outcomes.size(), b.outcomes.size());
+  for (std::size_t i = 0; i < a.outcomes.size(); ++i) {
+    const auto& x = a.outcomes[i];
+    const auto& y = b.outcomes[i];
+    EXPECT_EQ(x.strategy, y.strategy);
+    EXPECT_EQ(x.avoided, y.avoided);
+    EXPECT_EQ(x.contact, y.contact);
+    EXPECT_EQ(x.road_departure, y.road_departure);
+    EXPECT_EQ(x.impact_speed_kph, y.impact_speed_kph);
+    EXPECT_EQ(x.delta_v_kph, y.delta_v_kph);
+    EXPECT_EQ(x.p_mais3, y.p_mais3);
+    EXPECT_EQ(x.p_fatal, y.p_fatal);
+    EXPECT_EQ(x.loss_level, y.loss_level);
+    EXPECT_EQ(x.delta_loss, y.delta_loss);
+    EXPECT_EQ(x.min_ttc_s, y.min_ttc_s);
+    EXPECT_EQ(x.planner_nodes, y.planner_nodes);
+    EXPECT_EQ(x.planner_rollouts, y.planner_rollouts);
+    EXPECT_EQ(x.fsm_trace, y.fsm_trace);
+    EXPECT_EQ(x.loss_evaluation_trace, y.loss_evaluation_trace);
+    EXPECT_EQ(x.chosen_strategy, y.chosen_strategy);
+    EXPECT_EQ(x.adopted_from, y.adopted_from);
+  }
+}
+
+TEST(ResultStore, RecordsRoundTripInGridThenIndexOrder) {
+  const auto path = scratch("round_trip") / "results.sqlite";
+  const std::vector<CellRecord> written{record("second", 0, true), record("first", 2, false),
+                                        record("first", 0, true)};
+  {
+    ResultStore store = ResultStore::open_for_writing(path, test_meta());
+    store.insert({written[0], written[1]});
+    store.insert({written[2]});
+    EXPECT_EQ(store.cell_count(), 3);
+  }
+  const auto read = read_results(path);
+  ASSERT_EQ(read.size(), 3u);
+  expect_equal(read[0], written[2]);
+  expect_equal(read[1], written[1]);
+  expect_equal(read[2], written[0]);
+}
+
+TEST(ResultStore, MetadataRoundTrips) {
+  const auto path = scratch("meta") / "results.sqlite";
+  const CampaignMeta meta = test_meta();
+  (void)ResultStore::open_for_writing(path, meta);
+  const CampaignMeta back = read_meta(path);
+  EXPECT_EQ(back.config_hash, meta.config_hash);
+  EXPECT_EQ(back.emrm_version, meta.emrm_version);
+  EXPECT_EQ(back.campaign_yaml, meta.campaign_yaml);
+  EXPECT_EQ(back.scene_yaml, meta.scene_yaml);
+  EXPECT_EQ(back.seed, meta.seed);
+  EXPECT_EQ(back.strategies, meta.strategies);
+  EXPECT_EQ(back.grids, meta.grids);
+  EXPECT_EQ(back.shard_index, 1);
+  EXPECT_EQ(back.shard_count, 1);
+}
+
+TEST(ResultStore, ADuplicateCellFailsTheWholeBatch) {
+  const auto path = scratch("duplicate") / "results.sqlite";
+  ResultStore store = ResultStore::open_for_writing(path, test_meta());
+  store.insert({record("first", 0, true)});
+  EXPECT_THROW(store.insert({record("first", 1, true), record("first", 0, true)}), Error);
+  EXPECT_EQ(store.cell_count(), 1);
+}
+
+TEST(ResultStore, RefusesAnotherConfigurationNamingBothHashes) {
+  const auto path = scratch("other_hash") / "results.sqlite";
+  (void)ResultStore::open_for_writing(path, test_meta("aaaaaaaaaaaaaaaa"));
+  try {
+    (void)ResultStore::open_for_writing(path, test_meta("bbbbbbbbbbbbbbbb"));
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("aaaaaaaaaaaaaaaa"));
+    EXPECT_THAT(e.what(), HasSubstr("bbbbbbbbbbbbbbbb"));
+  }
+  CampaignMeta shard = test_meta("aaaaaaaaaaaaaaaa");
+  shard.shard_index = 2;
+  shard.shard_count = 2;
+  EXPECT_THROW((void)ResultStore::open_for_writing(path, shard), UsageError);
+}
+
+TEST(ReadMeta, RefusesWhatIsNotAStore) {
+  const auto dir = scratch("not_a_store");
+  EXPECT_THROW((void)read_meta(dir / "missing.sqlite"), UsageError);
+  std::ofstream(dir / "text.sqlite") << "this is not a database, just some text that is long enough\n";
+  EXPECT_THROW((void)read_meta(dir / "text.sqlite"), UsageError);
+  { std::ofstream empty(dir / "empty.sqlite"); }
+  EXPECT_THROW((void)read_meta(dir / "empty.sqlite"), UsageError);
+}
+
+TEST(WriteExports, WritesSortedRowsWithTheDocumentedColumns) {
+  const auto dir = scratch("exports");
+  {
+    ResultStore store = ResultStore::open_for_writing(dir / "results.sqlite", test_meta());
+    store.insert({record("second", 0, true), record("first", 1, false), record("first", 0, true)});
+  }
+  write_exports(dir / "results.sqlite", dir);
+  EXPECT_EQ(read_text(dir / "regions.csv"),
+            "grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,feasible,region\n"
+            "first,30,0.31,0.65,2.4,10,1,Y\n"
+            "first,30.1,0.31,0.65,2.4,10,0,infeasible\n"
+            "second,30,0.31,0.65,2.4,10,1,Y\n");
+  const std::string cells = read_text(dir / "cells.csv");
+  EXPECT_THAT(cells, HasSubstr("grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,strategy,avoided,"
+                               "impact_speed_kph,delta_v_kph,loss_level,delta_loss,min_ttc_s\n"
+                               "first,30,0.31,0.65,2.4,10,emergency_stop,0,6.66667,5.5,4,2,0\n"
+                               "first,30,0.31,0.65,2.4,10,emrm,1,0,0,0,6,inf\n"
+                               "second,30,0.31,0.65,2.4,10,emergency_stop,0,"));
+  EXPECT_TRUE(fs::exists(dir / "cells.json"));
+}
+
+TEST(Merge, JoinsStoresOfOneConfigurationAndRefusesOthers) {
+  const auto a = scratch("merge_a");
+  const auto b = scratch("merge_b");
+  const auto c = scratch("merge_c");
+  const auto out = scratch("merge_out");
+  CampaignMeta shard1 = test_meta();
+  shard1.shard_count = 2;
+  CampaignMeta shard2 = shard1;
+  shard2.shard_index = 2;
+  ResultStore::open_for_writing(a / "results.sqlite", shard1).insert({record("first", 0, true)});
+  ResultStore::open_for_writing(b / "results.sqlite", shard2).insert({record("first", 1, true)});
+  (void)ResultStore::open_for_writing(c / "results.sqlite", test_meta("ffffffffffffffff"));
+  merge({a, b}, out);
+  const auto merged = read_results(out / "results.sqlite");
+  ASSERT_EQ(merged.size(), 2u);
+  expect_equal(merged[0], record("first", 0, true));
+  expect_equal(merged[1], record("first", 1, true));
+  EXPECT_EQ(read_meta(out / "results.sqlite").shard_count, 1);
+  EXPECT_TRUE(fs::exists(out / "cells.csv"));
+  EXPECT_THROW(merge({a, c}, scratch("merge_bad")), UsageError);
+}
+
+}  // namespace
+}  // namespace emrm::campaign

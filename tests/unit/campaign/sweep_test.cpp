@@ -1,0 +1,99 @@
+#include "emrm/campaign/sweep.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "emrm/campaign/store.hpp"
+
+namespace emrm::campaign {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / ("emrm-sweep-test-" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+// Cheap cells: slow, early hazards (green) and far ones (infeasible, not simulated).
+Campaign small_campaign() {
+  return parse_campaign(
+      "grids:\n  - name: a\n    speed_kph: [30, 35]\n    ttc_s: [2.5, 2.9]\n"
+      "  - name: b\n    speed_kph: 72\n    ttc_s: [2.0, 2.5, 2.9]\n",
+      "small.yaml", ".");
+}
+
+TEST(ParseShard, AcceptsKOfNAndRejectsTheRest) {
+  int k = 0;
+  int n = 0;
+  parse_shard("2/3", k, n);
+  EXPECT_EQ(k, 2);
+  EXPECT_EQ(n, 3);
+  for (const char* bad : {"0/2", "3/2", "x", "1/0", "1/2x", "/2", "1/", "-1/2", ""})
+    EXPECT_THROW(parse_shard(bad, k, n), UsageError) << bad;
+}
+
+TEST(Sweep, StoresEveryCellOnceAndResumesWithNothingToDo) {
+  const Campaign c = small_campaign();
+  SweepOptions options;
+  options.output_dir = scratch("once");
+  options.threads = 2;
+  const SweepSummary first = sweep(c, options);
+  EXPECT_EQ(first.cells_total, 7u);
+  EXPECT_EQ(first.cells_simulated, 7u);
+  EXPECT_EQ(first.cells_done_before, 0u);
+  const auto records = read_results(options.output_dir / "results.sqlite");
+  ASSERT_EQ(records.size(), 7u);
+  EXPECT_EQ(records[0].grid, "a");
+  EXPECT_EQ(records[6].grid, "b");
+  EXPECT_EQ(records[6].index, 2);
+  for (const auto& r : records) {
+    EXPECT_EQ(r.seed,
+              cell_seed(c, r.grid, c.grids[r.grid == "a" ? 0 : 1].cells[static_cast<std::size_t>(r.index)]));
+    EXPECT_EQ(r.outcomes.size(), r.feasible ? c.strategies.size() : 0u);
+  }
+  const SweepSummary second = sweep(c, options);
+  EXPECT_EQ(second.cells_simulated, 0u);
+  EXPECT_EQ(second.cells_done_before, 7u);
+  EXPECT_EQ(read_results(options.output_dir / "results.sqlite").size(), 7u);
+}
+
+TEST(Sweep, ShardsPartitionTheCellsByGlobalPosition) {
+  const Campaign c = small_campaign();
+  std::set<std::pair<std::string, std::int64_t>> seen;
+  std::size_t total = 0;
+  for (int k = 1; k <= 3; ++k) {
+    SweepOptions options;
+    options.output_dir = scratch("shard" + std::to_string(k));
+    options.threads = 1;
+    options.shard_index = k;
+    options.shard_count = 3;
+    total += sweep(c, options).cells_total;
+    for (const auto& r : read_results(options.output_dir / "results.sqlite")) {
+      const std::size_t position = (r.grid == "a" ? 0u : 4u) + static_cast<std::size_t>(r.index);
+      EXPECT_EQ(position % 3, static_cast<std::size_t>(k - 1));
+      EXPECT_TRUE(seen.emplace(r.grid, r.index).second);
+    }
+  }
+  EXPECT_EQ(total, 7u);
+  EXPECT_EQ(seen.size(), 7u);
+}
+
+TEST(Sweep, RefusesAChangedConfiguration) {
+  SweepOptions options;
+  options.output_dir = scratch("changed");
+  (void)sweep(small_campaign(), options);
+  Campaign changed = small_campaign();
+  changed.seed = 2;
+  EXPECT_THROW((void)sweep(changed, options), UsageError);
+}
+
+}  // namespace
+}  // namespace emrm::campaign

@@ -1,0 +1,72 @@
+#pragma once
+
+// A campaign (DESIGN.md §10, docs/campaign.md): a scene, a seed, the strategies to compare and
+// named grids of scenario cells over the ODD factors. Loading expands every grid into its cells,
+// in a fixed order, so that a cell is named by (grid, index) everywhere: in the store, the
+// exports, the shards and the tables.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emrm/campaign/records.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::campaign {
+
+/// One named grid, expanded: the cartesian product of its factors (speed, TTC, mu, passage,
+/// truck speed; the last varies fastest) or its explicit `cells:` list, in file order.
+struct GridSpec {
+  std::string name;
+  std::vector<sim::CellInput> cells;
+  SourceLocation where;  ///< the grid's mapping in the campaign file
+};
+
+struct Campaign {
+  std::string file;                       ///< the campaign file
+  std::optional<std::string> scene_file;  ///< as written (relative to the campaign file)
+  sim::SceneConfig scene;                 ///< loaded scene (defaults if none)
+  std::uint64_t seed = 1;
+  std::vector<std::string> strategies = sim::strategy_names();
+  std::vector<GridSpec> grids;
+  std::size_t max_cells = 20000;  ///< per grid, unless --force
+  std::string text;               ///< the campaign file's text, kept in the results store
+};
+
+/// Loads, expands and validates a campaign file. Throws InputError (file:line:column) for
+/// malformed YAML, unknown fields or factors, unknown strategies, empty or reversed ranges,
+/// non-positive steps, levels < 1, cells the simulator rejects (sim::validate_cell), duplicate
+/// grid names, and — unless `force` — a grid of more than max_cells cells. A missing or bad
+/// scene file is reported at the `scene:` entry or inside the scene file.
+[[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);
+/// As load_campaign, from text; a relative `scene:` is resolved against `base_dir`.
+[[nodiscard]] Campaign parse_campaign(const std::string& text, const std::string& file_name,
+                                      const std::filesystem::path& base_dir, bool force = false);
+
+/// The values of one factor as written: a number, a list, {from, to, step} or {from, to, levels}.
+/// Ranges are from + i·step (to included within 1e-9 relative) and levels are evenly spaced from
+/// `from` to `to`; every value is rounded to 1e-9. Throws InputError at `node` when malformed.
+[[nodiscard]] std::vector<double> expand_factor(const core::YamlNode& node);
+
+/// 16 hex digits identifying the effective configuration (scene, seed, strategies, every grid's
+/// cells) and the emrm version: a results store only accepts more cells of the same hash.
+[[nodiscard]] std::string config_hash(const Campaign& campaign);
+
+/// The key of a cell: the grid name and the factor values formatted with %.9g.
+[[nodiscard]] std::string cell_key(const std::string& grid, const sim::CellInput& cell);
+/// sim::derive_seed(campaign.seed, cell_key(grid, cell)): the same on every run, thread and shard.
+[[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid,
+                                      const sim::CellInput& cell);
+
+/// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees dropped).
+[[nodiscard]] CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
+                                   const sim::CellResult& result);
+
+/// Number of cells over all grids.
+[[nodiscard]] std::size_t total_cells(const Campaign& campaign) noexcept;
+
+}  // namespace emrm::campaign

@@ -1,0 +1,131 @@
+#pragma once
+
+// Diagnostics of a campaign's results (docs/results.md): checks that the regions and outcomes are
+// what physics and our own reference planner say they must be, and which FSM transitions the
+// campaign exercised. Everything reads stored records; only the RRT-vs-reference check simulates
+// (the reference planner on a seeded sample of cells).
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "emrm/campaign/records.hpp"
+#include "emrm/fsm/generator.hpp"
+#include "emrm/fsm/operations.hpp"
+#include "emrm/sim/scene.hpp"
+
+namespace emrm::campaign {
+
+/// A cell named in a diagnostic.
+struct CellRef {
+  std::string grid;
+  std::int64_t index = 0;
+  double speed_kph = 0.0, ttc_s = 0.0, mu = 0.0, passage_m = 0.0;
+  std::string region;
+};
+[[nodiscard]] CellRef cell_ref(const CellRecord& r);
+
+/// (a) The analytic stop boundary TTC >= L + v/(2 mu g) against the stored regions.
+struct StopBoundaryCheck {
+  double latency_s = 0.0;
+  std::size_t feasible = 0;
+  std::size_t stoppable = 0;                 ///< feasible cells above the boundary
+  std::vector<CellRef> stoppable_red;        ///< must be empty: a car that can stop is never R
+  std::vector<CellRef> stoppable_not_green;  ///< above the boundary but not G (R included)
+  std::vector<CellRef> green_not_stoppable;  ///< G below the boundary
+};
+[[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<CellRecord>& records,
+                                                    double latency_s = 0.0);
+
+/// (b) One monotonicity reversal: a strategy avoided at a lower TTC (or μ) but not at the next
+/// higher one, all other factors equal.
+struct Reversal {
+  std::string grid, strategy, factor;  ///< factor: ttc or mu
+  CellRef lower, higher;
+};
+struct ReversalCount {
+  std::string grid, strategy, factor;
+  std::size_t pairs = 0;  ///< adjacent feasible pairs compared
+  std::size_t reversals = 0;
+};
+struct MonotonicityCheck {
+  std::vector<ReversalCount> counts;  ///< per grid × strategy × factor with at least one pair
+  std::vector<Reversal> examples;     ///< every reversal, up to `max_examples`
+  std::size_t total_reversals = 0;
+};
+/// Groups each grid's feasible cells by every factor but TTC (then but μ), sorts each group by the
+/// varying factor and compares neighbours, per strategy.
+[[nodiscard]] MonotonicityCheck check_monotonicity(const std::vector<CellRecord>& records,
+                                                   std::size_t max_examples = 50);
+
+/// (c) The stored RRT outcomes against the reference planner on a sample of cells.
+struct ReferenceDisagreement {
+  CellRef cell;
+  std::string strategy;  ///< dodge or drift_to_avoid
+  bool reference_avoids = false;
+  bool stored_avoided = false;
+};
+struct ReferenceCheck {
+  std::size_t sampled = 0;
+  std::uint64_t seed = 0;
+  std::size_t dodge_missed = 0;  ///< the reference dodges, the stored dodge did not avoid
+  std::size_t drift_missed = 0;  ///< the reference drifts around, the stored drift_to_avoid did not
+  std::size_t dodge_reference_avoids = 0, drift_reference_avoids = 0;
+  std::size_t dodge_beyond_reference = 0, drift_beyond_reference = 0;  ///< RRT avoided, reference not
+  std::vector<ReferenceDisagreement> disagreements;                    ///< both directions
+};
+/// Runs sim::plan_reference with dodge limits {rear lock: no, forbid rear sliding: yes, accept
+/// contact: no} and drift limits {rear lock: yes, no, no} on `sample` feasible cells drawn without
+/// replacement (seeded; all of them when there are fewer) from the records that have stored dodge
+/// and drift_to_avoid outcomes. `threads` <= 0: hardware concurrency. Throws what the simulator
+/// throws for a cell that does not fit `scene`.
+[[nodiscard]] ReferenceCheck check_against_reference(const std::vector<CellRecord>& records,
+                                                     const sim::SceneConfig& scene, std::size_t sample,
+                                                     std::uint64_t seed, int threads = 0);
+
+/// (d) Transition coverage of one FSM by the stored traces.
+struct FsmCoverage {
+  std::string fsm;  ///< the generator's name
+  std::size_t traces = 0;
+  fsm::TransitionCoverage coverage;
+  std::vector<fsm::Transition> transitions;   ///< g.transitions(), for the report
+  const fsm::Generator* generator = nullptr;  ///< borrowed: the machine measured, for diagrams
+};
+/// The events of a stored trace "s0 e1 s1 e2 s2 …": the elements at odd positions.
+[[nodiscard]] std::vector<std::string> trace_events(const std::vector<std::string>& trace);
+/// Coverage of `g` by every outcome's fsm_trace (all strategies) of the feasible records.
+[[nodiscard]] FsmCoverage emrm_fsm_coverage(const std::vector<CellRecord>& records, const fsm::Generator& g);
+/// Coverage of `g` by the emrm outcomes' loss_evaluation_trace of the feasible records.
+[[nodiscard]] FsmCoverage loss_evaluation_fsm_coverage(const std::vector<CellRecord>& records,
+                                                       const fsm::Generator& g);
+
+struct DiagnosticsOptions {
+  std::size_t reference_sample = 40;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+
+struct Diagnostics {
+  StopBoundaryCheck stop_boundary;
+  MonotonicityCheck monotonicity;
+  ReferenceCheck reference;
+  FsmCoverage emrm_fsm, loss_evaluation_fsm;
+};
+
+/// All four diagnostics, with the shipped FSMs (sim::default_emrm_fsm(),
+/// sim::default_loss_evaluation_fsm()) and the scene's latency.
+[[nodiscard]] Diagnostics run_diagnostics(const std::vector<CellRecord>& records,
+                                          const sim::SceneConfig& scene,
+                                          const DiagnosticsOptions& options = {});
+
+[[nodiscard]] nlohmann::ordered_json to_json(const Diagnostics& d);
+
+/// Writes DIR/diagnostics.json and DIR/fsm/{emrm_fsm,loss_evaluation_fsm}.dot, plus the .svg files
+/// when Graphviz is installed, the transitions coloured by their coverage counts. Returns the files
+/// written. Throws emrm::Error when a file cannot be written or Graphviz fails.
+std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d);
+
+}  // namespace emrm::campaign
