@@ -185,18 +185,21 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     Committer committer(store, work.size(), options.progress && ::isatty(2) == 1);
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
-    tbb::parallel_for(0, workers, [&](int) {
-      for (std::size_t w = next++; w < work.size(); w = next++) {
-        const GridSpec& grid = campaign.grids[work[w].grid];
-        const sim::CellInput& cell = grid.cells[work[w].index];
-        sim::CellOptions cell_options;
-        cell_options.strategies = campaign.strategies;
-        cell_options.seed = cell_seed(campaign, grid.name, cell);
-        const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
-        committer.add(
-            to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result));
-      }
-    });
+    tbb::parallel_for(
+        0, workers,
+        [&](int) {
+          for (std::size_t w = next++; w < work.size(); w = next++) {
+            const GridSpec& grid = campaign.grids[work[w].grid];
+            const sim::CellInput& cell = grid.cells[work[w].index];
+            sim::CellOptions cell_options;
+            cell_options.strategies = campaign.strategies;
+            cell_options.seed = cell_seed(campaign, grid.name, cell);
+            const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
+            committer.add(
+                to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result));
+          }
+        },
+        tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
     committer.finish();
     summary.cells_simulated = committer.simulated();
   }
