@@ -17,5 +17,7 @@ void register_simulate_command(CLI::App& app, int& exit_code);
 void register_sweep_commands(CLI::App& app, int& exit_code);
 /// `emrm reproduce -o DIR`: the paper's whole case study.
 void register_reproduce_command(CLI::App& app, int& exit_code);
+/// `emrm ca`: covering arrays (strength 2 and 3, mixed levels, constraints, PICT models).
+void register_ca_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   emrm::cli::register_simulate_command(app, exit_code);
   emrm::cli::register_sweep_commands(app, exit_code);
   emrm::cli::register_reproduce_command(app, exit_code);
+  emrm::cli::register_ca_command(app, exit_code);
 
   try {
     app.parse(argc, argv);
