@@ -76,12 +76,7 @@ SafetyCase parse_safety_case(const std::string& text, const std::string& file_na
 }
 
 SafetyCase load_safety_case(const std::filesystem::path& path) {
-  const auto root = core::YamlNode::load_file(path);
-  SafetyCase sc;
-  core::read_yaml(root, sc);
-  sc.file = path.string();
-  validate(sc, root);
-  return sc;
+  return parse_safety_case(core::read_input_file(path), path.string());
 }
 
 std::string to_yaml(const SafetyCase& safety_case) { return core::to_yaml_text(core::write_yaml(safety_case)); }
