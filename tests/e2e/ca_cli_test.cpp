@@ -1,0 +1,72 @@
+// End-to-end: `emrm ca` as a user runs it.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <set>
+#include <sstream>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields;
+    std::istringstream l(line);
+    for (std::string f; std::getline(l, f, ',');) fields.push_back(f);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+TEST(CaCli, LevelsGiveASmallPairwiseArray) {
+  const auto r = run_emrm("ca --levels 3,3,3,3 --strength 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = parse_csv(r.out);
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"p1", "p2", "p3", "p4"}));
+  EXPECT_LE(rows.size() - 1, 9U);
+  std::set<std::string> pairs;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    for (std::size_t a = 0; a < 4; ++a)
+      for (std::size_t b = a + 1; b < 4; ++b)
+        pairs.insert(std::to_string(a) + rows[i][a] + std::to_string(b) + rows[i][b]);
+  EXPECT_EQ(pairs.size(), 6U * 9U);
+  EXPECT_THAT(r.err, HasSubstr("54 of 54 tuples covered"));
+}
+
+TEST(CaCli, PictModelWithCheck) {
+  const auto dir = scratch_dir("ca-model");
+  write_text(dir / "m.txt",
+             "Speed: 30, 50, 70\nRoad: dry, wet, icy\nLight: day, night\n"
+             "IF [Road] = \"icy\" THEN [Speed] <= 50;\n");
+  const auto r = run_emrm("ca " + quoted(dir / "m.txt") + " --check --seed 3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("Speed,Road,Light\n"));
+  EXPECT_EQ(r.out.find("70,icy"), std::string::npos);
+  EXPECT_THAT(r.err, HasSubstr("OK"));
+  EXPECT_EQ(r.out, run_emrm("ca " + quoted(dir / "m.txt") + " --check --seed 3").out);
+}
+
+TEST(CaCli, BadInputExitsTwo) {
+  for (const char* args : {"ca --levels 3,3,3 --strength 4", "ca --levels 3,3 --strength 3",
+                           "ca --levels 3,0,2", "ca --levels 3,x", "ca"}) {
+    const auto r = run_emrm(args);
+    EXPECT_EQ(r.exit_code, 2) << args << r.out << r.err;
+    EXPECT_FALSE(r.err.empty()) << args;
+  }
+  const auto dir = scratch_dir("ca-bad");
+  write_text(dir / "bad.txt", "A: 1, 2\nIF [B] = 1 THEN [A] = 2;\n");
+  const auto r = run_emrm("ca " + quoted(dir / "bad.txt"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("bad.txt:2:4: error: unknown parameter [B]"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e

@@ -1,0 +1,67 @@
+#include "emrm/scenario/pict_model.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace emrm::scenario {
+namespace {
+
+constexpr const char* kSample = R"(# Vehicle scenarios
+Speed: 30, 50, 70
+Road:  dry, wet, icy
+
+Light: day, night
+IF [Road] = "icy" THEN [Speed] <= 50;
+IF [Light] = "night" AND NOT [Road] IN {"dry"}
+  THEN [Speed] < 70 ELSE [Speed] >= 30;
+[Speed] <> 70 OR [Road] = "dry";
+)";
+
+TEST(PictModel, ParsesParametersAndConstraints) {
+  const PictModel m = parse_pict_model(kSample, "m.txt");
+  ASSERT_EQ(m.parameters().size(), 3U);
+  EXPECT_EQ(m.parameters()[1].name, "Road");
+  EXPECT_EQ(m.parameters()[1].values, (std::vector<std::string>{"dry", "wet", "icy"}));
+  EXPECT_EQ(m.levels(), (std::vector<int>{3, 3, 2}));
+  EXPECT_EQ(m.constraint_count(), 3U);
+  EXPECT_TRUE(m.violates(std::vector<int>{2, 2, 0}));           // 70 on ice
+  EXPECT_FALSE(m.violates(std::vector<int>{2, kDontCare, 0}));  // not decided yet
+  EXPECT_FALSE(m.violates(std::vector<int>{1, 2, 1}));
+  EXPECT_TRUE(m.violates(std::vector<int>{2, 1, 0}));  // 70 on wet
+}
+
+TEST(PictModel, GeneratedArrayRespectsTheModel) {
+  const PictModel m = parse_pict_model(kSample, "m.txt");
+  const auto ca = generate_covering_array(m.levels(), {}, m.row_violates());
+  EXPECT_TRUE(check_covering_array(m.levels(), 2, ca.rows, m.row_violates()).ok());
+  EXPECT_GT(ca.forbidden_tuples, 0U);
+}
+
+void expect_error_at(const std::string& text, int line, int column, const std::string& what) {
+  try {
+    (void)parse_pict_model(text, "bad.txt");
+    ADD_FAILURE() << "no error for:\n" << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "bad.txt");
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_EQ(e.where().column, column) << e.what();
+    EXPECT_THAT(e.message(), ::testing::HasSubstr(what));
+  }
+}
+
+TEST(PictModel, BadInputIsReportedAtLineAndColumn) {
+  expect_error_at("# nothing\n\n", 2, 1, "no parameters");
+  expect_error_at("A: 1, 2\nB:\n", 2, 3, "has no values");
+  expect_error_at("A: 1, 2\nA: 3\n", 2, 1, "duplicate parameter");
+  expect_error_at("A: x, y, x\n", 1, 10, "duplicate value");
+  expect_error_at("A: 1, 2\nIF [B] = 1 THEN [A] = 2;\n", 2, 4, "unknown parameter [B]");
+  expect_error_at("A: 1, 2\n[A] LIKE \"1*\";\n", 2, 5, "LIKE");
+  expect_error_at("A: 1, 2\n[A] = 1\n", 3, 1, "expected ';'");
+  expect_error_at("A: x, y\n[A] < 3;\n", 2, 5, "numeric");
+  expect_error_at("A: 1, 2\nB: 1, 2\n[A] = 1;\n[A] = 2;\n", 4, 1, "unsatisfiable");
+  expect_error_at("A: 1, 2\n{ A } @ 2\n", 2, 1, "sub-models");
+  expect_error_at("A 1, 2\n", 1, 1, "expected a parameter line");
+}
+
+}  // namespace
+}  // namespace emrm::scenario

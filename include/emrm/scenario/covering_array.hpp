@@ -1,0 +1,73 @@
+#pragma once
+
+// Covering arrays of strength 2 and 3 over mixed-level factors, with constraints and forced seed
+// rows. Every t-tuple of values that some valid row can contain appears in at least one row.
+// The generator is greedy, one row at a time, in the AETG/PICT family (docs/covering-arrays.md).
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace emrm::scenario {
+
+/// Marks an entry of a partial row (a seed row, or a row under construction) as unassigned.
+inline constexpr int kDontCare = -1;
+
+/// Says whether a row breaks a constraint. It receives rows whose entries are level indices or
+/// kDontCare. On a complete row, true means the row is invalid. On a partial row it may answer true
+/// only when every completion is invalid (typically: a constraint whose factors are all assigned
+/// fails); answering false for partial rows is always allowed, only slower. An empty function means
+/// "no constraints".
+using RowViolates = std::function<bool(std::span<const int> row)>;
+
+struct CoveringArrayOptions {
+  int strength = 2;                         ///< t, 2 or 3
+  std::uint64_t seed = 1;                   ///< same seed, same array
+  int candidates_per_row = 24;              ///< candidate rows built per emitted row
+  int restarts = 6;                         ///< whole-array attempts; the smallest is kept
+  bool remove_redundant_rows = true;        ///< drop rows whose every tuple is covered elsewhere
+  std::vector<std::vector<int>> seed_rows;  ///< forced first rows; kDontCare entries are filled
+};
+
+struct CoveringArray {
+  std::vector<int> levels;
+  int strength = 2;
+  std::vector<std::vector<int>> rows;  ///< complete rows of level indices, seed rows first
+  std::size_t required_tuples = 0;     ///< t-tuples that some valid row contains (all covered)
+  std::size_t forbidden_tuples = 0;    ///< t-tuples no valid row contains (not required)
+};
+
+/// Builds a covering array of `options.strength` over factors with `levels[i]` values each.
+/// Deterministic for equal inputs and seed. Throws std::invalid_argument when strength is not 2
+/// or 3, exceeds levels.size(), a level count is < 1, a seed row has the wrong length or an
+/// out-of-range entry, or options are non-positive; throws std::domain_error when no valid row
+/// exists or a seed row cannot be completed without breaking a constraint.
+[[nodiscard]] CoveringArray generate_covering_array(const std::vector<int>& levels,
+                                                    const CoveringArrayOptions& options,
+                                                    const RowViolates& violates = {});
+
+/// A complete row extending `partial` (kDontCare entries filled) that breaks no constraint, or
+/// nothing when there is none. Depth-first search; exponential in the worst case.
+[[nodiscard]] std::optional<std::vector<int>> complete_row(const std::vector<int>& levels,
+                                                           std::vector<int> partial,
+                                                           const RowViolates& violates);
+
+struct CoverageReport {
+  std::size_t required_tuples = 0;
+  std::size_t covered_tuples = 0;
+  std::size_t invalid_rows = 0;  ///< rows that break a constraint or have out-of-range entries
+  std::string first_problem;     ///< empty when ok()
+  [[nodiscard]] bool ok() const { return covered_tuples == required_tuples && invalid_rows == 0; }
+};
+
+/// Checks `rows` by brute force, sharing no code with the generator's bookkeeping: every t-tuple a
+/// valid row can contain must appear in some row, and no row may break a constraint.
+[[nodiscard]] CoverageReport check_covering_array(const std::vector<int>& levels, int strength,
+                                                  const std::vector<std::vector<int>>& rows,
+                                                  const RowViolates& violates = {});
+
+}  // namespace emrm::scenario
