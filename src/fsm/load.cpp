@@ -30,20 +30,6 @@ struct Declaration {
   }
 };
 
-struct TransitionSpec {
-  Ref from;
-  Ref event;
-  Ref to;
-  SourceLocation where;
-
-  template <class A>
-  void serialize(A& a) {
-    a.location(where);
-    a.required("from", from);
-    a.required("event", event);
-    a.required("to", to);
-  }
-};
 
 struct FsmFile {
   std::string name;
@@ -52,7 +38,7 @@ struct FsmFile {
   std::vector<Declaration> events;
   Ref initial;
   std::vector<Ref> marked;
-  std::vector<TransitionSpec> transitions;
+  std::vector<core::TransitionRef> transitions;
 
   template <class A>
   void serialize(A& a) {

@@ -100,7 +100,7 @@ class Checker {
         add("SAF008", FindingSeverity::kError, u.id, fmt::format("UCA '{}' has no hazard region", u.id), u.where);
       if (fsm_)
         for (const auto& t : u.fsm_transitions)
-          if (!fsm_->transitions.contains({t.from, t.event, t.to}))
+          if (!fsm_->transitions.contains({t.from.id, t.event.id, t.to.id}))
             add("SAF011", FindingSeverity::kError, u.id,
                 fmt::format("UCA '{}' names transition {}, which the FSM in {} does not have", u.id, t.str(),
                             fsm_->file),

@@ -262,6 +262,26 @@ struct YamlCodec<Ref> {
   static YAML::Node write(const Ref& v) { return YAML::Node(v.id); }
 };
 
+/// A transition of a finite state machine named by its source state, event and target state, as
+/// written in an FSM file or referred to by a UCA: `{from: S3, event: execute_maneuver, to: S4}`.
+struct TransitionRef {
+  Ref from;
+  Ref event;
+  Ref to;
+  SourceLocation where;
+
+  /// "S3 -execute_maneuver-> S4"
+  [[nodiscard]] std::string str() const { return from.id + " -" + event.id + "-> " + to.id; }
+
+  template <class A>
+  void serialize(A& a) {
+    a.location(where);
+    a.required("from", from);
+    a.required("event", event);
+    a.required("to", to);
+  }
+};
+
 template <YamlSerializable T>
 struct YamlCodec<T> {
   static void read(const YamlNode& n, T& v) { read_yaml(n, v); }

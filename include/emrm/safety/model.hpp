@@ -36,23 +36,7 @@ inline constexpr std::array<UcaType, 4> kAllUcaTypes{UcaType::kNotProvided, UcaT
 using core::Ref;
 
 /// A reference to a transition of the hazard–loss FSM (DESIGN.md §4).
-struct TransitionRef {
-  std::string from;
-  std::string event;
-  std::string to;
-  SourceLocation where;
-
-  /// "S3 -execute_maneuver-> S4"
-  [[nodiscard]] std::string str() const { return from + " -" + event + "-> " + to; }
-
-  template <class A>
-  void serialize(A& a) {
-    a.location(where);
-    a.required("from", from);
-    a.required("event", event);
-    a.required("to", to);
-  }
-};
+using core::TransitionRef;
 
 /// An operational-design-domain factor that hazard regions may name (e.g. `ttc_s`).
 struct Factor {
