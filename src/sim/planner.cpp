@@ -337,20 +337,13 @@ class Rrt {
     return best;
   }
 
-  // A control that steers towards the target: the heading error decides the steering direction.
-  Control sample_control(const VehicleState& s, const core::Vec2& target, bool greedy) {
+  // A random brake level and rear lock; a random steering rate only when the control is held
+  // open-loop (pursuit replaces it otherwise).
+  Control sample_control(bool open_loop_steer) {
     const auto& p = scene_.config().ego;
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     Control u;
-    if (greedy) {
-      const double wanted = std::atan2(target.y - s.y_m, target.x - s.x_m);
-      double error = std::remainder(wanted - s.yaw_rad, 2.0 * M_PI);
-      const double desired_steer = std::clamp(2.0 * error, -p.max_steer_rad, p.max_steer_rad);
-      u.steer_rate_radps = std::clamp((desired_steer - s.steer_rad) / 0.1, -p.max_steer_rate_radps,
-                                      p.max_steer_rate_radps);
-    } else {
-      u.steer_rate_radps = (2.0 * unit(rng_) - 1.0) * p.max_steer_rate_radps;
-    }
+    if (open_loop_steer) u.steer_rate_radps = (2.0 * unit(rng_) - 1.0) * p.max_steer_rate_radps;
     const double b = unit(rng_);
     u.brake = b < 0.4 ? 0.0 : (b < 0.7 ? unit(rng_) : 1.0);
     u.rear_lock = limits_.allow_rear_lock && unit(rng_) < 0.25;
@@ -366,7 +359,7 @@ class Rrt {
     std::optional<RolloutResult> best;
     double best_d2 = kInfinity;
     for (int k = 0; k < 4; ++k) {
-      const Control u = sample_control(base.state, target, k == 0);
+      const Control u = sample_control(k == 2);
       const double duration = pc.min_duration_s + unit(rng_) * (pc.max_duration_s - pc.min_duration_s);
       // Closed-loop pursuit of the sampled point (plain, and braking as hard as the turn allows); an
       // open-loop constant control, which reaches states pursuit would not; and a lane-change
