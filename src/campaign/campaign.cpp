@@ -7,6 +7,7 @@
 #include <cmath>
 #include <set>
 
+#include "emrm/core/domain.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
 #include "emrm/version.hpp"
@@ -17,8 +18,8 @@ namespace {
 constexpr std::array<std::string_view, 5> kFactors{"speed_kph", "ttc_s", "mu", "passage_m",
                                                    "truck_speed_kph"};
 
-// Rounded to 1e-9 so that 0.25 + 0.06·k is written, hashed and seeded as the number a user reads.
-double round_1e9(double x) { return std::round(x * 1e9) / 1e9; }
+using core::round_1e9;
+using core::scalar_number;
 
 double& factor_of(sim::CellInput& cell, std::size_t factor) {
   switch (factor) {
@@ -42,56 +43,6 @@ std::optional<std::size_t> factor_index(std::string_view key) {
 }
 
 std::string factor_list() { return "speed_kph, ttc_s, mu, passage_m or truck_speed_kph"; }
-
-double scalar_number(const core::YamlNode& node) {
-  if (!node.is_scalar()) node.fail("expected a number, got " + node.describe());
-  return node.as_double();
-}
-
-std::vector<double> expand_range(const core::YamlNode& node) {
-  std::optional<core::YamlNode> from, to, step, levels;
-  for (const auto& [key, value] : node.entries()) {
-    const std::string k = key.as_string();
-    if (k == "from")
-      from = value;
-    else if (k == "to")
-      to = value;
-    else if (k == "step")
-      step = value;
-    else if (k == "levels")
-      levels = value;
-    else
-      key.fail("unknown range field '" + k + "'; expected from, to and step or levels");
-  }
-  if (!from || !to) node.fail("a range needs 'from' and 'to' (and 'step' or 'levels')");
-  if (step.has_value() == levels.has_value()) node.fail("a range needs exactly one of 'step' or 'levels'");
-  const double lo = scalar_number(*from);
-  const double hi = scalar_number(*to);
-  if (hi < lo) node.fail(fmt::format("reversed range: 'to' ({:g}) is below 'from' ({:g})", hi, lo));
-  std::vector<double> values;
-  if (step) {
-    const double dx = scalar_number(*step);
-    if (!(dx > 0.0)) step->fail(fmt::format("step must be > 0, got {:g}", dx));
-    const double q = (hi - lo) / dx;
-    // `to` counts as reached within 1e-9 relative: 0.25 + 45·0.06 is 2.9500000000000002.
-    const double n = std::floor(q + 1e-9 * std::max(1.0, q));
-    if (n > 1e8) node.fail(fmt::format("range of {:g} values is too large", n + 1));
-    for (long long i = 0; i <= static_cast<long long>(n); ++i)
-      values.push_back(round_1e9(lo + static_cast<double>(i) * dx));
-  } else {
-    const long long count = levels->as_int();
-    if (count < 1) levels->fail(fmt::format("levels must be >= 1, got {}", count));
-    if (count > 100000000) levels->fail(fmt::format("levels must be <= 1e8, got {}", count));
-    if (count == 1) {
-      if (hi != lo) levels->fail("levels 1 needs from == to");
-      values.push_back(round_1e9(lo));
-    } else {
-      for (long long i = 0; i < count; ++i)
-        values.push_back(round_1e9(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(count - 1)));
-    }
-  }
-  return values;
-}
 
 struct FactorValues {
   std::vector<double> values;
@@ -123,7 +74,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
     } else if (k == "description") {
       (void)value.as_string();
     } else if (auto f = factor_index(k)) {
-      factors[*f].values = expand_factor(value);
+      factors[*f].values = core::expand_values(value);
       factors[*f].node = value;
     } else {
       key.fail("unknown grid field '" + k + "'; expected name, description, cells or a factor (" +
@@ -207,18 +158,6 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
 }
 
 }  // namespace
-
-std::vector<double> expand_factor(const core::YamlNode& node) {
-  if (node.is_scalar()) return {round_1e9(node.as_double())};
-  if (node.is_sequence()) {
-    std::vector<double> values;
-    for (const auto& element : node.elements()) values.push_back(round_1e9(scalar_number(element)));
-    if (values.empty()) node.fail("empty list of values");
-    return values;
-  }
-  if (node.is_map()) return expand_range(node);
-  node.fail("expected a value, a list, {from, to, step} or {from, to, levels}, got " + node.describe());
-}
 
 Campaign parse_campaign(const std::string& text, const std::string& file_name,
                         const std::filesystem::path& base_dir, bool force) {

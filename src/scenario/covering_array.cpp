@@ -4,6 +4,9 @@
 #include <array>
 #include <limits>
 #include <stdexcept>
+#ifdef CA_DEBUG
+#include <cstdio>
+#endif
 
 namespace emrm::scenario {
 namespace {
@@ -67,6 +70,10 @@ class TupleSpace {
     return (k + 1 < combos_.size() ? offset_[k + 1] : total_) - offset_[k];
   }
   [[nodiscard]] std::size_t offset(std::size_t k) const { return offset_[k]; }
+  // Combo owning tuple `i`.
+  [[nodiscard]] std::size_t combo_of_tuple(std::size_t i) const {
+    return static_cast<std::size_t>(std::upper_bound(offset_.begin(), offset_.end(), i) - offset_.begin()) - 1;
+  }
 
   // Combo of columns a < b (< c).
   [[nodiscard]] std::size_t combo_index(int a, int b, int c = 0) const {
@@ -381,6 +388,258 @@ class Builder {
   std::vector<Row> rows_;
 };
 
+// Post-optimisation after Nurmela's tabu search for covering arrays: delete the row whose removal
+// uncovers the fewest tuples, then repair coverage by single-cell changes that each cover a random
+// uncovered tuple; repeat until a repair fails and keep the last complete array. Per-tuple cover
+// counts make a change cost one look-up per t-subset containing its column.
+class Improver {
+ public:
+  Improver(const TupleSpace& space, const Feasibility& feasibility, const RowViolates& violates,
+           const CoveringArrayOptions& options, std::uint64_t seed)
+      : space_(space),
+        violates_(violates),
+        options_(options),
+        rng_(seed),
+        incidence_(static_cast<std::size_t>(space.columns())) {
+    // A row can never have fewer rows than the largest t-subset has required tuples.
+    for (std::size_t k = 0; k < space.combo_count(); ++k) {
+      std::size_t required = 0;
+      for (std::size_t i = space.offset(k); i < space.offset(k) + space.combo_size(k); ++i)
+        required += feasibility.forbidden.test(i) ? 0 : 1;
+      lower_bound_ = std::max(lower_bound_, required);
+      const auto& cols = space.combo(k);
+      const auto t = static_cast<std::size_t>(space.t());
+      // Mixed-radix place values of the combo's columns, last column fastest.
+      std::array<std::size_t, 3> place{};
+      std::size_t p = 1;
+      for (std::size_t j = t; j-- > 0;) {
+        place[j] = p;
+        p *= static_cast<std::size_t>(space.level(cols[j]));
+      }
+      for (std::size_t j = 0; j < t; ++j) {
+        Incidence inc{space.offset(k), {}, {}, place[j]};
+        for (std::size_t o = 0, m = 0; o < t; ++o) {
+          if (o == j) continue;
+          inc.other_col[m] = static_cast<std::size_t>(cols[o]);
+          inc.other_place[m++] = place[o];
+        }
+        if (t == 2) inc.other_col[1] = inc.other_col[0];  // place 0: contributes nothing
+        incidence_[static_cast<std::size_t>(cols[j])].push_back(inc);
+      }
+    }
+  }
+
+  // `rows` must be a complete covering array whose first `seeds` rows are the seed rows.
+  std::vector<Row> improve(std::vector<Row> rows, std::size_t seeds) {
+    rows_ = std::move(rows);
+    seeds_ = seeds;
+    count_.assign(space_.total(), 0);
+    position_.assign(space_.total(), kNotListed);
+    uncovered_.clear();
+    for (const Row& r : rows_) space_.for_each_tuple(r, [&](std::size_t i) { ++count_[i]; });
+    std::vector<Row> best = rows_;
+    std::int64_t moves_left = options_.improvement_moves;
+    while (rows_.size() > lower_bound_ && moves_left > 0 && remove_row() && repair(moves_left)) best = rows_;
+    return best;
+  }
+
+ private:
+  // The t-subset k seen from one of its columns: tuple index = offset + sum(value * place).
+  struct Incidence {
+    std::size_t offset;
+    std::array<std::size_t, 2> other_col;
+    std::array<std::size_t, 2> other_place;
+    std::size_t self_place;
+  };
+
+  [[nodiscard]] bool forced(std::size_t r, std::size_t c) const {
+    return r < seeds_ && options_.seed_rows[r][c] != kDontCare;
+  }
+
+  void mark_uncovered(std::size_t i) {
+    position_[i] = static_cast<std::uint32_t>(uncovered_.size());
+    uncovered_.push_back(static_cast<std::uint32_t>(i));
+  }
+  void mark_covered(std::size_t i) {
+    const std::uint32_t at = position_[i];
+    const std::uint32_t last = uncovered_.back();
+    uncovered_[at] = last;
+    position_[last] = at;
+    uncovered_.pop_back();
+    position_[i] = kNotListed;
+  }
+
+  // Drops the non-seed row covering the fewest tuples alone; false when only seed rows are left.
+  bool remove_row() {
+    if (rows_.size() <= seeds_) return false;
+    std::size_t best_r = seeds_;
+    std::size_t fewest = std::numeric_limits<std::size_t>::max();
+    std::size_t ties = 0;
+    for (std::size_t r = seeds_; r < rows_.size(); ++r) {
+      std::size_t alone = 0;
+      space_.for_each_tuple(rows_[r], [&](std::size_t i) { alone += count_[i] == 1 ? 1 : 0; });
+      if (alone < fewest) {
+        fewest = alone;
+        best_r = r;
+        ties = 1;
+      } else if (alone == fewest && rng_.below(++ties) == 0) {
+        best_r = r;
+      }
+    }
+    space_.for_each_tuple(rows_[best_r], [&](std::size_t i) {
+      if (--count_[i] == 0) mark_uncovered(i);
+    });
+    std::swap(rows_[best_r], rows_.back());
+    rows_.pop_back();
+    return true;
+  }
+
+  // Change in the number of uncovered tuples if cell (r, c) took value v.
+  [[nodiscard]] std::int64_t delta(std::size_t r, std::size_t c, int v) const {
+    const Row& row = rows_[r];
+    const auto old_value = static_cast<std::size_t>(row[c]);
+    const auto new_value = static_cast<std::size_t>(v);
+    std::int64_t d = 0;
+    for (const Incidence& inc : incidence_[c]) {
+      const std::size_t base = inc.offset + static_cast<std::size_t>(row[inc.other_col[0]]) * inc.other_place[0] +
+                               static_cast<std::size_t>(row[inc.other_col[1]]) * inc.other_place[1];
+      d += (count_[base + old_value * inc.self_place] == 1 ? 1 : 0) -
+           (count_[base + new_value * inc.self_place] == 0 ? 1 : 0);
+    }
+    return d;
+  }
+
+  void apply(std::size_t r, std::size_t c, int v) {
+    Row& row = rows_[r];
+    const auto old_value = static_cast<std::size_t>(row[c]);
+    const auto new_value = static_cast<std::size_t>(v);
+    for (const Incidence& inc : incidence_[c]) {
+      const std::size_t base = inc.offset + static_cast<std::size_t>(row[inc.other_col[0]]) * inc.other_place[0] +
+                               static_cast<std::size_t>(row[inc.other_col[1]]) * inc.other_place[1];
+      const std::size_t lost = base + old_value * inc.self_place;
+      const std::size_t gained = base + new_value * inc.self_place;
+      if (--count_[lost] == 0) mark_uncovered(lost);
+      if (count_[gained]++ == 0) mark_covered(gained);
+    }
+    row[c] = v;
+    changed_at_[r * static_cast<std::size_t>(space_.columns()) + c] = iteration_;
+  }
+
+  [[nodiscard]] bool valid_with(std::size_t r, std::size_t c, int v) {
+    if (!violates_) return true;
+    Row& row = rows_[r];
+    const int old_value = row[c];
+    row[c] = v;
+    const bool ok = !violates_(row);
+    row[c] = old_value;
+    return ok;
+  }
+
+  // Tabu search until every required tuple is covered; false when the patience or budget runs out.
+  bool repair(std::int64_t& moves_left) {
+    const auto cells = rows_.size() * static_cast<std::size_t>(space_.columns());
+    changed_at_.assign(cells, std::numeric_limits<std::int64_t>::min() / 2);
+    std::size_t best = uncovered_.size();
+    std::int64_t since_best = 0;
+#ifdef CA_DEBUG
+    std::fprintf(stderr, "try rows=%zu uncovered=%zu it=%lld\n", rows_.size(), uncovered_.size(), (long long)iteration_);
+#endif
+    while (!uncovered_.empty()) {
+      if (moves_left <= 0 || since_best >= options_.improvement_patience) {
+#ifdef CA_DEBUG
+        std::fprintf(stderr, "fail rows=%zu best=%zu it=%lld\n", rows_.size(), best, (long long)iteration_);
+#endif
+        return false;
+      }
+      --moves_left;
+      ++iteration_;
+      step(best);
+      if (uncovered_.size() < best) {
+        best = uncovered_.size();
+        since_best = 0;
+      } else {
+        ++since_best;
+      }
+    }
+    return true;
+  }
+
+  // One move: among the rows one cell away from a random uncovered tuple, change the cell whose
+  // change leaves the fewest tuples uncovered, unless it was changed recently (tabu) and does not
+  // beat the best count of this repair. With no such move, a random cell moves toward the tuple.
+  void step(std::size_t best) {
+    const std::size_t tuple = uncovered_[rng_.below(uncovered_.size())];
+    const std::size_t k = space_.combo_of_tuple(tuple);
+    const auto t = static_cast<std::size_t>(space_.t());
+    std::array<std::size_t, 3> cols{};
+    std::array<int, 3> values{};
+    {
+      std::size_t local = tuple - space_.offset(k);
+      for (std::size_t j = t; j-- > 0;) {
+        cols[j] = static_cast<std::size_t>(space_.combo(k)[j]);
+        const auto l = static_cast<std::size_t>(space_.level(space_.combo(k)[j]));
+        values[j] = static_cast<int>(local % l);
+        local /= l;
+      }
+    }
+    const auto n = static_cast<std::size_t>(space_.columns());
+    const auto uncovered = static_cast<std::int64_t>(uncovered_.size());
+    std::int64_t best_delta = std::numeric_limits<std::int64_t>::max();
+    std::size_t best_r = 0;
+    std::size_t best_j = 0;
+    std::size_t ties = 0;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      std::size_t matches = 0;
+      std::size_t j_off = 0;
+      for (std::size_t j = 0; j < t; ++j) {
+        if (rows_[r][cols[j]] == values[j]) {
+          ++matches;
+        } else {
+          j_off = j;
+        }
+      }
+      if (matches + 1 != t || forced(r, cols[j_off])) continue;
+      const std::int64_t d = delta(r, cols[j_off], values[j_off]);
+      if (d > best_delta) continue;
+      const bool tabu = iteration_ - changed_at_[r * n + cols[j_off]] <= options_.improvement_tabu_tenure;
+      if (tabu && uncovered + d >= static_cast<std::int64_t>(best)) continue;
+      if (!valid_with(r, cols[j_off], values[j_off])) continue;
+      if (d < best_delta) {
+        best_delta = d;
+        ties = 0;
+      }
+      if (rng_.below(++ties) == 0) {
+        best_r = r;
+        best_j = j_off;
+      }
+    }
+    if (ties > 0) {
+      apply(best_r, cols[best_j], values[best_j]);
+      return;
+    }
+    const std::size_t r = rng_.below(rows_.size());
+    const std::size_t j = rng_.below(t);
+    if (rows_[r][cols[j]] != values[j] && !forced(r, cols[j]) && valid_with(r, cols[j], values[j]))
+      apply(r, cols[j], values[j]);
+  }
+
+  static constexpr std::uint32_t kNotListed = std::numeric_limits<std::uint32_t>::max();
+
+  const TupleSpace& space_;
+  const RowViolates& violates_;
+  const CoveringArrayOptions& options_;
+  Rng rng_;
+  std::vector<std::vector<Incidence>> incidence_;  // per column, the t-subsets containing it
+  std::size_t lower_bound_ = 0;
+  std::vector<Row> rows_;
+  std::size_t seeds_ = 0;
+  std::vector<std::uint32_t> count_;     // rows containing each tuple
+  std::vector<std::uint32_t> uncovered_;  // required tuples with count 0, in no particular order
+  std::vector<std::uint32_t> position_;  // index in uncovered_, or kNotListed
+  std::vector<std::int64_t> changed_at_;  // iteration each cell last changed (row-major)
+  std::int64_t iteration_ = 0;
+};
+
 void validate(const std::vector<int>& levels, const CoveringArrayOptions& options) {
   if (options.strength != 2 && options.strength != 3)
     throw std::invalid_argument("strength must be 2 or 3, got " + std::to_string(options.strength));
@@ -391,6 +650,8 @@ void validate(const std::vector<int>& levels, const CoveringArrayOptions& option
     if (l < 1) throw std::invalid_argument("every factor needs at least one level");
   if (options.candidates_per_row < 1 || options.restarts < 1)
     throw std::invalid_argument("candidates_per_row and restarts must be positive");
+  if (options.improvement_moves < 0 || options.improvement_patience < 1 || options.improvement_tabu_tenure < 0)
+    throw std::invalid_argument("improvement_moves and improvement_tabu_tenure must be >= 0, improvement_patience >= 1");
   for (const Row& r : options.seed_rows) {
     if (r.size() != levels.size()) throw std::invalid_argument("a seed row has the wrong number of entries");
     for (std::size_t c = 0; c < r.size(); ++c)
@@ -422,6 +683,10 @@ CoveringArray generate_covering_array(const std::vector<int>& levels, const Cove
                     options.seed * 0x100000001B3ULL + static_cast<std::uint64_t>(attempt));
     auto rows = builder.build();
     if (attempt == 0 || rows.size() < best.rows.size()) best.rows = std::move(rows);
+  }
+  if (options.improvement_moves > 0) {
+    Improver improver(space, feasibility, violates, options, options.seed * 0x100000001B3ULL + 0x5EED);
+    best.rows = improver.improve(std::move(best.rows), options.seed_rows.size());
   }
   return best;
 }

@@ -47,11 +47,6 @@ struct Campaign {
 [[nodiscard]] Campaign parse_campaign(const std::string& text, const std::string& file_name,
                                       const std::filesystem::path& base_dir, bool force = false);
 
-/// The values of one factor as written: a number, a list, {from, to, step} or {from, to, levels}.
-/// Ranges are from + i·step (to included within 1e-9 relative) and levels are evenly spaced from
-/// `from` to `to`; every value is rounded to 1e-9. Throws InputError at `node` when malformed.
-[[nodiscard]] std::vector<double> expand_factor(const core::YamlNode& node);
-
 /// 16 hex digits identifying the effective configuration (scene, seed, strategies, every grid's
 /// cells) and the emrm version: a results store only accepts more cells of the same hash.
 [[nodiscard]] std::string config_hash(const Campaign& campaign);

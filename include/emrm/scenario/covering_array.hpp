@@ -30,6 +30,9 @@ struct CoveringArrayOptions {
   int candidates_per_row = 24;              ///< candidate rows built per emitted row
   int restarts = 6;                         ///< whole-array attempts; the smallest is kept
   bool remove_redundant_rows = true;        ///< drop rows whose every tuple is covered elsewhere
+  std::int64_t improvement_moves = 400000;
+  std::int64_t improvement_patience = 50000;
+  std::int64_t improvement_tabu_tenure = 4;
   std::vector<std::vector<int>> seed_rows;  ///< forced first rows; kDontCare entries are filled
 };
 

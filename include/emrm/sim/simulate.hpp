@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "emrm/core/random.hpp"
 #include "emrm/fsm/generator.hpp"
 #include "emrm/sim/loss.hpp"
 #include "emrm/sim/planner.hpp"
@@ -66,7 +67,7 @@ struct CellOptions {
 /// Simulates one cell. Infeasible cells are returned with no strategies simulated.
 [[nodiscard]] CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options);
 
-/// A 64-bit seed from a campaign seed and a key (FNV-1a over the key, mixed with splitmix64).
-[[nodiscard]] std::uint64_t derive_seed(std::uint64_t seed, std::string_view key) noexcept;
+/// Seeds of strategies and cells (core/random.hpp).
+using core::derive_seed;
 
 }  // namespace emrm::sim

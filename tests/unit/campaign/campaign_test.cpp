@@ -1,4 +1,5 @@
 #include "emrm/campaign/campaign.hpp"
+#include "emrm/core/domain.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,7 +19,7 @@ using ::testing::HasSubstr;
 const std::string kShippedCampaign = std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/campaign.yaml";
 
 std::vector<double> expand(const std::string& yaml) {
-  return expand_factor(core::YamlNode::parse(yaml, "f.yaml"));
+  return core::expand_values(core::YamlNode::parse(yaml, "f.yaml"));
 }
 
 Campaign parse(const std::string& text, bool force = false) {

@@ -1,0 +1,79 @@
+#include "emrm/core/domain.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+namespace emrm::core {
+namespace {
+
+std::vector<double> expand_range(const YamlNode& node) {
+  std::optional<YamlNode> from, to, step, levels;
+  for (const auto& [key, value] : node.entries()) {
+    const std::string k = key.as_string();
+    if (k == "from")
+      from = value;
+    else if (k == "to")
+      to = value;
+    else if (k == "step")
+      step = value;
+    else if (k == "levels")
+      levels = value;
+    else
+      key.fail("unknown range field '" + k + "'; expected from, to and step or levels");
+  }
+  if (!from || !to) node.fail("a range needs 'from' and 'to' (and 'step' or 'levels')");
+  if (step.has_value() == levels.has_value()) node.fail("a range needs exactly one of 'step' or 'levels'");
+  const double lo = scalar_number(*from);
+  const double hi = scalar_number(*to);
+  if (hi < lo) node.fail(fmt::format("reversed range: 'to' ({:g}) is below 'from' ({:g})", hi, lo));
+  std::vector<double> values;
+  if (step) {
+    const double dx = scalar_number(*step);
+    if (!(dx > 0.0)) step->fail(fmt::format("step must be > 0, got {:g}", dx));
+    const double q = (hi - lo) / dx;
+    // `to` counts as reached within 1e-9 relative: 0.25 + 45·0.06 is 2.9500000000000002.
+    const double n = std::floor(q + 1e-9 * std::max(1.0, q));
+    if (n > 1e8) node.fail(fmt::format("range of {:g} values is too large", n + 1));
+    for (long long i = 0; i <= static_cast<long long>(n); ++i)
+      values.push_back(round_1e9(lo + static_cast<double>(i) * dx));
+  } else {
+    const long long count = levels->as_int();
+    if (count < 1) levels->fail(fmt::format("levels must be >= 1, got {}", count));
+    if (count > 100000000) levels->fail(fmt::format("levels must be <= 1e8, got {}", count));
+    if (count == 1) {
+      if (hi != lo) levels->fail("levels 1 needs from == to");
+      values.push_back(round_1e9(lo));
+    } else {
+      for (long long i = 0; i < count; ++i)
+        values.push_back(round_1e9(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(count - 1)));
+    }
+  }
+  return values;
+}
+
+}  // namespace
+
+double round_1e9(double x) noexcept { return std::round(x * 1e9) / 1e9; }
+
+double scalar_number(const YamlNode& node) {
+  if (!node.is_scalar()) node.fail("expected a number, got " + node.describe());
+  return node.as_double();
+}
+
+std::vector<double> expand_values(const YamlNode& node) {
+  if (node.is_scalar()) return {round_1e9(node.as_double())};
+  if (node.is_sequence()) {
+    std::vector<double> values;
+    for (const auto& element : node.elements()) values.push_back(round_1e9(scalar_number(element)));
+    if (values.empty()) node.fail("empty list of values");
+    return values;
+  }
+  if (node.is_map()) return expand_range(node);
+  node.fail("expected a value, a list, {from, to, step} or {from, to, levels}, got " + node.describe());
+}
+
+}  // namespace emrm::core

@@ -1,0 +1,1 @@
+#include "emrm/scenario/odd.hpp"
