@@ -19,5 +19,7 @@ void register_sweep_commands(CLI::App& app, int& exit_code);
 void register_reproduce_command(CLI::App& app, int& exit_code);
 /// `emrm ca`: covering arrays (strength 2 and 3, mixed levels, constraints, PICT models).
 void register_ca_command(CLI::App& app, int& exit_code);
+/// `emrm plan ODD.yaml -o DIR`: the minimum scenario set.
+void register_plan_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

@@ -39,6 +39,80 @@ std::string csv_line(const Row& fields) {
   return out;
 }
 
+std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_name) {
+  std::vector<CsvRecord> records;
+  CsvRecord record;
+  std::string field;
+  int line = 1;
+  int column = 1;
+  int field_line = 1;
+  int field_column = 1;
+  bool quoted = false;
+  bool after_quote = false;
+  const auto end_field = [&] {
+    record.fields.push_back(std::move(field));
+    record.lines.push_back(field_line);
+    record.columns.push_back(field_column);
+    field.clear();
+    after_quote = false;
+  };
+  const auto end_record = [&] {
+    end_field();
+    const bool blank = record.fields.size() == 1 && record.fields[0].empty();
+    if (!blank) records.push_back(std::move(record));
+    record = CsvRecord{};
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+        column += 2;
+        continue;
+      }
+      if (c == '"') {
+        quoted = false;
+        after_quote = true;
+      } else {
+        field += c;
+      }
+      if (c == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+      continue;
+    }
+    if (c == ',') {
+      end_field();
+      field_line = line;
+      field_column = ++column;
+      continue;
+    }
+    if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') continue;
+    if (c == '\n') {
+      end_record();
+      field_line = ++line;
+      field_column = column = 1;
+      continue;
+    }
+    if (after_quote)
+      throw InputError({file_name, line, column}, "unexpected text after a closing quote; expected ',' or a new line");
+    if (c == '"' && field.empty()) {
+      quoted = true;
+      ++column;
+      continue;
+    }
+    field += c;
+    ++column;
+  }
+  if (quoted) throw InputError({file_name, field_line, field_column}, "unterminated quoted field");
+  if (!field.empty() || !record.fields.empty() || after_quote) end_record();
+  return records;
+}
+
 std::string csv_table(const Row& header, const std::vector<Row>& rows) {
   std::string out = csv_line(header);
   for (const auto& row : rows) out += csv_line(row);

@@ -6,6 +6,9 @@
 #include <stdexcept>
 #ifdef CA_DEBUG
 #include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <string>
 #endif
 
 namespace emrm::scenario {
@@ -435,11 +438,27 @@ class Improver {
     seeds_ = seeds;
     count_.assign(space_.total(), 0);
     position_.assign(space_.total(), kNotListed);
+    since_.assign(space_.total(), 0);
     uncovered_.clear();
     for (const Row& r : rows_) space_.for_each_tuple(r, [&](std::size_t i) { ++count_[i]; });
     std::vector<Row> best = rows_;
     std::int64_t moves_left = options_.improvement_moves;
-    while (rows_.size() > lower_bound_ && moves_left > 0 && remove_row() && repair(moves_left)) best = rows_;
+    static const int retries = std::getenv("RETRY") ? std::atoi(std::getenv("RETRY")) : 0;
+    int failures = 0;
+    while (rows_.size() > lower_bound_ && moves_left > 0) {
+      if (!remove_row(failures > 0)) break;
+      if (repair(moves_left)) {
+        best = rows_;
+        failures = 0;
+        continue;
+      }
+      if (++failures > retries) break;
+      rows_ = best;
+      count_.assign(space_.total(), 0);
+      for (std::uint32_t i : uncovered_) position_[i] = kNotListed;
+      uncovered_.clear();
+      for (const Row& r : rows_) space_.for_each_tuple(r, [&](std::size_t i) { ++count_[i]; });
+    }
     return best;
   }
 
@@ -457,6 +476,7 @@ class Improver {
   }
 
   void mark_uncovered(std::size_t i) {
+    since_[i] = iteration_;
     position_[i] = static_cast<std::uint32_t>(uncovered_.size());
     uncovered_.push_back(static_cast<std::uint32_t>(i));
   }
@@ -470,8 +490,17 @@ class Improver {
   }
 
   // Drops the non-seed row covering the fewest tuples alone; false when only seed rows are left.
-  bool remove_row() {
+  bool remove_row(bool random = false) {
     if (rows_.size() <= seeds_) return false;
+    if (random) {
+      const std::size_t r = seeds_ + rng_.below(rows_.size() - seeds_);
+      space_.for_each_tuple(rows_[r], [&](std::size_t i) {
+        if (--count_[i] == 0) mark_uncovered(i);
+      });
+      std::swap(rows_[r], rows_.back());
+      rows_.pop_back();
+      return true;
+    }
     std::size_t best_r = seeds_;
     std::size_t fewest = std::numeric_limits<std::size_t>::max();
     std::size_t ties = 0;
@@ -494,19 +523,33 @@ class Improver {
     return true;
   }
 
-  // Change in the number of uncovered tuples if cell (r, c) took value v.
-  [[nodiscard]] std::int64_t delta(std::size_t r, std::size_t c, int v) const {
+  // Change in the number (first) and weight (second) of uncovered tuples if cell (r, c) took value v.
+  [[nodiscard]] std::pair<std::int64_t, std::int64_t> delta(std::size_t r, std::size_t c, int v) const {
     const Row& row = rows_[r];
     const auto old_value = static_cast<std::size_t>(row[c]);
     const auto new_value = static_cast<std::size_t>(v);
     std::int64_t d = 0;
+    std::int64_t w = 0;
+    std::int64_t w2 = 0;
     for (const Incidence& inc : incidence_[c]) {
       const std::size_t base = inc.offset + static_cast<std::size_t>(row[inc.other_col[0]]) * inc.other_place[0] +
                                static_cast<std::size_t>(row[inc.other_col[1]]) * inc.other_place[1];
-      d += (count_[base + old_value * inc.self_place] == 1 ? 1 : 0) -
-           (count_[base + new_value * inc.self_place] == 0 ? 1 : 0);
+      const std::size_t lost = base + old_value * inc.self_place;
+      const std::size_t gained = base + new_value * inc.self_place;
+      if (count_[lost] == 1) {
+        ++d;
+        w += weight_[lost];
+      }
+      if (count_[gained] == 0) {
+        --d;
+        w -= weight_[gained];
+      }
+      if (secondary_) {
+        if (count_[lost] == 2) ++w2;
+        if (count_[gained] == 1) --w2;
+      }
     }
-    return d;
+    return {d, w * 1024 + w2};
   }
 
   void apply(std::size_t r, std::size_t c, int v) {
@@ -521,6 +564,7 @@ class Improver {
       if (--count_[lost] == 0) mark_uncovered(lost);
       if (count_[gained]++ == 0) mark_covered(gained);
     }
+    prev_value_[r * static_cast<std::size_t>(space_.columns()) + c] = row[c];
     row[c] = v;
     changed_at_[r * static_cast<std::size_t>(space_.columns()) + c] = iteration_;
   }
@@ -539,6 +583,8 @@ class Improver {
   bool repair(std::int64_t& moves_left) {
     const auto cells = rows_.size() * static_cast<std::size_t>(space_.columns());
     changed_at_.assign(cells, std::numeric_limits<std::int64_t>::min() / 2);
+    weight_.assign(space_.total(), 1);
+    prev_value_.assign(cells, -1);
     std::size_t best = uncovered_.size();
     std::int64_t since_best = 0;
 #ifdef CA_DEBUG
@@ -553,6 +599,9 @@ class Improver {
       }
       --moves_left;
       ++iteration_;
+#ifdef CA_DEBUG
+      if (std::getenv("ALG") && std::string(std::getenv("ALG")) == "sa") sa_step(); else
+#endif
       step(best);
       if (uncovered_.size() < best) {
         best = uncovered_.size();
@@ -567,7 +616,10 @@ class Improver {
   // One move: among the rows one cell away from a random uncovered tuple, change the cell whose
   // change leaves the fewest tuples uncovered, unless it was changed recently (tabu) and does not
   // beat the best count of this repair. With no such move, a random cell moves toward the tuple.
-  void step(std::size_t best) {
+#ifdef CA_DEBUG
+  void sa_step() {
+    static const double temp = std::getenv("TEMP") ? std::atof(std::getenv("TEMP")) : 0.5;
+    static const int mode = std::getenv("MODE") ? std::atoi(std::getenv("MODE")) : 0;
     const std::size_t tuple = uncovered_[rng_.below(uncovered_.size())];
     const std::size_t k = space_.combo_of_tuple(tuple);
     const auto t = static_cast<std::size_t>(space_.t());
@@ -582,13 +634,142 @@ class Improver {
         local /= l;
       }
     }
+    std::size_t r = 0;
+    if (mode == 0) {
+      // random one-away row
+      std::size_t seen = 0;
+      for (std::size_t q = 0; q < rows_.size(); ++q) {
+        std::size_t matches = 0;
+        for (std::size_t j = 0; j < t; ++j) matches += rows_[q][cols[j]] == values[j];
+        if (matches + 1 == t && rng_.below(++seen) == 0) r = q;
+      }
+      if (seen == 0) r = rng_.below(rows_.size());
+    } else {
+      r = rng_.below(rows_.size());
+    }
+    const auto before = static_cast<std::int64_t>(uncovered_.size());
+    std::array<int, 3> old{};
+    for (std::size_t j = 0; j < t; ++j) {
+      old[j] = rows_[r][cols[j]];
+      if (old[j] != values[j]) apply(r, cols[j], values[j]);
+    }
+    const auto d = static_cast<std::int64_t>(uncovered_.size()) - before;
+    if (d <= 0) return;
+    const double u = static_cast<double>(rng_.next() >> 11) * 0x1.0p-53;
+    if (u < std::exp(-static_cast<double>(d) / temp)) return;
+    for (std::size_t j = t; j-- > 0;)
+      if (rows_[r][cols[j]] != old[j]) apply(r, cols[j], old[j]);
+  }
+#endif
+  // Exact change in uncovered count if row r took values vals at columns cols (those that differ).
+  std::int64_t multi_delta(std::size_t r, const std::array<std::size_t, 3>& cols, const std::array<int, 3>& vals, std::size_t t) {
+    Row& row = rows_[r];
+    scratch_ = row;
+    std::array<std::size_t, 3> changed{};
+    std::size_t m = 0;
+    for (std::size_t j = 0; j < t; ++j)
+      if (row[cols[j]] != vals[j]) {
+        changed[m++] = cols[j];
+        scratch_[cols[j]] = vals[j];
+      }
+    std::int64_t d = 0;
+    for (std::size_t a = 0; a < m; ++a) {
+      const std::size_t c = changed[a];
+      for (const Incidence& inc : incidence_[c]) {
+        bool dup = false;
+        for (std::size_t b = 0; b < a; ++b) dup = dup || inc.other_col[0] == changed[b] || inc.other_col[1] == changed[b];
+        if (dup) continue;
+        const std::size_t lost = inc.offset + static_cast<std::size_t>(row[inc.other_col[0]]) * inc.other_place[0] +
+                                 static_cast<std::size_t>(row[inc.other_col[1]]) * inc.other_place[1] +
+                                 static_cast<std::size_t>(row[c]) * inc.self_place;
+        const std::size_t gained = inc.offset + static_cast<std::size_t>(scratch_[inc.other_col[0]]) * inc.other_place[0] +
+                                   static_cast<std::size_t>(scratch_[inc.other_col[1]]) * inc.other_place[1] +
+                                   static_cast<std::size_t>(scratch_[c]) * inc.self_place;
+        d += (count_[lost] == 1 ? 1 : 0) - (count_[gained] == 0 ? 1 : 0);
+      }
+    }
+    return d;
+  }
+
+  void full_step(std::size_t best) {
+    const auto t = static_cast<std::size_t>(space_.t());
+    const auto n = static_cast<std::size_t>(space_.columns());
+    const std::size_t tuple = uncovered_[rng_.below(uncovered_.size())];
+    const std::size_t k = space_.combo_of_tuple(tuple);
+    std::array<std::size_t, 3> cols{};
+    std::array<int, 3> values{};
+    {
+      std::size_t local = tuple - space_.offset(k);
+      for (std::size_t j = t; j-- > 0;) {
+        cols[j] = static_cast<std::size_t>(space_.combo(k)[j]);
+        const auto l = static_cast<std::size_t>(space_.level(space_.combo(k)[j]));
+        values[j] = static_cast<int>(local % l);
+        local /= l;
+      }
+    }
+    const auto uncovered = static_cast<std::int64_t>(uncovered_.size());
+    std::int64_t best_delta = std::numeric_limits<std::int64_t>::max();
+    std::size_t best_r = 0;
+    std::size_t ties = 0;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      bool tabu = false;
+      bool blocked = false;
+      for (std::size_t j = 0; j < t; ++j)
+        if (rows_[r][cols[j]] != values[j]) {
+          tabu = tabu || iteration_ - changed_at_[r * n + cols[j]] <= options_.improvement_tabu_tenure;
+          blocked = blocked || forced(r, cols[j]);
+        }
+      if (blocked) continue;
+      const std::int64_t d = multi_delta(r, cols, values, t);
+      if (d > best_delta) continue;
+      if (tabu && uncovered + d >= static_cast<std::int64_t>(best)) continue;
+      if (d < best_delta) {
+        best_delta = d;
+        ties = 0;
+      }
+      if (rng_.below(++ties) == 0) best_r = r;
+    }
+    if (ties == 0) return;
+    for (std::size_t j = 0; j < t; ++j)
+      if (rows_[best_r][cols[j]] != values[j]) apply(best_r, cols[j], values[j]);
+  }
+
+  void step(std::size_t best) {
+    static const bool full = std::getenv("FULL") != nullptr;
+    if (full) { full_step(best); return; }
+    static const std::size_t nt = std::getenv("NT") ? std::strtoul(std::getenv("NT"), nullptr, 10) : 1;
+    const auto t = static_cast<std::size_t>(space_.t());
     const auto n = static_cast<std::size_t>(space_.columns());
     const auto uncovered = static_cast<std::int64_t>(uncovered_.size());
     std::int64_t best_delta = std::numeric_limits<std::int64_t>::max();
     std::size_t best_r = 0;
-    std::size_t best_j = 0;
+    std::size_t best_c = 0;
+    int best_v = 0;
     std::size_t ties = 0;
-    for (std::size_t r = 0; r < rows_.size(); ++r) {
+    std::array<std::size_t, 3> cols{};
+    std::array<int, 3> values{};
+    const std::size_t samples = std::min(nt, uncovered_.size());
+    for (std::size_t sample = 0; sample < samples; ++sample) {
+    std::size_t tuple = samples == uncovered_.size() ? uncovered_[sample] : uncovered_[rng_.below(uncovered_.size())];
+    static const double oldest_p = std::getenv("OLD") ? std::atof(std::getenv("OLD")) : 0.0;
+    if (oldest_p > 0 && static_cast<double>(rng_.next() >> 11) * 0x1.0p-53 < oldest_p) {
+      for (std::uint32_t i : uncovered_) if (since_[i] < since_[tuple]) tuple = i;
+    }
+    const std::size_t k = space_.combo_of_tuple(tuple);
+    {
+      std::size_t local = tuple - space_.offset(k);
+      for (std::size_t j = t; j-- > 0;) {
+        cols[j] = static_cast<std::size_t>(space_.combo(k)[j]);
+        const auto l = static_cast<std::size_t>(space_.level(space_.combo(k)[j]));
+        values[j] = static_cast<int>(local % l);
+        local /= l;
+      }
+    }
+    static const std::size_t max_cand = std::getenv("MAXC") ? std::strtoul(std::getenv("MAXC"), nullptr, 10) : 1000000;
+    std::size_t found = 0;
+    const std::size_t start = max_cand < 1000000 ? rng_.below(rows_.size()) : 0;
+    for (std::size_t rr = 0; rr < rows_.size() && found < max_cand; ++rr) {
+      const std::size_t r = (start + rr) % rows_.size();
       std::size_t matches = 0;
       std::size_t j_off = 0;
       for (std::size_t j = 0; j < t; ++j) {
@@ -599,22 +780,30 @@ class Improver {
         }
       }
       if (matches + 1 != t || forced(r, cols[j_off])) continue;
-      const std::int64_t d = delta(r, cols[j_off], values[j_off]);
-      if (d > best_delta) continue;
-      const bool tabu = iteration_ - changed_at_[r * n + cols[j_off]] <= options_.improvement_tabu_tenure;
+      ++found;
+      static const double noise = std::getenv("NOISE") ? std::atof(std::getenv("NOISE")) : 0.0;
+      static const std::uint64_t noise_cut = static_cast<std::uint64_t>(noise * 18446744073709551615.0);
+      auto [d, w] = delta(r, cols[j_off], values[j_off]);
+      if (noise_cut && rng_.next() < noise_cut) w = -1000000;
+      if (w > best_delta) continue;
+      static const bool value_tabu = std::getenv("VTABU") != nullptr;
+      const bool tabu = iteration_ - changed_at_[r * n + cols[j_off]] <= options_.improvement_tabu_tenure &&
+                        (!value_tabu || prev_value_[r * n + cols[j_off]] == values[j_off]);
       if (tabu && uncovered + d >= static_cast<std::int64_t>(best)) continue;
       if (!valid_with(r, cols[j_off], values[j_off])) continue;
-      if (d < best_delta) {
-        best_delta = d;
+      if (w < best_delta) {
+        best_delta = w;
         ties = 0;
       }
       if (rng_.below(++ties) == 0) {
         best_r = r;
-        best_j = j_off;
+        best_c = cols[j_off];
+        best_v = values[j_off];
       }
     }
+    }
     if (ties > 0) {
-      apply(best_r, cols[best_j], values[best_j]);
+      apply(best_r, best_c, best_v);
       return;
     }
     const std::size_t r = rng_.below(rows_.size());
@@ -622,6 +811,7 @@ class Improver {
     if (rows_[r][cols[j]] != values[j] && !forced(r, cols[j]) && valid_with(r, cols[j], values[j]))
       apply(r, cols[j], values[j]);
   }
+
 
   static constexpr std::uint32_t kNotListed = std::numeric_limits<std::uint32_t>::max();
 
@@ -637,6 +827,11 @@ class Improver {
   std::vector<std::uint32_t> uncovered_;  // required tuples with count 0, in no particular order
   std::vector<std::uint32_t> position_;  // index in uncovered_, or kNotListed
   std::vector<std::int64_t> changed_at_;  // iteration each cell last changed (row-major)
+  std::vector<std::uint32_t> weight_;
+  std::vector<std::int64_t> since_;
+  std::vector<int> prev_value_;
+  Row scratch_;
+  bool secondary_ = std::getenv("SEC") != nullptr;
   std::int64_t iteration_ = 0;
 };
 

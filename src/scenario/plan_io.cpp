@@ -1,1 +1,233 @@
-#include "emrm/scenario/plan.hpp"
+#include "emrm/scenario/plan_io.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <set>
+
+#include "emrm/core/text.hpp"
+
+namespace emrm::scenario {
+namespace {
+
+constexpr const char* kLeadColumns[] = {"id", "step"};
+constexpr const char* kTrailColumns[] = {"cell", "malfunctions", "transitions", "weight", "seed"};
+
+std::string number(double v) { return fmt::format("{:.9g}", v); }
+
+std::vector<std::string> split(const std::string& text, std::string_view separator) {
+  std::vector<std::string> out;
+  if (text.empty()) return out;
+  std::size_t start = 0;
+  while (true) {
+    const auto at = text.find(separator, start);
+    out.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
+    if (at == std::string::npos) break;
+    start = at + separator.size();
+  }
+  return out;
+}
+
+nlohmann::ordered_json factor_json(const OddFactor& f) {
+  nlohmann::ordered_json j{{"name", f.name}, {"unit", f.unit}, {"type", core::enum_name(f.type)}};
+  nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+  for (int k = 0; k < f.levels(); ++k)
+    levels.push_back({{"level", k}, {"label", f.level_label(k)}, {"prior", f.prior[static_cast<std::size_t>(k)]}});
+  j["levels"] = levels;
+  j["influential"] = f.influential;
+  j["nominal"] = f.nominal;
+  return j;
+}
+
+}  // namespace
+
+std::string scenarios_csv(const Odd& odd, const Plan& plan) {
+  core::Row header(std::begin(kLeadColumns), std::end(kLeadColumns));
+  for (const auto& f : odd.factors) header.push_back(f.name);
+  header.insert(header.end(), std::begin(kTrailColumns), std::end(kTrailColumns));
+  std::vector<core::Row> rows;
+  for (const auto& s : plan.scenarios) {
+    core::Row row{s.id, s.step};
+    for (double v : s.values) row.push_back(number(v));
+    row.push_back(cell_key(s.cell));
+    row.push_back(core::join(s.malfunctions, " "));
+    row.push_back(core::join(s.transitions, "; "));
+    row.push_back(number(s.weight));
+    row.push_back(std::to_string(s.seed));
+    rows.push_back(std::move(row));
+  }
+  return core::csv_table(header, rows);
+}
+
+nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan) {
+  nlohmann::ordered_json j;
+  j["odd"] = {{"file", odd.file}, {"name", odd.name}};
+  if (odd.safety_file) j["odd"]["safety"] = odd.safety_file->string();
+  if (odd.scene_file) j["odd"]["scene"] = odd.scene_file->string();
+  j["settings"] = {{"seed", odd.seed},
+                   {"strength", odd.strength},
+                   {"n_c", odd.n_c},
+                   {"n_m", odd.n_m},
+                   {"epsilon", odd.epsilon},
+                   {"delta", odd.delta},
+                   {"budget", odd.budget},
+                   {"strategies", odd.strategies},
+                   {"acceptance", {{"strategy", odd.acceptance_strategy}, {"outcome", core::enum_name(odd.acceptance)}}},
+                   {"relevance", odd.relevance ? odd.relevance->text() : std::string("true")},
+                   {"tracked", odd.tracked ? odd.tracked->text() : std::string("every relevant cell")}};
+  nlohmann::ordered_json factors = nlohmann::ordered_json::array();
+  for (const auto& f : odd.factors) factors.push_back(factor_json(f));
+  j["factors"] = factors;
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  for (const auto& s : plan.steps) steps.push_back({{"step", s.name}, {"added", s.added}, {"what", s.note}});
+  j["steps"] = steps;
+  j["stop"] = {{"targets_met", plan.targets_met},
+               {"reason", plan.stop_reason},
+               {"relevant_cells", plan.relevant_cells},
+               {"tracked_cells", plan.tracked_cells},
+               {"tests_per_tracked_cell", plan.tests_per_tracked_cell},
+               {"infeasible", plan.infeasible},
+               {"shortfalls", plan.shortfalls}};
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const auto& s : plan.scenarios) {
+    nlohmann::ordered_json values, cell;
+    for (std::size_t i = 0; i < odd.factors.size(); ++i) {
+      values[odd.factors[i].name] = s.values[i];
+      cell[odd.factors[i].name] = odd.factors[i].level_label(s.cell[i]);
+    }
+    list.push_back({{"id", s.id},
+                    {"step", s.step},
+                    {"values", values},
+                    {"cell", cell_key(s.cell)},
+                    {"cell_levels", cell},
+                    {"malfunctions", s.malfunctions},
+                    {"transitions", s.transitions},
+                    {"weight", s.weight},
+                    {"seed", s.seed}});
+  }
+  j["scenarios"] = list;
+  return j;
+}
+
+std::vector<CoverageReport> coverage_comparison(const Odd& odd, const Plan& plan) {
+  std::vector<std::vector<double>> points;
+  for (const auto& s : plan.scenarios) points.push_back(s.values);
+  std::vector<CoverageReport> reports;
+  reports.push_back(measure_coverage(odd, points, "emrm plan"));
+  reports.push_back(measure_coverage(odd, hara_only_baseline(odd), "HARA only"));
+  reports.push_back(measure_coverage(odd, stpa_only_baseline(odd), "STPA only"));
+  if (!odd.manual_grid.empty()) reports.push_back(measure_coverage(odd, manual_baseline(odd), "manual grid"));
+  return reports;
+}
+
+nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports) {
+  nlohmann::ordered_json j;
+  j["plan"] = to_json(reports.front());
+  j["baselines"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 1; i < reports.size(); ++i) j["baselines"].push_back(to_json(reports[i]));
+  return j;
+}
+
+std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports) {
+  core::Row header{"metric"};
+  for (const auto& r : reports) header.push_back(r.name);
+  std::vector<core::Row> rows;
+  const auto percent_row = [&](const std::string& label, auto member) {
+    core::Row row{label};
+    for (const auto& r : reports) {
+      const CoverageCount& c = r.*member;
+      row.push_back(fmt::format("{:.1f} ({}/{})", 100.0 * c.fraction(), c.covered, c.total));
+    }
+    rows.push_back(std::move(row));
+  };
+  const auto flag_row = [&](const std::string& label, auto member) {
+    core::Row row{label};
+    for (const auto& r : reports) row.push_back(r.*member ? "holds" : "fails");
+    rows.push_back(std::move(row));
+  };
+  core::Row size{"scenarios"};
+  for (const auto& r : reports) size.push_back(std::to_string(r.scenarios));
+  rows.push_back(std::move(size));
+  percent_row("hazard coverage %", &CoverageReport::hazards);
+  percent_row("UCA coverage %", &CoverageReport::malfunctions);
+  percent_row("FSM transition coverage %", &CoverageReport::transitions);
+  percent_row("cell coverage %", &CoverageReport::cells);
+  percent_row("t-wise coverage %", &CoverageReport::twise);
+  percent_row("boundary coverage %", &CoverageReport::boundaries);
+  flag_row("C1 cells", &CoverageReport::c1);
+  flag_row("C2 boundaries", &CoverageReport::c2);
+  flag_row("C3 t-wise", &CoverageReport::c3);
+  flag_row("C4 malfunctions", &CoverageReport::c4);
+  return {header, rows};
+}
+
+ScenarioFile read_scenarios_csv(const std::filesystem::path& path) {
+  const std::string text = core::read_input_file(path);
+  const std::string name = path.string();
+  const auto records = core::parse_csv(text, name);
+  if (records.empty()) throw InputError({name, 1, 1}, "empty file; expected a header line of a scenarios.csv");
+  const core::CsvRecord& header = records.front();
+  const auto& h = header.fields;
+  const std::size_t lead = std::size(kLeadColumns);
+  const std::size_t trail = std::size(kTrailColumns);
+  const auto expected = fmt::format("expected the header id, step, the factor columns, then {}",
+                                    core::join({std::begin(kTrailColumns), std::end(kTrailColumns)}, ", "));
+  if (h.size() < lead + trail + 1) throw InputError({name, 1, 1}, fmt::format("{} columns; {}", h.size(), expected));
+  for (std::size_t i = 0; i < lead; ++i)
+    if (h[i] != kLeadColumns[i])
+      throw InputError({name, header.lines[i], header.columns[i]},
+                       fmt::format("column {} is '{}', not '{}'; {}", i + 1, h[i], kLeadColumns[i], expected));
+  for (std::size_t i = 0; i < trail; ++i) {
+    const std::size_t at = h.size() - trail + i;
+    if (h[at] != kTrailColumns[i])
+      throw InputError({name, header.lines[at], header.columns[at]},
+                       fmt::format("column {} is '{}', not '{}'; {}", at + 1, h[at], kTrailColumns[i], expected));
+  }
+  ScenarioFile file;
+  file.file = name;
+  file.factors.assign(h.begin() + static_cast<std::ptrdiff_t>(lead), h.end() - static_cast<std::ptrdiff_t>(trail));
+  std::set<std::string> ids;
+  for (std::size_t r = 1; r < records.size(); ++r) {
+    const core::CsvRecord& rec = records[r];
+    const auto at = [&](std::size_t i) { return SourceLocation{name, rec.lines[i], rec.columns[i]}; };
+    if (rec.fields.size() != h.size())
+      throw InputError({name, rec.lines.front(), 1},
+                       fmt::format("row has {} fields, the header {}", rec.fields.size(), h.size()));
+    ScenarioRow row;
+    row.where = at(0);
+    row.id = rec.fields[0];
+    if (row.id.empty()) throw InputError(at(0), "empty scenario id");
+    if (!ids.insert(row.id).second) throw InputError(at(0), fmt::format("duplicate scenario id '{}'", row.id));
+    row.step = rec.fields[1];
+    for (std::size_t i = lead; i < h.size() - trail; ++i) {
+      const std::string& f = rec.fields[i];
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+      if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
+        throw InputError(at(i), fmt::format("{}: expected a finite number, got '{}'", h[i], f));
+      row.values.push_back(v);
+    }
+    const std::size_t t = h.size() - trail;
+    row.cell = rec.fields[t];
+    row.malfunctions = split(rec.fields[t + 1], " ");
+    row.transitions = split(rec.fields[t + 2], "; ");
+    {
+      const std::string& f = rec.fields[t + 3];
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), row.weight);
+      if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(row.weight) || row.weight < 0.0)
+        throw InputError(at(t + 3), fmt::format("weight: expected a finite number >= 0, got '{}'", f));
+    }
+    {
+      const std::string& f = rec.fields[t + 4];
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), row.seed);
+      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
+        throw InputError(at(t + 4), fmt::format("seed: expected an unsigned 64-bit integer, got '{}'", f));
+    }
+    file.rows.push_back(std::move(row));
+  }
+  return file;
+}
+
+}  // namespace emrm::scenario

@@ -21,6 +21,18 @@ using Row = std::vector<std::string>;
 /// A GitHub-flavoured Markdown table; '|' and newlines inside cells are escaped.
 [[nodiscard]] std::string markdown_table(const Row& header, const std::vector<Row>& rows);
 
+/// One record of a CSV document with where each field starts (1-based line and column).
+struct CsvRecord {
+  Row fields;
+  std::vector<int> lines;
+  std::vector<int> columns;
+};
+
+/// Parses RFC 4180 CSV (quoted fields may hold commas, quotes and newlines; CRLF accepted; blank
+/// lines skipped). Throws InputError at `file_name`:line:column for an unterminated quote or text
+/// after a closing quote.
+[[nodiscard]] std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_name);
+
 /// The whole content of a user's input file. Throws InputError naming the file when it cannot be
 /// opened or read.
 [[nodiscard]] std::string read_input_file(const std::filesystem::path& path);

@@ -64,7 +64,8 @@ struct Plan {
   std::size_t relevant_cells = 0;
   std::size_t tracked_cells = 0;
   std::size_t tests_per_tracked_cell = 0;     ///< from ε and δ (worst-case Wilson)
-  std::vector<std::string> infeasible;        ///< boundary targets or modes no admissible point reaches
+  std::vector<std::string> infeasible;        ///< boundary targets no admissible point reaches (C2 exempts them)
+  std::vector<std::string> shortfalls;        ///< modes or cells that could not get enough distinct tests
   bool targets_met = false;                   ///< C1–C4 and the precision target
   std::string stop_reason;
 };

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/plan.hpp"
 
 namespace emrm::scenario {
@@ -20,6 +22,15 @@ namespace emrm::scenario {
 [[nodiscard]] std::string scenarios_csv(const Odd& odd, const Plan& plan);
 /// {"odd", "settings", "steps", "stop", "scenarios": [...]}.
 [[nodiscard]] nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan);
+
+/// The plan's coverage (measured by the independent checker), then the baselines' by the same code:
+/// "emrm plan", "HARA only", "STPA only", "manual grid" (the last only when the ODD declares one).
+[[nodiscard]] std::vector<CoverageReport> coverage_comparison(const Odd& odd, const Plan& plan);
+/// {"plan": report, "baselines": [reports]}.
+[[nodiscard]] nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports);
+/// One row per metric (hazard, UCA, transition, cell, t-wise, boundary coverage, C1–C4), one
+/// column per report.
+[[nodiscard]] std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports);
 
 /// One row of a scenarios.csv as read back.
 struct ScenarioRow {
