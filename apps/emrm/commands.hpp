@@ -21,5 +21,7 @@ void register_reproduce_command(CLI::App& app, int& exit_code);
 void register_ca_command(CLI::App& app, int& exit_code);
 /// `emrm plan ODD.yaml -o DIR`: the minimum scenario set.
 void register_plan_command(CLI::App& app, int& exit_code);
+/// `emrm run SCENARIOS.csv -o DIR`: a planned scenario set through the campaign engine.
+void register_run_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

@@ -42,12 +42,7 @@ int run(const PlanOptions& o) {
   const auto reports = scenario::coverage_comparison(odd, plan);
 
   const fs::path dir = o.output_dir;
-  core::write_file(dir / "scenarios.csv", scenario::scenarios_csv(odd, plan));
-  core::write_file(dir / "scenarios.json", scenario::scenarios_json(odd, plan).dump(2) + "\n");
-  core::write_file(dir / "coverage.json", scenario::coverage_json(reports).dump(2) + "\n");
-  const auto [header, rows] = scenario::coverage_table(reports);
-  core::write_file(dir / "coverage.csv", core::csv_table(header, rows));
-  core::write_file(dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows));
+  scenario::write_plan(dir, odd, plan, reports);
 
   fmt::print("plan      {}: {} factors, {:.0f} cells, {} relevant, {} tracked, {} malfunction modes\n", o.odd_file,
              odd.factors.size(), odd.cell_count(), plan.relevant_cells, plan.tracked_cells, odd.malfunctions.size());

@@ -20,6 +20,7 @@
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/run.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/campaign/tables.hpp"
@@ -32,6 +33,9 @@
 #include "emrm/safety/checks.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
+#include "emrm/scenario/odd.hpp"
+#include "emrm/scenario/plan.hpp"
+#include "emrm/scenario/plan_io.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -45,8 +49,8 @@ struct ReproduceOptions {
   std::size_t sample = 40;
 };
 
-constexpr const char* kExampleFiles[] = {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
-                                         "campaign.yaml", "paper_reference.yaml"};
+constexpr const char* kExampleFiles[] = {"safety.yaml",   "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
+                                         "campaign.yaml", "odd.yaml",      "paper_reference.yaml"};
 
 bool is_example_dir(const fs::path& dir) {
   std::error_code ec;
@@ -167,6 +171,7 @@ int run(const ReproduceOptions& options) {
   // Read every input before any long work, so bad input fails in a second and not after the sweep.
   const campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
   const campaign::PaperReference paper = campaign::load_paper_reference(examples / "paper_reference.yaml");
+  const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml");
   fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
 
   bool ok = run_analysis(examples, out);
@@ -195,6 +200,37 @@ int run(const ReproduceOptions& options) {
   const auto diagnostics = campaign::run_diagnostics(records, plan.scene, diagnostics_options);
   campaign::write_diagnostics(out, diagnostics);
 
+  // Steps 6–7 (paper §V-B): the minimum scenario set, checked, compared with the baselines, run.
+  const auto plan_start = std::chrono::steady_clock::now();
+  const scenario::Plan scenario_plan = scenario::build_plan(odd);
+  const auto coverage = scenario::coverage_comparison(odd, scenario_plan);
+  scenario::write_plan(out / "plan", odd, scenario_plan, coverage);
+  const campaign::Table coverage_table = campaign::coverage_comparison_table(coverage, paper);
+  campaign::write_table(out / "tables", "coverage", coverage_table);
+  const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - plan_start).count();
+  const auto& ours = coverage.front();
+  ok = ours.all() && ok;
+  fmt::print(
+      "plan      {}: {} scenarios for {} relevant cells ({} tracked) in {:.2f} s; C1 {}, C2 {}, C3 {}, C4 {}; {} -> "
+      "{}\n",
+      (examples / "odd.yaml").string(), scenario_plan.scenarios.size(), scenario_plan.relevant_cells,
+      scenario_plan.tracked_cells, plan_seconds, ours.c1 ? "holds" : "FAILS", ours.c2 ? "holds" : "FAILS",
+      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason,
+      (out / "plan").string());
+  campaign::RunOptions run_options;
+  run_options.scenarios_csv = out / "plan" / "scenarios.csv";
+  run_options.output_dir = out / "plan_results";
+  run_options.threads = options.threads;
+  run_options.progress = sweep_options.progress;
+  const campaign::RunResult run = campaign::run_scenarios(run_options);
+  const auto& all = run.subsets.front().estimate;
+  fmt::print(
+      "run       {} scenarios in {:.1f} s: S(all) = {:.3f} (Wilson [{:.3f}, {:.3f}] at n_eff {:.1f}); widest "
+      "half-width {:.3f} in a tracked cell (target {:g}); EMRM FSM transitions exercised {}/{} -> {}\n",
+      run.outcomes.size(), run.sweep.seconds, all.estimate, all.wilson.low, all.wilson.high, all.n_eff, run.widest_tracked_half_width, run.epsilon,
+      run.transitions_exercised, run.transitions_total, run_options.output_dir.string());
+  fmt::print("\n{}\n{}", coverage_table.title, core::markdown_table(coverage_table.header, coverage_table.rows));
+
   // The summary: the headline numbers, ours beside the paper's.
   const auto regions = campaign::count_regions(records, table_options.grid);
   const auto& pr = paper.fine_grid.regions_pct;
@@ -218,10 +254,11 @@ int run(const ReproduceOptions& options) {
       diagnostics.loss_evaluation_fsm.coverage.counts.size());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
-      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims}}.{{md,csv,tex}}, kpis.csv; "
+      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims,coverage}}.{{md,csv,tex}}, kpis.csv; "
       "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
       out.string(), out.string(), out.string(), out.string(), seconds);
-  if (!ok) fmt::print("reproduce: the analysis found errors or an FSM check failed (exit 1)\n");
+  if (!ok)
+    fmt::print("reproduce: the analysis found errors, an FSM check failed or the plan misses C1-C4 (exit 1)\n");
   return static_cast<int>(ok ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 
@@ -234,7 +271,8 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
       "Run the paper's whole case study on the shipped T-junction example: analysis, FSM checks, the "
       "campaign\n"
       "sweep (resumable), tables beside the paper's numbers and diagnostics (docs/results.md).\n"
-      "Exit 0: done; 1: the analysis found errors or an FSM check failed; 2: bad input.");
+      "Exit 0: done; 1: the analysis found errors, an FSM check failed or the scenario plan misses C1-C4;\n"
+      "2: bad input.");
   cmd->add_option("-o,--output", options->output_dir,
                   "Output folder (a rerun resumes the sweep stored there)")
       ->required()

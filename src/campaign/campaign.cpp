@@ -254,8 +254,15 @@ std::string config_hash(const Campaign& campaign) {
   for (const auto& grid : campaign.grids) {
     feed("grid " + grid.name);
     for (const auto& cell : grid.cells) feed(cell_key("", cell));
+    for (std::uint64_t seed : grid.seeds) feed(std::to_string(seed));
   }
   return fmt::format("{:016x}", h);
+}
+
+bool set_cell_factor(sim::CellInput& cell, std::string_view name, double value) {
+  const auto f = factor_index(name);
+  if (f) factor_of(cell, *f) = value;
+  return f.has_value();
 }
 
 std::size_t total_cells(const Campaign& campaign) noexcept {

@@ -193,7 +193,8 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
             const sim::CellInput& cell = grid.cells[work[w].index];
             sim::CellOptions cell_options;
             cell_options.strategies = campaign.strategies;
-            cell_options.seed = cell_seed(campaign, grid.name, cell);
+            cell_options.seed =
+                grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[work[w].index];
             const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
             committer.add(
                 to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result));

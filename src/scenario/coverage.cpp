@@ -23,8 +23,8 @@ using Point = std::vector<double>;
 
 constexpr double kRelativeTolerance = 1e-9;
 constexpr std::size_t kMaxCornerFactors = 10;  // 2^10 corners per cell at most
-constexpr int kFeasibilityProbes = 256;         // random points per cell and boundary target
-constexpr int kBaselineProbes = 64;             // random points per cell and mode (STPA baseline)
+constexpr int kFeasibilityProbes = 256;        // random points per cell and boundary target
+constexpr int kBaselineProbes = 64;            // random points per cell and mode (STPA baseline)
 
 bool same_value(double a, double b) {
   return a == b || std::abs(a - b) <= kRelativeTolerance * std::max(std::abs(a), std::abs(b));
@@ -41,7 +41,8 @@ bool in_domain(const OddFactor& f, double v) {
     case FactorType::kInteger:
       return v == std::round(v) && v >= f.domain_min() && v <= f.domain_max();
     case FactorType::kCategorical:
-      return std::any_of(f.class_values.begin(), f.class_values.end(), [&](double c) { return same_value(v, c); });
+      return std::any_of(f.class_values.begin(), f.class_values.end(),
+                         [&](double c) { return same_value(v, c); });
     case FactorType::kConstant:
       return same_value(v, f.nominal);
   }
@@ -84,8 +85,9 @@ double draw(const OddFactor& f, LevelRange r, std::mt19937_64& rng) {
 // of the cell nearest the nominal point, the corners (when at most kMaxCornerFactors factors are
 // ranged) and `random_points` uniform draws. Calls `visit` on each until it returns true.
 template <class Visit>
-bool probe_cell(const Odd& odd, const std::vector<int>& cell, std::optional<std::pair<std::size_t, double>> fixed,
-                int random_points, std::mt19937_64& rng, Visit visit) {
+bool probe_cell(const Odd& odd, const std::vector<int>& cell,
+                std::optional<std::pair<std::size_t, double>> fixed, int random_points, std::mt19937_64& rng,
+                Visit visit) {
   const std::size_t n = odd.factors.size();
   std::vector<LevelRange> ranges(n);
   std::vector<std::size_t> ranged;
@@ -129,14 +131,16 @@ bool level_contains(const OddFactor& f, int level, double v) {
 }
 
 std::string target_label(const OddFactor& f, double v) {
-  if (f.type == FactorType::kCategorical) return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(v))];
+  if (f.type == FactorType::kCategorical)
+    return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(v))];
   return fmt::format("{} = {:g}", f.name, v);
 }
 
 // Can the checker itself find an admissible point with factor j at v?
 bool boundary_feasible(const Odd& odd, const std::vector<RelevantCell>& cells, const BoundaryTarget& t) {
   const OddFactor& f = odd.factors[t.factor];
-  std::mt19937_64 rng(core::derive_seed(odd.seed, fmt::format("coverage boundary {} {:.17g}", f.name, t.value)));
+  std::mt19937_64 rng(
+      core::derive_seed(odd.seed, fmt::format("coverage boundary {} {:.17g}", f.name, t.value)));
   for (const RelevantCell& c : cells) {
     if (!level_contains(f, c.levels[t.factor], t.value)) continue;
     if (probe_cell(odd, c.levels, std::pair{t.factor, t.value}, kFeasibilityProbes, rng,
@@ -152,10 +156,11 @@ CoverageCount count_hazards(const Odd& odd, const std::vector<const Point*>& poi
   CoverageCount count;
   count.total = total.size();
   for (const auto& h : total) {
-    const bool covered = std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
-      return std::find(m.hazards.begin(), m.hazards.end(), h) != m.hazards.end() &&
-             std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
-    });
+    const bool covered =
+        std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
+          return std::find(m.hazards.begin(), m.hazards.end(), h) != m.hazards.end() &&
+                 std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
+        });
     if (covered) {
       ++count.covered;
     } else {
@@ -176,10 +181,11 @@ CoverageCount count_transitions(const Odd& odd, const std::vector<const Point*>&
   CoverageCount count;
   count.total = total.size();
   for (const auto& t : total) {
-    const bool covered = std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
-      return std::find(m.transitions.begin(), m.transitions.end(), t) != m.transitions.end() &&
-             std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
-    });
+    const bool covered =
+        std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
+          return std::find(m.transitions.begin(), m.transitions.end(), t) != m.transitions.end() &&
+                 std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
+        });
     if (covered) {
       ++count.covered;
     } else {
@@ -205,49 +211,59 @@ void for_each_subset(std::size_t n, std::size_t t, Visit visit) {
   }
 }
 
+// The level combinations of `factors` that some relevant cell has, and of those, the ones some
+// admissible point realises (every combination is enumerated, in odometer order).
+void count_tuples(const Odd& odd, const std::vector<std::size_t>& factors,
+                  const std::vector<RelevantCell>& cells, const std::vector<std::vector<int>>& point_cells,
+                  CoverageCount& count) {
+  const auto project = [&](const std::vector<int>& cell) {
+    std::vector<int> tuple;
+    tuple.reserve(factors.size());
+    for (std::size_t j : factors) tuple.push_back(cell[j]);
+    return tuple;
+  };
+  std::set<std::vector<int>> realisable;
+  for (const auto& c : cells) realisable.insert(project(c.levels));
+  std::set<std::vector<int>> realised;
+  for (const auto& c : point_cells) realised.insert(project(c));
+  std::vector<int> tuple(factors.size(), 0);
+  for (bool more = true; more;) {
+    if (realisable.count(tuple)) {
+      ++count.total;
+      if (realised.count(tuple)) {
+        ++count.covered;
+      } else {
+        std::string label;
+        for (std::size_t k = 0; k < factors.size(); ++k) {
+          const OddFactor& f = odd.factors[factors[k]];
+          label += (k ? ", " : "") + f.name + " " + f.level_label(tuple[k]);
+        }
+        count.missing.push_back(std::move(label));
+      }
+    }
+    more = false;
+    for (std::size_t k = factors.size(); k-- > 0;) {
+      if (++tuple[k] < odd.factors[factors[k]].levels()) {
+        more = true;
+        break;
+      }
+      tuple[k] = 0;
+    }
+  }
+}
+
 CoverageCount count_twise(const Odd& odd, const std::vector<RelevantCell>& cells,
                           const std::vector<std::vector<int>>& point_cells) {
   CoverageCount count;
   const std::vector<std::size_t> q = odd.influential();
   if (odd.strength <= 0) return count;
-  for_each_subset(q.size(), static_cast<std::size_t>(odd.strength), [&](const std::vector<std::size_t>& pick) {
-    std::vector<std::size_t> factors;
-    for (std::size_t k : pick) factors.push_back(q[k]);
-    const auto project = [&](const std::vector<int>& cell) {
-      std::vector<int> tuple;
-      for (std::size_t j : factors) tuple.push_back(cell[j]);
-      return tuple;
-    };
-    std::set<std::vector<int>> realisable;
-    for (const auto& c : cells) realisable.insert(project(c.levels));
-    std::set<std::vector<int>> realised;
-    for (const auto& c : point_cells) realised.insert(project(c));
-    // Every combination of levels on these factors, in odometer order.
-    std::vector<int> tuple(factors.size(), 0);
-    for (bool more = true; more;) {
-      if (realisable.count(tuple)) {
-        ++count.total;
-        if (realised.count(tuple)) {
-          ++count.covered;
-        } else {
-          std::string label;
-          for (std::size_t k = 0; k < factors.size(); ++k) {
-            const OddFactor& f = odd.factors[factors[k]];
-            label += (k ? ", " : "") + f.name + " " + f.level_label(tuple[k]);
-          }
-          count.missing.push_back(std::move(label));
-        }
-      }
-      more = false;
-      for (std::size_t k = factors.size(); k-- > 0;) {
-        if (++tuple[k] < odd.factors[factors[k]].levels()) {
-          more = true;
-          break;
-        }
-        tuple[k] = 0;
-      }
-    }
-  });
+  for_each_subset(q.size(), static_cast<std::size_t>(odd.strength),
+                  [&](const std::vector<std::size_t>& pick) {
+                    std::vector<std::size_t> factors;
+                    factors.reserve(pick.size());
+                    for (std::size_t k : pick) factors.push_back(q[k]);
+                    count_tuples(odd, factors, cells, point_cells, count);
+                  });
   return count;
 }
 
@@ -262,7 +278,8 @@ nlohmann::ordered_json count_json(const CoverageCount& c) {
 
 }  // namespace
 
-CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points, std::string name) {
+CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points,
+                                std::string name) {
   CoverageReport report;
   report.name = std::move(name);
   report.scenarios = points.size();
@@ -271,8 +288,8 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   std::vector<std::vector<int>> valid_cells;
   for (const Point& p : points) {
     if (p.size() != odd.factors.size())
-      throw std::invalid_argument(fmt::format("measure_coverage: a point has {} values, the ODD {} factors", p.size(),
-                                              odd.factors.size()));
+      throw std::invalid_argument(fmt::format("measure_coverage: a point has {} values, the ODD {} factors",
+                                              p.size(), odd.factors.size()));
     if (!admissible(odd, p)) {
       ++report.inadmissible;
       continue;
@@ -287,7 +304,8 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   report.c4 = true;
   report.malfunctions.total = odd.malfunctions.size();
   for (const Malfunction& m : odd.malfunctions) {
-    const auto inside = std::count_if(valid.begin(), valid.end(), [&](const Point* p) { return in_region(m, *p); });
+    const auto inside =
+        std::count_if(valid.begin(), valid.end(), [&](const Point* p) { return in_region(m, *p); });
     if (inside > 0) {
       ++report.malfunctions.covered;
     } else {
@@ -380,7 +398,8 @@ std::vector<std::vector<double>> manual_baseline(const Odd& odd) {
   std::vector<std::size_t> index(odd.manual_grid.size(), 0);
   for (bool more = true; more;) {
     Point p = nominal_point(odd);
-    for (std::size_t k = 0; k < index.size(); ++k) p[odd.manual_grid[k].first] = odd.manual_grid[k].second[index[k]];
+    for (std::size_t k = 0; k < index.size(); ++k)
+      p[odd.manual_grid[k].first] = odd.manual_grid[k].second[index[k]];
     scenarios.push_back(std::move(p));
     // Odometer: the last listed factor varies fastest.
     more = false;

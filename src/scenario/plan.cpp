@@ -476,6 +476,7 @@ Plan build_plan(const Odd& odd) {
     s.weight = c ? b.cells()[*c].prior * n / static_cast<double>(b.counts()[*c]) : 0.0;
   }
   plan.scenarios = std::move(scenarios);
+  plan.cells = b.cells();
   return plan;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "emrm/core/text.hpp"
@@ -61,11 +62,16 @@ std::string scenarios_csv(const Odd& odd, const Plan& plan) {
   return core::csv_table(header, rows);
 }
 
-nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan) {
+nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan, const std::filesystem::path& folder) {
+  const auto relative = [&folder](const std::filesystem::path& p) {
+    std::error_code ec;
+    const auto r = std::filesystem::relative(std::filesystem::absolute(p), std::filesystem::absolute(folder), ec);
+    return (ec || r.empty() ? p : r).generic_string();
+  };
   nlohmann::ordered_json j;
-  j["odd"] = {{"file", odd.file}, {"name", odd.name}};
-  if (odd.safety_file) j["odd"]["safety"] = odd.safety_file->string();
-  if (odd.scene_file) j["odd"]["scene"] = odd.scene_file->string();
+  j["odd"] = {{"file", relative(odd.file)}, {"name", odd.name}};
+  if (odd.safety_file) j["odd"]["safety"] = relative(*odd.safety_file);
+  if (odd.scene_file) j["odd"]["scene"] = relative(*odd.scene_file);
   j["settings"] = {{"seed", odd.seed},
                    {"strength", odd.strength},
                    {"n_c", odd.n_c},
@@ -90,6 +96,19 @@ nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan) {
                {"tests_per_tracked_cell", plan.tests_per_tracked_cell},
                {"infeasible", plan.infeasible},
                {"shortfalls", plan.shortfalls}};
+  std::map<std::vector<int>, std::size_t> planned;
+  for (const auto& s : plan.scenarios) ++planned[s.cell];
+  nlohmann::ordered_json cells = nlohmann::ordered_json::array();
+  for (const auto& c : plan.cells) {
+    nlohmann::ordered_json levels;
+    for (std::size_t i = 0; i < odd.factors.size(); ++i) levels[odd.factors[i].name] = odd.factors[i].level_label(c.levels[i]);
+    cells.push_back({{"cell", cell_key(c.levels)},
+                     {"levels", levels},
+                     {"prior", c.prior},
+                     {"tracked", c.tracked},
+                     {"scenarios", planned[c.levels]}});
+  }
+  j["cells"] = cells;
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const auto& s : plan.scenarios) {
     nlohmann::ordered_json values, cell;
@@ -161,6 +180,16 @@ std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<Co
   flag_row("C3 t-wise", &CoverageReport::c3);
   flag_row("C4 malfunctions", &CoverageReport::c4);
   return {header, rows};
+}
+
+void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& plan,
+                const std::vector<CoverageReport>& reports) {
+  core::write_file(dir / "scenarios.csv", scenarios_csv(odd, plan));
+  core::write_file(dir / "scenarios.json", scenarios_json(odd, plan, dir).dump(2) + "\n");
+  core::write_file(dir / "coverage.json", coverage_json(reports).dump(2) + "\n");
+  const auto [header, rows] = coverage_table(reports);
+  core::write_file(dir / "coverage.csv", core::csv_table(header, rows));
+  core::write_file(dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows));
 }
 
 ScenarioFile read_scenarios_csv(const std::filesystem::path& path) {

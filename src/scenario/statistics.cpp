@@ -1,12 +1,11 @@
 #include "emrm/scenario/statistics.hpp"
 
 #include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
-
-#include <boost/math/distributions/normal.hpp>
 
 namespace emrm::scenario {
 namespace {
@@ -107,13 +106,15 @@ WeightedEstimate weighted_success(std::span<const double> weights, std::span<con
   WeightedEstimate result;
   double weighted_successes = 0.0;
   for (std::size_t i = 0; i < weights.size(); ++i) {
-    require(std::isfinite(weights[i]) && weights[i] >= 0.0, "weighted_success: weights must be finite and >= 0");
+    require(std::isfinite(weights[i]) && weights[i] >= 0.0,
+            "weighted_success: weights must be finite and >= 0");
     require(outcomes[i] == 0 || outcomes[i] == 1, "weighted_success: outcomes must be 0 or 1");
     result.weight += weights[i];
     weighted_successes += weights[i] * outcomes[i];
   }
   result.n = weights.size();
-  result.estimate = result.weight > 0.0 ? weighted_successes / result.weight : std::numeric_limits<double>::quiet_NaN();
+  result.estimate =
+      result.weight > 0.0 ? weighted_successes / result.weight : std::numeric_limits<double>::quiet_NaN();
   result.n_eff = effective_sample_size(weights);
   if (result.n_eff > 0.0) {
     // n_eff·Ŝ can overshoot n_eff in the last bit when every test succeeded.

@@ -28,6 +28,24 @@ grids:
     passage_m: 3.0
 )";
 
+// A coarse ODD over the same corner of the domain: 2 speed × 2 TTC × 2 passage bins, one test per
+// tracked cell as precision target, so the planned set stays a handful of scenarios.
+constexpr const char* kSmallOdd = R"(name: small T-junction ODD
+safety: safety.yaml
+scene: scene.yaml
+seed: 1
+factors:
+  - {name: speed_kph, bins: [30, 51, 72]}
+  - {name: truck_speed_kph, type: constant, value: 10}
+  - {name: ttc_s, bins: [0.25, 1.0, 2.0]}
+  - {name: mu, type: constant, value: 1.0}
+  - {name: passage_m, bins: [1.0, 2.0, 3.0]}
+relevance: "speed_kph / 3.6 * ttc_s <= 24.5"
+coverage: {strength: 2, n_c: 1, n_m: 1, epsilon: 0.45, delta: 0.05, budget: 40}
+baselines:
+  manual: {speed_kph: [30, 72], ttc_s: [0.25, 2.0]}
+)";
+
 fs::path small_example(const std::string& name) {
   const auto dir = scratch_dir(name) / "example";
   fs::create_directories(dir);
@@ -35,6 +53,7 @@ fs::path small_example(const std::string& name) {
        {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml", "scene.yaml", "paper_reference.yaml"})
     fs::copy_file(example(file), dir / file);
   write_text(dir / "campaign.yaml", kSmallCampaign);
+  write_text(dir / "odd.yaml", kSmallOdd);
   return dir;
 }
 
@@ -52,8 +71,21 @@ TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
        {"tables/emrm_vs_baseline.md", "tables/emrm_vs_baseline.csv", "tables/emrm_vs_baseline.tex",
         "tables/by_parameter.md", "tables/regions.md", "tables/kpis.csv", "diagnostics.json",
         "analysis/traceability.csv", "fsm/emrm_fsm_check.json", "fsm/emrm_fsm.dot",
-        "fsm/loss_evaluation_fsm.dot", "results.sqlite"})
+        "fsm/loss_evaluation_fsm.dot", "results.sqlite", "tables/coverage.md", "tables/coverage.tex",
+        "plan/scenarios.csv", "plan/scenarios.json", "plan/coverage.json", "plan_results/estimates.json",
+        "plan_results/outcomes.csv", "plan_results/traceability.csv"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+
+  // The minimum scenario set: C1–C4 hold, baselines measured, the paper's figures beside ours.
+  EXPECT_THAT(r.out, HasSubstr("C1 holds, C2 holds, C3 holds, C4 holds"));
+  const auto coverage = read_text(out / "tables/coverage.md");
+  EXPECT_THAT(coverage, HasSubstr("| emrm plan |"));
+  EXPECT_THAT(coverage, HasSubstr("| HARA only |"));
+  EXPECT_THAT(coverage, HasSubstr("≤75"));
+  EXPECT_THAT(coverage, HasSubstr("≤1 |"));
+  const auto estimates = nlohmann::json::parse(read_text(out / "plan_results/estimates.json"));
+  EXPECT_GT(estimates["scenarios"].get<int>(), 0);
+  EXPECT_TRUE(estimates["weighted_success"].contains("all"));
 
   const auto baseline = read_text(out / "tables/emrm_vs_baseline.md");
   EXPECT_THAT(baseline, HasSubstr("(paper 81)"));
@@ -104,11 +136,13 @@ TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
   EXPECT_EQ(feasible, 7);
   EXPECT_EQ(green, 3);  // (30, 1.0), (30, 2.0), (50, 1.0)
 
-  // A rerun resumes: nothing is simulated again.
+  // A rerun resumes: nothing is simulated again, and the plan is the same.
+  const std::string planned = read_text(out / "plan/scenarios.csv");
   const auto again =
       run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 1");
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
   EXPECT_THAT(again.out, HasSubstr("9 already stored, 0 simulated"));
+  EXPECT_EQ(read_text(out / "plan/scenarios.csv"), planned);
 }
 
 TEST(ReproduceCli, MissingExamplesFolderIsBadInput) {

@@ -23,6 +23,7 @@ namespace emrm::campaign {
 struct GridSpec {
   std::string name;
   std::vector<sim::CellInput> cells;
+  std::vector<std::uint64_t> seeds;  ///< one per cell (a planned scenario's own); empty: cell_seed()
   SourceLocation where;  ///< the grid's mapping in the campaign file
 };
 
@@ -60,6 +61,10 @@ struct Campaign {
 /// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees dropped).
 [[nodiscard]] CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
                                    const sim::CellResult& result);
+
+/// Sets the factor `name` (speed_kph, ttc_s, mu, passage_m or truck_speed_kph) of a cell; false
+/// when the simulator has no factor of that name.
+bool set_cell_factor(sim::CellInput& cell, std::string_view name, double value);
 
 /// Number of cells over all grids.
 [[nodiscard]] std::size_t total_cells(const Campaign& campaign) noexcept;

@@ -16,6 +16,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
+#include "emrm/scenario/coverage.hpp"
 
 namespace emrm::campaign {
 
@@ -214,6 +215,11 @@ struct Table {
 /// only: not measured from a campaign).
 [[nodiscard]] Table claims_table(const std::vector<CellRecord>& records, const PaperReference& paper,
                                  std::string_view grid);
+/// Coverage comparison (paper Fig. "coverage comparison"): per scenario set — the plan, then the
+/// baselines — its size, hazard, UCA, transition, cell, t-wise and boundary coverage and C1–C4,
+/// with the paper's single figure per method beside ours.
+[[nodiscard]] Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& reports,
+                                              const PaperReference& paper);
 /// Every KPI per grid × strategy × factor × level, as CSV.
 [[nodiscard]] std::string kpis_csv(const std::vector<CellRecord>& records, const LevelCuts& cuts = {});
 
@@ -224,6 +230,10 @@ struct TableOptions {
   std::string friction_grid = "speed_mu";
   LevelCuts cuts;
 };
+
+/// Writes TABLES_DIR/STEM.md, .csv and .tex; returns the files written.
+std::vector<std::filesystem::path> write_table(const std::filesystem::path& tables_dir, const std::string& stem,
+                                               const Table& table);
 
 /// Writes DIR/tables/{emrm_vs_baseline,by_parameter,regions,claims}.{md,csv,tex} and DIR/tables/kpis.csv.
 /// A grid named in the options that has no records is reported in the tables as having no cells.

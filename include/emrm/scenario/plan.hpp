@@ -61,6 +61,7 @@ struct PlanStep {
 struct Plan {
   std::vector<Scenario> scenarios;
   std::vector<PlanStep> steps;
+  std::vector<RelevantCell> cells;            ///< 𝒞_f with priors and tracked flags
   std::size_t relevant_cells = 0;
   std::size_t tracked_cells = 0;
   std::size_t tests_per_tracked_cell = 0;     ///< from ε and δ (worst-case Wilson)

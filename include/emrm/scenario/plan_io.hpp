@@ -20,8 +20,10 @@ namespace emrm::scenario {
 /// Columns: id, step, one per factor, cell, malfunctions (space-separated), transitions
 /// ("; "-separated), weight, seed.
 [[nodiscard]] std::string scenarios_csv(const Odd& odd, const Plan& plan);
-/// {"odd", "settings", "steps", "stop", "scenarios": [...]}.
-[[nodiscard]] nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan);
+/// {"odd", "settings", "steps", "stop", "scenarios": [...]}. File paths (ODD, safety case, scene)
+/// are written relative to `folder`, where the file will be written.
+[[nodiscard]] nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan,
+                                                    const std::filesystem::path& folder = ".");
 
 /// The plan's coverage (measured by the independent checker), then the baselines' by the same code:
 /// "emrm plan", "HARA only", "STPA only", "manual grid" (the last only when the ODD declares one).
@@ -31,6 +33,10 @@ namespace emrm::scenario {
 /// One row per metric (hazard, UCA, transition, cell, t-wise, boundary coverage, C1–C4), one
 /// column per report.
 [[nodiscard]] std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports);
+
+/// Writes DIR/scenarios.csv, scenarios.json, coverage.json, coverage.csv and coverage.md.
+void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& plan,
+                const std::vector<CoverageReport>& reports);
 
 /// One row of a scenarios.csv as read back.
 struct ScenarioRow {

@@ -146,9 +146,12 @@ TEST(WilsonWorstCase, SampleSizeIsTheSmallestSufficientN) {
       const std::size_t n = wilson_sample_size(epsilon, confidence);
       ASSERT_GE(n, 1U);
       EXPECT_LE(wilson_worst_half_width(static_cast<double>(n), confidence), epsilon);
-      if (n > 1) EXPECT_GT(wilson_worst_half_width(static_cast<double>(n - 1), confidence), epsilon);
+      if (n > 1) {
+        EXPECT_GT(wilson_worst_half_width(static_cast<double>(n - 1), confidence), epsilon);
+      }
       const double z = normal_quantile(confidence);
-      EXPECT_EQ(n, static_cast<std::size_t>(std::max(1.0, std::ceil(z * z / (4 * epsilon * epsilon) - z * z))));
+      EXPECT_EQ(n,
+                static_cast<std::size_t>(std::max(1.0, std::ceil(z * z / (4 * epsilon * epsilon) - z * z))));
     }
   }
 }
@@ -175,7 +178,9 @@ TEST(Hoeffding, EpsilonInvertsTheSampleSize) {
     for (const double delta : {0.01, 0.05, 0.1, 0.5}) {
       const std::size_t n = hoeffding_sample_size(epsilon, delta);
       EXPECT_LE(hoeffding_epsilon(static_cast<double>(n), delta), epsilon * (1 + 1e-12));
-      if (n > 1) EXPECT_GT(hoeffding_epsilon(static_cast<double>(n - 1), delta), epsilon);
+      if (n > 1) {
+        EXPECT_GT(hoeffding_epsilon(static_cast<double>(n - 1), delta), epsilon);
+      }
       // ... and the probability bound at that ε is δ.
       const double e = hoeffding_epsilon(static_cast<double>(n), delta);
       EXPECT_NEAR(hoeffding_probability(static_cast<double>(n), e), delta, 1e-12);

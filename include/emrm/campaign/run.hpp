@@ -1,0 +1,100 @@
+#pragma once
+
+// Running a planned scenario set (`emrm run`, docs/plan.md): every scenario of a scenarios.csv
+// simulated once through the campaign engine (same store, resume, threads, determinism), then
+// the statistics of the paper's §V-B — per-cell Wilson intervals, Hoeffding bounds and the
+// weighted estimator Ŝ(A) — the FSM transitions the runs actually exercised, and the
+// traceability matrix with its scenarios column filled.
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/sweep.hpp"
+#include "emrm/scenario/plan_io.hpp"
+#include "emrm/scenario/statistics.hpp"
+
+namespace emrm::campaign {
+
+struct RunOptions {
+  std::filesystem::path scenarios_csv;
+  std::filesystem::path output_dir;
+  std::optional<std::filesystem::path> safety_file;  ///< default: the plan's (scenarios.json)
+  int threads = 0;
+  bool progress = true;
+};
+
+/// What a plan says beyond its CSV (read from scenarios.json beside it, when present).
+struct PlanSettings {
+  std::optional<std::filesystem::path> safety_file;
+  std::optional<std::filesystem::path> scene_file;
+  std::vector<std::string> strategies;  ///< empty: all
+  std::string acceptance_strategy = "emrm";
+  std::string acceptance_outcome = "avoided";  ///< avoided or mitigated
+  double delta = 0.05;
+  double epsilon = 0.25;
+  std::uint64_t seed = 1;
+  std::set<std::string> tracked_cells;  ///< cell keys with a precision target
+};
+
+/// Reads scenarios.json; throws InputError when it is malformed or names an unknown strategy.
+[[nodiscard]] PlanSettings read_plan_settings(const std::filesystem::path& scenarios_json);
+
+/// One scenario's outcome.
+struct ScenarioOutcome {
+  std::string id;
+  std::string cell;
+  std::vector<std::string> malfunctions;
+  double weight = 1.0;
+  bool feasible = false;  ///< the simulator could place the scene (else no outcome)
+  std::string region;
+  int success = 0;  ///< Y: 1 when the acceptance strategy avoided (or mitigated)
+  std::string chosen_strategy;
+  double impact_speed_kph = 0.0;
+  int loss_level = 0;
+};
+
+struct CellEstimate {
+  std::string cell;
+  std::size_t n = 0;
+  std::size_t successes = 0;
+  scenario::Interval wilson;
+  double hoeffding_epsilon = 1.0;  ///< at the plan's δ
+  bool tracked = false;
+};
+
+struct SubsetEstimate {
+  std::string subset;  ///< "all", a malfunction id
+  scenario::WeightedEstimate estimate;
+};
+
+struct RunResult {
+  SweepSummary sweep;
+  std::vector<std::string> unsimulated_factors;  ///< factor columns the simulator has no use for
+  std::vector<ScenarioOutcome> outcomes;         ///< in file order
+  std::vector<CellEstimate> cells;               ///< by cell key
+  double widest_tracked_half_width = 0.0;        ///< largest Wilson half-width over tracked cells
+  double epsilon = 0.25;                         ///< the plan's target for it
+  std::vector<SubsetEstimate> subsets;           ///< Ŝ(A): all, then each malfunction
+  std::size_t transitions_exercised = 0;         ///< EMRM FSM transitions the traces took
+  std::size_t transitions_total = 0;
+  std::vector<std::string> transitions_missed;
+  std::size_t traceability_rows = 0;             ///< 0 when no safety case is known
+  double confidence = 0.95;
+};
+
+/// Runs the scenarios into OPTIONS.output_dir (results.sqlite and the sweep's exports, then
+/// outcomes.csv, estimates.csv, estimates.json and — with a safety case — traceability.csv/.md).
+/// Throws InputError for a bad scenarios file (line:column) or one whose values the simulator
+/// rejects; UsageError when the store holds another plan.
+RunResult run_scenarios(const RunOptions& options);
+
+[[nodiscard]] nlohmann::ordered_json to_json(const RunResult& result);
+
+}  // namespace emrm::campaign

@@ -1,0 +1,315 @@
+#include "emrm/campaign/run.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/store.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/safety/load.hpp"
+#include "emrm/safety/traceability.hpp"
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::campaign {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kGrid = "plan";
+
+// A JSON value of the expected kind, or an InputError naming the key.
+const nlohmann::json& member(const nlohmann::json& object, const char* key, const std::string& file,
+                             nlohmann::json::value_t type) {
+  static const nlohmann::json kNull;
+  const auto it = object.find(key);
+  if (it == object.end()) return kNull;
+  const bool number = type == nlohmann::json::value_t::number_float;
+  if (number ? !it->is_number() : it->type() != type)
+    throw InputError({file, 1, 1}, fmt::format("'{}' has the wrong type in a scenarios.json", key));
+  return *it;
+}
+
+int outcome_success(const CellRecord& record, const PlanSettings& settings) {
+  for (const auto& o : record.outcomes) {
+    if (o.strategy != settings.acceptance_strategy) continue;
+    if (settings.acceptance_outcome == "mitigated") return o.avoided || o.delta_loss > 0 ? 1 : 0;
+    return o.avoided ? 1 : 0;
+  }
+  return 0;
+}
+
+std::string number(double v) { return fmt::format("{:.6g}", v); }
+
+Json estimate_json(const scenario::WeightedEstimate& e) {
+  return Json{{"n", e.n},
+              {"weight", e.weight},
+              {"n_eff", e.n_eff},
+              {"estimate", std::isnan(e.estimate) ? Json(nullptr) : Json(e.estimate)},
+              {"wilson", {e.wilson.low, e.wilson.high}}};
+}
+
+}  // namespace
+
+PlanSettings read_plan_settings(const fs::path& scenarios_json) {
+  const std::string file = scenarios_json.string();
+  const std::string text = core::read_input_file(scenarios_json);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError({file, 1, static_cast<int>(e.byte)}, fmt::format("not valid JSON: {}", e.what()));
+  }
+  if (!j.is_object()) throw InputError({file, 1, 1}, "expected a scenarios.json object (odd, settings, scenarios)");
+  PlanSettings s;
+  const auto& odd = member(j, "odd", file, nlohmann::json::value_t::object);
+  const auto& settings = member(j, "settings", file, nlohmann::json::value_t::object);
+  if (odd.is_object()) {
+    if (const auto& v = member(odd, "safety", file, nlohmann::json::value_t::string); v.is_string())
+      s.safety_file = v.get<std::string>();
+    if (const auto& v = member(odd, "scene", file, nlohmann::json::value_t::string); v.is_string())
+      s.scene_file = v.get<std::string>();
+  }
+  if (settings.is_object()) {
+    if (const auto& v = member(settings, "strategies", file, nlohmann::json::value_t::array); v.is_array())
+      for (const auto& name : v) {
+        if (!name.is_string()) throw InputError({file, 1, 1}, "'strategies' must list strategy names");
+        try {
+          sim::validate_strategy(name.get<std::string>());
+        } catch (const UsageError& e) {
+          throw InputError({file, 1, 1}, e.what());
+        }
+        s.strategies.push_back(name.get<std::string>());
+      }
+    if (const auto& a = member(settings, "acceptance", file, nlohmann::json::value_t::object); a.is_object()) {
+      if (const auto& v = member(a, "strategy", file, nlohmann::json::value_t::string); v.is_string())
+        s.acceptance_strategy = v.get<std::string>();
+      if (const auto& v = member(a, "outcome", file, nlohmann::json::value_t::string); v.is_string())
+        s.acceptance_outcome = v.get<std::string>();
+    }
+    if (const auto& v = member(settings, "delta", file, nlohmann::json::value_t::number_float); v.is_number())
+      s.delta = v.get<double>();
+    if (const auto& v = member(settings, "epsilon", file, nlohmann::json::value_t::number_float); v.is_number())
+      s.epsilon = v.get<double>();
+    if (const auto& v = member(settings, "seed", file, nlohmann::json::value_t::number_float); v.is_number())
+      s.seed = v.get<std::uint64_t>();
+  }
+  if (const auto& cells = member(j, "cells", file, nlohmann::json::value_t::array); cells.is_array())
+    for (const auto& c : cells)
+      if (c.is_object() && c.value("tracked", false) && c.contains("cell") && c["cell"].is_string())
+        s.tracked_cells.insert(c["cell"].get<std::string>());
+  // Paths in a scenarios.json are relative to its own folder.
+  for (auto* p : {&s.safety_file, &s.scene_file})
+    if (*p && (*p)->is_relative()) *p = scenarios_json.parent_path() / **p;
+  try {
+    sim::validate_strategy(s.acceptance_strategy);
+  } catch (const UsageError& e) {
+    throw InputError({file, 1, 1}, fmt::format("acceptance strategy: {}", e.what()));
+  }
+  if (s.acceptance_outcome != "avoided" && s.acceptance_outcome != "mitigated")
+    throw InputError({file, 1, 1},
+                     fmt::format("acceptance outcome must be avoided or mitigated, got '{}'", s.acceptance_outcome));
+  if (!(s.delta > 0.0 && s.delta < 1.0))
+    throw InputError({file, 1, 1}, fmt::format("delta must lie in (0, 1), got {:g}", s.delta));
+  return s;
+}
+
+RunResult run_scenarios(const RunOptions& options) {
+  const scenario::ScenarioFile file = scenario::read_scenarios_csv(options.scenarios_csv);
+  const fs::path settings_file = options.scenarios_csv.parent_path() / "scenarios.json";
+  PlanSettings settings = fs::is_regular_file(settings_file) ? read_plan_settings(settings_file) : PlanSettings{};
+  if (options.safety_file) settings.safety_file = options.safety_file;
+  if (settings.acceptance_strategy != "emrm" && !settings.strategies.empty() &&
+      std::find(settings.strategies.begin(), settings.strategies.end(), settings.acceptance_strategy) ==
+          settings.strategies.end())
+    settings.strategies.push_back(settings.acceptance_strategy);
+
+  RunResult result;
+  result.confidence = 1.0 - settings.delta;
+  result.epsilon = settings.epsilon;
+
+  // The plan as a campaign of one grid whose cells carry the scenarios' own seeds.
+  Campaign campaign;
+  campaign.file = file.file;
+  campaign.text = core::read_input_file(options.scenarios_csv);
+  campaign.seed = settings.seed;
+  if (settings.scene_file) {
+    if (!fs::is_regular_file(*settings.scene_file))
+      throw UsageError(fmt::format("scene file '{}' named by {} does not exist", settings.scene_file->string(),
+                                   settings_file.string()));
+    campaign.scene_file = settings.scene_file->string();
+    campaign.scene = sim::load_scene_config(*settings.scene_file);
+  }
+  if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
+  GridSpec grid;
+  grid.name = kGrid;
+  grid.where = {file.file, 1, 1};
+  for (const auto& name : file.factors) {
+    sim::CellInput probe;
+    if (!set_cell_factor(probe, name, 0.0)) result.unsimulated_factors.push_back(name);
+  }
+  for (const auto& row : file.rows) {
+    sim::CellInput cell;
+    for (std::size_t i = 0; i < file.factors.size(); ++i) (void)set_cell_factor(cell, file.factors[i], row.values[i]);
+    try {
+      sim::validate_cell(campaign.scene, cell);
+    } catch (const UsageError& e) {
+      throw InputError(row.where, fmt::format("scenario {}: {}", row.id, e.what()));
+    }
+    grid.cells.push_back(cell);
+    grid.seeds.push_back(row.seed);
+  }
+  campaign.grids.push_back(std::move(grid));
+
+  SweepOptions sweep_options;
+  sweep_options.output_dir = options.output_dir;
+  sweep_options.threads = options.threads;
+  sweep_options.progress = options.progress;
+  result.sweep = sweep(campaign, sweep_options);
+
+  // Outcomes, in file order.
+  const std::vector<CellRecord> records = read_results(options.output_dir / "results.sqlite");
+  std::vector<const CellRecord*> by_index(file.rows.size(), nullptr);
+  for (const auto& r : records)
+    if (r.grid == kGrid && r.index >= 0 && static_cast<std::size_t>(r.index) < by_index.size())
+      by_index[static_cast<std::size_t>(r.index)] = &r;
+  std::map<std::string, CellEstimate> cells;
+  for (std::size_t i = 0; i < file.rows.size(); ++i) {
+    const scenario::ScenarioRow& row = file.rows[i];
+    const CellRecord* record = by_index[i];
+    if (!record) throw Error(fmt::format("results store lacks scenario {} after the run", row.id));
+    ScenarioOutcome o;
+    o.id = row.id;
+    o.cell = row.cell;
+    o.malfunctions = row.malfunctions;
+    o.weight = row.weight;
+    o.feasible = record->feasible;
+    o.region = record->region;
+    if (record->feasible) {
+      o.success = outcome_success(*record, settings);
+      for (const auto& out : record->outcomes)
+        if (out.strategy == settings.acceptance_strategy) {
+          o.chosen_strategy = out.chosen_strategy.empty() ? out.strategy : out.chosen_strategy;
+          o.impact_speed_kph = out.impact_speed_kph;
+          o.loss_level = out.loss_level;
+        }
+      CellEstimate& c = cells[row.cell];
+      c.cell = row.cell;
+      ++c.n;
+      c.successes += static_cast<std::size_t>(o.success);
+    }
+    result.outcomes.push_back(std::move(o));
+  }
+  for (auto& [key, c] : cells) {
+    c.wilson = scenario::wilson_interval(static_cast<double>(c.successes), static_cast<double>(c.n), result.confidence);
+    c.hoeffding_epsilon = scenario::hoeffding_epsilon(static_cast<double>(c.n), settings.delta);
+    c.tracked = settings.tracked_cells.count(key) > 0;
+    if (c.tracked) result.widest_tracked_half_width = std::max(result.widest_tracked_half_width, c.wilson.half_width());
+    result.cells.push_back(c);
+  }
+
+  // Ŝ(A) over the whole set and over each malfunction's region.
+  std::vector<std::string> subsets{"all"};
+  for (const auto& o : result.outcomes)
+    for (const auto& m : o.malfunctions)
+      if (std::find(subsets.begin(), subsets.end(), m) == subsets.end()) subsets.push_back(m);
+  std::sort(subsets.begin() + 1, subsets.end());
+  for (const auto& subset : subsets) {
+    std::vector<double> w;
+    std::vector<int> y;
+    for (const auto& o : result.outcomes) {
+      if (!o.feasible) continue;
+      if (subset != "all" && std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
+        continue;
+      w.push_back(o.weight);
+      y.push_back(o.success);
+    }
+    result.subsets.push_back({subset, scenario::weighted_success(w, y, result.confidence)});
+  }
+
+  // The EMRM FSM transitions the runs took.
+  const FsmCoverage fc = emrm_fsm_coverage(records, sim::default_emrm_fsm());
+  result.transitions_total = fc.transitions.size();
+  result.transitions_exercised = fc.coverage.covered;
+  for (std::size_t t = 0; t < fc.transitions.size(); ++t)
+    if (fc.coverage.counts[t] == 0) {
+      const auto& tr = fc.transitions[t];
+      result.transitions_missed.push_back(tr.from + " -" + tr.event + "-> " + tr.to);
+    }
+
+  // Files.
+  const fs::path& dir = options.output_dir;
+  std::vector<core::Row> rows;
+  for (const auto& o : result.outcomes)
+    rows.push_back({o.id, o.cell, core::join(o.malfunctions, " "), number(o.weight), o.feasible ? "yes" : "no",
+                    o.region, o.feasible ? std::to_string(o.success) : "", o.chosen_strategy,
+                    o.feasible ? number(o.impact_speed_kph) : "", o.feasible ? std::to_string(o.loss_level) : ""});
+  core::write_file(dir / "outcomes.csv",
+                   core::csv_table({"id", "cell", "malfunctions", "weight", "feasible", "region", "success",
+                                    "chosen_strategy", "impact_speed_kph", "loss_level"},
+                                   rows));
+  rows.clear();
+  for (const auto& c : result.cells)
+    rows.push_back({c.cell, std::to_string(c.n), std::to_string(c.successes),
+                    number(static_cast<double>(c.successes) / static_cast<double>(c.n)), number(c.wilson.low),
+                    number(c.wilson.high), number(c.wilson.half_width()), number(c.hoeffding_epsilon),
+                    c.tracked ? "yes" : "no"});
+  core::write_file(dir / "estimates.csv",
+                   core::csv_table({"cell", "n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width",
+                                    "hoeffding_epsilon", "tracked"},
+                                   rows));
+
+  if (settings.safety_file) {
+    const safety::SafetyCase sc = safety::load_safety_case(*settings.safety_file);
+    auto matrix = safety::traceability_matrix(sc);
+    for (auto& row : matrix)
+      for (const auto& o : result.outcomes)
+        if (std::find(o.malfunctions.begin(), o.malfunctions.end(), row.uca) != o.malfunctions.end())
+          row.scenarios.push_back(o.id);
+    result.traceability_rows = matrix.size();
+    core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
+    core::write_file(dir / "traceability.md",
+                     "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
+  }
+  Json j = to_json(result);
+  j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
+  core::write_file(dir / "estimates.json", j.dump(2) + "\n");
+  return result;
+}
+
+Json to_json(const RunResult& r) {
+  Json j;
+  j["scenarios"] = r.outcomes.size();
+  j["feasible"] = std::count_if(r.outcomes.begin(), r.outcomes.end(), [](const auto& o) { return o.feasible; });
+  j["confidence"] = r.confidence;
+  j["unsimulated_factors"] = r.unsimulated_factors;
+  Json subsets = Json::object();
+  for (const auto& s : r.subsets) subsets[s.subset] = estimate_json(s.estimate);
+  j["weighted_success"] = subsets;
+  Json cells = Json::array();
+  double widest = 0.0;
+  for (const auto& c : r.cells) {
+    widest = std::max(widest, c.wilson.half_width());
+    cells.push_back({{"cell", c.cell},
+                     {"n", c.n},
+                     {"successes", c.successes},
+                     {"wilson", {c.wilson.low, c.wilson.high}},
+                     {"hoeffding_epsilon", c.hoeffding_epsilon},
+                     {"tracked", c.tracked}});
+  }
+  j["widest_wilson_half_width"] = widest;
+  j["tracked_cells"] = std::count_if(r.cells.begin(), r.cells.end(), [](const auto& c) { return c.tracked; });
+  j["widest_tracked_wilson_half_width"] = r.widest_tracked_half_width;
+  j["epsilon"] = r.epsilon;
+  j["cells"] = cells;
+  j["fsm_transitions"] = {{"exercised", r.transitions_exercised},
+                          {"total", r.transitions_total},
+                          {"missed", r.transitions_missed}};
+  j["traceability_rows"] = r.traceability_rows;
+  return j;
+}
+
+}  // namespace emrm::campaign
