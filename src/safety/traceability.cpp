@@ -1,5 +1,7 @@
 #include "emrm/safety/traceability.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 #include "emrm/safety/asil.hpp"
@@ -100,7 +102,16 @@ std::string traceability_csv(const std::vector<TraceRow>& rows) {
 }
 
 std::string traceability_markdown(const std::vector<TraceRow>& rows) {
-  return core::markdown_table(traceability_header(), rows_of(rows));
+  // A reader's table: long scenario lists shortened to their count and first ids (the CSV has all).
+  constexpr std::size_t kShown = 6;
+  auto table = rows_of(rows);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& ids = rows[i].scenarios;
+    if (ids.size() <= kShown) continue;
+    table[i].back() = fmt::format("{}: {} …", ids.size(),
+                                  core::join({ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(kShown)}, " "));
+  }
+  return core::markdown_table(traceability_header(), table);
 }
 
 core::Row asil_header() {

@@ -56,6 +56,7 @@ struct TraceRow {
 [[nodiscard]] core::Row traceability_header();
 [[nodiscard]] core::Row to_row(const TraceRow& row);
 [[nodiscard]] std::string traceability_csv(const std::vector<TraceRow>& rows);
+/// As Markdown; a scenarios cell of more than six ids reads "292: S003 S004 … ".
 [[nodiscard]] std::string traceability_markdown(const std::vector<TraceRow>& rows);
 
 /// Per hazard: S, E, C, the ASIL they give, the stated ASIL, the extended ratings, the SMIL the
