@@ -306,6 +306,7 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   for (const Malfunction& m : odd.malfunctions) {
     const auto inside =
         std::count_if(valid.begin(), valid.end(), [&](const Point* p) { return in_region(m, *p); });
+    report.tests_per_malfunction.emplace_back(m.id, static_cast<std::size_t>(inside));
     if (inside > 0) {
       ++report.malfunctions.covered;
     } else {
@@ -421,6 +422,9 @@ nlohmann::ordered_json to_json(const CoverageReport& report) {
   j["inadmissible"] = report.inadmissible;
   j["hazards"] = count_json(report.hazards);
   j["malfunctions"] = count_json(report.malfunctions);
+  nlohmann::ordered_json per_mode = nlohmann::ordered_json::object();
+  for (const auto& [id, n] : report.tests_per_malfunction) per_mode[id] = n;
+  j["tests_per_malfunction"] = per_mode;
   j["transitions"] = count_json(report.transitions);
   j["cells"] = count_json(report.cells);
   j["boundaries"] = count_json(report.boundaries);

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -28,9 +29,10 @@ struct CoverageCount {
 struct CoverageReport {
   std::string name;                 ///< "emrm plan", "HARA only", "STPA only", "manual grid"
   std::size_t scenarios = 0;
-  std::size_t inadmissible = 0;     ///< points outside R_f or breaking a constraint (not counted)
+  std::size_t inadmissible = 0;     ///< points outside the domain or R_f, or breaking a constraint (not counted)
   CoverageCount hazards;            ///< hazards some admissible test's malfunction leads to
   CoverageCount malfunctions;       ///< modes with ≥ 1 test in their region (UCA coverage)
+  std::vector<std::pair<std::string, std::size_t>> tests_per_malfunction;  ///< admissible tests per region (C4)
   CoverageCount transitions;        ///< FSM transitions some test's malfunctions exercise
   CoverageCount cells;              ///< relevant cells with ≥ 1 test
   CoverageCount boundaries;         ///< feasible boundary targets hit exactly
