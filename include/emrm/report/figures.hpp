@@ -1,0 +1,64 @@
+#pragma once
+
+// The paper's figures from a results store (DESIGN.md §11, docs/report.md): each figure is drawn
+// by gnuplot as PNG and SVG, with the data it plots written beside it as CSV
+// (DIR/NAME.png, DIR/NAME.svg, DIR/NAME.csv). Figures never recompute physics: they read records.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "emrm/campaign/records.hpp"
+#include "emrm/safety/traceability.hpp"
+
+namespace emrm::report {
+
+/// A figure as written: its files and what it shows.
+struct Figure {
+  std::string name;     ///< file stem, e.g. "mitigability_map"
+  std::string title;    ///< a caption for the report
+  std::string note;     ///< empty, or why something is missing (e.g. "no grid 'ttc_mu' in the store")
+  std::filesystem::path png, svg, csv;
+};
+
+/// The grids of the four panels of the mitigability map, in panel order (a) to (d).
+struct MapPanels {
+  std::string coarse = "coarse";      ///< speed × TTC
+  std::string fine = "fine";          ///< speed × TTC
+  std::string speed_mu = "speed_mu";  ///< speed × μ
+  std::string ttc_mu = "ttc_mu";      ///< TTC × μ
+};
+
+/// (1) The four-panel mitigability map: each cell a rectangle in its region's colour (G green,
+/// Y yellow, O orange, R red, infeasible grey), the analytic stop boundary TTC = v/(2μg) dashed
+/// (with the latency added when it is not 0). Panels whose grid is missing are left out (and said
+/// in `note`); with no panel at all, no files are written and `note` says why. CSV columns: panel,
+/// grid, speed_kph, ttc_s, mu, passage_m, region.
+Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
+                             const MapPanels& panels = {}, double latency_s = 0.0);
+
+/// (3) Loss comparison on `grid`: collision-avoidance rate (%) and mean residual impact speed (km/h)
+/// per strategy, as two bar panels. CSV: strategy, cells, collision_avoidance_rate_pct,
+/// mean_impact_speed_kph.
+Figure draw_loss_comparison(const std::vector<campaign::CellRecord>& records, const std::string& grid,
+                            const std::filesystem::path& dir);
+
+/// (4) Parameter sweep on `grid`: collision-avoidance rate and mitigability success (%) against
+/// ego speed, one line per strategy, two panels. CSV: speed_kph, strategy, cells,
+/// collision_avoidance_rate_pct, mitigability_success_pct.
+Figure draw_sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
+                         const std::filesystem::path& dir);
+
+/// (5) Coverage comparison from a coverage.json (`emrm plan`): hazard, UCA and cell coverage (%)
+/// per method (the plan and each baseline) as grouped bars. CSV: method, scenarios,
+/// hazard_pct, uca_pct, transition_pct, cell_pct, twise_pct.
+Figure draw_coverage_comparison(const nlohmann::json& coverage, const std::filesystem::path& dir);
+
+/// (7) The traceability matrix as a chart: UCAs (rows) × hazards (columns), each entry the number
+/// of scenarios that trace to it (or a mark when the link exists and no scenario is known).
+/// CSV: uca, hazard, losses, scenarios.
+Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const std::filesystem::path& dir);
+
+}  // namespace emrm::report

@@ -1,0 +1,1 @@
+#include "emrm/report/figures.hpp"
