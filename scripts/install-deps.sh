@@ -7,6 +7,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev
+  chromium fonts-dejavu-core
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -23,5 +23,7 @@ void register_ca_command(CLI::App& app, int& exit_code);
 void register_plan_command(CLI::App& app, int& exit_code);
 /// `emrm run SCENARIOS.csv -o DIR`: a planned scenario set through the campaign engine.
 void register_run_command(CLI::App& app, int& exit_code);
+/// `emrm report DIR`: figures and report.html from a results folder.
+void register_report_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

@@ -29,6 +29,7 @@
 #include "emrm/fsm/dot.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/operations.hpp"
+#include "emrm/report/report.hpp"
 #include "emrm/safety/asil.hpp"
 #include "emrm/safety/checks.hpp"
 #include "emrm/safety/load.hpp"
@@ -252,11 +253,14 @@ int run(const ReproduceOptions& options) {
       rc.drift_missed, diagnostics.emrm_fsm.coverage.covered, diagnostics.emrm_fsm.coverage.counts.size(),
       diagnostics.loss_evaluation_fsm.coverage.covered,
       diagnostics.loss_evaluation_fsm.coverage.counts.size());
+  const auto report = report::write_report(out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
       "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims,coverage}}.{{md,csv,tex}}, kpis.csv; "
       "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
       out.string(), out.string(), out.string(), out.string(), seconds);
+  fmt::print("Report: {} (figures in {}/figures, drawn in {:.1f} s)\n", report.html.string(), out.string(),
+             report.figure_seconds);
   if (!ok)
     fmt::print("reproduce: the analysis found errors, an FSM check failed or the plan misses C1-C4 (exit 1)\n");
   return static_cast<int>(ok ? ExitCode::kSuccess : ExitCode::kFindings);

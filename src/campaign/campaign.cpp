@@ -73,11 +73,13 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
       cells_node = value;
     } else if (k == "description") {
       (void)value.as_string();
+    } else if (k == "keep_trees") {
+      grid.keep_trees = value.as_bool();
     } else if (auto f = factor_index(k)) {
       factors[*f].values = core::expand_values(value);
       factors[*f].node = value;
     } else {
-      key.fail("unknown grid field '" + k + "'; expected name, description, cells or a factor (" +
+      key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, cells or a factor (" +
                factor_list() + ")");
     }
   }
@@ -252,7 +254,7 @@ std::string config_hash(const Campaign& campaign) {
   feed(fmt::format("seed {}", campaign.seed));
   feed("strategies " + core::join(campaign.strategies, " "));
   for (const auto& grid : campaign.grids) {
-    feed("grid " + grid.name);
+    feed("grid " + grid.name + (grid.keep_trees ? " keep_trees" : ""));
     for (const auto& cell : grid.cells) feed(cell_key("", cell));
     for (std::uint64_t seed : grid.seeds) feed(std::to_string(seed));
   }
@@ -271,8 +273,26 @@ std::size_t total_cells(const Campaign& campaign) noexcept {
   return n;
 }
 
-CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
-                     const sim::CellResult& result) {
+namespace {
+
+// At most `n` points of an edge, evenly spaced, first and last kept.
+Polyline thin(const std::vector<sim::PathPoint>& points, std::size_t n) {
+  Polyline out;
+  const auto point = [](const sim::PathPoint& p) {
+    return std::array<double, 4>{p.t_s, p.state.x_m, p.state.y_m, p.state.speed_mps()};
+  };
+  if (points.size() <= n) {
+    for (const auto& p : points) out.push_back(point(p));
+    return out;
+  }
+  for (std::size_t k = 0; k < n; ++k) out.push_back(point(points[k * (points.size() - 1) / (n - 1)]));
+  return out;
+}
+
+}  // namespace
+
+CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed, const sim::CellResult& result,
+                     bool keep_trajectories) {
   constexpr double kKph = 3.6;
   CellRecord r;
   r.grid = grid;
@@ -309,6 +329,19 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
     out.loss_evaluation_trace = o.loss_evaluation_trace;
     out.chosen_strategy = o.chosen_strategy;
     out.adopted_from = o.adopted_from;
+    if (keep_trajectories) {
+      // Enough of each tree to draw it: at most 400 edges of each kind, evenly chosen, 4 points each.
+      constexpr std::size_t kEdges = 400;
+      out.path = thin(o.path, o.path.size());
+      for (const bool fail_safe : {false, true}) {
+        std::vector<const sim::TreeEdge*> edges;
+        for (const auto& edge : o.tree)
+          if (edge.fail_safe == fail_safe) edges.push_back(&edge);
+        auto& into = fail_safe ? out.failsafe_tree : out.goal_tree;
+        const std::size_t n = std::min(edges.size(), kEdges);
+        for (std::size_t k = 0; k < n; ++k) into.push_back(thin(edges[k * edges.size() / n]->points, 4));
+      }
+    }
     r.outcomes.push_back(std::move(out));
   }
   return r;

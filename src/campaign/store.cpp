@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "emrm/core/text.hpp"
 #include "emrm/version.hpp"
@@ -38,7 +39,50 @@ CREATE TABLE outcomes(
   fsm_trace TEXT NOT NULL, loss_evaluation_trace TEXT NOT NULL, chosen_strategy TEXT NOT NULL,
   adopted_from TEXT NOT NULL,
   PRIMARY KEY(grid, cell_index, position)) WITHOUT ROWID;
+CREATE TABLE trajectories(
+  grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL,
+  path TEXT NOT NULL, goal_tree TEXT NOT NULL, failsafe_tree TEXT NOT NULL,
+  PRIMARY KEY(grid, cell_index, position)) WITHOUT ROWID;
 )sql";
+
+// Polylines as text: points "t x y v" joined by ';', polylines joined by '|'.
+std::string encode(const Polyline& line) {
+  std::string out;
+  for (const auto& p : line) {
+    if (!out.empty()) out += ';';
+    out += fmt::format("{:.2f} {:.2f} {:.2f} {:.2f}", p[0], p[1], p[2], p[3]);
+  }
+  return out;
+}
+
+std::string encode(const std::vector<Polyline>& lines) {
+  std::string out;
+  for (std::size_t i = 0; i < lines.size(); ++i) out += (i ? "|" : "") + encode(lines[i]);
+  return out;
+}
+
+Polyline decode_line(std::string_view text) {
+  Polyline line;
+  while (!text.empty()) {
+    const auto end = std::min(text.find(';'), text.size());
+    std::array<double, 4> p{};
+    std::istringstream in{std::string(text.substr(0, end))};
+    in >> p[0] >> p[1] >> p[2] >> p[3];
+    line.push_back(p);
+    text.remove_prefix(std::min(end + 1, text.size()));
+  }
+  return line;
+}
+
+std::vector<Polyline> decode_lines(std::string_view text) {
+  std::vector<Polyline> lines;
+  while (!text.empty()) {
+    const auto end = std::min(text.find('|'), text.size());
+    lines.push_back(decode_line(text.substr(0, end)));
+    text.remove_prefix(std::min(end + 1, text.size()));
+  }
+  return lines;
+}
 
 [[noreturn]] void fail(sqlite3* db, const std::filesystem::path& path, const std::string& what) {
   throw Error(fmt::format("{}: {}: {}", path.string(), what, db ? sqlite3_errmsg(db) : "out of memory"));
@@ -292,6 +336,7 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
   try {
     Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     Statement outcome(db_, path_, "INSERT INTO outcomes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    Statement trajectory(db_, path_, "INSERT INTO trajectories VALUES(?,?,?,?,?,?)");
     for (const auto& r : batch) {
       cell.reset();
       cell.bind(1, r.grid);
@@ -337,6 +382,15 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
         outcome.bind(19, o.chosen_strategy);
         outcome.bind(20, o.adopted_from);
         outcome.step();
+        if (o.path.empty() && o.goal_tree.empty() && o.failsafe_tree.empty()) continue;
+        trajectory.reset();
+        trajectory.bind(1, r.grid);
+        trajectory.bind(2, r.index);
+        trajectory.bind(3, static_cast<std::int64_t>(i));
+        trajectory.bind(4, encode(o.path));
+        trajectory.bind(5, encode(o.goal_tree));
+        trajectory.bind(6, encode(o.failsafe_tree));
+        trajectory.step();
       }
     }
   } catch (...) {
@@ -364,6 +418,12 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
   Statement outcomes(db_, path_,
                      "SELECT o.* FROM outcomes o JOIN grids g ON g.name = o.grid "
                      "ORDER BY g.position, o.cell_index, o.position");
+  // Trajectories are few (grids with keep_trees): read them first, keyed by cell and position.
+  std::map<std::tuple<std::string, std::int64_t, std::int64_t>, std::array<std::string, 3>> trajectories;
+  {
+    Statement t(db_, path_, "SELECT * FROM trajectories");
+    while (t.step()) trajectories[{t.text(0), t.int64(1), t.int64(2)}] = {t.text(3), t.text(4), t.text(5)};
+  }
   bool have_outcome = outcomes.step();
   CellRecord r;
   while (cells.step()) {
@@ -403,6 +463,11 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
       o.loss_evaluation_trace = split_words(outcomes.text(17));
       o.chosen_strategy = outcomes.text(18);
       o.adopted_from = outcomes.text(19);
+      if (const auto it = trajectories.find({r.grid, r.index, outcomes.int64(2)}); it != trajectories.end()) {
+        o.path = decode_line(it->second[0]);
+        o.goal_tree = decode_lines(it->second[1]);
+        o.failsafe_tree = decode_lines(it->second[2]);
+      }
       r.outcomes.push_back(std::move(o));
       have_outcome = outcomes.step();
     }
@@ -419,6 +484,7 @@ void ResultStore::absorb(const std::filesystem::path& other_results_sqlite) {
          "BEGIN IMMEDIATE;"
          "INSERT OR IGNORE INTO cells SELECT * FROM src.cells;"
          "INSERT OR IGNORE INTO outcomes SELECT * FROM src.outcomes;"
+         "INSERT OR IGNORE INTO trajectories SELECT * FROM src.trajectories;"
          "COMMIT;");
   } catch (...) {
     sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);

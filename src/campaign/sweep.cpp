@@ -195,9 +195,10 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
             cell_options.strategies = campaign.strategies;
             cell_options.seed =
                 grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[work[w].index];
+            cell_options.keep_trees = grid.keep_trees;
             const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
-            committer.add(
-                to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result));
+            committer.add(to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result,
+                                    grid.keep_trees));
           }
         },
         tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread

@@ -164,19 +164,22 @@ std::string to_dot(const Generator& g, const DotOptions& options) {
 bool dot_available(const std::string& dot_program) { return core::find_program(dot_program).has_value(); }
 
 std::string render_svg(const std::string& dot_source, const std::string& dot_program) {
+  return render(dot_source, "svg", dot_program);
+}
+
+std::string render(const std::string& dot_source, const std::string& format, const std::string& dot_program) {
   const auto program = core::find_program(dot_program);
   if (!program)
-    throw Error(
-        fmt::format("cannot render SVG: the Graphviz program '{}' was not found on PATH; install Graphviz "
-                    "(for example `apt install graphviz`) or write DOT with --dot instead",
-                    dot_program));
+    throw Error(fmt::format("cannot render {}: the Graphviz program '{}' was not found on PATH; install Graphviz "
+                            "(for example `apt install graphviz`) or write DOT with --dot instead",
+                            format, dot_program));
   core::TempDir dir("emrm-dot");
   const auto input = dir.path() / "graph.dot";
-  const auto output = dir.path() / "graph.svg";
+  const auto output = dir.path() / ("graph." + format);
   { std::ofstream(input, std::ios::binary) << dot_source; }
-  const auto run = core::run_program(*program, {"-Tsvg", "-o", output.string(), input.string()});
+  const auto run = core::run_program(*program, {"-T" + format, "-o", output.string(), input.string()});
   if (run.exit_code != 0)
-    throw Error(fmt::format("'{} -Tsvg' failed{}{}", program->string(), run.error_output.empty() ? "" : ": ",
+    throw Error(fmt::format("'{} -T{}' failed{}{}", program->string(), format, run.error_output.empty() ? "" : ": ",
                             run.error_output));
   return core::read_file(output);
 }

@@ -99,3 +99,148 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
 }
 
 }  // namespace emrm::report
+
+namespace emrm::report {
+namespace {
+
+// The outcome whose trees a panel shows: the RRT strategy emrm chose, else dodge, else any with trees.
+const campaign::OutcomeRecord* tree_source(const campaign::CellRecord& r, const campaign::OutcomeRecord& emrm) {
+  const auto find = [&](const std::string& name) -> const campaign::OutcomeRecord* {
+    for (const auto& o : r.outcomes)
+      if (o.strategy == name && (!o.goal_tree.empty() || !o.failsafe_tree.empty())) return &o;
+    return nullptr;
+  };
+  if (const auto* chosen = find(emrm.chosen_strategy)) return chosen;
+  if (const auto* dodge = find("dodge")) return dodge;
+  for (const auto& o : r.outcomes)
+    if (!o.goal_tree.empty() || !o.failsafe_tree.empty()) return &o;
+  return nullptr;
+}
+
+std::string outcome_label(const campaign::OutcomeRecord& o) {
+  std::string text = o.avoided ? "avoided" : fmt::format("{:.0f} km/h, L{}", o.impact_speed_kph, o.loss_level);
+  if (!o.chosen_strategy.empty()) text += " (" + o.chosen_strategy + ")";
+  return text;
+}
+
+}  // namespace
+
+Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& config,
+                            const std::string& grid, const std::filesystem::path& dir) {
+  Figure figure;
+  figure.name = "trajectory_grid";
+  figure.title = "RRT validation scenarios: goal tree (green), fail-safe tree (orange) and the executed EMRM "
+                 "path coloured by speed, per canonical scenario";
+  struct Panel {
+    const campaign::CellRecord* cell;
+    const campaign::OutcomeRecord* emrm;
+    const campaign::OutcomeRecord* trees;
+  };
+  std::vector<Panel> panels;
+  for (const auto& r : records) {
+    if (r.grid != grid || !r.feasible) continue;
+    for (const auto& o : r.outcomes)
+      if (o.strategy == "emrm" && !o.path.empty()) panels.push_back({&r, &o, tree_source(r, o)});
+  }
+  if (panels.empty()) {
+    figure.note = fmt::format("no stored trajectories for grid '{}' (sweep it with keep_trees: true)", grid);
+    return figure;
+  }
+
+  std::filesystem::create_directories(dir);
+  figure.png = dir / (figure.name + ".png");
+  figure.svg = dir / (figure.name + ".svg");
+  figure.csv = dir / (figure.name + ".csv");
+  core::TempDir work("emrm-trajectories");
+  const auto file = [&](const std::string& name) { return (work.path() / name).string(); };
+
+  std::vector<core::Row> csv;
+  double v_max = 0.0;
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const auto& [cell, emrm, trees] = panels[k];
+    const std::string tag = std::to_string(k);
+    const core::Row lead{tag,
+                         std::to_string(cell->index),
+                         fmt::format("{:g}", cell->speed_kph),
+                         fmt::format("{:g}", cell->ttc_s),
+                         fmt::format("{:g}", cell->mu),
+                         fmt::format("{:g}", cell->passage_m),
+                         cell->region,
+                         outcome_label(*emrm)};
+    const auto rows_of = [&](const campaign::Polyline& line, const std::string& kind, std::size_t edge) {
+      std::string data;
+      for (const auto& p : line) {
+        data += fmt::format("{:.2f} {:.2f} {:.2f}\n", p[1], p[2], p[3]);
+        core::Row row = lead;
+        row.insert(row.end(), {kind, std::to_string(edge), fmt::format("{:.2f}", p[0]), fmt::format("{:.2f}", p[1]),
+                               fmt::format("{:.2f}", p[2]), fmt::format("{:.2f}", p[3])});
+        csv.push_back(std::move(row));
+        v_max = std::max(v_max, p[3]);
+      }
+      return data + "\n";
+    };
+    std::string goal, failsafe;
+    if (trees) {
+      for (std::size_t e = 0; e < trees->goal_tree.size(); ++e) goal += rows_of(trees->goal_tree[e], "goal", e);
+      for (std::size_t e = 0; e < trees->failsafe_tree.size(); ++e)
+        failsafe += rows_of(trees->failsafe_tree[e], "failsafe", e);
+    }
+    core::write_file(file("goal" + tag + ".dat"), goal.empty() ? "nan nan nan\n" : goal);
+    core::write_file(file("failsafe" + tag + ".dat"), failsafe.empty() ? "nan nan nan\n" : failsafe);
+    core::write_file(file("path" + tag + ".dat"), rows_of(emrm->path, "path", 0));
+
+    sim::CellInput input{cell->speed_kph, cell->ttc_s, cell->mu, cell->passage_m, cell->truck_speed_kph};
+    const sim::Scene scene(config, input);
+    core::write_file(file("truck0_" + tag + ".dat"), outline(scene.truck_at(0.0).box));
+    core::write_file(file("truck1_" + tag + ".dat"), outline(scene.truck_at(emrm->path.back()[0]).box));
+  }
+  core::write_file(figure.csv, core::csv_table({"panel", "cell_index", "speed_kph", "ttc_s", "mu", "passage_m",
+                                                "region", "outcome", "kind", "edge", "t_s", "x_m", "y_m", "speed_mps"},
+                                               csv));
+
+  // One frame for every panel: the widest scene of the grid.
+  double x_lo = 0.0, x_hi = 0.0;
+  for (const auto& p : panels) {
+    const sim::Scene scene(config, {p.cell->speed_kph, p.cell->ttc_s, p.cell->mu, p.cell->passage_m,
+                                    p.cell->truck_speed_kph});
+    x_lo = std::min(x_lo, scene.ego_initial().x_m - config.ego.length_m);
+    x_hi = std::max(x_hi, scene.truck_far_x_m() + 2.0 * config.ego.length_m);
+  }
+  const double y_min = config.road.drivable_min_y_m() - 1.0;
+  const double y_max = config.road.drivable_max_y_m() + config.truck.length_m;
+  core::write_file(file("road.dat"), fmt::format("{0} {2}\n{1} {2}\n\n{0} {3}\n{1} {3}\n", x_lo, x_hi,
+                                                 config.road.drivable_min_y_m(), config.road.drivable_max_y_m()));
+
+  const int columns = 4;
+  const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
+  for (const auto& output : {figure.png, figure.svg}) {
+    std::string script = gnuplot_terminal(output, 1600, 330 * rows + 60) + "\n";
+    script += fmt::format("set output '{}'\n", output.string());
+    script += fmt::format("set multiplot layout {},{} title 'RRT validation scenarios (grid {}): goal tree, "
+                          "fail-safe tree, executed EMRM path' noenhanced\n",
+                          rows, columns, grid);
+    script += "unset key\nset xtics font ',7'\nset ytics font ',7'\n";
+    script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min, y_max);
+    script += "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n";
+    script += fmt::format("set cbrange [0:{:.2f}]\nset cblabel 'speed (m/s)' font ',8'\n", std::max(v_max, 1.0));
+    for (std::size_t k = 0; k < panels.size(); ++k) {
+      const auto& [cell, emrm, trees] = panels[k];
+      const std::string tag = std::to_string(k);
+      // One colour bar, beside the last panel of each row.
+      script += (k % columns == columns - 1 || k + 1 == panels.size()) ? "set colorbox\n" : "unset colorbox\n";
+      script += fmt::format(
+          "set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n", cell->speed_kph,
+          cell->mu, cell->passage_m, outcome_label(*emrm));
+      script += fmt::format(
+          "plot '{}' w l lc 'black' lw 1.2, '{}' w l lc rgb '#2ca02c' lw 0.5, '{}' w l lc rgb '#ff7f0e' lw 0.5, "
+          "'{}' w l dt 2 lc 'gray40', '{}' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 w l lw 2.5 lc palette\n",
+          file("road.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"), file("truck0_" + tag + ".dat"),
+          file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
+    }
+    script += "unset multiplot\n";
+    run_gnuplot(script, work.path());
+  }
+  return figure;
+}
+
+}  // namespace emrm::report

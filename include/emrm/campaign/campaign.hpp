@@ -24,6 +24,7 @@ struct GridSpec {
   std::string name;
   std::vector<sim::CellInput> cells;
   std::vector<std::uint64_t> seeds;  ///< one per cell (a planned scenario's own); empty: cell_seed()
+  bool keep_trees = false;  ///< store paths and planner trees of every strategy (trajectory figure)
   SourceLocation where;  ///< the grid's mapping in the campaign file
 };
 
@@ -58,9 +59,10 @@ struct Campaign {
 [[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid,
                                       const sim::CellInput& cell);
 
-/// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees dropped).
+/// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees only with
+/// `keep_trajectories`, simulated with trees kept).
 [[nodiscard]] CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
-                                   const sim::CellResult& result);
+                                   const sim::CellResult& result, bool keep_trajectories = false);
 
 /// Sets the factor `name` (speed_kph, ttc_s, mu, passage_m or truck_speed_kph) of a cell; false
 /// when the simulator has no factor of that name.

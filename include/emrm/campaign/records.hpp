@@ -3,11 +3,15 @@
 // What a campaign stores per cell and per strategy: plain rows, the common currency of the
 // results store, the exports and the aggregation (tables, KPIs, diagnostics).
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace emrm::campaign {
+
+/// A trajectory as a figure needs it: points (t s, x m, y m, speed m/s).
+using Polyline = std::vector<std::array<double, 4>>;
 
 /// One strategy's outcome in one cell (the fields of sim::StrategyOutcome a report needs).
 struct OutcomeRecord {
@@ -28,6 +32,12 @@ struct OutcomeRecord {
   std::vector<std::string> loss_evaluation_trace;  ///< emrm only
   std::string chosen_strategy;                     ///< emrm only
   std::string adopted_from;
+  /// Kept only for grids with `keep_trees: true` (the trajectory figure): the executed path and
+  /// the planner's goal and fail-safe trees (at most 400 edges of each, 4 points per edge; stored
+  /// to 0.01).
+  Polyline path;
+  std::vector<Polyline> goal_tree;
+  std::vector<Polyline> failsafe_tree;
 };
 
 /// One cell of a grid with its unmitigated reference, region and outcomes.

@@ -37,5 +37,8 @@ struct DotOptions {
 /// Renders DOT source to SVG by running `dot_program -Tsvg`. Throws emrm::Error if the program is
 /// not installed (saying to install Graphviz) or if it fails (with its error output).
 [[nodiscard]] std::string render_svg(const std::string& dot_source, const std::string& dot_program = "dot");
+/// As render_svg, to any Graphviz output format (`svg`, `png`, ...); the bytes of the output.
+[[nodiscard]] std::string render(const std::string& dot_source, const std::string& format,
+                                 const std::string& dot_program = "dot");
 
 }  // namespace emrm::fsm

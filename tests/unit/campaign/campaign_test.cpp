@@ -104,7 +104,7 @@ TEST(LoadCampaign, TheFineGridHas1165FeasibleCells) {
 TEST(LoadCampaign, CanonicalCellsTakeGridDefaults) {
   const Campaign c = load_campaign(kShippedCampaign);
   const GridSpec& canonical = c.grids.back();
-  for (const auto& cell : canonical.cells) EXPECT_EQ(cell.ttc_s, 1.0);
+  for (const auto& cell : canonical.cells) EXPECT_EQ(cell.ttc_s, 0.6);
   EXPECT_EQ(canonical.cells[0].passage_m, 3.2);
   EXPECT_EQ(canonical.cells[7].mu, 0.15);
   EXPECT_EQ(canonical.cells[8].speed_kph, 57.6);

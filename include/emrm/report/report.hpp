@@ -1,0 +1,43 @@
+#pragma once
+
+// `emrm report DIR` (DESIGN.md §11, docs/report.md): every figure of the paper's evaluation from a
+// results folder written by `emrm sweep`, `emrm run` or `emrm reproduce`, each as PNG and SVG with
+// its CSV, and one self-contained DIR/report.html with the configuration, the tables (ours beside
+// the paper's), the figures, the diagnostics and the findings.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "emrm/campaign/records.hpp"
+#include "emrm/fsm/generator.hpp"
+#include "emrm/report/figures.hpp"
+
+namespace emrm::report {
+
+/// (6) An FSM diagram with every transition coloured by how often the stored traces took it:
+/// DIR/NAME.dot, .svg and .png (Graphviz) and NAME.csv (from, event, to, count).
+Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& counts, const std::string& name,
+                       const std::string& title, const std::filesystem::path& dir);
+
+/// Reads a traceability.csv written by `emrm analyze`, `emrm run` or `emrm reproduce`. Throws
+/// InputError (file:line:column) when its header or a row is malformed.
+[[nodiscard]] std::vector<safety::TraceRow> read_traceability_csv(const std::filesystem::path& path);
+
+struct ReportSummary {
+  std::vector<Figure> figures;     ///< every figure attempted (with a note when it has no files)
+  std::filesystem::path html;
+  double figure_seconds = 0.0;     ///< wall time spent rendering figures
+};
+
+/// Writes DIR/figures/* and DIR/report.html. Throws UsageError (exit 2) when DIR is missing, is
+/// not a folder, holds no results.sqlite, or its store is of another schema version; emrm::Error
+/// when gnuplot or Graphviz is missing or fails.
+ReportSummary write_report(const std::filesystem::path& dir);
+
+/// Base64 (RFC 4648) of bytes, for data: URIs.
+[[nodiscard]] std::string base64(std::string_view bytes);
+/// Text safe inside HTML elements and attributes.
+[[nodiscard]] std::string html_escape(std::string_view text);
+
+}  // namespace emrm::report

@@ -1,0 +1,479 @@
+#include "emrm/report/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "emrm/campaign/aggregate.hpp"
+#include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/store.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/core/process.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/fsm/dot.hpp"
+#include "emrm/report/trajectory_figure.hpp"
+#include "emrm/sim/simulate.hpp"
+#include "emrm/version.hpp"
+
+namespace emrm::report {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string read_or_empty(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) ? core::read_file(path) : std::string();
+}
+
+// The folder must be a results folder of this version: checked before anything is written.
+void check_results_dir(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec))
+    throw UsageError(fmt::format("emrm report: results folder '{}' does not exist", dir.string()));
+  if (!fs::is_directory(dir, ec))
+    throw UsageError(fmt::format("emrm report: '{}' is not a folder; expected a results folder written by emrm "
+                                 "sweep, run or reproduce",
+                                 dir.string()));
+  if (!fs::is_regular_file(dir / "results.sqlite", ec))
+    throw UsageError(fmt::format("emrm report: '{}' holds no results.sqlite; expected a results folder written by "
+                                 "emrm sweep, run or reproduce",
+                                 dir.string()));
+  (void)campaign::read_meta(dir / "results.sqlite");  // refuses another schema version (UsageError)
+}
+
+// A table written by `emrm reproduce` (DIR/tables/NAME.csv with its Markdown twin): title, rows
+// and the paragraphs that follow the Markdown table.
+struct TableFile {
+  std::string name;
+  std::string title;
+  std::vector<core::CsvRecord> rows;
+  std::vector<std::string> notes;
+};
+
+std::vector<TableFile> read_tables(const fs::path& dir) {
+  std::vector<TableFile> tables;
+  std::error_code ec;
+  if (!fs::is_directory(dir / "tables", ec)) return tables;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir / "tables"))
+    if (entry.path().extension() == ".csv" && entry.path().stem() != "kpis") names.push_back(entry.path().stem());
+  const std::vector<std::string> order{"emrm_vs_baseline", "by_parameter", "regions", "claims", "coverage"};
+  std::sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
+    const auto rank = [&](const std::string& n) { return std::find(order.begin(), order.end(), n) - order.begin(); };
+    return std::pair(rank(a), a) < std::pair(rank(b), b);
+  });
+  for (const auto& name : names) {
+    TableFile t;
+    t.name = name;
+    const fs::path csv = dir / "tables" / (name + ".csv");
+    t.rows = core::parse_csv(core::read_file(csv), csv.string());
+    t.title = name;
+    std::istringstream md(read_or_empty(dir / "tables" / (name + ".md")));
+    bool after_table = false;
+    std::string paragraph;
+    for (std::string line; std::getline(md, line);) {
+      if (line.rfind("# ", 0) == 0) {
+        t.title = line.substr(2);
+      } else if (!line.empty() && line[0] == '|') {
+        after_table = true;
+      } else if (after_table && line.empty()) {
+        if (!paragraph.empty()) t.notes.push_back(std::move(paragraph));
+        paragraph.clear();
+      } else if (after_table) {
+        paragraph += (paragraph.empty() ? "" : " ") + line;
+      }
+    }
+    if (!paragraph.empty()) t.notes.push_back(std::move(paragraph));
+    tables.push_back(std::move(t));
+  }
+  return tables;
+}
+
+// A note's Markdown, as far as our tables use it: `code`.
+std::string inline_markdown(std::string_view text) {
+  std::string out;
+  bool code = false;
+  for (char c : text) {
+    if (c == '`') {
+      out += code ? "</code>" : "<code>";
+      code = !code;
+    } else {
+      out += html_escape(std::string_view(&c, 1));
+    }
+  }
+  return code ? out + "</code>" : out;
+}
+
+std::string html_table(const std::vector<core::CsvRecord>& rows) {
+  std::string out = "<div class=\"scroll\"><table>\n";
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    out += "<tr>";
+    for (const auto& cell : rows[r].fields)
+      out += (r == 0 ? "<th>" : "<td>") + html_escape(cell) + (r == 0 ? "</th>" : "</td>");
+    out += "</tr>\n";
+  }
+  return out + "</table></div>\n";
+}
+
+std::string html_table(const core::Row& header, const std::vector<core::Row>& rows) {
+  std::vector<core::CsvRecord> records;
+  records.push_back({header, {}, {}});
+  for (const auto& r : rows) records.push_back({r, {}, {}});
+  return html_table(records);
+}
+
+std::string figure_html(const Figure& f, const fs::path& dir) {
+  std::string out = fmt::format("<figure id=\"fig-{}\">\n", f.name);
+  if (f.png.empty()) {
+    out += fmt::format("<p class=\"missing\">{}: not drawn — {}</p>\n", html_escape(f.title), html_escape(f.note));
+    return out + "</figure>\n";
+  }
+  out += fmt::format("<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n", base64(core::read_file(f.png)),
+                     html_escape(f.title));
+  const auto rel = [&](const fs::path& p) { return html_escape(fs::relative(p, dir).generic_string()); };
+  out += fmt::format("<figcaption>{}{} <span class=\"files\">{} · {} · {}</span></figcaption>\n",
+                     html_escape(f.title), f.note.empty() ? "" : " (" + html_escape(f.note) + ")",
+                     rel(f.svg), rel(f.png), f.csv.empty() ? std::string("—") : rel(f.csv));
+  return out + "</figure>\n";
+}
+
+constexpr const char* kStyle = R"css(
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; margin: 0 auto; max-width: 1200px;
+       padding: 1rem 1.5rem 3rem; color: #1a1a1a; line-height: 1.45; }
+h1 { margin-bottom: 0.2rem; } h2 { border-bottom: 1px solid #ccc; padding-bottom: 0.2rem; margin-top: 2.2rem; }
+nav ul { columns: 2; padding-left: 1.2rem; }
+.scroll { overflow-x: auto; }
+table { border-collapse: collapse; margin: 0.6rem 0; font-size: 0.88rem; }
+th, td { border: 1px solid #bbb; padding: 0.25rem 0.5rem; text-align: left; vertical-align: top; }
+th { background: #f0f0f0; }
+figure { margin: 1.2rem 0; page-break-inside: avoid; }
+figure img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+figcaption { font-size: 0.9rem; color: #333; } .files { color: #777; font-size: 0.8rem; }
+.missing { color: #8a5a00; background: #fff6e0; padding: 0.4rem 0.6rem; }
+pre { background: #f7f7f7; padding: 0.6rem; overflow-x: auto; font-size: 0.8rem; max-height: 30rem; }
+.note { font-size: 0.9rem; color: #333; }
+.ok { color: #1b7f2a; } .bad { color: #b00020; }
+@media print { body { max-width: none; font-size: 10pt; } pre { max-height: none; white-space: pre-wrap; }
+               nav { display: none; } h2 { page-break-before: auto; } a { color: inherit; text-decoration: none; } }
+)css";
+
+// Marks the page once loaded: images that failed to decode, script errors and console errors are
+// counted on <body>, so a headless browser can check the report from its DOM alone.
+constexpr const char* kScript = R"js(
+(function () {
+  var errors = 0;
+  var consoleError = console.error;
+  console.error = function () { errors++; return consoleError.apply(console, arguments); };
+  window.addEventListener('error', function () { errors++; }, true);
+  window.addEventListener('load', function () {
+    var broken = 0;
+    for (var i = 0; i < document.images.length; i++) {
+      var img = document.images[i];
+      if (!img.complete || img.naturalWidth === 0) broken++;
+    }
+    document.body.setAttribute('data-images', String(document.images.length));
+    document.body.setAttribute('data-broken-images', String(broken));
+    document.body.setAttribute('data-errors', String(errors));
+  });
+})();
+)js";
+
+std::string findings_html(const fs::path& dir) {
+  const std::string text = read_or_empty(dir / "analysis" / "findings.json");
+  if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
+  const auto j = nlohmann::json::parse(text, nullptr, false);
+  if (!j.is_array() && !(j.is_object() && j.contains("findings")))
+    return "<pre>" + html_escape(text) + "</pre>\n";
+  const auto& list = j.is_array() ? j : j["findings"];
+  if (list.empty()) return "<p class=\"ok\">No findings.</p>\n";
+  core::Row header{"severity", "code", "subject", "where", "message"};
+  std::vector<core::Row> rows;
+  for (const auto& f : list)
+    rows.push_back({f.value("severity", ""), f.value("code", ""), f.value("subject", ""),
+                    fmt::format("{}:{}:{}", f.value("file", ""), f.value("line", 0), f.value("column", 0)),
+                    f.value("message", "")});
+  return html_table(header, rows);
+}
+
+std::string diagnostics_html(const fs::path& dir) {
+  const std::string text = read_or_empty(dir / "diagnostics.json");
+  if (text.empty()) return "<p>No diagnostics in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
+  return "<details open><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
+}
+
+std::string estimates_html(const fs::path& dir) {
+  for (const fs::path& file : {dir / "plan_results" / "estimates.json", dir / "estimates.json"}) {
+    const std::string text = read_or_empty(file);
+    if (text.empty()) continue;
+    const auto j = nlohmann::json::parse(text, nullptr, false);
+    if (!j.is_object() || !j.contains("weighted_success")) continue;
+    core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high"};
+    std::vector<core::Row> rows;
+    for (const auto& [subset, e] : j["weighted_success"].items()) {
+      const auto num = [&](const char* key) {
+        return e.contains(key) && e[key].is_number() ? fmt::format("{:.3f}", e[key].get<double>()) : "—";
+      };
+      const auto wilson = e.value("wilson", nlohmann::json::array());
+      rows.push_back({subset, std::to_string(e.value("n", 0)), num("n_eff"), num("estimate"),
+                      wilson.size() == 2 ? fmt::format("{:.3f}", wilson[0].get<double>()) : "—",
+                      wilson.size() == 2 ? fmt::format("{:.3f}", wilson[1].get<double>()) : "—"});
+    }
+    return fmt::format("<p>From {}: {} scenarios; widest Wilson half-width in a tracked cell {:.3f} (target "
+                       "{:g}).</p>\n",
+                       html_escape(fs::relative(file, dir).generic_string()), j.value("scenarios", 0),
+                       j.value("widest_tracked_wilson_half_width", 0.0), j.value("epsilon", 0.0)) +
+           html_table(header, rows);
+  }
+  return "<p>No planned scenario set was run in this folder (<code>emrm plan</code>, <code>emrm run</code>).</p>\n";
+}
+
+std::string regions_html(const std::vector<campaign::CellRecord>& records) {
+  core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %"};
+  std::vector<core::Row> rows;
+  for (const auto& g : campaign::grid_names(records)) {
+    const auto c = campaign::count_regions(records, g);
+    rows.push_back({g, std::to_string(c.cells), std::to_string(c.feasible), fmt::format("{:.1f}", c.pct(c.g)),
+                    fmt::format("{:.1f}", c.pct(c.y)), fmt::format("{:.1f}", c.pct(c.o)),
+                    fmt::format("{:.1f}", c.pct(c.r))});
+  }
+  return html_table(header, rows);
+}
+
+// The grid the headline figures read: `fine` if present, else the largest.
+std::string headline_grid(const std::vector<campaign::CellRecord>& records) {
+  std::string best;
+  std::size_t best_n = 0;
+  for (const auto& g : campaign::grid_names(records)) {
+    if (g == "fine") return g;
+    const auto n = campaign::count_regions(records, g).cells;
+    if (n > best_n) best = g, best_n = n;
+  }
+  return best;
+}
+
+// The grid whose trajectories the trajectory figure shows: `canonical`, else the first with any.
+std::string trajectory_grid(const std::vector<campaign::CellRecord>& records) {
+  std::string first;
+  for (const auto& r : records)
+    for (const auto& o : r.outcomes)
+      if (!o.path.empty()) {
+        if (r.grid == "canonical") return r.grid;
+        if (first.empty()) first = r.grid;
+      }
+  return first.empty() ? "canonical" : first;
+}
+
+std::vector<safety::TraceRow> find_traceability(const fs::path& dir, std::string& source) {
+  for (const fs::path& file :
+       {dir / "plan_results" / "traceability.csv", dir / "traceability.csv", dir / "analysis" / "traceability.csv"}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) continue;
+    source = fs::relative(file, dir).generic_string();
+    return read_traceability_csv(file);
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string base64(std::string_view bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const auto n = (static_cast<unsigned char>(bytes[i]) << 16) | (static_cast<unsigned char>(bytes[i + 1]) << 8) |
+                   static_cast<unsigned char>(bytes[i + 2]);
+    out += {kAlphabet[(n >> 18) & 63], kAlphabet[(n >> 12) & 63], kAlphabet[(n >> 6) & 63], kAlphabet[n & 63]};
+  }
+  if (i + 1 == bytes.size()) {
+    const auto n = static_cast<unsigned char>(bytes[i]) << 16;
+    out += {kAlphabet[(n >> 18) & 63], kAlphabet[(n >> 12) & 63], '=', '='};
+  } else if (i + 2 == bytes.size()) {
+    const auto n = (static_cast<unsigned char>(bytes[i]) << 16) | (static_cast<unsigned char>(bytes[i + 1]) << 8);
+    out += {kAlphabet[(n >> 18) & 63], kAlphabet[(n >> 12) & 63], kAlphabet[(n >> 6) & 63], '='};
+  }
+  return out;
+}
+
+std::string html_escape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& counts, const std::string& name,
+                       const std::string& title, const fs::path& dir) {
+  Figure f;
+  f.name = name;
+  f.title = title;
+  fsm::DotOptions options;
+  options.transition_counts = counts;
+  const std::string dot = fsm::to_dot(g, options);
+  core::write_file(dir / (name + ".dot"), dot);
+  std::vector<core::Row> rows;
+  for (std::size_t t = 0; t < g.transitions().size(); ++t) {
+    const auto& tr = g.transitions()[t];
+    rows.push_back({tr.from, tr.event, tr.to, t < counts.size() ? std::to_string(counts[t]) : "0"});
+  }
+  f.csv = dir / (name + ".csv");
+  core::write_file(f.csv, core::csv_table({"from", "event", "to", "count"}, rows));
+  f.svg = dir / (name + ".svg");
+  f.png = dir / (name + ".png");
+  core::write_file(f.svg, fsm::render(dot, "svg"));
+  core::write_file(f.png, fsm::render(dot, "png"));
+  return f;
+}
+
+std::vector<safety::TraceRow> read_traceability_csv(const fs::path& path) {
+  const auto records = core::parse_csv(core::read_input_file(path), path.string());
+  const core::Row header = safety::traceability_header();
+  if (records.empty() || records.front().fields != header)
+    throw InputError({path.string(), 1, 1},
+                     fmt::format("expected a traceability matrix with the header {}", core::join(header, ",")));
+  std::vector<safety::TraceRow> rows;
+  const auto split = [](const std::string& text, char sep) {
+    std::vector<std::string> out;
+    std::string item;
+    for (std::istringstream in(text); std::getline(in, item, sep);) {
+      const auto b = item.find_first_not_of(' ');
+      if (b != std::string::npos) out.push_back(item.substr(b));
+    }
+    return out;
+  };
+  for (std::size_t i = 1; i < records.size(); ++i) {
+    const auto& f = records[i].fields;
+    if (f.size() != header.size())
+      throw InputError({path.string(), records[i].lines.front(), 1},
+                       fmt::format("row has {} fields, the header {}", f.size(), header.size()));
+    safety::TraceRow r;
+    r.uca = f[0];
+    r.uca_type = f[1];
+    r.control_action = f[2];
+    r.hazard = f[3];
+    r.asil = f[4];
+    r.smil = f[5];
+    r.loss = f[6];
+    r.loss_name = f[7];
+    r.loss_reversible = f[8] == "yes";
+    r.transitions = split(f[9], ';');
+    r.region = f[10];
+    r.scenarios = split(f[11], ' ');
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+ReportSummary write_report(const fs::path& dir) {
+  check_results_dir(dir);
+  const auto store_path = dir / "results.sqlite";
+  const campaign::CampaignMeta meta = campaign::read_meta(store_path);
+  const std::vector<campaign::CellRecord> records = campaign::read_results(store_path);
+  const sim::SceneConfig scene = sim::parse_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
+  const fs::path figures_dir = dir / "figures";
+
+  ReportSummary summary;
+  const auto start = Clock::now();
+  const std::string grid = headline_grid(records);
+  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, scene.simulation.latency_s));
+  summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
+  summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
+  summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));
+  {
+    Figure coverage;
+    coverage.name = "coverage_comparison";
+    coverage.title = "Coverage comparison";
+    coverage.note = "no coverage.json (written by emrm plan and emrm reproduce) in this folder";
+    for (const fs::path& file : {dir / "plan" / "coverage.json", dir / "coverage.json"}) {
+      const std::string text = read_or_empty(file);
+      if (text.empty()) continue;
+      const auto j = nlohmann::json::parse(text, nullptr, false);
+      if (j.is_discarded()) throw InputError({file.string(), 1, 1}, "not valid JSON");
+      coverage = draw_coverage_comparison(j, figures_dir);
+      break;
+    }
+    summary.figures.push_back(coverage);
+  }
+  const auto emrm_coverage = campaign::emrm_fsm_coverage(records, sim::default_emrm_fsm());
+  summary.figures.push_back(draw_fsm_figure(sim::default_emrm_fsm(), emrm_coverage.coverage.counts, "emrm_fsm",
+                                            "EMRM hazard–loss FSM, transitions coloured by how often the runs took "
+                                            "them (dashed red: never)",
+                                            figures_dir));
+  const auto loss_coverage = campaign::loss_evaluation_fsm_coverage(records, sim::default_loss_evaluation_fsm());
+  summary.figures.push_back(draw_fsm_figure(sim::default_loss_evaluation_fsm(), loss_coverage.coverage.counts,
+                                            "loss_evaluation_fsm",
+                                            "Loss-evaluation FSM, transitions coloured by how often emrm's decisions "
+                                            "took them (dashed red: never)",
+                                            figures_dir));
+  std::string trace_source;
+  const auto trace_rows = find_traceability(dir, trace_source);
+  if (trace_rows.empty()) {
+    Figure f;
+    f.name = "traceability_matrix";
+    f.title = "Traceability matrix";
+    f.note = "no traceability.csv (written by emrm analyze, run and reproduce) in this folder";
+    summary.figures.push_back(f);
+  } else {
+    summary.figures.push_back(draw_traceability(trace_rows, figures_dir));
+    summary.figures.back().note = "from " + trace_source;
+  }
+  summary.figure_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  // report.html
+  const auto tables = read_tables(dir);
+  std::string html = "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  html += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  html += fmt::format("<title>emrm report: {}</title>\n<style>{}</style>\n<script>{}</script>\n</head>\n<body>\n",
+                      html_escape(dir.filename().string().empty() ? dir.string() : dir.filename().string()), kStyle,
+                      kScript);
+  html += "<h1>EMRM verification and validation report</h1>\n";
+  html += fmt::format(
+      "<p>Results folder <code>{}</code>: {} cells in {} grid(s), strategies {}; written by emrm {} (store "
+      "configuration {}); this report by emrm {}.</p>\n",
+      html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
+      html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
+  html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
+          "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
+          "<li><a href=\"#diagnostics\">Diagnostics</a></li><li><a href=\"#findings\">Findings</a></li>"
+          "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
+  html += "<h2 id=\"regions\">Regions per grid</h2>\n" + regions_html(records);
+  html += "<h2 id=\"tables\">Tables (ours beside the paper's)</h2>\n";
+  if (tables.empty()) html += "<p>No tables in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
+  for (const auto& t : tables) {
+    html += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
+    html += html_table(t.rows);
+    for (const auto& note : t.notes) html += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";
+  }
+  html += "<h2 id=\"figures\">Figures</h2>\n";
+  for (const auto& f : summary.figures) html += figure_html(f, dir);
+  html += "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + estimates_html(dir);
+  html += "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir);
+  html += "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
+  html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
+  html += "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) +
+          "</pre></details>\n";
+  html += "<details><summary>scene</summary><pre>" + html_escape(meta.scene_yaml) + "</pre></details>\n";
+  html += "</body>\n</html>\n";
+  summary.html = dir / "report.html";
+  core::write_file(summary.html, html);
+  return summary;
+}
+
+}  // namespace emrm::report

@@ -1,0 +1,222 @@
+// `emrm report` end to end: on the output of a small `emrm reproduce`, every figure exists as a
+// valid PNG and SVG with a CSV that agrees with the results store, report.html opens in headless
+// Chromium without console errors or broken images, and bad folders are bad input.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "run_emrm.hpp"
+#include "small_example.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// One reproduce for the whole suite (about a second): the tests read its folder.
+class ReportCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const auto example_dir = small_example("report");
+    out_ = new fs::path(example_dir.parent_path() / "out");
+    const auto r =
+        run_emrm("reproduce -o " + quoted(*out_) + " --examples " + quoted(example_dir) + " --sample 1 --threads 2");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    reproduce_out_ = new std::string(r.out);
+  }
+  static void TearDownTestSuite() {
+    delete out_;
+    delete reproduce_out_;
+  }
+  static fs::path* out_;
+  static std::string* reproduce_out_;
+};
+fs::path* ReportCli::out_ = nullptr;
+std::string* ReportCli::reproduce_out_ = nullptr;
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(read_text(file));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields;
+    std::string field;
+    bool quoted_field = false;
+    for (char c : line) {
+      if (c == '"') quoted_field = !quoted_field;
+      else if (c == ',' && !quoted_field) fields.push_back(std::exchange(field, {}));
+      else field += c;
+    }
+    fields.push_back(field);
+    rows.push_back(std::move(fields));
+  }
+  return rows;
+}
+
+std::size_t column(const std::vector<std::string>& header, const std::string& name) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  EXPECT_NE(it, header.end()) << name;
+  return static_cast<std::size_t>(it - header.begin());
+}
+
+bool is_png(const fs::path& file) {
+  const std::string bytes = read_text(file);
+  return bytes.size() > 1000 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
+}
+
+bool is_svg(const fs::path& file) {
+  const std::string text = read_text(file);
+  return text.size() > 500 && (text.rfind("<?xml", 0) == 0 || text.rfind("<svg", 0) == 0) &&
+         text.find("</svg>") != std::string::npos;
+}
+
+TEST_F(ReportCli, ReproduceEndsWithTheReport) {
+  EXPECT_THAT(*reproduce_out_, HasSubstr("Report: "));
+  EXPECT_THAT(*reproduce_out_, HasSubstr("report.html"));
+  EXPECT_TRUE(fs::exists(*out_ / "report.html"));
+}
+
+TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
+  const auto r = run_emrm("report " + quoted(*out_));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* name : {"mitigability_map", "trajectory_grid", "loss_comparison", "sweep_curves",
+                           "coverage_comparison", "emrm_fsm", "loss_evaluation_fsm", "traceability_matrix"}) {
+    const fs::path base = *out_ / "figures" / name;
+    EXPECT_TRUE(is_png(base.string() + ".png")) << name;
+    EXPECT_TRUE(is_svg(base.string() + ".svg")) << name;
+    EXPECT_TRUE(fs::exists(base.string() + ".csv")) << name;
+  }
+}
+
+TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
+  ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
+  // The store's cells, as exported by the sweep.
+  const auto regions = read_csv(*out_ / "regions.csv");
+  const auto& rh = regions.front();
+  std::map<std::string, std::string> region_of;  // "speed ttc" of the fine grid -> region
+  for (std::size_t i = 1; i < regions.size(); ++i)
+    if (regions[i][column(rh, "grid")] == "fine")
+      region_of[regions[i][column(rh, "speed_kph")] + " " + regions[i][column(rh, "ttc_s")]] =
+          regions[i][column(rh, "region")];
+
+  const auto map = read_csv(*out_ / "figures" / "mitigability_map.csv");
+  const auto& mh = map.front();
+  std::size_t fine_rows = 0;
+  for (std::size_t i = 1; i < map.size(); ++i) {
+    if (map[i][column(mh, "grid")] != "fine") continue;
+    ++fine_rows;
+    const std::string key = map[i][column(mh, "speed_kph")] + " " + map[i][column(mh, "ttc_s")];
+    ASSERT_TRUE(region_of.count(key)) << key;
+    EXPECT_EQ(map[i][column(mh, "region")], region_of[key]) << key;
+  }
+  EXPECT_EQ(fine_rows, region_of.size());
+
+  // Collision-avoidance rates of the loss comparison, recounted from cells.csv (one row per
+  // feasible cell and strategy).
+  const auto cells = read_csv(*out_ / "cells.csv");
+  const auto& ch = cells.front();
+  std::map<std::string, std::pair<int, int>> avoided;  // strategy -> (avoided, feasible cells)
+  for (std::size_t i = 1; i < cells.size(); ++i) {
+    if (cells[i][column(ch, "grid")] != "fine") continue;
+    auto& [yes, all] = avoided[cells[i][column(ch, "strategy")]];
+    yes += cells[i][column(ch, "avoided")] == "1";
+    ++all;
+  }
+  const auto loss = read_csv(*out_ / "figures" / "loss_comparison.csv");
+  const auto& lh = loss.front();
+  int checked = 0;
+  for (std::size_t i = 1; i < loss.size(); ++i) {
+    const std::string s = loss[i][column(lh, "strategy")];
+    if (!avoided.count(s)) continue;
+    const double expected = 100.0 * avoided[s].first / avoided[s].second;
+    EXPECT_NEAR(std::stod(loss[i][column(lh, "collision_avoidance_rate_pct")]), expected, 1e-3) << s;  // 6 digits
+    ++checked;
+  }
+  EXPECT_EQ(checked, 5);
+
+  // The EMRM FSM figure's counts are the transitions of the stored traces: every count is a number
+  // and the detection transition was taken at least once.
+  const auto fsm = read_csv(*out_ / "figures" / "emrm_fsm.csv");
+  bool detection = false;
+  for (std::size_t i = 1; i < fsm.size(); ++i)
+    if (fsm[i][1] == "hazard_detected") detection = std::stoi(fsm[i][3]) > 0;
+  EXPECT_TRUE(detection);
+}
+
+TEST_F(ReportCli, HtmlOpensInHeadlessChromiumWithoutErrorsOrMissingImages) {
+  ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
+  const char* candidates[] = {"/usr/bin/chromium", "/usr/bin/chromium-browser"};
+  std::string chromium;
+  for (const char* c : candidates)
+    if (fs::exists(c)) chromium = c;
+  if (chromium.empty()) GTEST_SKIP() << "Chromium is not installed (scripts/install-deps.sh installs it)";
+  const fs::path html = fs::absolute(*out_ / "report.html");
+  const fs::path shot = *out_ / "report_screenshot.png";
+  const fs::path dom = *out_ / "report_dom.html";
+  const fs::path log = *out_ / "chromium.log";
+  const std::string flags = "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --virtual-time-budget=10000 ";
+  ASSERT_EQ(std::system((chromium + " " + flags + "--window-size=1280,2000 --screenshot=" + quoted(shot) +
+                         " file://" + html.string() + " > /dev/null 2> " + quoted(log))
+                            .c_str()),
+            0)
+      << read_text(log);
+  EXPECT_TRUE(is_png(shot));
+  ASSERT_EQ(std::system((chromium + " " + flags + "--enable-logging=stderr --dump-dom file://" + html.string() +
+                         " > " + quoted(dom) + " 2> " + quoted(log))
+                            .c_str()),
+            0)
+      << read_text(log);
+  const std::string page = read_text(dom);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(page, m, std::regex("<body[^>]*data-images=\"(\\d+)\"[^>]*>"))) << page.substr(0, 2000);
+  EXPECT_GE(std::stoi(m[1]), 8);  // every figure embedded
+  EXPECT_THAT(m[0].str(), HasSubstr("data-broken-images=\"0\""));
+  EXPECT_THAT(m[0].str(), HasSubstr("data-errors=\"0\""));
+  EXPECT_THAT(read_text(log), ::testing::Not(HasSubstr("Uncaught")));
+  EXPECT_THAT(read_text(log), ::testing::Not(HasSubstr(":CONSOLE")));
+}
+
+TEST(ReportCliBadInput, MissingEmptyOrOtherFoldersAreBadInput) {
+  const auto dir = scratch_dir("report-bad");
+  auto r = run_emrm("report " + quoted(dir / "nowhere"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("does not exist"));
+
+  fs::create_directories(dir / "empty");
+  r = run_emrm("report " + quoted(dir / "empty"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("holds no results.sqlite"));
+
+  write_text(dir / "file.txt", "not a folder");
+  r = run_emrm("report " + quoted(dir / "file.txt"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("is not a folder"));
+
+  fs::create_directories(dir / "garbage");
+  write_text(dir / "garbage" / "results.sqlite", "this is not a database");
+  r = run_emrm("report " + quoted(dir / "garbage"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST_F(ReportCli, AStoreOfAnotherSchemaVersionIsBadInput) {
+  const auto dir = scratch_dir("report-old");
+  fs::create_directories(dir);
+  fs::copy_file(*out_ / "results.sqlite", dir / "results.sqlite");
+  ASSERT_EQ(std::system(("sqlite3 " + quoted(dir / "results.sqlite") +
+                         " \"UPDATE meta SET value = '1' WHERE key = 'schema_version'\"")
+                            .c_str()),
+            0);
+  const auto r = run_emrm("report " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("schema version 1"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e
