@@ -1,0 +1,168 @@
+// `emrm run` end to end: a small plan is simulated through the campaign engine; the per-cell Wilson
+// intervals follow from the stored outcomes by the closed form; a rerun resumes; results do not
+// depend on the thread count; the traceability matrix gets its scenarios; bad files are bad input.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "run_emrm.hpp"
+#include "small_example.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+std::vector<std::vector<std::string>> csv_rows(const fs::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(read_text(file));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields;
+    std::string field;
+    bool in_quotes = false;
+    for (char c : line) {
+      if (c == '"') in_quotes = !in_quotes;
+      else if (c == ',' && !in_quotes) fields.push_back(std::exchange(field, {}));
+      else field += c;
+    }
+    fields.push_back(field);
+    rows.push_back(std::move(fields));
+  }
+  return rows;
+}
+
+std::size_t at(const std::vector<std::string>& header, const std::string& name) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  EXPECT_NE(it, header.end()) << name;
+  return static_cast<std::size_t>(it - header.begin());
+}
+
+// Wilson score interval, written out independently of the library.
+std::pair<double, double> wilson(double k, double n, double z) {
+  const double p = k / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = z / (1 + z2 / n) * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+class RunCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const auto example_dir = small_example("run");
+    plan_ = new fs::path(example_dir.parent_path() / "plan");
+    const auto r = run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(*plan_));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  }
+  static void TearDownTestSuite() { delete plan_; }
+  static fs::path* plan_;
+};
+fs::path* RunCli::plan_ = nullptr;
+
+TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
+  const auto out = plan_->parent_path() / "results";
+  const auto r = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("S(all) = "));
+
+  // Successes per cell from outcomes.csv; the intervals of estimates.csv by the closed form.
+  const auto outcomes = csv_rows(out / "outcomes.csv");
+  std::map<std::string, std::pair<int, int>> per_cell;
+  double weighted = 0.0, weights = 0.0;
+  for (std::size_t i = 1; i < outcomes.size(); ++i) {
+    const auto& h = outcomes.front();
+    if (outcomes[i][at(h, "feasible")] != "yes") continue;
+    const int y = std::stoi(outcomes[i][at(h, "success")]);
+    auto& [k, n] = per_cell[outcomes[i][at(h, "cell")]];
+    k += y;
+    ++n;
+    const double w = std::stod(outcomes[i][at(h, "weight")]);
+    weighted += w * y;
+    weights += w;
+  }
+  ASSERT_FALSE(per_cell.empty());
+  const auto estimates = csv_rows(out / "estimates.csv");
+  const auto& h = estimates.front();
+  EXPECT_EQ(estimates.size() - 1, per_cell.size());
+  for (std::size_t i = 1; i < estimates.size(); ++i) {
+    const auto& [k, n] = per_cell.at(estimates[i][at(h, "cell")]);
+    EXPECT_EQ(std::stoi(estimates[i][at(h, "n")]), n);
+    EXPECT_EQ(std::stoi(estimates[i][at(h, "successes")]), k);
+    const auto [low, high] = wilson(k, n, 1.959963985);
+    EXPECT_NEAR(std::stod(estimates[i][at(h, "wilson_low")]), low, 1e-5);
+    EXPECT_NEAR(std::stod(estimates[i][at(h, "wilson_high")]), high, 1e-5);
+    // Hoeffding: eps = sqrt(ln(2/delta) / (2n)) at delta 0.05.
+    EXPECT_NEAR(std::stod(estimates[i][at(h, "hoeffding_epsilon")]), std::sqrt(std::log(40.0) / (2.0 * n)), 1e-5);
+  }
+  // S(all) is the weighted success rate.
+  const auto j = nlohmann::json::parse(read_text(out / "estimates.json"));
+  EXPECT_NEAR(j["weighted_success"]["all"]["estimate"].get<double>(), weighted / weights, 1e-5);  // 6-digit weights
+
+  // The traceability matrix of the analysis layer, scenarios filled: every UCA row names scenarios
+  // whose malfunctions include that UCA.
+  const auto trace = csv_rows(out / "traceability.csv");
+  const auto& th = trace.front();
+  int with_scenarios = 0;
+  for (std::size_t i = 1; i < trace.size(); ++i) with_scenarios += !trace[i][at(th, "scenarios")].empty();
+  EXPECT_GT(with_scenarios, 0);
+
+  // A rerun resumes and simulates nothing.
+  const auto again = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out));
+  ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
+  EXPECT_THAT(again.out, HasSubstr("0 simulated"));
+}
+
+TEST_F(RunCli, ResultsDoNotDependOnTheThreadCount) {
+  const auto one = plan_->parent_path() / "one";
+  const auto two = plan_->parent_path() / "two";
+  ASSERT_EQ(run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(one) + " --threads 1").exit_code, 0);
+  ASSERT_EQ(run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(two) + " --threads 2").exit_code, 0);
+  EXPECT_EQ(read_text(one / "outcomes.csv"), read_text(two / "outcomes.csv"));
+  EXPECT_EQ(read_text(one / "estimates.csv"), read_text(two / "estimates.csv"));
+}
+
+TEST_F(RunCli, BadScenarioFilesAreBadInputWithLocation) {
+  const auto dir = plan_->parent_path() / "bad";
+  fs::create_directories(dir);
+  const std::string good = read_text(*plan_ / "scenarios.csv");
+  const auto second_line = good.find('\n') + 1;
+
+  // A value that is not a number, in row 2: the message names line 2.
+  std::string text = good;
+  const auto comma = text.find(',', text.find(',', second_line) + 1);  // after id and step
+  text.insert(comma + 1, "x");
+  write_text(dir / "scenarios.csv", text);
+  auto r = run_emrm("run " + quoted(dir / "scenarios.csv") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_THAT(r.err, HasSubstr("scenarios.csv:2:"));
+  EXPECT_THAT(r.err, HasSubstr("expected a finite number"));
+
+  // A missing column.
+  write_text(dir / "scenarios.csv", "id,step,speed_kph\nS1,boundary,30\n");
+  r = run_emrm("run " + quoted(dir / "scenarios.csv") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("scenarios.csv:1:1"));
+
+  // A file that does not exist.
+  r = run_emrm("run " + quoted(dir / "nothing.csv") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("does not exist"));
+
+  // A value the simulator rejects (negative speed).
+  std::string negative = good;
+  const auto speed = negative.find(',', negative.find(',', second_line) + 1) + 1;
+  negative.replace(speed, negative.find(',', speed) - speed, "-5");
+  write_text(dir / "scenarios.csv", negative);
+  r = run_emrm("run " + quoted(dir / "scenarios.csv") + " -o " + quoted(dir / "out2"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("scenarios.csv:2:"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e
