@@ -372,6 +372,8 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node) {
       f.nominal = f.class_values[static_cast<std::size_t>(it - f.classes.begin())];
     } else {
       f.nominal = core::scalar_number(n);
+      if (f.type == FactorType::kInteger && f.nominal != std::round(f.nominal))
+        n.fail(fmt::format("nominal of the integer factor '{}' must be a whole number, got {:g}", f.name, f.nominal));
       if (f.nominal < f.domain_min() || f.nominal > f.domain_max())
         n.fail(fmt::format("nominal {:g} lies outside the domain [{:g}, {:g}]", f.nominal, f.domain_min(),
                            f.domain_max()));

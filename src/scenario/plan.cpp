@@ -129,12 +129,13 @@ class Builder {
 
   // A new admissible point inside cell `c`, with factor `fixed` at `fixed_value` if given, for
   // which `extra` holds: random draws first, then the cell's probe points.
+  // With `anywhere`, the point may leave the cell (a bin edge pinned from the bin below it).
   template <class Predicate>
   std::optional<std::vector<double>> sample(std::size_t c, std::optional<std::size_t> fixed, double fixed_value,
-                                            Predicate extra) {
+                                            Predicate extra, bool anywhere = false) {
     const auto ok = [&](std::vector<double>& p) {
       if (fixed) p[*fixed] = fixed_value;
-      return odd_.cell_of(p) == cells_[c].levels && odd_.admissible(p) && extra(p) &&
+      return (anywhere || odd_.cell_of(p) == cells_[c].levels) && odd_.admissible(p) && extra(p) &&
              !seen_.count(point_key(p));
     };
     const std::vector<int>& levels = cells_[c].levels;
@@ -203,25 +204,36 @@ bool hits(const std::vector<Scenario>& scenarios, const BoundaryTarget& t) {
 // targets of other factors as stay admissible.
 std::size_t boundary_seed(const Odd& odd, Builder& b, Plan& plan) {
   const auto targets = boundary_targets(odd);
+  std::vector<const BoundaryTarget*> unreachable;
   std::size_t added = 0;
   for (const auto& t : targets) {
     if (hits(b.scenarios(), t)) continue;
-    const int level = odd.factors[t.factor].level_of(t.value);
+    const OddFactor& f = odd.factors[t.factor];
+    const int level = f.level_of(t.value);
     std::optional<std::vector<double>> point;
     for (std::size_t c : b.least_tested(t.factor, level))
       if ((point = b.sample(c, t.factor, t.value, kAnyPoint))) break;
+    // An edge closes the bin below it too: the checker counts a point there as reaching it.
+    if (!point && f.is_numeric_range() && level > 0 && t.value == f.lower(level))
+      for (std::size_t c : b.least_tested(t.factor, level - 1))
+        if ((point = b.sample(c, t.factor, t.value, kAnyPoint, true))) break;
     if (!point) {
-      plan.infeasible.push_back("boundary " + target_label(odd, t));
+      unreachable.push_back(&t);
       continue;
     }
+    // Other pending targets join the test while it stays admissible and in a relevant cell.
     for (const auto& other : targets) {
-      if (other.factor == t.factor || (*point)[other.factor] == other.value || hits(b.scenarios(), other)) continue;
+      if (other.factor == t.factor || (*point)[other.factor] == other.value || hits(b.scenarios(), other) ||
+          std::find(unreachable.begin(), unreachable.end(), &other) != unreachable.end())
+        continue;
       std::vector<double> trial = *point;
       trial[other.factor] = other.value;
-      if (odd.admissible(trial)) point = std::move(trial);
+      if (odd.admissible(trial) && b.cell_index(odd.cell_of(trial))) point = std::move(trial);
     }
     added += b.add(*point, "boundary") ? 1 : 0;
   }
+  for (const auto* t : unreachable)
+    if (!hits(b.scenarios(), *t)) plan.infeasible.push_back("boundary " + target_label(odd, *t));
   return added;
 }
 
@@ -461,9 +473,10 @@ Plan build_plan(const Odd& odd) {
                                    short_cells, plan.tests_per_tracked_cell);
   else
     plan.stop_reason = fmt::format("targets not met: {}{}",
-                                   short_cells ? fmt::format("{} tracked cells have too few distinct points; ", short_cells)
+                                   short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
+                                                             short_cells, plan.shortfalls.empty() ? "" : "; ")
                                                : std::string(),
-                                   plan.shortfalls.empty() ? std::string("see above") : core::join(plan.shortfalls, "; "));
+                                   core::join(plan.shortfalls, "; "));
 
   // Weights w = π(cell) / q(cell) with q the plan's own cell frequencies; ids in plan order.
   auto& scenarios = b.scenarios();
