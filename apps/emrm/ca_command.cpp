@@ -20,6 +20,7 @@ struct CaOptions {
   std::string levels;
   int strength = 2;
   std::uint64_t seed = 1;
+  double effort = scenario::CoveringArrayOptions{}.improvement_effort;
   bool check = false;
 };
 
@@ -67,6 +68,7 @@ int run(const CaOptions& o) {
   scenario::CoveringArrayOptions options;
   options.strength = o.strength;
   options.seed = o.seed;
+  options.improvement_effort = o.effort;
   const auto start = std::chrono::steady_clock::now();
   const scenario::CoveringArray ca = scenario::generate_covering_array(levels, options, violates);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -111,6 +113,10 @@ void register_ca_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--levels", o->levels, "Comma-separated level counts, e.g. 3,3,3,3 (instead of a model)");
   cmd->add_option("--strength,-t", o->strength, "Interaction strength t, 2 or 3")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same array")
+      ->capture_default_str();
+  cmd->add_option("--effort", o->effort,
+                  "Effort of the row-removing search after the greedy array (0: greedy only)")
+      ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   cmd->add_flag("--check", o->check, "Verify the array by brute force and print OK (exit 1 if not)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });

@@ -2,7 +2,8 @@
 
 // Covering arrays of strength 2 and 3 over mixed-level factors, with constraints and forced seed
 // rows. Every t-tuple of values that some valid row can contain appears in at least one row.
-// The generator is greedy, one row at a time, in the AETG/PICT family (docs/covering-arrays.md).
+// A greedy construction, one row at a time in the AETG/PICT family, is followed by a tabu search
+// that removes rows while coverage can be repaired (docs/covering-arrays.md).
 
 #include <cstddef>
 #include <cstdint>
@@ -25,14 +26,19 @@ inline constexpr int kDontCare = -1;
 using RowViolates = std::function<bool(std::span<const int> row)>;
 
 struct CoveringArrayOptions {
-  int strength = 2;                         ///< t, 2 or 3
-  std::uint64_t seed = 1;                   ///< same seed, same array
-  int candidates_per_row = 24;              ///< candidate rows built per emitted row
-  int restarts = 6;                         ///< whole-array attempts; the smallest is kept
-  bool remove_redundant_rows = true;        ///< drop rows whose every tuple is covered elsewhere
-  std::int64_t improvement_moves = 400000;
-  std::int64_t improvement_patience = 50000;
-  std::int64_t improvement_tabu_tenure = 4;
+  int strength = 2;                   ///< t, 2 or 3
+  std::uint64_t seed = 1;             ///< same seed, same array
+  int candidates_per_row = 24;        ///< candidate rows built per emitted row
+  int restarts = 2;                   ///< whole-array greedy attempts; the smallest is kept
+  bool remove_redundant_rows = true;  ///< drop rows whose every tuple is covered elsewhere
+  /// Effort of the post-optimisation that removes rows from the greedy array (a tabu search, see
+  /// docs/covering-arrays.md): it gives up on a size after this many moves per required t-tuple
+  /// without a new lowest count of uncovered tuples, and returns the last complete array. 0 keeps
+  /// the greedy array. Effort counts moves, not time, so results do not depend on the machine.
+  double improvement_effort = 10.0;
+  /// Cap on the post-optimisation's moves in all, whatever the effort. A move costs about 1-5 us
+  /// in a Release build, more with more rows and more t-subsets through a column.
+  std::int64_t improvement_max_moves = 500'000;
   std::vector<std::vector<int>> seed_rows;  ///< forced first rows; kDontCare entries are filled
 };
 
@@ -45,9 +51,10 @@ struct CoveringArray {
 };
 
 /// Builds a covering array of `options.strength` over factors with `levels[i]` values each.
-/// Deterministic for equal inputs and seed. Throws std::invalid_argument when strength is not 2
-/// or 3, exceeds levels.size(), a level count is < 1, a seed row has the wrong length or an
-/// out-of-range entry, or options are non-positive; throws std::domain_error when no valid row
+/// Deterministic for equal inputs, options and seed. Throws std::invalid_argument when strength is
+/// not 2 or 3, exceeds levels.size(), a level count is < 1, a seed row has the wrong length or an
+/// out-of-range entry, candidates_per_row or restarts are non-positive, or improvement_effort is
+/// outside [0, 1e6] or improvement_max_moves negative; throws std::domain_error when no valid row
 /// exists or a seed row cannot be completed without breaking a constraint.
 [[nodiscard]] CoveringArray generate_covering_array(const std::vector<int>& levels,
                                                     const CoveringArrayOptions& options,

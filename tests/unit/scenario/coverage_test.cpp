@@ -449,8 +449,8 @@ TEST(CoverageJson, ListsEveryCountAndConstraintInOrder) {
   std::vector<std::string> keys;
   for (const auto& item : j.items()) keys.push_back(item.key());
   EXPECT_EQ(keys, (std::vector<std::string>{"name", "scenarios", "inadmissible", "hazards", "malfunctions",
-                                            "transitions", "cells", "boundaries", "twise", "c1", "c2", "c3",
-                                            "c4", "all"}));
+                                            "tests_per_malfunction", "transitions", "cells", "boundaries", "twise",
+                                            "c1", "c2", "c3", "c4", "all"}));
   EXPECT_EQ(j["name"], "two points");
   EXPECT_EQ(j["scenarios"], 2);
   EXPECT_EQ(j["inadmissible"], 1);
@@ -458,6 +458,8 @@ TEST(CoverageJson, ListsEveryCountAndConstraintInOrder) {
   EXPECT_EQ(j["hazards"]["total"], 5);
   EXPECT_DOUBLE_EQ(j["hazards"]["fraction"].get<double>(), 0.6);
   EXPECT_EQ(j["malfunctions"]["missing"], nlohmann::ordered_json::array({"M2"}));
+  // Per mode, the admissible tests inside its region (M2 has none).
+  EXPECT_EQ(j["tests_per_malfunction"]["M2"], 0);
   EXPECT_EQ(j["c4"], false);
   EXPECT_EQ(j["all"], r.all());
 }

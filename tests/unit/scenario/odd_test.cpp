@@ -1,1 +1,679 @@
+#include "emrm/scenario/odd.hpp"
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "emrm/core/error.hpp"
+
+namespace emrm::scenario {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+// Five factors, one of each kind (and a second continuous one that is not influential).
+constexpr const char* kGood = R"(name: unit odd
+seed: 7
+factors:
+  - name: v
+    unit: km/h
+    bins: [10, 20, 40]
+    kinks: [15]
+  - name: n
+    type: integer
+    bins: [0, 2, 5]
+  - name: road
+    type: categorical
+    classes: [dry, wet, icy]
+    values: [1.0, 0.6, 0.2]
+  - name: lanes
+    type: constant
+    value: 2
+  - name: w
+    bins: [0, 1, 2, 3]
+    prior: [0.2, 0.5, 0.3]
+    influential: false
+coverage:
+  strength: 2
+  n_c: 1
+  n_m: 2
+  epsilon: 0.3
+  delta: 0.05
+  budget: 100
+)";
+
+fs::path temp_dir() {
+  const auto dir = fs::temp_directory_path() / ("emrm-odd-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path examples_dir() { return fs::path(EMRM_SOURCE_DIR) / "examples" / "tjunction"; }
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+Odd parse(const std::string& text) { return parse_odd(text, "odd.yaml", temp_dir()); }
+
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "test text lacks '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+// 1-based line and column of the first occurrence of `needle` in `text`, moved `offset` characters.
+struct Pos {
+  int line = 0;
+  int column = 0;
+};
+Pos pos_of(const std::string& text, const std::string& needle, int offset = 0) {
+  const auto at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << "no '" << needle << "' in the text";
+  if (at == std::string::npos) return {};
+  const std::size_t p = at + static_cast<std::size_t>(offset);
+  Pos pos{1, 1};
+  const auto line_start = text.rfind('\n', p == 0 ? 0 : p - 1);
+  for (std::size_t i = 0; i < p; ++i)
+    if (text[i] == '\n') ++pos.line;
+  pos.column = static_cast<int>(line_start == std::string::npos || p == 0 ? p + 1 : p - line_start);
+  return pos;
+}
+
+// Parses `text` and returns the InputError it must raise.
+InputError parse_error(const std::string& text) {
+  try {
+    (void)parse(text);
+  } catch (const InputError& e) {
+    return e;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected an InputError, got: " << e.what();
+    return InputError({}, "none");
+  }
+  ADD_FAILURE() << "expected an InputError for:\n" << text;
+  return InputError({}, "none");
+}
+
+// The error of `text` lies at the first occurrence of `needle` (plus `offset`) and says `words`.
+void expect_error_at(const std::string& text, const std::string& needle, int offset, const std::string& words) {
+  SCOPED_TRACE(needle);
+  const InputError e = parse_error(text);
+  if (e.message() == "none") return;  // parse_error has reported the missing error
+  const Pos p = pos_of(text, needle, offset);
+  EXPECT_EQ(e.where().file, "odd.yaml");
+  EXPECT_EQ(e.where().line, p.line) << e.what();
+  EXPECT_EQ(e.where().column, p.column) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr(words));
+  EXPECT_THAT(e.what(), HasSubstr("odd.yaml:" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: "));
+}
+
+// ---- a good ODD ---------------------------------------------------------------------------------
+
+TEST(OddLoad, PosHelperCountsFromOne) {
+  // The helper the error tests rely on.
+  const Pos a = pos_of("ab\ncd", "a");
+  const Pos d = pos_of("ab\ncd", "d");
+  EXPECT_EQ(a.line, 1);
+  EXPECT_EQ(a.column, 1);
+  EXPECT_EQ(d.line, 2);
+  EXPECT_EQ(d.column, 2);
+}
+
+TEST(OddLoad, FactorsKeepTheirKindsLevelsAndLabels) {
+  const Odd odd = parse(kGood);
+  EXPECT_EQ(odd.name, "unit odd");
+  EXPECT_EQ(odd.seed, 7u);
+  ASSERT_EQ(odd.factors.size(), 5u);
+  EXPECT_EQ(odd.factor_names(), (std::vector<std::string>{"v", "n", "road", "lanes", "w"}));
+  EXPECT_EQ(odd.factor_index("road"), 2u);
+  EXPECT_FALSE(odd.factor_index("nope").has_value());
+  const auto& v = odd.factors[0];
+  const auto& n = odd.factors[1];
+  const auto& road = odd.factors[2];
+  const auto& lanes = odd.factors[3];
+  const auto& w = odd.factors[4];
+  EXPECT_EQ(v.type, FactorType::kContinuous);
+  EXPECT_EQ(n.type, FactorType::kInteger);
+  EXPECT_EQ(road.type, FactorType::kCategorical);
+  EXPECT_EQ(lanes.type, FactorType::kConstant);
+  EXPECT_EQ(v.unit, "km/h");
+  EXPECT_EQ(v.levels(), 2);
+  EXPECT_EQ(n.levels(), 2);
+  EXPECT_EQ(road.levels(), 3);
+  EXPECT_EQ(lanes.levels(), 1);
+  EXPECT_EQ(w.levels(), 3);
+  EXPECT_EQ(v.level_label(0), "[10, 20)");
+  EXPECT_EQ(v.level_label(1), "[20, 40]");  // the last bin is closed
+  EXPECT_EQ(n.level_label(0), "[0, 2)");
+  EXPECT_EQ(road.level_label(1), "wet");
+  EXPECT_EQ(lanes.level_label(0), "2");
+  EXPECT_DOUBLE_EQ(v.domain_min(), 10.0);
+  EXPECT_DOUBLE_EQ(v.domain_max(), 40.0);
+  EXPECT_DOUBLE_EQ(road.domain_min(), 0.2);
+  EXPECT_DOUBLE_EQ(road.domain_max(), 1.0);
+  EXPECT_DOUBLE_EQ(lanes.domain_min(), 2.0);
+  EXPECT_DOUBLE_EQ(lanes.domain_max(), 2.0);
+  EXPECT_THAT(v.kinks, ElementsAre(15.0));
+  EXPECT_DOUBLE_EQ(odd.cell_count(), 2.0 * 2 * 3 * 1 * 3);
+  EXPECT_EQ(odd.strength, 2);
+  EXPECT_EQ(odd.n_m, 2);
+  EXPECT_DOUBLE_EQ(odd.epsilon, 0.3);
+  EXPECT_EQ(odd.budget, 100u);
+}
+
+TEST(OddLoad, LevelOfUsesHalfOpenBinsAClosedLastBinAndClamps) {
+  const Odd odd = parse(kGood);
+  const auto& v = odd.factors[0];
+  EXPECT_EQ(v.level_of(10.0), 0);
+  EXPECT_EQ(v.level_of(19.999999), 0);
+  EXPECT_EQ(v.level_of(20.0), 1);  // an edge starts the next bin
+  EXPECT_EQ(v.level_of(40.0), 1);  // the top edge belongs to the last bin
+  EXPECT_EQ(v.level_of(-5.0), 0);  // clamped
+  EXPECT_EQ(v.level_of(1e9), 1);
+  const auto& n = odd.factors[1];
+  EXPECT_EQ(n.level_of(0.0), 0);
+  EXPECT_EQ(n.level_of(1.0), 0);
+  EXPECT_EQ(n.level_of(2.0), 1);
+  EXPECT_EQ(n.level_of(5.0), 1);
+  const auto& w = odd.factors[4];
+  EXPECT_EQ(w.level_of(1.0), 1);
+  EXPECT_EQ(w.level_of(2.0), 2);
+  EXPECT_EQ(w.level_of(3.0), 2);
+  // Every bin's lower edge maps to the bin, every value just below an inner edge to the one before.
+  for (int k = 0; k < w.levels(); ++k) {
+    EXPECT_EQ(w.level_of(w.lower(k)), k);
+    if (k > 0) {
+      EXPECT_EQ(w.level_of(std::nextafter(w.lower(k), -1.0)), k - 1);
+    }
+  }
+  const auto& road = odd.factors[2];
+  EXPECT_EQ(road.level_of(1.0), 0);
+  EXPECT_EQ(road.level_of(0.6), 1);
+  EXPECT_EQ(road.level_of(0.2), 2);
+  EXPECT_EQ(road.level_of(0.55), 1);  // nearest class number
+  EXPECT_EQ(road.level_of(-3.0), 2);
+  EXPECT_EQ(odd.factors[3].level_of(123.0), 0);
+}
+
+TEST(OddLoad, DefaultPriorsFollowBinWidthIntegerCountOrUniform) {
+  const Odd odd = parse(kGood);
+  // Continuous: proportional to bin width, 10 and 20 of 30.
+  EXPECT_THAT(odd.factors[0].prior, ElementsAre(::testing::DoubleNear(1.0 / 3, 1e-12), ::testing::DoubleNear(2.0 / 3, 1e-12)));
+  // Integer [0, 2) holds {0, 1}, the closed [2, 5] holds {2, 3, 4, 5}: 2 and 4 of 6.
+  EXPECT_THAT(odd.factors[1].prior, ElementsAre(::testing::DoubleNear(2.0 / 6, 1e-12), ::testing::DoubleNear(4.0 / 6, 1e-12)));
+  // Categorical: uniform.
+  for (double p : odd.factors[2].prior) EXPECT_NEAR(p, 1.0 / 3, 1e-12);
+  EXPECT_THAT(odd.factors[3].prior, ElementsAre(::testing::DoubleNear(1.0, 1e-12)));
+  // Given: kept.
+  EXPECT_THAT(odd.factors[4].prior, ElementsAre(0.2, 0.5, 0.3));
+  for (const auto& f : odd.factors) {
+    ASSERT_EQ(static_cast<int>(f.prior.size()), f.levels()) << f.name;
+    double sum = 0.0;
+    for (double p : f.prior) sum += p;
+    EXPECT_NEAR(sum, 1.0, 1e-12) << f.name;
+  }
+}
+
+TEST(OddLoad, DefaultNominalIsTheCentreOfTheMostProbableBin) {
+  const Odd odd = parse(kGood);
+  EXPECT_DOUBLE_EQ(odd.factors[0].nominal, 30.0);  // [20, 40] has 2/3
+  EXPECT_DOUBLE_EQ(odd.factors[1].nominal, 3.0);   // [2, 5]: an integer near its centre 3.5
+  EXPECT_DOUBLE_EQ(odd.factors[2].nominal, 1.0);   // uniform: the first class, dry = 1.0
+  EXPECT_DOUBLE_EQ(odd.factors[3].nominal, 2.0);   // the constant
+  EXPECT_DOUBLE_EQ(odd.factors[4].nominal, 1.5);   // [1, 2) has 0.5
+  // A given nominal wins; a categorical nominal is a class name.
+  const Odd given = parse(replace_once(replace_once(kGood, "    kinks: [15]\n", "    kinks: [15]\n    nominal: 12.5\n"),
+                                       "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    nominal: icy\n"));
+  EXPECT_DOUBLE_EQ(given.factors[0].nominal, 12.5);
+  EXPECT_DOUBLE_EQ(given.factors[2].nominal, 0.2);
+}
+
+TEST(OddLoad, ClassesWithoutValuesAreNumberedFromZero) {
+  const Odd odd = parse(replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", ""));
+  EXPECT_THAT(odd.factors[2].class_values, ElementsAre(0.0, 1.0, 2.0));
+  EXPECT_EQ(odd.factors[2].level_of(2.0), 2);
+}
+
+TEST(OddLoad, InfluentialFactorsExcludeOptOutsAndSingleLevels) {
+  const Odd odd = parse(kGood);
+  // lanes is constant (one level), w says influential: false.
+  EXPECT_THAT(odd.influential(), ElementsAre(0u, 1u, 2u));
+  EXPECT_TRUE(odd.factors[0].influential);
+  EXPECT_FALSE(odd.factors[3].influential);
+  EXPECT_FALSE(odd.factors[4].influential);
+  // A constant declared influential still has one level and is no part of Q_f.
+  const Odd forced = parse(replace_once(kGood, "    value: 2\n", "    value: 2\n    influential: true\n"));
+  EXPECT_THAT(forced.influential(), ElementsAre(0u, 1u, 2u));
+}
+
+TEST(OddLoad, CellOfMapsEveryFactorToItsLevel) {
+  const Odd odd = parse(kGood);
+  EXPECT_THAT(odd.cell_of(std::vector<double>{25.0, 1.0, 0.2, 2.0, 2.5}), ElementsAre(1, 0, 2, 0, 2));
+  EXPECT_THAT(odd.cell_of(std::vector<double>{10.0, 5.0, 1.0, 2.0, 0.0}), ElementsAre(0, 1, 0, 0, 0));
+  EXPECT_THAT(odd.cell_of(std::vector<double>{40.0, 2.0, 0.6, 2.0, 3.0}), ElementsAre(1, 1, 1, 0, 2));
+}
+
+TEST(OddLoad, PredicatesSeeClassValuesAndAllMustHold) {
+  const std::string text = std::string(kGood) +
+                           "relevance: \"v * road >= 12\"\n"
+                           "constraints:\n"
+                           "  - \"n <= 4 || road > 0.5\"\n"
+                           "  - \"lanes == 2\"\n"
+                           "tracked: \"road < 0.5\"\n";
+  const Odd odd = parse(text);
+  ASSERT_TRUE(odd.relevance.has_value());
+  ASSERT_EQ(odd.constraints.size(), 2u);
+  ASSERT_TRUE(odd.tracked.has_value());
+  // dry = 1.0, wet = 0.6, icy = 0.2 are what the predicates see.
+  EXPECT_TRUE(odd.admissible(std::vector<double>{15.0, 5.0, 1.0, 2.0, 1.0}));   // 15 >= 12, road > 0.5
+  EXPECT_FALSE(odd.admissible(std::vector<double>{15.0, 1.0, 0.6, 2.0, 1.0}));  // 9 < 12
+  EXPECT_TRUE(odd.admissible(std::vector<double>{20.0, 1.0, 0.6, 2.0, 1.0}));   // 12 >= 12
+  EXPECT_FALSE(odd.admissible(std::vector<double>{40.0, 4.0, 0.2, 2.0, 1.0}));  // 40 * icy 0.2 = 8 < 12
+}
+
+TEST(OddLoad, ConstraintsExcludePointsThatRelevanceAdmits) {
+  const std::string text = std::string(kGood) +
+                           "relevance: \"v * road >= 6\"\n"
+                           "constraints:\n"
+                           "  - \"n <= 4 || road > 0.5\"\n";
+  const Odd odd = parse(text);
+  EXPECT_TRUE(odd.admissible(std::vector<double>{40.0, 4.0, 0.2, 2.0, 1.0}));   // 8 >= 6, n <= 4
+  EXPECT_FALSE(odd.admissible(std::vector<double>{40.0, 5.0, 0.2, 2.0, 1.0}));  // n = 5 on ice
+  EXPECT_TRUE(odd.admissible(std::vector<double>{40.0, 5.0, 0.6, 2.0, 1.0}));   // n = 5, wet
+  EXPECT_FALSE(odd.admissible(std::vector<double>{20.0, 0.0, 0.2, 2.0, 1.0}));  // 4 < 6
+  EXPECT_TRUE(parse(kGood).admissible(std::vector<double>{20.0, 0.0, 0.2, 2.0, 1.0}));  // no predicates
+}
+
+TEST(OddLoad, FileMalfunctionsCompileRegionsOverTheFactors) {
+  const std::string text = std::string(kGood) +
+                           "hazards: [H1, H9]\n"
+                           "malfunctions:\n"
+                           "  - id: M1\n"
+                           "    region: \"v < 15 && road < 0.5\"\n"
+                           "    hazards: [H1, H2]\n"
+                           "    transitions: [\"S1 -a-> S2\"]\n"
+                           "  - id: M2\n"
+                           "    hazards: [H2]\n";
+  const Odd odd = parse(text);
+  ASSERT_EQ(odd.malfunctions.size(), 2u);
+  EXPECT_EQ(odd.malfunctions[0].id, "M1");
+  ASSERT_TRUE(odd.malfunctions[0].region.has_value());
+  EXPECT_TRUE(odd.malfunctions[0].region->holds(std::vector<double>{12.0, 0.0, 0.2, 2.0, 0.0}));
+  EXPECT_FALSE(odd.malfunctions[0].region->holds(std::vector<double>{12.0, 0.0, 0.6, 2.0, 0.0}));
+  EXPECT_FALSE(odd.malfunctions[1].region.has_value());  // the whole relevant domain
+  EXPECT_THAT(odd.malfunctions[0].transitions, ElementsAre("S1 -a-> S2"));
+  // Declared hazards first, then those the modes name, without repeats.
+  EXPECT_THAT(odd.hazards, ElementsAre("H1", "H9", "H2"));
+}
+
+TEST(OddLoad, ManualBaselineGridExpandsItsValues) {
+  const std::string text = std::string(kGood) +
+                           "baselines:\n"
+                           "  manual:\n"
+                           "    v: {from: 10, to: 40, levels: 4}\n"
+                           "    w: [0.5, 2.5]\n";
+  const Odd odd = parse(text);
+  ASSERT_EQ(odd.manual_grid.size(), 2u);
+  EXPECT_EQ(odd.manual_grid[0].first, 0u);
+  EXPECT_THAT(odd.manual_grid[0].second, ElementsAre(10.0, 20.0, 30.0, 40.0));
+  EXPECT_EQ(odd.manual_grid[1].first, 4u);
+  EXPECT_THAT(odd.manual_grid[1].second, ElementsAre(0.5, 2.5));
+}
+
+// ---- the shipped example ------------------------------------------------------------------------
+
+TEST(OddLoad, ShippedExampleTakesItsModesFromTheSafetyCase) {
+  const Odd odd = load_odd(examples_dir() / "odd.yaml");
+  ASSERT_EQ(odd.factors.size(), 5u);
+  EXPECT_EQ(odd.factors[1].type, FactorType::kConstant);
+  EXPECT_DOUBLE_EQ(odd.factors[1].nominal, 10.0);
+  ASSERT_EQ(odd.malfunctions.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(odd.malfunctions[i].id, "UCA" + std::to_string(i + 1));
+    EXPECT_TRUE(odd.malfunctions[i].region.has_value()) << odd.malfunctions[i].id;
+    EXPECT_FALSE(odd.malfunctions[i].transitions.empty());
+    EXPECT_FALSE(odd.malfunctions[i].hazards.empty());
+  }
+  EXPECT_EQ(odd.hazards.size(), 8u);
+  EXPECT_EQ(odd.fsm_transitions.size(), 8u);
+  ASSERT_TRUE(odd.safety_file.has_value());
+  EXPECT_EQ(odd.safety_file->filename(), "safety.yaml");
+  ASSERT_TRUE(odd.scene_file.has_value());
+  EXPECT_TRUE(fs::is_regular_file(*odd.scene_file));
+  // UCA regions were recompiled against the ODD's own factor order.
+  const auto& uca1 = *odd.malfunctions[0].region;
+  EXPECT_EQ(uca1.variables(), odd.factor_names());
+  const double v = 72.0 / 3.6;
+  const double stop_ttc = v / (2 * 1.0 * 9.81);  // braking alone just stops
+  EXPECT_TRUE(uca1.holds(std::vector<double>{72, 10, stop_ttc - 0.01, 1.0, 3.0}));
+  EXPECT_FALSE(uca1.holds(std::vector<double>{72, 10, stop_ttc + 0.01, 1.0, 3.0}));
+  const auto& uca4 = *odd.malfunctions[3].region;  // passage < 2 or mu < 0.35
+  EXPECT_TRUE(uca4.holds(std::vector<double>{50, 10, 1.5, 1.0, 1.5}));
+  EXPECT_TRUE(uca4.holds(std::vector<double>{50, 10, 1.5, 0.2, 3.0}));
+  EXPECT_FALSE(uca4.holds(std::vector<double>{50, 10, 1.5, 1.0, 3.0}));
+  // The manual grid: 5 speeds x 6 TTCs.
+  ASSERT_EQ(odd.manual_grid.size(), 2u);
+  EXPECT_EQ(odd.manual_grid[0].second.size(), 5u);
+  EXPECT_EQ(odd.manual_grid[1].second.size(), 6u);
+  EXPECT_EQ(odd.strength, 2);
+  EXPECT_EQ(odd.budget, 600u);
+}
+
+TEST(OddLoad, SafetyOverrideReplacesTheFilesEntry) {
+  // A copy of the safety case whose UCAs are renamed; its FSM is found next to it.
+  const fs::path dir = temp_dir() / "override";
+  fs::create_directories(dir);
+  std::string safety = read_text(examples_dir() / "safety.yaml");
+  for (int i = 1; i <= 4; ++i) {
+    const std::string from = "id: UCA" + std::to_string(i);
+    const auto at = safety.find(from);
+    ASSERT_NE(at, std::string::npos);
+    safety.replace(at, from.size(), "id: ALT" + std::to_string(i));
+  }
+  write_text(dir / "other_safety.yaml", safety);
+  fs::copy_file(examples_dir() / "emrm_fsm.yaml", dir / "emrm_fsm.yaml", fs::copy_options::overwrite_existing);
+  const Odd odd = load_odd(examples_dir() / "odd.yaml", dir / "other_safety.yaml");
+  ASSERT_EQ(odd.malfunctions.size(), 4u);
+  EXPECT_EQ(odd.malfunctions[0].id, "ALT1");
+  EXPECT_EQ(odd.malfunctions[3].id, "ALT4");
+  EXPECT_EQ(*odd.safety_file, dir / "other_safety.yaml");
+  EXPECT_EQ(odd.fsm_transitions.size(), 8u);
+  // Without a `safety:` entry in the file, the override alone supplies the modes.
+  std::string text = read_text(examples_dir() / "odd.yaml");
+  text = replace_once(text, "safety: safety.yaml", "");
+  const Odd bare = parse_odd(text, "odd.yaml", examples_dir(), examples_dir() / "safety.yaml");
+  EXPECT_EQ(bare.malfunctions.size(), 4u);
+  EXPECT_EQ(bare.hazards.size(), 8u);
+  const Odd none = parse_odd(text, "odd.yaml", examples_dir());
+  EXPECT_TRUE(none.malfunctions.empty());
+  EXPECT_FALSE(none.safety_file.has_value());
+}
+
+TEST(OddLoad, MissingSafetyOverrideIsAUsageError) {
+  EXPECT_THROW((void)load_odd(examples_dir() / "odd.yaml", temp_dir() / "no_such_safety.yaml"), UsageError);
+}
+
+TEST(OddLoad, MissingOddFileIsAnError) {
+  EXPECT_THROW((void)load_odd(temp_dir() / "no_such_odd.yaml"), Error);
+}
+
+TEST(OddLoad, UcaRegionNamingAFactorTheOddLacksIsAnErrorInTheSafetyCase) {
+  // Without passage_m, UCA4's region "passage_m < 2.0 || mu < 0.35" cannot be recompiled.
+  std::string text = read_text(examples_dir() / "odd.yaml");
+  const auto from = text.find("  - name: passage_m");
+  const auto to = text.find("\n\n", from);
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  text.erase(from, to - from);
+  try {
+    (void)parse_odd(text, "odd.yaml", examples_dir());
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    const std::string safety = read_text(examples_dir() / "safety.yaml");
+    const Pos p = pos_of(safety, "passage_m < 2.0");
+    EXPECT_EQ(fs::path(e.where().file).filename(), "safety.yaml") << e.what();
+    EXPECT_EQ(e.where().line, p.line) << e.what();
+    EXPECT_EQ(e.where().column, p.column) << e.what();
+    EXPECT_THAT(e.what(), HasSubstr("passage_m"));
+  }
+}
+
+// ---- bad input: each error names its line and column ----------------------------------------
+
+TEST(OddErrors, MalformedYaml) {
+  const std::string text = replace_once(kGood, "    bins: [10, 20, 40]\n", "    bins: [10, 20, 40\n");
+  const InputError e = parse_error(text);
+  EXPECT_EQ(e.where().file, "odd.yaml");
+  EXPECT_GT(e.where().line, 0);
+  EXPECT_GT(e.where().column, 0);
+  // A mapping key that is not closed by a colon, on line 4.
+  const std::string text2 = replace_once(kGood, "  - name: v\n", "  - name: v: w\n");
+  const InputError e2 = parse_error(text2);
+  EXPECT_EQ(e2.where().line, pos_of(text2, "name: v: w").line) << e2.what();
+  EXPECT_GT(e2.where().column, 0);
+}
+
+TEST(OddErrors, UnknownTopLevelField) {
+  const std::string text = replace_once(kGood, "seed: 7\n", "seed: 7\ncolour: red\n");
+  expect_error_at(text, "colour:", 0, "unknown field 'colour'");
+}
+
+TEST(OddErrors, UnknownFactorField) {
+  const std::string text = replace_once(kGood, "    unit: km/h\n", "    unit: km/h\n    colour: red\n");
+  expect_error_at(text, "colour:", 0, "colour");
+}
+
+TEST(OddErrors, WrongTypes) {
+  expect_error_at(replace_once(kGood, "    type: integer\n", "    type: fuzzy\n"), "fuzzy", 0, "fuzzy");
+  expect_error_at(replace_once(kGood, "  budget: 100\n", "  budget: lots\n"), "lots", 0, "lots");
+  expect_error_at(replace_once(kGood, "  n_c: 1\n", "  n_c: 1.5\n"), "1.5", 0, "1.5");
+  expect_error_at(replace_once(kGood, "    influential: false\n", "    influential: maybe\n"), "maybe", 0, "maybe");
+}
+
+TEST(OddErrors, MissingBins) {
+  const std::string text = replace_once(kGood, "    bins: [10, 20, 40]\n    kinks: [15]\n", "");
+  // At the factor's mapping, which starts at its first key.
+  expect_error_at(text, "name: v", 0, "bins");
+}
+
+TEST(OddErrors, UnsortedBinEdges) {
+  expect_error_at(replace_once(kGood, "bins: [10, 20, 40]", "bins: [10, 40, 20]"), "[10, 40, 20]", 0, "increase");
+}
+
+TEST(OddErrors, OverlappingBinEdges) {
+  expect_error_at(replace_once(kGood, "bins: [0, 1, 2, 3]", "bins: [0, 1, 1, 3]"), "[0, 1, 1, 3]", 0, "increase");
+}
+
+TEST(OddErrors, OneEdgeIsNoBin) {
+  expect_error_at(replace_once(kGood, "bins: [0, 2, 5]", "bins: [2]"), "[2]", 0, "two edges");
+}
+
+TEST(OddErrors, IntegerFactorNeedsIntegerEdges) {
+  expect_error_at(replace_once(kGood, "bins: [0, 2, 5]", "bins: [0, 2.5, 5]"), "[0, 2.5, 5]", 0, "integer");
+}
+
+TEST(OddErrors, KinkOutsideTheDomain) {
+  expect_error_at(replace_once(kGood, "kinks: [15]", "kinks: [45]"), "[45]", 0, "45");
+  expect_error_at(replace_once(kGood, "kinks: [15]", "kinks: [10]"), "[10]", 0, "outside");  // on the edge
+}
+
+TEST(OddErrors, PriorOfTheWrongLength) {
+  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [0.5, 0.5]"), "[0.5, 0.5]", 0, "2 probabilities for 3 levels");
+}
+
+TEST(OddErrors, PriorThatDoesNotNormalise) {
+  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [0.2, 0.5, 0.4]"), "[0.2, 0.5, 0.4]", 0, "normalise");
+}
+
+TEST(OddErrors, NegativePrior) {
+  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [-0.2, 0.9, 0.3]"), "[-0.2", 0, ">= 0");
+}
+
+TEST(OddErrors, NanInBins) {
+  const std::string text = replace_once(kGood, "bins: [10, 20, 40]", "bins: [10, .nan, 40]");
+  const InputError e = parse_error(text);
+  EXPECT_EQ(e.where().line, pos_of(text, ".nan").line) << e.what();
+  EXPECT_EQ(e.where().column, pos_of(text, ".nan").column) << e.what();
+}
+
+TEST(OddErrors, UnknownFactorInRelevancePointsIntoThePredicate) {
+  const std::string text = std::string(kGood) + "relevance: \"v < 30 && bogus > 1\"\n";
+  expect_error_at(text, "bogus", 0, "bogus");
+}
+
+TEST(OddErrors, UnknownFactorInAConstraintPointsIntoThePredicate) {
+  const std::string text = std::string(kGood) + "constraints:\n  - \"v >= 10\"\n  - \"n + speed < 3\"\n";
+  expect_error_at(text, "speed <", 0, "speed");
+}
+
+TEST(OddErrors, UnknownFactorInTrackedPointsIntoThePredicate) {
+  const std::string text = std::string(kGood) + "tracked: \"n > 0 || zz\"\n";
+  expect_error_at(text, "zz", 0, "zz");
+}
+
+TEST(OddErrors, UnknownFactorInAMalfunctionRegionPointsIntoThePredicate) {
+  const std::string text = std::string(kGood) + "malfunctions:\n  - id: M1\n    region: \"v > 15 && qq < 1\"\n";
+  expect_error_at(text, "qq", 0, "qq");
+}
+
+TEST(OddErrors, StrengthLargerThanTheInfluentialFactors) {
+  // Only v and n stay influential.
+  const std::string text = replace_once(replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n",
+                                                     "    values: [1.0, 0.6, 0.2]\n    influential: false\n"),
+                                        "  strength: 2\n", "  strength: 3\n");
+  expect_error_at(text, "strength: 3", 10, "strength 3");
+  EXPECT_NO_THROW((void)parse(replace_once(text, "  strength: 3\n", "  strength: 2\n")));
+  // Strength 3 is fine with three influential factors.
+  EXPECT_NO_THROW((void)parse(replace_once(kGood, "  strength: 2\n", "  strength: 3\n")));
+}
+
+TEST(OddErrors, DefaultStrengthNeedsTwoInfluentialFactors) {
+  std::string text = replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    influential: false\n");
+  text = replace_once(text, "    type: integer\n", "    type: integer\n    influential: false\n");
+  text = text.substr(0, text.find("coverage:"));
+  EXPECT_THAT(parse_error(text).what(), HasSubstr("strength"));
+}
+
+TEST(OddErrors, StrengthFour) {
+  expect_error_at(replace_once(kGood, "  strength: 2\n", "  strength: 4\n"), "strength: 4", 10, "2 or 3");
+}
+
+TEST(OddErrors, NcZero) { expect_error_at(replace_once(kGood, "  n_c: 1\n", "  n_c: 0\n"), "n_c: 0", 5, "n_c"); }
+
+TEST(OddErrors, EpsilonAboveOneHalf) {
+  expect_error_at(replace_once(kGood, "  epsilon: 0.3\n", "  epsilon: 0.6\n"), "epsilon: 0.6", 9, "epsilon");
+}
+
+TEST(OddErrors, DeltaAboveOne) {
+  expect_error_at(replace_once(kGood, "  delta: 0.05\n", "  delta: 1.5\n"), "delta: 1.5", 7, "delta");
+}
+
+TEST(OddErrors, BudgetZero) {
+  expect_error_at(replace_once(kGood, "  budget: 100\n", "  budget: 0\n"), "budget: 0", 8, "budget");
+}
+
+TEST(OddErrors, UnsatisfiableConstraintIsReportedAtThatConstraint) {
+  // The relevance predicate alone is satisfiable (v <= 15); the second constraint contradicts it.
+  const std::string text = std::string(kGood) +
+                           "relevance: \"v <= 15\"\n"
+                           "constraints:\n"
+                           "  - \"n >= 0\"\n"
+                           "  - \"v >= 30\"\n"
+                           "  - \"w >= 0\"\n";
+  const InputError e = parse_error(text);
+  const Pos p = pos_of(text, "\"v >= 30\"");
+  EXPECT_EQ(e.where().line, p.line) << e.what();
+  // At the scalar: its opening quote or its first character.
+  EXPECT_GE(e.where().column, p.column) << e.what();
+  EXPECT_LE(e.where().column, p.column + 1) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr("unsatisfiable"));
+}
+
+TEST(OddErrors, UnsatisfiableRelevanceIsReportedAtTheRelevance) {
+  const std::string text = std::string(kGood) + "relevance: \"v > 40\"\n";
+  const InputError e = parse_error(text);
+  EXPECT_EQ(e.where().line, pos_of(text, "relevance:").line) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr("relevance"));
+}
+
+TEST(OddErrors, DuplicateFactor) {
+  const std::string text = replace_once(kGood, "  - name: n\n", "  - name: v\n");
+  // The second `name: v`.
+  const auto first = text.find("name: v\n");
+  const auto second = text.find("name: v\n", first + 1);
+  ASSERT_NE(second, std::string::npos);
+  const InputError e = parse_error(text);
+  const Pos p = pos_of(text.substr(0, second) + "@@", "@@");
+  EXPECT_EQ(e.where().line, p.line) << e.what();
+  EXPECT_EQ(e.where().column, p.column + 6) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr("duplicate factor 'v'"));
+}
+
+TEST(OddErrors, DuplicateClass) {
+  expect_error_at(replace_once(kGood, "classes: [dry, wet, icy]", "classes: [dry, wet, dry]"), "[dry, wet, dry]", 0,
+                  "duplicate class 'dry'");
+}
+
+TEST(OddErrors, FactorNameThatIsNotAnIdentifier) {
+  expect_error_at(replace_once(kGood, "  - name: w\n", "  - name: 2w\n"), "2w", 0, "identifier");
+  expect_error_at(replace_once(kGood, "  - name: w\n", "  - name: \"a b\"\n"), "\"a b\"", 0, "identifier");
+}
+
+TEST(OddErrors, UnknownBaselineFactor) {
+  const std::string text = std::string(kGood) + "baselines:\n  manual:\n    v: [10, 20]\n    nope: [1, 2]\n";
+  expect_error_at(text, "nope", 0, "unknown factor 'nope'");
+}
+
+TEST(OddErrors, SafetyFileThatDoesNotExist) {
+  const std::string text = replace_once(kGood, "seed: 7\n", "seed: 7\nsafety: missing_safety.yaml\n");
+  expect_error_at(text, "missing_safety.yaml", 0, "does not exist");
+}
+
+TEST(OddErrors, NominalOutsideTheDomainOrNotAClass) {
+  expect_error_at(replace_once(kGood, "    kinks: [15]\n", "    kinks: [15]\n    nominal: 50\n"), "nominal: 50", 9, "outside");
+  expect_error_at(replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    nominal: snow\n"),
+                  "snow", 0, "not a class");
+}
+
+TEST(OddErrors, InfiniteNumber) {
+  const std::string text = replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [0.2, .inf, 0.3]");
+  const InputError e = parse_error(text);
+  EXPECT_EQ(e.where().line, pos_of(text, ".inf").line) << e.what();
+  EXPECT_EQ(e.where().column, pos_of(text, ".inf").column) << e.what();
+}
+
+TEST(OddErrors, DuplicateMalfunctionMode) {
+  const std::string text = std::string(kGood) + "malfunctions:\n  - id: M1\n  - id: M2\n  - id: M1\n";
+  const auto last = text.rfind("M1");
+  const InputError e = parse_error(text);
+  const Pos p = pos_of(text.substr(0, last) + "@@", "@@");
+  EXPECT_EQ(e.where().line, p.line) << e.what();
+  EXPECT_EQ(e.where().column, p.column) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr("duplicate malfunction mode 'M1'"));
+}
+
+TEST(OddErrors, DuplicateTopLevelKey) {
+  const std::string text = replace_once(kGood, "seed: 7\n", "seed: 7\nseed: 8\n");
+  const InputError e = parse_error(text);
+  EXPECT_EQ(e.where().line, pos_of(text, "seed: 8").line) << e.what();
+}
+
+TEST(OddErrors, NegativeSeed) { expect_error_at(replace_once(kGood, "seed: 7\n", "seed: -7\n"), "-7", 0, "seed"); }
+
+TEST(OddErrors, TooManyCells) {
+  // 60 x 60 x 60 = 216 000 cells.
+  std::string bins = "[0";
+  for (int k = 1; k <= 60; ++k) bins += ", " + std::to_string(k);
+  bins += "]";
+  std::string text = "name: big\nfactors:\n";
+  for (const char* name : {"a", "b", "c"}) text += std::string("  - name: ") + name + "\n    bins: " + bins + "\n";
+  const InputError e = parse_error(text);
+  EXPECT_THAT(e.what(), HasSubstr("216000 cells"));
+  EXPECT_EQ(e.where().line, pos_of(text, "- name: a").line) << e.what();
+}
+
+TEST(OddErrors, IntegerNominalMustBeAWholeNumber) {
+  // An integer factor takes whole numbers only; a nominal of 2.5 would put the HARA baseline's
+  // nominal scenario outside the domain (the coverage checker then counts it as inadmissible).
+  expect_error_at(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 2.5\n"), "nominal: 2.5", 9,
+                  "2.5");
+  EXPECT_NO_THROW((void)parse(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 4\n")));
+}
+
+}  // namespace
+}  // namespace emrm::scenario

@@ -1,0 +1,194 @@
+// End-to-end: `emrm plan` as a user runs it, on the shipped example and on broken copies of it.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::MatchesRegex;
+
+// The shipped ODD with its `safety:` and `scene:` entries made absolute, so that a copy in a
+// scratch folder still finds them.
+std::string odd_text() {
+  std::string text = read_text(example("odd.yaml"));
+  for (const std::string name : {"safety", "scene"}) {
+    const std::string from = name + ": " + name + ".yaml";
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), name + ": " + example(name + ".yaml"));
+  }
+  return text;
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the example lacks '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+// "LINE:COL" of the first occurrence of `needle` (plus `offset`) in `text`.
+std::string line_col(const std::string& text, const std::string& needle, int offset = 0) {
+  const auto at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << needle;
+  if (at == std::string::npos) return "?";
+  const std::size_t p = at + static_cast<std::size_t>(offset);
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(p), '\n'));
+  const auto start = p == 0 ? std::string::npos : text.rfind('\n', p - 1);
+  const std::size_t column = start == std::string::npos ? p + 1 : p - start;
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// Runs `emrm plan` on `text` written to a scratch folder: exit 2 and exactly one line on stderr,
+// FILE:LINE:COL: error: ..., at `needle` (+ offset) and saying `words`.
+void expect_bad_odd(const std::string& name, const std::string& text, const std::string& needle, int offset,
+                    const std::string& words) {
+  SCOPED_TRACE(name);
+  const auto dir = scratch_dir("plan-bad-" + name);
+  const fs::path odd = dir / "odd.yaml";
+  write_text(odd, text);
+  const auto r = run_emrm("plan " + quoted(odd) + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  const std::string prefix = odd.string() + ":" + line_col(text, needle, offset) + ": error: ";
+  EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << "stderr: " << r.err << "\nexpected it to start with " << prefix;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(words));
+  EXPECT_FALSE(fs::exists(dir / "out" / "scenarios.csv"));
+}
+
+TEST(PlanCli, ShippedExampleWritesEveryFileAndHoldsC1ToC4) {
+  const auto dir = scratch_dir("plan-example");
+  const auto r = run_emrm("plan " + quoted(example("odd.yaml")) + " -o " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* f : {"scenarios.csv", "scenarios.json", "coverage.json", "coverage.csv", "coverage.md"})
+    EXPECT_TRUE(fs::is_regular_file(dir / f)) << f;
+  EXPECT_THAT(r.out, HasSubstr("C1 holds, C2 holds, C3 holds, C4 holds"));
+
+  const auto coverage = nlohmann::json::parse(read_text(dir / "coverage.json"));
+  const auto& plan = coverage.at("plan");
+  EXPECT_EQ(plan.at("name"), "emrm plan");
+  for (const char* c : {"c1", "c2", "c3", "c4", "all"}) EXPECT_TRUE(plan.at(c).get<bool>()) << c;
+  EXPECT_EQ(plan.at("inadmissible"), 0);
+  EXPECT_EQ(plan.at("malfunctions").at("covered"), 4);
+  EXPECT_EQ(plan.at("hazards").at("total"), 8);
+  std::vector<std::string> names;
+  for (const auto& b : coverage.at("baselines")) names.push_back(b.at("name").get<std::string>());
+  EXPECT_EQ(names, (std::vector<std::string>{"HARA only", "STPA only", "manual grid"}));
+  // The baselines are small and cover less: HARA has one scenario per hazard, STPA one per UCA,
+  // the manual grid 5 x 6.
+  const auto& baselines = coverage.at("baselines");
+  EXPECT_EQ(baselines[0].at("scenarios"), 8);
+  EXPECT_EQ(baselines[1].at("scenarios"), 4);
+  EXPECT_EQ(baselines[2].at("scenarios"), 30);
+  for (const auto& b : baselines) {
+    EXPECT_FALSE(b.at("all").get<bool>()) << b.at("name");
+    EXPECT_LT(b.at("cells").at("covered").get<int>(), plan.at("cells").at("covered").get<int>()) << b.at("name");
+  }
+
+  // scenarios.csv and scenarios.json agree on the scenarios.
+  const std::string csv = read_text(dir / "scenarios.csv");
+  EXPECT_EQ(csv.rfind("id,step,speed_kph,truck_speed_kph,ttc_s,mu,passage_m,cell,malfunctions,transitions,weight,seed\n", 0),
+            0u);
+  const auto rows = std::count(csv.begin(), csv.end(), '\n') - 1;
+  const auto scenarios = nlohmann::json::parse(read_text(dir / "scenarios.json"));
+  EXPECT_EQ(static_cast<long>(scenarios.at("scenarios").size()), rows);
+  EXPECT_EQ(plan.at("scenarios").get<long>(), rows);
+  std::set<std::string> ids;
+  for (const auto& s : scenarios.at("scenarios")) ids.insert(s.at("id").get<std::string>());
+  EXPECT_EQ(static_cast<long>(ids.size()), rows);
+  EXPECT_TRUE(scenarios.at("stop").at("targets_met").get<bool>());
+
+  // coverage.csv: a metric column then one per report; coverage.md is a Markdown table of the same.
+  const std::string table = read_text(dir / "coverage.csv");
+  EXPECT_EQ(table.rfind("metric,emrm plan,HARA only,STPA only,manual grid\n", 0), 0u) << table;
+  EXPECT_THAT(table, HasSubstr("C1 cells,holds,"));
+  EXPECT_THAT(read_text(dir / "coverage.md"), HasSubstr("| metric | emrm plan | HARA only | STPA only | manual grid |"));
+}
+
+TEST(PlanCli, SameCommandTwiceGivesIdenticalScenarios) {
+  const auto a = scratch_dir("plan-twice-a");
+  const auto b = scratch_dir("plan-twice-b");
+  ASSERT_EQ(run_emrm("plan " + quoted(example("odd.yaml")) + " -o " + quoted(a)).exit_code, 0);
+  ASSERT_EQ(run_emrm("plan " + quoted(example("odd.yaml")) + " --output " + quoted(b)).exit_code, 0);
+  const std::string first = read_text(a / "scenarios.csv");
+  EXPECT_FALSE(first.empty());
+  EXPECT_EQ(first, read_text(b / "scenarios.csv"));
+  EXPECT_EQ(read_text(a / "coverage.json"), read_text(b / "coverage.json"));
+}
+
+TEST(PlanCli, SafetyOverride) {
+  const auto dir = scratch_dir("plan-safety");
+  const auto ok = run_emrm("plan " + quoted(example("odd.yaml")) + " --safety " + quoted(example("safety.yaml")) +
+                           " -o " + quoted(dir / "ok"));
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  const auto missing = run_emrm("plan " + quoted(example("odd.yaml")) + " --safety " +
+                                quoted(dir / "no_such_safety.yaml") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(missing.exit_code, 2) << missing.out << missing.err;
+  EXPECT_THAT(missing.err, HasSubstr("no_such_safety.yaml"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "scenarios.csv"));
+}
+
+TEST(PlanCli, MissingOddOrOutputIsAUsageError) {
+  const auto dir = scratch_dir("plan-usage");
+  EXPECT_EQ(run_emrm("plan " + quoted(dir / "none.yaml") + " -o " + quoted(dir / "out")).exit_code, 2);
+  EXPECT_EQ(run_emrm("plan " + quoted(example("odd.yaml"))).exit_code, 2);
+}
+
+TEST(PlanCli, CopyWithAbsolutePathsStillPlans) {
+  // The scratch copies below differ from this one by a single edit.
+  const auto dir = scratch_dir("plan-copy");
+  write_text(dir / "odd.yaml", odd_text());
+  const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(PlanCli, UnknownFactorInAPredicate) {
+  const std::string text = replaced(odd_text(), "relevance: \"speed_kph / 3.6 * ttc_s <= 24.5\"",
+                                    "relevance: \"speed_kph / 3.6 * ttc <= 24.5\"");
+  expect_bad_odd("unknown-factor", text, "ttc <= 24.5", 0, "ttc");
+}
+
+TEST(PlanCli, OverlappingBinEdges) {
+  const std::string text = replaced(odd_text(), "bins: [30, 44, 58, 72]", "bins: [30, 44, 44, 72]");
+  expect_bad_odd("overlapping", text, "[30, 44, 44, 72]", 0, "increase");
+}
+
+TEST(PlanCli, UnsortedBinEdges) {
+  const std::string text = replaced(odd_text(), "bins: [0.1, 0.35, 0.65, 1.0]", "bins: [0.1, 0.65, 0.35, 1.0]");
+  expect_bad_odd("unsorted", text, "[0.1, 0.65, 0.35, 1.0]", 0, "increase");
+}
+
+TEST(PlanCli, PriorThatDoesNotNormalise) {
+  const std::string text = replaced(odd_text(), "prior: [0.30, 0.45, 0.25]", "prior: [0.30, 0.45, 0.35]");
+  expect_bad_odd("prior", text, "[0.30, 0.45, 0.35]", 0, "normalise");
+}
+
+TEST(PlanCli, StrengthLargerThanTheFactors) {
+  // Four influential factors: strength 3 is fine, but a strength above the five factors is not.
+  expect_bad_odd("strength-6", replaced(odd_text(), "strength: 2", "strength: 6"), "strength: 6", 10, "strength");
+  // With only speed and passage width influential, strength 3 exceeds them.
+  std::string text = replaced(odd_text(), "strength: 2", "strength: 3");
+  text = replaced(text, "    kinks: [1.0]", "    kinks: [1.0]\n    influential: false");
+  text = replaced(text, "    nominal: 1.0\n", "    nominal: 1.0\n    influential: false\n");
+  expect_bad_odd("strength-3", text, "strength: 3", 10, "influential");
+}
+
+TEST(PlanCli, UnsatisfiableConstraintSet) {
+  const std::string text = replaced(odd_text(), "\ntracked:", "\nconstraints:\n  - \"mu >= 0.1\"\n  - \"speed_kph > 80\"\ntracked:");
+  expect_bad_odd("unsatisfiable", text, "\"speed_kph > 80\"", 0, "unsatisfiable");
+}
+
+}  // namespace
+}  // namespace emrm::e2e
