@@ -41,30 +41,6 @@ class ReportCli : public ::testing::Test {
 fs::path* ReportCli::out_ = nullptr;
 std::string* ReportCli::reproduce_out_ = nullptr;
 
-std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(read_text(file));
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> fields;
-    std::string field;
-    bool quoted_field = false;
-    for (char c : line) {
-      if (c == '"') quoted_field = !quoted_field;
-      else if (c == ',' && !quoted_field) fields.push_back(std::exchange(field, {}));
-      else field += c;
-    }
-    fields.push_back(field);
-    rows.push_back(std::move(fields));
-  }
-  return rows;
-}
-
-std::size_t column(const std::vector<std::string>& header, const std::string& name) {
-  const auto it = std::find(header.begin(), header.end(), name);
-  EXPECT_NE(it, header.end()) << name;
-  return static_cast<std::size_t>(it - header.begin());
-}
-
 bool is_png(const fs::path& file) {
   const std::string bytes = read_text(file);
   return bytes.size() > 1000 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
@@ -97,52 +73,52 @@ TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
 TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
   ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
   // The store's cells, as exported by the sweep.
-  const auto regions = read_csv(*out_ / "regions.csv");
+  const auto regions = csv_rows(*out_ / "regions.csv");
   const auto& rh = regions.front();
   std::map<std::string, std::string> region_of;  // "speed ttc" of the fine grid -> region
   for (std::size_t i = 1; i < regions.size(); ++i)
-    if (regions[i][column(rh, "grid")] == "fine")
-      region_of[regions[i][column(rh, "speed_kph")] + " " + regions[i][column(rh, "ttc_s")]] =
-          regions[i][column(rh, "region")];
+    if (regions[i][column_of(rh, "grid")] == "fine")
+      region_of[regions[i][column_of(rh, "speed_kph")] + " " + regions[i][column_of(rh, "ttc_s")]] =
+          regions[i][column_of(rh, "region")];
 
-  const auto map = read_csv(*out_ / "figures" / "mitigability_map.csv");
+  const auto map = csv_rows(*out_ / "figures" / "mitigability_map.csv");
   const auto& mh = map.front();
   std::size_t fine_rows = 0;
   for (std::size_t i = 1; i < map.size(); ++i) {
-    if (map[i][column(mh, "grid")] != "fine") continue;
+    if (map[i][column_of(mh, "grid")] != "fine") continue;
     ++fine_rows;
-    const std::string key = map[i][column(mh, "speed_kph")] + " " + map[i][column(mh, "ttc_s")];
+    const std::string key = map[i][column_of(mh, "speed_kph")] + " " + map[i][column_of(mh, "ttc_s")];
     ASSERT_TRUE(region_of.count(key)) << key;
-    EXPECT_EQ(map[i][column(mh, "region")], region_of[key]) << key;
+    EXPECT_EQ(map[i][column_of(mh, "region")], region_of[key]) << key;
   }
   EXPECT_EQ(fine_rows, region_of.size());
 
   // Collision-avoidance rates of the loss comparison, recounted from cells.csv (one row per
   // feasible cell and strategy).
-  const auto cells = read_csv(*out_ / "cells.csv");
+  const auto cells = csv_rows(*out_ / "cells.csv");
   const auto& ch = cells.front();
   std::map<std::string, std::pair<int, int>> avoided;  // strategy -> (avoided, feasible cells)
   for (std::size_t i = 1; i < cells.size(); ++i) {
-    if (cells[i][column(ch, "grid")] != "fine") continue;
-    auto& [yes, all] = avoided[cells[i][column(ch, "strategy")]];
-    yes += cells[i][column(ch, "avoided")] == "1";
+    if (cells[i][column_of(ch, "grid")] != "fine") continue;
+    auto& [yes, all] = avoided[cells[i][column_of(ch, "strategy")]];
+    yes += cells[i][column_of(ch, "avoided")] == "1";
     ++all;
   }
-  const auto loss = read_csv(*out_ / "figures" / "loss_comparison.csv");
+  const auto loss = csv_rows(*out_ / "figures" / "loss_comparison.csv");
   const auto& lh = loss.front();
   int checked = 0;
   for (std::size_t i = 1; i < loss.size(); ++i) {
-    const std::string s = loss[i][column(lh, "strategy")];
+    const std::string s = loss[i][column_of(lh, "strategy")];
     if (!avoided.count(s)) continue;
     const double expected = 100.0 * avoided[s].first / avoided[s].second;
-    EXPECT_NEAR(std::stod(loss[i][column(lh, "collision_avoidance_rate_pct")]), expected, 1e-3) << s;  // 6 digits
+    EXPECT_NEAR(std::stod(loss[i][column_of(lh, "collision_avoidance_rate_pct")]), expected, 1e-3) << s;  // 6 digits
     ++checked;
   }
   EXPECT_EQ(checked, 5);
 
   // The EMRM FSM figure's counts are the transitions of the stored traces: every count is a number
   // and the detection transition was taken at least once.
-  const auto fsm = read_csv(*out_ / "figures" / "emrm_fsm.csv");
+  const auto fsm = csv_rows(*out_ / "figures" / "emrm_fsm.csv");
   bool detection = false;
   for (std::size_t i = 1; i < fsm.size(); ++i)
     if (fsm[i][1] == "hazard_detected") detection = std::stoi(fsm[i][3]) > 0;

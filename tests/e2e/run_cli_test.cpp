@@ -20,30 +20,6 @@ namespace {
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
-std::vector<std::vector<std::string>> csv_rows(const fs::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(read_text(file));
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> fields;
-    std::string field;
-    bool in_quotes = false;
-    for (char c : line) {
-      if (c == '"') in_quotes = !in_quotes;
-      else if (c == ',' && !in_quotes) fields.push_back(std::exchange(field, {}));
-      else field += c;
-    }
-    fields.push_back(field);
-    rows.push_back(std::move(fields));
-  }
-  return rows;
-}
-
-std::size_t at(const std::vector<std::string>& header, const std::string& name) {
-  const auto it = std::find(header.begin(), header.end(), name);
-  EXPECT_NE(it, header.end()) << name;
-  return static_cast<std::size_t>(it - header.begin());
-}
-
 // Wilson score interval, written out independently of the library.
 std::pair<double, double> wilson(double k, double n, double z) {
   const double p = k / n, z2 = z * z;
@@ -77,12 +53,12 @@ TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
   double weighted = 0.0, weights = 0.0;
   for (std::size_t i = 1; i < outcomes.size(); ++i) {
     const auto& h = outcomes.front();
-    if (outcomes[i][at(h, "feasible")] != "yes") continue;
-    const int y = std::stoi(outcomes[i][at(h, "success")]);
-    auto& [k, n] = per_cell[outcomes[i][at(h, "cell")]];
+    if (outcomes[i][column_of(h, "feasible")] != "yes") continue;
+    const int y = std::stoi(outcomes[i][column_of(h, "success")]);
+    auto& [k, n] = per_cell[outcomes[i][column_of(h, "cell")]];
     k += y;
     ++n;
-    const double w = std::stod(outcomes[i][at(h, "weight")]);
+    const double w = std::stod(outcomes[i][column_of(h, "weight")]);
     weighted += w * y;
     weights += w;
   }
@@ -91,14 +67,14 @@ TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
   const auto& h = estimates.front();
   EXPECT_EQ(estimates.size() - 1, per_cell.size());
   for (std::size_t i = 1; i < estimates.size(); ++i) {
-    const auto& [k, n] = per_cell.at(estimates[i][at(h, "cell")]);
-    EXPECT_EQ(std::stoi(estimates[i][at(h, "n")]), n);
-    EXPECT_EQ(std::stoi(estimates[i][at(h, "successes")]), k);
+    const auto& [k, n] = per_cell.at(estimates[i][column_of(h, "cell")]);
+    EXPECT_EQ(std::stoi(estimates[i][column_of(h, "n")]), n);
+    EXPECT_EQ(std::stoi(estimates[i][column_of(h, "successes")]), k);
     const auto [low, high] = wilson(k, n, 1.959963985);
-    EXPECT_NEAR(std::stod(estimates[i][at(h, "wilson_low")]), low, 1e-5);
-    EXPECT_NEAR(std::stod(estimates[i][at(h, "wilson_high")]), high, 1e-5);
+    EXPECT_NEAR(std::stod(estimates[i][column_of(h, "wilson_low")]), low, 1e-5);
+    EXPECT_NEAR(std::stod(estimates[i][column_of(h, "wilson_high")]), high, 1e-5);
     // Hoeffding: eps = sqrt(ln(2/delta) / (2n)) at delta 0.05.
-    EXPECT_NEAR(std::stod(estimates[i][at(h, "hoeffding_epsilon")]), std::sqrt(std::log(40.0) / (2.0 * n)), 1e-5);
+    EXPECT_NEAR(std::stod(estimates[i][column_of(h, "hoeffding_epsilon")]), std::sqrt(std::log(40.0) / (2.0 * n)), 1e-5);
   }
   // S(all) is the weighted success rate.
   const auto j = nlohmann::json::parse(read_text(out / "estimates.json"));
@@ -109,7 +85,7 @@ TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
   const auto trace = csv_rows(out / "traceability.csv");
   const auto& th = trace.front();
   int with_scenarios = 0;
-  for (std::size_t i = 1; i < trace.size(); ++i) with_scenarios += !trace[i][at(th, "scenarios")].empty();
+  for (std::size_t i = 1; i < trace.size(); ++i) with_scenarios += !trace[i][column_of(th, "scenarios")].empty();
   EXPECT_GT(with_scenarios, 0);
 
   // A rerun resumes and simulates nothing.

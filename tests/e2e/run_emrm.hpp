@@ -2,9 +2,11 @@
 
 // Runs the real emrm binary for end-to-end tests and captures what it printed.
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace emrm::e2e {
 
@@ -66,5 +70,32 @@ inline RunResult run_emrm(const std::string& args) {
 /// than std::quoted, which argument-dependent lookup would otherwise find.)
 inline std::string quoted(const std::string& path) { return "'" + path + "'"; }
 inline std::string quoted(const std::filesystem::path& path) { return quoted(path.string()); }
+
+/// The rows of a CSV file emrm wrote, split into fields (quoted fields may hold commas; emrm's
+/// exports put no newline inside a field).
+inline std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(read_text(file));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields;
+    std::string field;
+    bool in_quotes = false;
+    for (char c : line) {
+      if (c == '"') in_quotes = !in_quotes;
+      else if (c == ',' && !in_quotes) fields.push_back(std::exchange(field, {}));
+      else field += c;
+    }
+    fields.push_back(field);
+    rows.push_back(std::move(fields));
+  }
+  return rows;
+}
+
+/// The position of column `name` in a header row; a test failure when it is missing.
+inline std::size_t column_of(const std::vector<std::string>& header, const std::string& name) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  EXPECT_NE(it, header.end()) << "column " << name;
+  return static_cast<std::size_t>(it - header.begin());
+}
 
 }  // namespace emrm::e2e

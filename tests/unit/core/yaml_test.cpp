@@ -2,6 +2,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "input_error.hpp"
 
 namespace emrm::core {
 namespace {
@@ -37,14 +38,12 @@ struct Outer {
 };
 
 InputError read_error(const std::string& text) {
-  try {
-    Outer o;
-    read_yaml(YamlNode::parse(text, "t.yaml"), o);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError for: " << text;
-  return InputError({}, "none");
+  return emrm::testing::input_error_of(
+      [&] {
+        Outer o;
+        read_yaml(YamlNode::parse(text, "t.yaml"), o);
+      },
+      text);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "example_case.hpp"
+#include "input_error.hpp"
 
 namespace emrm::safety {
 namespace {
@@ -15,13 +16,7 @@ using testing::replace_once;
 
 // Parses `text` and returns the InputError it must raise.
 InputError parse_error(const std::string& text) {
-  try {
-    (void)parse_safety_case(text, "case.yaml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return InputError({}, "none");
+  return emrm::testing::input_error_of([&] { (void)parse_safety_case(text, "case.yaml"); }, text);
 }
 
 TEST(SafetyLoad, ShippedExampleLoadsWithEveryEntity) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "emrm/core/error.hpp"
+#include "input_error.hpp"
 
 namespace emrm::scenario {
 namespace {
@@ -97,16 +98,7 @@ Pos pos_of(const std::string& text, const std::string& needle, int offset = 0) {
 
 // Parses `text` and returns the InputError it must raise.
 InputError parse_error(const std::string& text) {
-  try {
-    (void)parse(text);
-  } catch (const InputError& e) {
-    return e;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected an InputError, got: " << e.what();
-    return InputError({}, "none");
-  }
-  ADD_FAILURE() << "expected an InputError for:\n" << text;
-  return InputError({}, "none");
+  return emrm::testing::input_error_of([&] { (void)parse(text); }, text);
 }
 
 // The error of `text` lies at the first occurrence of `needle` (plus `offset`) and says `words`.

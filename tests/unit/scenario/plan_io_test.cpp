@@ -14,6 +14,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
+#include "input_error.hpp"
 
 namespace emrm::scenario {
 namespace {
@@ -75,16 +76,7 @@ std::string nine(double v) { return fmt::format("{:.9g}", v); }
 // Reads `text` as a scenarios.csv and returns the InputError it must raise.
 InputError read_error(const std::string& text, const std::string& name = "bad.csv") {
   const fs::path p = write_temp(name, text);
-  try {
-    (void)read_scenarios_csv(p);
-  } catch (const InputError& e) {
-    return e;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected an InputError, got: " << e.what();
-    return InputError({}, "none");
-  }
-  ADD_FAILURE() << "expected an InputError for:\n" << text;
-  return InputError({}, "none");
+  return emrm::testing::input_error_of([&] { (void)read_scenarios_csv(p); }, text);
 }
 
 void expect_read_error(const std::string& text, int line, int column, const std::string& words) {

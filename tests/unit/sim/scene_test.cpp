@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include "input_error.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -42,13 +43,7 @@ std::pair<int, int> position_of(const std::string& text, const std::string& need
 }
 
 InputError parse_error(const std::string& text) {
-  try {
-    (void)parse_scene_config(text, "scene.yaml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError for:\n" << text;
-  return InputError({}, "none");
+  return emrm::testing::input_error_of([&] { (void)parse_scene_config(text, "scene.yaml"); }, text);
 }
 
 UsageError cell_error(const CellInput& cell) {
