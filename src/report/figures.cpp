@@ -1,1 +1,665 @@
 #include "emrm/report/figures.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string_view>
+#include <utility>
+
+#include "emrm/campaign/aggregate.hpp"
+#include "emrm/core/process.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/report/gnuplot.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::report {
+namespace {
+
+namespace fs = std::filesystem;
+using campaign::CellRecord;
+
+// Every figure uses one colour per strategy, in the campaign's canonical order, so a strategy looks
+// the same in the loss comparison, the sweep curves and the report.
+constexpr std::array<std::pair<std::string_view, std::string_view>, 5> kStrategyColours{{
+    {"emergency_stop", "#4d4d4d"},
+    {"dodge", "#1f77b4"},
+    {"drift_to_avoid", "#ff7f0e"},
+    {"drift_to_accident", "#9467bd"},
+    {"emrm", "#2ca02c"},
+}};
+constexpr std::array<std::string_view, 5> kExtraColours{"#8c564b", "#e377c2", "#17becf", "#bcbd22", "#d62728"};
+
+struct RegionStyle {
+  std::string_view region;
+  std::string_view colour;
+  std::string_view label;
+};
+constexpr std::array<RegionStyle, 5> kRegions{{
+    {"G", "#2ca02c", "G fully avoidable"},
+    {"Y", "#ffdd57", "Y aggressive avoidance required"},
+    {"O", "#ff7f0e", "O mitigatable"},
+    {"R", "#d62728", "R not mitigatable"},
+    {"infeasible", "#bdbdbd", "infeasible"},
+}};
+
+// Grid values such as 0.25 + 7·0.06 are a few ulps off their decimal; they are one value.
+constexpr double kSameValue = 1e-9;
+
+// --- text -------------------------------------------------------------------------------------
+
+/// A gnuplot single-quoted string literal (no escapes inside but a doubled quote).
+std::string single_quoted(std::string_view text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+/// A gnuplot double-quoted string literal; a line break in `text` stays one.
+std::string double_quoted(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// `text` shown literally in an enhanced-text quoted string.
+std::string literal(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    if (std::string_view("_^{}@&~\\").find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+/// A CSV/plot number: shortest form to 10 significant digits (0.37000000000000005 reads 0.37).
+std::string number(double x) { return fmt::format("{:.10g}", x); }
+std::string percent(double x) { return fmt::format("{:.4f}", x); }
+
+std::string strategy_label(std::string_view strategy) {
+  if (strategy == "emrm") return "EMRM";
+  std::string out(strategy);
+  std::replace(out.begin(), out.end(), '_', ' ');
+  return out;
+}
+
+/// The strategies of `records` in the fixed order, then any other in order of first appearance.
+std::vector<std::string> ordered_strategies(const std::vector<CellRecord>& records) {
+  const auto seen = campaign::strategy_names_of(records);
+  std::vector<std::string> out;
+  for (const auto& [name, colour] : kStrategyColours)
+    if (std::find(seen.begin(), seen.end(), name) != seen.end()) out.emplace_back(name);
+  for (const auto& name : seen)
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+  return out;
+}
+
+std::string strategy_colour(std::string_view strategy, const std::vector<std::string>& strategies) {
+  for (const auto& [name, colour] : kStrategyColours)
+    if (name == strategy) return std::string(colour);
+  std::size_t extra = 0;
+  for (const auto& s : strategies) {
+    if (s == strategy) break;
+    if (std::none_of(kStrategyColours.begin(), kStrategyColours.end(), [&](const auto& c) { return c.first == s; }))
+      ++extra;
+  }
+  return std::string(kExtraColours[extra % kExtraColours.size()]);
+}
+
+/// "#2ca02c" as the integer gnuplot's `lc rgb variable` reads.
+long rgb_value(std::string_view colour) { return std::stol(std::string(colour.substr(1)), nullptr, 16); }
+
+// --- rendering --------------------------------------------------------------------------------
+
+/// A gnuplot datablock `$name` holding `lines` (already whitespace-separated columns).
+std::string datablock(std::string_view name, const std::vector<std::string>& lines) {
+  std::string out = fmt::format("${} << EOD\n", name);
+  for (const auto& line : lines) out += line + "\n";
+  return out + "EOD\n";
+}
+
+/// Gives the figure its paths in `dir` and writes its CSV.
+void write_csv(Figure& figure, const fs::path& dir, const core::Row& header, const std::vector<core::Row>& rows) {
+  figure.csv = dir / (figure.name + ".csv");
+  figure.png = dir / (figure.name + ".png");
+  figure.svg = dir / (figure.name + ".svg");
+  core::write_file(figure.csv, core::csv_table(header, rows));
+}
+
+/// Renders PNG and SVG with one gnuplot run: the datablocks once, then `body` per terminal.
+/// `body` starts from `reset`, so the second pass sees none of the first one's settings.
+void render(const Figure& figure, const std::string& data, const std::string& body, int width_px, int height_px,
+            int font_pt) {
+  std::string script = "set encoding utf8\n" + data;
+  for (const fs::path& output : {figure.png, figure.svg}) {
+    script += gnuplot_terminal(output, width_px, height_px) + "\n";
+    script += fmt::format("set termoption font 'Sans,{}'\n", font_pt);
+    script += "set output " + single_quoted(output.string()) + "\n";
+    script += "reset\nset encoding utf8\nset datafile missing 'NaN'\n" + body + "unset output\n";
+  }
+  if (figure.png.has_parent_path()) fs::create_directories(figure.png.parent_path());
+  core::TempDir work("emrm-figure");
+  run_gnuplot(script, work.path());
+}
+
+/// A key on its own along the bottom of a multiplot (screen 0..height): `entries` are plot items
+/// of NaN with their style and title, in at most `max_rows` rows; `width_adjust` widens (or
+/// narrows) the columns by that many characters. `labels` (set label commands) are drawn with it, once.
+std::string key_strip(double height, int max_rows, int width_adjust, const std::vector<std::string>& entries,
+                      const std::string& labels = "") {
+  std::string out = fmt::format(
+      "set origin 0,0\nset size 1,{}\nset lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\n"
+      "unset border\nunset tics\nunset xlabel\nunset ylabel\nunset title\nunset colorbox\nunset label\n"
+      "set xrange [0:1]\nset yrange [0:1]\n"
+      "set key horizontal center center reverse Left samplen 4 spacing 1.2 width {} maxrows {}\n{}plot ",
+      height, width_adjust, max_rows, labels);
+  for (std::size_t i = 0; i < entries.size(); ++i) out += (i == 0 ? "" : ", ") + entries[i];
+  return out + "\n";
+}
+
+// --- the mitigability map -----------------------------------------------------------------------
+
+enum class Axis { kSpeed, kTtc, kMu };
+
+double value_of(const CellRecord& r, Axis a) {
+  switch (a) {
+    case Axis::kSpeed:
+      return r.speed_kph;
+    case Axis::kTtc:
+      return r.ttc_s;
+    case Axis::kMu:
+      return r.mu;
+  }
+  return 0.0;
+}
+
+std::string_view axis_label(Axis a) {
+  switch (a) {
+    case Axis::kSpeed:
+      return "ego speed (km/h)";
+    case Axis::kTtc:
+      return "time to collision TTC (s)";
+    case Axis::kMu:
+      return "road friction μ (–)";
+  }
+  return "";
+}
+
+std::string_view axis_plural(Axis a) {
+  switch (a) {
+    case Axis::kSpeed:
+      return "speeds";
+    case Axis::kTtc:
+      return "TTCs";
+    case Axis::kMu:
+      return "μ";
+  }
+  return "";
+}
+
+std::vector<double> distinct_values(const std::vector<CellRecord>& cells, Axis a) {
+  std::vector<double> v;
+  for (const auto& c : cells) v.push_back(value_of(c, a));
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end(), [](double x, double y) { return std::abs(x - y) <= kSameValue; }), v.end());
+  return v;
+}
+
+/// Half the smallest step between distinct values: the half-width of a cell's rectangle.
+double half_step(const std::vector<double>& values, Axis a) {
+  double step = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
+  if (std::isfinite(step)) return step / 2.0;
+  return a == Axis::kSpeed ? 1.0 : 0.05;  // a single value: a band of a plausible width
+}
+
+double median_of(const std::vector<CellRecord>& cells, Axis a) {
+  std::vector<double> v;
+  for (const auto& c : cells) v.push_back(value_of(c, a));
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
+}
+
+struct PanelSpec {
+  char letter;
+  std::string grid;
+  Axis x, y, fixed;
+  std::string_view name;  ///< "Speed × TTC, coarse grid"
+};
+
+std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
+
+std::string region_colour(std::string_view region) {
+  for (const auto& s : kRegions)
+    if (s.region == region) return std::string(s.colour);
+  return std::string(kRegions.back().colour);
+}
+
+std::string fixed_text(Axis a, double v) {
+  switch (a) {
+    case Axis::kSpeed:
+      return fmt::format("v = {} km/h", number(v));
+    case Axis::kTtc:
+      return fmt::format("TTC = {} s", number(v));
+    case Axis::kMu:
+      return fmt::format("μ = {}", number(v));
+  }
+  return "";
+}
+
+/// The dashed analytic stop boundary TTC = L + v/(2μg) as a gnuplot function of the panel's x.
+std::string boundary_function(const PanelSpec& p, double fixed, double latency_s) {
+  const double two_g = 2.0 * sim::kGravity_mps2;
+  if (p.x == Axis::kSpeed && p.y == Axis::kTtc)
+    return fmt::format("({} + x/3.6/({}*{}))", number(latency_s), number(two_g), number(fixed));
+  if (p.x == Axis::kSpeed && p.y == Axis::kMu) {
+    if (fixed <= latency_s) return "";  // nothing stops within the latency alone
+    return fmt::format("(x/3.6/({}*({} - {})))", number(two_g), number(fixed), number(latency_s));
+  }
+  // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
+  return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", number(fixed), number(latency_s), number(two_g));
+}
+
+}  // namespace
+
+Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
+                             double latency_s) {
+  Figure figure;
+  figure.name = "mitigability_map";
+  figure.title = "Mitigability regions";  // replaced by the full caption once drawn
+  const std::array<PanelSpec, 4> specs{{
+      {'a', panels.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
+      {'b', panels.fine, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, fine grid"},
+      {'c', panels.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
+      {'d', panels.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
+  }};
+
+  std::vector<core::Row> rows;
+  std::vector<std::string> missing, caption_parts;
+  std::string data, panel_plots, missing_labels;
+  std::size_t total_cells = 0;
+  // Panels sit in a fixed 2×2 layout above a key strip; a missing panel leaves its slot with a label.
+  const double key_h = 0.06, top = 0.955, cell_h = (top - key_h) / 2.0;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const PanelSpec& p = specs[i];
+    const double origin_x = i % 2 == 0 ? 0.0 : 0.5;
+    const double origin_y = i < 2 ? key_h + cell_h : key_h;
+    const auto cells = campaign::records_of_grid(records, p.grid);
+    if (cells.empty()) {
+      missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.grid, p.letter));
+      missing_labels += fmt::format("set label {} {} at screen {},{} center\n", 90 + i,
+                                    single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.letter, p.name,
+                                                       literal(p.grid))),
+                                    origin_x + 0.25, origin_y + cell_h / 2.0);
+      continue;
+    }
+    total_cells += cells.size();
+    const auto regions = campaign::count_regions(records, p.grid);  // throws on a corrupt region
+    const auto xs = distinct_values(cells, p.x), ys = distinct_values(cells, p.y);
+    const double hx = half_step(xs, p.x), hy = half_step(ys, p.y);
+    const double fixed = median_of(cells, p.fixed);
+
+    std::vector<std::string> lines;
+    for (const auto& c : cells) {
+      core::Row row{std::string(1, p.letter), c.grid,          number(c.speed_kph), number(c.ttc_s),
+                    number(c.mu),             number(c.passage_m), region_of(c)};
+      const std::string& x = p.x == Axis::kSpeed ? row[2] : row[3];
+      const std::string& y = p.y == Axis::kTtc ? row[3] : row[4];
+      lines.push_back(fmt::format("{} {} {} {} {}", x, y, number(hx), number(hy), rgb_value(region_colour(row[6]))));
+      rows.push_back(std::move(row));
+    }
+    const std::string block = fmt::format("map_{}", p.letter);
+    data += datablock(block, lines);
+
+    const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
+    const std::string shares =
+        regions.feasible == 0
+            ? std::string("no feasible cell")
+            : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
+                          share(regions.o), share(regions.r), regions.feasible);
+    const std::string title =
+        fmt::format("({}) {}: {} {} × {} {}, {} ({} cells)", p.letter, p.name, xs.size(), axis_plural(p.x), ys.size(),
+                    axis_plural(p.y), fixed_text(p.fixed, fixed), cells.size());
+    caption_parts.push_back(fmt::format("({}) {}, {} {} × {} {}, {} ({} cells; {})", p.letter, p.name, xs.size(),
+                                        axis_plural(p.x), ys.size(), axis_plural(p.y), fixed_text(p.fixed, fixed),
+                                        cells.size(), shares));
+
+    panel_plots += fmt::format("set origin {},{}\nset size 0.5,{}\n", origin_x, origin_y, cell_h);
+    panel_plots += fmt::format("set title {}\n", double_quoted(literal(title) + "\n{/*0.8 " + literal(shares) + "}"));
+    panel_plots += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.x)), single_quoted(axis_label(p.y)));
+    panel_plots += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", number(xs.front() - hx),
+                               number(xs.back() + hx), number(ys.front() - hy), number(ys.back() + hy));
+    // Neighbours overlap by 3 % of a cell so that antialiased edges leave no seams between them.
+    panel_plots += fmt::format(
+        "plot ${} using 1:2:($3*1.03):($4*1.03):5 with boxxyerror fs solid 1.0 noborder lc rgb variable notitle", block);
+    const std::string boundary = boundary_function(p, fixed, latency_s);
+    if (!boundary.empty()) panel_plots += ", " + boundary + " with lines dt 2 lw 2.5 lc rgb 'black' notitle";
+    panel_plots += "\n";
+  }
+
+  if (rows.empty()) {
+    figure.note = fmt::format("no mitigability map: none of the grids '{}', '{}', '{}', '{}' is in the store",
+                              panels.coarse, panels.fine, panels.speed_mu, panels.ttc_mu);
+    return figure;
+  }
+  figure.note = core::join(missing, "; ");
+  const std::string boundary_text =
+      latency_s == 0.0 ? std::string("TTC = v/(2μg)") : fmt::format("TTC = {} s + v/(2μg)", number(latency_s));
+  figure.title = fmt::format(
+      "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
+      "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
+      "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.",
+      total_cells, core::join(caption_parts, "; "), boundary_text, number(sim::kGravity_mps2));
+  write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}, rows);
+
+  std::string body = fmt::format(
+      "set multiplot title {} font ',16'\n"
+      "set samples 600\nset tics out nomirror\nset border 3\nset key off\n",
+      single_quoted(fmt::format("Mitigability regions ({} cells)", total_cells)));
+  body += panel_plots;
+  std::vector<std::string> key;
+  for (const auto& s : kRegions)
+    key.push_back(fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
+  key.push_back(fmt::format("NaN with lines dt 2 lw 2.5 lc rgb 'black' title {}",
+                            single_quoted("analytic stop boundary " + boundary_text)));
+  body += "set key on\n" + key_strip(key_h, 2, -4, key, missing_labels) + "unset multiplot\n";
+  render(figure, data, body, 1400, 1000, 13);
+  return figure;
+}
+
+// --- loss comparison --------------------------------------------------------------------------
+
+Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
+  Figure figure;
+  figure.name = "loss_comparison";
+  figure.title = fmt::format("Loss comparison on grid '{}'", grid);
+  const auto cells = campaign::records_of_grid(records, grid);
+  if (cells.empty()) {
+    figure.note = fmt::format("no loss comparison: no grid '{}' in the store", grid);
+    return figure;
+  }
+  const auto strategies = ordered_strategies(cells);
+  std::vector<core::Row> rows;
+  std::vector<std::string> lines, tics;
+  std::size_t feasible = 0;
+  for (const auto& strategy : strategies) {
+    const auto k = campaign::strategy_kpis(cells, strategy, grid);
+    if (k.cells == 0) continue;
+    feasible = std::max(feasible, k.cells);
+    core::Row row{strategy, std::to_string(k.cells), percent(k.collision_avoidance_rate_pct),
+                  percent(k.mean_impact_speed_kph)};
+    lines.push_back(fmt::format("{} {} {} {}", rows.size(), row[2], row[3], rgb_value(strategy_colour(strategy, strategies))));
+    tics.push_back(fmt::format("{} {}", single_quoted(strategy_label(strategy)), rows.size()));
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) {
+    figure.note = fmt::format("no loss comparison: grid '{}' has no feasible cell with a strategy outcome", grid);
+    return figure;
+  }
+  figure.title = fmt::format(
+      "Loss comparison over the {} feasible cells of grid '{}'. Left: collision-avoidance rate per strategy; "
+      "right: mean residual impact speed (0 km/h for an avoided cell).",
+      feasible, grid);
+  write_csv(figure, dir, {"strategy", "cells", "collision_avoidance_rate_pct", "mean_impact_speed_kph"}, rows);
+
+  const std::string xtics = fmt::format("set xtics ({}) noenhanced rotate by -20\n", core::join(tics, ", "));
+  const double n = static_cast<double>(rows.size());
+  std::string body = fmt::format(
+      "set multiplot layout 1,2 title {} font ',16'\n"
+      "set style fill solid 0.9 border rgb 'black'\nset boxwidth 0.65\nset tics out nomirror\nset border 3\n"
+      "set key off\nset grid ytics lc rgb '#dddddd'\nset xrange [-0.6:{}]\nset bmargin 5\n{}",
+      single_quoted(fmt::format("Loss comparison, grid '{}' ({} feasible cells)", literal(grid), feasible)),
+      number(n - 0.4), xtics);
+  body +=
+      "set title 'Collision avoidance'\nset ylabel 'collision-avoidance rate (%)'\nset yrange [0:100]\n"
+      "set ytics 0,20,100\n"
+      "plot $loss using 1:2:4 with boxes lc rgb variable, "
+      "$loss using 1:2:(sprintf('%.1f', $2)) with labels offset 0,0.8\n";
+  body +=
+      "set title 'Residual impact speed'\nset ylabel 'mean residual impact speed (km/h)'\n"
+      "set yrange [0:*]\nset ytics autofreq\nset offsets 0,0,graph 0.1,0\n"
+      "plot $loss using 1:3:4 with boxes lc rgb variable, "
+      "$loss using 1:3:(sprintf('%.1f', $3)) with labels offset 0,0.8\n"
+      "unset multiplot\n";
+  render(figure, datablock("loss", lines), body, 1400, 650, 13);
+  return figure;
+}
+
+// --- sweep curves -----------------------------------------------------------------------------
+
+Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
+  Figure figure;
+  figure.name = "sweep_curves";
+  figure.title = fmt::format("Parameter sweep over grid '{}'", grid);
+  const auto cells = campaign::records_of_grid(records, grid);
+  if (cells.empty()) {
+    figure.note = fmt::format("no sweep curves: no grid '{}' in the store", grid);
+    return figure;
+  }
+  const auto strategies = ordered_strategies(cells);
+  const auto speeds = distinct_values(cells, Axis::kSpeed);
+  std::vector<core::Row> rows;
+  std::vector<std::vector<std::string>> per_strategy(strategies.size());
+  for (const double speed : speeds) {
+    std::vector<CellRecord> at_speed;
+    for (const auto& c : cells)
+      if (std::abs(c.speed_kph - speed) <= kSameValue) at_speed.push_back(c);
+    for (std::size_t s = 0; s < strategies.size(); ++s) {
+      const auto k = campaign::strategy_kpis(at_speed, strategies[s], grid);
+      if (k.cells == 0) continue;  // every cell at this speed infeasible: no point, the line bridges it
+      core::Row row{number(speed), strategies[s], std::to_string(k.cells), percent(k.collision_avoidance_rate_pct),
+                    percent(k.mitigability_success_pct)};
+      per_strategy[s].push_back(fmt::format("{} {} {}", row[0], row[3], row[4]));
+      rows.push_back(std::move(row));
+    }
+  }
+  if (rows.empty()) {
+    figure.note = fmt::format("no sweep curves: grid '{}' has no feasible cell with a strategy outcome", grid);
+    return figure;
+  }
+  figure.title = fmt::format(
+      "Parameter sweep over grid '{}' ({} cells, {} ego speeds from {} to {} km/h), per strategy. Left: "
+      "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
+      "feasible cells at that speed.",
+      grid, cells.size(), speeds.size(), number(speeds.front()), number(speeds.back()));
+  write_csv(figure, dir, {"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct", "mitigability_success_pct"},
+            rows);
+
+  std::string data;
+  std::vector<std::string> car_plot, ms_plot, key;
+  for (std::size_t s = 0; s < strategies.size(); ++s) {
+    if (per_strategy[s].empty()) continue;
+    const std::string block = fmt::format("sweep_{}", s);
+    data += datablock(block, per_strategy[s]);
+    const std::string style = fmt::format("lc rgb {} lw 2 pt {} ps 0.8 dt {}",
+                                          single_quoted(strategy_colour(strategies[s], strategies)), 5 + 2 * (s % 5),
+                                          s == 0 ? 2 : 1);  // the baseline dashed, as in print it is grey
+    car_plot.push_back(fmt::format("${} using 1:2 with linespoints {} notitle", block, style));
+    ms_plot.push_back(fmt::format("${} using 1:3 with linespoints {} notitle", block, style));
+    key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
+  }
+  const double key_h = 0.08, top = 0.93;
+  const double x_lo = speeds.front() - 1.0, x_hi = speeds.back() + 1.0;
+  std::string body = fmt::format(
+      "set multiplot title {} font ',16'\n"
+      "set tics out nomirror\nset border 3\nset key off\nset grid lc rgb '#dddddd'\n"
+      "set xrange [{}:{}]\nset yrange [-2:102]\nset ytics 0,20,100\nset xlabel 'ego speed (km/h)'\n",
+      single_quoted(fmt::format("Parameter sweep, grid '{}'", literal(grid))), number(x_lo), number(x_hi));
+  body += fmt::format("set origin 0,{0}\nset size 0.5,{1}\nset title 'Collision avoidance'\n"
+                      "set ylabel 'collision-avoidance rate (%)'\nplot {2}\n",
+                      key_h, top - key_h, core::join(car_plot, ", "));
+  body += fmt::format("set origin 0.5,{0}\nset size 0.5,{1}\nset title 'Mitigability success'\n"
+                      "set ylabel 'mitigability success (%)'\nplot {2}\n",
+                      key_h, top - key_h, core::join(ms_plot, ", "));
+  body += "set key on\n" + key_strip(key_h, 1, 0, key) + "unset multiplot\n";
+  render(figure, data, body, 1400, 650, 13);
+  return figure;
+}
+
+// --- coverage comparison ----------------------------------------------------------------------
+
+namespace {
+
+/// 100 × the fraction of one count of a coverage report, or NaN when the report lacks it.
+double coverage_pct(const nlohmann::json& report, const char* key) {
+  const auto it = report.find(key);
+  if (it == report.end() || !it->is_object()) return std::numeric_limits<double>::quiet_NaN();
+  if (const auto f = it->find("fraction"); f != it->end() && f->is_number()) return 100.0 * f->get<double>();
+  const auto covered = it->find("covered"), total = it->find("total");
+  if (covered == it->end() || total == it->end() || !covered->is_number() || !total->is_number())
+    return std::numeric_limits<double>::quiet_NaN();
+  const double t = total->get<double>();
+  return t == 0.0 ? 100.0 : 100.0 * covered->get<double>() / t;  // as CoverageCount::fraction
+}
+
+std::string optional_percent(double x) { return std::isnan(x) ? std::string() : percent(x); }
+
+}  // namespace
+
+Figure draw_coverage_comparison(const nlohmann::json& coverage, const fs::path& dir) {
+  Figure figure;
+  figure.name = "coverage_comparison";
+  figure.title = "Coverage comparison";
+  std::vector<const nlohmann::json*> reports;
+  if (coverage.is_object()) {
+    if (const auto plan = coverage.find("plan"); plan != coverage.end() && plan->is_object()) reports.push_back(&*plan);
+    if (const auto b = coverage.find("baselines"); b != coverage.end() && b->is_array())
+      for (const auto& r : *b)
+        if (r.is_object()) reports.push_back(&r);
+  }
+  if (reports.empty()) {
+    figure.note = "no coverage comparison: the coverage report has neither a plan nor a baseline";
+    return figure;
+  }
+  std::vector<core::Row> rows;
+  std::vector<std::string> lines, tics;
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const nlohmann::json& r = *reports[i];
+    const std::string name = r.contains("name") && r["name"].is_string() ? r["name"].get<std::string>()
+                                                                         : fmt::format("method {}", i + 1);
+    const std::string scenarios =
+        r.contains("scenarios") && r["scenarios"].is_number_integer() ? std::to_string(r["scenarios"].get<long long>()) : "";
+    const double hazard = coverage_pct(r, "hazards"), uca = coverage_pct(r, "malfunctions"),
+                 cell = coverage_pct(r, "cells");
+    rows.push_back({name, scenarios, optional_percent(hazard), optional_percent(uca),
+                    optional_percent(coverage_pct(r, "transitions")), optional_percent(cell),
+                    optional_percent(coverage_pct(r, "twise"))});
+    const auto& row = rows.back();
+    const auto plotted = [](const std::string& text) { return text.empty() ? std::string("NaN") : text; };
+    lines.push_back(fmt::format("{} {} {} {}", i, plotted(row[2]), plotted(row[3]), plotted(row[5])));
+    tics.push_back(fmt::format("{} {}", double_quoted(scenarios.empty() ? name : name + "\n(" + scenarios + " scenarios)"), i));
+  }
+  figure.title = fmt::format(
+      "Coverage comparison of the scenario plan and {} baseline method(s): hazard, UCA and ODD-cell coverage (%), "
+      "each measured by the same checker.",
+      reports.size() - 1);
+  write_csv(figure, dir, {"method", "scenarios", "hazard_pct", "uca_pct", "transition_pct", "cell_pct", "twise_pct"},
+            rows);
+
+  constexpr std::array<std::pair<std::string_view, std::string_view>, 3> kSeries{
+      {{"hazard coverage", "#4c72b0"}, {"UCA coverage", "#dd8452"}, {"cell coverage", "#55a868"}}};
+  constexpr double kWidth = 0.26;
+  std::string plot;
+  for (std::size_t s = 0; s < kSeries.size(); ++s) {
+    const double shift = (static_cast<double>(s) - 1.0) * kWidth;
+    plot += fmt::format("$coverage using ($1+{0}):{1} with boxes lc rgb {2} title {3}, "
+                        "$coverage using ($1+{0}):{1}:(pct_label(${1})) with labels offset 0,0.7 font ',11' notitle",
+                        number(shift), s + 2, single_quoted(kSeries[s].second), single_quoted(kSeries[s].first));
+    plot += s + 1 < kSeries.size() ? ", " : "\n";
+  }
+  const double n = static_cast<double>(reports.size());
+  std::string body = fmt::format(
+      "set title 'Coverage comparison' font ',16' offset 0,1\n"
+      "pct_label(v) = v == floor(v) ? sprintf('%.0f', v) : sprintf('%.1f', v)\n"
+      "set style fill solid 0.9 border rgb 'black'\nset boxwidth {}\nset tics out nomirror\nset border 3\n"
+      "set grid ytics lc rgb '#dddddd'\nset key below center horizontal reverse Left samplen 2.5 width 2\n"
+      "set xrange [-0.6:{}]\nset yrange [0:100]\nset ytics 0,20,100\nset ylabel 'coverage (%)'\n"
+      "set xtics ({}) noenhanced\nset bmargin 5\nplot {}",
+      number(kWidth * 0.95), number(n - 0.4), core::join(tics, ", "), plot);
+  render(figure, datablock("coverage", lines), body, 1200, 700, 13);
+  return figure;
+}
+
+// --- traceability matrix ----------------------------------------------------------------------
+
+Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const fs::path& dir) {
+  Figure figure;
+  figure.name = "traceability_matrix";
+  figure.title = "Traceability matrix";
+  if (rows.empty()) {
+    figure.note = "no traceability matrix: the safety case has no (UCA, hazard) link";
+    return figure;
+  }
+  struct Link {
+    std::string uca, hazard;
+    std::vector<std::string> losses, scenarios;
+  };
+  std::vector<std::string> ucas, hazards;
+  std::vector<Link> links;
+  const auto add_unique = [](std::vector<std::string>& to, const std::string& s) {
+    if (std::find(to.begin(), to.end(), s) == to.end()) to.push_back(s);
+  };
+  for (const auto& r : rows) {
+    add_unique(ucas, r.uca);
+    add_unique(hazards, r.hazard);
+    auto it = std::find_if(links.begin(), links.end(), [&](const Link& l) { return l.uca == r.uca && l.hazard == r.hazard; });
+    if (it == links.end()) it = links.insert(links.end(), Link{r.uca, r.hazard, {}, {}});
+    if (!r.loss.empty()) add_unique(it->losses, r.loss);
+    for (const auto& s : r.scenarios) add_unique(it->scenarios, s);
+  }
+  std::vector<core::Row> csv_rows;
+  std::vector<std::string> lines;
+  std::size_t most = 0, traced = 0;
+  for (const auto& l : links) {
+    const auto col = std::find(hazards.begin(), hazards.end(), l.hazard) - hazards.begin();
+    const auto row = std::find(ucas.begin(), ucas.end(), l.uca) - ucas.begin();
+    csv_rows.push_back({l.uca, l.hazard, core::join(l.losses, " "), std::to_string(l.scenarios.size())});
+    lines.push_back(fmt::format("{} {} {}", col, row, csv_rows.back()[3]));
+    most = std::max(most, l.scenarios.size());
+    if (!l.scenarios.empty()) ++traced;
+  }
+  figure.title = fmt::format(
+      "Traceability matrix: {} UCAs (rows) × {} hazards (columns). Each of the {} linked pairs shows the number of "
+      "scenarios tracing to it ({} with at least one); blank pairs are not linked.",
+      ucas.size(), hazards.size(), links.size(), traced);
+  write_csv(figure, dir, {"uca", "hazard", "losses", "scenarios"}, csv_rows);
+
+  const auto tic_list = [](const std::vector<std::string>& names) {
+    std::vector<std::string> t;
+    for (std::size_t i = 0; i < names.size(); ++i) t.push_back(fmt::format("{} {}", single_quoted(names[i]), i));
+    return core::join(t, ", ");
+  };
+  std::size_t longest = 0;
+  for (const auto& h : hazards) longest = std::max(longest, h.size());
+  const int width = std::clamp(320 + 90 * static_cast<int>(hazards.size()), 800, 2000);
+  const int height = std::clamp(220 + 55 * static_cast<int>(ucas.size()), 450, 1800);
+  std::string body = fmt::format(
+      "set title 'Traceability: scenarios per (UCA, hazard) link' font ',16'\n"
+      "set xrange [-0.5:{}]\nset yrange [{}:-0.5]\nset tics scale 0\n"
+      "set xtics ({}) noenhanced{}\nset ytics ({}) noenhanced\n"
+      "set xlabel 'hazard'\nset ylabel 'unsafe control action'\nset key off\n"
+      "set palette defined (0 '#f7fbff', 1 '#9ecae1', 2 '#4292c6')\nset cbrange [0:{}]\n"
+      "set cblabel 'scenarios tracing to the link'\nset cbtics {} out\nset format cb '%.0f'\n"
+      "set for [i=0:{}] arrow from first i+0.5,graph 0 to first i+0.5,graph 1 nohead lc rgb '#e0e0e0' back\n"
+      "set for [j=0:{}] arrow from graph 0,first j+0.5 to graph 1,first j+0.5 nohead lc rgb '#e0e0e0' back\n"
+      "plot $trace using 1:2:(0.46):(0.46):3 with boxxyerror fs solid 1.0 border lc rgb '#525252' lc palette, "
+      "$trace using 1:2:(sprintf('%d', $3)) with labels font ',13'\n",
+      number(static_cast<double>(hazards.size()) - 0.5), number(static_cast<double>(ucas.size()) - 0.5),
+      tic_list(hazards), longest > 6 ? " rotate by -30" : "", tic_list(ucas), std::max<std::size_t>(most, 1),
+      std::max<std::size_t>(1, (most + 9) / 10), static_cast<int>(hazards.size()) - 2, static_cast<int>(ucas.size()) - 2);
+  render(figure, datablock("trace", lines), body, width, height, 13);
+  return figure;
+}
+
+}  // namespace emrm::report
