@@ -235,10 +235,7 @@ RunResult run_scenarios(const RunOptions& options) {
   result.transitions_total = fc.transitions.size();
   result.transitions_exercised = fc.coverage.covered;
   for (std::size_t t = 0; t < fc.transitions.size(); ++t)
-    if (fc.coverage.counts[t] == 0) {
-      const auto& tr = fc.transitions[t];
-      result.transitions_missed.push_back(tr.from + " -" + tr.event + "-> " + tr.to);
-    }
+    if (fc.coverage.counts[t] == 0) result.transitions_missed.push_back(fc.transitions[t].str());
 
   // Files.
   const fs::path& dir = options.output_dir;

@@ -382,10 +382,6 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node) {
   return f;
 }
 
-core::Expression compile(const core::YamlNode& node, const std::vector<std::string>& names) {
-  return core::Expression(node, names);
-}
-
 std::vector<std::string> split_transitions(const std::vector<core::TransitionRef>& refs) {
   std::vector<std::string> out;
   for (const auto& t : refs) out.push_back(t.str());
@@ -498,9 +494,9 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   const std::vector<std::string> names = odd.factor_names();
 
   // Predicates.
-  if (relevance_node) odd.relevance = compile(*relevance_node, names);
-  for (const auto& c : constraint_nodes) odd.constraints.push_back(compile(c, names));
-  if (tracked_node) odd.tracked = compile(*tracked_node, names);
+  if (relevance_node) odd.relevance = core::Expression(*relevance_node, names);
+  for (const auto& c : constraint_nodes) odd.constraints.push_back(core::Expression(c, names));
+  if (tracked_node) odd.tracked = core::Expression(*tracked_node, names);
 
   // Coverage targets.
   if (coverage_node) {
@@ -559,7 +555,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     if (sc.fsm) {
       const fsm::Generator g = fsm::load_generator(safety_path->parent_path() / *sc.fsm);
       for (const auto& t : g.transitions())
-        odd.fsm_transitions.push_back(t.from + " -" + t.event + "-> " + t.to);
+        odd.fsm_transitions.push_back(t.str());
     }
   }
   if (malfunctions_node) {
@@ -572,7 +568,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
       m.id = y.id;
       m.description = y.description;
       m.where = y.where;
-      if (y.region) m.region = compile(field(element, "region"), names);
+      if (y.region) m.region = core::Expression(field(element, "region"), names);
       m.hazards = y.hazards;
       m.transitions = y.transitions;
       odd.malfunctions.push_back(std::move(m));

@@ -45,6 +45,8 @@ struct Transition {
   std::string event;
   std::string to;
   SourceLocation where;
+  /// "S3 -execute_maneuver-> S4", as core::TransitionRef::str() writes a reference to it.
+  [[nodiscard]] std::string str() const { return from + " -" + event + "-> " + to; }
 };
 
 /// A transition by index into states() / events().
