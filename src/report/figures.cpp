@@ -650,7 +650,7 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const fs::pa
       "set xtics ({}) noenhanced{}\nset ytics ({}) noenhanced\n"
       "set xlabel 'hazard'\nset ylabel 'unsafe control action'\nset key off\n"
       "set palette defined (0 '#f7fbff', 1 '#9ecae1', 2 '#4292c6')\nset cbrange [0:{}]\n"
-      "set cblabel 'scenarios tracing to the link'\nset cbtics {} out\nset format cb '%.0f'\n"
+      "set cblabel 'scenarios tracing to the link' offset 2,0\nset cbtics {} out\nset format cb '%.0f'\n"
       "set for [i=0:{}] arrow from first i+0.5,graph 0 to first i+0.5,graph 1 nohead lc rgb '#e0e0e0' back\n"
       "set for [j=0:{}] arrow from graph 0,first j+0.5 to graph 1,first j+0.5 nohead lc rgb '#e0e0e0' back\n"
       "plot $trace using 1:2:(0.46):(0.46):3 with boxxyerror fs solid 1.0 border lc rgb '#525252' lc palette, "
