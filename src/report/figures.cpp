@@ -372,8 +372,8 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   for (const auto& s : kRegions)
     key.push_back(fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
   key.push_back(fmt::format("NaN with lines dt 2 lw 2.5 lc rgb 'black' title {}",
-                            single_quoted("analytic stop boundary " + boundary_text)));
-  body += "set key on\n" + key_strip(key_h, 2, -4, key, missing_labels) + "unset multiplot\n";
+                            single_quoted("stop boundary " + boundary_text)));
+  body += "set key on\n" + key_strip(key_h, 2, -6, key, missing_labels) + "unset multiplot\n";
   render(figure, data, body, 1400, 1000, 13);
   return figure;
 }
@@ -484,7 +484,7 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
     data += datablock(block, per_strategy[s]);
     const std::string style = fmt::format("lc rgb {} lw 2 pt {} ps 0.8 dt {}",
                                           single_quoted(strategy_colour(strategies[s], strategies)), 5 + 2 * (s % 5),
-                                          s == 0 ? 2 : 1);  // the baseline dashed, as in print it is grey
+                                          strategies[s] == "emergency_stop" ? 2 : 1);  // the baseline dashed: in print it is grey
     car_plot.push_back(fmt::format("${} using 1:2 with linespoints {} notitle", block, style));
     ms_plot.push_back(fmt::format("${} using 1:3 with linespoints {} notitle", block, style));
     key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
