@@ -141,13 +141,29 @@ MonotonicityCheck check_monotonicity(const std::vector<CellRecord>& records, std
   return out;
 }
 
+const ReferenceCounts* ReferenceCheck::of(std::string_view strategy) const noexcept {
+  for (const auto& c : strategies)
+    if (c.strategy == strategy) return &c;
+  return nullptr;
+}
+
+std::vector<sim::StrategyInfo> reference_checked_strategies() {
+  std::vector<sim::StrategyInfo> out;
+  for (const auto& e : sim::registered_strategies().entries())
+    if (!e.info.planner.empty() && !e.info.limits.accept_contact) out.push_back(e.info);
+  return out;
+}
+
 ReferenceCheck check_against_reference(const std::vector<CellRecord>& records, const sim::SceneConfig& scene,
                                        std::size_t sample, std::uint64_t seed, int threads) {
   ReferenceCheck check;
   check.seed = seed;
+  const auto checked = reference_checked_strategies();
+  for (const auto& s : checked) check.strategies.push_back({s.name});
   std::vector<const CellRecord*> candidates;
   for (const auto& r : records)
-    if (r.feasible && outcome_of(r, "dodge") != nullptr && outcome_of(r, "drift_to_avoid") != nullptr)
+    if (r.feasible && std::all_of(checked.begin(), checked.end(),
+                                  [&](const sim::StrategyInfo& s) { return outcome_of(r, s.name) != nullptr; }))
       candidates.push_back(&r);
   // A partial Fisher–Yates shuffle with our own generator: std::shuffle's algorithm is not
   // specified, and the sample must be the same on every standard library.
@@ -161,20 +177,17 @@ ReferenceCheck check_against_reference(const std::vector<CellRecord>& records, c
   candidates.resize(n);
   check.sampled = n;
 
-  struct Result {
-    bool dodge = false, drift = false;
-  };
-  std::vector<Result> results(n);
+  // reference_avoids[i * checked + k]: the reference planner avoids cell i with strategy k's limits.
+  std::vector<char> reference_avoids(n * checked.size(), 0);
   const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
   const auto run_one = [&](std::size_t i) {
     const CellRecord& r = *candidates[i];
     const sim::CellInput input{r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph};
     sim::validate_cell(scene, input);
     const sim::Scene cell_scene(scene, input);
-    results[i].dodge =
-        sim::plan_reference(cell_scene, *model, sim::ControlLimits{false, true, false}).avoidance.has_value();
-    results[i].drift =
-        sim::plan_reference(cell_scene, *model, sim::ControlLimits{true, false, false}).avoidance.has_value();
+    for (std::size_t k = 0; k < checked.size(); ++k)
+      reference_avoids[i * checked.size() + k] =
+          sim::plan_reference(cell_scene, *model, checked[k].limits).avoidance.has_value();
   };
   {
     const int workers =
@@ -185,17 +198,14 @@ ReferenceCheck check_against_reference(const std::vector<CellRecord>& records, c
   }
   for (std::size_t i = 0; i < n; ++i) {
     const CellRecord& r = *candidates[i];
-    for (const auto& [strategy, reference_avoids] :
-         {std::pair{std::string("dodge"), results[i].dodge},
-          std::pair{std::string("drift_to_avoid"), results[i].drift}}) {
-      const bool stored = outcome_of(r, strategy)->avoided;
-      const bool dodge = strategy == "dodge";
-      if (reference_avoids) ++(dodge ? check.dodge_reference_avoids : check.drift_reference_avoids);
-      if (reference_avoids && !stored) ++(dodge ? check.dodge_missed : check.drift_missed);
-      if (!reference_avoids && stored)
-        ++(dodge ? check.dodge_beyond_reference : check.drift_beyond_reference);
-      if (reference_avoids != stored)
-        check.disagreements.push_back({cell_ref(r), strategy, reference_avoids, stored});
+    for (std::size_t k = 0; k < checked.size(); ++k) {
+      ReferenceCounts& counts = check.strategies[k];
+      const bool reference = reference_avoids[i * checked.size() + k] != 0;
+      const bool stored = outcome_of(r, counts.strategy)->avoided;
+      if (reference) ++counts.reference_avoids;
+      if (reference && !stored) ++counts.missed;
+      if (!reference && stored) ++counts.beyond_reference;
+      if (reference != stored) check.disagreements.push_back({cell_ref(r), counts.strategy, reference, stored});
     }
   }
   return check;
@@ -222,7 +232,7 @@ FsmCoverage loss_evaluation_fsm_coverage(const std::vector<CellRecord>& records,
   for (const auto& r : records) {
     if (!r.feasible) continue;
     for (const auto& o : r.outcomes)
-      if (o.strategy == "emrm" && !o.loss_evaluation_trace.empty())
+      if (!o.loss_evaluation_trace.empty())
         words.push_back(trace_events(o.loss_evaluation_trace));
   }
   return coverage_of(g, words);
@@ -280,19 +290,16 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
                              {"reference_avoids", x.reference_avoids},
                              {"stored_avoided", x.stored_avoided}});
   Json reference{{"definition",
-                  "sim::plan_reference (dodge limits {false,true,false}, drift {true,false,false}) on a "
-                  "seeded sample of feasible cells, against the stored dodge and drift_to_avoid"},
+                  "sim::plan_reference with each checked strategy's control limits on a seeded sample of "
+                  "feasible cells, against the stored outcomes of the strategies that search for an avoidance "
+                  "of their own (docs/results.md)"},
                  {"sampled", rc.sampled},
-                 {"seed", rc.seed},
-                 {"dodge",
-                  {{"reference_avoids", rc.dodge_reference_avoids},
-                   {"rrt_missed", rc.dodge_missed},
-                   {"rrt_beyond_reference", rc.dodge_beyond_reference}}},
-                 {"drift_to_avoid",
-                  {{"reference_avoids", rc.drift_reference_avoids},
-                   {"rrt_missed", rc.drift_missed},
-                   {"rrt_beyond_reference", rc.drift_beyond_reference}}},
-                 {"disagreements", disagreements}};
+                 {"seed", rc.seed}};
+  for (const auto& c : rc.strategies)
+    reference[c.strategy] = {{"reference_avoids", c.reference_avoids},
+                             {"rrt_missed", c.missed},
+                             {"rrt_beyond_reference", c.beyond_reference}};
+  reference["disagreements"] = disagreements;
   return {{"stop_boundary", stop},
           {"monotonicity", mono},
           {"rrt_vs_reference", reference},

@@ -180,6 +180,21 @@ std::vector<std::string> split_word(std::string_view text) {
   return out;
 }
 
+std::vector<std::string> trace_word(const Generator& g, const std::vector<std::string>& word) {
+  std::vector<std::string> trace;
+  auto state = g.initial();
+  if (!state) return trace;
+  trace.push_back(*state);
+  for (const auto& e : word) {
+    auto next = g.step(*state, e);
+    if (!next) break;
+    trace.push_back(e);
+    trace.push_back(*next);
+    state = next;
+  }
+  return trace;
+}
+
 WordEvaluation evaluate_word(const Generator& g, const std::vector<std::string>& word) {
   WordEvaluation result;
   if (g.initial_index() == Generator::kNone) return result;

@@ -902,9 +902,9 @@ CoveringArray generate_covering_array(const std::vector<int>& levels, const Cove
   return best;
 }
 
-CoverageReport check_covering_array(const std::vector<int>& levels, int strength,
-                                    const std::vector<std::vector<int>>& rows, const RowViolates& violates) {
-  CoverageReport report;
+ArrayCheck check_covering_array(const std::vector<int>& levels, int strength,
+                                const std::vector<std::vector<int>>& rows, const RowViolates& violates) {
+  ArrayCheck report;
   const std::size_t n = levels.size();
   for (std::size_t r = 0; r < rows.size(); ++r) {
     bool bad = rows[r].size() != n;

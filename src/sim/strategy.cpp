@@ -1,10 +1,87 @@
 #include "emrm/sim/strategy.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <memory>
-#include <vector>
+#include <utility>
+
+#include "emrm/core/registry.hpp"
+#include "emrm/core/text.hpp"
+#include "builtin_strategies.hpp"
 
 namespace emrm::sim {
+namespace {
+
+core::Registry<RegisteredStrategy>& registry() {
+  static core::Registry<RegisteredStrategy> strategies(
+      "strategy", builtin_strategies(), [](const RegisteredStrategy& s) -> std::string_view { return s.info.name; },
+      [](const RegisteredStrategy& a, const RegisteredStrategy& b) { return a.info.order < b.info.order; });
+  return strategies;
+}
+
+const std::vector<ControlSegment> kNoPlan;
+
+class EmergencyStop final : public Strategy {
+ public:
+  StrategyOutcome run(const StrategyInfo& self, const StrategyContext& c) const override {
+    const Roller roller(c.scene, c.model, self.limits);
+    const double latency = c.scene.config().simulation.latency_s;
+    const std::vector<ControlSegment> wait =
+        latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : kNoPlan;
+    const RolloutResult r = roller.roll(c.scene.ego_initial(), 0.0, wait, Tail::full_stop(), 1);
+    StrategyOutcome o = outcome_of(self.name, r, c.unmitigated, c.scene);
+    o.planner.rollouts = 1;
+    return o;
+  }
+};
+
+// A planned strategy: adopts an earlier avoidance it may take, else searches with its planner.
+class PlannedStrategy final : public Strategy {
+ public:
+  StrategyOutcome run(const StrategyInfo& self, const StrategyContext& c) const override {
+    for (const auto& other : self.may_adopt) {
+      auto it = c.earlier.find(other);
+      if (it != c.earlier.end() && it->second.avoided) return adopted(self.name, other, it->second);
+    }
+    const Planner* planner = find_planner(self.planner);
+    const PlanResult plan = planner->plan({c.scene, c.model, self.limits, c.seed, c.keep_tree});
+    StrategyOutcome o;
+    if (plan.avoidance) {
+      o = outcome_of(self.name, *plan.avoidance, c.unmitigated, c.scene);
+    } else if (plan.collision) {
+      o = outcome_of(self.name, *plan.collision, c.unmitigated, c.scene);
+    } else {
+      // Every branch broke the strategy's constraint: it cannot be executed here; the car falls
+      // back to what the baseline gives.
+      const StrategyInfo* baseline = c.strategies.first_of(StrategyRole::kBaseline);
+      if (baseline != nullptr) {
+        auto it = c.earlier.find(baseline->name);
+        if (it != c.earlier.end()) o = it->second;
+        o.adopted_from = baseline->name;
+      }
+      o.strategy = self.name;
+    }
+    // With contact accepted, a collision found by an earlier strategy is also admissible.
+    if (self.limits.accept_contact && !o.avoided) {
+      for (const auto& other : self.may_adopt) {
+        auto it = c.earlier.find(other);
+        if (it != c.earlier.end() && less_loss(it->second.impact, o.impact)) {
+          const auto stats = o.planner;
+          o = adopted(self.name, other, it->second);
+          o.planner = stats;
+        }
+      }
+    }
+    o.planner.nodes = plan.stats.nodes;
+    o.planner.rollouts = plan.stats.rollouts;
+    o.planner.time_ms = plan.stats.time_ms;
+    o.planner.time_limited = plan.stats.time_limited;
+    if (c.keep_tree) o.tree = plan.tree;
+    return o;
+  }
+};
+
+}  // namespace
 
 StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout,
                            const ImpactAssessment& unmitigated, const Scene& scene) {
@@ -20,108 +97,68 @@ StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollo
   return o;
 }
 
-namespace {
-
-const std::vector<ControlSegment> kNoPlan;
-
-class EmergencyStop final : public Strategy {
- public:
-  std::string_view name() const override { return "emergency_stop"; }
-  StrategyOutcome run(const StrategyContext& c) const override {
-    const Roller roller(c.scene, c.model, ControlLimits{});
-    const double latency = c.scene.config().simulation.latency_s;
-    const std::vector<ControlSegment> wait =
-        latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : kNoPlan;
-    const RolloutResult r = roller.roll(c.scene.ego_initial(), 0.0, wait, Tail::full_stop(), 1);
-    StrategyOutcome o = outcome_of(name(), r, c.unmitigated, c.scene);
-    o.planner.rollouts = 1;
-    return o;
-  }
-};
-
-// An RRT strategy: its control limits, and the earlier strategies whose avoidance it may adopt.
-class RrtStrategy final : public Strategy {
- public:
-  RrtStrategy(std::string name, ControlLimits limits, std::vector<std::string> may_adopt)
-      : name_(std::move(name)), limits_(limits), may_adopt_(std::move(may_adopt)) {}
-
-  std::string_view name() const override { return name_; }
-
-  StrategyOutcome run(const StrategyContext& c) const override {
-    for (const auto& other : may_adopt_) {
-      auto it = c.earlier.find(other);
-      if (it != c.earlier.end() && it->second.avoided) {
-        StrategyOutcome o = it->second;
-        o.strategy = name_;
-        o.adopted_from = it->second.adopted_from.empty() ? other : it->second.adopted_from;
-        o.planner = {};
-        o.tree.clear();
-        return o;
-      }
-    }
-    const PlanResult plan = plan_rrt(c.scene, c.model, limits_, c.seed, c.keep_tree);
-    StrategyOutcome o;
-    if (plan.avoidance) {
-      o = outcome_of(name_, *plan.avoidance, c.unmitigated, c.scene);
-    } else if (plan.collision) {
-      o = outcome_of(name_, *plan.collision, c.unmitigated, c.scene);
-    } else {
-      // Every branch broke the strategy's constraint: it cannot be executed here; the car falls
-      // back to what an emergency stop would give.
-      auto it = c.earlier.find("emergency_stop");
-      if (it != c.earlier.end()) o = it->second;
-      o.strategy = name_;
-      o.adopted_from = "emergency_stop";
-    }
-    // With contact accepted, a collision found by an earlier strategy is also admissible.
-    if (limits_.accept_contact && !o.avoided) {
-      for (const auto& other : may_adopt_) {
-        auto it = c.earlier.find(other);
-        if (it != c.earlier.end() && less_loss(it->second.impact, o.impact)) {
-          const auto planner = o.planner;
-          o = it->second;
-          o.strategy = name_;
-          o.adopted_from = it->second.adopted_from.empty() ? other : it->second.adopted_from;
-          o.planner = planner;
-        }
-      }
-    }
-    o.planner.nodes = plan.stats.nodes;
-    o.planner.rollouts = plan.stats.rollouts;
-    o.planner.time_ms = plan.stats.time_ms;
-    o.planner.time_limited = plan.stats.time_limited;
-    if (c.keep_tree) o.tree = plan.tree;
-    return o;
-  }
-
- private:
-  std::string name_;
-  ControlLimits limits_;
-  std::vector<std::string> may_adopt_;
-};
-
-const std::vector<std::unique_ptr<Strategy>>& registry() {
-  static const auto strategies = [] {
-    std::vector<std::unique_ptr<Strategy>> all;
-    all.push_back(std::make_unique<EmergencyStop>());
-    all.push_back(std::make_unique<RrtStrategy>("dodge", ControlLimits{false, true, false},
-                                                std::vector<std::string>{"emergency_stop"}));
-    all.push_back(std::make_unique<RrtStrategy>("drift_to_avoid", ControlLimits{true, false, false},
-                                                std::vector<std::string>{"emergency_stop", "dodge"}));
-    all.push_back(std::make_unique<RrtStrategy>(
-        "drift_to_accident", ControlLimits{true, false, true},
-        std::vector<std::string>{"emergency_stop", "dodge", "drift_to_avoid"}));
-    return all;
-  }();
-  return strategies;
+StrategyOutcome adopted(const std::string& name, const std::string& source_name, const StrategyOutcome& source) {
+  StrategyOutcome o = source;
+  o.strategy = name;
+  o.adopted_from = source.adopted_from.empty() ? source_name : source.adopted_from;
+  o.planner = {};
+  o.tree.clear();
+  return o;
 }
 
-}  // namespace
+std::shared_ptr<const Strategy> emergency_stop_strategy() {
+  static const auto s = std::make_shared<const EmergencyStop>();
+  return s;
+}
 
-const Strategy* find_strategy(std::string_view name) {
-  for (const auto& s : registry())
-    if (s->name() == name) return s.get();
+std::shared_ptr<const Strategy> planned_strategy() {
+  static const auto s = std::make_shared<const PlannedStrategy>();
+  return s;
+}
+
+StrategyTable::StrategyTable(std::shared_ptr<const std::vector<RegisteredStrategy>> entries)
+    : entries_(std::move(entries)) {}
+
+const RegisteredStrategy* StrategyTable::find(std::string_view name) const noexcept {
+  for (const auto& e : *entries_)
+    if (e.info.name == name) return &e;
   return nullptr;
 }
+
+const StrategyInfo* StrategyTable::info(std::string_view name) const noexcept {
+  const RegisteredStrategy* e = find(name);
+  return e ? &e->info : nullptr;
+}
+
+std::vector<std::string> StrategyTable::names() const {
+  std::vector<std::string> out;
+  out.reserve(entries_->size());
+  for (const auto& e : *entries_) out.push_back(e.info.name);
+  return out;
+}
+
+const StrategyInfo* StrategyTable::first_of(StrategyRole role) const noexcept {
+  for (const auto& e : *entries_)
+    if (e.info.role == role) return &e.info;
+  return nullptr;
+}
+
+StrategyTable registered_strategies() { return StrategyTable(registry().table()); }
+
+StrategyRegistration::StrategyRegistration(StrategyInfo info, std::shared_ptr<const Strategy> strategy)
+    : name_(info.name) {
+  if (!strategy) throw UsageError(fmt::format("strategy '{}' has no implementation", info.name));
+  if (!info.planner.empty() && find_planner(info.planner) == nullptr)
+    throw UsageError(fmt::format("strategy '{}': unknown planner '{}'; expected one of: {}", info.name,
+                                 info.planner, core::join(planner_names(), ", ")));
+  const StrategyTable table = registered_strategies();
+  for (const auto& other : info.may_adopt)
+    if (const StrategyInfo* o = table.info(other); o == nullptr || o->order >= info.order)
+      throw UsageError(fmt::format("strategy '{}' may adopt '{}', which is not a strategy evaluated before it",
+                                   info.name, other));
+  registry().add({std::move(info), std::move(strategy)});
+}
+
+StrategyRegistration::~StrategyRegistration() { registry().remove(name_); }
 
 }  // namespace emrm::sim

@@ -16,6 +16,7 @@
 #include "emrm/fsm/generator.hpp"
 #include "emrm/fsm/operations.hpp"
 #include "emrm/sim/scene.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::campaign {
 
@@ -64,24 +65,33 @@ struct MonotonicityCheck {
 /// (c) The stored RRT outcomes against the reference planner on a sample of cells.
 struct ReferenceDisagreement {
   CellRef cell;
-  std::string strategy;  ///< dodge or drift_to_avoid
+  std::string strategy;  ///< a checked strategy (reference_checked_strategies)
   bool reference_avoids = false;
   bool stored_avoided = false;
+};
+/// One checked strategy's counts over the sample.
+struct ReferenceCounts {
+  std::string strategy;
+  std::size_t reference_avoids = 0;  ///< cells the reference planner avoids with its limits
+  std::size_t missed = 0;            ///< the reference avoids, the stored outcome did not
+  std::size_t beyond_reference = 0;  ///< the stored outcome avoided, the reference did not
 };
 struct ReferenceCheck {
   std::size_t sampled = 0;
   std::uint64_t seed = 0;
-  std::size_t dodge_missed = 0;  ///< the reference dodges, the stored dodge did not avoid
-  std::size_t drift_missed = 0;  ///< the reference drifts around, the stored drift_to_avoid did not
-  std::size_t dodge_reference_avoids = 0, drift_reference_avoids = 0;
-  std::size_t dodge_beyond_reference = 0, drift_beyond_reference = 0;  ///< RRT avoided, reference not
-  std::vector<ReferenceDisagreement> disagreements;                    ///< both directions
+  std::vector<ReferenceCounts> strategies;           ///< in evaluation order
+  std::vector<ReferenceDisagreement> disagreements;  ///< both directions
+  /// The counts of that strategy, or nullptr when it was not checked.
+  [[nodiscard]] const ReferenceCounts* of(std::string_view strategy) const noexcept;
 };
-/// Runs sim::plan_reference with dodge limits {rear lock: no, forbid rear sliding: yes, accept
-/// contact: no} and drift limits {rear lock: yes, no, no} on `sample` feasible cells drawn without
-/// replacement (seeded; all of them when there are fewer) from the records that have stored dodge
-/// and drift_to_avoid outcomes. `threads` <= 0: hardware concurrency. Throws what the simulator
-/// throws for a cell that does not fit `scene`.
+/// The strategies the check compares: every registered strategy that searches for an avoidance of
+/// its own with a planner (a planner set, contact not accepted), in evaluation order; shipped: dodge
+/// and drift_to_avoid.
+[[nodiscard]] std::vector<sim::StrategyInfo> reference_checked_strategies();
+/// Runs sim::plan_reference with each checked strategy's control limits on `sample` feasible
+/// cells drawn without replacement (seeded; all of them when there are fewer) from the records that
+/// have stored outcomes of every checked strategy. `threads` <= 0: hardware concurrency. Throws what
+/// the simulator throws for a cell that does not fit `scene`.
 [[nodiscard]] ReferenceCheck check_against_reference(const std::vector<CellRecord>& records,
                                                      const sim::SceneConfig& scene, std::size_t sample,
                                                      std::uint64_t seed, int threads = 0);

@@ -39,6 +39,10 @@ struct WordEvaluation {
 /// Reads `word` from s0 over every path (so it is exact on non-deterministic machines too).
 [[nodiscard]] WordEvaluation evaluate_word(const Generator& g, const std::vector<std::string>& word);
 
+/// The run of a deterministic G on `word` from s0, as s0 e1 s1 e2 s2 …; it stops where δ is
+/// undefined (so a complete run has 2·|word| + 1 entries) and is empty without s0.
+[[nodiscard]] std::vector<std::string> trace_word(const Generator& g, const std::vector<std::string>& word);
+
 // ---- bounded enumeration of L(G) ----------------------------------------------------------
 
 /// One listed word of L(G).

@@ -66,7 +66,7 @@ struct CoveringArray {
                                                            std::vector<int> partial,
                                                            const RowViolates& violates);
 
-struct CoverageReport {
+struct ArrayCheck {
   std::size_t required_tuples = 0;
   std::size_t covered_tuples = 0;
   std::size_t invalid_rows = 0;  ///< rows that break a constraint or have out-of-range entries
@@ -76,8 +76,8 @@ struct CoverageReport {
 
 /// Checks `rows` by brute force, sharing no code with the generator's bookkeeping: every t-tuple a
 /// valid row can contain must appear in some row, and no row may break a constraint.
-[[nodiscard]] CoverageReport check_covering_array(const std::vector<int>& levels, int strength,
-                                                  const std::vector<std::vector<int>>& rows,
-                                                  const RowViolates& violates = {});
+[[nodiscard]] ArrayCheck check_covering_array(const std::vector<int>& levels, int strength,
+                                              const std::vector<std::vector<int>>& rows,
+                                              const RowViolates& violates = {});
 
 }  // namespace emrm::scenario

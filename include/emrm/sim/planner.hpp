@@ -1,10 +1,9 @@
 #pragma once
 
-// Rollouts and the dual-tree kinodynamic RRT (DESIGN.md §7).
-//
-// A rollout integrates the vehicle under piecewise-constant controls and checks, every step, the
-// separating-axis test against the (moving) truck and the drivable area. It ends in one of:
-// contact, road departure, standstill, having passed the truck, or the horizon.
+// Planners: the search for a strategy's maneuver, behind one small interface (OMPL's Planner),
+// selected by name. Two are built in:
+// - "rrt", the dual-tree kinodynamic RRT (DESIGN.md §7), used by the evasive strategies;
+// - "reference", a dense search over a parametric maneuver family, for tests and diagnostics.
 //
 // The RRT grows a goal tree (green) towards the passage beside the truck; from every new node it
 // rolls out fail-safe branches (orange): a full stop, and, when contact is accepted,
@@ -13,114 +12,18 @@
 // stops early once its strategy's objective is met.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
-#include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/sim/loss.hpp"
+#include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
-
-/// What a strategy allows the planner to command.
-struct ControlLimits {
-  bool allow_rear_lock = false;
-  bool forbid_rear_sliding = false;  ///< dodge: the rear axle must never slide sideways
-  bool accept_contact = false;       ///< drift_to_accident: a collision is an admissible end
-};
-
-/// How a rollout ended.
-enum class Termination {
-  kContact,        ///< touched the truck
-  kRoadDeparture,  ///< left the drivable area
-  kConstraint,     ///< violated the strategy's constraint (dodge: rear axle sliding)
-  kStopped,        ///< came to rest (or is certain to, braking straight short of the truck)
-  kPassed,         ///< its rear is beyond the truck's far side
-  kHorizon,        ///< reached the simulation horizon without any of the above
-  kOpen,           ///< the plan ran out with no tail: an unfinished tree edge
-};
-
-/// One sampled point of a path: time, state and the control being applied.
-struct PathPoint {
-  double t_s = 0.0;
-  VehicleState state;
-  Control control;
-};
-
-struct RolloutResult {
-  Termination termination = Termination::kHorizon;
-  std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
-  double end_time_s = 0.0;
-  VehicleState end_state;
-  ImpactAssessment impact;  ///< when termination is contact
-  /// avoided: no contact, no departure, no violated constraint.
-  [[nodiscard]] bool avoided() const {
-    return termination == Termination::kStopped || termination == Termination::kPassed ||
-           termination == Termination::kHorizon;
-  }
-};
-
-/// A piece of a plan: a control held for a duration. With `pursue`, the steering rate is not
-/// held but recomputed every step by pure pursuit towards that point (closed-loop extension, as
-/// in CL-RRT); brake and rear lock are held.
-struct ControlSegment {
-  Control control;
-  double duration_s = 0.0;
-  std::optional<core::Vec2> pursue;
-  /// With `pursue`: `control.brake` scales the braking that the friction circle leaves after the
-  /// current lateral acceleration (a driver braking as hard as the turn allows).
-  bool friction_circle_brake = false;
-  /// With `pursue`: the steering limit, as the lateral acceleration (in mu·g) of the steady-state
-  /// angle; above 1 it allows the transient over-steering of a quick lane change.
-  double pursuit_grip = 0.9;
-};
-
-/// A segment that holds `control` for `duration_s`.
-[[nodiscard]] inline ControlSegment hold(const Control& control, double duration_s) {
-  return {control, duration_s, std::nullopt, false, 0.9};
-}
-
-/// Pure pursuit: the steering rate (within limits) that turns the wheels towards the angle whose
-/// arc passes through `target`, never sharper than the steady-state angle for `grip`·mu·g of
-/// lateral acceleration.
-[[nodiscard]] double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p,
-                                        double mu, double grip, double dt_s) noexcept;
-
-/// What happens after a plan runs out: `control` is held until the rollout ends; with
-/// `straighten`, its steering rate is replaced by one that brings the wheels back to straight.
-struct Tail {
-  Control control;
-  bool straighten = false;
-  /// `control.brake` scales the braking the friction circle leaves after the lateral acceleration.
-  bool friction_circle_brake = false;
-  /// Steer by pure pursuit towards this point instead (a braking swerve into the passage).
-  std::optional<core::Vec2> pursue;
-
-  /// The full-stop fail-safe: steering back to straight while braking as hard as the friction
-  /// circle allows, which is full ABS braking once the car runs straight.
-  [[nodiscard]] static Tail full_stop() { return {Control{0.0, 1.0, false}, true, true, std::nullopt}; }
-};
-
-/// Simulates from `start` at time `t0` under `plan` (then, if the plan runs out, `tail` until an
-/// end condition). Deterministic and pure.
-class Roller {
- public:
-  Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
-
-  /// Rolls out `plan` from (t0, start). `record_every` thins the recorded path (1 = every step).
-  [[nodiscard]] RolloutResult roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
-                                   const std::optional<Tail>& tail, int record_every = 5) const;
-
-  [[nodiscard]] const Scene& scene() const noexcept { return scene_; }
-  [[nodiscard]] const VehicleModel& model() const noexcept { return model_; }
-
- private:
-  const Scene& scene_;
-  const VehicleModel& model_;
-  ControlLimits limits_;
-};
 
 /// One edge of a search tree, kept for figures.
 struct TreeEdge {
@@ -143,17 +46,67 @@ struct PlanResult {
   std::vector<TreeEdge> tree;  ///< only when asked for
 };
 
-/// The dual-tree kinodynamic RRT. `seed` fixes every random choice.
+/// What a planner is asked: a cell's scene, the vehicle model, the strategy's limits, a seed
+/// (every random choice follows from it) and whether to keep the search tree for figures.
+struct PlanningProblem {
+  const Scene& scene;
+  const VehicleModel& model;
+  ControlLimits limits;
+  std::uint64_t seed = 0;
+  bool keep_tree = false;
+};
+
+/// A way of searching for a maneuver. Implementations are stateless and thread-safe: plan() may
+/// run concurrently for different problems.
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  [[nodiscard]] virtual std::string_view name() const = 0;
+  /// The best avoidance and least-loss collision found; deterministic for a problem (the RRT's
+  /// wall-clock guard aside, which PlannerStats::time_limited reports).
+  [[nodiscard]] virtual PlanResult plan(const PlanningProblem& problem) const = 0;
+};
+
+/// The dual-tree kinodynamic RRT.
+class RrtPlanner final : public Planner {
+ public:
+  [[nodiscard]] std::string_view name() const override { return "rrt"; }
+  [[nodiscard]] PlanResult plan(const PlanningProblem& problem) const override;
+};
+
+/// The dense search over a parametric maneuver family (ignores the seed and keep_tree).
+class ReferencePlanner final : public Planner {
+ public:
+  [[nodiscard]] std::string_view name() const override { return "reference"; }
+  [[nodiscard]] PlanResult plan(const PlanningProblem& problem) const override;
+};
+
+/// The planner registered under `name`, or nullptr. Built in: "rrt" and "reference".
+[[nodiscard]] const Planner* find_planner(std::string_view name);
+/// The registered planners' names, in registration order.
+[[nodiscard]] std::vector<std::string> planner_names();
+
+/// Adds a planner under its name() for as long as the returned registration lives (a test's or a
+/// plugin's own planner). Throws UsageError if the name is taken. Register before simulating:
+/// registration is not synchronised with running simulations.
+class PlannerRegistration {
+ public:
+  explicit PlannerRegistration(std::unique_ptr<Planner> planner);
+  ~PlannerRegistration();
+  PlannerRegistration(const PlannerRegistration&) = delete;
+  PlannerRegistration& operator=(const PlannerRegistration&) = delete;
+
+ private:
+  std::string name_;
+};
+
+/// The dual-tree kinodynamic RRT ("rrt"). `seed` fixes every random choice.
 [[nodiscard]] PlanResult plan_rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,
                                   std::uint64_t seed, bool keep_tree);
 
-/// The reference planner: a dense search over a parametric maneuver family (steer direction,
-/// peak steer, hold and counter-steer timing, brake level, rear lock). For tests and diagnostics.
+/// The reference planner ("reference"): a dense search over a parametric maneuver family (steer
+/// direction, peak steer, hold and counter-steer timing, brake level, rear lock).
 [[nodiscard]] PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
-
-/// The least time to collision along a path: at each point, when ego and truck would first touch
-/// if both kept their velocities (0 in contact); infinity if they never would within the horizon.
-[[nodiscard]] double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path);
 
 /// Least-loss order: lower level first, then lower Δv.
 [[nodiscard]] bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept;

@@ -51,9 +51,10 @@ struct CellResult {
 [[nodiscard]] const fsm::Generator& default_emrm_fsm();
 [[nodiscard]] const fsm::Generator& default_loss_evaluation_fsm();
 
-/// Strategy names in evaluation order: emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm.
-[[nodiscard]] const std::vector<std::string>& strategy_names();
-/// Throws UsageError naming the known strategies when `name` is not one.
+/// The registered strategies' names in evaluation order (strategy.hpp); shipped: emergency_stop,
+/// dodge, drift_to_avoid, drift_to_accident, emrm.
+[[nodiscard]] std::vector<std::string> strategy_names();
+/// Throws UsageError naming the registered strategies when `name` is not one.
 void validate_strategy(std::string_view name);
 
 struct CellOptions {
@@ -64,7 +65,9 @@ struct CellOptions {
   const fsm::Generator* loss_evaluation_fsm = nullptr;  ///< default_loss_evaluation_fsm() when null
 };
 
-/// Simulates one cell. Infeasible cells are returned with no strategies simulated.
+/// Simulates one cell: every registered strategy in evaluation order (strategy.hpp), then the
+/// region. Infeasible cells are returned with no strategies simulated. Throws UsageError for an
+/// unknown strategy in `options` or a cell the scene rejects (validate_cell).
 [[nodiscard]] CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options);
 
 /// Seeds of strategies and cells (core/random.hpp).

@@ -133,10 +133,13 @@ TEST(ReferenceCheck, ComparesTheStoredOutcomeWithTheReferencePlanner) {
   }
   const auto r = check_against_reference({c}, sim::SceneConfig{}, 5, 7, 1);
   EXPECT_EQ(r.sampled, 1u);
-  EXPECT_EQ(r.dodge_reference_avoids, 1u);
-  EXPECT_EQ(r.dodge_missed, 1u);
-  EXPECT_EQ(r.drift_missed, r.drift_reference_avoids);
-  EXPECT_EQ(r.disagreements.size(), r.dodge_missed + r.drift_missed);
+  ASSERT_NE(r.of("dodge"), nullptr);
+  ASSERT_NE(r.of("drift_to_avoid"), nullptr);
+  EXPECT_EQ(r.of("drift_to_accident"), nullptr);  // accepts contact: nothing of its own to compare
+  EXPECT_EQ(r.of("dodge")->reference_avoids, 1u);
+  EXPECT_EQ(r.of("dodge")->missed, 1u);
+  EXPECT_EQ(r.of("drift_to_avoid")->missed, r.of("drift_to_avoid")->reference_avoids);
+  EXPECT_EQ(r.disagreements.size(), r.of("dodge")->missed + r.of("drift_to_avoid")->missed);
 }
 
 TEST(Diagnostics, WritesJsonAndColouredDiagrams) {

@@ -40,7 +40,7 @@ TEST(Rrt, SameSeedSamePlan) {
   const SceneConfig config;
   const Scene scene(config, {60.0, 0.8, 1.0, 3.0, 10.0});
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
-  const ControlLimits drift{true, false, false};
+  const ControlLimits drift{.allow_rear_lock = true};
   const auto a = plan_rrt(scene, *model, drift, 42, true);
   const auto b = plan_rrt(scene, *model, drift, 42, true);
   EXPECT_EQ(a.stats.nodes, b.stats.nodes);
@@ -60,7 +60,7 @@ TEST(Rrt, DodgePathsNeverLockOrSlideTheRearAxle) {
   for (double ttc : {0.7, 0.8, 0.9})
     for (double speed : {50.0, 60.0, 70.0}) {
       const Scene scene(config, {speed, ttc, 1.0, 3.0, 10.0});
-      const auto plan = plan_rrt(scene, *model, {false, true, false}, 3, false);
+      const auto plan = plan_rrt(scene, *model, {.forbid_rear_sliding = true}, 3, false);
       if (!plan.avoidance) continue;
       ++found;
       for (const auto& p : plan.avoidance->path) {
@@ -89,8 +89,8 @@ TEST(Rrt, FindsAnAvoidanceWhereverTheReferencePlannerDoesIn99PercentOfCells) {
     if (!scene.feasible()) continue;
     ++cells;
     const auto result = simulate_cell(config, cell, {});
-    for (const auto& [name, limits] : {std::pair{std::string("dodge"), ControlLimits{false, true, false}},
-                                       std::pair{std::string("drift_to_avoid"), ControlLimits{true, false, false}}}) {
+    for (const auto& [name, limits] : {std::pair{std::string("dodge"), ControlLimits{.forbid_rear_sliding = true}},
+                                       std::pair{std::string("drift_to_avoid"), ControlLimits{.allow_rear_lock = true}}}) {
       const auto reference = plan_reference(scene, *model, limits);
       if (!reference.avoidance) continue;
       ++reference_avoids;

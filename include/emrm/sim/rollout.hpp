@@ -1,0 +1,206 @@
+#pragma once
+
+// Rollouts: the vehicle driven under a control schedule until something ends the run. A rollout
+// is three parts, in the manner of OMPL's StatePropagator / StateValidityChecker / Goal:
+// - propagation: the ControlSchedule says which control applies at each step (a plan of held or
+//   pursuit segments, then a tail), and the vehicle model integrates it;
+// - validity: a ValidityChecker runs its StepChecks after every step (by default the strategy's
+//   constraint, contact with the truck, leaving the drivable area); the first that objects ends the
+//   rollout;
+// - termination: a TerminationTest runs its StepChecks on every valid step (by default: passed the
+//   truck, stopped, certain to stop short, horizon).
+// New constraints or goals are new StepChecks handed to the Roller, not edits to its loop.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "emrm/core/geometry.hpp"
+#include "emrm/sim/loss.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::sim {
+
+/// What a strategy allows the planner to command.
+struct ControlLimits {
+  bool allow_rear_lock = false;      ///< the rear wheels may be locked (a handbrake drift)
+  bool forbid_rear_sliding = false;  ///< the rear axle must never slide sideways (dodge)
+  bool accept_contact = false;       ///< a collision is an admissible end (drift to accident)
+};
+
+/// How a rollout ended.
+enum class Termination {
+  kContact,        ///< touched the truck
+  kRoadDeparture,  ///< left the drivable area
+  kConstraint,     ///< violated the strategy's constraint (dodge: rear axle sliding)
+  kStopped,        ///< came to rest (or is certain to, braking straight short of the truck)
+  kPassed,         ///< its rear is beyond the truck's far side
+  kHorizon,        ///< reached the simulation horizon without any of the above
+  kOpen,           ///< the plan ran out with no tail: an unfinished tree edge
+};
+
+/// One sampled point of a path: time, state and the control being applied.
+struct PathPoint {
+  double t_s = 0.0;
+  VehicleState state;
+  Control control;
+};
+
+struct RolloutResult {
+  Termination termination = Termination::kHorizon;
+  std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
+  double end_time_s = 0.0;
+  VehicleState end_state;
+  ImpactAssessment impact;  ///< when termination is contact
+  /// avoided: no contact, no departure, no violated constraint.
+  [[nodiscard]] bool avoided() const {
+    return termination == Termination::kStopped || termination == Termination::kPassed ||
+           termination == Termination::kHorizon;
+  }
+};
+
+/// A piece of a plan: a control held for a duration. With `pursue`, the steering rate is not
+/// held but recomputed every step by pure pursuit towards that point (closed-loop extension, as
+/// in CL-RRT); brake and rear lock are held.
+struct ControlSegment {
+  Control control;
+  double duration_s = 0.0;
+  std::optional<core::Vec2> pursue;
+  /// With `pursue`: `control.brake` scales the braking that the friction circle leaves after the
+  /// current lateral acceleration (a driver braking as hard as the turn allows).
+  bool friction_circle_brake = false;
+  /// With `pursue`: the steering limit, as the lateral acceleration (in mu·g) of the steady-state
+  /// angle; above 1 it allows the transient over-steering of a quick lane change.
+  double pursuit_grip = 0.9;
+};
+
+/// A segment that holds `control` for `duration_s`.
+[[nodiscard]] inline ControlSegment hold(const Control& control, double duration_s) {
+  return {control, duration_s, std::nullopt, false, 0.9};
+}
+
+/// Pure pursuit: the steering rate (within limits) that turns the wheels towards the angle whose
+/// arc passes through `target`, never sharper than the steady-state angle for `grip`·mu·g of
+/// lateral acceleration.
+[[nodiscard]] double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p,
+                                        double mu, double grip, double dt_s) noexcept;
+
+/// The share of the friction limit left for braking after the current lateral acceleration.
+[[nodiscard]] double friction_circle_share(const VehicleState& s, double mu) noexcept;
+
+/// What happens after a plan runs out: `control` is held until the rollout ends; with
+/// `straighten`, its steering rate is replaced by one that brings the wheels back to straight.
+struct Tail {
+  Control control;
+  bool straighten = false;
+  /// `control.brake` scales the braking the friction circle leaves after the lateral acceleration.
+  bool friction_circle_brake = false;
+  /// Steer by pure pursuit towards this point instead (a braking swerve into the passage).
+  std::optional<core::Vec2> pursue;
+
+  /// The full-stop fail-safe: steering back to straight while braking as hard as the friction
+  /// circle allows, which is full ABS braking once the car runs straight.
+  [[nodiscard]] static Tail full_stop() { return {Control{0.0, 1.0, false}, true, true, std::nullopt}; }
+};
+
+/// Propagation's input: which control applies at each step. Borrows the plan and tail, which
+/// must outlive it.
+class ControlSchedule {
+ public:
+  ControlSchedule(const std::vector<ControlSegment>& plan, const std::optional<Tail>& tail,
+                  const VehicleParams& params, const ControlLimits& limits, double mu, double dt_s);
+  /// The control to apply from state `s` for the next step, or nothing when the plan has run out
+  /// and there is no tail.
+  [[nodiscard]] std::optional<Control> control_at(const VehicleState& s);
+  /// Moves the schedule on by one step.
+  void advance() noexcept { segment_left_s_ -= dt_s_; }
+
+ private:
+  const std::vector<ControlSegment>& plan_;
+  const std::optional<Tail>& tail_;
+  const VehicleParams& params_;
+  ControlLimits limits_;
+  double mu_;
+  double dt_s_;
+  std::size_t segment_ = 0;
+  double segment_left_s_ = 0.0;
+};
+
+/// One integration step as the checks see it. A check that ends the rollout may move `state` and
+/// `t_s` (back to the moment of contact, or on to a closed-form stop) and add to the result.
+struct Step {
+  VehicleState before;  ///< the state at the start of the step
+  VehicleState state;   ///< the state at its end
+  double t_s = 0.0;     ///< the time of `state`
+  double dt_s = 0.0;    ///< the step's length
+  Control control;      ///< applied during the step
+  core::OrientedBox ego;  ///< the ego's footprint at `state`
+  TruckState truck;       ///< the truck at `t_s`
+};
+
+/// One test applied after every step (a state validity check or a termination test).
+class StepCheck {
+ public:
+  virtual ~StepCheck() = default;
+  /// How this step ends the rollout, or nothing. May refine `step` and fill `result` (its path
+  /// and impact); must be pure otherwise (checks are shared between threads).
+  [[nodiscard]] virtual std::optional<Termination> check(Step& step, RolloutResult& result) const = 0;
+};
+
+/// An ordered list of checks; the first that answers ends the rollout. Owns its checks.
+class CheckList {
+ public:
+  CheckList() = default;
+  CheckList& add(std::unique_ptr<StepCheck> check);
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  [[nodiscard]] bool empty() const noexcept { return checks_.empty(); }
+
+ private:
+  std::vector<std::unique_ptr<StepCheck>> checks_;
+};
+
+/// Contact, road departure and the strategy's constraint: when a step is no longer valid.
+using ValidityChecker = CheckList;
+/// Passed, stopped, certain to stop short, horizon: when a valid rollout is over.
+using TerminationTest = CheckList;
+
+/// The checks every strategy's rollouts use: the strategy's constraint (when `limits` has one),
+/// contact with the truck (timed by bisection inside the step, impact assessed), and leaving the
+/// drivable area, in that order.
+[[nodiscard]] ValidityChecker default_validity_checker(const Scene& scene, const VehicleModel& model,
+                                                       const ControlLimits& limits);
+/// Passed the truck, stopped, braking straight at the limit with room to stop (finished in closed
+/// form), and the horizon, in that order.
+[[nodiscard]] TerminationTest default_termination_test(const Scene& scene);
+
+/// Simulates from `start` at time `t0` under `plan` (then, if the plan runs out, `tail` until an
+/// end condition). Deterministic and pure; the scene and model are borrowed.
+class Roller {
+ public:
+  /// A roller with the default validity checker and termination test.
+  Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
+  /// A roller with these checks.
+  Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, ValidityChecker validity,
+         TerminationTest termination);
+
+  /// Rolls out `plan` from (t0, start). `record_every` thins the recorded path (1 = every step).
+  [[nodiscard]] RolloutResult roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
+                                   const std::optional<Tail>& tail, int record_every = 5) const;
+
+  [[nodiscard]] const Scene& scene() const noexcept { return scene_; }
+  [[nodiscard]] const VehicleModel& model() const noexcept { return model_; }
+
+ private:
+  const Scene& scene_;
+  const VehicleModel& model_;
+  ControlLimits limits_;
+  ValidityChecker validity_;
+  TerminationTest termination_;
+};
+
+/// The least time to collision along a path: at each point, when ego and truck would first touch
+/// if both kept their velocities (0 in contact); infinity if they never would within the horizon.
+[[nodiscard]] double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path);
+
+}  // namespace emrm::sim

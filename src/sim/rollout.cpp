@@ -1,0 +1,321 @@
+#include "emrm/sim/rollout.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace emrm::sim {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kStoppedSpeed_mps = 0.05;
+// The rear axle "slides" (dodge's constraint) when it is saturated at a real slip angle; a
+// straight ABS stop saturates the axle longitudinally at zero slip angle and is within grip.
+constexpr double kSlidingSlipAngle_rad = 0.035;
+
+core::Vec2 world_velocity(const VehicleState& s) {
+  const double c = std::cos(s.yaw_rad);
+  const double sn = std::sin(s.yaw_rad);
+  return {s.vx_mps * c - s.vy_mps * sn, s.vx_mps * sn + s.vy_mps * c};
+}
+
+struct Extent {
+  double min_x, max_x, min_y, max_y;
+};
+
+Extent extent_of(const core::OrientedBox& box) {
+  Extent e{kInfinity, -kInfinity, kInfinity, -kInfinity};
+  for (const auto& c : box.corners()) {
+    e.min_x = std::min(e.min_x, c.x);
+    e.max_x = std::max(e.max_x, c.x);
+    e.min_y = std::min(e.min_y, c.y);
+    e.max_y = std::max(e.max_y, c.y);
+  }
+  return e;
+}
+
+// ---- validity ---------------------------------------------------------------------------------
+
+// Dodge's constraint: neither a locked rear axle nor a rear axle sliding at a real slip angle.
+class RearSlidingCheck final : public StepCheck {
+ public:
+  RearSlidingCheck(const VehicleModel& model, double mu) : model_(model), mu_(mu) {}
+  std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
+    const AxleForces rear = model_.tire_forces(step.state, step.control, mu_).rear;
+    if (step.control.rear_lock || (rear.saturated && std::abs(rear.slip_angle_rad) > kSlidingSlipAngle_rad))
+      return Termination::kConstraint;
+    return std::nullopt;
+  }
+
+ private:
+  const VehicleModel& model_;
+  double mu_;
+};
+
+// Contact with the truck; the moment it began is found by bisection inside the step, so the
+// impact speed is not a step late, and the impact is assessed there.
+class TruckContactCheck final : public StepCheck {
+ public:
+  TruckContactCheck(const Scene& scene, const VehicleModel& model) : scene_(scene), model_(model) {}
+  std::optional<Termination> check(Step& step, RolloutResult& result) const override {
+    if (!core::overlaps(step.ego, step.truck.box)) return std::nullopt;
+    const double mu = scene_.cell().mu;
+    const double start = step.t_s - step.dt_s;
+    double lo = 0.0;
+    double hi = step.dt_s;
+    for (int i = 0; i < 8; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      const VehicleState probe = model_.step(step.before, step.control, mu, mid);
+      if (core::overlaps(scene_.ego_box(probe), scene_.truck_at(start + mid).box)) hi = mid;
+      else lo = mid;
+    }
+    step.state = model_.step(step.before, step.control, mu, hi);
+    step.t_s = start + hi;
+    result.impact = impact_with(step.state, scene_.ego_box(step.state), scene_.truck_at(step.t_s));
+    return Termination::kContact;
+  }
+
+ private:
+  ImpactAssessment impact_with(const VehicleState& s, const core::OrientedBox& ego_box,
+                               const TruckState& truck) const {
+    const auto& cfg = scene_.config();
+    const core::Contact c = core::contact(ego_box, truck.box);
+    const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
+                         s.yaw_rate_radps};
+    const ImpactBody other{cfg.truck.mass_kg, cfg.truck.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps,
+                           0.0};
+    return assess_impact(ego, other, c, cfg.severity);
+  }
+
+  const Scene& scene_;
+  const VehicleModel& model_;
+};
+
+class RoadDepartureCheck final : public StepCheck {
+ public:
+  explicit RoadDepartureCheck(const Scene& scene) : scene_(scene) {}
+  std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
+    if (scene_.on_drivable_area(step.ego)) return std::nullopt;
+    return Termination::kRoadDeparture;
+  }
+
+ private:
+  const Scene& scene_;
+};
+
+// ---- termination ------------------------------------------------------------------------------
+
+class PassedTruckTest final : public StepCheck {
+ public:
+  explicit PassedTruckTest(const Scene& scene) : truck_far_x_m_(scene.truck_far_x_m()) {}
+  std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
+    if (extent_of(step.ego).min_x > truck_far_x_m_) return Termination::kPassed;
+    return std::nullopt;
+  }
+
+ private:
+  double truck_far_x_m_;
+};
+
+class StoppedTest final : public StepCheck {
+ public:
+  std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
+    if (step.state.speed_mps() < kStoppedSpeed_mps) return Termination::kStopped;
+    return std::nullopt;
+  }
+};
+
+// Braking straight at the friction limit, the rest is closed form: the car stops short of the
+// truck, and the rollout jumps to where and when it comes to rest.
+class StopsShortTest final : public StepCheck {
+ public:
+  explicit StopsShortTest(const Scene& scene) : truck_near_x_m_(scene.initial_distance_m()), mu_(scene.cell().mu) {}
+  std::optional<Termination> check(Step& step, RolloutResult& result) const override {
+    const Control& u = step.control;
+    VehicleState& s = step.state;
+    if (!(u.brake >= 0.999 && !u.rear_lock && std::abs(s.yaw_rad) < 0.02 && std::abs(s.steer_rad) < 0.005 &&
+          std::abs(s.yaw_rate_radps) < 0.01 && std::abs(s.vy_mps) < 0.05))
+      return std::nullopt;
+    const double speed = s.speed_mps();
+    const double stop_distance = speed * speed / (2.0 * mu_ * kGravity_mps2);
+    if (!(extent_of(step.ego).max_x + stop_distance + 0.05 < truck_near_x_m_ &&
+          extent_of(step.truck.box).max_y > extent_of(step.ego).min_y))
+      return std::nullopt;
+    result.path.push_back({step.t_s, s, u});
+    s.x_m += stop_distance * std::cos(s.yaw_rad);
+    s.y_m += stop_distance * std::sin(s.yaw_rad);
+    step.t_s += speed / (mu_ * kGravity_mps2);
+    s.vx_mps = s.vy_mps = s.yaw_rate_radps = 0.0;
+    return Termination::kStopped;
+  }
+
+ private:
+  double truck_near_x_m_;
+  double mu_;
+};
+
+class HorizonTest final : public StepCheck {
+ public:
+  explicit HorizonTest(const Scene& scene) : horizon_s_(scene.config().simulation.horizon_s) {}
+  std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
+    if (step.t_s >= horizon_s_ - 1e-9) return Termination::kHorizon;
+    return std::nullopt;
+  }
+
+ private:
+  double horizon_s_;
+};
+
+}  // namespace
+
+double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p, double mu,
+                          double grip, double dt_s) noexcept {
+  const double dx = target.x - s.x_m;
+  const double dy = target.y - s.y_m;
+  const double alpha = std::remainder(std::atan2(dy, dx) - s.yaw_rad, 2.0 * std::numbers::pi);
+  const double lookahead = std::max(std::hypot(dx, dy), 1.0);
+  const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
+  const double grip_limit = std::min(p.max_steer_rad, std::atan(p.wheelbase_m() * grip * mu * kGravity_mps2 / v2));
+  const double wanted =
+      std::clamp(std::atan(2.0 * p.wheelbase_m() * std::sin(alpha) / lookahead), -grip_limit, grip_limit);
+  return std::clamp((wanted - s.steer_rad) / (2.0 * dt_s), -p.max_steer_rate_radps, p.max_steer_rate_radps);
+}
+
+double friction_circle_share(const VehicleState& s, double mu) noexcept {
+  const double lateral = std::abs(s.vx_mps * s.yaw_rate_radps) / (mu * kGravity_mps2);
+  return std::sqrt(std::max(0.0, 1.0 - lateral * lateral));
+}
+
+ControlSchedule::ControlSchedule(const std::vector<ControlSegment>& plan, const std::optional<Tail>& tail,
+                                 const VehicleParams& params, const ControlLimits& limits, double mu, double dt_s)
+    : plan_(plan),
+      tail_(tail),
+      params_(params),
+      limits_(limits),
+      mu_(mu),
+      dt_s_(dt_s),
+      segment_left_s_(plan.empty() ? 0.0 : plan.front().duration_s) {}
+
+std::optional<Control> ControlSchedule::control_at(const VehicleState& s) {
+  while (segment_ < plan_.size() && segment_left_s_ <= 1e-9) {
+    ++segment_;
+    if (segment_ < plan_.size()) segment_left_s_ = plan_[segment_].duration_s;
+  }
+  Control u;
+  if (segment_ < plan_.size()) {
+    const ControlSegment& segment = plan_[segment_];
+    u = segment.control;
+    if (segment.pursue) {
+      u.steer_rate_radps = pursuit_steer_rate(s, *segment.pursue, params_, mu_, segment.pursuit_grip, dt_s_);
+      if (segment.friction_circle_brake) u.brake *= friction_circle_share(s, mu_);
+    }
+  } else if (tail_) {
+    const double max_rate = params_.max_steer_rate_radps;
+    u = tail_->control;
+    // Back to straight at the largest rate that does not overshoot within a few steps.
+    if (tail_->straighten) u.steer_rate_radps = std::clamp(-s.steer_rad / (5.0 * dt_s_), -max_rate, max_rate);
+    if (tail_->pursue) u.steer_rate_radps = pursuit_steer_rate(s, *tail_->pursue, params_, mu_, 0.9, dt_s_);
+    if (tail_->friction_circle_brake) u.brake *= friction_circle_share(s, mu_);
+  } else {
+    return std::nullopt;
+  }
+  if (!limits_.allow_rear_lock) u.rear_lock = false;
+  return u;
+}
+
+CheckList& CheckList::add(std::unique_ptr<StepCheck> check) {
+  checks_.push_back(std::move(check));
+  return *this;
+}
+
+std::optional<Termination> CheckList::check(Step& step, RolloutResult& result) const {
+  for (const auto& c : checks_)
+    if (auto why = c->check(step, result)) return why;
+  return std::nullopt;
+}
+
+ValidityChecker default_validity_checker(const Scene& scene, const VehicleModel& model,
+                                         const ControlLimits& limits) {
+  ValidityChecker checker;
+  if (limits.forbid_rear_sliding) checker.add(std::make_unique<RearSlidingCheck>(model, scene.cell().mu));
+  checker.add(std::make_unique<TruckContactCheck>(scene, model));
+  checker.add(std::make_unique<RoadDepartureCheck>(scene));
+  return checker;
+}
+
+TerminationTest default_termination_test(const Scene& scene) {
+  TerminationTest test;
+  test.add(std::make_unique<PassedTruckTest>(scene));
+  test.add(std::make_unique<StoppedTest>());
+  test.add(std::make_unique<StopsShortTest>(scene));
+  test.add(std::make_unique<HorizonTest>(scene));
+  return test;
+}
+
+Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
+    : Roller(scene, model, limits, default_validity_checker(scene, model, limits), default_termination_test(scene)) {}
+
+Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, ValidityChecker validity,
+               TerminationTest termination)
+    : scene_(scene),
+      model_(model),
+      limits_(limits),
+      validity_(std::move(validity)),
+      termination_(std::move(termination)) {}
+
+RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
+                           const std::optional<Tail>& tail, int record_every) const {
+  const double dt = scene_.config().simulation.dt_s;
+  const double mu = scene_.cell().mu;
+  ControlSchedule schedule(plan, tail, model_.params(), limits_, mu, dt);
+
+  RolloutResult r;
+  Step step;
+  step.state = start;
+  step.t_s = t0_s;
+  step.dt_s = dt;
+  auto finish = [&](Termination why) {
+    r.termination = why;
+    r.end_time_s = step.t_s;
+    r.end_state = step.state;
+    if (r.path.back().t_s != step.t_s) r.path.push_back({step.t_s, step.state, step.control});
+    return std::move(r);
+  };
+
+  for (int n = 0;; ++n) {
+    const std::optional<Control> u = schedule.control_at(step.state);
+    if (!u) {
+      step.control = Control{};
+      if (r.path.empty()) r.path.push_back({step.t_s, step.state, step.control});
+      return finish(Termination::kOpen);
+    }
+    step.control = *u;
+    if (n == 0) r.path.push_back({step.t_s, step.state, step.control});  // the start, with its control
+
+    step.before = step.state;
+    step.state = model_.step(step.state, step.control, mu, dt);
+    step.t_s += dt;
+    schedule.advance();
+    step.ego = scene_.ego_box(step.state);
+    step.truck = scene_.truck_at(step.t_s);
+
+    if (const auto why = validity_.check(step, r)) return finish(*why);
+    if ((n + 1) % record_every == 0) r.path.push_back({step.t_s, step.state, step.control});
+    if (const auto why = termination_.check(step, r)) return finish(*why);
+  }
+}
+
+double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path) {
+  double best = kInfinity;
+  const double horizon = scene.config().simulation.horizon_s;
+  for (const auto& p : path) {
+    const TruckState truck = scene.truck_at(p.t_s);
+    if (const auto ttc = core::time_to_overlap(scene.ego_box(p.state), world_velocity(p.state), truck.box,
+                                               truck.velocity_mps, horizon))
+      best = std::min(best, *ttc);
+  }
+  return best;
+}
+
+}  // namespace emrm::sim

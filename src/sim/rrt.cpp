@@ -1,0 +1,329 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "emrm/sim/planner.hpp"
+
+// The dual-tree kinodynamic RRT ("rrt"): see planner.hpp.
+
+namespace emrm::sim {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+struct Node {
+  VehicleState state;
+  double t_s = 0.0;
+  int parent = -1;
+  std::vector<PathPoint> edge;  // the path that led here from the parent
+};
+
+class Rrt {
+ public:
+  Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
+      : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {
+    const auto& cfg = scene.config();
+    const double lo = cfg.road.drivable_min_y_m() + cfg.ego.width_m / 2.0 + 0.1;
+    const double hi = scene.truck_front_y_at(cfg.simulation.horizon_s) - cfg.ego.width_m / 2.0 - 0.1;
+    if (hi > lo) passage_band_ = std::pair{lo, hi};
+  }
+
+  PlanResult run() {
+    const auto started = std::chrono::steady_clock::now();
+    const auto& cfg = scene_.config();
+    const auto& pc = cfg.planner;
+
+    // Latency: nothing is actuated until latency_s.
+    Node root;
+    root.state = scene_.ego_initial();
+    if (cfg.simulation.latency_s > 0.0) {
+      RolloutResult coast = roller_.roll(root.state, 0.0, {hold(Control{}, cfg.simulation.latency_s)}, std::nullopt, 5);
+      ++result_.stats.rollouts;
+      if (coast.termination != Termination::kOpen) {
+        if (coast.termination == Termination::kRoadDeparture) coast.impact.loss_level = 4;
+        result_.collision = std::move(coast);
+        return finish(started);
+      }
+      root.state = coast.end_state;
+      root.t_s = coast.end_time_s;
+      root.edge = coast.path;
+    }
+    nodes_.push_back(std::move(root));
+    result_.stats.nodes = 1;
+    if (fail_safes(0)) return finish(started);
+
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    while (result_.stats.nodes < pc.max_nodes && iterations_ < 3 * pc.max_nodes) {
+      if (elapsed_ms(started) > pc.max_time_ms) {
+        result_.stats.time_limited = true;
+        break;
+      }
+      const core::Vec2 target = sample_target(unit(rng_) < pc.goal_bias);
+      // Half the time a uniformly chosen node: in a kinodynamic tree the nearest node in the plane is
+      // nearly always a deep one, and the early decisions (where a short TTC is won or lost) would
+      // never be revisited.
+      const int near = unit(rng_) < 0.5 ? random_moving_node() : nearest(target);
+      if (near < 0) break;
+      if (extend(near, target)) break;
+    }
+    return finish(started);
+  }
+
+ private:
+  static double elapsed_ms(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
+  }
+
+  PlanResult finish(std::chrono::steady_clock::time_point started) {
+    result_.stats.time_ms = elapsed_ms(started);
+    return std::move(result_);
+  }
+
+  core::Vec2 sample_target(bool towards_passage) {
+    const auto& road = scene_.config().road;
+    const auto& ego = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double y_min = road.drivable_min_y_m();
+    const double x0 = nodes_.front().state.x_m;
+    const double far_x = scene_.truck_far_x_m() + ego.length_m;
+    if (towards_passage) {
+      // The free band between the road edge and the truck's front once it has stopped (or later).
+      const double front = scene_.truck_front_y_at(scene_.config().simulation.horizon_s);
+      const double lo = y_min + ego.width_m / 2.0;
+      const double hi = std::max(lo, front - ego.width_m / 2.0);
+      const double near_x = scene_.initial_distance_m() - ego.length_m;
+      return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
+    }
+    return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.drivable_max_y_m() - y_min)};
+  }
+
+  // A random moving node, early ones preferred (weight e^(-t/0.3 s)): with a short TTC the first
+  // few tenths of a second decide the outcome, so that is where the search should branch most.
+  int random_moving_node() {
+    weights_.assign(nodes_.size(), 0.0);
+    double total = 0.0;
+    for (std::size_t i = 0; i < nodes_.size(); ++i)
+      if (nodes_[i].state.speed_mps() >= 0.5) total += weights_[i] = std::exp(-nodes_[i].t_s / 0.3);
+    if (total <= 0.0) return -1;
+    double pick = std::uniform_real_distribution<double>(0.0, total)(rng_);
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      pick -= weights_[i];
+      if (pick <= 0.0 && weights_[i] > 0.0) return static_cast<int>(i);
+    }
+    for (std::size_t i = nodes_.size(); i-- > 0;)
+      if (weights_[i] > 0.0) return static_cast<int>(i);
+    return -1;
+  }
+
+  // The node nearest to the target in the plane, among nodes still moving and behind it.
+  int nearest(const core::Vec2& target) const {
+    int best = -1;
+    double best_d2 = kInfinity;
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      const auto& s = nodes_[i].state;
+      if (s.speed_mps() < 0.5) continue;
+      const double dx = target.x - s.x_m;
+      const double dy = target.y - s.y_m;
+      const double d2 = dx * dx + dy * dy + (dx < 0 ? 4.0 * dx * dx : 0.0);
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = static_cast<int>(i);
+      }
+    }
+    return best;
+  }
+
+  // A random brake level and rear lock; a random steering rate only when the control is held
+  // open-loop (pursuit replaces it otherwise).
+  Control sample_control(bool open_loop_steer) {
+    const auto& p = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Control u;
+    if (open_loop_steer) u.steer_rate_radps = (2.0 * unit(rng_) - 1.0) * p.max_steer_rate_radps;
+    const double b = unit(rng_);
+    u.brake = b < 0.4 ? 0.0 : (b < 0.7 ? unit(rng_) : 1.0);
+    u.rear_lock = limits_.allow_rear_lock && unit(rng_) < 0.25;
+    return u;
+  }
+
+  // Grows the goal tree from `from` towards `target` (best of a few sampled controls). Returns
+  // true when the search is over (its objective is met).
+  bool extend(int from, const core::Vec2& target) {
+    const auto& pc = scene_.config().planner;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const Node& base = nodes_[static_cast<std::size_t>(from)];
+    std::optional<RolloutResult> best;
+    double best_d2 = kInfinity;
+    for (int k = 0; k < 4; ++k) {
+      const Control u = sample_control(k == 2);
+      const double duration = pc.min_duration_s + unit(rng_) * (pc.max_duration_s - pc.min_duration_s);
+      // Closed-loop pursuit of the sampled point (plain, and braking as hard as the turn allows); an
+      // open-loop constant control, which reaches states pursuit would not; and a lane-change
+      // primitive (steer in, hold, counter-steer), the maneuver class of the reference planner.
+      std::vector<ControlSegment> plan{hold(u, duration)};
+      if (k < 2) {
+        plan[0].pursue = target;
+        // Within grip, or beyond it: on low friction a saturated front still turns hardest.
+        plan[0].pursuit_grip = unit(rng_) < 0.5 ? 0.9 : 2.0;
+      }
+      if (k == 1) {
+        plan[0].friction_circle_brake = true;
+        plan[0].control.brake = 1.0;
+      }
+      if (k == 3) plan = lane_change_primitive(base.state, target);
+      RolloutResult r = roller_.roll(base.state, base.t_s, plan, std::nullopt, 5);
+      ++result_.stats.rollouts;
+      if (keep_tree_) result_.tree.push_back({r.path, false});
+      if (r.termination == Termination::kPassed || r.termination == Termination::kStopped ||
+          r.termination == Termination::kHorizon) {
+        record_avoidance(from, r);
+        return true;
+      }
+      if (r.termination != Termination::kOpen) {
+        consider_failure_from(from, std::move(r), limits_.accept_contact);
+        continue;
+      }
+      const double dx = target.x - r.end_state.x_m;
+      const double dy = target.y - r.end_state.y_m;
+      if (dx * dx + dy * dy < best_d2) {
+        best_d2 = dx * dx + dy * dy;
+        best = std::move(r);
+      }
+    }
+    ++iterations_;
+    ++result_.stats.nodes;  // an extension attempt counts against the budget even if all fail
+    if (!best) return false;
+    Node node;
+    node.state = best->end_state;
+    node.t_s = best->end_time_s;
+    node.parent = from;
+    node.edge = std::move(best->path);
+    nodes_.push_back(std::move(node));
+    return fail_safes(static_cast<int>(nodes_.size()) - 1);
+  }
+
+  // Steer towards the target's side at the full rate up to a sampled peak, hold, counter-steer
+  // through straight to a sampled fraction of the peak, and straighten; brake held at a sampled level.
+  std::vector<ControlSegment> lane_change_primitive(const VehicleState& s, const core::Vec2& target) {
+    const auto& p = scene_.config().ego;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double side = target.y < s.y_m ? -1.0 : 1.0;
+    // Peaks scale with the steady-state steering angle at the friction limit (small on ice and at
+    // speed), from half of it to four times it (a saturated front still turns hardest).
+    const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
+    const double grip_angle = std::atan(p.wheelbase_m() * scene_.cell().mu * kGravity_mps2 / v2);
+    const double peak = std::min(p.max_steer_rad, grip_angle * (0.5 + 3.5 * unit(rng_)));
+    const double counter = unit(rng_);
+    const double rate = p.max_steer_rate_radps;
+    Control c;
+    c.brake = unit(rng_) < 0.5 ? 0.0 : unit(rng_);
+    c.rear_lock = false;
+    std::vector<ControlSegment> plan;
+    c.steer_rate_radps = side * rate;
+    plan.push_back(hold(c, std::max(0.0, (side * peak - s.steer_rad) / (side * rate))));
+    c.steer_rate_radps = 0.0;
+    plan.push_back(hold(c, unit(rng_) * 1.2));  // long holds matter on low friction
+    c.steer_rate_radps = -side * rate;
+    plan.push_back(hold(c, peak * (1.0 + counter) / rate));
+    c.steer_rate_radps = 0.0;
+    plan.push_back(hold(c, unit(rng_) * 1.0));
+    c.steer_rate_radps = side * rate;
+    plan.push_back(hold(c, peak * counter / rate));
+    return plan;
+  }
+
+  // Fail-safe branches from a node: a full stop, and with contact accepted, minimum-momentum
+  // collisions (full braking steering away from the truck, and a braked drift). Returns true when
+  // one of them avoids the truck.
+  bool fail_safes(int index) {
+    const Node& n = nodes_[static_cast<std::size_t>(index)];
+    const auto& p = scene_.config().ego;
+    std::vector<Tail> tails{Tail::full_stop()};
+    // A braking swerve: stop as hard as grip allows while steering into the free passage.
+    if (passage_band_) {
+      const double speed = n.state.speed_mps();
+      const double reach = speed * speed / (2.0 * scene_.cell().mu * kGravity_mps2) + 2.0;
+      tails.push_back(Tail{Control{0.0, 1.0, false}, false, true,
+                           core::Vec2{n.state.x_m + reach, 0.5 * (passage_band_->first + passage_band_->second)}});
+    }
+    if (limits_.accept_contact) {
+      Tail swerve{Control{-p.max_steer_rate_radps, 1.0, false}, false, false, std::nullopt};
+      tails.push_back(swerve);
+      swerve.control.rear_lock = true;
+      tails.push_back(swerve);
+    }
+    for (const Tail& tail : tails) {
+      RolloutResult r = roller_.roll(n.state, n.t_s, {}, tail, 5);
+      ++result_.stats.rollouts;
+      if (keep_tree_) result_.tree.push_back({r.path, true});
+      if (r.avoided()) {
+        record_avoidance(index, r);
+        return true;
+      }
+      // A fail-safe is what the car does when its search fails: its collision always counts.
+      consider_failure_from(index, std::move(r), true);
+    }
+    return false;
+  }
+
+  std::vector<PathPoint> chain(int index) const {
+    std::vector<int> order;
+    for (int i = index; i >= 0; i = nodes_[static_cast<std::size_t>(i)].parent) order.push_back(i);
+    std::vector<PathPoint> path;
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      const auto& edge = nodes_[static_cast<std::size_t>(*it)].edge;
+      path.insert(path.end(), edge.begin(), edge.end());
+    }
+    return path;
+  }
+
+  void record_avoidance(int from, RolloutResult r) {
+    prepend_chain(from, r);
+    result_.avoidance = std::move(r);
+  }
+
+  // Makes a rollout from node `from` a whole path from t = 0.
+  void prepend_chain(int from, RolloutResult& r) const {
+    auto path = chain(from);
+    path.insert(path.end(), r.path.begin(), r.path.end());
+    r.path = std::move(path);
+  }
+
+  // Keeps the least-loss failed rollout; `admissible` says whether a collision on this branch may
+  // be the strategy's outcome (always for fail-safes, for goal-tree edges only with contact accepted).
+  void consider_failure_from(int from, RolloutResult r, bool admissible) {
+    if (r.termination == Termination::kConstraint) return;  // violates the strategy
+    if (r.termination == Termination::kRoadDeparture) r.impact.loss_level = 4;
+    if (r.termination == Termination::kContact && !admissible) return;
+    if (result_.collision && !less_loss(r.impact, result_.collision->impact)) return;
+    prepend_chain(from, r);
+    result_.collision = std::move(r);
+  }
+
+  const Scene& scene_;
+  Roller roller_;
+  ControlLimits limits_;
+  std::mt19937_64 rng_;
+  bool keep_tree_;
+  std::vector<Node> nodes_;
+  PlanResult result_;
+  std::optional<std::pair<double, double>> passage_band_;
+  std::vector<double> weights_;  // scratch for random_moving_node  // y range the ego's CG may use beside the truck
+  int iterations_ = 0;  // extension attempts, some of which add no node
+};
+
+}  // namespace
+
+PlanResult plan_rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed,
+                    bool keep_tree) {
+  return Rrt(scene, model, limits, seed, keep_tree).run();
+}
+
+PlanResult RrtPlanner::plan(const PlanningProblem& p) const {
+  return plan_rrt(p.scene, p.model, p.limits, p.seed, p.keep_tree);
+}
+
+
+}  // namespace emrm::sim
