@@ -12,9 +12,17 @@
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::campaign {
 namespace {
+
+// A plan that names no acceptance strategy accepts on the one that chooses among the others (EMRM).
+std::string default_acceptance_strategy() {
+  const sim::StrategyTable strategies = sim::registered_strategies();
+  const sim::StrategyInfo* chooser = strategies.first_of(sim::StrategyRole::kChooser);
+  return chooser != nullptr ? chooser->name : std::string();
+}
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
@@ -104,6 +112,7 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
   // Paths in a scenarios.json are relative to its own folder.
   for (auto* p : {&s.safety_file, &s.scene_file})
     if (*p && (*p)->is_relative()) *p = scenarios_json.parent_path() / **p;
+  if (s.acceptance_strategy.empty()) s.acceptance_strategy = default_acceptance_strategy();
   try {
     sim::validate_strategy(s.acceptance_strategy);
   } catch (const UsageError& e) {
@@ -121,8 +130,10 @@ RunResult run_scenarios(const RunOptions& options) {
   const scenario::ScenarioFile file = scenario::read_scenarios_csv(options.scenarios_csv);
   const fs::path settings_file = options.scenarios_csv.parent_path() / "scenarios.json";
   PlanSettings settings = fs::is_regular_file(settings_file) ? read_plan_settings(settings_file) : PlanSettings{};
+  if (settings.acceptance_strategy.empty()) settings.acceptance_strategy = default_acceptance_strategy();
   if (options.safety_file) settings.safety_file = options.safety_file;
-  if (settings.acceptance_strategy != "emrm" && !settings.strategies.empty() &&
+  // The acceptance strategy is simulated even when the plan lists strategies without it.
+  if (!settings.strategies.empty() &&
       std::find(settings.strategies.begin(), settings.strategies.end(), settings.acceptance_strategy) ==
           settings.strategies.end())
     settings.strategies.push_back(settings.acceptance_strategy);

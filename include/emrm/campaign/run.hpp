@@ -35,7 +35,7 @@ struct PlanSettings {
   std::optional<std::filesystem::path> safety_file;
   std::optional<std::filesystem::path> scene_file;
   std::vector<std::string> strategies;  ///< empty: all
-  std::string acceptance_strategy = "emrm";
+  std::string acceptance_strategy;  ///< empty: the registered chooser (EMRM)
   std::string acceptance_outcome = "avoided";  ///< avoided or mitigated
   double delta = 0.05;
   double epsilon = 0.25;
