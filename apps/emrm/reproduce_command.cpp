@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,9 +25,8 @@
 #include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/fsm/dot.hpp"
 #include "emrm/fsm/load.hpp"
-#include "emrm/fsm/operations.hpp"
+#include "emrm/fsm/report.hpp"
 #include "emrm/report/report.hpp"
 #include "emrm/safety/asil.hpp"
 #include "emrm/safety/checks.hpp"
@@ -123,27 +121,12 @@ bool run_analysis(const fs::path& examples, const fs::path& out) {
   return errors == 0;
 }
 
-// Step 5: the structural checks of one FSM, its report and its plain diagram.
+// Step 5: the structural checks of one FSM, as `emrm fsm FILE --check --format json`, and its
+// plain diagram.
 bool run_fsm_check(const fs::path& file, const fs::path& out) {
-  const fsm::Generator g = fsm::load_generator(file);
-  const auto r = fsm::check_all(g);
-  const std::string stem = file.stem().string();
-  nlohmann::ordered_json j{
-      {"fsm", g.name()},
-      {"file", file.string()},
-      {"states", g.states().size()},
-      {"transitions", g.transitions().size()},
-      {"ok", r.ok()},
-      {"accessible", {{"ok", r.accessible.ok()}, {"unreachable", r.accessible.unreachable}}},
-      {"coaccessible",
-       {{"ok", r.coaccessible.ok()}, {"cannot_reach_marked", r.coaccessible.cannot_reach_marked}}},
-      {"deterministic", {{"ok", r.deterministic.ok()}, {"choices", r.deterministic.choices.size()}}},
-      {"nonblocking", {{"ok", r.nonblocking.ok()}, {"blocking", r.nonblocking.blocking}}}};
-  const auto dir = out / "fsm";
-  core::write_file(dir / (stem + "_check.json"), j.dump(2) + "\n");
-  const std::string dot = fsm::to_dot(g);
-  core::write_file(dir / (stem + "_plain.dot"), dot);
-  if (fsm::dot_available()) core::write_file(dir / (stem + "_plain.svg"), fsm::render_svg(dot));
+  const fsm::Report report = fsm::write_check_files(file, out / "fsm");
+  const fsm::Generator& g = report.machine;
+  const fsm::CheckReport& r = *report.check;
   fmt::print(
       "fsm       {}: {} states, {} transitions; accessible {}, co-accessible {}, deterministic {}, "
       "non-blocking {}\n",
