@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -28,10 +29,8 @@
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
 #include "emrm/report/report.hpp"
-#include "emrm/safety/asil.hpp"
-#include "emrm/safety/checks.hpp"
+#include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
-#include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -96,29 +95,19 @@ std::string pct(double v) { return campaign::format_number(v, 1); }
 // Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
 bool run_analysis(const fs::path& examples, const fs::path& out) {
   const auto safety_file = examples / "safety.yaml";
-  const safety::SafetyCase sc = safety::load_safety_case(safety_file);
+  safety::SafetyCase sc = safety::load_safety_case(safety_file);
   std::optional<safety::FsmTransitions> known;
-  if (sc.fsm) {
-    const auto path = examples / *sc.fsm;
-    const fsm::Generator g = fsm::load_generator(path);
-    known = safety::FsmTransitions{path.string(), {}};
-    for (const auto& t : g.transitions()) known->transitions.insert({t.from, t.event, t.to});
-  }
-  const auto findings = safety::check(sc, known);
+  if (const auto path = safety::fsm_file(sc))
+    known = safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
+  const safety::Analysis analysis = safety::analyze(std::move(sc), std::move(known));
   const auto dir = out / "analysis";
-  const auto matrix = safety::traceability_matrix(sc);
-  core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
-  core::write_file(dir / "traceability.md",
-                   "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
-  core::write_file(dir / "findings.json", safety::findings_json(findings).dump(2) + "\n");
-  core::write_file(dir / "asil.csv", core::csv_table(safety::asil_header(), safety::asil_rows(sc)));
-  const auto errors = safety::count(findings, safety::FindingSeverity::kError);
-  const auto warnings = safety::count(findings, safety::FindingSeverity::kWarning);
+  safety::write_analysis(dir, analysis);
+  const auto& c = analysis.safety_case;
   fmt::print(
       "analysis  {}: {} losses, {} hazards, {} UCAs; {} errors, {} warnings; {} traceability rows -> {}\n",
-      safety_file.string(), sc.losses.size(), sc.hazards.size(), sc.ucas.size(), errors, warnings,
-      matrix.size(), dir.string());
-  return errors == 0;
+      safety_file.string(), c.losses.size(), c.hazards.size(), c.ucas.size(), analysis.errors(),
+      analysis.warnings(), analysis.matrix.size(), dir.string());
+  return analysis.errors() == 0;
 }
 
 // Step 5: the structural checks of one FSM, as `emrm fsm FILE --check --format json`, and its

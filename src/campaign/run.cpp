@@ -267,9 +267,7 @@ RunResult run_scenarios(const RunOptions& options) {
         if (std::find(o.malfunctions.begin(), o.malfunctions.end(), row.uca) != o.malfunctions.end())
           row.scenarios.push_back(o.id);
     result.traceability_rows = matrix.size();
-    core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
-    core::write_file(dir / "traceability.md",
-                     "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
+    safety::write_traceability(dir, sc.name, matrix);
   }
   Json j = to_json(result);
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
