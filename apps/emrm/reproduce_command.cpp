@@ -125,18 +125,6 @@ bool run_fsm_check(const fs::path& file, const fs::path& out) {
   return r.ok();
 }
 
-// The grid the headline tables read: the paper's fine grid if the campaign has it, else the largest.
-std::string headline_grid(const std::vector<campaign::CellRecord>& records, const std::string& wanted) {
-  std::string best;
-  std::size_t best_n = 0;
-  for (const auto& g : campaign::grid_names(records)) {
-    if (g == wanted) return g;
-    const auto n = campaign::count_regions(records, g).cells;
-    if (n > best_n) best = g, best_n = n;
-  }
-  return best.empty() ? wanted : best;
-}
-
 int run(const ReproduceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path examples = find_examples(options);
@@ -162,7 +150,7 @@ int run(const ReproduceOptions& options) {
 
   const auto records = campaign::read_results(out / "results.sqlite");
   campaign::TableOptions table_options;
-  table_options.grid = headline_grid(records, paper.fine_grid.grid);
+  table_options.grid = campaign::headline_grid(records, paper.fine_grid.grid);
   table_options.cuts.car_width_m = plan.scene.ego.width_m;
   campaign::write_tables(out, records, paper, table_options);
 
