@@ -65,8 +65,8 @@ struct Report {
   }
 };
 
-/// Runs the operations of `request` on `machine`. Throws what enumerate_words throws (never for a
-/// words_max_length of -1 or more).
+/// Runs the operations of `request` on `machine`, each only when asked. Does not throw (a
+/// words_max_length below -1 counts as not asked).
 [[nodiscard]] Report make_report(Generator machine, std::string source, const ReportRequest& request);
 
 /// The report as `emrm fsm --format json` prints it: {"fsm", "check"?, "words"?, "word_queries"?,
