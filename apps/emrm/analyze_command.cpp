@@ -1,17 +1,17 @@
-// `emrm analyze SAFETY.yaml`: paper Algorithm 1, steps 1–4.
+// `emrm analyze SAFETY.yaml`: paper Algorithm 1, steps 1–4 (safety::analyze), printed and written by
+// the safety library's producers (safety/analysis.hpp).
 
 #include <fmt/format.h>
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <utility>
 
 #include "commands.hpp"
-#include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
-#include "emrm/safety/asil.hpp"
-#include "emrm/safety/checks.hpp"
+#include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
-#include "emrm/safety/traceability.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -29,88 +29,28 @@ struct AnalyzeOptions {
 std::optional<safety::FsmTransitions> load_fsm_transitions(const AnalyzeOptions& options,
                                                            const safety::SafetyCase& sc) {
   if (options.no_fsm) return std::nullopt;
-  std::filesystem::path path;
-  if (!options.fsm_file.empty()) {
-    path = options.fsm_file;
-  } else if (sc.fsm) {
-    path = std::filesystem::path(options.safety_file).parent_path() / *sc.fsm;
-  } else {
-    return std::nullopt;
-  }
-  const fsm::Generator generator = fsm::load_generator(path);
-  safety::FsmTransitions known{path.string(), {}};
-  for (const auto& t : generator.transitions()) known.transitions.insert({t.from, t.event, t.to});
-  return known;
-}
-
-std::string counted(std::size_t n, std::string_view one, std::string_view many) {
-  return fmt::format("{} {}", n, n == 1 ? one : many);
-}
-
-void print_text(const safety::SafetyCase& sc, const std::optional<safety::FsmTransitions>& fsm,
-                const std::vector<safety::Finding>& findings) {
-  auto& out = std::cout;
-  out << fmt::format("Safety case '{}' ({})\n", sc.name, sc.file);
-  out << fmt::format("  {}, {}, {}, {}, {}\n", counted(sc.losses.size(), "loss", "losses"),
-                     counted(sc.hazards.size(), "hazard", "hazards"),
-                     counted(sc.control_actions.size(), "control action", "control actions"),
-                     counted(sc.ucas.size(), "UCA", "UCAs"), counted(sc.factors.size(), "factor", "factors"));
-  if (fsm) out << fmt::format("  FSM transitions checked against {} ({} transitions)\n", fsm->file, fsm->transitions.size());
-
-  const auto errors = safety::count(findings, safety::FindingSeverity::kError);
-  const auto warnings = safety::count(findings, safety::FindingSeverity::kWarning);
-  out << fmt::format("\nFindings: {}, {}\n", counted(errors, "error", "errors"),
-                     counted(warnings, "warning", "warnings"));
-  for (const auto& f : findings)
-    out << fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code, f.subject,
-                       f.message);
-
-  out << "\nHARA ratings (ASIL by ISO 26262-3 Table 4; SMIL by the case's table)\n";
-  out << core::markdown_table(safety::asil_header(), safety::asil_rows(sc));
-
-  out << "\nM_HARA-STPA: UCA -> hazards, losses, risk\n";
-  for (const auto& m : safety::map_hara_stpa(sc)) {
-    const safety::Uca* u = sc.find_uca(m.uca);
-    out << fmt::format("  {} ({}): hazards {}; losses {}; risk ASIL {}, worst loss {}{}\n", m.uca,
-                       core::enum_name(u->type), m.hazards.empty() ? "none" : core::join(m.hazards, ", "),
-                       m.losses.empty() ? "none" : core::join(m.losses, ", "), core::enum_name(m.risk.asil),
-                       m.risk.worst_loss.empty() ? "none" : m.risk.worst_loss,
-                       m.risk.irreversible ? " (irreversible)" : "");
-  }
-  out << fmt::format("\nTraceability matrix: {} rows (UCA x hazard x loss, with FSM transitions)\n",
-                     safety::traceability_matrix(sc).size());
-}
-
-void write_outputs(const std::filesystem::path& dir, const safety::SafetyCase& sc,
-                   const std::vector<safety::Finding>& findings) {
-  const auto matrix = safety::traceability_matrix(sc);
-  core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
-  core::write_file(dir / "traceability.md", "# Traceability matrix: " + sc.name + "\n\n" +
-                                                safety::traceability_markdown(matrix));
-  core::write_file(dir / "findings.json", safety::findings_json(findings).dump(2) + "\n");
-  core::write_file(dir / "asil.csv", core::csv_table(safety::asil_header(), safety::asil_rows(sc)));
+  const auto path =
+      options.fsm_file.empty() ? safety::fsm_file(sc) : std::filesystem::path(options.fsm_file);
+  if (!path) return std::nullopt;
+  return safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
 }
 
 int run(const AnalyzeOptions& options) {
-  const safety::SafetyCase sc = safety::load_safety_case(options.safety_file);
-  const auto fsm = load_fsm_transitions(options, sc);
-  const auto findings = safety::check(sc, fsm);
+  safety::SafetyCase sc = safety::load_safety_case(options.safety_file);
+  auto fsm = load_fsm_transitions(options, sc);
+  const safety::Analysis analysis = safety::analyze(std::move(sc), std::move(fsm));
 
-  if (options.format == "json") {
-    auto j = safety::analysis_json(sc, findings);
-    if (fsm) j["fsm"] = fsm->file;
-    std::cout << j.dump(2) << "\n";
-  } else {
-    print_text(sc, fsm, findings);
-  }
+  if (options.format == "json")
+    std::cout << safety::to_json(analysis).dump(2) << "\n";
+  else
+    std::cout << safety::to_text(analysis);
   if (!options.output_dir.empty()) {
-    write_outputs(options.output_dir, sc, findings);
+    safety::write_analysis(options.output_dir, analysis);
     if (options.format == "text")
       std::cout << fmt::format("Wrote traceability.csv, traceability.md, findings.json, asil.csv to {}\n",
                                options.output_dir);
   }
-  const bool failed = safety::count(findings, safety::FindingSeverity::kError) > 0 ||
-                      (options.strict && !findings.empty());
+  const bool failed = analysis.errors() > 0 || (options.strict && !analysis.findings.empty());
   return static_cast<int>(failed ? ExitCode::kFindings : ExitCode::kSuccess);
 }
 

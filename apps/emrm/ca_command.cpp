@@ -8,8 +8,8 @@
 
 #include "commands.hpp"
 #include "emrm/core/error.hpp"
-#include "emrm/core/text.hpp"
 #include "emrm/scenario/covering_array.hpp"
+#include "emrm/scenario/covering_array_io.hpp"
 #include "emrm/scenario/pict_model.hpp"
 
 namespace emrm::cli {
@@ -73,18 +73,7 @@ int run(const CaOptions& o) {
   const scenario::CoveringArray ca = scenario::generate_covering_array(levels, options, violates);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  core::Row header;
-  std::vector<core::Row> rows;
-  for (std::size_t c = 0; c < levels.size(); ++c)
-    header.push_back(model ? model->parameters()[c].name : fmt::format("p{}", c + 1));
-  for (const auto& r : ca.rows) {
-    core::Row out;
-    for (std::size_t c = 0; c < r.size(); ++c)
-      out.push_back(model ? model->parameters()[c].values[static_cast<std::size_t>(r[c])]
-                          : std::to_string(r[c]));
-    rows.push_back(std::move(out));
-  }
-  std::cout << core::csv_table(header, rows);
+  std::cout << scenario::covering_array_csv(ca, model ? &*model : nullptr);
   std::cerr << fmt::format(
       "{} rows, strength {}, {} of {} tuples covered ({} excluded by constraints), {:.3f} s\n",
       ca.rows.size(), ca.strength, ca.required_tuples, ca.required_tuples, ca.forbidden_tuples, seconds);

@@ -10,7 +10,6 @@
 
 #include "commands.hpp"
 #include "emrm/core/error.hpp"
-#include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
@@ -27,10 +26,6 @@ struct PlanOptions {
   std::string output_dir;
 };
 
-std::string pct(const scenario::CoverageCount& c) {
-  return fmt::format("{:.1f} % ({}/{})", 100.0 * c.fraction(), c.covered, c.total);
-}
-
 int run(const PlanOptions& o) {
   if (!fs::is_regular_file(o.odd_file)) throw UsageError(fmt::format("emrm plan: '{}' does not exist", o.odd_file));
   std::optional<fs::path> safety;
@@ -44,23 +39,8 @@ int run(const PlanOptions& o) {
   const fs::path dir = o.output_dir;
   scenario::write_plan(dir, odd, plan, reports);
 
-  fmt::print("plan      {}: {} factors, {:.0f} cells, {} relevant, {} tracked, {} malfunction modes\n", o.odd_file,
-             odd.factors.size(), odd.cell_count(), plan.relevant_cells, plan.tracked_cells, odd.malfunctions.size());
-  for (const auto& step : plan.steps) fmt::print("  {:<15} +{:<4} {}\n", step.name, step.added, step.note);
-  fmt::print("  {} scenarios in {:.2f} s; {}\n", plan.scenarios.size(), seconds, plan.stop_reason);
-  for (const auto& note : plan.infeasible) fmt::print("  no admissible point (exempt from C2): {}\n", note);
-  for (const auto& note : plan.shortfalls) fmt::print("  shortfall: {}\n", note);
-  const auto& ours = reports.front();
-  fmt::print("  coverage: hazards {}, UCAs {}, transitions {}, cells {}, {}-wise {}, boundaries {}\n",
-             pct(ours.hazards), pct(ours.malfunctions), pct(ours.transitions), pct(ours.cells), odd.strength,
-             pct(ours.twise), pct(ours.boundaries));
-  fmt::print("  independent check: C1 {}, C2 {}, C3 {}, C4 {}\n", ours.c1 ? "holds" : "FAILS",
-             ours.c2 ? "holds" : "FAILS", ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS");
-  for (std::size_t i = 1; i < reports.size(); ++i)
-    fmt::print("  baseline {:<12} {:>3} scenarios: hazards {}, UCAs {}, cells {}\n", reports[i].name,
-               reports[i].scenarios, pct(reports[i].hazards), pct(reports[i].malfunctions), pct(reports[i].cells));
-  fmt::print("  -> {}\n", (dir / "scenarios.csv").string());
-  return ours.all() ? 0 : 1;
+  fmt::print("{}", scenario::summary_text(o.odd_file, odd, plan, reports, seconds, dir));
+  return reports.front().all() ? 0 : 1;
 }
 
 }  // namespace

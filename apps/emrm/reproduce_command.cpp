@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -26,14 +26,11 @@
 #include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/fsm/dot.hpp"
 #include "emrm/fsm/load.hpp"
-#include "emrm/fsm/operations.hpp"
+#include "emrm/fsm/report.hpp"
 #include "emrm/report/report.hpp"
-#include "emrm/safety/asil.hpp"
-#include "emrm/safety/checks.hpp"
+#include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
-#include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -105,52 +102,27 @@ std::string pct(double v) { return campaign::format_number(v, 1); }
 // Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
 bool run_analysis(const fs::path& examples, const fs::path& out) {
   const auto safety_file = examples / "safety.yaml";
-  const safety::SafetyCase sc = safety::load_safety_case(safety_file);
+  safety::SafetyCase sc = safety::load_safety_case(safety_file);
   std::optional<safety::FsmTransitions> known;
-  if (sc.fsm) {
-    const auto path = examples / *sc.fsm;
-    const fsm::Generator g = fsm::load_generator(path);
-    known = safety::FsmTransitions{path.string(), {}};
-    for (const auto& t : g.transitions()) known->transitions.insert({t.from, t.event, t.to});
-  }
-  const auto findings = safety::check(sc, known);
+  if (const auto path = safety::fsm_file(sc))
+    known = safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
+  const safety::Analysis analysis = safety::analyze(std::move(sc), std::move(known));
   const auto dir = out / "analysis";
-  const auto matrix = safety::traceability_matrix(sc);
-  core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
-  core::write_file(dir / "traceability.md",
-                   "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
-  core::write_file(dir / "findings.json", safety::findings_json(findings).dump(2) + "\n");
-  core::write_file(dir / "asil.csv", core::csv_table(safety::asil_header(), safety::asil_rows(sc)));
-  const auto errors = safety::count(findings, safety::FindingSeverity::kError);
-  const auto warnings = safety::count(findings, safety::FindingSeverity::kWarning);
+  safety::write_analysis(dir, analysis);
+  const auto& c = analysis.safety_case;
   fmt::print(
       "analysis  {}: {} losses, {} hazards, {} UCAs; {} errors, {} warnings; {} traceability rows -> {}\n",
-      safety_file.string(), sc.losses.size(), sc.hazards.size(), sc.ucas.size(), errors, warnings,
-      matrix.size(), dir.string());
-  return errors == 0;
+      safety_file.string(), c.losses.size(), c.hazards.size(), c.ucas.size(), analysis.errors(),
+      analysis.warnings(), analysis.matrix.size(), dir.string());
+  return analysis.errors() == 0;
 }
 
-// Step 5: the structural checks of one FSM, its report and its plain diagram.
+// Step 5: the structural checks of one FSM, as `emrm fsm FILE --check --format json`, and its
+// plain diagram.
 bool run_fsm_check(const fs::path& file, const fs::path& out) {
-  const fsm::Generator g = fsm::load_generator(file);
-  const auto r = fsm::check_all(g);
-  const std::string stem = file.stem().string();
-  nlohmann::ordered_json j{
-      {"fsm", g.name()},
-      {"file", file.string()},
-      {"states", g.states().size()},
-      {"transitions", g.transitions().size()},
-      {"ok", r.ok()},
-      {"accessible", {{"ok", r.accessible.ok()}, {"unreachable", r.accessible.unreachable}}},
-      {"coaccessible",
-       {{"ok", r.coaccessible.ok()}, {"cannot_reach_marked", r.coaccessible.cannot_reach_marked}}},
-      {"deterministic", {{"ok", r.deterministic.ok()}, {"choices", r.deterministic.choices.size()}}},
-      {"nonblocking", {{"ok", r.nonblocking.ok()}, {"blocking", r.nonblocking.blocking}}}};
-  const auto dir = out / "fsm";
-  core::write_file(dir / (stem + "_check.json"), j.dump(2) + "\n");
-  const std::string dot = fsm::to_dot(g);
-  core::write_file(dir / (stem + "_plain.dot"), dot);
-  if (fsm::dot_available()) core::write_file(dir / (stem + "_plain.svg"), fsm::render_svg(dot));
+  const fsm::Report report = fsm::write_check_files(file, out / "fsm");
+  const fsm::Generator& g = report.machine;
+  const fsm::CheckReport& r = *report.check;
   fmt::print(
       "fsm       {}: {} states, {} transitions; accessible {}, co-accessible {}, deterministic {}, "
       "non-blocking {}\n",
@@ -158,18 +130,6 @@ bool run_fsm_check(const fs::path& file, const fs::path& out) {
       r.coaccessible.ok() ? "ok" : "FAILED", r.deterministic.ok() ? "ok" : "FAILED",
       r.nonblocking.ok() ? "ok" : "FAILED");
   return r.ok();
-}
-
-// The grid the headline tables read: the paper's fine grid if the campaign has it, else the largest.
-std::string headline_grid(const std::vector<campaign::CellRecord>& records, const std::string& wanted) {
-  std::string best;
-  std::size_t best_n = 0;
-  for (const auto& g : campaign::grid_names(records)) {
-    if (g == wanted) return g;
-    const auto n = campaign::count_regions(records, g).cells;
-    if (n > best_n) best = g, best_n = n;
-  }
-  return best.empty() ? wanted : best;
 }
 
 int run(const ReproduceOptions& options) {
@@ -197,7 +157,7 @@ int run(const ReproduceOptions& options) {
 
   const auto records = campaign::read_results(out / "results.sqlite");
   campaign::TableOptions table_options;
-  table_options.grid = headline_grid(records, paper.fine_grid.grid);
+  table_options.grid = campaign::headline_grid(records, paper.fine_grid.grid);
   table_options.cuts.car_width_m = plan.scene.ego.width_m;
   campaign::write_tables(out, records, paper, table_options);
 

@@ -9,7 +9,6 @@
 #include "commands.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/core/error.hpp"
-#include "emrm/core/text.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -34,28 +33,7 @@ int run(const RunCommandOptions& o) {
     options.safety_file = o.safety;
   }
   const campaign::RunResult r = campaign::run_scenarios(options);
-  const auto feasible =
-      std::count_if(r.outcomes.begin(), r.outcomes.end(), [](const auto& s) { return s.feasible; });
-  fmt::print("run       {}: {} scenarios ({} feasible), {} simulated, {} already stored, {:.1f} s\n", o.scenarios,
-             r.outcomes.size(), feasible, r.sweep.cells_simulated, r.sweep.cells_done_before, r.sweep.seconds);
-  if (!r.unsimulated_factors.empty())
-    fmt::print("  not simulated (carried through only): {}\n", core::join(r.unsimulated_factors, ", "));
-  const auto tracked = std::count_if(r.cells.begin(), r.cells.end(), [](const auto& c) { return c.tracked; });
-  fmt::print("  {} cells, {} tracked; widest Wilson {:.0f} % half-width in a tracked cell {:.3f} (target {:g})\n",
-             r.cells.size(), tracked, 100.0 * r.confidence, r.widest_tracked_half_width, r.epsilon);
-  for (const auto& s : r.subsets) {
-    const auto& e = s.estimate;
-    if (e.n == 0) continue;
-    fmt::print("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset, e.estimate, e.n,
-               e.n_eff, e.wilson.low, e.wilson.high);
-  }
-  fmt::print("  EMRM FSM transitions exercised: {}/{}{}\n", r.transitions_exercised, r.transitions_total,
-             r.transitions_missed.empty() ? std::string()
-                                          : " (never: " + core::join(r.transitions_missed, ", ") + ")");
-  if (r.traceability_rows > 0)
-    fmt::print("  traceability: {} rows with their scenarios -> {}\n", r.traceability_rows,
-               (std::filesystem::path(o.output_dir) / "traceability.csv").string());
-  fmt::print("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n", o.output_dir);
+  fmt::print("{}", campaign::to_text(r, o.scenarios, o.output_dir));
   return static_cast<int>(ExitCode::kSuccess);
 }
 

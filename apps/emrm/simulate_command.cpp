@@ -5,11 +5,11 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "emrm/core/text.hpp"
 #include "emrm/report/trajectory_figure.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/text.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -25,43 +25,6 @@ struct SimulateOptions {
   bool paths = false;
   std::string figure;
 };
-
-std::string yes_no(bool b) { return b ? "yes" : "no"; }
-
-void print_table(const sim::CellResult& r, const sim::SceneConfig& config, std::uint64_t seed) {
-  auto& out = std::cout;
-  const auto& c = r.input;
-  out << fmt::format("Cell: {:g} km/h, TTC {:g} s, mu {:g}, passage {:g} m, truck {:g} km/h (seed {})\n", c.speed_kph,
-                     c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph, seed);
-  const double v = c.speed_kph / 3.6;
-  out << fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n", v * c.ttc_s,
-                     v / (2.0 * c.mu * sim::kGravity_mps2));
-  if (!r.feasible) {
-    out << fmt::format("Infeasible: the initial distance exceeds max_initial_distance_m = {:g} m\n",
-                       config.max_initial_distance_m);
-    return;
-  }
-  const auto& u = r.unmitigated;
-  out << fmt::format("Region: {}\n", sim::region_name(r.region));
-  out << fmt::format("Unmitigated: impact {:.1f} km/h, delta-v {:.1f} km/h, P(MAIS3+) {:.3f}, P(fatal) {:.3f}, L{}\n\n",
-                     u.impact_speed_mps * 3.6, u.delta_v_mps * 3.6, u.p_mais3, u.p_fatal, u.loss_level);
-  std::vector<core::Row> rows;
-  for (const auto& o : r.strategies)
-    rows.push_back({o.strategy, yes_no(o.avoided), fmt::format("{:.1f}", o.impact.impact_speed_mps * 3.6),
-                    fmt::format("{:.1f}", o.impact.delta_v_mps * 3.6), fmt::format("{:.3f}", o.impact.p_mais3),
-                    fmt::format("{:.3f}", o.impact.p_fatal), fmt::format("L{}", o.impact.loss_level),
-                    std::to_string(o.delta_loss), fmt::format("{:.3f}", o.min_ttc_s), std::to_string(o.planner.nodes),
-                    o.chosen_strategy.empty() ? o.adopted_from : "chose " + o.chosen_strategy});
-  out << core::markdown_table({"strategy", "avoided", "impact_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss",
-                               "delta_loss", "min_ttc_s", "nodes", "note"},
-                              rows);
-  for (const auto& o : r.strategies)
-    if (o.strategy == "emrm") {
-      out << "\nEMRM FSM trace: " << core::join(o.fsm_trace, " ") << "\n";
-      if (!o.loss_evaluation_trace.empty())
-        out << "Loss-evaluation FSM trace: " << core::join(o.loss_evaluation_trace, " ") << "\n";
-    }
-}
 
 int run(const SimulateOptions& options) {
   const sim::SceneConfig config =
@@ -80,7 +43,7 @@ int run(const SimulateOptions& options) {
   if (options.json) {
     std::cout << sim::to_json(result, options.seed, {options.timing, options.paths}).dump(2) << "\n";
   } else {
-    print_table(result, config, options.seed);
+    std::cout << sim::to_text(result, config, options.seed);
   }
   if (!options.figure.empty()) {
     report::draw_cell_figure(result, config, options.figure);

@@ -44,6 +44,17 @@ std::vector<CellRecord> records_of_grid(const std::vector<CellRecord>& records, 
 
 double RegionCounts::pct(std::size_t n) const noexcept { return ratio_pct(n, feasible); }
 
+std::string headline_grid(const std::vector<CellRecord>& records, std::string_view wanted) {
+  std::string best;
+  std::size_t best_n = 0;
+  for (const auto& g : grid_names(records)) {
+    if (g == wanted) return g;
+    const auto n = count_regions(records, g).cells;
+    if (n > best_n) best = g, best_n = n;
+  }
+  return best;
+}
+
 RegionCounts count_regions(const std::vector<CellRecord>& records, std::string_view grid) {
   RegionCounts c;
   c.grid = std::string(grid);

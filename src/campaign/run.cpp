@@ -278,14 +278,46 @@ RunResult run_scenarios(const RunOptions& options) {
         if (std::find(o.malfunctions.begin(), o.malfunctions.end(), row.uca) != o.malfunctions.end())
           row.scenarios.push_back(o.id);
     result.traceability_rows = matrix.size();
-    core::write_file(dir / "traceability.csv", safety::traceability_csv(matrix));
-    core::write_file(dir / "traceability.md",
-                     "# Traceability matrix: " + sc.name + "\n\n" + safety::traceability_markdown(matrix));
+    safety::write_traceability(dir, sc.name, matrix);
   }
   Json j = to_json(result);
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
   core::write_file(dir / "estimates.json", j.dump(2) + "\n");
   return result;
+}
+
+std::string to_text(const RunResult& result, const std::string& scenarios_file, const fs::path& output_dir) {
+  std::string out;
+  const auto feasible =
+      std::count_if(result.outcomes.begin(), result.outcomes.end(), [](const auto& s) { return s.feasible; });
+  out += fmt::format("run       {}: {} scenarios ({} feasible), {} simulated, {} already stored, {:.1f} s\n",
+                     scenarios_file, result.outcomes.size(), feasible, result.sweep.cells_simulated,
+                     result.sweep.cells_done_before, result.sweep.seconds);
+  if (!result.unsimulated_factors.empty())
+    out += fmt::format("  not simulated (carried through only): {}\n",
+                       core::join(result.unsimulated_factors, ", "));
+  const auto tracked =
+      std::count_if(result.cells.begin(), result.cells.end(), [](const auto& c) { return c.tracked; });
+  out += fmt::format(
+      "  {} cells, {} tracked; widest Wilson {:.0f} % half-width in a tracked cell {:.3f} (target {:g})\n",
+      result.cells.size(), tracked, 100.0 * result.confidence, result.widest_tracked_half_width,
+      result.epsilon);
+  for (const auto& s : result.subsets) {
+    const auto& e = s.estimate;
+    if (e.n == 0) continue;
+    out += fmt::format("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset,
+                       e.estimate, e.n, e.n_eff, e.wilson.low, e.wilson.high);
+  }
+  out += fmt::format(
+      "  EMRM FSM transitions exercised: {}/{}{}\n", result.transitions_exercised, result.transitions_total,
+      result.transitions_missed.empty() ? std::string()
+                                        : " (never: " + core::join(result.transitions_missed, ", ") + ")");
+  if (result.traceability_rows > 0)
+    out += fmt::format("  traceability: {} rows with their scenarios -> {}\n", result.traceability_rows,
+                       (output_dir / "traceability.csv").string());
+  out += fmt::format("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n",
+                     output_dir.string());
+  return out;
 }
 
 Json to_json(const RunResult& r) {

@@ -246,18 +246,6 @@ std::string regions_html(const std::vector<campaign::CellRecord>& records) {
   return html_table(header, rows);
 }
 
-// The grid the headline figures read: `fine` if present, else the largest.
-std::string headline_grid(const std::vector<campaign::CellRecord>& records) {
-  std::string best;
-  std::size_t best_n = 0;
-  for (const auto& g : campaign::grid_names(records)) {
-    if (g == "fine") return g;
-    const auto n = campaign::count_regions(records, g).cells;
-    if (n > best_n) best = g, best_n = n;
-  }
-  return best;
-}
-
 // The grid whose trajectories the trajectory figure shows: `canonical`, else the first with any.
 std::string trajectory_grid(const std::vector<campaign::CellRecord>& records) {
   std::string first;
@@ -391,7 +379,7 @@ ReportSummary write_report(const fs::path& dir) {
 
   ReportSummary summary;
   const auto start = Clock::now();
-  const std::string grid = headline_grid(records);
+  const std::string grid = campaign::headline_grid(records);
   summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, scene.simulation.latency_s));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));

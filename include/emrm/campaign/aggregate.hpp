@@ -21,6 +21,10 @@ namespace emrm::campaign {
 [[nodiscard]] std::vector<CellRecord> records_of_grid(const std::vector<CellRecord>& records,
                                                       std::string_view grid);
 
+/// The grid headline tables and figures read: `wanted` when the records have it, else the grid
+/// with the most cells (the first of equals); empty when there are no records.
+[[nodiscard]] std::string headline_grid(const std::vector<CellRecord>& records, std::string_view wanted = "fine");
+
 /// Region counts of one grid. Percentages are over the feasible cells.
 struct RegionCounts {
   std::string grid;

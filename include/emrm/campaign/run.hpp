@@ -95,6 +95,13 @@ struct RunResult {
 /// rejects; UsageError when the store holds another plan.
 RunResult run_scenarios(const RunOptions& options);
 
+/// estimates.json (without its "acceptance" member, which run_scenarios adds from the plan).
 [[nodiscard]] nlohmann::ordered_json to_json(const RunResult& result);
+
+/// The summary `emrm run` prints: scenarios and what was simulated, the widest tracked Wilson
+/// half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the files written
+/// into `output_dir`. `scenarios_file` is shown as given.
+[[nodiscard]] std::string to_text(const RunResult& result, const std::string& scenarios_file,
+                                  const std::filesystem::path& output_dir);
 
 }  // namespace emrm::campaign

@@ -1,7 +1,8 @@
 #pragma once
 
 // The files of a plan (docs/plan.md): scenarios.csv (one row per scenario, the input of
-// `emrm run`), scenarios.json (the same with the plan's settings and steps) and coverage.json.
+// `emrm run`), scenarios.json (the same with the plan's settings and steps) and coverage.json,
+// and the summary `emrm plan` prints.
 
 #include <cstdint>
 #include <filesystem>
@@ -37,6 +38,14 @@ namespace emrm::scenario {
 /// Writes DIR/scenarios.csv, scenarios.json, coverage.json, coverage.csv and coverage.md.
 void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& plan,
                 const std::vector<CoverageReport>& reports);
+
+/// The summary `emrm plan` prints: the ODD's size, each construction step, the scenarios and the
+/// `seconds` building took, the notes, the plan's coverage and the independent check of C1–C4,
+/// the baselines (reports as coverage_comparison returns them) and DIR/scenarios.csv. `odd_file` is
+/// shown as given.
+[[nodiscard]] std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan& plan,
+                                       const std::vector<CoverageReport>& reports, double seconds,
+                                       const std::filesystem::path& dir);
 
 /// One row of a scenarios.csv as read back.
 struct ScenarioRow {

@@ -1,6 +1,6 @@
 #pragma once
 
-// The stable JSON form of a simulated cell (docs/simulate-json.md).
+// The stable JSON form of a simulated cell (docs/simulate.md, "JSON"; listed in docs/outputs.md).
 
 #include <nlohmann/json.hpp>
 

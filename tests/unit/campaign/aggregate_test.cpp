@@ -59,6 +59,17 @@ std::vector<CellRecord> four_cells() {
   return cells;
 }
 
+TEST(HeadlineGrid, IsTheWantedGridWhenPresentElseTheLargest) {
+  std::vector<CellRecord> records{cell("coarse", 0, 30, 1, 1, 3, "G", 7), cell("wide", 0, 30, 1, 1, 3, "G", 7),
+                                  cell("wide", 1, 50, 1, 1, 3, "Y", 7), cell("coarse", 1, 50, 1, 1, 3, "Y", 7),
+                                  cell("wide", 2, 70, 1, 1, 3, "R", 7)};
+  EXPECT_EQ(headline_grid(records), "wide");  // no "fine": the grid with the most cells
+  EXPECT_EQ(headline_grid(records, "coarse"), "coarse");
+  records.push_back(cell("fine", 0, 30, 1, 1, 3, "G", 7));
+  EXPECT_EQ(headline_grid(records), "fine");
+  EXPECT_EQ(headline_grid({}), "");
+}
+
 TEST(RegionCounts, CountsFeasibleCellsOnlyAndPercentOfFeasible) {
   auto cells = four_cells();
   cells.push_back(cell("coarse", 0, 30, 1.0, 1.0, 3.0, "G", 7));
