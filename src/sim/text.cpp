@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "emrm/core/text.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -42,8 +43,9 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   out += core::markdown_table({"strategy", "avoided", "impact_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss",
                                "delta_loss", "min_ttc_s", "nodes", "note"},
                               rows);
+  const StrategyTable strategies = registered_strategies();
   for (const auto& o : r.strategies)
-    if (o.strategy == "emrm") {
+    if (const StrategyInfo* info = strategies.info(o.strategy); info != nullptr && info->role == StrategyRole::kChooser) {
       out += "\nEMRM FSM trace: " + core::join(o.fsm_trace, " ") + "\n";
       if (!o.loss_evaluation_trace.empty())
         out += "Loss-evaluation FSM trace: " + core::join(o.loss_evaluation_trace, " ") + "\n";
