@@ -430,56 +430,25 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
 
 // --- coverage comparison ----------------------------------------------------------------------
 
-namespace {
-
-/// 100 × the fraction of one count of a coverage report, or NaN when the report lacks it.
-double coverage_pct(const nlohmann::json& report, const char* key) {
-  const auto it = report.find(key);
-  if (it == report.end() || !it->is_object()) return std::numeric_limits<double>::quiet_NaN();
-  if (const auto f = it->find("fraction"); f != it->end() && f->is_number()) return 100.0 * f->get<double>();
-  const auto covered = it->find("covered"), total = it->find("total");
-  if (covered == it->end() || total == it->end() || !covered->is_number() || !total->is_number())
-    return std::numeric_limits<double>::quiet_NaN();
-  const double t = total->get<double>();
-  return t == 0.0 ? 100.0 : 100.0 * covered->get<double>() / t;  // as CoverageCount::fraction
-}
-
-std::string optional_percent(double x) { return std::isnan(x) ? std::string() : plot_percent(x); }
-
-}  // namespace
-
-Figure draw_coverage_comparison(const nlohmann::json& coverage, const fs::path& dir) {
+Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& reports, const fs::path& dir) {
   Figure figure;
   figure.name = "coverage_comparison";
   figure.title = "Coverage comparison";
-  std::vector<const nlohmann::json*> reports;
-  if (coverage.is_object()) {
-    if (const auto plan = coverage.find("plan"); plan != coverage.end() && plan->is_object()) reports.push_back(&*plan);
-    if (const auto b = coverage.find("baselines"); b != coverage.end() && b->is_array())
-      for (const auto& r : *b)
-        if (r.is_object()) reports.push_back(&r);
-  }
   if (reports.empty()) {
     figure.note = "no coverage comparison: the coverage report has neither a plan nor a baseline";
     return figure;
   }
+  const auto percent_of = [](const scenario::CoverageCount& c) { return plot_percent(100.0 * c.fraction()); };
   std::vector<core::Row> rows;
   std::vector<std::string> lines, tics;
   for (std::size_t i = 0; i < reports.size(); ++i) {
-    const nlohmann::json& r = *reports[i];
-    const std::string name = r.contains("name") && r["name"].is_string() ? r["name"].get<std::string>()
-                                                                         : fmt::format("method {}", i + 1);
-    const std::string scenarios =
-        r.contains("scenarios") && r["scenarios"].is_number_integer() ? std::to_string(r["scenarios"].get<long long>()) : "";
-    const double hazard = coverage_pct(r, "hazards"), uca = coverage_pct(r, "malfunctions"),
-                 cell = coverage_pct(r, "cells");
-    rows.push_back({name, scenarios, optional_percent(hazard), optional_percent(uca),
-                    optional_percent(coverage_pct(r, "transitions")), optional_percent(cell),
-                    optional_percent(coverage_pct(r, "twise"))});
+    const scenario::CoverageReport& r = reports[i];
+    const std::string scenarios = std::to_string(r.scenarios);
+    rows.push_back({r.name, scenarios, percent_of(r.hazards), percent_of(r.malfunctions), percent_of(r.transitions),
+                    percent_of(r.cells), percent_of(r.twise)});
     const auto& row = rows.back();
-    const auto plotted = [](const std::string& text) { return text.empty() ? std::string("NaN") : text; };
-    lines.push_back(fmt::format("{} {} {} {}", i, plotted(row[2]), plotted(row[3]), plotted(row[5])));
-    tics.push_back(fmt::format("{} {}", double_quoted(scenarios.empty() ? name : name + "\n(" + scenarios + " scenarios)"), i));
+    lines.push_back(fmt::format("{} {} {} {}", i, row[2], row[3], row[5]));
+    tics.push_back(fmt::format("{} {}", double_quoted(r.name + "\n(" + scenarios + " scenarios)"), i));
   }
   figure.title = fmt::format(
       "Coverage comparison of the scenario plan and {} baseline method(s): hazard, UCA and ODD-cell coverage (%), "
