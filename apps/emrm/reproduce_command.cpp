@@ -20,11 +20,13 @@
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/paper_reference.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/table.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
@@ -97,7 +99,7 @@ fs::path find_examples(const ReproduceOptions& options) {
                     : (exe.parent_path() / ".." / "share" / "emrm" / "examples").string()));
 }
 
-std::string pct(double v) { return campaign::format_number(v, 1); }
+std::string pct(double v) { return core::format_number(v, 1); }
 
 // Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
 bool run_analysis(const fs::path& examples, const fs::path& out) {
@@ -173,8 +175,8 @@ int run(const ReproduceOptions& options) {
   const scenario::Plan scenario_plan = scenario::build_plan(odd);
   const auto coverage = scenario::coverage_comparison(odd, scenario_plan);
   scenario::write_plan(out / "plan", odd, scenario_plan, coverage);
-  const campaign::Table coverage_table = campaign::coverage_comparison_table(coverage, paper);
-  campaign::write_table(out / "tables", "coverage", coverage_table);
+  const core::Table coverage_table = campaign::coverage_comparison_table(coverage, paper);
+  core::write_table(out / "tables", "coverage", coverage_table);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - plan_start).count();
   const auto& ours = coverage.front();
   ok = ours.all() && ok;

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <optional>
 
+#include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/sim/vehicle.hpp"
 

@@ -5,81 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <optional>
+#include <utility>
 
-#include "emrm/sim/simulate.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::campaign {
 namespace {
 
-constexpr std::string_view kDash = "—";
-
-// ---- loading --------------------------------------------------------------------------------
-
-[[noreturn]] void fail_at(const SourceLocation& where, const std::string& message) {
-  throw InputError(where, message);
-}
-
-void check_pct(const SourceLocation& where, std::string_view what, double value) {
-  if (value < 0.0 || value > 100.0)
-    fail_at(where, fmt::format("{} must be a percentage in [0, 100], got {:g}", what, value));
-}
-
-bool known_strategy(std::string_view name) {
-  const auto& names = sim::strategy_names();
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-std::optional<Factor> factor_from_name(std::string_view name) {
-  for (Factor f : {Factor::kSpeed, Factor::kTtc, Factor::kFriction, Factor::kPassage})
-    if (factor_name(f) == name) return f;
-  return std::nullopt;
-}
-
-void validate(const PaperReference& p, const core::YamlNode& root) {
-  const SourceLocation top = root.location();
-  if (p.fine_grid.feasible_cells < 0) fail_at(top, "fine_grid.feasible_cells must not be negative");
-  for (auto [name, v] :
-       {std::pair{"G", p.fine_grid.regions_pct.g}, std::pair{"Y", p.fine_grid.regions_pct.y},
-        std::pair{"O", p.fine_grid.regions_pct.o}, std::pair{"R", p.fine_grid.regions_pct.r}})
-    check_pct(root.at("fine_grid").at("regions_pct").at(name).location(), fmt::format("region {}", name), v);
-  if (p.emrm_vs_baseline.cells < 0) fail_at(top, "emrm_vs_baseline.cells must not be negative");
-  for (const auto& c : p.emrm_vs_baseline.columns) {
-    if (!known_strategy(c.strategy))
-      fail_at(c.where, fmt::format("unknown strategy '{}' (expected one of {})", c.strategy,
-                                   core::join(sim::strategy_names(), ", ")));
-    check_pct(c.where, "collision_avoidance_rate_pct", c.collision_avoidance_rate_pct);
-    check_pct(c.where, "mitigability_success_pct", c.mitigability_success_pct);
-    if (c.mean_residual_impact_speed_kph < 0.0)
-      fail_at(c.where, "mean_residual_impact_speed_kph must not be negative");
-  }
-  for (const auto& s : p.by_parameter.strategies)
-    if (!known_strategy(s) || s == "emrm")
-      fail_at(top, fmt::format("by_parameter.strategies: unknown column strategy '{}'", s));
-  for (const auto& row : p.by_parameter.rows) {
-    const auto factor = factor_from_name(row.factor);
-    if (!factor)
-      fail_at(row.where,
-              fmt::format("unknown factor '{}' (expected speed, ttc, friction or passage)", row.factor));
-    const auto& allowed = level_names(*factor);
-    for (const auto& level : row.levels)
-      if (std::find(allowed.begin(), allowed.end(), level) == allowed.end())
-        fail_at(row.where, fmt::format("unknown level '{}' of factor {} (expected {})", level, row.factor,
-                                       core::join(allowed, ", ")));
-    for (const auto& s : {"dodge", "drift_to_avoid", "drift_to_accident", "emergency_stop"}) {
-      const auto* values = row.values.of(s);
-      if (values->size() != row.levels.size())
-        fail_at(row.where,
-                fmt::format("values.{} has {} entries for {} levels", s, values->size(), row.levels.size()));
-      for (double v : *values) check_pct(row.where, fmt::format("values.{}", s), v);
-    }
-    if (row.tests.size() != 1 && row.tests.size() != row.levels.size())
-      fail_at(row.where, fmt::format("tests has {} entries: give one per level ({}) or one total",
-                                     row.tests.size(), row.levels.size()));
-    for (int t : row.tests)
-      if (t < 0) fail_at(row.where, "tests must not be negative");
-  }
-}
+using core::format_number;
+using core::kNoValue;
+using core::Table;
 
 // ---- numbers --------------------------------------------------------------------------------
 
@@ -109,13 +46,30 @@ bool has_grid(const std::vector<CellRecord>& records, std::string_view grid) {
   return std::any_of(records.begin(), records.end(), [&](const CellRecord& r) { return r.grid == grid; });
 }
 
+// Strategies are named by their registered records (sim/strategy.hpp); a name the registry does
+// not know (a store written with a strategy registered then) stands for itself.
 std::string strategy_title(std::string_view s) {
-  if (s == "emergency_stop") return "Emerg. Stop";
-  if (s == "dodge") return "Dodge";
-  if (s == "drift_to_avoid") return "Drift to Avoid";
-  if (s == "drift_to_accident") return "Drift to Accident";
-  if (s == "emrm") return "EMRM";
-  return std::string(s);
+  const sim::StrategyTable strategies = sim::registered_strategies();
+  const sim::StrategyInfo* info = strategies.info(s);
+  return info != nullptr ? info->title : std::string(s);
+}
+
+std::string strategy_label(std::string_view s) {
+  const sim::StrategyTable strategies = sim::registered_strategies();
+  const sim::StrategyInfo* info = strategies.info(s);
+  return info != nullptr ? info->label : std::string(s);
+}
+
+std::string first_name_of(sim::StrategyRole role) {
+  const sim::StrategyTable strategies = sim::registered_strategies();
+  const sim::StrategyInfo* info = strategies.first_of(role);
+  return info != nullptr ? info->name : std::string();
+}
+
+bool is_chooser(std::string_view s) {
+  const sim::StrategyTable strategies = sim::registered_strategies();
+  const sim::StrategyInfo* info = strategies.info(s);
+  return info != nullptr && info->role == sim::StrategyRole::kChooser;
 }
 
 std::string difference_phrase(double ours, double paper, double tolerance, std::string_view unit) {
@@ -126,147 +80,6 @@ std::string difference_phrase(double ours, double paper, double tolerance, std::
 }
 
 }  // namespace
-
-const std::vector<double>* PaperLevelValues::of(std::string_view strategy) const {
-  if (strategy == "dodge") return &dodge;
-  if (strategy == "drift_to_avoid") return &drift_to_avoid;
-  if (strategy == "drift_to_accident") return &drift_to_accident;
-  if (strategy == "emergency_stop") return &emergency_stop;
-  return nullptr;
-}
-
-const PaperByParameterRow* PaperReference::by_parameter_row(std::string_view factor) const {
-  for (const auto& row : by_parameter.rows)
-    if (row.factor == factor) return &row;
-  return nullptr;
-}
-
-PaperReference parse_paper_reference(const std::string& text, const std::string& file_name) {
-  const core::YamlNode root = core::YamlNode::parse(text, file_name);
-  if (!root.is_map())
-    root.fail("expected a mapping with version, fine_grid, emrm_vs_baseline, by_parameter, claims");
-  // The version first, so a future file fails on its version and not on a field it added.
-  const core::YamlNode version = root.at("version");
-  if (version.as_int() != 1)
-    version.fail(
-        fmt::format("unsupported paper reference version {}; this emrm reads version 1", version.as_int()));
-  PaperReference p;
-  core::read_yaml(root, p);
-  p.file = file_name;
-  validate(p, root);
-  return p;
-}
-
-PaperReference load_paper_reference(const std::filesystem::path& path) {
-  return parse_paper_reference(core::read_input_file(path), path.string());
-}
-
-// ---- rendering ------------------------------------------------------------------------------
-
-std::string format_number(double value, int decimals) {
-  if (std::isnan(value)) return std::string(kDash);
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  return fmt::format("{:.{}f}", value, decimals);
-}
-
-std::string latex_escape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    // A few non-ASCII symbols our tables use, so the table compiles without extra packages.
-    const auto starts = [&](std::string_view s) { return text.substr(i).starts_with(s); };
-    if (starts("—")) {
-      out += "---";
-      i += std::string_view("—").size() - 1;
-      continue;
-    }
-    if (starts("μ")) {
-      out += "$\\mu$";
-      i += std::string_view("μ").size() - 1;
-      continue;
-    }
-    if (starts("Δ")) {
-      out += "$\\Delta$";
-      i += std::string_view("Δ").size() - 1;
-      continue;
-    }
-    if (starts("≥")) {
-      out += "$\\geq$";
-      i += std::string_view("≥").size() - 1;
-      continue;
-    }
-    if (starts("≤")) {
-      out += "$\\leq$";
-      i += std::string_view("≤").size() - 1;
-      continue;
-    }
-    switch (c) {
-      case '\\':
-        out += "\\textbackslash{}";
-        break;
-      case '{':
-        out += "\\{";
-        break;
-      case '}':
-        out += "\\}";
-        break;
-      case '$':
-        out += "\\$";
-        break;
-      case '&':
-        out += "\\&";
-        break;
-      case '#':
-        out += "\\#";
-        break;
-      case '^':
-        out += "\\textasciicircum{}";
-        break;
-      case '_':
-        out += "\\_";
-        break;
-      case '%':
-        out += "\\%";
-        break;
-      case '~':
-        out += "\\textasciitilde{}";
-        break;
-      case '<':
-        out += "\\textless{}";
-        break;
-      case '>':
-        out += "\\textgreater{}";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-std::string to_markdown(const Table& table) {
-  std::string out = "# " + table.title + "\n\n" + core::markdown_table(table.header, table.rows);
-  for (const auto& n : table.notes) out += "\n" + n + "\n";
-  return out;
-}
-
-std::string to_csv(const Table& table) { return core::csv_table(table.header, table.rows); }
-
-std::string to_latex(const Table& table) {
-  std::string spec = "|l|";
-  for (std::size_t i = 1; i < table.header.size(); ++i) spec += "c|";
-  const auto line = [](const core::Row& row) {
-    std::vector<std::string> cells;
-    for (const auto& c : row) cells.push_back(latex_escape(c));
-    return core::join(cells, " & ") + " \\\\ \\hline\n";
-  };
-  std::string out = "% " + table.title + " (generated by emrm)\n";
-  out += "\\begin{tabular}{" + spec + "}\n\\hline\n" + line(table.header);
-  for (const auto& row : table.rows) out += line(row);
-  out += "\\end{tabular}\n";
-  return out;
-}
 
 // ---- the tables -----------------------------------------------------------------------------
 
@@ -285,12 +98,15 @@ Table emrm_vs_baseline_table(const std::vector<CellRecord>& records, const Paper
     kpis.push_back(strategy_kpis(cells, c.strategy, grid));
     columns.push_back(&c);
   }
-  // The paper has no drift-to-accident column; ours is shown for completeness.
-  const bool extra = std::none_of(columns.begin(), columns.end(),
-                                  [](const auto* c) { return c->strategy == "drift_to_accident"; });
-  if (extra) {
-    t.header.push_back("Drift to Accident (drift_to_accident, ours only)");
-    kpis.push_back(strategy_kpis(cells, "drift_to_accident", grid));
+  // Strategies the paper has no column for (drift to accident) are shown for completeness.
+  std::vector<std::string> ours_only;
+  for (const auto& entry : sim::registered_strategies().entries()) {
+    const auto& info = entry.info;
+    if (std::any_of(columns.begin(), columns.end(), [&](const auto* c) { return c->strategy == info.name; }))
+      continue;
+    t.header.push_back(fmt::format("{} ({}, ours only)", info.title, info.name));
+    kpis.push_back(strategy_kpis(cells, info.name, grid));
+    ours_only.push_back(fmt::format("`{}`", info.name));
   }
   // The paper prints rates as whole percent, speeds with one decimal and ΔLoss with two.
   const auto row = [&](std::string name, int decimals, int paper_decimals, double StrategyKpis::*ours,
@@ -318,7 +134,9 @@ Table emrm_vs_baseline_table(const std::vector<CellRecord>& records, const Paper
   for (const auto* c : columns) mapping.push_back(fmt::format("\"{}\" is our `{}`", c->label, c->strategy));
   t.notes.push_back(
       "Each cell reads \"ours (paper N)\". Columns: " + core::join(mapping, ", ") +
-      (extra ? "; `drift_to_accident` is ours only." : ".") +
+      (ours_only.empty() ? std::string(".")
+                         : fmt::format("; {} {} ours only.", core::join(ours_only, ", "),
+                                       ours_only.size() == 1 ? "is" : "are")) +
       " The paper's \"EMRM (All)\" is the EMRM feature choosing a strategy through the loss-evaluation "
       "FSM, which is our `emrm`.");
   std::vector<std::string> diffs;
@@ -360,7 +178,9 @@ Table by_parameter_table(const std::vector<CellRecord>& records, const PaperRefe
   t.title = fmt::format("Collision avoidance (%) by parameter level (grid '{}'; passage: '{}')", grid,
                         passage_grid.empty() ? "all grids" : passage_grid);
   std::vector<std::string> strategies = paper.by_parameter.strategies;
-  if (strategies.empty()) strategies = {"dodge", "drift_to_avoid", "drift_to_accident", "emergency_stop"};
+  if (strategies.empty())  // the paper's columns; without them, ours in evaluation order
+    for (const auto& entry : sim::registered_strategies().entries())
+      if (entry.info.role != sim::StrategyRole::kChooser) strategies.push_back(entry.info.name);
   t.header = {"Parameter Level"};
   for (const auto& s : strategies) t.header.push_back(strategy_title(s) + " (%)");
   t.header.push_back("Tests");
@@ -379,7 +199,7 @@ Table by_parameter_table(const std::vector<CellRecord>& records, const PaperRefe
         const auto k = strategy_kpis(subset(records, on_grid, f, levels[i], cuts), s, on_grid, f, levels[i]);
         counts[i] = k.cells;
         ours.push_back(format_number(k.collision_avoidance_rate_pct, 0));
-        if (p != nullptr) {
+        if (p != nullptr && p->values.of(s) != nullptr) {
           const double pv = (*p->values.of(s))[i];
           theirs.push_back(paper_number(pv));
           if (!std::isnan(k.collision_avoidance_rate_pct) &&
@@ -390,7 +210,7 @@ Table by_parameter_table(const std::vector<CellRecord>& records, const PaperRefe
           }
         }
       }
-      r.push_back(core::join(ours, " / ") + (p ? " (paper " + core::join(theirs, " / ") + ")" : ""));
+      r.push_back(core::join(ours, " / ") + (p && !theirs.empty() ? " (paper " + core::join(theirs, " / ") + ")" : ""));
     }
     std::vector<std::string> n;
     for (auto c : counts) n.push_back(std::to_string(c));
@@ -434,17 +254,19 @@ Table by_parameter_table(const std::vector<CellRecord>& records, const PaperRefe
       "impact speeds for every level.");
   if (has_grid(records, passage_grid) || passage_grid.empty()) {
     const auto narrow = subset(records, passage_grid, Factor::kPassage, "narrow", cuts);
-    const auto dodge = strategy_kpis(narrow, "dodge");
-    const auto stop = strategy_kpis(narrow, "emergency_stop");
-    if (dodge.cells > 0)
+    const std::string evasive_name = first_name_of(sim::StrategyRole::kEvasive);
+    const std::string baseline_name = first_name_of(sim::StrategyRole::kBaseline);
+    const auto evasive = strategy_kpis(narrow, evasive_name);
+    const auto stop = strategy_kpis(narrow, baseline_name);
+    if (evasive.cells > 0)
       t.notes.push_back(fmt::format(
           "Narrow passages (narrower than the {:g} m car): no car fits beside the truck, so our evasive "
           "strategies "
-          "avoid only by braking, where the emergency stop does too (dodge {} % vs emergency stop {} % of {} "
+          "avoid only by braking, where the emergency stop does too ({} {} % vs {} {} % of {} "
           "cells); "
           "the paper's dodge and drift-to-avoid show 0 % there, i.e. they do not brake to a stop.",
-          cuts.car_width_m, format_number(dodge.collision_avoidance_rate_pct, 0),
-          format_number(stop.collision_avoidance_rate_pct, 0), dodge.cells));
+          cuts.car_width_m, strategy_label(evasive_name), format_number(evasive.collision_avoidance_rate_pct, 0),
+          strategy_label(baseline_name), format_number(stop.collision_avoidance_rate_pct, 0), evasive.cells));
   }
   if (largest.gap >= 0.0)
     t.notes.push_back(
@@ -473,32 +295,33 @@ Table regions_table(const std::vector<CellRecord>& records, const PaperReference
     if (grid == paper.fine_grid.grid) {
       fine = c;
       const auto& pr = paper.fine_grid.regions_pct;
-      t.rows.push_back({grid + " (paper)", std::string(kDash), std::to_string(paper.fine_grid.feasible_cells),
-                        std::string(kDash), paper_number(pr.g), paper_number(pr.y), paper_number(pr.o),
+      t.rows.push_back({grid + " (paper)", std::string(kNoValue), std::to_string(paper.fine_grid.feasible_cells),
+                        std::string(kNoValue), paper_number(pr.g), paper_number(pr.y), paper_number(pr.o),
                         paper_number(pr.r)});
     }
   }
   if (!fine) {
     const auto& pr = paper.fine_grid.regions_pct;
-    t.rows.push_back({paper.fine_grid.grid + " (paper; not in this campaign)", std::string(kDash),
-                      std::to_string(paper.fine_grid.feasible_cells), std::string(kDash), paper_number(pr.g),
+    t.rows.push_back({paper.fine_grid.grid + " (paper; not in this campaign)", std::string(kNoValue),
+                      std::to_string(paper.fine_grid.feasible_cells), std::string(kNoValue), paper_number(pr.g),
                       paper_number(pr.y), paper_number(pr.o), paper_number(pr.r)});
     t.notes.push_back(fmt::format("This campaign has no grid '{}', so the paper's regions stand alone.",
                                   paper.fine_grid.grid));
     return t;
   }
   std::size_t braking_o = 0;
+  const std::string baseline = first_name_of(sim::StrategyRole::kBaseline);
   for (const auto& r : records) {
     if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != "O") continue;
     for (const auto& o : r.outcomes)
-      if (o.strategy == "emergency_stop" && o.loss_level < r.unmitigated_loss_level) ++braking_o;
+      if (o.strategy == baseline && o.loss_level < r.unmitigated_loss_level) ++braking_o;
   }
   // O cells reached only through a road departure (L4 with Δv 0): the decision recorded in docs/decisions.md.
   for (const auto& r : records) {
     if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != "O") continue;
     const OutcomeRecord* best = nullptr;
     for (const auto& o : r.outcomes)
-      if (o.strategy != "emrm" && (best == nullptr || o.loss_level < best->loss_level)) best = &o;
+      if (!is_chooser(o.strategy) && (best == nullptr || o.loss_level < best->loss_level)) best = &o;
     if (best != nullptr && best->road_departure && !best->contact) ++departure_o;
   }
   std::size_t stoppable = 0;
@@ -540,14 +363,15 @@ Table claims_table(const std::vector<CellRecord>& records, const PaperReference&
   t.header = {"Claim", "Paper", "Ours"};
   const auto& c = paper.claims;
   double fastest_stop = -1.0;
+  const std::string baseline = first_name_of(sim::StrategyRole::kBaseline);
   for (const auto& r : records) {
     if (r.grid != grid || !r.feasible) continue;
     for (const auto& o : r.outcomes)
-      if (o.strategy == "emergency_stop" && o.avoided) fastest_stop = std::max(fastest_stop, r.speed_kph);
+      if (o.strategy == baseline && o.avoided) fastest_stop = std::max(fastest_stop, r.speed_kph);
   }
   t.rows.push_back({fmt::format("Emergency stop never avoids above (km/h), grid '{}'", grid),
                     fmt::format("≈{:g}", c.emergency_stop_never_avoids_above_kph),
-                    fastest_stop < 0 ? std::string(kDash) : fmt::format("avoids up to {:g}", fastest_stop)});
+                    fastest_stop < 0 ? std::string(kNoValue) : fmt::format("avoids up to {:g}", fastest_stop)});
   std::size_t low_mu = 0, low_mu_avoided = 0;
   for (const auto& r : records) {
     if (!r.feasible || r.mu >= c.no_avoidance_below_mu ||
@@ -560,7 +384,7 @@ Table claims_table(const std::vector<CellRecord>& records, const PaperReference&
   t.rows.push_back({fmt::format("Cells with μ < {:g} at TTC {:g} s where some strategy avoids",
                                 c.no_avoidance_below_mu, c.no_avoidance_below_mu_at_ttc_s),
                     "none",
-                    low_mu == 0 ? std::string(kDash) : fmt::format("{} of {}", low_mu_avoided, low_mu)});
+                    low_mu == 0 ? std::string(kNoValue) : fmt::format("{} of {}", low_mu_avoided, low_mu)});
   t.rows.push_back({"Coverage: framework / HARA only / STPA only / manual (%)",
                     fmt::format("{:g} / ≤{:g} / ≤{:g} / ≤{:g}", c.coverage_pct.framework,
                                 c.coverage_pct.hara_only, c.coverage_pct.stpa_only, c.coverage_pct.manual),
@@ -592,7 +416,7 @@ Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& rep
     if (name == "HARA only") return fmt::format("≤{:g}", pc.hara_only);
     if (name == "STPA only") return fmt::format("≤{:g}", pc.stpa_only);
     if (name == "manual grid") return fmt::format("≤{:g}", pc.manual);
-    return std::string(kDash);
+    return std::string(kNoValue);
   };
   const auto percent = [](const scenario::CoverageCount& c) { return format_number(100.0 * c.fraction(), 1); };
   for (const auto& r : reports) {
@@ -646,25 +470,13 @@ std::string kpis_csv(const std::vector<CellRecord>& records, const LevelCuts& cu
   return core::csv_table(header, rows);
 }
 
-std::vector<std::filesystem::path> write_table(const std::filesystem::path& tables_dir, const std::string& stem,
-                                               const Table& table) {
-  std::vector<std::filesystem::path> written;
-  for (const auto& [ext, text] : {std::pair{".md", to_markdown(table)}, std::pair{".csv", to_csv(table)},
-                                  std::pair{".tex", to_latex(table)}}) {
-    const auto path = tables_dir / (stem + ext);
-    core::write_file(path, text);
-    written.push_back(path);
-  }
-  return written;
-}
-
 std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir,
                                                 const std::vector<CellRecord>& records,
                                                 const PaperReference& paper, const TableOptions& options) {
   const auto tables_dir = dir / "tables";
   std::vector<std::filesystem::path> written;
   const auto write_all = [&](const std::string& stem, const Table& t) {
-    const auto files = write_table(tables_dir, stem, t);
+    const auto files = core::write_table(tables_dir, stem, t);
     written.insert(written.end(), files.begin(), files.end());
   };
   write_all("emrm_vs_baseline", emrm_vs_baseline_table(records, paper, options.grid));

@@ -11,9 +11,9 @@
 #include <utility>
 
 #include "emrm/campaign/aggregate.hpp"
-#include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::report {
@@ -22,15 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 using campaign::CellRecord;
 
-// Every figure uses one colour per strategy, in the campaign's canonical order, so a strategy looks
-// the same in the loss comparison, the sweep curves and the report.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 5> kStrategyColours{{
-    {"emergency_stop", "#4d4d4d"},
-    {"dodge", "#1f77b4"},
-    {"drift_to_avoid", "#ff7f0e"},
-    {"drift_to_accident", "#9467bd"},
-    {"emrm", "#2ca02c"},
-}};
+// Colours for strategies the registry does not know (a store written with a strategy registered
+// then): the registered ones keep their record's colour in every figure.
 constexpr std::array<std::string_view, 5> kExtraColours{"#8c564b", "#e377c2", "#17becf", "#bcbd22", "#d62728"};
 
 struct RegionStyle {
@@ -49,84 +42,44 @@ constexpr std::array<RegionStyle, 5> kRegions{{
 // Grid values such as 0.25 + 7·0.06 are a few ulps off their decimal; they are one value.
 constexpr double kSameValue = 1e-9;
 
-// --- text -------------------------------------------------------------------------------------
-
-/// A gnuplot single-quoted string literal (no escapes inside but a doubled quote).
-std::string single_quoted(std::string_view text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
-/// A gnuplot double-quoted string literal; a line break in `text` stays one.
-std::string double_quoted(std::string_view text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-/// `text` shown literally in an enhanced-text quoted string.
-std::string literal(std::string_view text) {
-  std::string out;
-  for (char c : text) {
-    if (std::string_view("_^{}@&~\\").find(c) != std::string_view::npos) out += '\\';
-    out += c;
-  }
-  return out;
-}
-
-/// A CSV/plot number: shortest form to 10 significant digits (0.37000000000000005 reads 0.37).
-std::string number(double x) { return fmt::format("{:.10g}", x); }
-std::string percent(double x) { return fmt::format("{:.4f}", x); }
-
 std::string strategy_label(std::string_view strategy) {
-  if (strategy == "emrm") return "EMRM";
+  const sim::StrategyTable registered = sim::registered_strategies();
+  if (const sim::StrategyInfo* info = registered.info(strategy)) return info->label;
   std::string out(strategy);
   std::replace(out.begin(), out.end(), '_', ' ');
   return out;
 }
 
-/// The strategies of `records` in the fixed order, then any other in order of first appearance.
+/// The strategies of `records` in evaluation order, then any other in order of first appearance.
 std::vector<std::string> ordered_strategies(const std::vector<CellRecord>& records) {
   const auto seen = campaign::strategy_names_of(records);
   std::vector<std::string> out;
-  for (const auto& [name, colour] : kStrategyColours)
-    if (std::find(seen.begin(), seen.end(), name) != seen.end()) out.emplace_back(name);
+  for (const auto& name : sim::strategy_names())
+    if (std::find(seen.begin(), seen.end(), name) != seen.end()) out.push_back(name);
   for (const auto& name : seen)
     if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   return out;
 }
 
 std::string strategy_colour(std::string_view strategy, const std::vector<std::string>& strategies) {
-  for (const auto& [name, colour] : kStrategyColours)
-    if (name == strategy) return std::string(colour);
+  const sim::StrategyTable registered = sim::registered_strategies();
+  if (const sim::StrategyInfo* info = registered.info(strategy)) return info->colour;
   std::size_t extra = 0;
   for (const auto& s : strategies) {
     if (s == strategy) break;
-    if (std::none_of(kStrategyColours.begin(), kStrategyColours.end(), [&](const auto& c) { return c.first == s; }))
-      ++extra;
+    if (registered.info(s) == nullptr) ++extra;
   }
   return std::string(kExtraColours[extra % kExtraColours.size()]);
 }
 
-/// "#2ca02c" as the integer gnuplot's `lc rgb variable` reads.
-long rgb_value(std::string_view colour) { return std::stol(std::string(colour.substr(1)), nullptr, 16); }
-
-// --- rendering --------------------------------------------------------------------------------
-
-/// A gnuplot datablock `$name` holding `lines` (already whitespace-separated columns).
-std::string datablock(std::string_view name, const std::vector<std::string>& lines) {
-  std::string out = fmt::format("${} << EOD\n", name);
-  for (const auto& line : lines) out += line + "\n";
-  return out + "EOD\n";
+// The baseline is dashed in the sweep curves: in print its grey is then still told apart.
+bool is_baseline(std::string_view strategy) {
+  const sim::StrategyTable registered = sim::registered_strategies();
+  const sim::StrategyInfo* info = registered.info(strategy);
+  return info != nullptr && info->role == sim::StrategyRole::kBaseline;
 }
+
+// --- files ------------------------------------------------------------------------------------
 
 /// Gives the figure its paths in `dir` and writes its CSV.
 void write_csv(Figure& figure, const fs::path& dir, const core::Row& header, const std::vector<core::Row>& rows) {
@@ -134,37 +87,6 @@ void write_csv(Figure& figure, const fs::path& dir, const core::Row& header, con
   figure.png = dir / (figure.name + ".png");
   figure.svg = dir / (figure.name + ".svg");
   core::write_file(figure.csv, core::csv_table(header, rows));
-}
-
-/// Renders PNG and SVG with one gnuplot run: the datablocks once, then `body` per terminal.
-/// `body` starts from `reset`, so the second pass sees none of the first one's settings.
-void render(const Figure& figure, const std::string& data, const std::string& body, int width_px, int height_px,
-            int font_pt) {
-  std::string script = "set encoding utf8\n" + data;
-  for (const fs::path& output : {figure.png, figure.svg}) {
-    script += gnuplot_terminal(output, width_px, height_px) + "\n";
-    script += fmt::format("set termoption font 'Sans,{}'\n", font_pt);
-    script += "set output " + single_quoted(output.string()) + "\n";
-    script += "reset\nset encoding utf8\nset datafile missing 'NaN'\n" + body + "unset output\n";
-  }
-  if (figure.png.has_parent_path()) fs::create_directories(figure.png.parent_path());
-  core::TempDir work("emrm-figure");
-  run_gnuplot(script, work.path());
-}
-
-/// A key on its own along the bottom of a multiplot (screen 0..height): `entries` are plot items
-/// of NaN with their style and title, in at most `max_rows` rows; `width_adjust` widens (or
-/// narrows) the columns by that many characters. `labels` (set label commands) are drawn with it, once.
-std::string key_strip(double height, int max_rows, int width_adjust, const std::vector<std::string>& entries,
-                      const std::string& labels = "") {
-  std::string out = fmt::format(
-      "set origin 0,0\nset size 1,{}\nset lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\n"
-      "unset border\nunset tics\nunset xlabel\nunset ylabel\nunset title\nunset colorbox\nunset label\n"
-      "set xrange [0:1]\nset yrange [0:1]\n"
-      "set key horizontal center center reverse Left samplen 4 spacing 1.2 width {} maxrows {}\n{}plot ",
-      height, width_adjust, max_rows, labels);
-  for (std::size_t i = 0; i < entries.size(); ++i) out += (i == 0 ? "" : ", ") + entries[i];
-  return out + "\n";
 }
 
 // --- the mitigability map -----------------------------------------------------------------------
@@ -249,11 +171,11 @@ std::string region_colour(std::string_view region) {
 std::string fixed_text(Axis a, double v) {
   switch (a) {
     case Axis::kSpeed:
-      return fmt::format("v = {} km/h", number(v));
+      return fmt::format("v = {} km/h", plot_number(v));
     case Axis::kTtc:
-      return fmt::format("TTC = {} s", number(v));
+      return fmt::format("TTC = {} s", plot_number(v));
     case Axis::kMu:
-      return fmt::format("μ = {}", number(v));
+      return fmt::format("μ = {}", plot_number(v));
   }
   return "";
 }
@@ -262,13 +184,13 @@ std::string fixed_text(Axis a, double v) {
 std::string boundary_function(const PanelSpec& p, double fixed, double latency_s) {
   const double two_g = 2.0 * sim::kGravity_mps2;
   if (p.x == Axis::kSpeed && p.y == Axis::kTtc)
-    return fmt::format("({} + x/3.6/({}*{}))", number(latency_s), number(two_g), number(fixed));
+    return fmt::format("({} + x/3.6/({}*{}))", plot_number(latency_s), plot_number(two_g), plot_number(fixed));
   if (p.x == Axis::kSpeed && p.y == Axis::kMu) {
     if (fixed <= latency_s) return "";  // nothing stops within the latency alone
-    return fmt::format("(x/3.6/({}*({} - {})))", number(two_g), number(fixed), number(latency_s));
+    return fmt::format("(x/3.6/({}*({} - {})))", plot_number(two_g), plot_number(fixed), plot_number(latency_s));
   }
   // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
-  return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", number(fixed), number(latency_s), number(two_g));
+  return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", plot_number(fixed), plot_number(latency_s), plot_number(two_g));
 }
 
 }  // namespace
@@ -300,7 +222,7 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
       missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.grid, p.letter));
       missing_labels += fmt::format("set label {} {} at screen {},{} center\n", 90 + i,
                                     single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.letter, p.name,
-                                                       literal(p.grid))),
+                                                       enhanced_literal(p.grid))),
                                     origin_x + 0.25, origin_y + cell_h / 2.0);
       continue;
     }
@@ -312,11 +234,11 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
 
     std::vector<std::string> lines;
     for (const auto& c : cells) {
-      core::Row row{std::string(1, p.letter), c.grid,          number(c.speed_kph), number(c.ttc_s),
-                    number(c.mu),             number(c.passage_m), region_of(c)};
+      core::Row row{std::string(1, p.letter), c.grid,          plot_number(c.speed_kph), plot_number(c.ttc_s),
+                    plot_number(c.mu),             plot_number(c.passage_m), region_of(c)};
       const std::string& x = p.x == Axis::kSpeed ? row[2] : row[3];
       const std::string& y = p.y == Axis::kTtc ? row[3] : row[4];
-      lines.push_back(fmt::format("{} {} {} {} {}", x, y, number(hx), number(hy), rgb_value(region_colour(row[6]))));
+      lines.push_back(fmt::format("{} {} {} {} {}", x, y, plot_number(hx), plot_number(hy), rgb_value(region_colour(row[6]))));
       rows.push_back(std::move(row));
     }
     const std::string block = fmt::format("map_{}", p.letter);
@@ -336,10 +258,10 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
                                         cells.size(), shares));
 
     panel_plots += fmt::format("set origin {},{}\nset size 0.5,{}\n", origin_x, origin_y, cell_h);
-    panel_plots += fmt::format("set title {}\n", double_quoted(literal(title) + "\n{/*0.8 " + literal(shares) + "}"));
+    panel_plots += fmt::format("set title {}\n", double_quoted(enhanced_literal(title) + "\n{/*0.8 " + enhanced_literal(shares) + "}"));
     panel_plots += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.x)), single_quoted(axis_label(p.y)));
-    panel_plots += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", number(xs.front() - hx),
-                               number(xs.back() + hx), number(ys.front() - hy), number(ys.back() + hy));
+    panel_plots += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(xs.front() - hx),
+                               plot_number(xs.back() + hx), plot_number(ys.front() - hy), plot_number(ys.back() + hy));
     // Neighbours overlap by 3 % of a cell so that antialiased edges leave no seams between them.
     panel_plots += fmt::format(
         "plot ${} using 1:2:($3*1.03):($4*1.03):5 with boxxyerror fs solid 1.0 noborder lc rgb variable notitle", block);
@@ -355,12 +277,12 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   }
   figure.note = core::join(missing, "; ");
   const std::string boundary_text =
-      latency_s == 0.0 ? std::string("TTC = v/(2μg)") : fmt::format("TTC = {} s + v/(2μg)", number(latency_s));
+      latency_s == 0.0 ? std::string("TTC = v/(2μg)") : fmt::format("TTC = {} s + v/(2μg)", plot_number(latency_s));
   figure.title = fmt::format(
       "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
       "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
       "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.",
-      total_cells, core::join(caption_parts, "; "), boundary_text, number(sim::kGravity_mps2));
+      total_cells, core::join(caption_parts, "; "), boundary_text, plot_number(sim::kGravity_mps2));
   write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}, rows);
 
   std::string body = fmt::format(
@@ -374,7 +296,7 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   key.push_back(fmt::format("NaN with lines dt 2 lw 2.5 lc rgb 'black' title {}",
                             single_quoted("stop boundary " + boundary_text)));
   body += "set key on\n" + key_strip(key_h, 2, -6, key, missing_labels) + "unset multiplot\n";
-  render(figure, data, body, 1400, 1000, 13);
+  render_png_and_svg(figure.png, figure.svg, data, body, 1400, 1000, 13);
   return figure;
 }
 
@@ -397,8 +319,8 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
     const auto k = campaign::strategy_kpis(cells, strategy, grid);
     if (k.cells == 0) continue;
     feasible = std::max(feasible, k.cells);
-    core::Row row{strategy, std::to_string(k.cells), percent(k.collision_avoidance_rate_pct),
-                  percent(k.mean_impact_speed_kph)};
+    core::Row row{strategy, std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
+                  plot_percent(k.mean_impact_speed_kph)};
     lines.push_back(fmt::format("{} {} {} {}", rows.size(), row[2], row[3], rgb_value(strategy_colour(strategy, strategies))));
     tics.push_back(fmt::format("{} {}", single_quoted(strategy_label(strategy)), rows.size()));
     rows.push_back(std::move(row));
@@ -419,8 +341,8 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
       "set multiplot layout 1,2 title {} font ',16'\n"
       "set style fill solid 0.9 border rgb 'black'\nset boxwidth 0.65\nset tics out nomirror\nset border 3\n"
       "set key off\nset grid ytics lc rgb '#dddddd'\nset xrange [-0.6:{}]\nset bmargin 5\n{}",
-      single_quoted(fmt::format("Loss comparison, grid '{}' ({} feasible cells)", literal(grid), feasible)),
-      number(n - 0.4), xtics);
+      single_quoted(fmt::format("Loss comparison, grid '{}' ({} feasible cells)", enhanced_literal(grid), feasible)),
+      plot_number(n - 0.4), xtics);
   body +=
       "set title 'Collision avoidance'\nset ylabel 'collision-avoidance rate (%)'\nset yrange [0:100]\n"
       "set ytics 0,20,100\n"
@@ -432,7 +354,7 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
       "plot $loss using 1:3:4 with boxes lc rgb variable, "
       "$loss using 1:3:(sprintf('%.1f', $3)) with labels offset 0,0.8\n"
       "unset multiplot\n";
-  render(figure, datablock("loss", lines), body, 1400, 650, 13);
+  render_png_and_svg(figure.png, figure.svg, datablock("loss", lines), body, 1400, 650, 13);
   return figure;
 }
 
@@ -458,8 +380,8 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
     for (std::size_t s = 0; s < strategies.size(); ++s) {
       const auto k = campaign::strategy_kpis(at_speed, strategies[s], grid);
       if (k.cells == 0) continue;  // every cell at this speed infeasible: no point, the line bridges it
-      core::Row row{number(speed), strategies[s], std::to_string(k.cells), percent(k.collision_avoidance_rate_pct),
-                    percent(k.mitigability_success_pct)};
+      core::Row row{plot_number(speed), strategies[s], std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
+                    plot_percent(k.mitigability_success_pct)};
       per_strategy[s].push_back(fmt::format("{} {} {}", row[0], row[3], row[4]));
       rows.push_back(std::move(row));
     }
@@ -472,7 +394,7 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
       "Parameter sweep over grid '{}' ({} cells, {} ego speeds from {} to {} km/h), per strategy. Left: "
       "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
       "feasible cells at that speed.",
-      grid, cells.size(), speeds.size(), number(speeds.front()), number(speeds.back()));
+      grid, cells.size(), speeds.size(), plot_number(speeds.front()), plot_number(speeds.back()));
   write_csv(figure, dir, {"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct", "mitigability_success_pct"},
             rows);
 
@@ -484,7 +406,7 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
     data += datablock(block, per_strategy[s]);
     const std::string style = fmt::format("lc rgb {} lw 2 pt {} ps 0.8 dt {}",
                                           single_quoted(strategy_colour(strategies[s], strategies)), 5 + 2 * (s % 5),
-                                          strategies[s] == "emergency_stop" ? 2 : 1);  // the baseline dashed: in print it is grey
+                                          is_baseline(strategies[s]) ? 2 : 1);
     car_plot.push_back(fmt::format("${} using 1:2 with linespoints {} notitle", block, style));
     ms_plot.push_back(fmt::format("${} using 1:3 with linespoints {} notitle", block, style));
     key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
@@ -495,7 +417,7 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
       "set multiplot title {} font ',16'\n"
       "set tics out nomirror\nset border 3\nset key off\nset grid lc rgb '#dddddd'\n"
       "set xrange [{}:{}]\nset yrange [-2:102]\nset ytics 0,20,100\nset xlabel 'ego speed (km/h)'\n",
-      single_quoted(fmt::format("Parameter sweep, grid '{}'", literal(grid))), number(x_lo), number(x_hi));
+      single_quoted(fmt::format("Parameter sweep, grid '{}'", enhanced_literal(grid))), plot_number(x_lo), plot_number(x_hi));
   body += fmt::format("set origin 0,{0}\nset size 0.5,{1}\nset title 'Collision avoidance'\n"
                       "set ylabel 'collision-avoidance rate (%)'\nplot {2}\n",
                       key_h, top - key_h, core::join(car_plot, ", "));
@@ -503,62 +425,31 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
                       "set ylabel 'mitigability success (%)'\nplot {2}\n",
                       key_h, top - key_h, core::join(ms_plot, ", "));
   body += "set key on\n" + key_strip(key_h, 1, 0, key) + "unset multiplot\n";
-  render(figure, data, body, 1400, 650, 13);
+  render_png_and_svg(figure.png, figure.svg, data, body, 1400, 650, 13);
   return figure;
 }
 
 // --- coverage comparison ----------------------------------------------------------------------
 
-namespace {
-
-/// 100 × the fraction of one count of a coverage report, or NaN when the report lacks it.
-double coverage_pct(const nlohmann::json& report, const char* key) {
-  const auto it = report.find(key);
-  if (it == report.end() || !it->is_object()) return std::numeric_limits<double>::quiet_NaN();
-  if (const auto f = it->find("fraction"); f != it->end() && f->is_number()) return 100.0 * f->get<double>();
-  const auto covered = it->find("covered"), total = it->find("total");
-  if (covered == it->end() || total == it->end() || !covered->is_number() || !total->is_number())
-    return std::numeric_limits<double>::quiet_NaN();
-  const double t = total->get<double>();
-  return t == 0.0 ? 100.0 : 100.0 * covered->get<double>() / t;  // as CoverageCount::fraction
-}
-
-std::string optional_percent(double x) { return std::isnan(x) ? std::string() : percent(x); }
-
-}  // namespace
-
-Figure draw_coverage_comparison(const nlohmann::json& coverage, const fs::path& dir) {
+Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& reports, const fs::path& dir) {
   Figure figure;
   figure.name = "coverage_comparison";
   figure.title = "Coverage comparison";
-  std::vector<const nlohmann::json*> reports;
-  if (coverage.is_object()) {
-    if (const auto plan = coverage.find("plan"); plan != coverage.end() && plan->is_object()) reports.push_back(&*plan);
-    if (const auto b = coverage.find("baselines"); b != coverage.end() && b->is_array())
-      for (const auto& r : *b)
-        if (r.is_object()) reports.push_back(&r);
-  }
   if (reports.empty()) {
     figure.note = "no coverage comparison: the coverage report has neither a plan nor a baseline";
     return figure;
   }
+  const auto percent_of = [](const scenario::CoverageCount& c) { return plot_percent(100.0 * c.fraction()); };
   std::vector<core::Row> rows;
   std::vector<std::string> lines, tics;
   for (std::size_t i = 0; i < reports.size(); ++i) {
-    const nlohmann::json& r = *reports[i];
-    const std::string name = r.contains("name") && r["name"].is_string() ? r["name"].get<std::string>()
-                                                                         : fmt::format("method {}", i + 1);
-    const std::string scenarios =
-        r.contains("scenarios") && r["scenarios"].is_number_integer() ? std::to_string(r["scenarios"].get<long long>()) : "";
-    const double hazard = coverage_pct(r, "hazards"), uca = coverage_pct(r, "malfunctions"),
-                 cell = coverage_pct(r, "cells");
-    rows.push_back({name, scenarios, optional_percent(hazard), optional_percent(uca),
-                    optional_percent(coverage_pct(r, "transitions")), optional_percent(cell),
-                    optional_percent(coverage_pct(r, "twise"))});
+    const scenario::CoverageReport& r = reports[i];
+    const std::string scenarios = std::to_string(r.scenarios);
+    rows.push_back({r.name, scenarios, percent_of(r.hazards), percent_of(r.malfunctions), percent_of(r.transitions),
+                    percent_of(r.cells), percent_of(r.twise)});
     const auto& row = rows.back();
-    const auto plotted = [](const std::string& text) { return text.empty() ? std::string("NaN") : text; };
-    lines.push_back(fmt::format("{} {} {} {}", i, plotted(row[2]), plotted(row[3]), plotted(row[5])));
-    tics.push_back(fmt::format("{} {}", double_quoted(scenarios.empty() ? name : name + "\n(" + scenarios + " scenarios)"), i));
+    lines.push_back(fmt::format("{} {} {} {}", i, row[2], row[3], row[5]));
+    tics.push_back(fmt::format("{} {}", double_quoted(r.name + "\n(" + scenarios + " scenarios)"), i));
   }
   figure.title = fmt::format(
       "Coverage comparison of the scenario plan and {} baseline method(s): hazard, UCA and ODD-cell coverage (%), "
@@ -575,7 +466,7 @@ Figure draw_coverage_comparison(const nlohmann::json& coverage, const fs::path& 
     const double shift = (static_cast<double>(s) - 1.0) * kWidth;
     plot += fmt::format("$coverage using ($1+{0}):{1} with boxes lc rgb {2} title {3}, "
                         "$coverage using ($1+{0}):{1}:(pct_label(${1})) with labels offset 0,0.7 font ',11' notitle",
-                        number(shift), s + 2, single_quoted(kSeries[s].second), single_quoted(kSeries[s].first));
+                        plot_number(shift), s + 2, single_quoted(kSeries[s].second), single_quoted(kSeries[s].first));
     plot += s + 1 < kSeries.size() ? ", " : "\n";
   }
   const double n = static_cast<double>(reports.size());
@@ -586,8 +477,8 @@ Figure draw_coverage_comparison(const nlohmann::json& coverage, const fs::path& 
       "set grid ytics lc rgb '#dddddd'\nset key below center horizontal reverse Left samplen 2.5 width 2\n"
       "set xrange [-0.6:{}]\nset yrange [0:100]\nset ytics 0,20,100\nset ylabel 'coverage (%)'\n"
       "set xtics ({}) noenhanced\nset bmargin 5\nplot {}",
-      number(kWidth * 0.95), number(n - 0.4), core::join(tics, ", "), plot);
-  render(figure, datablock("coverage", lines), body, 1200, 700, 13);
+      plot_number(kWidth * 0.95), plot_number(n - 0.4), core::join(tics, ", "), plot);
+  render_png_and_svg(figure.png, figure.svg, datablock("coverage", lines), body, 1200, 700, 13);
   return figure;
 }
 
@@ -655,10 +546,10 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const fs::pa
       "set for [j=0:{}] arrow from graph 0,first j+0.5 to graph 1,first j+0.5 nohead lc rgb '#e0e0e0' back\n"
       "plot $trace using 1:2:(0.46):(0.46):3 with boxxyerror fs solid 1.0 border lc rgb '#525252' lc palette, "
       "$trace using 1:2:(sprintf('%d', $3)) with labels font ',13'\n",
-      number(static_cast<double>(hazards.size()) - 0.5), number(static_cast<double>(ucas.size()) - 0.5),
+      plot_number(static_cast<double>(hazards.size()) - 0.5), plot_number(static_cast<double>(ucas.size()) - 0.5),
       tic_list(hazards), longest > 6 ? " rotate by -30" : "", tic_list(ucas), std::max<std::size_t>(most, 1),
       std::max<std::size_t>(1, (most + 9) / 10), static_cast<int>(hazards.size()) - 2, static_cast<int>(ucas.size()) - 2);
-  render(figure, datablock("trace", lines), body, width, height, 13);
+  render_png_and_svg(figure.png, figure.svg, datablock("trace", lines), body, width, height, 13);
   return figure;
 }
 

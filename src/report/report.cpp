@@ -18,6 +18,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
 #include "emrm/report/trajectory_figure.hpp"
+#include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/version.hpp"
 
@@ -392,9 +393,7 @@ ReportSummary write_report(const fs::path& dir) {
     for (const fs::path& file : {dir / "plan" / "coverage.json", dir / "coverage.json"}) {
       const std::string text = read_or_empty(file);
       if (text.empty()) continue;
-      const auto j = nlohmann::json::parse(text, nullptr, false);
-      if (j.is_discarded()) throw InputError({file.string(), 1, 1}, "not valid JSON");
-      coverage = draw_coverage_comparison(j, figures_dir);
+      coverage = draw_coverage_comparison(scenario::parse_coverage_json(text, file.string()), figures_dir);
       break;
     }
     summary.figures.push_back(coverage);

@@ -7,9 +7,19 @@
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::report {
 namespace {
+
+// Speed along a path (viridis), the same in the figure of one cell and in the trajectory grid.
+constexpr const char* kSpeedPalette =
+    "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n";
+
+// The drivable road's two edges from x_lo to x_hi, as two gnuplot data blocks.
+std::string road_edges(double x_lo, double x_hi, double y_min, double y_max) {
+  return fmt::format("{0} {2}\n{1} {2}\n\n{0} {3}\n{1} {3}\n", x_lo, x_hi, y_min, y_max);
+}
 
 std::string outline(const core::OrientedBox& box) {
   std::string out;
@@ -55,17 +65,17 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
   const double truck_top = scene.truck_at(0.0).box.center.y + config.truck.length_m / 2.0;
 
   std::string script = terminal + "\n";
-  script += fmt::format("set output '{}'\n", output.string());
+  script += "set output " + single_quoted(output.string()) + "\n";
   script += fmt::format("set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n",
                         panels, result.input.speed_kph, result.input.ttc_s, "{/Symbol m}", result.input.mu,
                         result.input.passage_m, sim::region_name(result.region));
   script += "set size ratio -1\nset key outside right top font ',8'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
   script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min - 1.0,
                         std::max(y_max, truck_top) + 1.0);
-  script += "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n";
+  script += kSpeedPalette;
   script += fmt::format("set cbrange [0:{:.3f}]\nset cblabel 'speed (m/s)'\n", v0);
 
-  core::write_file(file("road.dat"), fmt::format("{0} {2}\n{1} {2}\n\n{0} {3}\n{1} {3}\n", x_lo, x_hi, y_min, y_max));
+  core::write_file(file("road.dat"), road_edges(x_lo, x_hi, y_min, y_max));
   core::write_file(file("centre.dat"), fmt::format("{0} 0\n{1} 0\n", x_lo, x_hi));
   core::write_file(file("truck0.dat"), outline(scene.truck_at(0.0).box));
 
@@ -103,7 +113,8 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
 namespace emrm::report {
 namespace {
 
-// The outcome whose trees a panel shows: the RRT strategy emrm chose, else dodge, else any with trees.
+// The outcome whose trees a panel shows: the planned strategy emrm chose, else the first planned
+// strategy in evaluation order that has trees (dodge), else any with trees.
 const campaign::OutcomeRecord* tree_source(const campaign::CellRecord& r, const campaign::OutcomeRecord& emrm) {
   const auto find = [&](const std::string& name) -> const campaign::OutcomeRecord* {
     for (const auto& o : r.outcomes)
@@ -111,10 +122,19 @@ const campaign::OutcomeRecord* tree_source(const campaign::CellRecord& r, const 
     return nullptr;
   };
   if (const auto* chosen = find(emrm.chosen_strategy)) return chosen;
-  if (const auto* dodge = find("dodge")) return dodge;
+  for (const auto& entry : sim::registered_strategies().entries())
+    if (!entry.info.planner.empty())
+      if (const auto* planned = find(entry.info.name)) return planned;
   for (const auto& o : r.outcomes)
     if (!o.goal_tree.empty() || !o.failsafe_tree.empty()) return &o;
   return nullptr;
+}
+
+// The outcome a panel draws: the chooser's (EMRM's), whose path is what the car would do.
+bool is_chooser(std::string_view strategy) {
+  const sim::StrategyTable registered = sim::registered_strategies();
+  const sim::StrategyInfo* info = registered.info(strategy);
+  return info != nullptr && info->role == sim::StrategyRole::kChooser;
 }
 
 std::string outcome_label(const campaign::OutcomeRecord& o) {
@@ -140,7 +160,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   for (const auto& r : records) {
     if (r.grid != grid || !r.feasible) continue;
     for (const auto& o : r.outcomes)
-      if (o.strategy == "emrm" && !o.path.empty()) panels.push_back({&r, &o, tree_source(r, o)});
+      if (is_chooser(o.strategy) && !o.path.empty()) panels.push_back({&r, &o, tree_source(r, o)});
   }
   if (panels.empty()) {
     figure.note = fmt::format("no stored trajectories for grid '{}' (sweep it with keep_trees: true)", grid);
@@ -208,20 +228,20 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   }
   const double y_min = config.road.drivable_min_y_m() - 1.0;
   const double y_max = config.road.drivable_max_y_m() + config.truck.length_m;
-  core::write_file(file("road.dat"), fmt::format("{0} {2}\n{1} {2}\n\n{0} {3}\n{1} {3}\n", x_lo, x_hi,
-                                                 config.road.drivable_min_y_m(), config.road.drivable_max_y_m()));
+  core::write_file(file("road.dat"), road_edges(x_lo, x_hi, config.road.drivable_min_y_m(),
+                                                config.road.drivable_max_y_m()));
 
   const int columns = 4;
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   for (const auto& output : {figure.png, figure.svg}) {
     std::string script = gnuplot_terminal(output, 1600, 330 * rows + 60) + "\n";
-    script += fmt::format("set output '{}'\n", output.string());
+    script += "set output " + single_quoted(output.string()) + "\n";
     script += fmt::format("set multiplot layout {},{} title 'RRT validation scenarios (grid {}): goal tree, "
                           "fail-safe tree, executed EMRM path' noenhanced\n",
                           rows, columns, grid);
     script += "unset key\nset xtics font ',7'\nset ytics font ',7'\n";
     script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min, y_max);
-    script += "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n";
+    script += kSpeedPalette;
     script += fmt::format("set cbrange [0:{:.2f}]\nset cblabel 'speed (m/s)' font ',8'\n", std::max(v_max, 1.0));
     for (std::size_t k = 0; k < panels.size(); ++k) {
       const auto& [cell, emrm, trees] = panels[k];

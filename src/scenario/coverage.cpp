@@ -9,7 +9,10 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 
+#include "emrm/core/error.hpp"
 #include "emrm/core/random.hpp"
 #include "emrm/scenario/plan.hpp"
 
@@ -276,6 +279,52 @@ nlohmann::ordered_json count_json(const CoverageCount& c) {
   return j;
 }
 
+// Reading a report back: InputError names the file and the field's place in the document (JSON
+// carries no line numbers once parsed).
+[[noreturn]] void malformed(const std::string& file, const std::string& where, std::string_view expected) {
+  throw InputError({file, 0, 0}, fmt::format("{}: expected {}", where, expected));
+}
+
+const nlohmann::ordered_json& field_of(const nlohmann::ordered_json& j, const std::string& key,
+                                       const std::string& file, const std::string& where) {
+  if (!j.is_object()) malformed(file, where, "an object");
+  const auto it = j.find(key);
+  if (it == j.end()) malformed(file, where + "." + key, "a value, found none");
+  return *it;
+}
+
+// The field `key` of `j` as a T (a count, a flag or a name).
+template <class T>
+T value_of(const nlohmann::ordered_json& j, const std::string& key, const std::string& file,
+           const std::string& where) {
+  const auto& v = field_of(j, key, file, where);
+  if constexpr (std::is_same_v<T, bool>) {
+    if (!v.is_boolean()) malformed(file, where + "." + key, "true or false");
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    if (!v.is_string()) malformed(file, where + "." + key, "a string");
+  } else {
+    static_assert(std::is_same_v<T, std::size_t>);
+    if (!v.is_number_unsigned()) malformed(file, where + "." + key, "a non-negative integer");
+  }
+  return v.get<T>();
+}
+
+CoverageCount count_from_json(const nlohmann::ordered_json& parent, const std::string& key, const std::string& file,
+                              const std::string& where) {
+  const std::string at = where + "." + key;
+  const auto& j = field_of(parent, key, file, where);
+  CoverageCount c;
+  c.covered = value_of<std::size_t>(j, "covered", file, at);
+  c.total = value_of<std::size_t>(j, "total", file, at);
+  const auto& missing = field_of(j, "missing", file, at);
+  if (!missing.is_array()) malformed(file, at + ".missing", "a list of strings");
+  for (const auto& m : missing) {
+    if (!m.is_string()) malformed(file, at + ".missing", "a list of strings");
+    c.missing.push_back(m.get<std::string>());
+  }
+  return c;
+}
+
 }  // namespace
 
 CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points,
@@ -435,6 +484,30 @@ nlohmann::ordered_json to_json(const CoverageReport& report) {
   j["c4"] = report.c4;
   j["all"] = report.all();
   return j;
+}
+
+CoverageReport coverage_report_from_json(const nlohmann::ordered_json& j, const std::string& file,
+                                         const std::string& where) {
+  CoverageReport report;
+  report.name = value_of<std::string>(j, "name", file, where);
+  report.scenarios = value_of<std::size_t>(j, "scenarios", file, where);
+  report.inadmissible = value_of<std::size_t>(j, "inadmissible", file, where);
+  report.hazards = count_from_json(j, "hazards", file, where);
+  report.malfunctions = count_from_json(j, "malfunctions", file, where);
+  const auto& per_mode = field_of(j, "tests_per_malfunction", file, where);
+  if (!per_mode.is_object()) malformed(file, where + ".tests_per_malfunction", "an object of test counts");
+  for (const auto& mode : per_mode.items())
+    report.tests_per_malfunction.emplace_back(
+        mode.key(), value_of<std::size_t>(per_mode, mode.key(), file, where + ".tests_per_malfunction"));
+  report.transitions = count_from_json(j, "transitions", file, where);
+  report.cells = count_from_json(j, "cells", file, where);
+  report.boundaries = count_from_json(j, "boundaries", file, where);
+  report.twise = count_from_json(j, "twise", file, where);
+  report.c1 = value_of<bool>(j, "c1", file, where);
+  report.c2 = value_of<bool>(j, "c2", file, where);
+  report.c3 = value_of<bool>(j, "c3", file, where);
+  report.c4 = value_of<bool>(j, "c4", file, where);
+  return report;
 }
 
 }  // namespace emrm::scenario

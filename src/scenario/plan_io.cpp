@@ -47,6 +47,17 @@ std::string percent_text(const CoverageCount& c) {
   return fmt::format("{:.1f} % ({}/{})", 100.0 * c.fraction(), c.covered, c.total);
 }
 
+std::vector<CoverageReport> reports_from_json(const nlohmann::ordered_json& j, const std::string& file) {
+  if (!j.is_object() || !j.contains("plan") || !j.contains("baselines") || !j.at("baselines").is_array())
+    throw InputError({file, 0, 0}, "expected a coverage report: an object with \"plan\" and a list \"baselines\"");
+  std::vector<CoverageReport> reports;
+  reports.push_back(coverage_report_from_json(j.at("plan"), file, "plan"));
+  const auto& baselines = j.at("baselines");
+  for (std::size_t i = 0; i < baselines.size(); ++i)
+    reports.push_back(coverage_report_from_json(baselines[i], file, fmt::format("baselines[{}]", i)));
+  return reports;
+}
+
 }  // namespace
 
 std::string scenarios_csv(const Odd& odd, const Plan& plan) {
@@ -152,6 +163,16 @@ nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports)
   j["baselines"] = nlohmann::ordered_json::array();
   for (std::size_t i = 1; i < reports.size(); ++i) j["baselines"].push_back(to_json(reports[i]));
   return j;
+}
+
+std::vector<CoverageReport> parse_coverage_json(const std::string& text, const std::string& file_name) {
+  const auto j = nlohmann::ordered_json::parse(text, nullptr, false);
+  if (j.is_discarded()) throw InputError({file_name, 1, 1}, "not valid JSON");
+  return reports_from_json(j, file_name);
+}
+
+std::vector<CoverageReport> read_coverage_json(const std::filesystem::path& path) {
+  return parse_coverage_json(core::read_input_file(path), path.string());
 }
 
 std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports) {

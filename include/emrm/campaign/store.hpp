@@ -79,11 +79,8 @@ class ResultStore {
 /// The store's metadata. Throws UsageError (exit 2) if the file is missing, is not a results
 /// store, or has an incompatible schema version.
 [[nodiscard]] CampaignMeta read_meta(const std::filesystem::path& results_sqlite);
-/// Writes DIR/regions.csv (every cell) and DIR/cells.csv (one row per feasible cell and strategy),
-/// sorted by grid order, index and strategy order, numbers with {:.6g}; streamed from the store.
-void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir);
 /// Joins the stores DIR/results.sqlite of `dirs` (shards of one campaign) into
-/// OUTPUT_DIR/results.sqlite (shard 1/1) and writes its exports. Throws UsageError when a store is
+/// OUTPUT_DIR/results.sqlite (shard 1/1) and writes its exports (exports.hpp). Throws UsageError when a store is
 /// missing or the config hashes differ.
 void merge(const std::vector<std::filesystem::path>& dirs, const std::filesystem::path& output_dir);
 

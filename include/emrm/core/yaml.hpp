@@ -12,6 +12,7 @@
 #include <concepts>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -220,6 +221,23 @@ struct YamlCodec<std::vector<T>> {
   static YAML::Node write(const std::vector<T>& v) {
     YAML::Node out(YAML::NodeType::Sequence);
     for (const auto& item : v) out.push_back(YamlCodec<T>::write(item));
+    return out;
+  }
+};
+/// A mapping with string keys (read in file order; a duplicate key is an error).
+template <class T>
+struct YamlCodec<std::map<std::string, T>> {
+  static void read(const YamlNode& n, std::map<std::string, T>& v) {
+    v.clear();
+    for (const auto& [key, value] : n.entries()) {
+      T item{};
+      YamlCodec<T>::read(value, item);
+      v.emplace(key.as_string(), std::move(item));
+    }
+  }
+  static YAML::Node write(const std::map<std::string, T>& v) {
+    YAML::Node out(YAML::NodeType::Map);
+    for (const auto& [key, item] : v) out[key] = YamlCodec<T>::write(item);
     return out;
   }
 };

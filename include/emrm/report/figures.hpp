@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "emrm/campaign/records.hpp"
 #include "emrm/safety/traceability.hpp"
+#include "emrm/scenario/coverage.hpp"
 
 namespace emrm::report {
 
@@ -51,10 +50,12 @@ Figure draw_loss_comparison(const std::vector<campaign::CellRecord>& records, co
 Figure draw_sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
                          const std::filesystem::path& dir);
 
-/// (5) Coverage comparison from a coverage.json (`emrm plan`): hazard, UCA and cell coverage (%)
-/// per method (the plan and each baseline) as grouped bars. CSV: method, scenarios,
-/// hazard_pct, uca_pct, transition_pct, cell_pct, twise_pct.
-Figure draw_coverage_comparison(const nlohmann::json& coverage, const std::filesystem::path& dir);
+/// (5) Coverage comparison of `reports`, the plan's then the baselines' (as coverage.json holds
+/// them: scenario::read_coverage_json): hazard, UCA and cell coverage (%) per method as grouped
+/// bars. CSV: method, scenarios, hazard_pct, uca_pct, transition_pct, cell_pct, twise_pct. With no
+/// report, no files are written and `note` says why.
+Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& reports,
+                                const std::filesystem::path& dir);
 
 /// (7) The traceability matrix as a chart: UCAs (rows) × hazards (columns), each entry the number
 /// of scenarios that trace to it (or a mark when the link exists and no scenario is known).

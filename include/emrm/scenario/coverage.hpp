@@ -61,6 +61,12 @@ struct CoverageReport {
 /// shipped example); empty when the ODD declares none.
 [[nodiscard]] std::vector<std::vector<double>> manual_baseline(const Odd& odd);
 
+/// Every field of `report`, with each count's fraction and whether C1–C4 all hold.
 [[nodiscard]] nlohmann::ordered_json to_json(const CoverageReport& report);
+/// The report that to_json wrote, read back (the fractions and "all" are recomputed, not read).
+/// Throws InputError naming `file` and the field's place in the document (`where`, e.g.
+/// "baselines[1]") when a field is missing or of the wrong type.
+[[nodiscard]] CoverageReport coverage_report_from_json(const nlohmann::ordered_json& j, const std::string& file,
+                                                       const std::string& where);
 
 }  // namespace emrm::scenario

@@ -31,6 +31,13 @@ namespace emrm::scenario {
 [[nodiscard]] std::vector<CoverageReport> coverage_comparison(const Odd& odd, const Plan& plan);
 /// {"plan": report, "baselines": [reports]}.
 [[nodiscard]] nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports);
+/// The reports of a coverage.json's text (coverage_json's document) in its order: the plan's, then
+/// the baselines'. Throws InputError at `file_name` when the text is not JSON or not that layout
+/// (the message names the field).
+[[nodiscard]] std::vector<CoverageReport> parse_coverage_json(const std::string& text, const std::string& file_name);
+/// Reads a coverage.json as write_plan wrote it. Throws InputError naming the file when it cannot
+/// be read or is not such a file.
+[[nodiscard]] std::vector<CoverageReport> read_coverage_json(const std::filesystem::path& path);
 /// One row per metric (hazard, UCA, transition, cell, t-wise, boundary coverage, C1–C4), one
 /// column per report.
 [[nodiscard]] std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports);

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/exports.hpp"
+
 namespace emrm::campaign {
 namespace {
 

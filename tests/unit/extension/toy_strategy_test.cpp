@@ -9,7 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/paper_reference.hpp"
+#include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/process.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/report/figures.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/strategy.hpp"
 
@@ -112,6 +118,43 @@ TEST(ToyStrategy, CountsForTheRegionAsAnEvasiveStrategy) {
   info.order = 200;
   const sim::StrategyRegistration chooser(info, std::make_shared<Oracle>());
   EXPECT_EQ(sim::simulate_cell(config, cell, {}).region, without);
+}
+
+// A few simulated cells of a grid named "toy", as the results store would hand them back.
+std::vector<campaign::CellRecord> toy_records() {
+  sim::SceneConfig config;
+  config.planner.max_nodes = 20;
+  std::vector<campaign::CellRecord> records;
+  std::int64_t index = 0;
+  for (double speed : {40.0, 50.0, 60.0})
+    for (double ttc : {0.9, 1.3}) {
+      const sim::CellResult r = sim::simulate_cell(config, {speed, ttc, 1.0, 3.0, 10.0}, {});
+      records.push_back(campaign::to_record("toy", index++, 1, r));
+    }
+  return records;
+}
+
+TEST(ToyStrategy, AppearsInTheTablesWithItsTitle) {
+  const sim::StrategyRegistration toy(half_brake_info(), std::make_shared<HalfBrake>());
+  const auto paper = campaign::load_paper_reference(EMRM_SOURCE_DIR "/examples/tjunction/paper_reference.yaml");
+  const core::Table t = campaign::emrm_vs_baseline_table(toy_records(), paper, "toy");
+  // The paper has no column for it: it is shown as ours only, under its registered title.
+  EXPECT_NE(std::find(t.header.begin(), t.header.end(), "Half Brake (half_brake, ours only)"), t.header.end())
+      << core::join(t.header, " | ");
+  const std::string csv = campaign::kpis_csv(toy_records());
+  EXPECT_NE(csv.find("half_brake"), std::string::npos);
+}
+
+TEST(ToyStrategy, IsDrawnInItsColourWithItsLabel) {
+  const sim::StrategyRegistration toy(half_brake_info(), std::make_shared<HalfBrake>());
+  const core::TempDir dir("emrm-toy");
+  const report::Figure f = report::draw_loss_comparison(toy_records(), "toy", dir.path());
+  ASSERT_TRUE(f.note.empty()) << f.note;
+  const std::string csv = core::read_file(f.csv);
+  EXPECT_NE(csv.find("\nhalf_brake,"), std::string::npos) << csv;
+  const std::string svg = core::read_file(f.svg);
+  EXPECT_NE(svg.find("half brake"), std::string::npos);  // its label under its bar
+  EXPECT_NE(svg.find("rgb( 23, 190, 207)"), std::string::npos);  // #17becf, its registered colour
 }
 
 TEST(ToyStrategy, RegistrationChecksItsRecord) {

@@ -361,18 +361,18 @@ scenario::CoverageReport coverage_report(std::string name, std::size_t scenarios
   return r;
 }
 
-nlohmann::json coverage_document() {
-  // The layout `emrm plan` writes (scenario::coverage_json), read back as a report would.
+std::vector<scenario::CoverageReport> coverage_reports() {
+  // The coverage.json `emrm plan` writes (scenario::coverage_json), read back as a report does.
   const std::vector<scenario::CoverageReport> reports{
       coverage_report("emrm plan", 212, 8, 4, 200), coverage_report("HARA only", 8, 6, 1, 1),
       coverage_report("STPA only", 4, 8, 4, 4), coverage_report("manual grid", 30, 5, 2, 30)};
-  return nlohmann::json::parse(scenario::coverage_json(reports).dump());
+  return scenario::parse_coverage_json(scenario::coverage_json(reports).dump(2), "coverage.json");
 }
 
 using FigureCoverage = FigureTest;
 
 TEST_F(FigureCoverage, OneRowPerMethodWithItsPercentages) {
-  const auto f = draw_coverage_comparison(coverage_document(), out());
+  const auto f = draw_coverage_comparison(coverage_reports(), out());
   expect_drawn(f, out(), "coverage_comparison");
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.front(),
@@ -396,8 +396,7 @@ TEST_F(FigureCoverage, OneRowPerMethodWithItsPercentages) {
 }
 
 TEST_F(FigureEmpty, CoverageWithoutReportsWritesNothing) {
-  expect_nothing_written(draw_coverage_comparison(nlohmann::json::object(), out()), out());
-  expect_nothing_written(draw_coverage_comparison(nlohmann::json(), out()), out());
+  expect_nothing_written(draw_coverage_comparison({}, out()), out());
 }
 
 // --- traceability matrix ----------------------------------------------------------------------
@@ -450,7 +449,7 @@ TEST_F(FigureCampaign, DrawsAllFiveFiguresOfAShippedSizeCampaign) {
       for (int s = 0; s < (u * h) % 7; ++s) scenarios.push_back("S" + std::to_string(100 * u + s));
       rows.push_back(trace("UCA" + std::to_string(u), "H" + std::to_string(h), "L7", scenarios));
     }
-  const auto coverage = coverage_document();
+  const auto coverage = coverage_reports();
 
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Figure> figures{

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "emrm/core/text.hpp"
@@ -196,6 +197,58 @@ TEST(CoverageComparison, PlanFirstThenTheBaselinesBySameCode) {
   const auto [header, rows] = coverage_table(reports);
   EXPECT_THAT(header, ElementsAre("metric", "emrm plan", "HARA only", "STPA only"));
   for (const auto& row : rows) EXPECT_EQ(row.size(), header.size());
+}
+
+void expect_same_count(const CoverageCount& a, const CoverageCount& b, const std::string& what) {
+  EXPECT_EQ(a.covered, b.covered) << what;
+  EXPECT_EQ(a.total, b.total) << what;
+  EXPECT_EQ(a.missing, b.missing) << what;
+  EXPECT_EQ(a.fraction(), b.fraction()) << what;  // the same double: derived from the same counts
+}
+
+TEST(CoverageJson, ReadsBackEveryFieldWritePlanWrote) {
+  const auto written = coverage_comparison(io_odd(), io_plan());
+  const fs::path dir = temp_dir() / "coverage-json";
+  write_plan(dir, io_odd(), io_plan(), written);
+  const auto read = read_coverage_json(dir / "coverage.json");
+  ASSERT_EQ(read.size(), written.size());
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    const auto& r = read[i];
+    const auto& w = written[i];
+    EXPECT_EQ(r.name, w.name);
+    EXPECT_EQ(r.scenarios, w.scenarios);
+    EXPECT_EQ(r.inadmissible, w.inadmissible);
+    EXPECT_EQ(r.tests_per_malfunction, w.tests_per_malfunction);  // in the written order
+    expect_same_count(r.hazards, w.hazards, w.name + " hazards");
+    expect_same_count(r.malfunctions, w.malfunctions, w.name + " malfunctions");
+    expect_same_count(r.transitions, w.transitions, w.name + " transitions");
+    expect_same_count(r.cells, w.cells, w.name + " cells");
+    expect_same_count(r.boundaries, w.boundaries, w.name + " boundaries");
+    expect_same_count(r.twise, w.twise, w.name + " twise");
+    EXPECT_EQ(std::tuple(r.c1, r.c2, r.c3, r.c4), std::tuple(w.c1, w.c2, w.c3, w.c4));
+  }
+  // What is read writes the same file again.
+  EXPECT_EQ(coverage_json(read).dump(2) + "\n", core::read_input_file(dir / "coverage.json"));
+}
+
+TEST(CoverageJson, AMissingOrMistypedFieldIsNamedWithItsPlace) {
+  const std::string good = coverage_json(coverage_comparison(io_odd(), io_plan())).dump(2);
+  const auto error_for = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const auto at = text.rfind(from);  // in the last baseline
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return emrm::testing::input_error_of([&] { (void)parse_coverage_json(text, "coverage.json"); }, text);
+  };
+  EXPECT_THAT(error_for("\"covered\": ", "\"kovered\": ").what(),
+              HasSubstr("coverage.json: error: baselines[1].twise.covered: expected a value"));
+  EXPECT_THAT(error_for("\"c4\": false", "\"c4\": 0").what(), HasSubstr("baselines[1].c4: expected true or false"));
+  EXPECT_THAT(error_for("\"scenarios\": ", "\"scenarios\": -").what(),
+              HasSubstr("baselines[1].scenarios: expected a non-negative integer"));
+  EXPECT_THAT(emrm::testing::input_error_of([] { (void)parse_coverage_json("{\"plan\": ", "c.json"); }, "").what(),
+              HasSubstr("c.json:1:1: error: not valid JSON"));
+  EXPECT_THAT(emrm::testing::input_error_of([] { (void)parse_coverage_json("[]", "c.json"); }, "").what(),
+              HasSubstr("expected a coverage report"));
 }
 
 // ---- reading errors, each at its line and column -----------------------------------------------

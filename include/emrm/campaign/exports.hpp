@@ -1,0 +1,16 @@
+#pragma once
+
+// The exports of a results store (docs/campaign.md): the stored cells as CSV and JSON for other
+// tools, streamed from the store so that nothing holds all results at once.
+
+#include <filesystem>
+
+namespace emrm::campaign {
+
+/// Writes DIR/regions.csv (every cell), DIR/cells.csv (one row per feasible cell and strategy) and
+/// DIR/cells.json (every cell with its outcomes), sorted by grid order, index and strategy order,
+/// CSV numbers with {:.6g}; each file is written beside its target and renamed into place. Throws
+/// as read_meta for a missing or foreign store, and emrm::Error when a file cannot be written.
+void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir);
+
+}  // namespace emrm::campaign

@@ -1,0 +1,103 @@
+#include "emrm/campaign/exports.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "emrm/campaign/store.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+
+namespace emrm::campaign {
+namespace {
+
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return fmt::format("{:.6g}", v);
+}
+
+}  // namespace
+
+void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir) {
+  const ResultStore store = ResultStore::open_for_reading(results_sqlite);
+  std::filesystem::create_directories(dir);
+  // Written beside the target, then renamed: a reader never sees half a file.
+  const auto open = [&](const std::string& name) {
+    std::ofstream out(dir / (name + ".tmp"), std::ios::binary);
+    if (!out) throw Error(fmt::format("{}: cannot write", (dir / name).string()));
+    return out;
+  };
+  std::ofstream regions = open("regions.csv");
+  std::ofstream cells = open("cells.csv");
+  std::ofstream json = open("cells.json");
+  regions << core::csv_line(
+      {"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible", "region"});
+  cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy",
+                           "avoided", "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss",
+                           "min_ttc_s"});
+  json << "[";
+  bool first = true;
+  store.for_each_cell([&](const CellRecord& r) {
+    const core::Row factors{r.grid,       number(r.speed_kph), number(r.ttc_s),
+                            number(r.mu), number(r.passage_m), number(r.truck_speed_kph)};
+    core::Row region = factors;
+    region.push_back(r.feasible ? "1" : "0");
+    region.push_back(r.region);
+    regions << core::csv_line(region);
+    nlohmann::ordered_json j{{"grid", r.grid},
+                             {"index", r.index},
+                             {"speed_kph", r.speed_kph},
+                             {"ttc_s", r.ttc_s},
+                             {"mu", r.mu},
+                             {"passage_m", r.passage_m},
+                             {"truck_speed_kph", r.truck_speed_kph},
+                             {"seed", r.seed},
+                             {"feasible", r.feasible},
+                             {"region", r.region}};
+    if (r.feasible) {
+      j["unmitigated"] = {{"impact_speed_kph", r.unmitigated_impact_speed_kph},
+                          {"delta_v_kph", r.unmitigated_delta_v_kph},
+                          {"p_mais3", r.unmitigated_p_mais3},
+                          {"p_fatal", r.unmitigated_p_fatal},
+                          {"loss_level", r.unmitigated_loss_level}};
+      auto& outcomes = j["outcomes"] = nlohmann::ordered_json::array();
+      for (const auto& o : r.outcomes) {
+        core::Row row = factors;
+        row.insert(row.end(),
+                   {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
+                    std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s)});
+        cells << core::csv_line(row);
+        outcomes.push_back({{"strategy", o.strategy},
+                            {"avoided", o.avoided},
+                            {"contact", o.contact},
+                            {"road_departure", o.road_departure},
+                            {"impact_speed_kph", o.impact_speed_kph},
+                            {"delta_v_kph", o.delta_v_kph},
+                            {"p_mais3", o.p_mais3},
+                            {"p_fatal", o.p_fatal},
+                            {"loss_level", o.loss_level},
+                            {"delta_loss", o.delta_loss},
+                            {"min_ttc_s", std::isfinite(o.min_ttc_s) ? nlohmann::ordered_json(o.min_ttc_s)
+                                                                     : nlohmann::ordered_json(nullptr)},
+                            {"fsm_trace", o.fsm_trace},
+                            {"loss_evaluation_trace", o.loss_evaluation_trace},
+                            {"chosen_strategy", o.chosen_strategy},
+                            {"adopted_from", o.adopted_from}});
+      }
+    }
+    json << (first ? "\n" : ",\n") << j.dump();
+    first = false;
+  });
+  json << "\n]\n";
+  for (auto* out : {&regions, &cells, &json}) {
+    out->close();
+    if (!*out) throw Error(fmt::format("{}: cannot write the exports", dir.string()));
+  }
+  for (const char* name : {"regions.csv", "cells.csv", "cells.json"})
+    std::filesystem::rename(dir / (std::string(name) + ".tmp"), dir / name);
+}
+
+}  // namespace emrm::campaign
