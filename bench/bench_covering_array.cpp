@@ -1,4 +1,4 @@
-// Covering-array generation on the reference models of DESIGN.md §5; the "rows" counter is the
+// Covering-array generation on the reference models of docs/covering-arrays.md; the "rows" counter is the
 // array size to compare with the best-known and PICT figures in docs/covering-arrays.md.
 // CoveringT*: default options (greedy and post-optimisation); CoveringGreedyT*: greedy only.
 // Run: cmake --workflow --preset bench && ./build/bench/bench/emrm_bench --benchmark_filter=Covering

@@ -1,5 +1,5 @@
 // `emrm sweep CAMPAIGN.yaml -o DIR` and `emrm merge -o OUT DIR...`: campaigns over the ODD
-// (DESIGN.md §10, docs/campaign.md).
+// (docs/campaign.md).
 
 #include <fmt/format.h>
 

@@ -90,7 +90,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   const auto model = make_vehicle_model(config.simulation.vehicle_model, config.ego);
 
   // Risk evaluation: does doing nothing hit the truck? The unmitigated reference is then the
-  // head-on contact at the initial speed (DESIGN.md §8).
+  // head-on contact at the initial speed (docs/physics.md).
   const Roller coast(scene, *model, ControlLimits{});
   const RolloutResult no_action = coast.roll(scene.ego_initial(), 0.0, {}, Tail{}, 10);
   const bool at_risk = no_action.termination == Termination::kContact;

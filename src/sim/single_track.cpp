@@ -1,4 +1,4 @@
-// Single-track model with Fiala brush tires (DESIGN.md §6). Equations, body frame:
+// Single-track model with Fiala brush tires (docs/physics.md). Equations, body frame:
 //   m (vx' - r vy) = Fxf cos(d) - Fyf sin(d) + Fxr
 //   m (vy' + r vx) = Fxf sin(d) + Fyf cos(d) + Fyr
 //   Iz r'          = lf (Fxf sin(d) + Fyf cos(d)) - lr Fyr

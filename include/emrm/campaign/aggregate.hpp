@@ -1,6 +1,6 @@
 #pragma once
 
-// Aggregation of a campaign's cell records (DESIGN.md §9): region fractions per grid and the KPIs
+// Aggregation of a campaign's cell records (docs/results.md): region fractions per grid and the KPIs
 // of each strategy over the feasible cells of a grid, overall and by parameter level. Pure
 // functions of the records; no simulation. Definitions: docs/results.md.
 
@@ -44,7 +44,7 @@ struct RegionCounts {
 enum class Factor { kAll, kSpeed, kTtc, kFriction, kPassage };
 [[nodiscard]] std::string_view factor_name(Factor f) noexcept;  ///< all, speed, ttc, friction, passage
 
-/// Where the levels of each factor are cut (DESIGN.md §9). Upper bounds are inclusive for speed
+/// Where the levels of each factor are cut (docs/results.md). Upper bounds are inclusive for speed
 /// and TTC (40 km/h is low, 41 medium; 0.7 s is low, 1.3 s medium), lower bounds inclusive for
 /// friction (0.35 is medium, 0.7 high); a passage narrower than the car is narrow.
 struct LevelCuts {
@@ -66,7 +66,7 @@ struct LevelCuts {
 /// as 0.25 + 7·0.06 are not exact in binary).
 [[nodiscard]] std::string level_of(Factor f, const CellRecord& cell, const LevelCuts& cuts);
 
-/// The KPIs of one strategy over a set of feasible cells (DESIGN.md §9, docs/results.md).
+/// The KPIs of one strategy over a set of feasible cells (docs/results.md).
 struct StrategyKpis {
   std::string grid;
   std::string strategy;

@@ -1,6 +1,6 @@
 #pragma once
 
-// A campaign (DESIGN.md §10, docs/campaign.md): a scene, a seed, the strategies to compare and
+// A campaign (docs/campaign.md): a scene, a seed, the strategies to compare and
 // named grids of scenario cells over the ODD factors. Loading expands every grid into its cells,
 // in a fixed order, so that a cell is named by (grid, index) everywhere: in the store, the
 // exports, the shards and the tables.

@@ -1,6 +1,6 @@
 #pragma once
 
-// Running a campaign (DESIGN.md §10): every cell simulated once, in parallel, streamed into the
+// Running a campaign (docs/campaign.md): every cell simulated once, in parallel, streamed into the
 // results store; resumable after a crash; shardable across machines.
 
 #include <cstddef>

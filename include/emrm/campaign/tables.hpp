@@ -1,6 +1,6 @@
 #pragma once
 
-// The results tables of a campaign, ours beside the paper's (DESIGN.md §11, §12): EMRM vs
+// The results tables of a campaign, ours beside the paper's (docs/results.md): EMRM vs
 // emergency stop, by parameter level, region fractions, and every KPI as CSV. The paper's numbers
 // come from one YAML file (paper_reference.hpp), never from code; the tables are core::Table.
 

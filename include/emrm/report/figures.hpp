@@ -1,6 +1,6 @@
 #pragma once
 
-// The paper's figures from a results store (DESIGN.md §11, docs/report.md): each figure is drawn
+// The paper's figures from a results store (docs/report.md): each figure is drawn
 // by gnuplot as PNG and SVG, with the data it plots written beside it as CSV
 // (DIR/NAME.png, DIR/NAME.svg, DIR/NAME.csv). Figures never recompute physics: they read records.
 

@@ -1,6 +1,6 @@
 #pragma once
 
-// `emrm report DIR` (DESIGN.md §11, docs/report.md): every figure of the paper's evaluation from a
+// `emrm report DIR` (docs/report.md): every figure of the paper's evaluation from a
 // results folder written by `emrm sweep`, `emrm run` or `emrm reproduce`, each as PNG and SVG with
 // its CSV, and one self-contained DIR/report.html with the configuration, the tables (ours beside
 // the paper's), the figures, the diagnostics and the findings.

@@ -1,6 +1,6 @@
 #pragma once
 
-// Consistency checks of a safety case (DESIGN.md §3). Each finding has a stable code, a
+// Consistency checks of a safety case (docs/safety-yaml.md, "Findings"). Each finding has a stable code, a
 // severity and the place in the file it concerns. Codes (see docs/safety-yaml.md):
 //   SAF001 error    a reference names an id that does not exist (or of the wrong kind)
 //   SAF002 error    a hazard leads to no loss

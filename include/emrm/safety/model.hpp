@@ -1,6 +1,6 @@
 #pragma once
 
-// The safety case as data (paper §III-B, §IV; DESIGN.md §3): losses, hazards with their HARA
+// The safety case as data (paper §III-B, §IV; docs/safety-yaml.md): losses, hazards with their HARA
 // and extended ratings, control actions, unsafe control actions (UCAs) and the SMIL lookup
 // table. Entities have stable string ids and refer to each other only by id; each entity and
 // each reference remembers where it was written, so findings can point into the file.
@@ -35,7 +35,7 @@ inline constexpr std::array<UcaType, 4> kAllUcaTypes{UcaType::kNotProvided, UcaT
 
 using core::Ref;
 
-/// A reference to a transition of the hazard–loss FSM (DESIGN.md §4).
+/// A reference to a transition of the hazard–loss FSM (docs/fsm.md).
 using core::TransitionRef;
 
 /// An operational-design-domain factor that hazard regions may name (e.g. `ttc_s`).

@@ -3,7 +3,7 @@
 // Coverage of a scenario set against an ODD (paper §V-B constraints C1–C4 and §VI coverage
 // analysis), measured from the points alone so that it checks the planner independently:
 // hazard, UCA (malfunction), FSM transition, cell, t-wise and boundary coverage. The same code
-// measures the baselines of DESIGN.md §5: HARA only, STPA only and a manual sparse grid.
+// measures the baselines of docs/plan.md: HARA only, STPA only and a manual sparse grid.
 
 #include <cstddef>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 
-// The operational design domain as data (paper §V-B, DESIGN.md §5, docs/odd-yaml.md): factors
+// The operational design domain as data (paper §V-B, docs/odd-yaml.md): factors
 // with their domains, abstraction into bins or classes, exposure priors and influence; the
 // relevance predicate R_f and constraints; the malfunction modes M_f with their hazard regions;
 // and the targets of the minimum scenario set (n_c, n_m, t, ε, δ, budget).

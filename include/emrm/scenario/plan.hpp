@@ -1,6 +1,6 @@
 #pragma once
 
-// The minimum scenario set (paper §V-B, DESIGN.md §5): the paper's five-step greedy
+// The minimum scenario set (paper §V-B, docs/plan.md): the paper's five-step greedy
 // construction, coverage first — (1) boundary seed (C2), (2) covering array over the
 // influential factors (C3), (3) malfunction allocation (C4), (4) cell fill (C1) and risk-weighted
 // top-up with proposal q ∝ √π, (5) stop when C1–C4 hold and every tracked cell's worst-case

@@ -1,6 +1,6 @@
 #pragma once
 
-// Energy-based loss assessment (DESIGN.md §8): Δv of the ego from momentum conservation, injury
+// Energy-based loss assessment (docs/physics.md, "Impacts and losses"): Δv of the ego from momentum conservation, injury
 // and fatality risk curves, and the loss level of an outcome.
 
 #include "emrm/core/geometry.hpp"

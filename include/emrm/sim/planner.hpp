@@ -2,7 +2,7 @@
 
 // Planners: the search for a strategy's maneuver, behind one small interface (OMPL's Planner),
 // selected by name. Two are built in:
-// - "rrt", the dual-tree kinodynamic RRT (DESIGN.md §7), used by the evasive strategies;
+// - "rrt", the dual-tree kinodynamic RRT (docs/planner.md), used by the evasive strategies;
 // - "reference", a dense search over a parametric maneuver family, for tests and diagnostics.
 //
 // The RRT grows a goal tree (green) towards the passage beside the truck; from every new node it

@@ -1,6 +1,6 @@
 #pragma once
 
-// The T-junction "EMRM Scene 1" (DESIGN.md §6): configuration with every default, and the
+// The T-junction "EMRM Scene 1" (docs/scene-yaml.md): configuration with every default, and the
 // geometry and truck motion of one scenario cell. Road frame: x along the main road (ego drives
 // +x), y to the left; the ego's front bumper is at x = 0 when the hazard appears (t = 0).
 
@@ -65,7 +65,7 @@ struct SimulationConfig {
   }
 };
 
-/// Energy-based loss model (DESIGN.md §8).
+/// Energy-based loss model (docs/physics.md, "Impacts and losses").
 struct SeverityConfig {
   double restitution = 0.0;
   double contact_friction = 0.3;   ///< limits the tangential impulse of a glancing impact
@@ -88,7 +88,7 @@ struct SeverityConfig {
   }
 };
 
-/// Search budget of the RRT strategies (DESIGN.md §7).
+/// Search budget of the RRT strategies (docs/planner.md).
 struct PlannerConfig {
   int max_nodes = 2000;
   double max_time_ms = 5000.0;  ///< wall-clock guard; the node budget is what makes runs repeatable

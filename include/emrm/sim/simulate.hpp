@@ -1,6 +1,6 @@
 #pragma once
 
-// One scenario cell under every strategy (DESIGN.md §7–9): the outcome of each strategy, the
+// One scenario cell under every strategy (docs/simulate.md): the outcome of each strategy, the
 // unmitigated reference, the cell's region, and the traces through the EMRM and loss-evaluation
 // FSMs. Pure: the same config, cell and seed give the same result on any thread.
 
@@ -18,7 +18,7 @@
 
 namespace emrm::sim {
 
-/// Mitigability region of a cell (DESIGN.md §9).
+/// Mitigability region of a cell (docs/simulate.md, "What is simulated").
 enum class Region { kG, kY, kO, kR, kInfeasible };
 [[nodiscard]] std::string_view region_name(Region r) noexcept;
 

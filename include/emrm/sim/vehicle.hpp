@@ -1,6 +1,6 @@
 #pragma once
 
-// Vehicle dynamics (DESIGN.md §6). The default model is a single-track (bicycle) model with
+// Vehicle dynamics (docs/physics.md). The default model is a single-track (bicycle) model with
 // Fiala brush tires per axle, a friction circle per axle, quasi-static longitudinal load
 // transfer and a blend to the kinematic model at low speed; a kinematic bicycle model is kept
 // for comparison. Models are picked by name from a registry; all are pure and thread-safe.
@@ -114,7 +114,7 @@ class VehicleModel {
   VehicleParams params_;
 };
 
-/// Single-track model with Fiala brush tires ("single_track_fiala", DESIGN.md §6): friction circle
+/// Single-track model with Fiala brush tires ("single_track_fiala", docs/physics.md): friction circle
 /// per axle, quasi-static longitudinal load transfer, ABS braking at the friction limit, a sliding
 /// locked rear axle, and a blend to the kinematic model below `kinematic_blend_speed_mps`.
 class SingleTrackFiala final : public VehicleModel {
