@@ -157,6 +157,37 @@ TEST(ToyStrategy, IsDrawnInItsColourWithItsLabel) {
   EXPECT_NE(svg.find("rgb( 23, 190, 207)"), std::string::npos);  // #17becf, its registered colour
 }
 
+TEST(ToyPlanner, IsFoundByNameAndDrivesAPlannedStrategy) {
+  // A planner that never finds anything: a planned strategy using it falls back to the baseline's
+  // outcome (documented for a strategy whose every branch breaks its constraint).
+  class Nothing final : public sim::Planner {
+   public:
+    std::string_view name() const override { return "nothing"; }
+    sim::PlanResult plan(const sim::PlanningProblem& /*problem*/) const override { return {}; }
+  };
+  {
+    const sim::PlannerRegistration planner(std::make_unique<Nothing>());
+    ASSERT_NE(sim::find_planner("nothing"), nullptr);
+    EXPECT_THROW(sim::PlannerRegistration(std::make_unique<Nothing>()), UsageError);
+    sim::StrategyInfo info = half_brake_info();
+    info.name = "hopeless";
+    info.planner = "nothing";
+    const sim::StrategyRegistration hopeless(info, sim::planned_strategy());
+    sim::SceneConfig config;
+    config.planner.max_nodes = 1;
+    const sim::CellResult r = sim::simulate_cell(config, {60.0, 1.2, 1.0, 3.0, 10.0}, {});
+    const auto* o = outcome(r, "hopeless");
+    const auto* stop = outcome(r, "emergency_stop");
+    ASSERT_NE(o, nullptr);
+    ASSERT_NE(stop, nullptr);
+    EXPECT_EQ(o->adopted_from, "emergency_stop");
+    EXPECT_EQ(o->avoided, stop->avoided);
+  }
+  EXPECT_EQ(sim::find_planner("nothing"), nullptr);
+  EXPECT_NE(sim::find_planner("rrt"), nullptr);
+  EXPECT_NE(sim::find_planner("reference"), nullptr);
+}
+
 TEST(ToyStrategy, RegistrationChecksItsRecord) {
   const sim::StrategyRegistration toy(half_brake_info(), std::make_shared<HalfBrake>());
   EXPECT_THROW(sim::StrategyRegistration(half_brake_info(), std::make_shared<HalfBrake>()), UsageError);
