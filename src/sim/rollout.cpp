@@ -20,21 +20,6 @@ core::Vec2 world_velocity(const VehicleState& s) {
   return {s.vx_mps * c - s.vy_mps * sn, s.vx_mps * sn + s.vy_mps * c};
 }
 
-struct Extent {
-  double min_x, max_x, min_y, max_y;
-};
-
-Extent extent_of(const core::OrientedBox& box) {
-  Extent e{kInfinity, -kInfinity, kInfinity, -kInfinity};
-  for (const auto& c : box.corners()) {
-    e.min_x = std::min(e.min_x, c.x);
-    e.max_x = std::max(e.max_x, c.x);
-    e.min_y = std::min(e.min_y, c.y);
-    e.max_y = std::max(e.max_y, c.y);
-  }
-  return e;
-}
-
 // ---- validity ---------------------------------------------------------------------------------
 
 // Dodge's constraint: neither a locked rear axle nor a rear axle sliding at a real slip angle.
@@ -110,7 +95,7 @@ class PassedTruckTest final : public StepCheck {
  public:
   explicit PassedTruckTest(const Scene& scene) : truck_far_x_m_(scene.truck_far_x_m()) {}
   std::optional<Termination> check(Step& step, RolloutResult& /*result*/) const override {
-    if (extent_of(step.ego).min_x > truck_far_x_m_) return Termination::kPassed;
+    if (step.ego_extent.min_x > truck_far_x_m_) return Termination::kPassed;
     return std::nullopt;
   }
 
@@ -139,8 +124,8 @@ class StopsShortTest final : public StepCheck {
       return std::nullopt;
     const double speed = s.speed_mps();
     const double stop_distance = speed * speed / (2.0 * mu_ * kGravity_mps2);
-    if (!(extent_of(step.ego).max_x + stop_distance + 0.05 < truck_near_x_m_ &&
-          extent_of(step.truck.box).max_y > extent_of(step.ego).min_y))
+    if (!(step.ego_extent.max_x + stop_distance + 0.05 < truck_near_x_m_ &&
+          step.truck_extent.max_y > step.ego_extent.min_y))
       return std::nullopt;
     result.path.push_back({step.t_s, s, u});
     s.x_m += stop_distance * std::cos(s.yaw_rad);
@@ -168,6 +153,17 @@ class HorizonTest final : public StepCheck {
 };
 
 }  // namespace
+
+Extent extent_of(const core::OrientedBox& box) noexcept {
+  Extent e{kInfinity, -kInfinity, kInfinity, -kInfinity};
+  for (const auto& c : box.corners()) {
+    e.min_x = std::min(e.min_x, c.x);
+    e.max_x = std::max(e.max_x, c.x);
+    e.min_y = std::min(e.min_y, c.y);
+    e.max_y = std::max(e.max_y, c.y);
+  }
+  return e;
+}
 
 double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const VehicleParams& p, double mu,
                           double grip, double dt_s) noexcept {
@@ -235,26 +231,63 @@ std::optional<Termination> CheckList::check(Step& step, RolloutResult& result) c
   return std::nullopt;
 }
 
-ValidityChecker default_validity_checker(const Scene& scene, const VehicleModel& model,
-                                         const ControlLimits& limits) {
-  ValidityChecker checker;
-  if (limits.forbid_rear_sliding) checker.add(std::make_unique<RearSlidingCheck>(model, scene.cell().mu));
-  checker.add(std::make_unique<TruckContactCheck>(scene, model));
-  checker.add(std::make_unique<RoadDepartureCheck>(scene));
-  return checker;
+struct ValidityChecker::BuiltIn {
+  std::optional<RearSlidingCheck> rear_sliding;
+  TruckContactCheck contact;
+  RoadDepartureCheck departure;
+};
+
+ValidityChecker::ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
+    : built_in_(std::make_unique<const BuiltIn>(
+          BuiltIn{limits.forbid_rear_sliding ? std::optional<RearSlidingCheck>(std::in_place, model, scene.cell().mu)
+                                             : std::nullopt,
+                  TruckContactCheck(scene, model), RoadDepartureCheck(scene)})) {}
+ValidityChecker::~ValidityChecker() = default;
+ValidityChecker::ValidityChecker(ValidityChecker&&) noexcept = default;
+ValidityChecker& ValidityChecker::operator=(ValidityChecker&&) noexcept = default;
+
+ValidityChecker& ValidityChecker::add(std::unique_ptr<StepCheck> check) {
+  added_.add(std::move(check));
+  return *this;
 }
 
-TerminationTest default_termination_test(const Scene& scene) {
-  TerminationTest test;
-  test.add(std::make_unique<PassedTruckTest>(scene));
-  test.add(std::make_unique<StoppedTest>());
-  test.add(std::make_unique<StopsShortTest>(scene));
-  test.add(std::make_unique<HorizonTest>(scene));
-  return test;
+std::optional<Termination> ValidityChecker::check(Step& step, RolloutResult& result) const {
+  if (built_in_->rear_sliding)
+    if (auto why = built_in_->rear_sliding->check(step, result)) return why;
+  if (auto why = built_in_->contact.check(step, result)) return why;
+  if (auto why = built_in_->departure.check(step, result)) return why;
+  return added_.empty() ? std::nullopt : added_.check(step, result);
+}
+
+struct TerminationTest::BuiltIn {
+  PassedTruckTest passed;
+  StoppedTest stopped;
+  StopsShortTest stops_short;
+  HorizonTest horizon;
+};
+
+TerminationTest::TerminationTest(const Scene& scene)
+    : built_in_(std::make_unique<const BuiltIn>(
+          BuiltIn{PassedTruckTest(scene), StoppedTest(), StopsShortTest(scene), HorizonTest(scene)})) {}
+TerminationTest::~TerminationTest() = default;
+TerminationTest::TerminationTest(TerminationTest&&) noexcept = default;
+TerminationTest& TerminationTest::operator=(TerminationTest&&) noexcept = default;
+
+TerminationTest& TerminationTest::add(std::unique_ptr<StepCheck> check) {
+  added_.add(std::move(check));
+  return *this;
+}
+
+std::optional<Termination> TerminationTest::check(Step& step, RolloutResult& result) const {
+  if (auto why = built_in_->passed.check(step, result)) return why;
+  if (auto why = built_in_->stopped.check(step, result)) return why;
+  if (auto why = built_in_->stops_short.check(step, result)) return why;
+  if (auto why = built_in_->horizon.check(step, result)) return why;
+  return added_.empty() ? std::nullopt : added_.check(step, result);
 }
 
 Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
-    : Roller(scene, model, limits, default_validity_checker(scene, model, limits), default_termination_test(scene)) {}
+    : Roller(scene, model, limits, ValidityChecker(scene, model, limits), TerminationTest(scene)) {}
 
 Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, ValidityChecker validity,
                TerminationTest termination)
@@ -301,6 +334,8 @@ RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::ve
     step.truck = scene_.truck_at(step.t_s);
 
     if (const auto why = validity_.check(step, r)) return finish(*why);
+    step.ego_extent = extent_of(step.ego);
+    step.truck_extent = extent_of(step.truck.box);
     if ((n + 1) % record_every == 0) r.path.push_back({step.t_s, step.state, step.control});
     if (const auto why = termination_.check(step, r)) return finish(*why);
   }

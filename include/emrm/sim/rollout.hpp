@@ -127,6 +127,12 @@ class ControlSchedule {
   double segment_left_s_ = 0.0;
 };
 
+/// An axis-aligned extent in the road frame.
+struct Extent {
+  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
+};
+[[nodiscard]] Extent extent_of(const core::OrientedBox& box) noexcept;
+
 /// One integration step as the checks see it. A check that ends the rollout may move `state` and
 /// `t_s` (back to the moment of contact, or on to a closed-form stop) and add to the result.
 struct Step {
@@ -137,6 +143,9 @@ struct Step {
   Control control;      ///< applied during the step
   core::OrientedBox ego;  ///< the ego's footprint at `state`
   TruckState truck;       ///< the truck at `t_s`
+  /// Extents of `ego` and of the truck's box, filled once the step is valid (for the termination
+  /// test; validity checks must not read them).
+  Extent ego_extent, truck_extent;
 };
 
 /// One test applied after every step (a state validity check or a termination test).
@@ -160,25 +169,51 @@ class CheckList {
   std::vector<std::unique_ptr<StepCheck>> checks_;
 };
 
-/// Contact, road departure and the strategy's constraint: when a step is no longer valid.
-using ValidityChecker = CheckList;
-/// Passed, stopped, certain to stop short, horizon: when a valid rollout is over.
-using TerminationTest = CheckList;
+/// When a step is no longer valid. The built-in checks come first, in this order: the strategy's
+/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck
+/// (timed by bisection inside the step, impact assessed), leaving the drivable area; then the
+/// checks added with add(). The built-in ones are called directly (no virtual call per step: the
+/// rollout loop is the simulator's hot path). Borrows the scene and the model.
+class ValidityChecker {
+ public:
+  ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
+  ~ValidityChecker();
+  ValidityChecker(ValidityChecker&&) noexcept;
+  ValidityChecker& operator=(ValidityChecker&&) noexcept;
+  /// Adds a check run after the built-in ones.
+  ValidityChecker& add(std::unique_ptr<StepCheck> check);
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
 
-/// The checks every strategy's rollouts use: the strategy's constraint (when `limits` has one),
-/// contact with the truck (timed by bisection inside the step, impact assessed), and leaving the
-/// drivable area, in that order.
-[[nodiscard]] ValidityChecker default_validity_checker(const Scene& scene, const VehicleModel& model,
-                                                       const ControlLimits& limits);
-/// Passed the truck, stopped, braking straight at the limit with room to stop (finished in closed
-/// form), and the horizon, in that order.
-[[nodiscard]] TerminationTest default_termination_test(const Scene& scene);
+ private:
+  struct BuiltIn;
+  std::unique_ptr<const BuiltIn> built_in_;
+  CheckList added_;
+};
+
+/// When a valid rollout is over. Built in, in this order: passed the truck, stopped, braking
+/// straight at the limit with room to stop (finished in closed form), the horizon; then the
+/// checks added with add().
+class TerminationTest {
+ public:
+  explicit TerminationTest(const Scene& scene);
+  ~TerminationTest();
+  TerminationTest(TerminationTest&&) noexcept;
+  TerminationTest& operator=(TerminationTest&&) noexcept;
+  /// Adds a test run after the built-in ones.
+  TerminationTest& add(std::unique_ptr<StepCheck> check);
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+
+ private:
+  struct BuiltIn;
+  std::unique_ptr<const BuiltIn> built_in_;
+  CheckList added_;
+};
 
 /// Simulates from `start` at time `t0` under `plan` (then, if the plan runs out, `tail` until an
 /// end condition). Deterministic and pure; the scene and model are borrowed.
 class Roller {
  public:
-  /// A roller with the default validity checker and termination test.
+  /// A roller with the built-in validity checks and termination tests.
   Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
   /// A roller with these checks.
   Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, ValidityChecker validity,
