@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "emrm/core/yaml.hpp"
 #include "input_error.hpp"
 
 namespace emrm::sim {
