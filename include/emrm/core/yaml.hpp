@@ -30,6 +30,21 @@ namespace emrm::core {
 class YamlNode {
  public:
   YamlNode(YAML::Node node, std::shared_ptr<const std::string> file);
+  YamlNode(const YamlNode&) = default;
+  YamlNode(YamlNode&&) = default;
+  /// Rebinds to the other node. (A YAML::Node assigned to would overwrite the node it refers to,
+  /// inside the tree.)
+  YamlNode& operator=(const YamlNode& other) {
+    node_.reset(other.node_);
+    file_ = other.file_;
+    return *this;
+  }
+  YamlNode& operator=(YamlNode&& other) {  // NOLINT(performance-noexcept-move-constructor)
+    node_.reset(other.node_);
+    file_ = std::move(other.file_);
+    return *this;
+  }
+  ~YamlNode() = default;
 
   /// Reads and parses a file. Throws InputError if it cannot be read or is not valid YAML.
   static YamlNode load_file(const std::filesystem::path& path);
