@@ -15,7 +15,6 @@
 #include "emrm/campaign/records.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/core/yaml.hpp"
 #include "emrm/scenario/coverage.hpp"
 
 namespace emrm::campaign {
