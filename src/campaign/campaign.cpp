@@ -167,6 +167,7 @@ void validate(const Campaign& campaign, bool force) {
   v.field("scene", campaign.scene);
   {
     const core::Validator::Scope strategies(v, "strategies");
+    std::set<std::string> listed;
     for (std::size_t i = 0; i < campaign.strategies.size(); ++i) {
       const core::Validator::Scope element(v, i);
       const std::string& name = campaign.strategies[i];
@@ -175,9 +176,7 @@ void validate(const Campaign& campaign, bool force) {
       } catch (const UsageError& e) {
         v.fail({}, e.what());
       }
-      if (std::find(campaign.strategies.begin(), campaign.strategies.begin() + static_cast<std::ptrdiff_t>(i),
-                    name) != campaign.strategies.begin() + static_cast<std::ptrdiff_t>(i))
-        v.fail({}, "strategy '" + name + "' is listed twice");
+      if (!listed.insert(name).second) v.fail({}, "strategy '" + name + "' is listed twice");
     }
     if (campaign.strategies.empty()) v.fail({}, "the list of strategies is empty");
   }

@@ -6,10 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
-#include <memory>
 #include <numeric>
-#include <variant>
 
 #include "emrm/core/domain.hpp"
 #include "emrm/core/text.hpp"
@@ -154,24 +151,29 @@ double default_nominal(const OddFactor& f) {
   return 0.5 * (f.lower(best) + f.upper(best));
 }
 
-// Runs rules of odd_rules.hpp in a Validator placed at `steps` (the path of the part in the file)
-// and reports a failure at its node below `root`.
+// Runs rules of odd_rules.hpp and reports a failure at the node its path names below `root`.
 template <class Rules>
-void check_at(const core::YamlNode& root, std::initializer_list<std::variant<std::string_view, std::size_t>> steps,
-              Rules&& rules) {
+void check_at(const core::YamlNode& root, Rules&& rules) {
   core::Validator v("odd");
   try {
-    std::vector<std::unique_ptr<core::Validator::Scope>> scopes;
-    for (const auto& step : steps)
-      std::visit([&](const auto& s) { scopes.push_back(std::make_unique<core::Validator::Scope>(v, s)); }, step);
     rules(v);
   } catch (const core::ConfigError& e) {
     core::fail_at(root, e, /*with_path=*/false);
   }
 }
 
-// A factor as an OddFactor, checked as today's files expect: first the keys its type takes and
-// needs, then (at the factor's path `index`) its domain, its prior, its nominal value.
+// The same for rules of the element `index` of the list `list` ("factors", "malfunctions").
+template <class Rules>
+void check_at(const core::YamlNode& root, std::string_view list, std::size_t index, Rules&& rules) {
+  check_at(root, [&](core::Validator& v) {
+    const core::Validator::Scope in_list(v, list);
+    const core::Validator::Scope at(v, index);
+    rules(v);
+  });
+}
+
+// A factor as an OddFactor: first the keys its type takes and needs, then, at factors[index], its
+// domain, its prior and its nominal value, each checked before the next is derived from it.
 OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root, std::size_t index) {
   OddFactor f;
   f.name = y.name;
@@ -216,7 +218,7 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
       f.nominal = *y.value;
       break;
   }
-  const auto check = [&](auto&& rules) { check_at(root, {"factors", index}, rules); };
+  const auto check = [&](auto&& rules) { check_at(root, "factors", index, rules); };
   check([&](core::Validator& v) { detail::check_factor_domain(v, f); });
   if (y.prior) {
     f.prior = *y.prior;
@@ -330,9 +332,9 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     FactorYaml y;
     core::read_yaml(factor_elements[i], y);
     odd.factors.push_back(make_factor(y, factor_elements[i], root, i));
-    check_at(root, {"factors", i}, [&](core::Validator& v) { detail::check_factor_unique(v, odd, i); });
+    check_at(root, "factors", i, [&](core::Validator& v) { detail::check_factor_unique(v, odd, i); });
   }
-  check_at(root, {}, [&](core::Validator& v) { detail::check_factor_count(v, odd); });
+  check_at(root, [&](core::Validator& v) { detail::check_factor_count(v, odd); });
   const std::vector<std::string> names = odd.factor_names();
 
   // Predicates.
@@ -351,7 +353,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     odd.epsilon = c.epsilon;
     odd.delta = c.delta;
     odd.budget = static_cast<std::size_t>(c.budget);
-    check_at(root, {}, [&](core::Validator& v) { detail::check_coverage(v, odd); });
+    check_at(root, [&](core::Validator& v) { detail::check_coverage(v, odd); });
   } else if (odd.influential().size() < 2) {
     root.fail("the default strength 2 needs at least two influential factors with more than one level");
   }
@@ -395,7 +397,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
       m.where = y.where;
       m.hazards = y.hazards;
       m.transitions = y.transitions;
-      check_at(root, {"malfunctions", j},
+      check_at(root, "malfunctions", j,
                [&](core::Validator& v) { detail::check_malfunction(v, odd, odd.malfunctions.size() - 1); });
       if (y.region) odd.malfunctions.back().region = core::Expression(field(elements[j], "region"), names);
     }
@@ -418,7 +420,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     }
   }
 
-  check_at(root, {}, [&](core::Validator& v) {
+  check_at(root, [&](core::Validator& v) {
     detail::check_domain_size(v, odd);
     detail::check_satisfiable(v, odd);
   });

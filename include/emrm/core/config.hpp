@@ -167,7 +167,7 @@ class ConfigError : public InputError {
 // ---- the validating archive ------------------------------------------------------------------
 
 /// Walks serialize() (or is called by a hand-written validate()) and throws ConfigError at the
-/// first field whose value breaks a constraint or rule. Keeps no strings while values pass.
+/// first field whose value breaks a constraint or rule. Builds no message or path while values pass.
 class Validator {
  public:
   static constexpr bool kReading = false;
