@@ -42,4 +42,13 @@ void BM_Sweep40Cells(benchmark::State& state) {
 }
 BENCHMARK(BM_Sweep40Cells)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
+// What sweep() pays once to validate a campaign: the shipped one, every cell through validate_cell.
+void BM_CampaignValidate(benchmark::State& state) {
+  const auto campaign =
+      emrm::campaign::load_campaign(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/campaign.yaml");
+  for (auto _ : state) emrm::campaign::validate(campaign, /*force=*/true);
+  state.counters["cells"] = static_cast<double>(emrm::campaign::total_cells(campaign));
+}
+BENCHMARK(BM_CampaignValidate)->Unit(benchmark::kMicrosecond);
+
 }  // namespace

@@ -24,6 +24,13 @@ void BM_CellGreen(benchmark::State& state) { run_cell(state, {50.0, 1.2, 1.0, 3.
 void BM_CellYellow(benchmark::State& state) { run_cell(state, {60.0, 0.8, 1.0, 3.0, 10.0}); }
 void BM_CellRed(benchmark::State& state) { run_cell(state, {72.0, 0.3, 1.0, 3.0, 10.0}); }
 BENCHMARK(BM_CellGreen)->Unit(benchmark::kMillisecond);
+
+// What simulate_cell pays to validate its scene, against the whole green cell above.
+void BM_SceneValidate(benchmark::State& state) {
+  const SceneConfig config;
+  for (auto _ : state) emrm::sim::validate(config);
+}
+BENCHMARK(BM_SceneValidate)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CellYellow)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CellRed)->Unit(benchmark::kMillisecond);
 

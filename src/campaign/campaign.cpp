@@ -44,40 +44,51 @@ std::optional<std::size_t> factor_index(std::string_view key) {
 
 std::string factor_list() { return "speed_kph, ttc_s, mu, passage_m or truck_speed_kph"; }
 
-struct FactorValues {
-  std::vector<double> values;
-  std::optional<core::YamlNode> node;
-};
-
 sim::CellInput default_cell(const sim::SceneConfig& scene) {
   sim::CellInput cell;
   cell.truck_speed_kph = scene.truck.speed_kph;
   return cell;
 }
 
+std::string max_cells_message(long long max_cells) {
+  return fmt::format("max_cells must be >= 1, got {}", max_cells);
+}
+
+std::string too_many_cells_message(const std::string& grid, double cells, std::size_t max_cells) {
+  return fmt::format("grid '{}' has {:.0f} cells, more than the maximum {}; raise max_cells or pass --force",
+                     grid, cells, max_cells);
+}
+
+// A grid as written: where its factors and its cells list stand, for messages.
+struct GridNodes {
+  core::YamlNode grid;
+  std::optional<core::YamlNode> cells;
+  std::array<std::optional<core::YamlNode>, kFactors.size()> factors;
+};
+
+// Reads the shape of a grid: its fields, factor values and cells. Whether they make a valid grid
+// is validate()'s question; only the size of a product is checked here, before it is expanded.
 GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells,
-                   bool force) {
+                   bool force, GridNodes& nodes) {
   if (!node.is_map()) node.fail("expected a grid (a mapping with name and factors), got " + node.describe());
   GridSpec grid;
   grid.where = node.location();
-  std::array<FactorValues, kFactors.size()> factors;
-  std::optional<core::YamlNode> cells_node;
+  std::array<std::vector<double>, kFactors.size()> factors;
   bool named = false;
   for (const auto& [key, value] : node.entries()) {
     const std::string k = key.as_string();
     if (k == "name") {
       grid.name = value.as_string();
-      if (grid.name.empty()) value.fail("a grid name must not be empty");
       named = true;
     } else if (k == "cells") {
-      cells_node = value;
+      nodes.cells = value;
     } else if (k == "description") {
       (void)value.as_string();
     } else if (k == "keep_trees") {
       grid.keep_trees = value.as_bool();
     } else if (auto f = factor_index(k)) {
-      factors[*f].values = core::expand_values(value);
-      factors[*f].node = value;
+      factors[*f] = core::expand_values(value);
+      nodes.factors[*f] = value;
     } else {
       key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, cells or a factor (" +
                factor_list() + ")");
@@ -86,32 +97,18 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
   if (!named) node.fail("a grid needs a 'name'");
 
   sim::CellInput base = default_cell(scene);
-  const auto check_cell = [&](const sim::CellInput& cell, const core::YamlNode& where) {
-    try {
-      sim::validate_cell(scene, cell);
-    } catch (const UsageError& e) {
-      where.fail(fmt::format("grid '{}': {}", grid.name, e.what()));
-    }
-  };
-
-  if (cells_node) {
+  if (nodes.cells) {
     // Grid-level factors are the defaults of every listed cell, so they must be single values.
     sim::CellInput defaults = base;
     for (std::size_t f = 0; f < kFactors.size(); ++f) {
-      if (!factors[f].node) continue;
-      if (factors[f].values.size() != 1)
-        factors[f].node->fail(fmt::format(
+      if (!nodes.factors[f]) continue;
+      if (factors[f].size() != 1)
+        nodes.factors[f]->fail(fmt::format(
             "grid '{}' lists its cells: {} at grid level must be one value (the default of every cell)",
             grid.name, kFactors[f]));
-      factor_of(defaults, f) = factors[f].values[0];
+      factor_of(defaults, f) = factors[f][0];
     }
-    const auto elements = cells_node->elements();
-    if (elements.empty()) cells_node->fail(fmt::format("grid '{}' has an empty cells list", grid.name));
-    if (elements.size() > max_cells && !force)
-      node.fail(
-          fmt::format("grid '{}' has {} cells, more than the maximum {}; raise max_cells or pass --force",
-                      grid.name, elements.size(), max_cells));
-    for (const auto& element : elements) {
+    for (const auto& element : nodes.cells->elements()) {
       if (!element.is_map())
         element.fail("expected a cell (a mapping of factors), got " + element.describe());
       sim::CellInput cell = defaults;
@@ -125,7 +122,6 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
         if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list() + " (or name, description)");
         factor_of(cell, *f) = round_1e9(scalar_number(value));
       }
-      check_cell(cell, element);
       grid.cells.push_back(cell);
     }
     return grid;
@@ -133,33 +129,90 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
 
   double count = 1.0;
   for (std::size_t f = 0; f < kFactors.size(); ++f) {
-    if (!factors[f].node) factors[f].values = {factor_of(base, f)};
-    count *= static_cast<double>(factors[f].values.size());
+    if (!nodes.factors[f]) factors[f] = {factor_of(base, f)};
+    count *= static_cast<double>(factors[f].size());
   }
   if (count > static_cast<double>(max_cells) && !force)
-    node.fail(
-        fmt::format("grid '{}' has {:.0f} cells, more than the maximum {}; raise max_cells or pass --force",
-                    grid.name, count, max_cells));
+    node.fail(too_many_cells_message(grid.name, count, max_cells));
   grid.cells.reserve(static_cast<std::size_t>(count));
-  for (double speed : factors[0].values)
-    for (double ttc : factors[1].values)
-      for (double mu : factors[2].values)
-        for (double passage : factors[3].values)
-          for (double truck : factors[4].values) grid.cells.push_back({speed, ttc, mu, passage, truck});
-  // Each factor value is checked once, at its own node, so the message points at the culprit.
-  for (std::size_t f = 0; f < kFactors.size(); ++f) {
-    if (!factors[f].node) continue;
-    for (double v : factors[f].values) {
-      sim::CellInput cell = base;
-      factor_of(cell, f) = v;
-      check_cell(cell, *factors[f].node);
-    }
-  }
-  for (const auto& cell : grid.cells) check_cell(cell, node);
+  for (double speed : factors[0])
+    for (double ttc : factors[1])
+      for (double mu : factors[2])
+        for (double passage : factors[3])
+          for (double truck : factors[4]) grid.cells.push_back({speed, ttc, mu, passage, truck});
   return grid;
 }
 
+// A cell of a product grid that the simulator rejects: the first factor value that is bad on its
+// own (the other factors at their defaults) is the culprit, reported at that factor's node;
+// otherwise the grid.
+[[noreturn]] void fail_in_product(const GridNodes& nodes, const GridSpec& grid, const sim::SceneConfig& scene,
+                                  const std::string& message) {
+  for (std::size_t f = 0; f < kFactors.size(); ++f) {
+    if (!nodes.factors[f]) continue;
+    for (double v : core::expand_values(*nodes.factors[f])) {
+      sim::CellInput cell = default_cell(scene);
+      factor_of(cell, f) = v;
+      try {
+        sim::validate_cell(scene, cell);
+      } catch (const UsageError& e) {
+        nodes.factors[f]->fail(fmt::format("grid '{}': {}", grid.name, e.what()));
+      }
+    }
+  }
+  nodes.grid.fail(message);
+}
+
 }  // namespace
+
+void validate(const Campaign& campaign, bool force) {
+  core::Validator v("campaign");
+  v.field("scene", campaign.scene);
+  {
+    const core::Validator::Scope strategies(v, "strategies");
+    std::set<std::string> listed;
+    for (std::size_t i = 0; i < campaign.strategies.size(); ++i) {
+      const core::Validator::Scope element(v, i);
+      const std::string& name = campaign.strategies[i];
+      try {
+        sim::validate_strategy(name);
+      } catch (const UsageError& e) {
+        v.fail({}, e.what());
+      }
+      if (!listed.insert(name).second) v.fail({}, "strategy '" + name + "' is listed twice");
+    }
+    if (campaign.strategies.empty()) v.fail({}, "the list of strategies is empty");
+  }
+  if (campaign.max_cells < 1)
+    v.fail("max_cells", max_cells_message(static_cast<long long>(campaign.max_cells)));
+  const core::Validator::Scope grids(v, "grids");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < campaign.grids.size(); ++i) {
+    const core::Validator::Scope at(v, i);
+    const GridSpec& grid = campaign.grids[i];
+    if (grid.name.empty()) v.fail("name", "a grid name must not be empty");
+    if (grid.cells.empty()) v.fail("cells", fmt::format("grid '{}' has an empty cells list", grid.name));
+    if (grid.cells.size() > campaign.max_cells && !force)
+      v.fail({},
+             too_many_cells_message(grid.name, static_cast<double>(grid.cells.size()), campaign.max_cells));
+    if (!grid.seeds.empty() && grid.seeds.size() != grid.cells.size())
+      v.fail("seeds", fmt::format("grid '{}' has {} seeds for {} cells", grid.name, grid.seeds.size(),
+                                  grid.cells.size()));
+    {
+      const core::Validator::Scope cells(v, "cells");
+      for (std::size_t j = 0; j < grid.cells.size(); ++j) {
+        try {
+          sim::validate_cell(campaign.scene, grid.cells[j]);
+        } catch (const UsageError& e) {
+          const core::Validator::Scope cell(v, j);
+          v.fail({}, fmt::format("grid '{}': {}", grid.name, e.what()));
+        }
+      }
+    }
+    if (!names.insert(grid.name).second) v.fail({}, "duplicate grid name '" + grid.name + "'");
+  }
+  if (campaign.grids.empty()) v.fail({}, "a campaign needs at least one grid");
+}
 
 Campaign parse_campaign(const std::string& text, const std::string& file_name,
                         const std::filesystem::path& base_dir, bool force) {
@@ -182,26 +235,15 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
       campaign.scene = sim::load_scene_config(scene_path);
     } else if (k == "seed") {
       const long long seed = value.as_int();
-      if (seed < 0) value.fail(fmt::format("seed must be >= 0, got {}", seed));
+      if (seed < 0) value.fail(fmt::format("seed must be >= 0, got {}", seed));  // an unsigned field
       campaign.seed = static_cast<std::uint64_t>(seed);
     } else if (k == "strategies") {
       campaign.strategies.clear();
-      for (const auto& element : value.elements()) {
-        const std::string name = element.as_string();
-        try {
-          sim::validate_strategy(name);
-        } catch (const UsageError& e) {
-          element.fail(e.what());
-        }
-        if (std::find(campaign.strategies.begin(), campaign.strategies.end(), name) !=
-            campaign.strategies.end())
-          element.fail("strategy '" + name + "' is listed twice");
-        campaign.strategies.push_back(name);
-      }
-      if (campaign.strategies.empty()) value.fail("the list of strategies is empty");
+      for (const auto& element : value.elements()) campaign.strategies.push_back(element.as_string());
     } else if (k == "max_cells") {
+      // Checked at once: the grids below are expanded only up to this limit.
       const long long max = value.as_int();
-      if (max < 1) value.fail(fmt::format("max_cells must be >= 1, got {}", max));
+      if (max < 1) value.fail(max_cells_message(max));
       campaign.max_cells = static_cast<std::size_t>(max);
     } else if (k == "grids") {
       grids_node = value;
@@ -213,14 +255,25 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
     }
   }
   if (!grids_node) root.fail("a campaign needs 'grids'");
-  // Grids come after the scene is known: the truck speed default and the cell checks need it.
-  std::set<std::string> names;
+  // Grids come after the scene is known: the truck speed default needs it.
+  std::vector<GridNodes> grid_nodes;
   for (const auto& element : grids_node->elements()) {
-    GridSpec grid = read_grid(element, campaign.scene, campaign.max_cells, force);
-    if (!names.insert(grid.name).second) element.fail("duplicate grid name '" + grid.name + "'");
-    campaign.grids.push_back(std::move(grid));
+    GridNodes& nodes = grid_nodes.emplace_back(GridNodes{element, std::nullopt, {}});
+    campaign.grids.push_back(read_grid(element, campaign.scene, campaign.max_cells, force, nodes));
   }
-  if (campaign.grids.empty()) grids_node->fail("a campaign needs at least one grid");
+  try {
+    validate(campaign, force);
+  } catch (const core::ConfigError& e) {
+    // grids[i].cells[j] of a product grid: no node of its own, the factor values make it.
+    const auto& steps = e.path().steps;
+    if (steps.size() == 4 && std::get_if<std::string>(&steps[0]) &&
+        std::get<std::string>(steps[0]) == "grids" && std::get_if<std::string>(&steps[2]) &&
+        std::get<std::string>(steps[2]) == "cells") {
+      const auto i = std::get<std::size_t>(steps[1]);
+      if (!grid_nodes[i].cells) fail_in_product(grid_nodes[i], campaign.grids[i], campaign.scene, e.detail());
+    }
+    core::fail_at(root, e, /*with_path=*/false);
+  }
   return campaign;
 }
 

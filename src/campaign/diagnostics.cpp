@@ -156,6 +156,7 @@ std::vector<sim::StrategyInfo> reference_checked_strategies() {
 
 ReferenceCheck check_against_reference(const std::vector<CellRecord>& records, const sim::SceneConfig& scene,
                                        std::size_t sample, std::uint64_t seed, int threads) {
+  sim::validate(scene);
   ReferenceCheck check;
   check.seed = seed;
   const auto checked = reference_checked_strategies();

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <map>
 
+#include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/diagnostics.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
+#include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/strategy.hpp"
 

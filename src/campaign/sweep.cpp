@@ -138,6 +138,9 @@ void parse_shard(const std::string& text, int& index, int& count) {
 }
 
 SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
+  // Once per sweep rather than per cell (simulate_cell validates the scene again, cheaply). The
+  // max_cells limit guards loading; the cells here are already expanded.
+  validate(campaign, /*force=*/true);
   if (options.shard_count < 1 || options.shard_index < 1 || options.shard_index > options.shard_count)
     throw UsageError(
         fmt::format("shard {}/{}: expected K/N with 1 <= K <= N", options.shard_index, options.shard_count));

@@ -11,7 +11,8 @@ std::string SourceLocation::str() const {
 }
 
 InputError::InputError(SourceLocation where, std::string message)
-    : Error(fmt::format("{}: error: {}", where.str(), message)),
+    : Error(where.file.empty() ? fmt::format("error: {}", message)
+                               : fmt::format("{}: error: {}", where.str(), message)),
       where_(std::move(where)),
       message_(std::move(message)) {}
 

@@ -160,6 +160,28 @@ void YamlReader::finish() const {
   }
 }
 
+YamlNode node_at(const YamlNode& root, const FieldPath& path) {
+  YamlNode node = root;
+  for (const FieldPath::Step& step : path.steps) {
+    std::optional<YamlNode> child;
+    if (const auto* key = std::get_if<std::string>(&step)) {
+      if (node.is_map()) child = node.find(*key);
+    } else if (const std::size_t index = std::get<std::size_t>(step);
+               node.is_sequence() && index < node.raw().size()) {
+      child = node.elements()[index];
+    }
+    if (!child || child->is_null()) break;
+    node = *child;
+  }
+  return node;
+}
+
+void fail_at(const YamlNode& root, const ConfigError& error, bool with_path) {
+  const std::string path = error.path().str();
+  node_at(root, error.path())
+      .fail(with_path && !path.empty() ? path + ": " + error.detail() : error.detail());
+}
+
 std::string to_yaml_text(const YAML::Node& node) {
   YAML::Emitter out;
   out << node;

@@ -15,6 +15,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/random.hpp"
 #include "emrm/scenario/plan.hpp"
+#include "odd_rules.hpp"
 
 // Deliberately self-contained: everything below is recomputed from the points and the ODD's
 // definitions (cells, predicates, regions), so a bookkeeping bug in build_plan cannot hide here.
@@ -329,6 +330,8 @@ CoverageCount count_from_json(const nlohmann::ordered_json& parent, const std::s
 
 CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points,
                                 std::string name) {
+  // Validates the ODD first; its relevant cells are those the coverage of cells is measured over.
+  const std::vector<RelevantCell> cells = detail::validated_relevant_cells(odd);
   CoverageReport report;
   report.name = std::move(name);
   report.scenarios = points.size();
@@ -364,7 +367,6 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
     if (inside < odd.n_m) report.c4 = false;
   }
 
-  const std::vector<RelevantCell> cells = relevant_cells(odd);
   report.c1 = true;
   report.cells.total = cells.size();
   for (const RelevantCell& c : cells) {

@@ -13,6 +13,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/covering_array.hpp"
 #include "emrm/scenario/statistics.hpp"
+#include "odd_rules.hpp"
 
 namespace emrm::scenario {
 
@@ -104,7 +105,7 @@ bool in_region(const Malfunction& m, const std::vector<double>& values) {
 class Builder {
  public:
   explicit Builder(const Odd& odd)
-      : odd_(odd), cells_(relevant_cells(odd)), rng_(core::derive_seed(odd.seed, "plan")) {
+      : odd_(odd), cells_(detail::validated_relevant_cells(odd)), rng_(core::derive_seed(odd.seed, "plan")) {
     for (std::size_t c = 0; c < cells_.size(); ++c) index_.emplace(cells_[c].levels, c);
     counts_.assign(cells_.size(), 0);
   }

@@ -43,6 +43,14 @@ nlohmann::ordered_json factor_json(const OddFactor& f) {
 }
 
 // "62.5 % (5/8)", as the printed summary shows a coverage.
+// The acceptance rule; no strategy named means the registered chooser, resolved when run.
+nlohmann::ordered_json acceptance_json(const Odd& odd) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::object();
+  if (!odd.acceptance_strategy.empty()) a["strategy"] = odd.acceptance_strategy;
+  a["outcome"] = core::enum_name(odd.acceptance);
+  return a;
+}
+
 std::string percent_text(const CoverageCount& c) {
   return fmt::format("{:.1f} % ({}/{})", 100.0 * c.fraction(), c.covered, c.total);
 }
@@ -96,7 +104,7 @@ nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan, const st
                    {"delta", odd.delta},
                    {"budget", odd.budget},
                    {"strategies", odd.strategies},
-                   {"acceptance", {{"strategy", odd.acceptance_strategy}, {"outcome", core::enum_name(odd.acceptance)}}},
+                   {"acceptance", acceptance_json(odd)},
                    {"relevance", odd.relevance ? odd.relevance->text() : std::string("true")},
                    {"tracked", odd.tracked ? odd.tracked->text() : std::string("every relevant cell")}};
   nlohmann::ordered_json factors = nlohmann::ordered_json::array();

@@ -4,153 +4,34 @@
 
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <numbers>
 #include <string_view>
 
 #include "emrm/core/error.hpp"
-#include "emrm/core/text.hpp"
+#include "emrm/core/yaml.hpp"
 
 namespace emrm::sim {
 namespace {
 
-// Where to point an error about a field: the field's own node if the file has it, otherwise the
-// nearest enclosing mapping that it has (a default that became invalid through another field).
-core::YamlNode node_at(const core::YamlNode& root, std::string_view section, std::string_view field) {
-  core::YamlNode node = root;
-  for (const std::string_view key : {section, field}) {
-    if (key.empty() || !node.is_map()) continue;
-    const auto child = node.find(key);
-    if (!child || child->is_null()) break;
-    node = *child;
-  }
-  return node;
-}
-
-// Range checks of one scene file, each failing at the offending node.
-class SceneChecker {
- public:
-  explicit SceneChecker(const core::YamlNode& root) : root_(root) {}
-
-  [[noreturn]] void fail(std::string_view section, std::string_view field, const std::string& message) const {
-    const std::string name = section.empty() ? std::string(field) : fmt::format("{}.{}", section, field);
-    node_at(root_, section, field).fail(fmt::format("{}: {}", name, message));
-  }
-
-  void positive(std::string_view section, std::string_view field, double value) const {
-    if (!(value > 0.0)) fail(section, field, fmt::format("expected a value > 0, got {}", value));
-  }
-  void non_negative(std::string_view section, std::string_view field, double value) const {
-    if (!(value >= 0.0)) fail(section, field, fmt::format("expected a value >= 0, got {}", value));
-  }
-  void within(std::string_view section, std::string_view field, double value, double low, double high) const {
-    if (!(value >= low && value <= high))
-      fail(section, field, fmt::format("expected a value in [{}, {}], got {}", low, high, value));
-  }
-
- private:
-  const core::YamlNode& root_;
-};
-
-void validate(const SceneConfig& c, const core::YamlNode& root) {
-  const SceneChecker check(root);
-
-  const RoadConfig& road = c.road;
-  check.positive("road", "lane_width_m", road.lane_width_m);
-  if (road.lanes < 1)
-    check.fail("road", "lanes", fmt::format("expected at least 1 lane, got {}", road.lanes));
-  check.non_negative("road", "shoulder_m", road.shoulder_m);
-
-  const TruckConfig& truck = c.truck;
-  check.positive("truck", "length_m", truck.length_m);
-  check.positive("truck", "width_m", truck.width_m);
-  check.positive("truck", "mass_kg", truck.mass_kg);
-  check.positive("truck", "yaw_inertia_kgm2", truck.yaw_inertia_kgm2);
-  check.non_negative("truck", "speed_kph", truck.speed_kph);
-  check.non_negative("truck", "decel_mps2", truck.decel_mps2);
-
-  const VehicleParams& ego = c.ego;
-  check.positive("ego", "length_m", ego.length_m);
-  check.positive("ego", "width_m", ego.width_m);
-  check.positive("ego", "mass_kg", ego.mass_kg);
-  check.positive("ego", "yaw_inertia_kgm2", ego.yaw_inertia_kgm2);
-  check.positive("ego", "cg_to_front_axle_m", ego.cg_to_front_axle_m);
-  check.positive("ego", "cg_to_rear_axle_m", ego.cg_to_rear_axle_m);
-  check.positive("ego", "cg_height_m", ego.cg_height_m);
-  if (!(ego.max_steer_rad > 0.0 && ego.max_steer_rad < std::numbers::pi / 2))
-    check.fail("ego", "max_steer_rad",
-               fmt::format("expected a value in (0, pi/2), got {}", ego.max_steer_rad));
-  check.positive("ego", "max_steer_rate_radps", ego.max_steer_rate_radps);
-  check.positive("ego", "front_cornering_stiffness_n_per_rad", ego.front_cornering_stiffness_n_per_rad);
-  check.positive("ego", "rear_cornering_stiffness_n_per_rad", ego.rear_cornering_stiffness_n_per_rad);
-  check.non_negative("ego", "kinematic_blend_speed_mps", ego.kinematic_blend_speed_mps);
-  // Overhangs are (length − wheelbase)/2 each; a negative one would put the bumper behind the axle.
-  if (ego.wheelbase_m() > ego.length_m)
-    check.fail("ego", "length_m",
-               fmt::format("expected the car to be at least as long as its wheelbase ({} m), got {} m",
-                           ego.wheelbase_m(), ego.length_m));
-
-  const SimulationConfig& sim = c.simulation;
-  const auto models = vehicle_model_names();
-  if (std::find(models.begin(), models.end(), sim.vehicle_model) == models.end())
-    check.fail("simulation", "vehicle_model",
-               fmt::format("unknown vehicle model '{}'; expected one of: {}", sim.vehicle_model,
-                           core::join(models, ", ")));
-  check.positive("simulation", "dt_s", sim.dt_s);
-  check.positive("simulation", "horizon_s", sim.horizon_s);
-  check.non_negative("simulation", "latency_s", sim.latency_s);
-  if (sim.dt_s > sim.horizon_s)
-    check.fail("simulation", "dt_s",
-               fmt::format("expected a time step no longer than the horizon ({} s), got {} s", sim.horizon_s,
-                           sim.dt_s));
-
-  const SeverityConfig& sev = c.severity;
-  check.within("severity", "restitution", sev.restitution, 0.0, 1.0);
-  check.non_negative("severity", "contact_friction", sev.contact_friction);
-  check.positive("severity", "mais3_slope_per_mps", sev.mais3_slope_per_mps);
-  check.positive("severity", "fatal_reference_mps", sev.fatal_reference_mps);
-  check.positive("severity", "fatal_exponent", sev.fatal_exponent);
-  if (!(sev.l6_p_mais3 > 0.0 && sev.l6_p_mais3 <= 1.0))
-    check.fail("severity", "l6_p_mais3",
-               fmt::format("expected a probability in (0, 1], got {}", sev.l6_p_mais3));
-  if (!(sev.l7_p_fatal > 0.0 && sev.l7_p_fatal <= 1.0))
-    check.fail("severity", "l7_p_fatal",
-               fmt::format("expected a probability in (0, 1], got {}", sev.l7_p_fatal));
-
-  const PlannerConfig& planner = c.planner;
-  if (planner.max_nodes < 1)
-    check.fail("planner", "max_nodes", fmt::format("expected at least 1 node, got {}", planner.max_nodes));
-  check.positive("planner", "max_time_ms", planner.max_time_ms);
-  check.positive("planner", "min_duration_s", planner.min_duration_s);
-  check.positive("planner", "max_duration_s", planner.max_duration_s);
-  if (planner.min_duration_s > planner.max_duration_s)
-    check.fail("planner", "min_duration_s",
-               fmt::format("expected min_duration_s <= max_duration_s ({} s), got {} s",
-                           planner.max_duration_s, planner.min_duration_s));
-  check.within("planner", "goal_bias", planner.goal_bias, 0.0, 1.0);
-
-  check.positive("", "max_initial_distance_m", c.max_initial_distance_m);
-
-  // Checked last: it depends on the road and on the ego's width, which must be sane first. The
-  // whole car must start on the drivable area, or every run would begin with a road departure.
-  const double low = road.drivable_min_y_m();
-  const double high = road.drivable_max_y_m();
-  const double half_width = ego.width_m / 2.0;
-  if (!(road.ego_lane_center_m - half_width >= low && road.ego_lane_center_m + half_width <= high))
-    check.fail("road", "ego_lane_center_m",
-               fmt::format("the ego ({} m wide) centred at y = {} m does not fit on the drivable area "
-                           "y in [{}, {}] m",
-                           ego.width_m, road.ego_lane_center_m, low, high));
-}
-
 SceneConfig read_scene(const core::YamlNode& root) {
   SceneConfig config;
   core::read_yaml(root, config);
-  validate(config, root);
+  try {
+    validate(config);
+  } catch (const core::ConfigError& e) {
+    core::fail_at(root, e, /*with_path=*/true);
+  }
   return config;
 }
 
 }  // namespace
+
+void validate(const SceneConfig& config) { core::validate_fields("scene", config); }
+void validate(const RoadConfig& road) { core::validate_fields("road", road); }
+void validate(const TruckConfig& truck) { core::validate_fields("truck", truck); }
+void validate(const SimulationConfig& simulation) { core::validate_fields("simulation", simulation); }
+void validate(const SeverityConfig& severity) { core::validate_fields("severity", severity); }
+void validate(const PlannerConfig& planner) { core::validate_fields("planner", planner); }
 
 SceneConfig load_scene_config(const std::filesystem::path& path) {
   return read_scene(core::YamlNode::load_file(path));

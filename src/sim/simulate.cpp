@@ -74,6 +74,7 @@ Region region_of(const StrategyTable& strategies, const std::map<std::string, St
 }  // namespace
 
 CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options) {
+  validate(config);
   validate_cell(config, cell);
   const StrategyTable strategies = registered_strategies();
   for (const auto& s : options.strategies)

@@ -107,7 +107,10 @@ VehicleState VehicleModel::step(const VehicleState& s, const Control& u, double 
   return out;
 }
 
+void validate(const VehicleParams& params) { core::validate_fields("vehicle", params); }
+
 std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const VehicleParams& params) {
+  validate(params);
   for (const auto& entry : kModels)
     if (entry.name == name) return entry.make(params);
   throw Error(

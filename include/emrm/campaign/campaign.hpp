@@ -39,11 +39,20 @@ struct Campaign {
   std::string text;               ///< the campaign file's text, kept in the results store
 };
 
-/// Loads, expands and validates a campaign file. Throws InputError (file:line:column) for
-/// malformed YAML, unknown fields or factors, unknown strategies, empty or reversed ranges,
-/// non-positive steps, levels < 1, cells the simulator rejects (sim::validate_cell), duplicate
-/// grid names, and — unless `force` — a grid of more than max_cells cells. A missing or bad
-/// scene file is reported at the `scene:` entry or inside the scene file.
+/// Checks a campaign, loaded or built in code: its scene (sim::validate), strategies that are
+/// registered (sim::validate_strategy), listed once and not none, max_cells >= 1, at least one
+/// grid, and for every grid a name that is not empty and not another grid's, at least one cell,
+/// every cell accepted by sim::validate_cell, a seed per cell or none, and — unless `force` — no
+/// more than max_cells cells. The seed is unsigned: any value is valid. Throws core::ConfigError
+/// (an InputError) naming the field path: "campaign: grids[1].cells[3]: grid 'g': mu must be ...".
+void validate(const Campaign& campaign, bool force = false);
+
+/// Loads and expands a campaign file, then validate(campaign, force). Throws InputError
+/// (file:line:column) for malformed YAML, unknown fields or factors, a negative seed, empty or
+/// reversed ranges, non-positive steps, levels < 1, a product grid of more than max_cells cells
+/// (unless `force`, checked before it is expanded), and what validate() rejects, at the node it
+/// names: a cell of a product grid at the first factor value the simulator rejects on its own. A
+/// missing or bad scene file is reported at the `scene:` entry or inside the scene file.
 [[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);
 /// As load_campaign, from text; a relative `scene:` is resolved against `base_dir`.
 [[nodiscard]] Campaign parse_campaign(const std::string& text, const std::string& file_name,

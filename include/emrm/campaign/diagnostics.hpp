@@ -90,8 +90,9 @@ struct ReferenceCheck {
 [[nodiscard]] std::vector<sim::StrategyInfo> reference_checked_strategies();
 /// Runs sim::plan_reference with each checked strategy's control limits on `sample` feasible
 /// cells drawn without replacement (seeded; all of them when there are fewer) from the records that
-/// have stored outcomes of every checked strategy. `threads` <= 0: hardware concurrency. Throws what
-/// the simulator throws for a cell that does not fit `scene`.
+/// have stored outcomes of every checked strategy. `threads` <= 0: hardware concurrency. Throws
+/// core::ConfigError for a scene sim::validate rejects, and what the simulator throws for a cell
+/// that does not fit `scene`.
 [[nodiscard]] ReferenceCheck check_against_reference(const std::vector<CellRecord>& records,
                                                      const sim::SceneConfig& scene, std::size_t sample,
                                                      std::uint64_t seed, int threads = 0);

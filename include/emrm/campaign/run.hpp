@@ -15,9 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/sweep.hpp"
-#include "emrm/scenario/plan_io.hpp"
 #include "emrm/scenario/statistics.hpp"
 
 namespace emrm::campaign {

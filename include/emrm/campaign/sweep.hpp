@@ -32,8 +32,10 @@ void parse_shard(const std::string& text, int& index, int& count);
 /// Simulates the cells of `campaign` (of this shard) that OUTPUT_DIR/results.sqlite does not
 /// hold yet, committing a transaction about every 0.5 s or 64 cells, then writes
 /// OUTPUT_DIR/regions.csv, cells.csv and cells.json from the store. Results do not depend on the
-/// thread count. Throws UsageError (exit 2) when the store holds another configuration or shard,
-/// or the shard is invalid; emrm::Error when the store cannot be written.
+/// thread count. Throws core::ConfigError (an InputError) for a campaign validate(campaign, true)
+/// rejects (max_cells is not applied: the cells are already expanded); UsageError (exit 2) when
+/// the store holds another configuration or shard, or the shard is invalid; emrm::Error when the
+/// store cannot be written.
 SweepSummary sweep(const Campaign& campaign, const SweepOptions& options);
 
 }  // namespace emrm::campaign

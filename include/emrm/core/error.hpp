@@ -23,7 +23,8 @@ class Error : public std::runtime_error {
 };
 
 /// Bad user input: a file that is malformed, of the wrong type, missing a field, out of range.
-/// what() reads "FILE:LINE:COLUMN: error: MESSAGE"; the CLI maps it to exit code 2.
+/// what() reads "FILE:LINE:COLUMN: error: MESSAGE", or "error: MESSAGE" without a file (a
+/// configuration built in code); the CLI maps it to exit code 2.
 class InputError : public Error {
  public:
   InputError(SourceLocation where, std::string message);

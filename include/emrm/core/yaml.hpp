@@ -3,8 +3,9 @@
 // YAML input and output that always knows where it is: every value read through these helpers
 // can name its file, line and column in an InputError. Configuration structs describe their
 // fields once, in a `template <class Archive> void serialize(Archive& a)` member, and the same
-// member serves reading (YamlReader) and writing (YamlWriter), in the spirit of Drake's
-// Serialize(Archive*).
+// member serves reading (YamlReader), writing (YamlWriter) and validating (core::Validator,
+// core/config.hpp), in the spirit of Drake's Serialize(Archive*). The readers and writers here
+// ignore the constraints and rules that serialize() attaches to fields.
 
 #include <yaml-cpp/yaml.h>
 
@@ -19,9 +20,9 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
-#include <utility>
 #include <vector>
 
+#include "emrm/core/config.hpp"
 #include "emrm/core/error.hpp"
 
 namespace emrm::core {
@@ -30,6 +31,21 @@ namespace emrm::core {
 class YamlNode {
  public:
   YamlNode(YAML::Node node, std::shared_ptr<const std::string> file);
+  YamlNode(const YamlNode&) = default;
+  YamlNode(YamlNode&&) = default;
+  /// Rebinds to the other node. (A YAML::Node assigned to would overwrite the node it refers to,
+  /// inside the tree.)
+  YamlNode& operator=(const YamlNode& other) {
+    node_.reset(other.node_);
+    file_ = other.file_;
+    return *this;
+  }
+  YamlNode& operator=(YamlNode&& other) {  // NOLINT(performance-noexcept-move-constructor)
+    node_.reset(other.node_);
+    file_ = std::move(other.file_);
+    return *this;
+  }
+  ~YamlNode() = default;
 
   /// Reads and parses a file. Throws InputError if it cannot be read or is not valid YAML.
   static YamlNode load_file(const std::filesystem::path& path);
@@ -121,18 +137,22 @@ class YamlReader {
   static constexpr bool kReading = true;
   explicit YamlReader(YamlNode map);
 
-  template <class T>
-  void required(std::string_view key, T& value) {
+  template <class T, class... Constraints>
+  void required(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
     known_.emplace_back(key);
     YamlCodec<T>::read(node_.at(key), value);
   }
-  template <class T>
-  void optional(std::string_view key, T& value) {
+  template <class T, class... Constraints>
+  void optional(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
     known_.emplace_back(key);
     if (auto child = node_.find(key); child && !child->is_null()) YamlCodec<T>::read(*child, value);
   }
   /// Records where the mapping being read starts.
   void location(SourceLocation& where) const { where = node_.location(); }
+  /// Rules are checked by Validator once the whole configuration is read.
+  template <class... Args>
+  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/,
+              const Args&... /*args*/) const {}
   /// Throws InputError for the first key that no field claimed, listing the expected keys.
   void finish() const;
   [[nodiscard]] const YamlNode& node() const noexcept { return node_; }
@@ -147,15 +167,18 @@ class YamlWriter {
  public:
   static constexpr bool kReading = false;
 
-  template <class T>
-  void required(std::string_view key, const T& value) {
+  template <class T, class... Constraints>
+  void required(std::string_view key, const T& value, const Constraints&... /*checked by Validator*/) {
     node_[std::string(key)] = YamlCodec<T>::write(value);
   }
-  template <class T>
-  void optional(std::string_view key, const T& value) {
+  template <class T, class... Constraints>
+  void optional(std::string_view key, const T& value, const Constraints&... /*checked by Validator*/) {
     node_[std::string(key)] = YamlCodec<T>::write(value);
   }
   void location(const SourceLocation& /*where*/) const {}
+  template <class... Args>
+  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/,
+              const Args&... /*args*/) const {}
   [[nodiscard]] YAML::Node node() const { return node_; }
 
  private:
@@ -180,6 +203,14 @@ template <class T>
 
 /// YAML text of a node, block style.
 [[nodiscard]] std::string to_yaml_text(const YAML::Node& node);
+
+/// The node a field path names below `root`: the field's own node if the file has it, else the
+/// nearest enclosing mapping or list that it has (for a default that another field made invalid).
+[[nodiscard]] YamlNode node_at(const YamlNode& root, const FieldPath& path);
+
+/// Throws InputError at node_at(root, error.path()) with the error's detail, prefixed with the
+/// field path when `with_path` ("road.lane_width_m: expected a value > 0, got -1").
+[[noreturn]] void fail_at(const YamlNode& root, const ConfigError& error, bool with_path);
 
 // ---- codecs for the usual types ------------------------------------------------------------
 

@@ -45,7 +45,9 @@ struct CoverageReport {
 };
 
 /// Measures a set of points (each one value per ODD factor). Recomputes cells, relevance, regions
-/// and tuples from the ODD by brute force; shares no bookkeeping with build_plan.
+/// and tuples from the ODD by brute force; shares no bookkeeping with build_plan. Validates the
+/// ODD first (validate(const Odd&)): throws core::ConfigError (an InputError) naming the field,
+/// std::invalid_argument for a point with the wrong number of values.
 [[nodiscard]] CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points,
                                               std::string name);
 

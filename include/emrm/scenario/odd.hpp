@@ -81,7 +81,7 @@ struct Odd {
   std::optional<std::filesystem::path> safety_file;  ///< as resolved against the ODD file
   std::optional<std::filesystem::path> scene_file;
   std::vector<std::string> strategies;  ///< for `emrm run`; empty = all
-  std::string acceptance_strategy = "emrm";
+  std::string acceptance_strategy;  ///< empty = the registered chooser (resolved by `emrm run`)
   Acceptance acceptance = Acceptance::kAvoided;
   int strength = 2;              ///< t
   int n_c = 1;                   ///< tests per cell (C1)
@@ -108,13 +108,24 @@ struct Odd {
   [[nodiscard]] double cell_count() const noexcept;
 };
 
+/// Checks an ODD, loaded or built in code: at least one factor; factor names that are identifiers
+/// and unique; at least two strictly increasing bin edges (whole numbers for an integer factor),
+/// kinks inside the domain, or classes that are unique with as many distinct numbers; a prior of
+/// one probability >= 0 per level summing to 1; a nominal value in the domain; predicates compiled
+/// over the factor names; strength 2 or 3 and no larger than the influential factors with more
+/// than one level, n_c >= 1, n_m >= 0, epsilon in (0, 0.5), delta in (0, 1), budget >= 1; unique
+/// malfunction ids; at most 200 000 cells; and some relevant cell (this computes relevant_cells).
+/// Paths are written as in the file: "coverage.n_c", "factors[1].bins". Throws
+/// core::ConfigError (an InputError): "odd: coverage.n_c: n_c must be >= 1, got 0".
+void validate(const Odd& odd);
+
 /// Loads an ODD file. Malfunction modes come from the file's `malfunctions:` list, or from the
 /// UCAs of a safety case: `safety_override` when given, else the file's `safety:` entry. UCA
 /// regions are recompiled against the ODD's factor names. Throws InputError (file:line:column)
-/// for malformed YAML, unknown fields or types, unsorted or overlapping bin edges, a prior of the
-/// wrong length or that does not sum to 1, an unknown factor in a predicate, a strength larger
-/// than the number of influential factors, a constraint set no cell satisfies, or a bad safety
-/// file; UsageError when a named file does not exist.
+/// for malformed YAML, unknown fields or types, keys that do not apply to a factor's type, an
+/// unknown factor in a predicate, the default strength 2 without two influential factors, a bad
+/// safety file, and for what validate() rejects, at the node of the field it names (each part is
+/// checked as soon as it is read); UsageError when a named file does not exist.
 [[nodiscard]] Odd load_odd(const std::filesystem::path& path,
                            const std::optional<std::filesystem::path>& safety_override = std::nullopt);
 /// As load_odd, from text; relative paths are resolved against `base_dir`.

@@ -71,7 +71,8 @@ struct Plan {
   std::string stop_reason;
 };
 
-/// Builds the plan. Deterministic for equal ODD and seed.
+/// Builds the plan. Deterministic for equal ODD and seed. Validates the ODD first (validate(const
+/// Odd&), sharing its relevant cells): throws core::ConfigError (an InputError) naming the field.
 [[nodiscard]] Plan build_plan(const Odd& odd);
 
 /// The malfunction modes whose region holds at `values`, and the transitions they exercise

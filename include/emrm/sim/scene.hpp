@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include "emrm/core/config.hpp"
 #include "emrm/core/geometry.hpp"
-#include "emrm/core/yaml.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -17,17 +17,17 @@ struct RoadConfig {
   double lane_width_m = 3.5;
   int lanes = 2;               ///< the main road spans y ∈ [-lanes/2·w, lanes/2·w]
   double shoulder_m = 1.5;     ///< paved shoulder on the right: drivable down to -(lanes/2·w + shoulder)
-  double ego_lane_center_m = -1.75;
+  double ego_lane_center_m = -1.75;  ///< checked against the ego's width by SceneConfig
 
   [[nodiscard]] double drivable_min_y_m() const { return -(lanes * lane_width_m / 2.0) - shoulder_m; }
   [[nodiscard]] double drivable_max_y_m() const { return lanes * lane_width_m / 2.0; }
 
   template <class A>
   void serialize(A& a) {
-    a.optional("lane_width_m", lane_width_m);
-    a.optional("lanes", lanes);
-    a.optional("shoulder_m", shoulder_m);
-    a.optional("ego_lane_center_m", ego_lane_center_m);
+    EMRM_FIELD(a, lane_width_m, core::positive);
+    EMRM_FIELD(a, lanes, core::at_least(1, "lane"));
+    EMRM_FIELD(a, shoulder_m, core::non_negative);
+    EMRM_FIELD(a, ego_lane_center_m);
   }
 };
 
@@ -42,12 +42,12 @@ struct TruckConfig {
 
   template <class A>
   void serialize(A& a) {
-    a.optional("length_m", length_m);
-    a.optional("width_m", width_m);
-    a.optional("mass_kg", mass_kg);
-    a.optional("yaw_inertia_kgm2", yaw_inertia_kgm2);
-    a.optional("speed_kph", speed_kph);
-    a.optional("decel_mps2", decel_mps2);
+    EMRM_FIELD(a, length_m, core::positive);
+    EMRM_FIELD(a, width_m, core::positive);
+    EMRM_FIELD(a, mass_kg, core::positive);
+    EMRM_FIELD(a, yaw_inertia_kgm2, core::positive);
+    EMRM_FIELD(a, speed_kph, core::non_negative);
+    EMRM_FIELD(a, decel_mps2, core::non_negative);
   }
 };
 
@@ -58,10 +58,12 @@ struct SimulationConfig {
   double latency_s = 0.0;   ///< before any actuation
   template <class A>
   void serialize(A& a) {
-    a.optional("vehicle_model", vehicle_model);
-    a.optional("dt_s", dt_s);
-    a.optional("horizon_s", horizon_s);
-    a.optional("latency_s", latency_s);
+    EMRM_FIELD(a, vehicle_model, core::one_of(vehicle_model_names, "vehicle model"));
+    EMRM_FIELD(a, dt_s, core::positive);
+    EMRM_FIELD(a, horizon_s, core::positive);
+    EMRM_FIELD(a, latency_s, core::non_negative);
+    a.ensure(!(dt_s > horizon_s), "dt_s", "expected a time step no longer than the horizon ({} s), got {} s",
+             horizon_s, dt_s);
   }
 };
 
@@ -77,14 +79,14 @@ struct SeverityConfig {
   double l7_p_fatal = 0.10;  ///< L7 when P(fatal) reaches this
   template <class A>
   void serialize(A& a) {
-    a.optional("restitution", restitution);
-    a.optional("contact_friction", contact_friction);
-    a.optional("mais3_intercept", mais3_intercept);
-    a.optional("mais3_slope_per_mps", mais3_slope_per_mps);
-    a.optional("fatal_reference_mps", fatal_reference_mps);
-    a.optional("fatal_exponent", fatal_exponent);
-    a.optional("l6_p_mais3", l6_p_mais3);
-    a.optional("l7_p_fatal", l7_p_fatal);
+    EMRM_FIELD(a, restitution, core::within(0.0, 1.0));
+    EMRM_FIELD(a, contact_friction, core::non_negative);
+    EMRM_FIELD(a, mais3_intercept);
+    EMRM_FIELD(a, mais3_slope_per_mps, core::positive);
+    EMRM_FIELD(a, fatal_reference_mps, core::positive);
+    EMRM_FIELD(a, fatal_exponent, core::positive);
+    EMRM_FIELD(a, l6_p_mais3, core::probability);
+    EMRM_FIELD(a, l7_p_fatal, core::probability);
   }
 };
 
@@ -97,11 +99,13 @@ struct PlannerConfig {
   double goal_bias = 0.3;       ///< probability of extending towards the passage
   template <class A>
   void serialize(A& a) {
-    a.optional("max_nodes", max_nodes);
-    a.optional("max_time_ms", max_time_ms);
-    a.optional("min_duration_s", min_duration_s);
-    a.optional("max_duration_s", max_duration_s);
-    a.optional("goal_bias", goal_bias);
+    EMRM_FIELD(a, max_nodes, core::at_least(1, "node"));
+    EMRM_FIELD(a, max_time_ms, core::positive);
+    EMRM_FIELD(a, min_duration_s, core::positive);
+    EMRM_FIELD(a, max_duration_s, core::positive);
+    a.ensure(!(min_duration_s > max_duration_s), "min_duration_s",
+             "expected min_duration_s <= max_duration_s ({} s), got {} s", max_duration_s, min_duration_s);
+    EMRM_FIELD(a, goal_bias, core::within(0.0, 1.0));
   }
 };
 
@@ -118,20 +122,42 @@ struct SceneConfig {
 
   template <class A>
   void serialize(A& a) {
-    a.optional("name", name);
-    a.optional("road", road);
-    a.optional("truck", truck);
-    a.optional("ego", ego);
-    a.optional("simulation", simulation);
-    a.optional("severity", severity);
-    a.optional("planner", planner);
-    a.optional("max_initial_distance_m", max_initial_distance_m);
+    EMRM_FIELD(a, name);
+    EMRM_FIELD(a, road);
+    EMRM_FIELD(a, truck);
+    EMRM_FIELD(a, ego);
+    EMRM_FIELD(a, simulation);
+    EMRM_FIELD(a, severity);
+    EMRM_FIELD(a, planner);
+    EMRM_FIELD(a, max_initial_distance_m, core::positive);
+    // Checked last: it depends on the road and on the ego's width, which must be sane first. The
+    // whole car must start on the drivable area, or every run would begin with a road departure.
+    const double low = road.drivable_min_y_m();
+    const double high = road.drivable_max_y_m();
+    const double half_width = ego.width_m / 2.0;
+    a.ensure(road.ego_lane_center_m - half_width >= low && road.ego_lane_center_m + half_width <= high,
+             "road.ego_lane_center_m",
+             "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m",
+             ego.width_m, road.ego_lane_center_m, low, high);
   }
 };
 
-/// Loads and validates a scene file. Throws InputError (file:line:column) for malformed YAML,
-/// wrong types, unknown fields, non-positive sizes/masses/time steps, an unknown vehicle model,
-/// a horizon shorter than a step, or an ego lane outside the drivable area.
+/// Checks every field of a scene against its constraints and the rules across fields (all sizes,
+/// masses and time steps > 0, a known vehicle model, a step no longer than the horizon, the ego's
+/// lane on the drivable area, ...: docs/scene-yaml.md). Throws core::ConfigError (an InputError)
+/// naming the field path: "scene: road.lane_width_m: expected a value > 0, got -1".
+void validate(const SceneConfig& config);
+/// The same for one part of a scene; the message names the part ("road: lanes: ...").
+void validate(const RoadConfig& road);
+void validate(const TruckConfig& truck);
+void validate(const SimulationConfig& simulation);
+void validate(const SeverityConfig& severity);
+void validate(const PlannerConfig& planner);
+
+/// Loads a scene file and validates it (validate(const SceneConfig&)). Throws InputError
+/// (file:line:column) for malformed YAML, wrong types, unknown fields, and for a value validate()
+/// rejects: at the field's own node, or at the nearest enclosing mapping the file has when the
+/// field kept its default.
 [[nodiscard]] SceneConfig load_scene_config(const std::filesystem::path& path);
 [[nodiscard]] SceneConfig parse_scene_config(const std::string& text, const std::string& file_name);
 /// The effective scene as YAML.

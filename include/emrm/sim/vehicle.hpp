@@ -7,11 +7,12 @@
 
 #include <algorithm>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "emrm/core/yaml.hpp"
+#include "emrm/core/config.hpp"
 
 namespace emrm::sim {
 
@@ -39,20 +40,29 @@ struct VehicleParams {
 
   template <class A>
   void serialize(A& a) {
-    a.optional("length_m", length_m);
-    a.optional("width_m", width_m);
-    a.optional("mass_kg", mass_kg);
-    a.optional("yaw_inertia_kgm2", yaw_inertia_kgm2);
-    a.optional("cg_to_front_axle_m", cg_to_front_axle_m);
-    a.optional("cg_to_rear_axle_m", cg_to_rear_axle_m);
-    a.optional("cg_height_m", cg_height_m);
-    a.optional("max_steer_rad", max_steer_rad);
-    a.optional("max_steer_rate_radps", max_steer_rate_radps);
-    a.optional("front_cornering_stiffness_n_per_rad", front_cornering_stiffness_n_per_rad);
-    a.optional("rear_cornering_stiffness_n_per_rad", rear_cornering_stiffness_n_per_rad);
-    a.optional("kinematic_blend_speed_mps", kinematic_blend_speed_mps);
+    EMRM_FIELD(a, length_m, core::positive);
+    EMRM_FIELD(a, width_m, core::positive);
+    EMRM_FIELD(a, mass_kg, core::positive);
+    EMRM_FIELD(a, yaw_inertia_kgm2, core::positive);
+    EMRM_FIELD(a, cg_to_front_axle_m, core::positive);
+    EMRM_FIELD(a, cg_to_rear_axle_m, core::positive);
+    EMRM_FIELD(a, cg_height_m, core::positive);
+    EMRM_FIELD(a, max_steer_rad, core::open_interval(0.0, std::numbers::pi / 2, "(0, pi/2)"));
+    EMRM_FIELD(a, max_steer_rate_radps, core::positive);
+    EMRM_FIELD(a, front_cornering_stiffness_n_per_rad, core::positive);
+    EMRM_FIELD(a, rear_cornering_stiffness_n_per_rad, core::positive);
+    EMRM_FIELD(a, kinematic_blend_speed_mps, core::non_negative);
+    // Overhangs are (length − wheelbase)/2 each; a negative one would put the bumper behind the axle.
+    a.ensure(!(wheelbase_m() > length_m), "length_m",
+             "expected the car to be at least as long as its wheelbase ({} m), got {} m", wheelbase_m(),
+             length_m);
   }
 };
+
+/// Checks every field of the parameters (sizes, masses, stiffnesses > 0; the steering limit in
+/// (0, pi/2); a car at least as long as its wheelbase). Throws core::ConfigError (an InputError)
+/// naming the field: "vehicle: length_m: expected ...".
+void validate(const VehicleParams& params);
 
 /// The state of the vehicle: CG position and yaw in the road frame, velocities in the body frame.
 struct VehicleState {
@@ -173,8 +183,9 @@ struct KinematicBodyRates {
 
 }  // namespace detail
 
-/// Creates a model by name ("single_track_fiala", "kinematic_bicycle"). Throws emrm::Error for an
-/// unknown name (the message lists the known ones).
+/// Creates a model by name ("single_track_fiala", "kinematic_bicycle") after validate(params).
+/// Throws emrm::Error for an unknown name (the message lists the known ones), core::ConfigError
+/// for bad parameters. The model's own functions expect validated parameters and check nothing.
 [[nodiscard]] std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const VehicleParams& params);
 /// Names known to make_vehicle_model, in registration order.
 [[nodiscard]] std::vector<std::string> vehicle_model_names();

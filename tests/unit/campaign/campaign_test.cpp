@@ -1,13 +1,14 @@
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/core/domain.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "emrm/core/domain.hpp"
 #include "emrm/core/yaml.hpp"
 
 namespace emrm::campaign {
@@ -147,6 +148,94 @@ TEST(LoadCampaign, RefusesAGridAboveMaxCellsUnlessForced) {
       HasSubstr("c.yaml:3:5: error: grid 'big' has 11 cells, more than the maximum 10; raise max_cells or "
                 "pass --force"));
   EXPECT_EQ(parse(text, /*force=*/true).grids[0].cells.size(), 11u);
+}
+
+// ---- campaigns built in code ----------------------------------------------------------------------
+
+Campaign code_built() {
+  Campaign c;
+  c.strategies = {"emergency_stop", "dodge"};
+  GridSpec grid;
+  grid.name = "g";
+  grid.cells = {{30.0, 1.0, 1.0, 3.0, 10.0}, {40.0, 1.5, 0.8, 2.0, 5.0}};
+  c.grids.push_back(grid);
+  return c;
+}
+
+// The message of the ConfigError validate() throws for `c` ("" if none).
+std::string validate_error(const Campaign& c, bool force = false) {
+  try {
+    validate(c, force);
+  } catch (const core::ConfigError& e) {
+    return e.message();
+  }
+  return "";
+}
+
+TEST(ValidateCampaign, AGoodCodeBuiltCampaignAndTheShippedOnePass) {
+  EXPECT_EQ(validate_error(code_built()), "");
+  EXPECT_EQ(validate_error(load_campaign(kShippedCampaign)), "");
+}
+
+TEST(ValidateCampaign, EachRuleNamesTheFieldPath) {
+  struct Bad {
+    std::function<void(Campaign&)> edit;
+    std::string says;
+  };
+  const std::vector<Bad> cases{
+      {[](Campaign& c) { c.scene.road.lane_width_m = -1; },
+       "campaign: scene.road.lane_width_m: expected a value > 0, got -1"},
+      {[](Campaign& c) { c.strategies[1] = "swerve"; }, "campaign: strategies[1]: unknown strategy 'swerve'"},
+      {[](Campaign& c) { c.strategies[1] = "emergency_stop"; },
+       "campaign: strategies[1]: strategy 'emergency_stop' is listed twice"},
+      {[](Campaign& c) { c.strategies.clear(); }, "campaign: strategies: the list of strategies is empty"},
+      {[](Campaign& c) { c.max_cells = 0; }, "campaign: max_cells: max_cells must be >= 1, got 0"},
+      {[](Campaign& c) { c.grids.clear(); }, "campaign: grids: a campaign needs at least one grid"},
+      {[](Campaign& c) { c.grids[0].name.clear(); },
+       "campaign: grids[0].name: a grid name must not be empty"},
+      {[](Campaign& c) { c.grids.push_back(c.grids[0]); }, "campaign: grids[1]: duplicate grid name 'g'"},
+      {[](Campaign& c) { c.grids[0].cells.clear(); },
+       "campaign: grids[0].cells: grid 'g' has an empty cells list"},
+      {[](Campaign& c) { c.grids[0].cells[1].mu = 3.0; },
+       "campaign: grids[0].cells[1]: grid 'g': mu must be"},
+      {[](Campaign& c) { c.grids[0].seeds = {7}; },
+       "campaign: grids[0].seeds: grid 'g' has 1 seeds for 2 cells"},
+      {[](Campaign& c) { c.max_cells = 1; },
+       "campaign: grids[0]: grid 'g' has 2 cells, more than the maximum 1; raise max_cells or pass --force"},
+  };
+  for (const auto& bad : cases) {
+    Campaign c = code_built();
+    bad.edit(c);
+    EXPECT_THAT(validate_error(c), ::testing::StartsWith(bad.says));
+  }
+}
+
+TEST(ValidateCampaign, ForceLiftsOnlyTheCellLimit) {
+  Campaign c = code_built();
+  c.max_cells = 1;
+  EXPECT_EQ(validate_error(c, /*force=*/true), "");
+  c.grids[0].cells[0].speed_kph = 0;
+  EXPECT_THAT(validate_error(c, /*force=*/true), HasSubstr("grids[0].cells[0]: grid 'g': speed_kph"));
+}
+
+TEST(ValidateCampaign, TheFileReportsTheSameRulesAtTheirNodes) {
+  // An explicit cell: at its mapping. A product grid: at the first factor value that is bad alone,
+  // even when another factor's bad value comes first in the expansion.
+  EXPECT_THAT(error_of("grids:\n  - name: g\n    cells:\n      - {speed_kph: 30}\n      - {mu: 3}\n"),
+              HasSubstr("c.yaml:5:9: error: grid 'g': mu must be"));
+  EXPECT_THAT(error_of("grids:\n  - name: g\n    passage_m: [1, -1]\n    truck_speed_kph: [-1, 5]\n"),
+              HasSubstr("c.yaml:3:16: error: grid 'g': passage_m must be"));
+  EXPECT_THAT(error_of("grids:\n  - name: ''\n"),
+              HasSubstr("c.yaml:2:11: error: a grid name must not be empty"));
+  EXPECT_THAT(error_of("grids:\n  - name: g\n    cells: []\n"),
+              HasSubstr("c.yaml:3:12: error: grid 'g' has an empty cells list"));
+  EXPECT_THAT(error_of("strategies: [dodge, dodge]\ngrids:\n  - name: g\n"),
+              HasSubstr("c.yaml:1:21: error: strategy 'dodge' is listed twice"));
+  EXPECT_THAT(error_of("strategies: []\ngrids:\n  - name: g\n"),
+              HasSubstr("c.yaml:1:13: error: the list of strategies is empty"));
+  EXPECT_THAT(error_of("max_cells: 0\ngrids:\n  - name: g\n"),
+              HasSubstr("c.yaml:1:12: error: max_cells must be >= 1"));
+  EXPECT_THAT(error_of("grids: []\n"), HasSubstr("c.yaml:1:8: error: a campaign needs at least one grid"));
 }
 
 TEST(CellSeed, IsTheDerivedSeedOfTheCellsKeyAndDistinctPerCell) {

@@ -121,6 +121,17 @@ TEST(ReferenceCheck, SampleIsSeededAndBounded) {
   EXPECT_EQ(r.sampled, 0u);
 }
 
+TEST(ReferenceCheck, ValidatesTheSceneItIsGiven) {
+  sim::SceneConfig scene;
+  scene.simulation.dt_s = 0;
+  try {
+    (void)check_against_reference({}, scene, 40, 1);
+    FAIL() << "expected a ConfigError";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(std::string(e.message()), "scene: simulation.dt_s: expected a value > 0, got 0");
+  }
+}
+
 TEST(ReferenceCheck, ComparesTheStoredOutcomeWithTheReferencePlanner) {
   // A wide-open cell the reference planner certainly dodges (30 km/h, TTC 2 s: it can even stop),
   // stored as "not avoided" by both evasive strategies: the check must count two misses.

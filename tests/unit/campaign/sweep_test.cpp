@@ -40,6 +40,26 @@ TEST(ParseShard, AcceptsKOfNAndRejectsTheRest) {
     EXPECT_THROW(parse_shard(bad, k, n), UsageError) << bad;
 }
 
+TEST(Sweep, ValidatesACodeBuiltCampaignBeforeOpeningTheStore) {
+  Campaign c = small_campaign();
+  c.grids[1].cells[2].passage_m = -1;
+  SweepOptions options;
+  options.output_dir = scratch("invalid");
+  options.progress = false;
+  try {
+    (void)sweep(c, options);
+    FAIL() << "expected a ConfigError";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.path().str(), "grids[1].cells[2]");
+    EXPECT_THAT(e.message(), ::testing::HasSubstr("campaign: grids[1].cells[2]: grid 'b': passage_m"));
+  }
+  EXPECT_FALSE(fs::exists(options.output_dir / "results.sqlite"));
+  // The cell limit guards loading only: an expanded campaign above it is swept.
+  c = small_campaign();
+  c.max_cells = 1;
+  EXPECT_NO_THROW((void)validate(c, /*force=*/true));
+}
+
 TEST(Sweep, StoresEveryCellOnceAndResumesWithNothingToDo) {
   const Campaign c = small_campaign();
   SweepOptions options;

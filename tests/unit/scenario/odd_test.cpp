@@ -7,11 +7,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "emrm/core/error.hpp"
+#include "emrm/scenario/coverage.hpp"
+#include "emrm/scenario/plan.hpp"
 #include "input_error.hpp"
 
 namespace emrm::scenario {
@@ -423,6 +426,106 @@ TEST(OddLoad, UcaRegionNamingAFactorTheOddLacksIsAnErrorInTheSafetyCase) {
     EXPECT_EQ(e.where().column, p.column) << e.what();
     EXPECT_THAT(e.what(), HasSubstr("passage_m"));
   }
+}
+
+// ---- ODDs built in code ----------------------------------------------------------------------------
+
+// The message of the ConfigError validate() throws for `odd` ("" if none).
+std::string validate_error(const Odd& odd) {
+  try {
+    validate(odd);
+  } catch (const core::ConfigError& e) {
+    return e.message();
+  }
+  return "";
+}
+
+TEST(OddValidate, TheLoadedOddsPass) {
+  EXPECT_EQ(validate_error(parse(kGood)), "");
+  EXPECT_EQ(validate_error(load_odd(examples_dir() / "odd.yaml")), "");
+}
+
+TEST(OddValidate, EachRuleNamesTheFieldPathAsTheFileWritesIt) {
+  struct Bad {
+    std::function<void(Odd&)> edit;
+    std::string says;
+  };
+  const std::vector<Bad> cases{
+      {[](Odd& o) { o.factors[0].name = "2v"; },
+       "odd: factors[0].name: factor name '2v' is not an identifier"},
+      {[](Odd& o) { o.factors[1].name = "v"; }, "odd: factors[1].name: duplicate factor 'v'"},
+      {[](Odd& o) {
+         o.factors[0].edges = {10, 40, 20};
+       },
+       "odd: factors[0].bins: bin edges must increase strictly, but 20 follows 40 (position 3)"},
+      {[](Odd& o) { o.factors[0].edges = {10}; },
+       "odd: factors[0].bins: 'bins' needs at least two edges (one bin), got 1"},
+      {[](Odd& o) {
+         o.factors[1].edges = {0, 2.5, 5};
+       },
+       "odd: factors[1].bins: bin edges of an integer factor must be integers, got 2.5"},
+      {[](Odd& o) { o.factors[0].kinks = {45}; },
+       "odd: factors[0].kinks: kink 45 lies outside the open domain (10, 40)"},
+      {[](Odd& o) { o.factors[2].classes.clear(); },
+       "odd: factors[2]: a categorical factor needs 'classes': a list of names"},
+      {[](Odd& o) { o.factors[2].classes[2] = "dry"; }, "odd: factors[2].classes: duplicate class 'dry'"},
+      {[](Odd& o) { o.factors[2].class_values.pop_back(); },
+       "odd: factors[2].values: 'values' has 2 numbers for 3 classes"},
+      {[](Odd& o) {
+         o.factors[4].prior = {0.5, 0.5};
+       },
+       "odd: factors[4].prior: 'prior' has 2 probabilities for 3 levels"},
+      {[](Odd& o) {
+         o.factors[4].prior = {0.2, 0.5, 0.4};
+       },
+       "odd: factors[4].prior: prior does not normalise: its probabilities sum to 1.1, expected 1"},
+      {[](Odd& o) { o.factors[0].nominal = 50; },
+       "odd: factors[0].nominal: nominal 50 lies outside the domain [10, 40]"},
+      {[](Odd& o) { o.factors[1].nominal = 2.5; },
+       "odd: factors[1].nominal: nominal of the integer factor 'n' must be a whole number, got 2.5"},
+      {[](Odd& o) { o.factors[2].nominal = 0.5; },
+       "odd: factors[2].nominal: nominal 0.5 is not the number of a class of 'road' (dry, wet, icy)"},
+      {[](Odd& o) { o.factors.clear(); }, "odd: factors: an ODD needs at least one factor"},
+      {[](Odd& o) { o.strength = 4; }, "odd: coverage.strength: strength must be 2 or 3, got 4"},
+      {[](Odd& o) { o.n_c = 0; }, "odd: coverage.n_c: n_c must be >= 1, got 0"},
+      {[](Odd& o) { o.n_m = -1; }, "odd: coverage.n_m: n_m must be >= 0, got -1"},
+      {[](Odd& o) { o.epsilon = 0.6; }, "odd: coverage.epsilon: epsilon must lie in (0, 0.5), got 0.6"},
+      {[](Odd& o) { o.delta = 1.5; }, "odd: coverage.delta: delta must lie in (0, 1), got 1.5"},
+      {[](Odd& o) { o.budget = 0; }, "odd: coverage.budget: budget must be >= 1, got 0"},
+      {[](Odd& o) {
+         o.malfunctions = {Malfunction{"M1", "", {}, {}, {}, {}}, Malfunction{"M1", "", {}, {}, {}, {}}};
+       },
+       "odd: malfunctions[1].id: duplicate malfunction mode 'M1'"},
+      {[](Odd& o) { o.relevance = core::Expression("v > 40", o.factor_names(), {}); },
+       "odd: relevance: no point of the domain satisfies the relevance predicate"},
+      {[](Odd& o) { o.constraints = {core::Expression("n > 9", o.factor_names(), {})}; },
+       "odd: constraints[0]: the constraints are unsatisfiable"},
+      {[](Odd& o) { o.tracked = core::Expression("v > 1", {"v"}, {}); },
+       "odd: tracked: 'v > 1' is compiled over the factors (v), not over the ODD's (v, n, road, lanes, w)"},
+  };
+  for (const auto& bad : cases) {
+    Odd odd = parse(kGood);
+    bad.edit(odd);
+    EXPECT_THAT(validate_error(odd), ::testing::StartsWith(bad.says));
+  }
+}
+
+TEST(OddValidate, PlanBuildingAndTheCoverageCheckRejectABadOdd) {
+  Odd odd = parse(kGood);
+  odd.factors[4].prior = {0.5, 0.5, 0.5};
+  for (const auto& run : std::vector<std::function<void()>>{
+           [&] { (void)build_plan(odd); }, [&] { (void)measure_coverage(odd, {}, "none"); }}) {
+    try {
+      run();
+      ADD_FAILURE() << "expected a ConfigError";
+    } catch (const core::ConfigError& e) {
+      EXPECT_EQ(e.path().str(), "factors[4].prior");
+    }
+  }
+  odd = parse(kGood);
+  odd.relevance = core::Expression("v > 40", odd.factor_names(), {});
+  EXPECT_THROW((void)build_plan(odd), core::ConfigError);
+  EXPECT_NO_THROW((void)build_plan(parse(kGood)));
 }
 
 // ---- bad input: each error names its line and column ----------------------------------------

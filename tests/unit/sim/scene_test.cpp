@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "emrm/core/yaml.hpp"
 #include "input_error.hpp"
 
 namespace emrm::sim {
@@ -363,6 +365,109 @@ TEST(SceneLoad, MalformedYamlNamesLineAndColumn) {
   EXPECT_GT(e.where().line, 0);
   EXPECT_GT(e.where().column, 0);
   EXPECT_THAT(e.message(), HasSubstr("malformed YAML"));
+}
+
+// ---- validation of scenes built in code ----------------------------------------------------------
+
+core::ConfigError validate_error(const SceneConfig& config) {
+  try {
+    validate(config);
+  } catch (const core::ConfigError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected a ConfigError";
+  return core::ConfigError("none", {}, "none");
+}
+
+struct BadField {
+  std::string text;                        // the mistake in a scene file ...
+  std::string at;                          // ... reported at the first occurrence of this text
+  std::function<void(SceneConfig&)> edit;  // ... and the same mistake in code
+  std::string path;
+};
+
+// Every kind of constraint and rule, once: the file and the code are held to the same rule, with
+// the same words; the file's error stands at the field.
+TEST(SceneValidate, ACodeBuiltSceneBreaksTheSameRuleWithTheSameWordsAsAFile) {
+  const std::vector<BadField> cases{
+      {"road:\n  lane_width_m: -1\n", "-1", [](SceneConfig& c) { c.road.lane_width_m = -1; },
+       "road.lane_width_m"},
+      {"road:\n  lanes: 0\n", "0", [](SceneConfig& c) { c.road.lanes = 0; }, "road.lanes"},
+      {"road:\n  shoulder_m: -0.5\n", "-0.5", [](SceneConfig& c) { c.road.shoulder_m = -0.5; },
+       "road.shoulder_m"},
+      {"road:\n  ego_lane_center_m: 3.0\n", "3.0", [](SceneConfig& c) { c.road.ego_lane_center_m = 3.0; },
+       "road.ego_lane_center_m"},
+      {"truck:\n  mass_kg: 0\n", "0", [](SceneConfig& c) { c.truck.mass_kg = 0; }, "truck.mass_kg"},
+      {"ego:\n  length_m: 2\n", "2", [](SceneConfig& c) { c.ego.length_m = 2; }, "ego.length_m"},
+      {"ego:\n  max_steer_rad: 1.6\n", "1.6", [](SceneConfig& c) { c.ego.max_steer_rad = 1.6; },
+       "ego.max_steer_rad"},
+      {"ego:\n  kinematic_blend_speed_mps: -1\n", "-1",
+       [](SceneConfig& c) { c.ego.kinematic_blend_speed_mps = -1; }, "ego.kinematic_blend_speed_mps"},
+      {"simulation:\n  vehicle_model: unicycle\n", "unicycle",
+       [](SceneConfig& c) { c.simulation.vehicle_model = "unicycle"; }, "simulation.vehicle_model"},
+      {"simulation:\n  dt_s: 5\n", "5", [](SceneConfig& c) { c.simulation.dt_s = 5; }, "simulation.dt_s"},
+      {"severity:\n  restitution: 1.5\n", "1.5", [](SceneConfig& c) { c.severity.restitution = 1.5; },
+       "severity.restitution"},
+      {"severity:\n  l7_p_fatal: 0\n", "0", [](SceneConfig& c) { c.severity.l7_p_fatal = 0; },
+       "severity.l7_p_fatal"},
+      {"planner:\n  max_nodes: 0\n", "0", [](SceneConfig& c) { c.planner.max_nodes = 0; },
+       "planner.max_nodes"},
+      {"planner:\n  min_duration_s: 0.5\n", "0.5", [](SceneConfig& c) { c.planner.min_duration_s = 0.5; },
+       "planner.min_duration_s"},
+      {"max_initial_distance_m: -3\n", "-3", [](SceneConfig& c) { c.max_initial_distance_m = -3; },
+       "max_initial_distance_m"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.path);
+    const InputError in_file = parse_error(c.text);
+    const auto [line, column] = position_of(c.text, c.at);
+    EXPECT_EQ(in_file.where().line, line) << in_file.what();
+    EXPECT_EQ(in_file.where().column, column) << in_file.what();
+    EXPECT_THAT(in_file.message(), ::testing::StartsWith(c.path + ": "));
+
+    SceneConfig config;
+    c.edit(config);
+    const core::ConfigError in_code = validate_error(config);
+    EXPECT_EQ(in_code.path().str(), c.path);
+    EXPECT_EQ(in_code.message(), "scene: " + in_file.message());
+    EXPECT_TRUE(in_code.where().file.empty());
+    EXPECT_STREQ(in_code.what(), ("error: scene: " + in_file.message()).c_str());
+  }
+}
+
+TEST(SceneValidate, DefaultsTheShippedSceneAndItsEditsThatStayInRangePass) {
+  EXPECT_NO_THROW(validate(SceneConfig{}));
+  EXPECT_NO_THROW(validate(load_scene_config(kShippedScene)));
+  SceneConfig edited;
+  edited.simulation.vehicle_model = "kinematic_bicycle";
+  edited.truck.decel_mps2 = 0.0;
+  edited.planner.goal_bias = 1.0;
+  EXPECT_NO_THROW(validate(edited));
+}
+
+TEST(SceneValidate, EachPartValidatesOnItsOwnNamedAfterThePart) {
+  const auto message = [](auto part, auto edit) {
+    edit(part);
+    try {
+      validate(part);
+    } catch (const core::ConfigError& e) {
+      return std::string(e.message());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(RoadConfig{}, [](RoadConfig& r) { r.lanes = 0; }),
+            "road: lanes: expected at least 1 lane, got 0");
+  EXPECT_EQ(message(TruckConfig{}, [](TruckConfig& t) { t.width_m = 0; }),
+            "truck: width_m: expected a value > 0, got 0");
+  EXPECT_EQ(message(SimulationConfig{}, [](SimulationConfig& s) { s.horizon_s = -1; }),
+            "simulation: horizon_s: expected a value > 0, got -1");
+  EXPECT_EQ(message(SeverityConfig{}, [](SeverityConfig& s) { s.l6_p_mais3 = 2; }),
+            "severity: l6_p_mais3: expected a probability in (0, 1], got 2");
+  EXPECT_EQ(message(PlannerConfig{}, [](PlannerConfig& p) { p.goal_bias = -0.5; }),
+            "planner: goal_bias: expected a value in [0, 1], got -0.5");
+  EXPECT_EQ(message(VehicleParams{}, [](VehicleParams& p) { p.cg_height_m = 0; }),
+            "vehicle: cg_height_m: expected a value > 0, got 0");
+  EXPECT_EQ(message(RoadConfig{}, [](RoadConfig&) {}), "no error");
 }
 
 // ---- cells ---------------------------------------------------------------------------------------

@@ -215,6 +215,20 @@ TEST(Determinism, AStrategyDoesNotDependOnWhichOthersWereAskedFor) {
             to_json(all, 1, {}).at("strategies").at("drift_to_accident"));
 }
 
+TEST(Inputs, ASceneBuiltInCodeIsValidatedBeforeAnythingIsSimulated) {
+  SceneConfig config;
+  config.planner.max_nodes = 0;
+  try {
+    (void)simulate_cell(config, {50.0, 1.2, 1.0, 3.0, 10.0}, {});
+    FAIL() << "expected a ConfigError";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.path().str(), "planner.max_nodes");
+    EXPECT_EQ(std::string(e.message()), "scene: planner.max_nodes: expected at least 1 node, got 0");
+  }
+  config.planner.max_nodes = 1;  // a tiny budget is valid
+  EXPECT_NO_THROW((void)simulate_cell(config, {50.0, 1.2, 1.0, 3.0, 10.0}, {}));
+}
+
 TEST(Inputs, BadCellsAndStrategiesAreUsageErrors) {
   const SceneConfig config;
   EXPECT_THROW((void)simulate_cell(config, {-5.0, 1.0, 1.0, 3.0, 10.0}, {}), UsageError);

@@ -125,6 +125,22 @@ TEST(VehicleModelRegistry, UnknownNameThrowsListingKnownNames) {
   }
 }
 
+TEST(VehicleModelRegistry, RejectsParametersItCannotSimulateNamingTheField) {
+  VehicleParams params;
+  params.cg_to_front_axle_m = 3.5;  // a wheelbase longer than the car
+  try {
+    (void)make_vehicle_model("single_track_fiala", params);
+    FAIL() << "expected a ConfigError";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.path().str(), "length_m");
+    EXPECT_EQ(
+        std::string(e.message()),
+        "vehicle: length_m: expected the car to be at least as long as its wheelbase (4.923 m), got 4.508 m");
+  }
+  params.cg_to_front_axle_m = 0.0;
+  EXPECT_THROW((void)make_vehicle_model("kinematic_bicycle", params), InputError);
+}
+
 TEST(SingleTrackFiala, StraightCoastingKeepsSpeedAndHeading) {
   const auto model = fiala();
   VehicleState start = moving(25.0);
