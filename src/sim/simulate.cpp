@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <optional>
 
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
@@ -97,17 +98,26 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   const bool at_risk = no_action.termination == Termination::kContact;
   result.unmitigated = at_risk ? unmitigated_impact(scene) : ImpactAssessment{};
 
+  // The EMRM FSM's trace depends only on (at risk, avoided): traced once per cell for each.
+  std::optional<std::vector<std::string>> traces[2];
+  const auto trace_for = [&](bool avoided) -> const std::vector<std::string>& {
+    auto& trace = traces[avoided ? 1 : 0];
+    if (!trace) trace = fsm::trace_word(emrm_fsm, emrm_events(at_risk, avoided));
+    return *trace;
+  };
+
   std::map<std::string, StrategyOutcome> outcomes;
   for (const auto& entry : strategies.entries()) {
     const std::string& name = entry.info.name;
     const StrategyContext context{scene,    *model,  strategies, derive_seed(options.seed, name), options.keep_trees,
                                   result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm};
     StrategyOutcome o = entry.strategy->run(entry.info, context);
-    o.fsm_trace = fsm::trace_word(emrm_fsm, emrm_events(at_risk, o.avoided));
+    o.fsm_trace = trace_for(o.avoided);
     outcomes.emplace(name, std::move(o));
   }
 
   result.region = region_of(strategies, outcomes, result.unmitigated);
+  result.strategies.reserve(options.strategies.size());
   for (const auto& name : options.strategies) result.strategies.push_back(outcomes.at(name));
   return result;
 }

@@ -163,6 +163,8 @@ class CheckList {
   CheckList() = default;
   CheckList& add(std::unique_ptr<StepCheck> check);
   [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why`: whether the step ends the rollout.
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
   [[nodiscard]] bool empty() const noexcept { return checks_.empty(); }
 
  private:
@@ -183,6 +185,8 @@ class ValidityChecker {
   /// Adds a check run after the built-in ones.
   ValidityChecker& add(std::unique_ptr<StepCheck> check);
   [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why` (what Roller calls each step).
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
 
  private:
   struct BuiltIn;
@@ -202,6 +206,8 @@ class TerminationTest {
   /// Adds a test run after the built-in ones.
   TerminationTest& add(std::unique_ptr<StepCheck> check);
   [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why` (what Roller calls each step).
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
 
  private:
   struct BuiltIn;
