@@ -28,6 +28,13 @@ bool end(Termination& why, Termination reason) noexcept {
   return true;
 }
 
+// check() of a list of checks, from its ends().
+template <class Checks>
+std::optional<Termination> answer_of(const Checks& checks, Step& step, RolloutResult& result) {
+  Termination why{};
+  return checks.ends(step, result, why) ? std::optional<Termination>(why) : std::nullopt;
+}
+
 // ---- validity ---------------------------------------------------------------------------------
 
 // Dodge's constraint: neither a locked rear axle nor a rear axle sliding at a real slip angle.
@@ -240,8 +247,7 @@ bool CheckList::ends(Step& step, RolloutResult& result, Termination& why) const 
 }
 
 std::optional<Termination> CheckList::check(Step& step, RolloutResult& result) const {
-  Termination why{};
-  return ends(step, result, why) ? std::optional<Termination>(why) : std::nullopt;
+  return answer_of(*this, step, result);
 }
 
 struct ValidityChecker::BuiltIn {
@@ -273,8 +279,7 @@ bool ValidityChecker::ends(Step& step, RolloutResult& result, Termination& why) 
 }
 
 std::optional<Termination> ValidityChecker::check(Step& step, RolloutResult& result) const {
-  Termination why{};
-  return ends(step, result, why) ? std::optional<Termination>(why) : std::nullopt;
+  return answer_of(*this, step, result);
 }
 
 struct TerminationTest::BuiltIn {
@@ -305,8 +310,7 @@ bool TerminationTest::ends(Step& step, RolloutResult& result, Termination& why) 
 }
 
 std::optional<Termination> TerminationTest::check(Step& step, RolloutResult& result) const {
-  Termination why{};
-  return ends(step, result, why) ? std::optional<Termination>(why) : std::nullopt;
+  return answer_of(*this, step, result);
 }
 
 Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)

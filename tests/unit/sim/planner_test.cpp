@@ -25,6 +25,38 @@ TEST(Roller, CoastingHitsTheTruckAtTheTimeToCollision) {
   EXPECT_NEAR(r.impact.impact_speed_mps, 50.0 / 3.6, 1e-6);
 }
 
+// The public check() of the checkers (for a caller that runs them outside a Roller) answers as
+// the per-step ends() does: nothing for a free car mid-road, contact for a car inside the truck,
+// the horizon at its end.
+TEST(Roller, CheckersAnswerThroughCheckAsTheyDoPerStep) {
+  const SceneConfig config;
+  const Scene scene(config, {50.0, 1.2, 1.0, 3.0, 10.0});
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  const ValidityChecker validity(scene, *model, ControlLimits{});
+  const TerminationTest termination(scene);
+  RolloutResult result;
+
+  Step free;
+  free.before = free.state = scene.ego_initial();
+  free.t_s = free.dt_s = config.simulation.dt_s;
+  free.ego = scene.ego_box(free.state);
+  free.truck = scene.truck_at(free.t_s);
+  free.ego_extent = extent_of(free.ego);
+  free.truck_extent = extent_of(free.truck.box);
+  EXPECT_EQ(validity.check(free, result), std::nullopt);
+  EXPECT_EQ(termination.check(free, result), std::nullopt);
+
+  Step late = free;
+  late.t_s = config.simulation.horizon_s;
+  EXPECT_EQ(termination.check(late, result), Termination::kHorizon);
+
+  Step inside = free;
+  inside.state.x_m = inside.before.x_m = scene.truck_at(free.t_s).box.center.x;
+  inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
+  inside.ego = scene.ego_box(inside.state);
+  EXPECT_EQ(validity.check(inside, result), Termination::kContact);
+}
+
 TEST(Roller, FullStopOnAnOpenRoadStopsAtTheClosedFormDistance) {
   const SceneConfig config;
   const Scene scene(config, {60.0, 2.0, 0.7, 3.0, 10.0});  // 33 m to the truck, 20 m needed
