@@ -184,6 +184,22 @@ bool overlaps(const OrientedBox& a, const OrientedBox& b) noexcept {
   return std::abs(-d.x * sb + d.y * cb) <= bhw + ahl * sin_rel + ahw * cos_rel;
 }
 
+double separation_lower_bound(const OrientedBox& a, const OrientedBox& b) noexcept {
+  const double ahl = 0.5 * a.length_m;
+  const double ahw = 0.5 * a.width_m;
+  const double bhl = 0.5 * b.length_m;
+  const double bhw = 0.5 * b.width_m;
+  const Vec2 d = b.center - a.center;
+  const auto [cs_a, cs_b] = cos_sin_pair(a.heading_rad, b.heading_rad);
+  const double ca = cs_a.cos, sa = cs_a.sin, cb = cs_b.cos, sb = cs_b.sin;
+  const double cos_rel = std::abs(ca * cb + sa * sb);
+  const double sin_rel = std::abs(ca * sb - sa * cb);
+  return std::max({std::abs(d.x * ca + d.y * sa) - (ahl + bhl * cos_rel + bhw * sin_rel),
+                   std::abs(-d.x * sa + d.y * ca) - (ahw + bhl * sin_rel + bhw * cos_rel),
+                   std::abs(d.x * cb + d.y * sb) - (bhl + ahl * cos_rel + ahw * sin_rel),
+                   std::abs(-d.x * sb + d.y * cb) - (bhw + ahl * sin_rel + ahw * cos_rel)});
+}
+
 Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept {
   // The verdict is overlaps()'s own, so that a caller who found a collision with overlaps() always
   // gets a contact for it, whatever the rounding below.

@@ -56,10 +56,24 @@ class EmrmChooser final : public Strategy {
     const StrategyInfo* info = c.strategies.info(chosen);
     auto it = info != nullptr && info->emrm_may_choose ? c.earlier.find(chosen) : c.earlier.end();
     if (it == c.earlier.end()) it = c.earlier.find(fallback);
+    // Never worse than an option it had: the FSM decides from classes (severity, controllability,
+    // maneuverability), which can rank a strategy first whose simulated outcome is worse than
+    // another's; the least-loss rule then takes the better one, and the record shows both
+    // (chosen_strategy: the FSM's choice; adopted_from: what was executed).
+    std::string executed = it != c.earlier.end() ? it->first : std::string();
+    for (const auto& entry : c.strategies.entries()) {
+      if (!entry.info.emrm_may_choose) continue;
+      const auto other = c.earlier.find(entry.info.name);
+      if (other == c.earlier.end()) continue;
+      if (it == c.earlier.end() || better_outcome(other->second, it->second)) {
+        it = other;
+        executed = other->first;
+      }
+    }
     StrategyOutcome o = it != c.earlier.end() ? it->second : StrategyOutcome{};
     o.strategy = self.name;
     o.chosen_strategy = chosen;
-    o.adopted_from = chosen;
+    o.adopted_from = executed;
     o.loss_evaluation_trace = trace;
     return o;
   }

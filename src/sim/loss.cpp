@@ -84,16 +84,5 @@ ImpactAssessment assess_impact(const ImpactBody& ego, const ImpactBody& other, c
   return with_risks(out, c);
 }
 
-ImpactAssessment unmitigated_impact(const Scene& scene) noexcept {
-  const SceneConfig& config = scene.config();
-  const double speed = scene.initial_speed_mps();
-  ImpactAssessment out;
-  out.impact_speed_mps = speed;
-  out.delta_v_mps =
-      central_delta_v_mps(config.ego.mass_kg, config.truck.mass_kg, speed, config.severity.restitution);
-  // Straight into the truck's side: pushed back along −x.
-  out.ego_impulse_ns = {-config.ego.mass_kg * out.delta_v_mps, 0.0};
-  return with_risks(out, config.severity);
-}
 
 }  // namespace emrm::sim

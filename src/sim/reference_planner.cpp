@@ -23,7 +23,6 @@ PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const C
       return;
     }
     if (r.termination == Termination::kConstraint) return;
-    if (r.termination == Termination::kRoadDeparture) r.impact.loss_level = 4;
     if (!result.collision || less_loss(r.impact, result.collision->impact)) result.collision = std::move(r);
   };
 

@@ -42,8 +42,8 @@ class Rrt {
       RolloutResult coast = roller_.roll(root.state, 0.0, {hold(Control{}, cfg.simulation.latency_s)}, std::nullopt, 5);
       ++result_.stats.rollouts;
       if (coast.termination != Termination::kOpen) {
-        if (coast.termination == Termination::kRoadDeparture) coast.impact.loss_level = 4;
-        result_.collision = std::move(coast);
+        if (coast.avoided()) result_.avoidance = std::move(coast);
+        else result_.collision = std::move(coast);
         return finish(started);
       }
       root.state = coast.end_state;
@@ -176,8 +176,7 @@ class Rrt {
       RolloutResult r = roller_.roll(base.state, base.t_s, plan, std::nullopt, 5);
       ++result_.stats.rollouts;
       if (keep_tree_) result_.tree.push_back({r.path, false});
-      if (r.termination == Termination::kPassed || r.termination == Termination::kStopped ||
-          r.termination == Termination::kHorizon) {
+      if (r.avoided()) {
         record_avoidance(from, r);
         return true;
       }
@@ -295,7 +294,6 @@ class Rrt {
   // be the strategy's outcome (always for fail-safes, for goal-tree edges only with contact accepted).
   void consider_failure_from(int from, RolloutResult r, bool admissible) {
     if (r.termination == Termination::kConstraint) return;  // violates the strategy
-    if (r.termination == Termination::kRoadDeparture) r.impact.loss_level = 4;
     if (r.termination == Termination::kContact && !admissible) return;
     if (result_.collision && !less_loss(r.impact, result_.collision->impact)) return;
     prepend_chain(from, r);

@@ -32,6 +32,8 @@ void validate(const TruckConfig& truck) { core::validate_fields("truck", truck);
 void validate(const SimulationConfig& simulation) { core::validate_fields("simulation", simulation); }
 void validate(const SeverityConfig& severity) { core::validate_fields("severity", severity); }
 void validate(const PlannerConfig& planner) { core::validate_fields("planner", planner); }
+void validate(const RoadsideConfig& roadside) { core::validate_fields("roadside", roadside); }
+void validate(const SafeStateConfig& safe_state) { core::validate_fields("safe_state", safe_state); }
 
 SceneConfig load_scene_config(const std::filesystem::path& path) {
   return read_scene(core::YamlNode::load_file(path));

@@ -72,6 +72,26 @@ Region region_of(const StrategyTable& strategies, const std::map<std::string, St
   return best_level < unmitigated.loss_level ? Region::kO : Region::kR;
 }
 
+// An avoidance found by a later strategy is just as good for an earlier searching one that failed,
+// when it obeys that one's limits (a drift to accident that avoided is a legal drift to avoid):
+// adopting it makes the outcomes independent of which search happened to find the way first.
+// Fixed maneuvers (no planner, like the emergency stop) adopt nothing.
+void share_avoidance(const StrategyTable& strategies, const StrategyInfo& finder, const StrategyOutcome& found,
+                     std::map<std::string, StrategyOutcome>& outcomes, const std::vector<std::string>& avoided_trace) {
+  for (auto& [name, earlier] : outcomes) {
+    const StrategyInfo* info = strategies.info(name);
+    if (earlier.avoided || info == nullptr || info->role == StrategyRole::kChooser || info->planner.empty() ||
+        !avoidance_admissible(finder.limits, info->limits))
+      continue;
+    const PlannerStats searched = earlier.planner;
+    std::vector<TreeEdge> tree = std::move(earlier.tree);
+    earlier = adopted(name, finder.name, found);
+    earlier.planner = searched;
+    earlier.tree = std::move(tree);
+    earlier.fsm_trace = avoided_trace;
+  }
+}
+
 }  // namespace
 
 CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options) {
@@ -91,12 +111,11 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   if (!result.feasible) return result;
   const auto model = make_vehicle_model(config.simulation.vehicle_model, config.ego);
 
-  // Risk evaluation: does doing nothing hit the truck? The unmitigated reference is then the
-  // head-on contact at the initial speed (docs/physics.md).
-  const Roller coast(scene, *model, ControlLimits{});
-  const RolloutResult no_action = coast.roll(scene.ego_initial(), 0.0, {}, Tail{}, 10);
+  // Risk evaluation: does doing nothing hit the truck? The unmitigated reference is then that
+  // contact, assessed by the same impact model as every strategy's (docs/physics.md).
+  const RolloutResult no_action = no_action_rollout(scene, *model);
   const bool at_risk = no_action.termination == Termination::kContact;
-  result.unmitigated = at_risk ? unmitigated_impact(scene) : ImpactAssessment{};
+  result.unmitigated = at_risk ? no_action.impact : ImpactAssessment{};
 
   // The EMRM FSM's trace depends only on (at risk, avoided): traced once per cell for each.
   std::optional<std::vector<std::string>> traces[2];
@@ -113,6 +132,8 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
                                   result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm};
     StrategyOutcome o = entry.strategy->run(entry.info, context);
     o.fsm_trace = trace_for(o.avoided);
+    if (o.avoided && o.adopted_from.empty() && entry.info.role != StrategyRole::kChooser)
+      share_avoidance(strategies, entry.info, o, outcomes, trace_for(true));
     outcomes.emplace(name, std::move(o));
   }
 

@@ -97,6 +97,17 @@ StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollo
   return o;
 }
 
+bool better_outcome(const StrategyOutcome& a, const StrategyOutcome& b) noexcept {
+  if (a.avoided != b.avoided) return a.avoided;
+  if (a.avoided) return false;
+  return less_loss(a.impact, b.impact);
+}
+
+bool avoidance_admissible(const ControlLimits& found_with, const ControlLimits& limits) noexcept {
+  return (!found_with.allow_rear_lock || limits.allow_rear_lock) &&
+         (!limits.forbid_rear_sliding || found_with.forbid_rear_sliding);
+}
+
 StrategyOutcome adopted(const std::string& name, const std::string& source_name, const StrategyOutcome& source) {
   StrategyOutcome o = source;
   o.strategy = name;

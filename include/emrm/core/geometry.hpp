@@ -40,6 +40,13 @@ struct OrientedBox {
 /// True when the two rectangles overlap or touch (separating-axis test on the four edge normals).
 [[nodiscard]] bool overlaps(const OrientedBox& a, const OrientedBox& b) noexcept;
 
+/// A lower bound on the distance between two rectangles: the largest gap between their
+/// projections on the four edge normals (the separating-axis test's axes). Positive only when
+/// they are apart, and never more than their true distance (a projection never lengthens a
+/// segment), so a body that moves less than this cannot reach the other: what conservative
+/// advancement needs. Zero or negative when they overlap or touch.
+[[nodiscard]] double separation_lower_bound(const OrientedBox& a, const OrientedBox& b) noexcept;
+
 /// Contact between two rectangles found by the separating-axis test.
 struct Contact {
   bool touching = false;

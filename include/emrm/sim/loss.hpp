@@ -48,8 +48,4 @@ struct ImpactAssessment {
 [[nodiscard]] ImpactAssessment assess_impact(const ImpactBody& ego, const ImpactBody& other,
                                              const core::Contact& contact, const SeverityConfig& c) noexcept;
 
-/// The unmitigated reference of a cell: the ego hits the truck's side head-on at its initial
-/// speed, with no action (central impact, relative normal speed = v).
-[[nodiscard]] ImpactAssessment unmitigated_impact(const Scene& scene) noexcept;
-
 }  // namespace emrm::sim

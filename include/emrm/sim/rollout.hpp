@@ -32,11 +32,14 @@ struct ControlLimits {
 /// How a rollout ended.
 enum class Termination {
   kContact,        ///< touched the truck
-  kRoadDeparture,  ///< left the drivable area
+  kRoadDeparture,  ///< left the drivable area (assessed against the roadside)
   kConstraint,     ///< violated the strategy's constraint (dodge: rear axle sliding)
-  kStopped,        ///< came to rest (or is certain to, braking straight short of the truck)
-  kPassed,         ///< its rear is beyond the truck's far side
-  kHorizon,        ///< reached the simulation horizon without any of the above
+  kStopped,        ///< came to rest on the drivable area (or is certain to, braking straight short of the truck)
+  /// Its rear is beyond the truck's far side. Ends a rollout only without recovery
+  /// (Roller::set_recovery(false)); with it, passing hands over to the recovery phase.
+  kPassed,
+  kStabilised,     ///< passed the truck and reached a stable state with room to stop (a safe state)
+  kHorizon,        ///< reached the horizon without a safe state: not an avoidance
   kOpen,           ///< the plan ran out with no tail: an unfinished tree edge
 };
 
@@ -52,11 +55,14 @@ struct RolloutResult {
   std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
   double end_time_s = 0.0;
   VehicleState end_state;
-  ImpactAssessment impact;  ///< when termination is contact
-  /// avoided: no contact, no departure, no violated constraint.
+  /// On contact, the impact with the truck; on a road departure, the impact with the roadside
+  /// (its impact_speed_mps is the speed at which the car left the road).
+  ImpactAssessment impact;
+  /// avoided: no contact, no departure, no violated constraint, and a safe state reached (stopped,
+  /// or stable with room to stop; without recovery, passing the truck is enough).
   [[nodiscard]] bool avoided() const {
-    return termination == Termination::kStopped || termination == Termination::kPassed ||
-           termination == Termination::kHorizon;
+    return termination == Termination::kStopped || termination == Termination::kStabilised ||
+           termination == Termination::kPassed;
   }
 };
 
@@ -115,6 +121,10 @@ class ControlSchedule {
   [[nodiscard]] std::optional<Control> control_at(const VehicleState& s);
   /// Moves the schedule on by one step.
   void advance() noexcept { segment_left_s_ -= dt_s_; }
+  /// Drops what is left of the plan and the tail for the recovery controller: pure pursuit of a
+  /// point ahead on the line y = `keep_y_m`, no braking, rear wheels released (docs/physics.md,
+  /// "Safe state").
+  void recover(double keep_y_m) noexcept { recovery_y_m_ = keep_y_m; }
 
  private:
   const std::vector<ControlSegment>& plan_;
@@ -125,6 +135,7 @@ class ControlSchedule {
   double dt_s_;
   std::size_t segment_ = 0;
   double segment_left_s_ = 0.0;
+  std::optional<double> recovery_y_m_;
 };
 
 /// An axis-aligned extent in the road frame.
@@ -146,6 +157,9 @@ struct Step {
   /// Extents of `ego` and of the truck's box, filled once the step is valid (for the termination
   /// test; validity checks must not read them).
   Extent ego_extent, truck_extent;
+  /// In the recovery phase (after passing the truck) until `recovery_until_s`.
+  bool recovering = false;
+  double recovery_until_s = 0.0;
 };
 
 /// One test applied after every step (a state validity check or a termination test).
@@ -172,9 +186,11 @@ class CheckList {
 };
 
 /// When a step is no longer valid. The built-in checks come first, in this order: the strategy's
-/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck
-/// (timed by bisection inside the step, impact assessed), leaving the drivable area; then the
-/// checks added with add(). The built-in ones are called directly (no virtual call per step: the
+/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck,
+/// leaving the drivable area; then the checks added with add(). Contact and departure are found
+/// between samples too (conservative advancement inside the step, docs/physics.md "Continuous
+/// collision checking"), timed by bisection, and assessed: the truck by the impact model, the
+/// roadside by the scene's roadside model. The built-in ones are called directly (no virtual call per step: the
 /// rollout loop is the simulator's hot path). Borrows the scene and the model.
 class ValidityChecker {
  public:
@@ -195,8 +211,9 @@ class ValidityChecker {
 };
 
 /// When a valid rollout is over. Built in, in this order: passed the truck, stopped, braking
-/// straight at the limit with room to stop (finished in closed form), the horizon; then the
-/// checks added with add().
+/// straight at the limit with room to stop (finished in closed form), the horizon; in the
+/// recovery phase: stopped, stabilised with room to stop, the recovery horizon; then the checks
+/// added with add().
 class TerminationTest {
  public:
   explicit TerminationTest(const Scene& scene);
@@ -226,8 +243,14 @@ class Roller {
          TerminationTest termination);
 
   /// Rolls out `plan` from (t0, start). `record_every` thins the recorded path (1 = every step).
+  /// With recovery (the default), passing the truck hands the car to the recovery controller
+  /// (ControlSchedule::recover) until it is stopped or stable with room to stop (an avoidance),
+  /// leaves the road or reaches the scene's safe_state.horizon_s (not an avoidance).
   [[nodiscard]] RolloutResult roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
                                    const std::optional<Tail>& tail, int record_every = 5) const;
+  /// Without recovery, passing the truck ends a rollout (Termination::kPassed): for the
+  /// no-action reference, which asks only whether the car would touch the truck.
+  void set_recovery(bool on) noexcept { recovery_ = on; }
 
   [[nodiscard]] const Scene& scene() const noexcept { return scene_; }
   [[nodiscard]] const VehicleModel& model() const noexcept { return model_; }
@@ -238,7 +261,12 @@ class Roller {
   ControlLimits limits_;
   ValidityChecker validity_;
   TerminationTest termination_;
+  bool recovery_ = true;
 };
+
+/// The car doing nothing from t = 0 (coasting straight, no recovery): its contact with the truck,
+/// assessed by the same impact model as every strategy's, is the cell's unmitigated reference.
+[[nodiscard]] RolloutResult no_action_rollout(const Scene& scene, const VehicleModel& model);
 
 /// The least time to collision along a path: at each point, when ego and truck would first touch
 /// if both kept their velocities (0 in contact); infinity if they never would within the horizon.

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "emrm/core/config.hpp"
 #include "emrm/core/geometry.hpp"
@@ -67,6 +68,41 @@ struct SimulationConfig {
   }
 };
 
+/// What lies beyond the edges of the drivable area (docs/physics.md, "Road departure").
+struct RoadsideConfig {
+  /// "barrier": a rigid wall or guardrail along both edges; a departure is an impact against an
+  /// immovable body, assessed by the same impact model as a contact with the truck.
+  /// "open": clear, traversable ground; a departure hits nothing (Δv 0) and scores L4.
+  std::string type = "barrier";
+
+  template <class A>
+  void serialize(A& a) {
+    EMRM_FIELD(a, type, core::one_of(roadside_types, "roadside type"));
+  }
+  [[nodiscard]] static std::vector<std::string> roadside_types() { return {"barrier", "open"}; }
+  [[nodiscard]] bool barrier() const noexcept { return type == "barrier"; }
+};
+
+/// When an avoidance counts: the car passes (or stops short of) the truck without contact and then
+/// reaches a safe state on the drivable area: stopped, or stable with room to stop
+/// (docs/physics.md, "Safe state").
+struct SafeStateConfig {
+  double horizon_s = 8.0;                ///< longest recovery after passing the truck
+  double max_yaw_rate_radps = 0.05;      ///< stable: |r| at most this
+  double max_slip_angle_rad = 0.02;      ///< stable: |β| at most this
+  double max_heading_error_rad = 0.1;    ///< stable: |ψ| (against the road's direction) at most this
+  double max_steer_rad = 0.02;           ///< stable: the wheels (nearly) straight
+
+  template <class A>
+  void serialize(A& a) {
+    EMRM_FIELD(a, horizon_s, core::positive);
+    EMRM_FIELD(a, max_yaw_rate_radps, core::positive);
+    EMRM_FIELD(a, max_slip_angle_rad, core::positive);
+    EMRM_FIELD(a, max_heading_error_rad, core::positive);
+    EMRM_FIELD(a, max_steer_rad, core::positive);
+  }
+};
+
 /// Energy-based loss model (docs/physics.md, "Impacts and losses").
 struct SeverityConfig {
   double restitution = 0.0;
@@ -118,6 +154,8 @@ struct SceneConfig {
   SimulationConfig simulation;
   SeverityConfig severity;
   PlannerConfig planner;
+  RoadsideConfig roadside;
+  SafeStateConfig safe_state;
   double max_initial_distance_m = 24.5;  ///< cells with v·TTC beyond this are infeasible (grey)
 
   template <class A>
@@ -129,6 +167,8 @@ struct SceneConfig {
     EMRM_FIELD(a, simulation);
     EMRM_FIELD(a, severity);
     EMRM_FIELD(a, planner);
+    EMRM_FIELD(a, roadside);
+    EMRM_FIELD(a, safe_state);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
@@ -153,6 +193,8 @@ void validate(const TruckConfig& truck);
 void validate(const SimulationConfig& simulation);
 void validate(const SeverityConfig& severity);
 void validate(const PlannerConfig& planner);
+void validate(const RoadsideConfig& roadside);
+void validate(const SafeStateConfig& safe_state);
 
 /// Loads a scene file and validates it (validate(const SceneConfig&)). Throws InputError
 /// (file:line:column) for malformed YAML, wrong types, unknown fields, and for a value validate()

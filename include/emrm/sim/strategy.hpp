@@ -135,6 +135,15 @@ class StrategyRegistration {
 [[nodiscard]] StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout,
                                          const ImpactAssessment& unmitigated, const Scene& scene);
 
+/// Whether outcome `a` is better than `b`: an avoidance beats a failure; between failures the lower
+/// loss level, then the lower Δv (less_loss). EMRM is never worse than its options by this order.
+[[nodiscard]] bool better_outcome(const StrategyOutcome& a, const StrategyOutcome& b) noexcept;
+
+/// Whether an avoidance found under `found_with` obeys `limits` too: no rear lock unless `limits`
+/// allows it, and no rear sliding where `limits` forbids it unless `found_with` forbade it as well.
+/// Contact acceptance does not matter to an avoidance.
+[[nodiscard]] bool avoidance_admissible(const ControlLimits& found_with, const ControlLimits& limits) noexcept;
+
 /// The outcome of `source` taken over by strategy `name` (adopted_from set, planner stats and tree
 /// cleared).
 [[nodiscard]] StrategyOutcome adopted(const std::string& name, const std::string& source_name,

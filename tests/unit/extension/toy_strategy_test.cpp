@@ -92,13 +92,13 @@ TEST(ToyStrategy, IsSimulatedWithEveryCell) {
 }
 
 TEST(ToyStrategy, CountsForTheRegionAsAnEvasiveStrategy) {
-  // A toy that always "avoids" (it reports the horizon without driving) turns every cell in which
+  // A toy that always "avoids" (it reports itself stopped without driving) turns every cell in which
   // the emergency stop fails into Y: the region rule reads roles from the registry, not names.
   class Oracle final : public sim::Strategy {
    public:
     sim::StrategyOutcome run(const sim::StrategyInfo& self, const sim::StrategyContext& c) const override {
       sim::RolloutResult r;
-      r.termination = sim::Termination::kHorizon;
+      r.termination = sim::Termination::kStopped;
       r.path.push_back({0.0, c.scene.ego_initial(), {}});
       return sim::outcome_of(self.name, r, c.unmitigated, c.scene);
     }
