@@ -312,7 +312,7 @@ class StopsShortTest {
     if (!(step.ego_extent.max_x + stop_distance + 0.05 < truck_near_x_m_ &&
           step.truck_extent.max_y > step.ego_extent.min_y))
       return false;
-    result.path.push_back({step.t_s, s, u});
+    if (result.path.empty() || result.path.back().t_s != step.t_s) result.path.push_back({step.t_s, s, u});
     s.x_m += stop_distance * std::cos(s.yaw_rad);
     s.y_m += stop_distance * std::sin(s.yaw_rad);
     step.t_s += speed / (mu_ * kGravity_mps2);
@@ -542,6 +542,8 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
   ControlSchedule schedule(plan, tail, model_.params(), limits_, mu, dt);
 
   RolloutResult r;
+  r.maneuver.plan = plan;
+  r.maneuver.tail = tail;
   Step step;
   step.state = start;
   step.t_s = t0_s;
@@ -588,6 +590,11 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
       schedule.recover(std::clamp(step.state.y_m, low, high));
     }
   }
+}
+
+RolloutResult replay(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,
+                     const Maneuver& maneuver) {
+  return Roller(scene, model, limits).roll(scene.ego_initial(), 0.0, maneuver.plan, maneuver.tail, 1);
 }
 
 RolloutResult no_action_rollout(const Scene& scene, const VehicleModel& model) {

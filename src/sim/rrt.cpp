@@ -18,6 +18,7 @@ struct Node {
   double t_s = 0.0;
   int parent = -1;
   std::vector<PathPoint> edge;  // the path that led here from the parent
+  std::vector<ControlSegment> plan;  // the controls of that edge
 };
 
 class Rrt {
@@ -49,6 +50,7 @@ class Rrt {
       root.state = coast.end_state;
       root.t_s = coast.end_time_s;
       root.edge = coast.path;
+      root.plan = coast.maneuver.plan;
     }
     nodes_.push_back(std::move(root));
     result_.stats.nodes = 1;
@@ -199,6 +201,7 @@ class Rrt {
     node.t_s = best->end_time_s;
     node.parent = from;
     node.edge = std::move(best->path);
+    node.plan = std::move(best->maneuver.plan);
     nodes_.push_back(std::move(node));
     return fail_safes(static_cast<int>(nodes_.size()) - 1);
   }
@@ -267,27 +270,26 @@ class Rrt {
     return false;
   }
 
-  std::vector<PathPoint> chain(int index) const {
-    std::vector<int> order;
-    for (int i = index; i >= 0; i = nodes_[static_cast<std::size_t>(i)].parent) order.push_back(i);
-    std::vector<PathPoint> path;
-    for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      const auto& edge = nodes_[static_cast<std::size_t>(*it)].edge;
-      path.insert(path.end(), edge.begin(), edge.end());
-    }
-    return path;
-  }
-
   void record_avoidance(int from, RolloutResult r) {
     prepend_chain(from, r);
     result_.avoidance = std::move(r);
   }
 
-  // Makes a rollout from node `from` a whole path from t = 0.
+  // Makes a rollout from node `from` a whole path from t = 0, with the controls from t = 0.
   void prepend_chain(int from, RolloutResult& r) const {
-    auto path = chain(from);
+    std::vector<int> order;
+    for (int i = from; i >= 0; i = nodes_[static_cast<std::size_t>(i)].parent) order.push_back(i);
+    std::vector<PathPoint> path;
+    std::vector<ControlSegment> plan;
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      const Node& node = nodes_[static_cast<std::size_t>(*it)];
+      path.insert(path.end(), node.edge.begin(), node.edge.end());
+      plan.insert(plan.end(), node.plan.begin(), node.plan.end());
+    }
     path.insert(path.end(), r.path.begin(), r.path.end());
+    plan.insert(plan.end(), r.maneuver.plan.begin(), r.maneuver.plan.end());
     r.path = std::move(path);
+    r.maneuver.plan = std::move(plan);
   }
 
   // Keeps the least-loss failed rollout; `admissible` says whether a collision on this branch may

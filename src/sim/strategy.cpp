@@ -46,10 +46,10 @@ class PlannedStrategy final : public Strategy {
     const Planner* planner = find_planner(self.planner);
     const PlanResult plan = planner->plan({c.scene, c.model, self.limits, c.seed, c.keep_tree});
     StrategyOutcome o;
-    if (plan.avoidance) {
-      o = outcome_of(self.name, *plan.avoidance, c.unmitigated, c.scene);
-    } else if (plan.collision) {
-      o = outcome_of(self.name, *plan.collision, c.unmitigated, c.scene);
+    if (const auto& found = plan.avoidance ? plan.avoidance : plan.collision) {
+      // The planner's path is thinned and stitched from tree edges: replaying its controls gives
+      // the same run at every step, which is what the outcome shows and a verifier re-checks.
+      o = outcome_of(self.name, replay(c.scene, c.model, self.limits, found->maneuver), c.unmitigated, c.scene);
     } else {
       // Every branch broke the strategy's constraint: it cannot be executed here; the car falls
       // back to what the baseline gives.
@@ -94,6 +94,7 @@ StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollo
   o.delta_loss = unmitigated.loss_level - o.impact.loss_level;
   o.min_ttc_s = o.contact ? 0.0 : min_ttc_along(scene, rollout.path);
   o.path = rollout.path;
+  o.maneuver = rollout.maneuver;
   return o;
 }
 

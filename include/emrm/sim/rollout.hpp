@@ -43,29 +43,6 @@ enum class Termination {
   kOpen,           ///< the plan ran out with no tail: an unfinished tree edge
 };
 
-/// One sampled point of a path: time, state and the control being applied.
-struct PathPoint {
-  double t_s = 0.0;
-  VehicleState state;
-  Control control;
-};
-
-struct RolloutResult {
-  Termination termination = Termination::kHorizon;
-  std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
-  double end_time_s = 0.0;
-  VehicleState end_state;
-  /// On contact, the impact with the truck; on a road departure, the impact with the roadside
-  /// (its impact_speed_mps is the speed at which the car left the road).
-  ImpactAssessment impact;
-  /// avoided: no contact, no departure, no violated constraint, and a safe state reached (stopped,
-  /// or stable with room to stop; without recovery, passing the truck is enough).
-  [[nodiscard]] bool avoided() const {
-    return termination == Termination::kStopped || termination == Termination::kStabilised ||
-           termination == Termination::kPassed;
-  }
-};
-
 /// A piece of a plan: a control held for a duration. With `pursue`, the steering rate is not
 /// held but recomputed every step by pure pursuit towards that point (closed-loop extension, as
 /// in CL-RRT); brake and rear lock are held.
@@ -108,6 +85,40 @@ struct Tail {
   /// The full-stop fail-safe: steering back to straight while braking as hard as the friction
   /// circle allows, which is full ABS braking once the car runs straight.
   [[nodiscard]] static Tail full_stop() { return {Control{0.0, 1.0, false}, true, true, std::nullopt}; }
+};
+
+/// The controls of a rollout from t = 0: its plan, then its tail. Replaying them from the cell's
+/// initial state with the same scene, model and limits reproduces the rollout step for step: the
+/// witness of an outcome (docs/simulate.md, "Evidence").
+struct Maneuver {
+  std::vector<ControlSegment> plan;
+  std::optional<Tail> tail;
+};
+
+/// One sampled point of a path: time, state and the control being applied.
+struct PathPoint {
+  double t_s = 0.0;
+  VehicleState state;
+  Control control;
+};
+
+struct RolloutResult {
+  Termination termination = Termination::kHorizon;
+  std::vector<PathPoint> path;  ///< every `record_every` steps, plus the final state
+  double end_time_s = 0.0;
+  VehicleState end_state;
+  /// On contact, the impact with the truck; on a road departure, the impact with the roadside
+  /// (its impact_speed_mps is the speed at which the car left the road).
+  ImpactAssessment impact;
+  /// The controls that drove it: those handed to Roller::roll, and with planners that compose
+  /// rollouts, the whole chain from t = 0.
+  Maneuver maneuver;
+  /// avoided: no contact, no departure, no violated constraint, and a safe state reached (stopped,
+  /// or stable with room to stop; without recovery, passing the truck is enough).
+  [[nodiscard]] bool avoided() const {
+    return termination == Termination::kStopped || termination == Termination::kStabilised ||
+           termination == Termination::kPassed;
+  }
 };
 
 /// Propagation's input: which control applies at each step. Borrows the plan and tail, which
@@ -263,6 +274,11 @@ class Roller {
   TerminationTest termination_;
   bool recovery_ = true;
 };
+
+/// Replays a maneuver from the cell's initial state at t = 0, recording every step: the executed
+/// trajectory at the integration step.
+[[nodiscard]] RolloutResult replay(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,
+                                   const Maneuver& maneuver);
 
 /// The car doing nothing from t = 0 (coasting straight, no recovery): its contact with the truck,
 /// assessed by the same impact model as every strategy's, is the cell's unmitigated reference.

@@ -35,7 +35,9 @@ struct StrategyOutcome {
   std::string chosen_strategy;                     ///< emrm only
   std::string adopted_from;  ///< set when the outcome is another strategy's (see docs)
   PlannerStats planner;
-  std::vector<PathPoint> path;  ///< executed trajectory
+  /// The executed trajectory at every integration step, from t = 0 (the witness's trajectory).
+  std::vector<PathPoint> path;
+  Maneuver maneuver;  ///< the controls that drove it: replay() reproduces `path`
   std::vector<TreeEdge> tree;   ///< when trees are kept
 };
 

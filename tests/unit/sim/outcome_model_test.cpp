@@ -249,3 +249,36 @@ TEST(EmrmChoice, ALaterStrategysAvoidanceIsSharedWithAnEarlierOneWhoseLimitsItOb
 
 }  // namespace
 }  // namespace emrm::sim
+
+namespace emrm::sim {
+namespace {
+
+TEST(Witness, ReplayingAnOutcomesManeuverReproducesItStepForStep) {
+  // Every outcome carries the controls that drove it; replaying them from the initial state gives
+  // the same run (termination, end, impact) and the trajectory it shows, at every step.
+  const SceneConfig config;
+  const StrategyTable table = registered_strategies();
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  for (const CellInput& cell : evasion_cells()) {
+    const Scene scene(config, cell);
+    const CellResult r = simulate_cell(config, cell, {});
+    for (const auto& o : r.strategies) {
+      const std::string& source = o.adopted_from.empty() ? o.strategy : o.adopted_from;
+      const StrategyInfo* info = table.info(source);
+      ASSERT_NE(info, nullptr) << source;
+      if (info->role == StrategyRole::kChooser) continue;
+      const RolloutResult again = replay(scene, *model, info->limits, o.maneuver);
+      EXPECT_EQ(again.avoided(), o.avoided) << o.strategy;
+      EXPECT_EQ(again.termination == Termination::kContact, o.contact) << o.strategy;
+      ASSERT_EQ(again.path.size(), o.path.size()) << o.strategy;
+      EXPECT_EQ(again.end_state.x_m, o.path.back().state.x_m);
+      EXPECT_EQ(again.end_state.y_m, o.path.back().state.y_m);
+      EXPECT_EQ(again.impact.delta_v_mps, o.impact.delta_v_mps);
+      for (std::size_t k = 1; k + 1 < o.path.size(); ++k)
+        ASSERT_NEAR(o.path[k].t_s - o.path[k - 1].t_s, config.simulation.dt_s, 1e-9) << "every step is recorded";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace emrm::sim
