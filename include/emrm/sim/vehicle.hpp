@@ -82,7 +82,9 @@ struct VehicleState {
 /// What the planner commands; held constant over a control interval.
 struct Control {
   double steer_rate_radps = 0.0;  ///< clamped to ±max_steer_rate; the angle stops at ±max_steer
-  double brake = 0.0;             ///< 0…1, fraction of the friction-limited (ABS) force on each rolling axle
+  /// 0…1, fraction of the friction limit mu F_z commanded on each rolling axle; the ABS caps it so that
+  /// a cornering axle keeps its combined-slip lateral force (docs/physics.md)
+  double brake = 0.0;
   bool rear_lock = false;         ///< rear wheels locked: the rear axle slides at mu·F_z against its velocity
 };
 
@@ -93,7 +95,8 @@ struct AxleForces {
   double longitudinal_n = 0.0;   ///< F_x in the wheel frame
   double lateral_n = 0.0;        ///< F_y in the wheel frame
   double lateral_limit_n = 0.0;  ///< sqrt((mu F_z)^2 - F_x^2)
-  bool saturated = false;        ///< sliding: |alpha| beyond the Fiala sliding angle, or locked
+  /// At the friction limit: beyond the Fiala sliding angle, held there by the ABS, or locked.
+  bool saturated = false;
 };
 
 struct TireForces {
@@ -125,8 +128,9 @@ class VehicleModel {
 };
 
 /// Single-track model with Fiala brush tires ("single_track_fiala", docs/physics.md): friction circle
-/// per axle, quasi-static longitudinal load transfer, ABS braking at the friction limit, a sliding
-/// locked rear axle, and a blend to the kinematic model below `kinematic_blend_speed_mps`.
+/// per axle, quasi-static longitudinal load transfer, ABS braking up to the friction limit that
+/// leaves a cornering axle its combined-slip lateral force, a sliding locked rear axle, and a blend to
+/// the kinematic model below `kinematic_blend_speed_mps`.
 class SingleTrackFiala final : public VehicleModel {
  public:
   static constexpr std::string_view kName = "single_track_fiala";

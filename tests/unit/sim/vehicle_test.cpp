@@ -167,7 +167,8 @@ TEST(SingleTrackFiala, FullAbsBrakingDeceleratesAtMuGWhateverTheLoadTransfer) {
       EXPECT_NEAR(f.front.normal_load_n, p.mass_kg * kG * p.cg_to_rear_axle_m / p.wheelbase_m() + transfer,
                   1e-6);
       EXPECT_NEAR(f.front.normal_load_n + f.rear.normal_load_n, p.mass_kg * kG, 1e-6);
-      // Braking at the friction limit leaves no lateral grip on either axle.
+      // Straight braking at the friction limit leaves no lateral grip on either axle: the ABS floor
+      // C tan(alpha) / 3 is zero at zero slip.
       EXPECT_TRUE(f.front.saturated);
       EXPECT_TRUE(f.rear.saturated);
       EXPECT_NEAR(f.front.lateral_limit_n, 0.0, 1e-6);
