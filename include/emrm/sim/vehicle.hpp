@@ -18,7 +18,8 @@ namespace emrm::sim {
 
 inline constexpr double kGravity_mps2 = 9.81;
 
-/// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i).
+/// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i), except the front cornering
+/// stiffness, softened for an understeer gradient of 2.2 deg/g (docs/physics.md).
 struct VehicleParams {
   double length_m = 4.508;
   double width_m = 1.610;
@@ -29,7 +30,7 @@ struct VehicleParams {
   double cg_height_m = 0.575;
   double max_steer_rad = 0.6;          ///< road-wheel angle
   double max_steer_rate_radps = 0.8;
-  double front_cornering_stiffness_n_per_rad = 130000.0;  ///< independent of mu
+  double front_cornering_stiffness_n_per_rad = 70000.0;  ///< effective axle value; independent of mu
   double rear_cornering_stiffness_n_per_rad = 105000.0;
   double kinematic_blend_speed_mps = 1.0;  ///< below this the kinematic model takes over
 
