@@ -18,7 +18,8 @@ namespace emrm::sim {
 
 inline constexpr double kGravity_mps2 = 9.81;
 
-/// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i).
+/// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i), except the front cornering
+/// stiffness, softened for an understeer gradient of 2.2 deg/g (docs/physics.md).
 struct VehicleParams {
   double length_m = 4.508;
   double width_m = 1.610;
@@ -29,7 +30,7 @@ struct VehicleParams {
   double cg_height_m = 0.575;
   double max_steer_rad = 0.6;          ///< road-wheel angle
   double max_steer_rate_radps = 0.8;
-  double front_cornering_stiffness_n_per_rad = 130000.0;  ///< independent of mu
+  double front_cornering_stiffness_n_per_rad = 70000.0;  ///< effective axle value; independent of mu
   double rear_cornering_stiffness_n_per_rad = 105000.0;
   double kinematic_blend_speed_mps = 1.0;  ///< below this the kinematic model takes over
 
@@ -82,7 +83,9 @@ struct VehicleState {
 /// What the planner commands; held constant over a control interval.
 struct Control {
   double steer_rate_radps = 0.0;  ///< clamped to ±max_steer_rate; the angle stops at ±max_steer
-  double brake = 0.0;             ///< 0…1, fraction of the friction-limited (ABS) force on each rolling axle
+  /// 0…1, fraction of the friction limit mu F_z commanded on each rolling axle; the ABS caps it so that
+  /// a cornering axle keeps its combined-slip lateral force (docs/physics.md)
+  double brake = 0.0;
   bool rear_lock = false;         ///< rear wheels locked: the rear axle slides at mu·F_z against its velocity
 };
 
@@ -93,7 +96,8 @@ struct AxleForces {
   double longitudinal_n = 0.0;   ///< F_x in the wheel frame
   double lateral_n = 0.0;        ///< F_y in the wheel frame
   double lateral_limit_n = 0.0;  ///< sqrt((mu F_z)^2 - F_x^2)
-  bool saturated = false;        ///< sliding: |alpha| beyond the Fiala sliding angle, or locked
+  /// At the friction limit: beyond the Fiala sliding angle, held there by the ABS, or locked.
+  bool saturated = false;
 };
 
 struct TireForces {
@@ -125,8 +129,9 @@ class VehicleModel {
 };
 
 /// Single-track model with Fiala brush tires ("single_track_fiala", docs/physics.md): friction circle
-/// per axle, quasi-static longitudinal load transfer, ABS braking at the friction limit, a sliding
-/// locked rear axle, and a blend to the kinematic model below `kinematic_blend_speed_mps`.
+/// per axle, quasi-static longitudinal load transfer, ABS braking up to the friction limit that
+/// leaves a cornering axle its combined-slip lateral force, a sliding locked rear axle, and a blend to
+/// the kinematic model below `kinematic_blend_speed_mps`.
 class SingleTrackFiala final : public VehicleModel {
  public:
   static constexpr std::string_view kName = "single_track_fiala";

@@ -167,7 +167,8 @@ TEST(SingleTrackFiala, FullAbsBrakingDeceleratesAtMuGWhateverTheLoadTransfer) {
       EXPECT_NEAR(f.front.normal_load_n, p.mass_kg * kG * p.cg_to_rear_axle_m / p.wheelbase_m() + transfer,
                   1e-6);
       EXPECT_NEAR(f.front.normal_load_n + f.rear.normal_load_n, p.mass_kg * kG, 1e-6);
-      // Braking at the friction limit leaves no lateral grip on either axle.
+      // Straight braking at the friction limit leaves no lateral grip on either axle: the ABS floor
+      // C tan(alpha) / 3 is zero at zero slip.
       EXPECT_TRUE(f.front.saturated);
       EXPECT_TRUE(f.rear.saturated);
       EXPECT_NEAR(f.front.lateral_limit_n, 0.0, 1e-6);
@@ -260,7 +261,12 @@ TEST(SingleTrackFiala, FialaTireIsLinearAtSmallSlipAndCappedAtTheFrictionLimit) 
               0.01 * p.front_cornering_stiffness_n_per_rad * 1e-3);
   EXPECT_FALSE(small.rear.saturated);
 
-  s.vy_mps = 5.0;
+  // Beyond the sliding angle tan(alpha_sl) = 3 mu Fz / C of both axles at mu = 1 (static loads).
+  const double weight = p.mass_kg * kG;
+  const double front_load = weight * p.cg_to_rear_axle_m / p.wheelbase_m();
+  s.vy_mps = 20.0 * 1.2 * 3.0 *
+             std::max(front_load / p.front_cornering_stiffness_n_per_rad,
+                      (weight - front_load) / p.rear_cornering_stiffness_n_per_rad);
   for (double mu : {0.3, 1.0}) {
     const TireForces big = model.tire_forces(s, {}, mu);
     EXPECT_TRUE(big.front.saturated);
@@ -318,9 +324,10 @@ TEST(SingleTrackFiala, RearLockWithSteeringDrifts) {
   EXPECT_GT(max_slip, 20.0 * std::numbers::pi / 180.0);
 }
 
-// A dodge within grip: left, right, back to straight, about 0.6 g at the peaks.
+// A dodge within grip: left, right, back to straight, over 0.4 g at the peaks (the default car
+// understeers, so this takes a steering rate of 0.3 rad/s).
 Control dodge(double t, bool rear_lock) {
-  const double rate = t < 0.4 ? 0.2 : t < 1.2 ? -0.2 : t < 1.6 ? 0.2 : 0.0;
+  const double rate = t < 0.4 ? 0.3 : t < 1.2 ? -0.3 : t < 1.6 ? 0.3 : 0.0;
   return {.steer_rate_radps = rate, .brake = 0.0, .rear_lock = rear_lock};
 }
 
