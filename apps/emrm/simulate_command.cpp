@@ -22,7 +22,8 @@ struct SimulateOptions {
   std::uint64_t seed = 1;
   bool json = false;
   bool timing = false;
-  bool paths = false;
+  bool paths = false;  // kept so that older scripts still run: the trajectories are always in the JSON
+  bool no_certify = false;
   std::string figure;
 };
 
@@ -34,6 +35,7 @@ int run(const SimulateOptions& options) {
   sim::CellOptions cell_options;
   cell_options.seed = options.seed;
   cell_options.keep_trees = !options.figure.empty();
+  cell_options.certify = !options.no_certify;
   const bool all = std::find(options.strategies.begin(), options.strategies.end(), "all") != options.strategies.end();
   if (!all) {
     for (const auto& s : options.strategies) sim::validate_strategy(s);
@@ -41,7 +43,8 @@ int run(const SimulateOptions& options) {
   }
   const sim::CellResult result = sim::simulate_cell(config, cell, cell_options);
   if (options.json) {
-    std::cout << sim::to_json(result, options.seed, {options.timing, options.paths}).dump(2) << "\n";
+    std::cout << sim::to_json(result, sim::Scene(config, result.input), options.seed, {options.timing}).dump(2)
+              << "\n";
   } else {
     std::cout << sim::to_text(result, config, options.seed);
   }
@@ -78,7 +81,9 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", o->seed, "Random seed of the planners")->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
   cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");
-  cmd->add_flag("--paths", o->paths, "Add the executed trajectories to the JSON");
+  cmd->add_flag("--paths", o->paths, "Kept for older scripts: the JSON always has every trajectory");
+  cmd->add_flag("--no-certify", o->no_certify,
+                "Search every cell in full, even where a certificate proves that nothing avoids (to check certificates)");
   cmd->add_option("--figure", o->figure, "Draw the trajectory trees to FILE.svg or FILE.png (gnuplot)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });
 }

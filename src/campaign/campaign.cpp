@@ -10,6 +10,7 @@
 #include "emrm/core/domain.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
+#include "emrm/sim/json.hpp"
 #include "emrm/version.hpp"
 
 namespace emrm::campaign {
@@ -363,6 +364,11 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
   r.unmitigated_p_mais3 = result.unmitigated.p_mais3;
   r.unmitigated_p_fatal = result.unmitigated.p_fatal;
   r.unmitigated_loss_level = result.unmitigated.loss_level;
+  if (result.feasible) r.evidence = std::string(sim::evidence_name(result.evidence));
+  r.mitigation_evidence = result.mitigation_evidence;
+  r.strengthened = result.strengthened;
+  r.p_mais3_reduction = result.p_mais3_reduction;
+  r.p_fatal_reduction = result.p_fatal_reduction;
   for (const auto& o : result.strategies) {
     OutcomeRecord out;
     out.strategy = o.strategy;
@@ -382,6 +388,8 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
     out.loss_evaluation_trace = o.loss_evaluation_trace;
     out.chosen_strategy = o.chosen_strategy;
     out.adopted_from = o.adopted_from;
+    out.evidence = std::string(sim::evidence_name(o.evidence));
+    out.maneuver = sim::to_json(o.maneuver).dump();
     if (keep_trajectories) {
       // Enough of each tree to draw it: at most 400 edges of each kind, evenly chosen, 4 points each.
       constexpr std::size_t kEdges = 400;

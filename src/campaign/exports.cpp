@@ -33,11 +33,12 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   std::ofstream regions = open("regions.csv");
   std::ofstream cells = open("cells.csv");
   std::ofstream json = open("cells.json");
-  regions << core::csv_line(
-      {"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible", "region"});
+  regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible",
+                             "region", "evidence", "mitigation_evidence", "p_mais3_reduction",
+                             "p_fatal_reduction"});
   cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy",
                            "avoided", "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss",
-                           "min_ttc_s"});
+                           "min_ttc_s", "road_departure", "departure_speed_kph", "evidence"});
   json << "[";
   bool first = true;
   store.for_each_cell([&](const CellRecord& r) {
@@ -46,6 +47,10 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     core::Row region = factors;
     region.push_back(r.feasible ? "1" : "0");
     region.push_back(r.region);
+    region.push_back(r.evidence);
+    region.push_back(r.mitigation_evidence);
+    region.push_back(r.feasible ? number(r.p_mais3_reduction) : "");
+    region.push_back(r.feasible ? number(r.p_fatal_reduction) : "");
     regions << core::csv_line(region);
     nlohmann::ordered_json j{{"grid", r.grid},
                              {"index", r.index},
@@ -58,6 +63,11 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
                              {"feasible", r.feasible},
                              {"region", r.region}};
     if (r.feasible) {
+      j["evidence"] = r.evidence;
+      if (!r.mitigation_evidence.empty()) j["mitigation_evidence"] = r.mitigation_evidence;
+      j["strengthened"] = r.strengthened;
+      if (!r.certificate.empty()) j["certificate"] = nlohmann::ordered_json::parse(r.certificate);
+      j["harm_reduction"] = {{"p_mais3", r.p_mais3_reduction}, {"p_fatal", r.p_fatal_reduction}};
       j["unmitigated"] = {{"impact_speed_kph", r.unmitigated_impact_speed_kph},
                           {"delta_v_kph", r.unmitigated_delta_v_kph},
                           {"p_mais3", r.unmitigated_p_mais3},
@@ -68,12 +78,15 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
         core::Row row = factors;
         row.insert(row.end(),
                    {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
-                    std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s)});
+                    std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
+                    o.road_departure ? "1" : "0", number(o.road_departure ? o.impact_speed_kph : 0.0), o.evidence});
         cells << core::csv_line(row);
         outcomes.push_back({{"strategy", o.strategy},
                             {"avoided", o.avoided},
                             {"contact", o.contact},
                             {"road_departure", o.road_departure},
+                            {"departure_speed_kph", o.road_departure ? o.impact_speed_kph : 0.0},
+                            {"evidence", o.evidence},
                             {"impact_speed_kph", o.impact_speed_kph},
                             {"delta_v_kph", o.delta_v_kph},
                             {"p_mais3", o.p_mais3},

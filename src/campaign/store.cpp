@@ -30,6 +30,8 @@ CREATE TABLE cells(
   truck_speed_kph REAL NOT NULL, seed TEXT NOT NULL, feasible INTEGER NOT NULL, region TEXT NOT NULL,
   unmitigated_impact_speed_kph REAL NOT NULL, unmitigated_delta_v_kph REAL NOT NULL,
   unmitigated_p_mais3 REAL NOT NULL, unmitigated_p_fatal REAL NOT NULL, unmitigated_loss_level INTEGER NOT NULL,
+  evidence TEXT NOT NULL, mitigation_evidence TEXT NOT NULL, strengthened INTEGER NOT NULL, certificate TEXT NOT NULL,
+  p_mais3_reduction REAL NOT NULL, p_fatal_reduction REAL NOT NULL,
   PRIMARY KEY(grid, cell_index)) WITHOUT ROWID;
 CREATE TABLE outcomes(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL, strategy TEXT NOT NULL,
@@ -38,7 +40,7 @@ CREATE TABLE outcomes(
   loss_level INTEGER NOT NULL, delta_loss INTEGER NOT NULL, min_ttc_s REAL,
   planner_nodes INTEGER NOT NULL, planner_rollouts INTEGER NOT NULL,
   fsm_trace TEXT NOT NULL, loss_evaluation_trace TEXT NOT NULL, chosen_strategy TEXT NOT NULL,
-  adopted_from TEXT NOT NULL,
+  adopted_from TEXT NOT NULL, evidence TEXT NOT NULL, maneuver TEXT NOT NULL,
   PRIMARY KEY(grid, cell_index, position)) WITHOUT ROWID;
 CREATE TABLE trajectories(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL,
@@ -330,8 +332,8 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
   if (batch.empty()) return;
   exec(db_, path_, "BEGIN IMMEDIATE");
   try {
-    Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    Statement outcome(db_, path_, "INSERT INTO outcomes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    Statement outcome(db_, path_, "INSERT INTO outcomes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     Statement trajectory(db_, path_, "INSERT INTO trajectories VALUES(?,?,?,?,?,?)");
     for (const auto& r : batch) {
       cell.reset();
@@ -350,6 +352,12 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
       cell.bind(13, r.unmitigated_p_mais3);
       cell.bind(14, r.unmitigated_p_fatal);
       cell.bind(15, r.unmitigated_loss_level);
+      cell.bind(16, r.evidence);
+      cell.bind(17, r.mitigation_evidence);
+      cell.bind(18, r.strengthened);
+      cell.bind(19, r.certificate);
+      cell.bind(20, r.p_mais3_reduction);
+      cell.bind(21, r.p_fatal_reduction);
       cell.step();
       for (std::size_t i = 0; i < r.outcomes.size(); ++i) {
         const auto& o = r.outcomes[i];
@@ -377,6 +385,8 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
         outcome.bind(18, core::join(o.loss_evaluation_trace, " "));
         outcome.bind(19, o.chosen_strategy);
         outcome.bind(20, o.adopted_from);
+        outcome.bind(21, o.evidence);
+        outcome.bind(22, o.maneuver);
         outcome.step();
         if (o.path.empty() && o.goal_tree.empty() && o.failsafe_tree.empty()) continue;
         trajectory.reset();
@@ -438,6 +448,12 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
     r.unmitigated_p_mais3 = cells.real(12);
     r.unmitigated_p_fatal = cells.real(13);
     r.unmitigated_loss_level = cells.integer(14);
+    r.evidence = cells.text(15);
+    r.mitigation_evidence = cells.text(16);
+    r.strengthened = cells.integer(17) != 0;
+    r.certificate = cells.text(18);
+    r.p_mais3_reduction = cells.real(19);
+    r.p_fatal_reduction = cells.real(20);
     r.outcomes.clear();
     // Both queries run in the same order, so a cell's outcomes are the next rows that name it.
     while (have_outcome && outcomes.text(0) == r.grid && outcomes.int64(1) == r.index) {
@@ -459,6 +475,8 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
       o.loss_evaluation_trace = split_words(outcomes.text(17));
       o.chosen_strategy = outcomes.text(18);
       o.adopted_from = outcomes.text(19);
+      o.evidence = outcomes.text(20);
+      o.maneuver = outcomes.text(21);
       if (const auto it = trajectories.find({r.grid, r.index, outcomes.int64(2)}); it != trajectories.end()) {
         o.path = decode_line(it->second[0]);
         o.goal_tree = decode_lines(it->second[1]);

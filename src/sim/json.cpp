@@ -1,5 +1,11 @@
 #include "emrm/sim/json.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "emrm/core/error.hpp"
+
 namespace emrm::sim {
 namespace {
 
@@ -13,9 +19,112 @@ nlohmann::json impact_json(const ImpactAssessment& a) {
           {"loss_level", a.loss_level}};
 }
 
+nlohmann::json control_json(const Control& u) {
+  return {{"steer_rate_radps", u.steer_rate_radps}, {"brake", u.brake}, {"rear_lock", u.rear_lock}};
+}
+
+nlohmann::json point_json(const std::optional<core::Vec2>& p) {
+  return p ? nlohmann::json::array({p->x, p->y}) : nlohmann::json(nullptr);
+}
+
+// Readers that name what is wrong and where.
+const nlohmann::json& member(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key))
+    throw InputError(SourceLocation{}, fmt::format("{}: expected an object with '{}'", where, key));
+  return j.at(key);
+}
+
+double number(const nlohmann::json& j, const char* key, const std::string& where) {
+  const auto& v = member(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw InputError(SourceLocation{}, fmt::format("{}: '{}' must be a finite number", where, key));
+  return v.get<double>();
+}
+
+bool boolean(const nlohmann::json& j, const char* key, const std::string& where) {
+  const auto& v = member(j, key, where);
+  if (!v.is_boolean()) throw InputError(SourceLocation{}, fmt::format("{}: '{}' must be true or false", where, key));
+  return v.get<bool>();
+}
+
+Control control_from(const nlohmann::json& j, const std::string& where) {
+  return {number(j, "steer_rate_radps", where), number(j, "brake", where), boolean(j, "rear_lock", where)};
+}
+
+std::optional<core::Vec2> point_from(const nlohmann::json& j, const char* key, const std::string& where) {
+  const auto& v = member(j, key, where);
+  if (v.is_null()) return std::nullopt;
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() ||
+      !std::isfinite(v[0].get<double>()) || !std::isfinite(v[1].get<double>()))
+    throw InputError(SourceLocation{}, fmt::format("{}: '{}' must be null or [x, y] in metres", where, key));
+  return core::Vec2{v[0].get<double>(), v[1].get<double>()};
+}
+
+nlohmann::json trajectory_json(const std::vector<PathPoint>& path) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : path)
+    out.push_back({{"t", p.t_s}, {"x", p.state.x_m}, {"y", p.state.y_m}, {"psi", p.state.yaw_rad},
+                   {"v", p.state.speed_mps()}});
+  return out;
+}
+
+nlohmann::json truck_trajectory_json(const Scene& scene, const std::vector<PathPoint>& path) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : path) {
+    const TruckState truck = scene.truck_at(p.t_s);
+    out.push_back({{"t", p.t_s}, {"x", truck.box.center.x}, {"y", truck.box.center.y}, {"psi", truck.box.heading_rad}});
+  }
+  return out;
+}
+
 }  // namespace
 
-nlohmann::json to_json(const CellResult& result, std::uint64_t seed, const JsonOptions& options) {
+nlohmann::json to_json(const Maneuver& maneuver) {
+  nlohmann::json plan = nlohmann::json::array();
+  for (const auto& s : maneuver.plan)
+    plan.push_back({{"control", control_json(s.control)},
+                    {"duration_s", s.duration_s},
+                    {"pursue", point_json(s.pursue)},
+                    {"friction_circle_brake", s.friction_circle_brake},
+                    {"pursuit_grip", s.pursuit_grip}});
+  nlohmann::json tail(nullptr);
+  if (maneuver.tail)
+    tail = {{"control", control_json(maneuver.tail->control)},
+            {"straighten", maneuver.tail->straighten},
+            {"friction_circle_brake", maneuver.tail->friction_circle_brake},
+            {"pursue", point_json(maneuver.tail->pursue)}};
+  return {{"plan", std::move(plan)}, {"tail", std::move(tail)}};
+}
+
+Maneuver maneuver_from_json(const nlohmann::json& j, const std::string& where) {
+  Maneuver m;
+  const auto& plan = member(j, "plan", where);
+  if (!plan.is_array()) throw InputError(SourceLocation{}, fmt::format("{}: 'plan' must be an array of segments", where));
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    const std::string at = fmt::format("{}: plan[{}]", where, i);
+    ControlSegment s;
+    s.control = control_from(member(plan[i], "control", at), at + ".control");
+    s.duration_s = number(plan[i], "duration_s", at);
+    if (s.duration_s < 0.0) throw InputError(SourceLocation{}, fmt::format("{}: 'duration_s' must be >= 0", at));
+    s.pursue = point_from(plan[i], "pursue", at);
+    s.friction_circle_brake = boolean(plan[i], "friction_circle_brake", at);
+    s.pursuit_grip = number(plan[i], "pursuit_grip", at);
+    m.plan.push_back(s);
+  }
+  const auto& tail = member(j, "tail", where);
+  if (!tail.is_null()) {
+    const std::string at = where + ": tail";
+    Tail t;
+    t.control = control_from(member(tail, "control", at), at + ".control");
+    t.straighten = boolean(tail, "straighten", at);
+    t.friction_circle_brake = boolean(tail, "friction_circle_brake", at);
+    t.pursue = point_from(tail, "pursue", at);
+    m.tail = t;
+  }
+  return m;
+}
+
+nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed, const JsonOptions& options) {
   nlohmann::json j;
   j["input"] = {{"speed_kph", result.input.speed_kph},
                 {"ttc_s", result.input.ttc_s},
@@ -25,6 +134,12 @@ nlohmann::json to_json(const CellResult& result, std::uint64_t seed, const JsonO
                 {"seed", seed}};
   j["feasible"] = result.feasible;
   j["region"] = std::string(region_name(result.region));
+  if (result.feasible) {
+    j["evidence"] = std::string(evidence_name(result.evidence));
+    if (!result.mitigation_evidence.empty()) j["mitigation_evidence"] = result.mitigation_evidence;
+    j["strengthened"] = result.strengthened;
+    j["harm_reduction"] = {{"p_mais3", result.p_mais3_reduction}, {"p_fatal", result.p_fatal_reduction}};
+  }
   j["unmitigated"] = impact_json(result.unmitigated);
   nlohmann::json strategies = nlohmann::json::object();
   for (const auto& o : result.strategies) {
@@ -32,6 +147,8 @@ nlohmann::json to_json(const CellResult& result, std::uint64_t seed, const JsonO
     s["avoided"] = o.avoided;
     s["contact"] = o.contact;
     s["road_departure"] = o.road_departure;
+    s["departure_speed_kph"] = o.road_departure ? o.impact.impact_speed_mps * kKphPerMps : 0.0;
+    s["evidence"] = std::string(evidence_name(o.evidence));
     s["delta_loss"] = o.delta_loss;
     s["min_ttc_s"] = o.min_ttc_s;
     s["fsm_trace"] = o.fsm_trace;
@@ -43,12 +160,9 @@ nlohmann::json to_json(const CellResult& result, std::uint64_t seed, const JsonO
       s["planner"]["time_ms"] = o.planner.time_ms;
       s["planner"]["time_limited"] = o.planner.time_limited;
     }
-    if (options.paths) {
-      nlohmann::json path = nlohmann::json::array();
-      for (const auto& p : o.path)
-        path.push_back({p.t_s, p.state.x_m, p.state.y_m, p.state.yaw_rad, p.state.speed_mps()});
-      s["path"] = {{"columns", {"t_s", "x_m", "y_m", "yaw_rad", "speed_mps"}}, {"points", std::move(path)}};
-    }
+    s["trajectory"] = trajectory_json(o.path);
+    s["truck_trajectory"] = truck_trajectory_json(scene, o.path);
+    s["maneuver"] = to_json(o.maneuver);
     strategies[o.strategy] = std::move(s);
   }
   j["strategies"] = std::move(strategies);

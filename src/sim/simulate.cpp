@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <optional>
+#include <utility>
 
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
@@ -24,6 +26,15 @@ std::string_view region_name(Region r) noexcept {
     case Region::kO: return "O";
     case Region::kR: return "R";
     case Region::kInfeasible: return "infeasible";
+  }
+  return "?";
+}
+
+std::string_view evidence_name(Evidence e) noexcept {
+  switch (e) {
+    case Evidence::kWitness: return "witness";
+    case Evidence::kCertificate: return "certificate";
+    case Evidence::kUndecided: return "undecided";
   }
   return "?";
 }
@@ -92,6 +103,50 @@ void share_avoidance(const StrategyTable& strategies, const StrategyInfo& finder
   }
 }
 
+// The searching strategy whose limits admit every other searching strategy's avoidance (the
+// shipped drift to avoid): an avoidance it finds is the region's answer, so the strengthened search
+// runs on its behalf. Nullptr when no strategy is that permissive.
+const StrategyInfo* most_permissive_search(const StrategyTable& strategies) {
+  for (const auto& candidate : strategies.entries()) {
+    const StrategyInfo& c = candidate.info;
+    if (c.role != StrategyRole::kEvasive || c.planner.empty() || c.limits.accept_contact) continue;
+    bool admits_all = true;
+    for (const auto& other : strategies.entries())
+      if (other.info.role == StrategyRole::kEvasive && !other.info.planner.empty())
+        admits_all = admits_all && avoidance_admissible(other.info.limits, c.limits);
+    if (admits_all) return &c;
+  }
+  return nullptr;
+}
+
+// More search where the first found no avoidance: restarts of the strategy's planner with seeds
+// that depend on the cell alone (not on the campaign's seed), then the reference planner. An
+// avoidance any of them finds is replayed into the strategy's outcome.
+std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const VehicleModel& model,
+                                                   const StrategyInfo& info, const ImpactAssessment& unmitigated,
+                                                   PlannerStats& stats) {
+  constexpr int kRestarts = 2;
+  const CellInput& c = scene.cell();
+  const std::uint64_t cell_key = derive_seed(
+      0x5eed5eed5eed5eedULL,
+      fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
+  std::vector<std::pair<const Planner*, std::uint64_t>> searches;
+  if (const Planner* own = find_planner(info.planner))
+    for (int k = 0; k < kRestarts; ++k) searches.emplace_back(own, derive_seed(cell_key, fmt::format("restart-{}", k)));
+  if (const Planner* reference = find_planner("reference"); reference != nullptr && info.planner != "reference")
+    searches.emplace_back(reference, 0);
+  for (const auto& [planner, seed] : searches) {
+    const PlanResult plan = planner->plan({scene, model, info.limits, seed, false});
+    stats.nodes += plan.stats.nodes;
+    stats.rollouts += plan.stats.rollouts;
+    stats.time_ms += plan.stats.time_ms;
+    stats.time_limited = stats.time_limited || plan.stats.time_limited;
+    if (plan.avoidance)
+      return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options) {
@@ -126,7 +181,12 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   };
 
   std::map<std::string, StrategyOutcome> outcomes;
-  for (const auto& entry : strategies.entries()) {
+  const auto any_avoided = [&] {
+    for (const auto& [name, o] : outcomes)
+      if (o.avoided) return true;
+    return false;
+  };
+  const auto run = [&](const RegisteredStrategy& entry) {
     const std::string& name = entry.info.name;
     const StrategyContext context{scene,    *model,  strategies, derive_seed(options.seed, name), options.keep_trees,
                                   result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm};
@@ -134,10 +194,48 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
     o.fsm_trace = trace_for(o.avoided);
     if (o.avoided && o.adopted_from.empty() && entry.info.role != StrategyRole::kChooser)
       share_avoidance(strategies, entry.info, o, outcomes, trace_for(true));
-    outcomes.emplace(name, std::move(o));
+    outcomes.insert_or_assign(name, std::move(o));
+  };
+  for (const auto& entry : strategies.entries())
+    if (entry.info.role != StrategyRole::kChooser) run(entry);
+
+  // A failed search is not a proof: strengthen it before the region rests on it.
+  const bool certified = false;
+  if (options.strengthen && at_risk && !certified && !any_avoided()) {
+    if (const StrategyInfo* permissive = most_permissive_search(strategies)) {
+      result.strengthened = true;
+      StrategyOutcome& current = outcomes.at(permissive->name);
+      if (auto found = strengthened_search(scene, *model, *permissive, result.unmitigated, current.planner)) {
+        found->planner = current.planner;
+        found->fsm_trace = trace_for(true);
+        share_avoidance(strategies, *permissive, *found, outcomes, trace_for(true));
+        current = std::move(*found);
+      }
+    }
   }
+  for (auto& [name, o] : outcomes) {
+    const StrategyInfo* info = strategies.info(name);
+    o.evidence = o.avoided || info == nullptr || info->planner.empty()
+                     ? Evidence::kWitness
+                     : (certified ? Evidence::kCertificate : Evidence::kUndecided);
+  }
+  for (const auto& entry : strategies.entries())
+    if (entry.info.role == StrategyRole::kChooser) run(entry);
 
   result.region = region_of(strategies, outcomes, result.unmitigated);
+  double best_p_mais3 = result.unmitigated.p_mais3;
+  double best_p_fatal = result.unmitigated.p_fatal;
+  for (const auto& [name, o] : outcomes) {
+    best_p_mais3 = std::min(best_p_mais3, o.impact.p_mais3);
+    best_p_fatal = std::min(best_p_fatal, o.impact.p_fatal);
+  }
+  result.p_mais3_reduction = result.unmitigated.p_mais3 - best_p_mais3;
+  result.p_fatal_reduction = result.unmitigated.p_fatal - best_p_fatal;
+  if (result.region == Region::kO || result.region == Region::kR) {
+    result.evidence = certified ? Evidence::kCertificate : Evidence::kUndecided;
+    result.mitigation_evidence =
+        result.region == Region::kO ? "witness" : (result.unmitigated.loss_level <= 4 ? "proof" : "search");
+  }
   result.strategies.reserve(options.strategies.size());
   for (const auto& name : options.strategies) result.strategies.push_back(outcomes.at(name));
   return result;

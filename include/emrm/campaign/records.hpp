@@ -32,6 +32,9 @@ struct OutcomeRecord {
   std::vector<std::string> loss_evaluation_trace;  ///< emrm only
   std::string chosen_strategy;                     ///< emrm only
   std::string adopted_from;
+  std::string evidence;  ///< witness, certificate or undecided (sim::Evidence)
+  /// The controls that drove it, as sim::to_json(Maneuver) text: replayed by `emrm verify`.
+  std::string maneuver;
   /// Kept only for grids with `keep_trees: true` (the trajectory figure): the executed path and
   /// the planner's goal and fail-safe trees (at most 400 edges of each, 4 points per edge; stored
   /// to 0.01).
@@ -57,6 +60,12 @@ struct CellRecord {
   double unmitigated_p_mais3 = 0.0;
   double unmitigated_p_fatal = 0.0;
   int unmitigated_loss_level = 0;
+  std::string evidence;             ///< of the region: witness, certificate or undecided
+  std::string mitigation_evidence;  ///< O and R: witness, proof or search (sim::CellResult)
+  bool strengthened = false;        ///< the searches were strengthened
+  std::string certificate;          ///< the unavoidability certificate as JSON text, when there is one
+  double p_mais3_reduction = 0.0;   ///< unmitigated P(MAIS3+) minus the best strategy's
+  double p_fatal_reduction = 0.0;   ///< the same for P(fatal)
   std::vector<OutcomeRecord> outcomes;  ///< in the campaign's strategy order
 };
 

@@ -18,7 +18,7 @@ struct sqlite3;
 namespace emrm::campaign {
 
 /// Version of the store's tables; a store of another version is refused.
-inline constexpr int kStoreSchemaVersion = 2;
+inline constexpr int kStoreSchemaVersion = 3;
 
 /// What a store says about the campaign that filled it.
 struct CampaignMeta {

@@ -10,10 +10,19 @@ namespace emrm::sim {
 
 struct JsonOptions {
   bool timing = false;  ///< add planner wall-clock times (they vary run to run; off keeps output reproducible)
-  bool paths = false;   ///< add the executed trajectory of every strategy
 };
 
-/// {"input":…, "feasible":…, "region":…, "unmitigated":…, "strategies":{name: …}}.
-[[nodiscard]] nlohmann::json to_json(const CellResult& result, std::uint64_t seed, const JsonOptions& options = {});
+/// {"input":…, "feasible":…, "region":…, "evidence":…, "unmitigated":…, "strategies":{name: …}}, each
+/// strategy with its trajectory at every integration step, the truck's at the same times and the
+/// maneuver that replays it.
+[[nodiscard]] nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed,
+                                     const JsonOptions& options = {});
+
+/// A maneuver as JSON: {"plan": [segment…], "tail": {…} or null}, every number to full precision so
+/// that a replay reproduces the run bit for bit.
+[[nodiscard]] nlohmann::json to_json(const Maneuver& maneuver);
+/// The maneuver back from that JSON. Throws InputError naming `where` and the key when a member is
+/// missing, of the wrong type or not finite.
+[[nodiscard]] Maneuver maneuver_from_json(const nlohmann::json& j, const std::string& where);
 
 }  // namespace emrm::sim

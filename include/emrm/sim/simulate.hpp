@@ -22,6 +22,12 @@ namespace emrm::sim {
 enum class Region { kG, kY, kO, kR, kInfeasible };
 [[nodiscard]] std::string_view region_name(Region r) noexcept;
 
+/// What backs a claim (docs/simulate.md, "Evidence"): an executed trajectory that can be replayed
+/// (an avoidance, or a fixed maneuver's own run), a proof that nothing avoids, or neither (a search
+/// that found no avoidance, without proof that none exists).
+enum class Evidence { kWitness, kCertificate, kUndecided };
+[[nodiscard]] std::string_view evidence_name(Evidence e) noexcept;
+
 struct StrategyOutcome {
   std::string strategy;
   bool avoided = false;
@@ -34,6 +40,7 @@ struct StrategyOutcome {
   std::vector<std::string> loss_evaluation_trace;  ///< emrm only
   std::string chosen_strategy;                     ///< emrm only
   std::string adopted_from;  ///< set when the outcome is another strategy's (see docs)
+  Evidence evidence = Evidence::kWitness;
   PlannerStats planner;
   /// The executed trajectory at every integration step, from t = 0 (the witness's trajectory).
   std::vector<PathPoint> path;
@@ -45,7 +52,20 @@ struct CellResult {
   CellInput input;
   bool feasible = false;
   Region region = Region::kInfeasible;
+  /// G and Y: a witness; O and R: a certificate of unavoidability, or undecided without one.
+  Evidence evidence = Evidence::kWitness;
+  /// O and R only: what backs the split. "witness": a found outcome below the reference's level
+  /// (O); "proof": the reference is already at the lowest contact level, L4 (R); "search": the
+  /// searches found nothing below the reference's level, which is not a proof that nothing is (R).
+  std::string mitigation_evidence;
+  /// The searches were strengthened (restarts with seeds independent of the cell's, the reference
+  /// planner) because the first found no avoidance and no certificate settles the cell.
+  bool strengthened = false;
   ImpactAssessment unmitigated;
+  /// Mitigation within a level: the unmitigated reference's P(MAIS3+) and P(fatal) minus the best
+  /// (lowest) of the strategies' (0 when there is no risk; the reference's own when one avoids).
+  double p_mais3_reduction = 0.0;
+  double p_fatal_reduction = 0.0;
   std::vector<StrategyOutcome> strategies;  ///< in the order asked for
 };
 
@@ -63,6 +83,12 @@ struct CellOptions {
   std::vector<std::string> strategies = strategy_names();
   std::uint64_t seed = 1;
   bool keep_trees = false;
+  /// When no search avoids and nothing proves the cell unavoidable, search again (docs/planner.md,
+  /// "A region that does not depend on the seed") before calling the cell undecided.
+  bool strengthen = true;
+  /// Try to prove the cell unavoidable first (certificate.hpp); a certified cell skips the
+  /// avoidance searches. Off: every search runs (for checking certificates).
+  bool certify = true;
   const fsm::Generator* emrm_fsm = nullptr;             ///< default_emrm_fsm() when null
   const fsm::Generator* loss_evaluation_fsm = nullptr;  ///< default_loss_evaluation_fsm() when null
 };

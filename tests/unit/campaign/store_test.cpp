@@ -63,6 +63,11 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   r.unmitigated_p_fatal = 1e-17;
   r.unmitigated_loss_level = 6;
   if (!feasible) return r;
+  r.evidence = "witness";
+  r.strengthened = true;
+  r.certificate = R"({"method":"test"})";
+  r.p_mais3_reduction = 0.123456789012345;
+  r.p_fatal_reduction = 1e-17;
   OutcomeRecord stop;
   stop.strategy = "emergency_stop";
   stop.contact = true;
@@ -74,6 +79,8 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   stop.delta_loss = 2;
   stop.min_ttc_s = 0.0;
   stop.fsm_trace = {"S1", "hazard_detected", "S2"};
+  stop.evidence = "witness";
+  stop.maneuver = R"({"plan":[],"tail":null})";
   OutcomeRecord emrm;
   emrm.strategy = "emrm";
   emrm.avoided = true;
@@ -86,6 +93,7 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   emrm.loss_evaluation_trace = {"L0", "evaluate", "L1"};
   emrm.chosen_strategy = "dodge";
   emrm.adopted_from = "dodge";
+  emrm.evidence = "witness";
   r.outcomes = {stop, emrm};
   return r;
 }
@@ -106,6 +114,12 @@ void expect_equal(const CellRecord& a, const CellRecord& b) {
   EXPECT_EQ(a.unmitigated_p_mais3, b.unmitigated_p_mais3);
   EXPECT_EQ(a.unmitigated_p_fatal, b.unmitigated_p_fatal);
   EXPECT_EQ(a.unmitigated_loss_level, b.unmitigated_loss_level);
+  EXPECT_EQ(a.evidence, b.evidence);
+  EXPECT_EQ(a.mitigation_evidence, b.mitigation_evidence);
+  EXPECT_EQ(a.strengthened, b.strengthened);
+  EXPECT_EQ(a.certificate, b.certificate);
+  EXPECT_EQ(a.p_mais3_reduction, b.p_mais3_reduction);
+  EXPECT_EQ(a.p_fatal_reduction, b.p_fatal_reduction);
   ASSERT_EQ(a.outcomes.size(), b.outcomes.size());
   for (std::size_t i = 0; i < a.outcomes.size(); ++i) {
     const auto& x = a.outcomes[i];
@@ -123,6 +137,8 @@ void expect_equal(const CellRecord& a, const CellRecord& b) {
     EXPECT_EQ(x.min_ttc_s, y.min_ttc_s);
     EXPECT_EQ(x.planner_nodes, y.planner_nodes);
     EXPECT_EQ(x.planner_rollouts, y.planner_rollouts);
+    EXPECT_EQ(x.evidence, y.evidence);
+    EXPECT_EQ(x.maneuver, y.maneuver);
     EXPECT_EQ(x.fsm_trace, y.fsm_trace);
     EXPECT_EQ(x.loss_evaluation_trace, y.loss_evaluation_trace);
     EXPECT_EQ(x.chosen_strategy, y.chosen_strategy);
@@ -204,15 +220,17 @@ TEST(WriteExports, WritesSortedRowsWithTheDocumentedColumns) {
   }
   write_exports(dir / "results.sqlite", dir);
   EXPECT_EQ(read_text(dir / "regions.csv"),
-            "grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,feasible,region\n"
-            "first,30,0.31,0.65,2.4,10,1,Y\n"
-            "first,30.1,0.31,0.65,2.4,10,0,infeasible\n"
-            "second,30,0.31,0.65,2.4,10,1,Y\n");
+            "grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,feasible,region,evidence,mitigation_evidence,"
+            "p_mais3_reduction,p_fatal_reduction\n"
+            "first,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17\n"
+            "first,30.1,0.31,0.65,2.4,10,0,infeasible,,,,\n"
+            "second,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17\n");
   const std::string cells = read_text(dir / "cells.csv");
   EXPECT_THAT(cells, HasSubstr("grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,strategy,avoided,"
-                               "impact_speed_kph,delta_v_kph,loss_level,delta_loss,min_ttc_s\n"
-                               "first,30,0.31,0.65,2.4,10,emergency_stop,0,6.66667,5.5,4,2,0\n"
-                               "first,30,0.31,0.65,2.4,10,emrm,1,0,0,0,6,inf\n"
+                               "impact_speed_kph,delta_v_kph,loss_level,delta_loss,min_ttc_s,road_departure,"
+                               "departure_speed_kph,evidence\n"
+                               "first,30,0.31,0.65,2.4,10,emergency_stop,0,6.66667,5.5,4,2,0,0,0,witness\n"
+                               "first,30,0.31,0.65,2.4,10,emrm,1,0,0,0,6,inf,1,0,witness\n"
                                "second,30,0.31,0.65,2.4,10,emergency_stop,0,"));
   EXPECT_TRUE(fs::exists(dir / "cells.json"));
 }

@@ -202,8 +202,10 @@ TEST(Determinism, SameSeedGivesIdenticalJsonAndOtherSeedsMayDiffer) {
   const CellInput cell{60.0, 0.6, 0.8, 3.0, 10.0};
   CellOptions options;
   options.seed = 7;
-  const auto a = to_json(simulate_cell(SceneConfig{}, cell, options), 7, {false, true}).dump();
-  const auto b = to_json(simulate_cell(SceneConfig{}, cell, options), 7, {false, true}).dump();
+  const SceneConfig config;
+  const Scene scene(config, cell);
+  const auto a = to_json(simulate_cell(config, cell, options), scene, 7).dump();
+  const auto b = to_json(simulate_cell(config, cell, options), scene, 7).dump();
   EXPECT_EQ(a, b);
 }
 
@@ -211,8 +213,10 @@ TEST(Determinism, AStrategyDoesNotDependOnWhichOthersWereAskedFor) {
   const CellInput cell{55.0, 0.55, 1.0, 3.0, 10.0};
   const auto all = simulate_cell(SceneConfig{}, cell, {});
   const auto one = simulate_cell(SceneConfig{}, cell, only({"drift_to_accident"}));
-  EXPECT_EQ(to_json(one, 1, {}).at("strategies").at("drift_to_accident"),
-            to_json(all, 1, {}).at("strategies").at("drift_to_accident"));
+  const SceneConfig config;
+  const Scene scene(config, cell);
+  EXPECT_EQ(to_json(one, scene, 1).at("strategies").at("drift_to_accident"),
+            to_json(all, scene, 1).at("strategies").at("drift_to_accident"));
 }
 
 TEST(Inputs, ASceneBuiltInCodeIsValidatedBeforeAnythingIsSimulated) {
