@@ -25,5 +25,7 @@ void register_plan_command(CLI::App& app, int& exit_code);
 void register_run_command(CLI::App& app, int& exit_code);
 /// `emrm report DIR`: figures and report.html from a results folder.
 void register_report_command(CLI::App& app, int& exit_code);
+/// `emrm verify DIR`: re-checks a results store without trusting it.
+void register_verify_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

@@ -1,0 +1,109 @@
+// End-to-end: `emrm verify` on a store written by `emrm sweep`, and on copies of it with one claim
+// changed: every changed claim is found (exit 1, named), a damaged maneuver is bad input (exit 2).
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// A green cell, cells where only an evasive strategy avoids, and one where nothing does.
+constexpr const char* kCampaign =
+    "seed: 5\n"
+    "grids:\n"
+    "  - name: g\n"
+    "    speed_kph: [40, 60]\n"
+    "    ttc_s: [0.45, 2.0]\n"
+    "  - name: r\n"
+    "    speed_kph: 70\n"
+    "    ttc_s: 0.25\n";
+
+bool have_sqlite_shell() { return std::system("command -v sqlite3 >/dev/null 2>&1") == 0; }
+
+// Copies the sweep's store and changes it with one SQL statement.
+fs::path tampered(const fs::path& from, const fs::path& dir, const std::string& sql) {
+  fs::create_directories(dir);
+  fs::copy_file(from / "results.sqlite", dir / "results.sqlite", fs::copy_options::overwrite_existing);
+  const std::string command = "sqlite3 " + quoted(dir / "results.sqlite") + " \"" + sql + "\"";
+  EXPECT_EQ(std::system(command.c_str()), 0) << sql;
+  return dir;
+}
+
+class VerifyCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(scratch_dir("verify"));
+    write_text(*dir_ / "campaign.yaml", kCampaign);
+    const auto r = run_emrm("sweep " + quoted(*dir_ / "campaign.yaml") + " -o " + quoted(*dir_ / "out"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path* dir_;
+};
+fs::path* VerifyCli::dir_ = nullptr;
+
+TEST_F(VerifyCli, AStoreFromASweepHoldsEveryClaim) {
+  const auto r = run_emrm("verify " + quoted(*dir_ / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("All claims hold."));
+  EXPECT_THAT(r.out, HasSubstr("| G |"));
+  const auto j = run_emrm("verify " + quoted(*dir_ / "out" / "results.sqlite") + " --json");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_THAT(j.out, HasSubstr("\"ok\": true"));
+}
+
+TEST_F(VerifyCli, AChangedRegionIsFound) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const auto dir = tampered(*dir_ / "out", *dir_ / "region",
+                            "UPDATE cells SET region = 'R', evidence = 'undecided' WHERE region = 'G'");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("region R stored, the outcomes give G"));
+}
+
+TEST_F(VerifyCli, AnAvoidanceClaimedWithoutOneIsFound) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const auto dir = tampered(*dir_ / "out", *dir_ / "claim",
+                            "UPDATE outcomes SET avoided = 1, contact = 0, loss_level = 0 WHERE grid = 'r' AND "
+                            "strategy = 'emergency_stop'");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("r#0 emergency_stop: replay does not avoid, unlike what is stored"));
+}
+
+TEST_F(VerifyCli, AWitnessThatDoesNotDriveTheClaimIsFound) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const auto dir = tampered(*dir_ / "out", *dir_ / "witness",
+                            "UPDATE outcomes SET maneuver = '{\\\"plan\\\":[],\\\"tail\\\":null}' WHERE avoided = 1");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("replay does not avoid"));
+}
+
+TEST_F(VerifyCli, ADamagedManeuverIsBadInputNamingTheCell) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const auto dir = tampered(*dir_ / "out", *dir_ / "damaged",
+                            "UPDATE outcomes SET maneuver = '{\\\"plan\\\": 3}' WHERE grid = 'r'");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr("cell r#0"));
+  EXPECT_THAT(r.err, HasSubstr("'plan' must be an array"));
+}
+
+TEST(VerifyCliInput, ANonStoreIsBadInput) {
+  const auto dir = scratch_dir("verify_none");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr("no results store here"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e
