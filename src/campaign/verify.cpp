@@ -11,6 +11,7 @@
 
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
@@ -303,6 +304,10 @@ nlohmann::ordered_json to_json(const VerifyReport& report) {
   for (const auto& f : report.failures)
     failures.push_back({{"grid", f.grid}, {"index", f.index}, {"strategy", f.strategy}, {"what", f.what}});
   return j;
+}
+
+void write_verify_report(const std::filesystem::path& dir, const VerifyReport& report) {
+  core::write_file(dir / "verify.json", to_json(report).dump(2) + "\n");
 }
 
 }  // namespace emrm::campaign

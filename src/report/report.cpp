@@ -236,15 +236,33 @@ std::string estimates_html(const fs::path& dir) {
 }
 
 std::string regions_html(const std::vector<campaign::CellRecord>& records) {
-  core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %"};
+  core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %", "O/R certified", "O/R undecided"};
   std::vector<core::Row> rows;
   for (const auto& g : campaign::grid_names(records)) {
     const auto c = campaign::count_regions(records, g);
+    std::size_t certified = 0;
+    std::size_t undecided = 0;
+    for (const auto& r : records)
+      if (r.grid == g && r.feasible) {
+        certified += r.evidence == "certificate";
+        undecided += r.evidence == "undecided";
+      }
     rows.push_back({g, std::to_string(c.cells), std::to_string(c.feasible), fmt::format("{:.1f}", c.pct(c.g)),
                     fmt::format("{:.1f}", c.pct(c.y)), fmt::format("{:.1f}", c.pct(c.o)),
-                    fmt::format("{:.1f}", c.pct(c.r))});
+                    fmt::format("{:.1f}", c.pct(c.r)), std::to_string(certified), std::to_string(undecided)});
   }
-  return html_table(header, rows);
+  return html_table(header, rows) +
+         "<p class=\"note\">G and Y cells are backed by a witness (the avoiding trajectory, replayable with "
+         "<code>emrm verify</code>); O and R cells by a certificate of unavoidability, or undecided when a search "
+         "found no avoidance and no proof exists (docs/verify.md).</p>\n";
+}
+
+std::string verification_html(const fs::path& dir) {
+  const std::string text = read_or_empty(dir / "verify.json");
+  if (text.empty())
+    return "<p>No verification in this folder (<code>emrm verify DIR</code> re-checks a store; <code>emrm "
+           "reproduce</code> keeps its result in verify.json).</p>\n";
+  return "<details open><summary>verify.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
 // The grid whose trajectories the trajectory figure shows: `canonical`, else the first with any.
@@ -438,6 +456,7 @@ ReportSummary write_report(const fs::path& dir) {
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
   html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
           "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
+          "<li><a href=\"#verification\">Verification</a></li>"
           "<li><a href=\"#diagnostics\">Diagnostics</a></li><li><a href=\"#findings\">Findings</a></li>"
           "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
   html += "<h2 id=\"regions\">Regions per grid</h2>\n" + regions_html(records);
@@ -451,6 +470,7 @@ ReportSummary write_report(const fs::path& dir) {
   html += "<h2 id=\"figures\">Figures</h2>\n";
   for (const auto& f : summary.figures) html += figure_html(f, dir);
   html += "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + estimates_html(dir);
+  html += "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir);
   html += "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir);
   html += "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
   html += "<h2 id=\"configuration\">Effective configuration</h2>\n";

@@ -53,5 +53,7 @@ struct VerifyReport {
 /// The report as text (counts per region and evidence, then every failure) and as JSON.
 [[nodiscard]] std::string to_text(const VerifyReport& report);
 [[nodiscard]] nlohmann::ordered_json to_json(const VerifyReport& report);
+/// Writes to_json(report) to DIR/verify.json (what `emrm reproduce` keeps and the report shows).
+void write_verify_report(const std::filesystem::path& dir, const VerifyReport& report);
 
 }  // namespace emrm::campaign
