@@ -183,6 +183,15 @@ std::string region_from(const sim::StrategyTable& table, const CellRecord& r) {
   return best < r.unmitigated_loss_level ? "O" : "R";
 }
 
+// An avoidance beats a failure; between failures the lower level, then the lower Δv (the order
+// sim::better_outcome uses).
+bool better(const OutcomeRecord& a, const OutcomeRecord& b) {
+  if (a.avoided != b.avoided) return a.avoided;
+  if (a.avoided) return false;
+  if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;
+  return a.delta_v_kph < b.delta_v_kph;
+}
+
 }  // namespace
 
 VerifyReport verify_results(const std::filesystem::path& results_sqlite, const VerifyOptions& options) {
@@ -219,6 +228,17 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       fail("", fmt::format("region {} with evidence '{}'", r.region, r.evidence));
     if (r.evidence == "undecided") ++report.undecided;
     if (r.evidence == "certificate") fail("", "certificates cannot be checked by this build");
+
+    // A chooser is never worse than an option it had.
+    for (const auto& chooser : r.outcomes) {
+      const sim::StrategyInfo* info = table.info(chooser.strategy);
+      if (info == nullptr || info->role != sim::StrategyRole::kChooser) continue;
+      for (const auto& option : r.outcomes) {
+        const sim::StrategyInfo* other = table.info(option.strategy);
+        if (other != nullptr && other->emrm_may_choose && better(option, chooser))
+          fail(chooser.strategy, fmt::format("worse than {}, which it may choose", option.strategy));
+      }
+    }
 
     for (const auto& o : r.outcomes) {
       const std::string& source = o.adopted_from.empty() ? o.strategy : o.adopted_from;
