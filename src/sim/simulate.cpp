@@ -125,14 +125,13 @@ const StrategyInfo* most_permissive_search(const StrategyTable& strategies) {
 std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const VehicleModel& model,
                                                    const StrategyInfo& info, const ImpactAssessment& unmitigated,
                                                    PlannerStats& stats) {
-  constexpr int kRestarts = 2;
   const CellInput& c = scene.cell();
   const std::uint64_t cell_key = derive_seed(
       0x5eed5eed5eed5eedULL,
       fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
   std::vector<std::pair<const Planner*, std::uint64_t>> searches;
   if (const Planner* own = find_planner(info.planner))
-    for (int k = 0; k < kRestarts; ++k) searches.emplace_back(own, derive_seed(cell_key, fmt::format("restart-{}", k)));
+    for (int k = 0; k < scene.config().planner.restarts; ++k) searches.emplace_back(own, derive_seed(cell_key, fmt::format("restart-{}", k)));
   if (const Planner* reference = find_planner("reference"); reference != nullptr && info.planner != "reference")
     searches.emplace_back(reference, 0);
   for (const auto& [planner, seed] : searches) {

@@ -133,6 +133,9 @@ struct PlannerConfig {
   double min_duration_s = 0.1;  ///< control intervals are sampled in [min, max]
   double max_duration_s = 0.4;
   double goal_bias = 0.3;       ///< probability of extending towards the passage
+  /// Restarts of the strengthened search, each with the full budget and a seed from the cell alone
+  /// (docs/planner.md, "A region that does not depend on the seed").
+  int restarts = 6;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, max_nodes, core::at_least(1, "node"));
@@ -142,6 +145,7 @@ struct PlannerConfig {
     a.ensure(!(min_duration_s > max_duration_s), "min_duration_s",
              "expected min_duration_s <= max_duration_s ({} s), got {} s", max_duration_s, min_duration_s);
     EMRM_FIELD(a, goal_bias, core::within(0.0, 1.0));
+    EMRM_FIELD(a, restarts, core::non_negative);
   }
 };
 
