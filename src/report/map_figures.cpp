@@ -270,6 +270,23 @@ std::string map_script(const MapLayout& layout, std::string_view title, const st
 
 constexpr int kMapWidthPx = 1400, kMapHeightPx = 1000, kMapFontPt = 13;
 
+bool is_o_or_r(const CellRecord& c) { return c.feasible && (c.region == "O" || c.region == "R"); }
+bool is_undecided(const CellRecord& c) { return is_o_or_r(c) && c.evidence == "undecided"; }
+
+constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
+constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
+
+/// The cross over an undecided cell, sized by the cell on the page (a panel's plot area is roughly
+/// 80 % of its width and 70 % of its height): readable on the fine grid's flat cells, and not
+/// filling a coarse grid's cell.
+std::string cross_style(const MapLayout& layout, const MapPanel& p) {
+  const double cell_w_px = 0.5 * kMapWidthPx * 0.8 / static_cast<double>(p.xs.size());
+  const double cell_h_px = layout.cell_h * kMapHeightPx * 0.7 / static_cast<double>(p.ys.size());
+  constexpr double kPointPx = 9.0;  // about the size of a cross at point size 1 at this size and font
+  const double size = std::clamp(0.6 * std::sqrt(cell_w_px * cell_h_px) / kPointPx, 0.5, 1.5);
+  return fmt::format("pt 2 ps {:.2f} lw 1.5 lc rgb 'black'", size);
+}
+
 }  // namespace
 
 // --- the mitigability map -----------------------------------------------------------------------
@@ -279,7 +296,17 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   Figure figure;
   figure.name = "mitigability_map";
   figure.title = "Mitigability regions";  // replaced by the full caption once drawn
-  const MapLayout layout = lay_out_map(records, panels, 0.06);
+  // Undecided O/R cells (a search found no avoidance, nothing proves there is none) carry a cross
+  // over their region colour: their region is a search's verdict, not a proof.
+  std::size_t undecided = 0, certified = 0, unproven = 0;
+  for (const std::string& grid : {panels.coarse, panels.fine, panels.speed_mu, panels.ttc_mu})
+    for (const auto& c : records) {
+      if (c.grid != grid || !is_o_or_r(c)) continue;
+      undecided += is_undecided(c);
+      certified += c.evidence == "certificate";
+      unproven += c.evidence != "undecided" && c.evidence != "certificate";
+    }
+  const MapLayout layout = lay_out_map(records, panels, undecided == 0 ? 0.06 : 0.1);  // a third key row
   if (layout.panels.empty()) {
     figure.note = no_map_note("mitigability map", panels);
     return figure;
@@ -290,41 +317,64 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   std::string data, panel_plots;
   for (const MapPanel& p : layout.panels) {
     const auto regions = campaign::count_regions(records, p.spec.grid);  // throws on a corrupt region
-    std::vector<std::string> lines;
+    std::vector<std::string> lines, crosses;
     for (const auto& c : p.cells) {
       core::Row row = cell_columns(p, c);
+      row.push_back(c.feasible ? c.evidence : std::string());
       lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(row[6]))));
+      if (is_undecided(c))
+        crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
       rows.push_back(std::move(row));
     }
     const std::string block = fmt::format("map_{}", p.spec.letter);
     data += datablock(block, lines);
+    std::vector<std::string> layers{boxes(block, "rgb variable")};
+    if (!crosses.empty()) {
+      const std::string cross_block = fmt::format("undecided_{}", p.spec.letter);
+      data += datablock(cross_block, crosses);
+      layers.push_back(fmt::format("${} using 1:2 with points {} notitle", cross_block, cross_style(layout, p)));
+    }
 
     const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
-    const std::string shares =
+    std::string shares =
         regions.feasible == 0
             ? std::string("no feasible cell")
             : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
                           share(regions.o), share(regions.r), regions.feasible);
+    if (!crosses.empty()) shares += fmt::format(", {} undecided", crosses.size());
     caption_parts.push_back(panel_caption(p, shares));
-    panel_plots += panel_script(layout, p, shares, {boxes(block, "rgb variable")}, latency_s);
+    panel_plots += panel_script(layout, p, shares, layers, latency_s);
   }
 
   figure.note = core::join(layout.missing, "; ");
+  std::string evidence;
+  if (undecided > 0)
+    evidence = fmt::format(" A cross marks the {} undecided O/R cells: a search found no avoidance, but nothing "
+                           "proves that none exists.",
+                           undecided);
+  if (certified > 0)
+    evidence += unproven == 0 ? fmt::format(" {} O/R cells ({}) are certified unavoidable.",
+                                            undecided == 0 ? "All" : "The unmarked", certified)
+                              : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.",
+                                            certified, unproven);
   figure.title = fmt::format(
       "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
       "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
-      "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.",
-      layout.total_cells, core::join(caption_parts, "; "), boundary_text(latency_s), plot_number(sim::kGravity_mps2));
-  write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}, rows);
+      "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
+      layout.total_cells, core::join(caption_parts, "; "), boundary_text(latency_s), plot_number(sim::kGravity_mps2),
+      evidence);
+  write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
 
   std::vector<std::string> key;
   for (const auto& s : kRegions)
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
   key.push_back(boundary_key_entry(latency_s));
+  if (undecided > 0)
+    key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
   const std::string body =
-      map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells), panel_plots, key, 2, -6,
-                 layout.key_h);
+      map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells), panel_plots, key,
+                 undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }

@@ -32,9 +32,12 @@ struct MapPanels {
 
 /// (1) The four-panel mitigability map: each cell a rectangle in its region's colour (G green,
 /// Y yellow, O orange, R red, infeasible grey), the analytic stop boundary TTC = v/(2μg) dashed
-/// (with the latency added when it is not 0). Panels whose grid is missing are left out (and said
-/// in `note`); with no panel at all, no files are written and `note` says why. CSV columns: panel,
-/// grid, speed_kph, ttc_s, mu, passage_m, region.
+/// (with the latency added when it is not 0). An undecided O/R cell (no avoidance found, none
+/// proven impossible) carries a black cross and the key an entry for it; certified cells are
+/// unmarked, and a map without undecided cells looks as if no cell had evidence. Panels whose grid
+/// is missing are left out (and said in `note`); with no panel at all, no files are written and
+/// `note` says why. CSV columns: panel, grid, speed_kph, ttc_s, mu, passage_m, region, evidence
+/// (witness, certificate, undecided; empty for an infeasible cell).
 Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
                              const MapPanels& panels = {}, double latency_s = 0.0);
 

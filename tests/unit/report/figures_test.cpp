@@ -1,5 +1,6 @@
 #include "emrm/report/figures.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -59,6 +60,8 @@ CellRecord synthetic_cell(const std::string& grid, std::int64_t index, double sp
   const bool stoppable = campaign::analytically_stoppable(speed, ttc, mu);
   const bool steerable = ttc >= 0.6 && mu >= 0.3;
   c.region = stoppable ? "G" : steerable ? "Y" : speed < 45.0 ? "O" : "R";
+  // Every seventh O/R cell rests on a failed search only; the others on a certificate.
+  c.evidence = c.region == "G" || c.region == "Y" ? "witness" : index % 7 == 0 ? "undecided" : "certificate";
   c.unmitigated_loss_level = speed > 50.0 ? 7 : 6;
   c.unmitigated_impact_speed_kph = speed;
   const int u = c.unmitigated_loss_level;
@@ -199,7 +202,8 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
   EXPECT_TRUE(f.note.empty()) << f.note;
 
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}));
+  ASSERT_EQ(csv.front(),
+            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}));
   ASSERT_EQ(csv.size(), 1 + 30 + 1978 + 430 + 260);
   std::size_t line = 1;
   for (const auto& [panel, grid] : {std::pair{"a", "coarse"}, {"b", "fine"}, {"c", "speed_mu"}, {"d", "ttc_mu"}}) {
@@ -212,6 +216,7 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
       EXPECT_NEAR(num(row[4]), cell.mu, 1e-6);
       EXPECT_NEAR(num(row[5]), cell.passage_m, 1e-6);
       EXPECT_EQ(row[6], cell.region) << grid << " cell " << cell.index;
+      EXPECT_EQ(row[7], cell.feasible ? cell.evidence : "") << grid << " cell " << cell.index;
     }
   }
   // The caption states the region shares of each panel, as count_regions gives them.
@@ -247,6 +252,69 @@ TEST_F(FigureMap, SameRecordsGiveTheSameCsvBytes) {
   const auto b = draw_mitigability_map(campaign_records(), out() / "b");
   EXPECT_EQ(core::read_file(a.csv), core::read_file(b.csv));
   EXPECT_EQ(a.title, b.title);
+}
+
+// Where a cell's region rests on a failed search (undecided), the map says so with a cross; a
+// certificate needs no mark. In gnuplot's SVG each cross is one <use> of the cross symbol (pt 2,
+// '#gpPt1'), and the key's sample is one more.
+std::size_t crosses_in(const fs::path& svg) {
+  const std::string text = core::read_file(svg);
+  std::size_t n = 0;
+  for (auto at = text.find("<use xlink:href='#gpPt1'"); at != std::string::npos;
+       at = text.find("<use xlink:href='#gpPt1'", at + 1))
+    ++n;
+  return n;
+}
+
+std::size_t count_evidence(const std::vector<CellRecord>& records, const std::string& evidence) {
+  return static_cast<std::size_t>(std::count_if(records.begin(), records.end(), [&](const CellRecord& c) {
+    return c.feasible && (c.region == "O" || c.region == "R") && c.evidence == evidence;
+  }));
+}
+
+TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
+  const auto& records = campaign_records();
+  const std::size_t undecided = count_evidence(records, "undecided");
+  const std::size_t certified = count_evidence(records, "certificate");
+  ASSERT_GT(undecided, 10u);  // the synthetic campaign has some of each
+  ASSERT_GT(certified, 10u);
+  const auto f = draw_mitigability_map(records, out());
+  expect_drawn(f, out(), "mitigability_map");
+
+  // The CSV has every cell's evidence; the undecided rows are exactly the crosses.
+  const auto csv = csv_of(f.csv);
+  EXPECT_EQ(static_cast<std::size_t>(std::count_if(csv.begin(), csv.end(),
+                                                   [](const core::Row& r) { return r[7] == "undecided"; })),
+            undecided);
+  EXPECT_EQ(crosses_in(f.svg), undecided + 1);
+  const std::string svg = core::read_file(f.svg);
+  EXPECT_NE(svg.find("undecided (no avoidance found,"), std::string::npos);
+  EXPECT_NE(svg.find("none proven impossible)"), std::string::npos);
+  EXPECT_NE(svg.find("36 undecided"), std::string::npos);  // panel (b)'s subtitle
+  // The caption counts them and says what an unmarked O/R cell is.
+  EXPECT_NE(f.title.find(fmt::format("A cross marks the {} undecided O/R cells", undecided)), std::string::npos)
+      << f.title;
+  EXPECT_NE(f.title.find(fmt::format("The unmarked O/R cells ({}) are certified unavoidable", certified)),
+            std::string::npos)
+      << f.title;
+}
+
+TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
+  std::vector<CellRecord> certified = campaign_records(), unknown = campaign_records();
+  for (auto& c : certified)
+    if (c.evidence == "undecided") c.evidence = "certificate";
+  for (auto& c : unknown) c.evidence.clear();
+  const auto a = draw_mitigability_map(certified, out() / "certified");
+  const auto b = draw_mitigability_map(unknown, out() / "unknown");
+  EXPECT_EQ(crosses_in(a.svg), 0u);
+  EXPECT_EQ(core::read_file(a.svg).find("undecided"), std::string::npos);
+  // Nothing on the picture depends on the evidence then; only the CSV and the caption tell it.
+  EXPECT_EQ(core::read_file(a.svg), core::read_file(b.svg));
+  EXPECT_NE(a.title.find(fmt::format("All O/R cells ({}) are certified unavoidable",
+                                     count_evidence(certified, "certificate"))),
+            std::string::npos)
+      << a.title;
+  EXPECT_EQ(b.title.find("certified"), std::string::npos) << b.title;
 }
 
 TEST_F(FigureEmpty, MapWithoutAnyOfItsGridsWritesNothing) {
