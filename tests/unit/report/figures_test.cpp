@@ -64,6 +64,13 @@ CellRecord synthetic_cell(const std::string& grid, std::int64_t index, double sp
   c.evidence = c.region == "G" || c.region == "Y" ? "witness" : index % 7 == 0 ? "undecided" : "certificate";
   c.unmitigated_loss_level = speed > 50.0 ? 7 : 6;
   c.unmitigated_impact_speed_kph = speed;
+  // Harm reduction: an avoidance removes the whole risk, a mitigation part of it, and half the R
+  // cells lower the risk inside their loss level.
+  c.unmitigated_p_mais3 = std::min(0.95, std::pow(speed / 80.0, 3.0));
+  c.unmitigated_p_fatal = 0.3 * c.unmitigated_p_mais3;
+  const double kept = c.region == "O" ? 0.4 : c.region == "R" ? (index % 2 == 0 ? 0.75 : 1.0) : 0.0;
+  c.p_mais3_reduction = (1.0 - kept) * c.unmitigated_p_mais3;
+  c.p_fatal_reduction = (1.0 - kept) * c.unmitigated_p_fatal;
   const int u = c.unmitigated_loss_level;
   const int lowered = c.region == "O" ? u - 2 : u;
   c.outcomes = {
@@ -323,6 +330,89 @@ TEST_F(FigureEmpty, MapWithoutAnyOfItsGridsWritesNothing) {
   EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
 }
 
+// --- the harm-reduction map -------------------------------------------------------------------
+
+using FigureHarmMap = FigureTest;
+
+TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
+  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  expect_drawn(f, out(), "harm_reduction_map");
+  EXPECT_TRUE(f.note.empty()) << f.note;
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region",
+                                    "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal",
+                                    "p_fatal_reduction"}));
+  // The same cells in the same order as the mitigability map: one layout for both.
+  const auto map = csv_of(draw_mitigability_map(campaign_records(), out() / "map").csv);
+  ASSERT_EQ(csv.size(), map.size());
+  std::size_t line = 1;
+  for (const char* grid : {"coarse", "fine", "speed_mu", "ttc_mu"})
+    for (const auto& cell : campaign::records_of_grid(campaign_records(), grid)) {
+      const auto& row = csv[line];
+      ASSERT_EQ(core::Row(row.begin(), row.begin() + 7), core::Row(map[line].begin(), map[line].begin() + 7));
+      ++line;
+      if (!cell.feasible) {
+        EXPECT_EQ(core::Row(row.begin() + 7, row.end()), core::Row(4, "")) << grid << " cell " << cell.index;
+        continue;
+      }
+      EXPECT_NEAR(num(row[7]), cell.unmitigated_p_mais3, 1e-9);
+      EXPECT_NEAR(num(row[8]), cell.p_mais3_reduction, 1e-9);
+      EXPECT_NEAR(num(row[9]), cell.unmitigated_p_fatal, 1e-9);
+      EXPECT_NEAR(num(row[10]), cell.p_fatal_reduction, 1e-9);
+      // Avoided cells count their whole unmitigated risk.
+      if (cell.region == "G" || cell.region == "Y") {
+        EXPECT_EQ(row[8], row[7]) << grid << " cell " << cell.index;
+      }
+    }
+  EXPECT_NE(f.title.find("(b) Speed × TTC, fine grid"), std::string::npos) << f.title;
+}
+
+TEST_F(FigureHarmMap, FeasibleCellsOnTheColourScaleInfeasibleOnesGrey) {
+  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  const auto csv = csv_of(f.csv);
+  double largest = 0.0;
+  for (std::size_t i = 1; i < csv.size(); ++i)
+    if (!csv[i][8].empty()) largest = std::max(largest, num(csv[i][8]));
+  // The scale runs from 0 to the largest reduction, and the caption says so.
+  EXPECT_NE(f.title.find(fmt::format("(0 to {:.3f})", largest)), std::string::npos) << f.title;
+  const std::string svg = core::read_file(f.svg);
+  EXPECT_NE(svg.find("reduction of P(MAIS3+) by the best strategy"), std::string::npos);
+  EXPECT_NE(svg.find("<title>infeasible</title>"), std::string::npos);
+  // Per panel, the feasible cells are one series and the infeasible ones another: panel (b) of
+  // the synthetic campaign has both.
+  EXPECT_NE(svg.find("gnuplot_plot_1b"), std::string::npos);
+  EXPECT_NE(svg.find("gnuplot_plot_2b"), std::string::npos);
+  EXPECT_EQ(svg.find("<title>G fully avoidable</title>"), std::string::npos);  // not the region map's key
+}
+
+TEST_F(FigureHarmMap, MitigationInsideALossLevelShows) {
+  // Two R cells at L4: one whose best strategy lowers P(MAIS3+) from 0.09 to 0.02, one that
+  // changes nothing. The region map shows both red alike; this map tells them apart.
+  std::vector<CellRecord> records{synthetic_cell("fine", 0, 60.0, 0.25, 1.0),
+                                  synthetic_cell("fine", 1, 61.0, 0.25, 1.0)};
+  for (auto& c : records) {
+    ASSERT_EQ(c.region, "R");
+    c.unmitigated_loss_level = 4;
+    c.unmitigated_p_mais3 = 0.09;
+  }
+  records[0].p_mais3_reduction = 0.07;
+  records[1].p_mais3_reduction = 0.0;
+  const auto f = draw_harm_reduction_map(records, out());
+  expect_drawn(f, out(), "harm_reduction_map");
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[1][8], "0.07");
+  EXPECT_EQ(csv[2][8], "0");
+  EXPECT_NE(f.title.find("1 of 2 O/R reduced"), std::string::npos) << f.title;
+  EXPECT_NE(f.note.find("(a)"), std::string::npos) << f.note;  // only panel (b) has its grid
+}
+
+TEST_F(FigureEmpty, HarmReductionMapWithoutAnyOfItsGridsWritesNothing) {
+  const auto f = draw_harm_reduction_map({}, out());
+  expect_nothing_written(f, out());
+  EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
+}
+
 // --- loss comparison --------------------------------------------------------------------------
 
 using FigureLoss = FigureTest;
@@ -505,10 +595,10 @@ TEST_F(FigureEmpty, TraceabilityWithoutRowsWritesNothing) {
 
 using FigureCampaign = FigureTest;
 
-// The five figures of `emrm report` for a campaign the size of the shipped one (1978 + 430 + 260 + 30
+// The six figures of `emrm report` for a campaign the size of the shipped one (1978 + 430 + 260 + 30
 // cells). The time is recorded for the record (docs/report.md), not asserted: speed claims belong
 // to benchmarks.
-TEST_F(FigureCampaign, DrawsAllFiveFiguresOfAShippedSizeCampaign) {
+TEST_F(FigureCampaign, DrawsAllSixFiguresOfAShippedSizeCampaign) {
   const auto& records = campaign_records();
   std::vector<safety::TraceRow> rows;
   for (int u = 1; u <= 4; ++u)
@@ -521,15 +611,16 @@ TEST_F(FigureCampaign, DrawsAllFiveFiguresOfAShippedSizeCampaign) {
 
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Figure> figures{
-      draw_mitigability_map(records, out()), draw_loss_comparison(records, "fine", out()),
+      draw_mitigability_map(records, out()), draw_harm_reduction_map(records, out()),
+      draw_loss_comparison(records, "fine", out()),
       draw_sweep_curves(records, "fine", out()), draw_coverage_comparison(coverage, out()),
       draw_traceability(rows, out())};
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RecordProperty("render_seconds", std::to_string(seconds));
-  std::cout << "[ figures  ] five figures of " << records.size() << " cells rendered in " << seconds << " s\n";
+  std::cout << "[ figures  ] six figures of " << records.size() << " cells rendered in " << seconds << " s\n";
 
-  const std::vector<std::string> names{"mitigability_map", "loss_comparison", "sweep_curves", "coverage_comparison",
-                                       "traceability_matrix"};
+  const std::vector<std::string> names{"mitigability_map", "harm_reduction_map", "loss_comparison", "sweep_curves",
+                                       "coverage_comparison", "traceability_matrix"};
   for (std::size_t i = 0; i < figures.size(); ++i) {
     expect_drawn(figures[i], out(), names[i]);
     EXPECT_TRUE(figures[i].note.empty()) << figures[i].note;
