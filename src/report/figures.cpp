@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <limits>
 #include <string_view>
 #include <utility>
 
@@ -14,33 +13,21 @@
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
 #include "emrm/sim/strategy.hpp"
-#include "emrm/sim/vehicle.hpp"
+#include "figure_parts.hpp"
 
 namespace emrm::report {
 namespace {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
+using detail::Axis;
+using detail::distinct_values;
+using detail::kSameValue;
+using detail::write_csv;
 
 // Colours for strategies the registry does not know (a store written with a strategy registered
 // then): the registered ones keep their record's colour in every figure.
 constexpr std::array<std::string_view, 5> kExtraColours{"#8c564b", "#e377c2", "#17becf", "#bcbd22", "#d62728"};
-
-struct RegionStyle {
-  std::string_view region;
-  std::string_view colour;
-  std::string_view label;
-};
-constexpr std::array<RegionStyle, 5> kRegions{{
-    {"G", "#2ca02c", "G fully avoidable"},
-    {"Y", "#ffdd57", "Y aggressive avoidance required"},
-    {"O", "#ff7f0e", "O mitigatable"},
-    {"R", "#d62728", "R not mitigatable"},
-    {"infeasible", "#bdbdbd", "infeasible"},
-}};
-
-// Grid values such as 0.25 + 7·0.06 are a few ulps off their decimal; they are one value.
-constexpr double kSameValue = 1e-9;
 
 std::string strategy_label(std::string_view strategy) {
   const sim::StrategyTable registered = sim::registered_strategies();
@@ -79,226 +66,7 @@ bool is_baseline(std::string_view strategy) {
   return info != nullptr && info->role == sim::StrategyRole::kBaseline;
 }
 
-// --- files ------------------------------------------------------------------------------------
-
-/// Gives the figure its paths in `dir` and writes its CSV.
-void write_csv(Figure& figure, const fs::path& dir, const core::Row& header, const std::vector<core::Row>& rows) {
-  figure.csv = dir / (figure.name + ".csv");
-  figure.png = dir / (figure.name + ".png");
-  figure.svg = dir / (figure.name + ".svg");
-  core::write_file(figure.csv, core::csv_table(header, rows));
-}
-
-// --- the mitigability map -----------------------------------------------------------------------
-
-enum class Axis { kSpeed, kTtc, kMu };
-
-double value_of(const CellRecord& r, Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return r.speed_kph;
-    case Axis::kTtc:
-      return r.ttc_s;
-    case Axis::kMu:
-      return r.mu;
-  }
-  return 0.0;
-}
-
-std::string_view axis_label(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "ego speed (km/h)";
-    case Axis::kTtc:
-      return "time to collision TTC (s)";
-    case Axis::kMu:
-      return "road friction μ (–)";
-  }
-  return "";
-}
-
-std::string_view axis_plural(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "speeds";
-    case Axis::kTtc:
-      return "TTCs";
-    case Axis::kMu:
-      return "μ";
-  }
-  return "";
-}
-
-std::vector<double> distinct_values(const std::vector<CellRecord>& cells, Axis a) {
-  std::vector<double> v;
-  for (const auto& c : cells) v.push_back(value_of(c, a));
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end(), [](double x, double y) { return std::abs(x - y) <= kSameValue; }), v.end());
-  return v;
-}
-
-/// Half the smallest step between distinct values: the half-width of a cell's rectangle.
-double half_step(const std::vector<double>& values, Axis a) {
-  double step = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
-  if (std::isfinite(step)) return step / 2.0;
-  return a == Axis::kSpeed ? 1.0 : 0.05;  // a single value: a band of a plausible width
-}
-
-double median_of(const std::vector<CellRecord>& cells, Axis a) {
-  std::vector<double> v;
-  for (const auto& c : cells) v.push_back(value_of(c, a));
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
-}
-
-struct PanelSpec {
-  char letter;
-  std::string grid;
-  Axis x, y, fixed;
-  std::string_view name;  ///< "Speed × TTC, coarse grid"
-};
-
-std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
-
-std::string region_colour(std::string_view region) {
-  for (const auto& s : kRegions)
-    if (s.region == region) return std::string(s.colour);
-  return std::string(kRegions.back().colour);
-}
-
-std::string fixed_text(Axis a, double v) {
-  switch (a) {
-    case Axis::kSpeed:
-      return fmt::format("v = {} km/h", plot_number(v));
-    case Axis::kTtc:
-      return fmt::format("TTC = {} s", plot_number(v));
-    case Axis::kMu:
-      return fmt::format("μ = {}", plot_number(v));
-  }
-  return "";
-}
-
-/// The dashed analytic stop boundary TTC = L + v/(2μg) as a gnuplot function of the panel's x.
-std::string boundary_function(const PanelSpec& p, double fixed, double latency_s) {
-  const double two_g = 2.0 * sim::kGravity_mps2;
-  if (p.x == Axis::kSpeed && p.y == Axis::kTtc)
-    return fmt::format("({} + x/3.6/({}*{}))", plot_number(latency_s), plot_number(two_g), plot_number(fixed));
-  if (p.x == Axis::kSpeed && p.y == Axis::kMu) {
-    if (fixed <= latency_s) return "";  // nothing stops within the latency alone
-    return fmt::format("(x/3.6/({}*({} - {})))", plot_number(two_g), plot_number(fixed), plot_number(latency_s));
-  }
-  // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
-  return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", plot_number(fixed), plot_number(latency_s), plot_number(two_g));
-}
-
 }  // namespace
-
-Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
-                             double latency_s) {
-  Figure figure;
-  figure.name = "mitigability_map";
-  figure.title = "Mitigability regions";  // replaced by the full caption once drawn
-  const std::array<PanelSpec, 4> specs{{
-      {'a', panels.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
-      {'b', panels.fine, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, fine grid"},
-      {'c', panels.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
-      {'d', panels.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
-  }};
-
-  std::vector<core::Row> rows;
-  std::vector<std::string> missing, caption_parts;
-  std::string data, panel_plots, missing_labels;
-  std::size_t total_cells = 0;
-  // Panels sit in a fixed 2×2 layout above a key strip; a missing panel leaves its slot with a label.
-  const double key_h = 0.06, top = 0.955, cell_h = (top - key_h) / 2.0;
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    const PanelSpec& p = specs[i];
-    const double origin_x = i % 2 == 0 ? 0.0 : 0.5;
-    const double origin_y = i < 2 ? key_h + cell_h : key_h;
-    const auto cells = campaign::records_of_grid(records, p.grid);
-    if (cells.empty()) {
-      missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.grid, p.letter));
-      missing_labels += fmt::format("set label {} {} at screen {},{} center\n", 90 + i,
-                                    single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.letter, p.name,
-                                                       enhanced_literal(p.grid))),
-                                    origin_x + 0.25, origin_y + cell_h / 2.0);
-      continue;
-    }
-    total_cells += cells.size();
-    const auto regions = campaign::count_regions(records, p.grid);  // throws on a corrupt region
-    const auto xs = distinct_values(cells, p.x), ys = distinct_values(cells, p.y);
-    const double hx = half_step(xs, p.x), hy = half_step(ys, p.y);
-    const double fixed = median_of(cells, p.fixed);
-
-    std::vector<std::string> lines;
-    for (const auto& c : cells) {
-      core::Row row{std::string(1, p.letter), c.grid,          plot_number(c.speed_kph), plot_number(c.ttc_s),
-                    plot_number(c.mu),             plot_number(c.passage_m), region_of(c)};
-      const std::string& x = p.x == Axis::kSpeed ? row[2] : row[3];
-      const std::string& y = p.y == Axis::kTtc ? row[3] : row[4];
-      lines.push_back(fmt::format("{} {} {} {} {}", x, y, plot_number(hx), plot_number(hy), rgb_value(region_colour(row[6]))));
-      rows.push_back(std::move(row));
-    }
-    const std::string block = fmt::format("map_{}", p.letter);
-    data += datablock(block, lines);
-
-    const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
-    const std::string shares =
-        regions.feasible == 0
-            ? std::string("no feasible cell")
-            : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
-                          share(regions.o), share(regions.r), regions.feasible);
-    const std::string title =
-        fmt::format("({}) {}: {} {} × {} {}, {} ({} cells)", p.letter, p.name, xs.size(), axis_plural(p.x), ys.size(),
-                    axis_plural(p.y), fixed_text(p.fixed, fixed), cells.size());
-    caption_parts.push_back(fmt::format("({}) {}, {} {} × {} {}, {} ({} cells; {})", p.letter, p.name, xs.size(),
-                                        axis_plural(p.x), ys.size(), axis_plural(p.y), fixed_text(p.fixed, fixed),
-                                        cells.size(), shares));
-
-    panel_plots += fmt::format("set origin {},{}\nset size 0.5,{}\n", origin_x, origin_y, cell_h);
-    panel_plots += fmt::format("set title {}\n", double_quoted(enhanced_literal(title) + "\n{/*0.8 " + enhanced_literal(shares) + "}"));
-    panel_plots += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.x)), single_quoted(axis_label(p.y)));
-    panel_plots += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(xs.front() - hx),
-                               plot_number(xs.back() + hx), plot_number(ys.front() - hy), plot_number(ys.back() + hy));
-    // Neighbours overlap by 3 % of a cell so that antialiased edges leave no seams between them.
-    panel_plots += fmt::format(
-        "plot ${} using 1:2:($3*1.03):($4*1.03):5 with boxxyerror fs solid 1.0 noborder lc rgb variable notitle", block);
-    const std::string boundary = boundary_function(p, fixed, latency_s);
-    if (!boundary.empty()) panel_plots += ", " + boundary + " with lines dt 2 lw 2.5 lc rgb 'black' notitle";
-    panel_plots += "\n";
-  }
-
-  if (rows.empty()) {
-    figure.note = fmt::format("no mitigability map: none of the grids '{}', '{}', '{}', '{}' is in the store",
-                              panels.coarse, panels.fine, panels.speed_mu, panels.ttc_mu);
-    return figure;
-  }
-  figure.note = core::join(missing, "; ");
-  const std::string boundary_text =
-      latency_s == 0.0 ? std::string("TTC = v/(2μg)") : fmt::format("TTC = {} s + v/(2μg)", plot_number(latency_s));
-  figure.title = fmt::format(
-      "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
-      "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
-      "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.",
-      total_cells, core::join(caption_parts, "; "), boundary_text, plot_number(sim::kGravity_mps2));
-  write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}, rows);
-
-  std::string body = fmt::format(
-      "set multiplot title {} font ',16'\n"
-      "set samples 600\nset tics out nomirror\nset border 3\nset key off\n",
-      single_quoted(fmt::format("Mitigability regions ({} cells)", total_cells)));
-  body += panel_plots;
-  std::vector<std::string> key;
-  for (const auto& s : kRegions)
-    key.push_back(fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
-  key.push_back(fmt::format("NaN with lines dt 2 lw 2.5 lc rgb 'black' title {}",
-                            single_quoted("stop boundary " + boundary_text)));
-  body += "set key on\n" + key_strip(key_h, 2, -6, key, missing_labels) + "unset multiplot\n";
-  render_png_and_svg(figure.png, figure.svg, data, body, 1400, 1000, 13);
-  return figure;
-}
 
 // --- loss comparison --------------------------------------------------------------------------
 

@@ -60,8 +60,9 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
 TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
   const auto r = run_emrm("report " + quoted(*out_));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  for (const char* name : {"mitigability_map", "trajectory_grid", "loss_comparison", "sweep_curves",
-                           "coverage_comparison", "emrm_fsm", "loss_evaluation_fsm", "traceability_matrix"}) {
+  for (const char* name : {"mitigability_map", "harm_reduction_map", "trajectory_grid", "loss_comparison",
+                           "sweep_curves", "coverage_comparison", "emrm_fsm", "loss_evaluation_fsm",
+                           "traceability_matrix"}) {
     const fs::path base = *out_ / "figures" / name;
     EXPECT_TRUE(is_png(base.string() + ".png")) << name;
     EXPECT_TRUE(is_svg(base.string() + ".svg")) << name;
@@ -74,11 +75,14 @@ TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
   // The store's cells, as exported by the sweep.
   const auto regions = csv_rows(*out_ / "regions.csv");
   const auto& rh = regions.front();
-  std::map<std::string, std::string> region_of;  // "speed ttc" of the fine grid -> region
+  std::map<std::string, std::string> region_of, evidence_of, reduction_of;  // "speed ttc" of the fine grid ->
   for (std::size_t i = 1; i < regions.size(); ++i)
-    if (regions[i][column_of(rh, "grid")] == "fine")
-      region_of[regions[i][column_of(rh, "speed_kph")] + " " + regions[i][column_of(rh, "ttc_s")]] =
-          regions[i][column_of(rh, "region")];
+    if (regions[i][column_of(rh, "grid")] == "fine") {
+      const std::string key = regions[i][column_of(rh, "speed_kph")] + " " + regions[i][column_of(rh, "ttc_s")];
+      region_of[key] = regions[i][column_of(rh, "region")];
+      evidence_of[key] = regions[i][column_of(rh, "feasible")] == "1" ? regions[i][column_of(rh, "evidence")] : "";
+      reduction_of[key] = regions[i][column_of(rh, "p_mais3_reduction")];
+    }
 
   const auto map = csv_rows(*out_ / "figures" / "mitigability_map.csv");
   const auto& mh = map.front();
@@ -89,8 +93,26 @@ TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
     const std::string key = map[i][column_of(mh, "speed_kph")] + " " + map[i][column_of(mh, "ttc_s")];
     ASSERT_TRUE(region_of.count(key)) << key;
     EXPECT_EQ(map[i][column_of(mh, "region")], region_of[key]) << key;
+    EXPECT_EQ(map[i][column_of(mh, "evidence")], evidence_of[key]) << key;
   }
   EXPECT_EQ(fine_rows, region_of.size());
+
+  // The harm-reduction map's reductions are the store's (regions.csv keeps 6 digits).
+  const auto harm = csv_rows(*out_ / "figures" / "harm_reduction_map.csv");
+  const auto& hh = harm.front();
+  fine_rows = 0;
+  for (std::size_t i = 1; i < harm.size(); ++i) {
+    if (harm[i][column_of(hh, "grid")] != "fine") continue;
+    ++fine_rows;
+    const std::string key = harm[i][column_of(hh, "speed_kph")] + " " + harm[i][column_of(hh, "ttc_s")];
+    ASSERT_TRUE(reduction_of.count(key)) << key;
+    const std::string& reduction = harm[i][column_of(hh, "p_mais3_reduction")];
+    ASSERT_EQ(reduction.empty(), reduction_of[key].empty()) << key;
+    if (!reduction.empty()) {
+      EXPECT_NEAR(std::stod(reduction), std::stod(reduction_of[key]), 1e-5) << key;
+    }
+  }
+  EXPECT_EQ(fine_rows, reduction_of.size());
 
   // Collision-avoidance rates of the loss comparison, recounted from cells.csv (one row per
   // feasible cell and strategy).

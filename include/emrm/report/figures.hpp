@@ -32,11 +32,25 @@ struct MapPanels {
 
 /// (1) The four-panel mitigability map: each cell a rectangle in its region's colour (G green,
 /// Y yellow, O orange, R red, infeasible grey), the analytic stop boundary TTC = v/(2μg) dashed
-/// (with the latency added when it is not 0). Panels whose grid is missing are left out (and said
-/// in `note`); with no panel at all, no files are written and `note` says why. CSV columns: panel,
-/// grid, speed_kph, ttc_s, mu, passage_m, region.
+/// (with the latency added when it is not 0). An undecided O/R cell (no avoidance found, none
+/// proven impossible) carries a black cross and the key an entry for it; certified cells are
+/// unmarked, and a map without undecided cells looks as if no cell had evidence. Panels whose grid
+/// is missing are left out (and said in `note`); with no panel at all, no files are written and
+/// `note` says why. CSV columns: panel, grid, speed_kph, ttc_s, mu, passage_m, region, evidence
+/// (witness, certificate, undecided; empty for an infeasible cell).
 Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
                              const MapPanels& panels = {}, double latency_s = 0.0);
+
+/// (1b) The harm-reduction map: the mitigability map's panels and axes, each feasible cell
+/// coloured by its p_mais3_reduction (the unmitigated reference's P(MAIS3+) minus the best
+/// strategy's: mitigation inside one loss level; an avoided G or Y cell counts its whole
+/// unmitigated risk) on a sequential scale from 0 to the largest value, with a colour bar;
+/// infeasible cells grey, the stop boundary dashed. Panels and `note` as draw_mitigability_map.
+/// CSV columns: panel, grid, speed_kph, ttc_s, mu, passage_m, region, unmitigated_p_mais3,
+/// p_mais3_reduction, unmitigated_p_fatal, p_fatal_reduction (the last four empty for an
+/// infeasible cell).
+Figure draw_harm_reduction_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
+                               const MapPanels& panels = {}, double latency_s = 0.0);
 
 /// (3) Loss comparison on `grid`: collision-avoidance rate (%) and mean residual impact speed (km/h)
 /// per strategy, as two bar panels. CSV: strategy, cells, collision_avoidance_rate_pct,

@@ -1,5 +1,6 @@
 #include "emrm/report/figures.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -59,8 +60,17 @@ CellRecord synthetic_cell(const std::string& grid, std::int64_t index, double sp
   const bool stoppable = campaign::analytically_stoppable(speed, ttc, mu);
   const bool steerable = ttc >= 0.6 && mu >= 0.3;
   c.region = stoppable ? "G" : steerable ? "Y" : speed < 45.0 ? "O" : "R";
+  // Every seventh O/R cell rests on a failed search only; the others on a certificate.
+  c.evidence = c.region == "G" || c.region == "Y" ? "witness" : index % 7 == 0 ? "undecided" : "certificate";
   c.unmitigated_loss_level = speed > 50.0 ? 7 : 6;
   c.unmitigated_impact_speed_kph = speed;
+  // Harm reduction: an avoidance removes the whole risk, a mitigation part of it, and half the R
+  // cells lower the risk inside their loss level.
+  c.unmitigated_p_mais3 = std::min(0.95, std::pow(speed / 80.0, 3.0));
+  c.unmitigated_p_fatal = 0.3 * c.unmitigated_p_mais3;
+  const double kept = c.region == "O" ? 0.4 : c.region == "R" ? (index % 2 == 0 ? 0.75 : 1.0) : 0.0;
+  c.p_mais3_reduction = (1.0 - kept) * c.unmitigated_p_mais3;
+  c.p_fatal_reduction = (1.0 - kept) * c.unmitigated_p_fatal;
   const int u = c.unmitigated_loss_level;
   const int lowered = c.region == "O" ? u - 2 : u;
   c.outcomes = {
@@ -199,7 +209,8 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
   EXPECT_TRUE(f.note.empty()) << f.note;
 
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region"}));
+  ASSERT_EQ(csv.front(),
+            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}));
   ASSERT_EQ(csv.size(), 1 + 30 + 1978 + 430 + 260);
   std::size_t line = 1;
   for (const auto& [panel, grid] : {std::pair{"a", "coarse"}, {"b", "fine"}, {"c", "speed_mu"}, {"d", "ttc_mu"}}) {
@@ -212,6 +223,7 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
       EXPECT_NEAR(num(row[4]), cell.mu, 1e-6);
       EXPECT_NEAR(num(row[5]), cell.passage_m, 1e-6);
       EXPECT_EQ(row[6], cell.region) << grid << " cell " << cell.index;
+      EXPECT_EQ(row[7], cell.feasible ? cell.evidence : "") << grid << " cell " << cell.index;
     }
   }
   // The caption states the region shares of each panel, as count_regions gives them.
@@ -249,8 +261,154 @@ TEST_F(FigureMap, SameRecordsGiveTheSameCsvBytes) {
   EXPECT_EQ(a.title, b.title);
 }
 
+// Where a cell's region rests on a failed search (undecided), the map says so with a cross; a
+// certificate needs no mark. In gnuplot's SVG each cross is one <use> of the cross symbol (pt 2,
+// '#gpPt1'), and the key's sample is one more.
+std::size_t crosses_in(const fs::path& svg) {
+  const std::string text = core::read_file(svg);
+  std::size_t n = 0;
+  for (auto at = text.find("<use xlink:href='#gpPt1'"); at != std::string::npos;
+       at = text.find("<use xlink:href='#gpPt1'", at + 1))
+    ++n;
+  return n;
+}
+
+std::size_t count_evidence(const std::vector<CellRecord>& records, const std::string& evidence) {
+  return static_cast<std::size_t>(std::count_if(records.begin(), records.end(), [&](const CellRecord& c) {
+    return c.feasible && (c.region == "O" || c.region == "R") && c.evidence == evidence;
+  }));
+}
+
+TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
+  const auto& records = campaign_records();
+  const std::size_t undecided = count_evidence(records, "undecided");
+  const std::size_t certified = count_evidence(records, "certificate");
+  ASSERT_GT(undecided, 10u);  // the synthetic campaign has some of each
+  ASSERT_GT(certified, 10u);
+  const auto f = draw_mitigability_map(records, out());
+  expect_drawn(f, out(), "mitigability_map");
+
+  // The CSV has every cell's evidence; the undecided rows are exactly the crosses.
+  const auto csv = csv_of(f.csv);
+  EXPECT_EQ(static_cast<std::size_t>(std::count_if(csv.begin(), csv.end(),
+                                                   [](const core::Row& r) { return r[7] == "undecided"; })),
+            undecided);
+  EXPECT_EQ(crosses_in(f.svg), undecided + 1);
+  const std::string svg = core::read_file(f.svg);
+  EXPECT_NE(svg.find("undecided (no avoidance found,"), std::string::npos);
+  EXPECT_NE(svg.find("none proven impossible)"), std::string::npos);
+  EXPECT_NE(svg.find("36 undecided"), std::string::npos);  // panel (b)'s subtitle
+  // The caption counts them and says what an unmarked O/R cell is.
+  EXPECT_NE(f.title.find(fmt::format("A cross marks the {} undecided O/R cells", undecided)), std::string::npos)
+      << f.title;
+  EXPECT_NE(f.title.find(fmt::format("The unmarked O/R cells ({}) are certified unavoidable", certified)),
+            std::string::npos)
+      << f.title;
+}
+
+TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
+  std::vector<CellRecord> certified = campaign_records(), unknown = campaign_records();
+  for (auto& c : certified)
+    if (c.evidence == "undecided") c.evidence = "certificate";
+  for (auto& c : unknown) c.evidence.clear();
+  const auto a = draw_mitigability_map(certified, out() / "certified");
+  const auto b = draw_mitigability_map(unknown, out() / "unknown");
+  EXPECT_EQ(crosses_in(a.svg), 0u);
+  EXPECT_EQ(core::read_file(a.svg).find("undecided"), std::string::npos);
+  // Nothing on the picture depends on the evidence then; only the CSV and the caption tell it.
+  EXPECT_EQ(core::read_file(a.svg), core::read_file(b.svg));
+  EXPECT_NE(a.title.find(fmt::format("All O/R cells ({}) are certified unavoidable",
+                                     count_evidence(certified, "certificate"))),
+            std::string::npos)
+      << a.title;
+  EXPECT_EQ(b.title.find("certified"), std::string::npos) << b.title;
+}
+
 TEST_F(FigureEmpty, MapWithoutAnyOfItsGridsWritesNothing) {
   const auto f = draw_mitigability_map({}, out());
+  expect_nothing_written(f, out());
+  EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
+}
+
+// --- the harm-reduction map -------------------------------------------------------------------
+
+using FigureHarmMap = FigureTest;
+
+TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
+  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  expect_drawn(f, out(), "harm_reduction_map");
+  EXPECT_TRUE(f.note.empty()) << f.note;
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region",
+                                    "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal",
+                                    "p_fatal_reduction"}));
+  // The same cells in the same order as the mitigability map: one layout for both.
+  const auto map = csv_of(draw_mitigability_map(campaign_records(), out() / "map").csv);
+  ASSERT_EQ(csv.size(), map.size());
+  std::size_t line = 1;
+  for (const char* grid : {"coarse", "fine", "speed_mu", "ttc_mu"})
+    for (const auto& cell : campaign::records_of_grid(campaign_records(), grid)) {
+      const auto& row = csv[line];
+      ASSERT_EQ(core::Row(row.begin(), row.begin() + 7), core::Row(map[line].begin(), map[line].begin() + 7));
+      ++line;
+      if (!cell.feasible) {
+        EXPECT_EQ(core::Row(row.begin() + 7, row.end()), core::Row(4, "")) << grid << " cell " << cell.index;
+        continue;
+      }
+      EXPECT_NEAR(num(row[7]), cell.unmitigated_p_mais3, 1e-9);
+      EXPECT_NEAR(num(row[8]), cell.p_mais3_reduction, 1e-9);
+      EXPECT_NEAR(num(row[9]), cell.unmitigated_p_fatal, 1e-9);
+      EXPECT_NEAR(num(row[10]), cell.p_fatal_reduction, 1e-9);
+      // Avoided cells count their whole unmitigated risk.
+      if (cell.region == "G" || cell.region == "Y") {
+        EXPECT_EQ(row[8], row[7]) << grid << " cell " << cell.index;
+      }
+    }
+  EXPECT_NE(f.title.find("(b) Speed × TTC, fine grid"), std::string::npos) << f.title;
+}
+
+TEST_F(FigureHarmMap, FeasibleCellsOnTheColourScaleInfeasibleOnesGrey) {
+  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  const auto csv = csv_of(f.csv);
+  double largest = 0.0;
+  for (std::size_t i = 1; i < csv.size(); ++i)
+    if (!csv[i][8].empty()) largest = std::max(largest, num(csv[i][8]));
+  // The scale runs from 0 to the largest reduction, and the caption says so.
+  EXPECT_NE(f.title.find(fmt::format("(0 to {:.3f})", largest)), std::string::npos) << f.title;
+  const std::string svg = core::read_file(f.svg);
+  EXPECT_NE(svg.find("reduction of P(MAIS3+) by the best strategy"), std::string::npos);
+  EXPECT_NE(svg.find("<title>infeasible</title>"), std::string::npos);
+  // Per panel, the feasible cells are one series and the infeasible ones another: panel (b) of
+  // the synthetic campaign has both.
+  EXPECT_NE(svg.find("gnuplot_plot_1b"), std::string::npos);
+  EXPECT_NE(svg.find("gnuplot_plot_2b"), std::string::npos);
+  EXPECT_EQ(svg.find("<title>G fully avoidable</title>"), std::string::npos);  // not the region map's key
+}
+
+TEST_F(FigureHarmMap, MitigationInsideALossLevelShows) {
+  // Two R cells at L4: one whose best strategy lowers P(MAIS3+) from 0.09 to 0.02, one that
+  // changes nothing. The region map shows both red alike; this map tells them apart.
+  std::vector<CellRecord> records{synthetic_cell("fine", 0, 60.0, 0.25, 1.0),
+                                  synthetic_cell("fine", 1, 61.0, 0.25, 1.0)};
+  for (auto& c : records) {
+    ASSERT_EQ(c.region, "R");
+    c.unmitigated_loss_level = 4;
+    c.unmitigated_p_mais3 = 0.09;
+  }
+  records[0].p_mais3_reduction = 0.07;
+  records[1].p_mais3_reduction = 0.0;
+  const auto f = draw_harm_reduction_map(records, out());
+  expect_drawn(f, out(), "harm_reduction_map");
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[1][8], "0.07");
+  EXPECT_EQ(csv[2][8], "0");
+  EXPECT_NE(f.title.find("1 of 2 O/R reduced"), std::string::npos) << f.title;
+  EXPECT_NE(f.note.find("(a)"), std::string::npos) << f.note;  // only panel (b) has its grid
+}
+
+TEST_F(FigureEmpty, HarmReductionMapWithoutAnyOfItsGridsWritesNothing) {
+  const auto f = draw_harm_reduction_map({}, out());
   expect_nothing_written(f, out());
   EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
 }
@@ -437,10 +595,10 @@ TEST_F(FigureEmpty, TraceabilityWithoutRowsWritesNothing) {
 
 using FigureCampaign = FigureTest;
 
-// The five figures of `emrm report` for a campaign the size of the shipped one (1978 + 430 + 260 + 30
+// The six figures of `emrm report` for a campaign the size of the shipped one (1978 + 430 + 260 + 30
 // cells). The time is recorded for the record (docs/report.md), not asserted: speed claims belong
 // to benchmarks.
-TEST_F(FigureCampaign, DrawsAllFiveFiguresOfAShippedSizeCampaign) {
+TEST_F(FigureCampaign, DrawsAllSixFiguresOfAShippedSizeCampaign) {
   const auto& records = campaign_records();
   std::vector<safety::TraceRow> rows;
   for (int u = 1; u <= 4; ++u)
@@ -453,15 +611,16 @@ TEST_F(FigureCampaign, DrawsAllFiveFiguresOfAShippedSizeCampaign) {
 
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Figure> figures{
-      draw_mitigability_map(records, out()), draw_loss_comparison(records, "fine", out()),
+      draw_mitigability_map(records, out()), draw_harm_reduction_map(records, out()),
+      draw_loss_comparison(records, "fine", out()),
       draw_sweep_curves(records, "fine", out()), draw_coverage_comparison(coverage, out()),
       draw_traceability(rows, out())};
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RecordProperty("render_seconds", std::to_string(seconds));
-  std::cout << "[ figures  ] five figures of " << records.size() << " cells rendered in " << seconds << " s\n";
+  std::cout << "[ figures  ] six figures of " << records.size() << " cells rendered in " << seconds << " s\n";
 
-  const std::vector<std::string> names{"mitigability_map", "loss_comparison", "sweep_curves", "coverage_comparison",
-                                       "traceability_matrix"};
+  const std::vector<std::string> names{"mitigability_map", "harm_reduction_map", "loss_comparison", "sweep_curves",
+                                       "coverage_comparison", "traceability_matrix"};
   for (std::size_t i = 0; i < figures.size(); ++i) {
     expect_drawn(figures[i], out(), names[i]);
     EXPECT_TRUE(figures[i].note.empty()) << figures[i].note;
