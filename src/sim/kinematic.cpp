@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "emrm/core/trig.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -22,8 +23,7 @@ VehicleState KinematicBicycle::derivative(const VehicleState& s, const Control& 
   const double speed_rate = -decel * detail::rolling_sign(speed);
 
   VehicleState d;
-  const double cos_yaw = std::cos(s.yaw_rad);
-  const double sin_yaw = std::sin(s.yaw_rad);
+  const auto [cos_yaw, sin_yaw] = core::cos_sin(s.yaw_rad);
   // Along the course yaw + beta.
   d.x_m = speed * (cos_yaw * cos_beta - sin_yaw * sin_beta);
   d.y_m = speed * (sin_yaw * cos_beta + cos_yaw * sin_beta);

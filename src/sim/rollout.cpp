@@ -1,5 +1,7 @@
 #include "emrm/sim/rollout.hpp"
 
+#include "emrm/core/trig.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,8 +17,7 @@ constexpr double kStoppedSpeed_mps = 0.05;
 constexpr double kSlidingSlipAngle_rad = 0.035;
 
 core::Vec2 world_velocity(const VehicleState& s) {
-  const double c = std::cos(s.yaw_rad);
-  const double sn = std::sin(s.yaw_rad);
+  const auto [c, sn] = core::cos_sin(s.yaw_rad);
   return {s.vx_mps * c - s.vy_mps * sn, s.vx_mps * sn + s.vy_mps * c};
 }
 
@@ -238,8 +239,9 @@ class RoadDepartureCheck {
  private:
   // Distance from the box to the nearer edge of the drivable band (negative once across).
   double gap_of(const core::OrientedBox& box) const noexcept {
-    const double c = std::abs(std::cos(box.heading_rad));
-    const double s = std::abs(std::sin(box.heading_rad));
+    const auto [cos_h, sin_h] = core::cos_sin(box.heading_rad);
+    const double c = std::abs(cos_h);
+    const double s = std::abs(sin_h);
     const double half_extent_y = 0.5 * (box.length_m * s + box.width_m * c);
     return std::min(box.center.y - half_extent_y - min_y_m_, max_y_m_ - box.center.y - half_extent_y);
   }

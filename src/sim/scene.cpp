@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/trig.hpp"
 #include "emrm/core/yaml.hpp"
 
 namespace emrm::sim {
@@ -119,7 +120,8 @@ TruckState Scene::truck_at(double t_s) const noexcept {
 
 core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
   const VehicleParams& ego = config_->ego;
-  const core::Vec2 heading = core::Vec2::unit(s.yaw_rad);
+  const auto [c, sn] = core::cos_sin(s.yaw_rad);
+  const core::Vec2 heading{c, sn};
   // The CG is not at the middle of the car: shift by half the difference of its two ends.
   const double offset_m = (ego.cg_to_front_m() - ego.cg_to_rear_m()) / 2.0;
   return {core::Vec2{s.x_m, s.y_m} + heading * offset_m, s.yaw_rad, ego.length_m, ego.width_m};
@@ -127,8 +129,9 @@ core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
 
 bool Scene::on_drivable_area(const core::OrientedBox& ego) const noexcept {
   // The lowest and highest corner: the box's half-extent across the road.
-  const double c = std::abs(std::cos(ego.heading_rad));
-  const double s = std::abs(std::sin(ego.heading_rad));
+  const auto [cos_h, sin_h] = core::cos_sin(ego.heading_rad);
+  const double c = std::abs(cos_h);
+  const double s = std::abs(sin_h);
   const double half_extent_y = 0.5 * (ego.length_m * s + ego.width_m * c);
   return ego.center.y - half_extent_y >= config_->road.drivable_min_y_m() &&
          ego.center.y + half_extent_y <= config_->road.drivable_max_y_m();

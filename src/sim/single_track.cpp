@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "emrm/core/trig.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -86,8 +87,7 @@ AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s, const Co
   const double g = kGravity_mps2;
   const double brake = std::clamp(u.brake, 0.0, 1.0);
   const double steer = std::clamp(s.steer_rad, -p.max_steer_rad, p.max_steer_rad);
-  const double cos_steer = std::cos(steer);
-  const double sin_steer = std::sin(steer);
+  const auto [cos_steer, sin_steer] = core::cos_sin(steer);
 
   // Velocities of the axle centres, body frame, and of the front wheel in its own frame.
   const double vy_front = s.vy_mps + lf * s.yaw_rate_radps;
@@ -181,8 +181,7 @@ double dynamic_weight(const VehicleParams& p, double speed_mps) {
 VehicleState SingleTrackFiala::derivative(const VehicleState& s, const Control& u, double mu) const {
   const VehicleParams& p = params_;
   const AxleSolution axles = solve_axles(p, s, u, mu);
-  const double cos_yaw = std::cos(s.yaw_rad);
-  const double sin_yaw = std::sin(s.yaw_rad);
+  const auto [cos_yaw, sin_yaw] = core::cos_sin(s.yaw_rad);
 
   VehicleState d;
   d.x_m = s.vx_mps * cos_yaw - s.vy_mps * sin_yaw;
