@@ -1,5 +1,8 @@
 #include "emrm/sim/planner.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "emrm/core/registry.hpp"
 
 namespace emrm::sim {
@@ -35,6 +38,14 @@ PlannerRegistration::PlannerRegistration(std::unique_ptr<Planner> planner) : nam
 }
 
 PlannerRegistration::~PlannerRegistration() { registry().remove(name_); }
+
+double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept {
+  if (rollout.passed_truck) return 0.0;
+  if (rollout.termination != Termination::kContact) return std::numeric_limits<double>::infinity();
+  double highest = -std::numeric_limits<double>::infinity();
+  for (const auto& corner : scene.ego_box(rollout.end_state).corners()) highest = std::max(highest, corner.y);
+  return std::max(0.0, highest - scene.truck_front_y_at(rollout.end_time_s));
+}
 
 bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept {
   if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;

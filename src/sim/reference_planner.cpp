@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -18,6 +19,7 @@ PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const C
 
   auto consider = [&](RolloutResult r) {
     ++result.stats.rollouts;
+    result.closest_miss_m = std::min(result.closest_miss_m, lateral_miss_m(scene, r));
     if (r.avoided()) {
       if (!result.avoidance) result.avoidance = std::move(r);
       return;

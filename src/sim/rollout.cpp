@@ -552,6 +552,7 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
   step.dt_s = dt;
   auto finish = [&](Termination why) {
     r.termination = why;
+    r.passed_truck = step.recovering || why == Termination::kPassed;
     r.end_time_s = step.t_s;
     r.end_state = step.state;
     if (r.path.back().t_s != step.t_s) r.path.push_back({step.t_s, step.state, step.control});

@@ -271,6 +271,7 @@ class Rrt {
   }
 
   void record_avoidance(int from, RolloutResult r) {
+    result_.closest_miss_m = 0.0;
     prepend_chain(from, r);
     result_.avoidance = std::move(r);
   }
@@ -295,6 +296,7 @@ class Rrt {
   // Keeps the least-loss failed rollout; `admissible` says whether a collision on this branch may
   // be the strategy's outcome (always for fail-safes, for goal-tree edges only with contact accepted).
   void consider_failure_from(int from, RolloutResult r, bool admissible) {
+    result_.closest_miss_m = std::min(result_.closest_miss_m, lateral_miss_m(scene_, r));
     if (r.termination == Termination::kConstraint) return;  // violates the strategy
     if (r.termination == Termination::kContact && !admissible) return;
     if (result_.collision && !less_loss(r.impact, result_.collision->impact)) return;

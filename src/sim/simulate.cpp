@@ -119,30 +119,39 @@ const StrategyInfo* most_permissive_search(const StrategyTable& strategies) {
   return nullptr;
 }
 
-// More search where the first found no avoidance: restarts of the strategy's planner with seeds
-// that depend on the cell alone (not on the campaign's seed), then the reference planner. An
-// avoidance any of them finds is replayed into the strategy's outcome.
+// More search where the first found no avoidance: the reference planner (deterministic), then,
+// where avoidance is plausible (some rollout came within planner.plausible_miss_m of squeezing past
+// the truck's front, or got past it), restarts of the strategy's planner with seeds that depend on
+// the cell alone (not on the campaign's seed). An avoidance any of them finds is replayed into the
+// strategy's outcome.
 std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const VehicleModel& model,
                                                    const StrategyInfo& info, const ImpactAssessment& unmitigated,
                                                    PlannerStats& stats) {
-  const CellInput& c = scene.cell();
-  const std::uint64_t cell_key = derive_seed(
-      0x5eed5eed5eed5eedULL,
-      fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
-  std::vector<std::pair<const Planner*, std::uint64_t>> searches;
-  if (const Planner* own = find_planner(info.planner))
-    for (int k = 0; k < scene.config().planner.restarts; ++k) searches.emplace_back(own, derive_seed(cell_key, fmt::format("restart-{}", k)));
-  if (const Planner* reference = find_planner("reference"); reference != nullptr && info.planner != "reference")
-    searches.emplace_back(reference, 0);
-  for (const auto& [planner, seed] : searches) {
-    const PlanResult plan = planner->plan({scene, model, info.limits, seed, false});
+  const PlannerConfig& budget = scene.config().planner;
+  const auto found = [&](const PlanResult& plan) -> std::optional<StrategyOutcome> {
     stats.nodes += plan.stats.nodes;
     stats.rollouts += plan.stats.rollouts;
     stats.time_ms += plan.stats.time_ms;
     stats.time_limited = stats.time_limited || plan.stats.time_limited;
-    if (plan.avoidance)
-      return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
+    if (!plan.avoidance) return std::nullopt;
+    return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
+  };
+  double closest_miss_m = 0.0;  // without a reference planner, every cell counts as plausible
+  if (const Planner* reference = find_planner("reference"); reference != nullptr && info.planner != "reference") {
+    const PlanResult plan = reference->plan({scene, model, info.limits, 0, false});
+    if (auto outcome = found(plan)) return outcome;
+    closest_miss_m = plan.closest_miss_m;
   }
+  if (!(closest_miss_m <= budget.plausible_miss_m)) return std::nullopt;
+  const Planner* own = find_planner(info.planner);
+  if (own == nullptr) return std::nullopt;
+  const CellInput& c = scene.cell();
+  const std::uint64_t cell_key = derive_seed(
+      0x5eed5eed5eed5eedULL,
+      fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
+  for (int k = 0; k < budget.restarts; ++k)
+    if (auto outcome = found(own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false})))
+      return outcome;
   return std::nullopt;
 }
 

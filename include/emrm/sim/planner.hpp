@@ -12,6 +12,7 @@
 // stops early once its strategy's objective is met.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,6 +43,10 @@ struct PlannerStats {
 struct PlanResult {
   std::optional<RolloutResult> avoidance;  ///< full executed path from t = 0
   std::optional<RolloutResult> collision;  ///< least loss, then lowest Δv
+  /// How close the search came to getting past the truck: 0 when a rollout got past it (an
+  /// avoidance, or a pass whose recovery failed), else the least lateral_miss_m of its contacts;
+  /// infinity when it knows nothing (no contact, no pass).
+  double closest_miss_m = std::numeric_limits<double>::infinity();
   PlannerStats stats;
   std::vector<TreeEdge> tree;  ///< only when asked for
 };
@@ -107,6 +112,11 @@ class PlannerRegistration {
 /// The reference planner ("reference"): a dense search over a parametric maneuver family (steer
 /// direction, peak steer, hold and counter-steer timing, brake level, rear lock).
 [[nodiscard]] PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
+
+/// How far a rollout that hit the truck was from squeezing past its front: the height of the
+/// ego's highest corner above the truck's front at the contact (0 when it got past the truck;
+/// infinity for any other end).
+[[nodiscard]] double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept;
 
 /// Least-loss order: lower level first, then lower Δv.
 [[nodiscard]] bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept;

@@ -113,6 +113,7 @@ struct RolloutResult {
   /// The controls that drove it: those handed to Roller::roll, and with planners that compose
   /// rollouts, the whole chain from t = 0.
   Maneuver maneuver;
+  bool passed_truck = false;  ///< it got past the truck (an avoidance, or a recovery that failed)
   /// avoided: no contact, no departure, no violated constraint, and a safe state reached (stopped,
   /// or stable with room to stop; without recovery, passing the truck is enough).
   [[nodiscard]] bool avoided() const {

@@ -136,6 +136,9 @@ struct PlannerConfig {
   /// Restarts of the strengthened search, each with the full budget and a seed from the cell alone
   /// (docs/planner.md, "A region that does not depend on the seed").
   int restarts = 6;
+  /// ... only where avoidance is plausible: the reference planner came within this of squeezing
+  /// past the truck's front (or got past it).
+  double plausible_miss_m = 0.4;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, max_nodes, core::at_least(1, "node"));
@@ -146,6 +149,7 @@ struct PlannerConfig {
              "expected min_duration_s <= max_duration_s ({} s), got {} s", max_duration_s, min_duration_s);
     EMRM_FIELD(a, goal_bias, core::within(0.0, 1.0));
     EMRM_FIELD(a, restarts, core::non_negative);
+    EMRM_FIELD(a, plausible_miss_m, core::non_negative);
   }
 };
 
