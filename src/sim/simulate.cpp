@@ -188,6 +188,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
     return *trace;
   };
 
+  const bool certified = false;
   std::map<std::string, StrategyOutcome> outcomes;
   const auto any_avoided = [&] {
     for (const auto& [name, o] : outcomes)
@@ -197,7 +198,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   const auto run = [&](const RegisteredStrategy& entry) {
     const std::string& name = entry.info.name;
     const StrategyContext context{scene,    *model,  strategies, derive_seed(options.seed, name), options.keep_trees,
-                                  result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm};
+                                  result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm, certified};
     StrategyOutcome o = entry.strategy->run(entry.info, context);
     o.fsm_trace = trace_for(o.avoided);
     if (o.avoided && o.adopted_from.empty() && entry.info.role != StrategyRole::kChooser)
@@ -208,7 +209,6 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
     if (entry.info.role != StrategyRole::kChooser) run(entry);
 
   // A failed search is not a proof: strengthen it before the region rests on it.
-  const bool certified = false;
   if (options.strengthen && at_risk && !certified && !any_avoided()) {
     if (const StrategyInfo* permissive = most_permissive_search(strategies)) {
       result.strengthened = true;

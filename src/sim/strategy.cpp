@@ -37,12 +37,29 @@ class EmergencyStop final : public Strategy {
 
 // A planned strategy: adopts an earlier avoidance it may take, else searches with its planner.
 class PlannedStrategy final : public Strategy {
+  // The baseline's outcome under this strategy's name: what the car does when the strategy has
+  // nothing to execute.
+  static StrategyOutcome fallback_to_baseline(const StrategyInfo& self, const StrategyContext& c) {
+    StrategyOutcome o;
+    if (const StrategyInfo* baseline = c.strategies.first_of(StrategyRole::kBaseline)) {
+      if (auto it = c.earlier.find(baseline->name); it != c.earlier.end()) o = it->second;
+      o.adopted_from = baseline->name;
+    }
+    o.strategy = self.name;
+    return o;
+  }
+
  public:
   StrategyOutcome run(const StrategyInfo& self, const StrategyContext& c) const override {
     for (const auto& other : self.may_adopt) {
       auto it = c.earlier.find(other);
       if (it != c.earlier.end() && it->second.avoided) return adopted(self.name, other, it->second);
     }
+    // Proven unavoidable: nothing to search for unless contact is accepted and the reference is
+    // above the lowest contact level (a least-loss search may still lower it). Else the car falls
+    // back to what the baseline gives.
+    if (c.unavoidable && (!self.limits.accept_contact || c.unmitigated.loss_level <= 4))
+      return fallback_to_baseline(self, c);
     const Planner* planner = find_planner(self.planner);
     const PlanResult plan = planner->plan({c.scene, c.model, self.limits, c.seed, c.keep_tree});
     StrategyOutcome o;
@@ -51,15 +68,8 @@ class PlannedStrategy final : public Strategy {
       // the same run at every step, which is what the outcome shows and a verifier re-checks.
       o = outcome_of(self.name, replay(c.scene, c.model, self.limits, found->maneuver), c.unmitigated, c.scene);
     } else {
-      // Every branch broke the strategy's constraint: it cannot be executed here; the car falls
-      // back to what the baseline gives.
-      const StrategyInfo* baseline = c.strategies.first_of(StrategyRole::kBaseline);
-      if (baseline != nullptr) {
-        auto it = c.earlier.find(baseline->name);
-        if (it != c.earlier.end()) o = it->second;
-        o.adopted_from = baseline->name;
-      }
-      o.strategy = self.name;
+      // Every branch broke the strategy's constraint: it cannot be executed here.
+      o = fallback_to_baseline(self, c);
     }
     // With contact accepted, a collision found by an earlier strategy is also admissible.
     if (self.limits.accept_contact && !o.avoided) {

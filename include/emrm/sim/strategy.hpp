@@ -69,6 +69,9 @@ struct StrategyContext {
   const std::map<std::string, StrategyOutcome>& earlier;
   const fsm::Generator& emrm_fsm;
   const fsm::Generator& loss_evaluation_fsm;
+  /// A certificate proves that nothing avoids the truck here (certificate.hpp): searches for an
+  /// avoidance are skipped, and a least-loss search runs only where the reference is above L4.
+  bool unavoidable = false;
 };
 
 /// How a strategy drives. Implementations are stateless and thread-safe.
