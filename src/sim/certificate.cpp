@@ -55,33 +55,36 @@ double fiala_cap(double grip_n, double slope_n_per_rad, double tan_bound) {
   return grip_n * z * (1.0 - z / 3.0 + z * z / 27.0);
 }
 
-// max{ a|q| + b|p| : p² + q² ≤ N², |q| ≤ cap }: the support of the friction disc cut to the band.
-double band_support(double a, double b, double grip_n, double cap_n) {
-  const double s = std::hypot(a, b);
-  if (s <= 0.0) return 0.0;
-  if (grip_n * a <= cap_n * s) return grip_n * s;
-  return a * cap_n + b * std::sqrt(std::max(0.0, grip_n * grip_n - cap_n * cap_n));
-}
+// One axle's part of a functional: max{ a|q| + b|p| : p² + q² ≤ N², |q| ≤ cap } as a function of
+// the friction disc's radius N (the support of the disc cut to the band |q| ≤ cap). Concave and
+// nondecreasing in N: linear with slope s = √(a² + b²) up to N_switch = cap·s/a, then
+// a·cap + b·√(N² − cap²).
+struct AxleSupport {
+  double a, b, s, cap, switch_n;
 
-// The band support as a function of the disc's radius N is concave, nondecreasing; its slope.
-double band_support_slope(double a, double b, double grip_n, double cap_n) {
-  const double s = std::hypot(a, b);
-  if (grip_n * a <= cap_n * s) return s;
-  const double root = std::sqrt(std::max(0.0, grip_n * grip_n - cap_n * cap_n));
-  return root > 0.0 ? b * grip_n / root : s;
-}
+  AxleSupport(double a_in, double b_in, double cap_in)
+      : a(a_in), b(b_in), s(std::sqrt(a_in * a_in + b_in * b_in)), cap(cap_in),
+        switch_n(a_in > 0.0 ? cap_in * s / a_in : kInf) {}
 
-// max over 0 ≤ N ≤ N_max of (support(N) − nu·N), in closed form.
-double band_support_minus(double a, double b, double grip_max, double cap_n, double nu) {
-  const double s = std::hypot(a, b);
-  if (nu >= s || grip_max <= 0.0) return 0.0;
-  const double switch_n = a > 0.0 ? cap_n * s / a : kInf;
-  if (grip_max <= switch_n) return (s - nu) * grip_max;
-  double n = grip_max;
-  if (nu > b) n = std::min(grip_max, nu * cap_n / std::sqrt(nu * nu - b * b));
-  n = std::max(n, switch_n);
-  return a * cap_n + b * std::sqrt(std::max(0.0, n * n - cap_n * cap_n)) - nu * n;
-}
+  [[nodiscard]] double value(double n) const {
+    if (n <= switch_n) return n * s;
+    return a * cap + b * std::sqrt(std::max(0.0, n * n - cap * cap));
+  }
+  [[nodiscard]] double slope(double n) const {
+    if (n <= switch_n) return s;
+    const double root = std::sqrt(std::max(0.0, n * n - cap * cap));
+    return root > 0.0 ? b * n / root : s;
+  }
+  // max over 0 ≤ N ≤ n_max of (value(N) − nu·N), in closed form (where the slope falls to nu).
+  [[nodiscard]] double value_minus(double n_max, double nu) const {
+    if (nu >= s || n_max <= 0.0) return 0.0;
+    if (n_max <= switch_n) return (s - nu) * n_max;
+    double n = n_max;
+    if (nu > b) n = std::min(n_max, nu * cap / std::sqrt(nu * nu - b * b));
+    n = std::max(n, switch_n);
+    return value(n) - nu * n;
+  }
+};
 
 // Both axles: max of a_f|q_f| + b|p_f| + a_r|q_r| + b|p_r| with each axle in its friction disc
 // (radius ≤ its grip), its body-lateral component within its cap, and the two radii summing to at
@@ -89,17 +92,15 @@ double band_support_minus(double a, double b, double grip_max, double cap_n, dou
 // for every nu ≥ 0 the value is ≤ nu·S + Σ max_N(support − nu·N); a few nu are tried (C10).
 double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f,
                          double cap_r, double total_n) {
-  double best = band_support(a_f, b, grip_f, cap_f) + band_support(a_r, b, grip_r, cap_r);
+  const AxleSupport front(a_f, b, cap_f);
+  const AxleSupport rear(a_r, b, cap_r);
+  double best = front.value(grip_f) + rear.value(grip_r);
   if (grip_f + grip_r <= total_n) return best;
-  const std::array nus{band_support_slope(a_f, b, grip_f, cap_f), band_support_slope(a_r, b, grip_r, cap_r),
-                       band_support_slope(a_f, b, std::max(0.0, total_n - grip_r), cap_f),
-                       band_support_slope(a_r, b, std::max(0.0, total_n - grip_f), cap_r),
-                       std::min(std::hypot(a_f, b), std::hypot(a_r, b))};
-  for (double nu : nus) {
-    const double value =
-        nu * total_n + band_support_minus(a_f, b, grip_f, cap_f, nu) + band_support_minus(a_r, b, grip_r, cap_r, nu);
-    best = std::min(best, value);
-  }
+  // The slopes at the ends of the feasible splits of the total, and the lesser initial slope.
+  const std::array nus{front.slope(grip_f), rear.slope(grip_r), front.slope(std::max(0.0, total_n - grip_r)),
+                       rear.slope(std::max(0.0, total_n - grip_f)), std::min(front.s, rear.s)};
+  for (double nu : nus)
+    best = std::min(best, nu * total_n + front.value_minus(grip_f, nu) + rear.value_minus(grip_r, nu));
   return best;
 }
 
