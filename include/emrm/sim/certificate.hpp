@@ -47,8 +47,9 @@ struct Certificate {
 
 /// Re-derives the certificate's claim independently (for `emrm verify`): true when it holds. It
 /// checks that the certificate names this scene's cell and latency, and re-evaluates its witness
-/// from scratch with a finer integration step and a denser set of multipliers (each of which is
-/// sound on its own), requiring the same least margin.
+/// from scratch, ignoring the certificate's numbers but the witness, with a denser set of
+/// multipliers (each sound on its own) at half the certifier's step and, failing that, at its
+/// step, requiring the least margin kCertificateMinMargin_m.
 [[nodiscard]] bool check_certificate(const Scene& scene, const Certificate& certificate);
 
 /// The least penetration a certificate must show (metres, in x and in y): it covers the
