@@ -44,7 +44,8 @@ constexpr double kCheckStep_s = 0.0025;  // check_certificate's
 // accelerations trade one for one). Any lambda ≥ 0 gives a valid bound; the checker adds more.
 constexpr std::array kLambdas{0.0, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 3.0, 5.0, 10.0};
 // Heading caps tried by the "side" witness.
-constexpr std::array kHeadingCaps{0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.55, 0.7, 0.9, 1.1};
+constexpr std::array kHeadingCaps{0.01, 0.02, 0.03, 0.05, 0.07, 0.1,  0.12, 0.15, 0.17, 0.2, 0.25,
+                                  0.3,  0.35, 0.4,  0.47, 0.55, 0.62, 0.7,  0.8,  0.9, 1.1, 1.3};
 
 // Fiala envelope: the largest lateral force an axle with grip N and slope K can give at
 // |tan(alpha)| ≤ t. f(z) = z − z²/3 + z³/27 up to z = 3, then 1 (C5).
@@ -541,7 +542,8 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Witness& w) {
 std::vector<Witness> witnesses(const Setup& c) {
   std::vector<Witness> out;
   const double face_x = c.near_x + kCertificateMinMargin_m;
-  for (double xi : {face_x, c.near_x + 0.5 * c.truck_width, c.near_x + c.truck_width - kCertificateMinMargin_m})
+  for (double xi : {face_x, face_x + 0.1, face_x + 0.3, c.near_x + 0.5 * c.truck_width,
+                    c.near_x + c.truck_width - kCertificateMinMargin_m})
     out.push_back({true, xi, 0.0});
   for (double cap : kHeadingCaps)
     out.push_back({false, face_x - (c.cf * std::cos(cap) - 0.5 * c.width * std::sin(cap)), cap});
