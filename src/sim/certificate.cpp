@@ -1,0 +1,610 @@
+// Unavoidability certificates: a sound bound on the reach of the single-track Fiala model in a
+// cell (docs/physics.md, "Unavoidability certificates", numbers every inequality used here as
+// (C1)…(C12)). The layout:
+// - the relaxation (C1–C4): coasting straight during the latency, then |a_CG| ≤ mu·g, speed ≤ v0,
+//   and the event "the CG first reaches x = xi" that every avoiding trajectory passes through;
+// - the comparison system (C5–C8): nondecreasing upper bounds, over time after the latency, on the
+//   front wheel's and both axles' lateral slip velocities, the yaw rate and the heading, and from
+//   them caps on the axle forces' body-lateral components (Fiala envelopes of the slip bounds);
+// - the duality bound (C9–C10): lateral displacements (of the CG, of the axle points) and the yaw
+//   angle at an arrival time T are double integrals of the axle forces; the arrival constraint
+//   (the braking it takes to reach xi at T) enters with a multiplier lambda ≥ 0, so for every
+//   lambda the pointwise maximum is an upper bound (weak duality);
+// - the witnesses (C11–C12): the geometry that turns those bounds into a contact or a departure.
+
+#include "emrm/sim/certificate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <vector>
+
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::sim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// The simulator's "stopped" speed (rollout.cpp, StoppedTest): a run ends as stopped below it.
+constexpr double kStoppedSpeed_mps = 0.05;
+// The bound is stated for the continuous model; integrating it with a coarser step than this is
+// not covered by the margin (docs/physics.md).
+constexpr double kMaxSceneStep_s = 0.02;
+// Longest time after the latency the bound is integrated; witnesses needing more are not tried.
+constexpr double kHorizon_s = 3.0;
+// The slip bounds need the body's forward speed (and the front wheel's rolling speed) bounded away
+// from zero; below this the bound falls back to the plain friction limits.
+constexpr double kMinRollingSpeed_mps = 0.1;
+constexpr double kStep_s = 0.005;       // certify_unavoidable's integration step
+constexpr double kCheckStep_s = 0.0025;  // check_certificate's
+// Multipliers of the arrival constraint (dimensionless for displacements: braking and lateral
+// accelerations trade one for one). Any lambda ≥ 0 gives a valid bound; the checker adds more.
+constexpr std::array kLambdas{0.0, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 3.0, 5.0, 10.0};
+// Heading caps tried by the "side" witness.
+constexpr std::array kHeadingCaps{0.01, 0.02, 0.03, 0.05, 0.07, 0.1,  0.12, 0.15, 0.17, 0.2, 0.25,
+                                  0.3,  0.35, 0.4,  0.47, 0.55, 0.62, 0.7,  0.8,  0.9, 1.1, 1.3};
+
+// Fiala envelope: the largest lateral force an axle with grip N and slope K can give at
+// |tan(alpha)| ≤ t. f(z) = z − z²/3 + z³/27 up to z = 3, then 1 (C5).
+double fiala_cap(double grip_n, double slope_n_per_rad, double tan_bound) {
+  if (grip_n <= 0.0) return 0.0;
+  const double z = slope_n_per_rad * tan_bound / grip_n;
+  if (z >= 3.0) return grip_n;
+  return grip_n * z * (1.0 - z / 3.0 + z * z / 27.0);
+}
+
+// One axle's part of a functional: max{ a|q| + b|p| : p² + q² ≤ N², |q| ≤ cap } as a function of
+// the friction disc's radius N (the support of the disc cut to the band |q| ≤ cap). Concave and
+// nondecreasing in N: linear with slope s = √(a² + b²) up to N_switch = cap·s/a, then
+// a·cap + b·√(N² − cap²).
+struct AxleSupport {
+  double a, b, s, cap, switch_n;
+
+  AxleSupport(double a_in, double b_in, double cap_in)
+      : a(a_in), b(b_in), s(std::sqrt(a_in * a_in + b_in * b_in)), cap(cap_in),
+        switch_n(a_in > 0.0 ? cap_in * s / a_in : kInf) {}
+
+  [[nodiscard]] double value(double n) const {
+    if (n <= switch_n) return n * s;
+    return a * cap + b * std::sqrt(std::max(0.0, n * n - cap * cap));
+  }
+  [[nodiscard]] double slope(double n) const {
+    if (n <= switch_n) return s;
+    const double root = std::sqrt(std::max(0.0, n * n - cap * cap));
+    return root > 0.0 ? b * n / root : s;
+  }
+  // max over 0 ≤ N ≤ n_max of (value(N) − nu·N), in closed form (where the slope falls to nu).
+  [[nodiscard]] double value_minus(double n_max, double nu) const {
+    if (nu >= s || n_max <= 0.0) return 0.0;
+    if (n_max <= switch_n) return (s - nu) * n_max;
+    double n = n_max;
+    if (nu > b) n = std::min(n_max, nu * cap / std::sqrt(nu * nu - b * b));
+    n = std::max(n, switch_n);
+    return value(n) - nu * n;
+  }
+};
+
+// Both axles: max of a_f|q_f| + b|p_f| + a_r|q_r| + b|p_r| with each axle in its friction disc
+// (radius ≤ its grip), its body-lateral component within its cap, and the two radii summing to at
+// most mu·m·g (the loads sum to m·g). Bounded from above by weak duality over the sum constraint:
+// for every nu ≥ 0 the value is ≤ nu·S + Σ max_N(support − nu·N); a few nu are tried (C10).
+double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f,
+                         double cap_r, double total_n) {
+  const AxleSupport front(a_f, b, cap_f);
+  const AxleSupport rear(a_r, b, cap_r);
+  double best = front.value(grip_f) + rear.value(grip_r);
+  if (grip_f + grip_r <= total_n) return best;
+  // The slopes at the ends of the feasible splits of the total, and the lesser initial slope.
+  const std::array nus{front.slope(grip_f), rear.slope(grip_r), front.slope(std::max(0.0, total_n - grip_r)),
+                       rear.slope(std::max(0.0, total_n - grip_f)), std::min(front.s, rear.s)};
+  for (double nu : nus)
+    best = std::min(best, nu * total_n + front.value_minus(grip_f, nu) + rear.value_minus(grip_r, nu));
+  return best;
+}
+
+// Everything fixed for a cell.
+struct Setup {
+  // car
+  double m, iz, lf, lr, wheelbase, h, width, cf, cr, rho, delta_max;
+  double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
+  double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
+  // cell
+  double mu, g, v0, tau, x0, x_tau, y0, stop_speed, stop_reach;
+  double near_x, truck_width, truck_length, y_min, y_max;
+  // grips: forward rolling (C4) and in general
+  double grip_f_fwd, grip_r_fwd, grip_any, total_grip;
+  const Scene* scene;
+};
+
+// One grid point of the comparison system (C6–C8), at s = k·h after the latency.
+struct Bound {
+  double cap_f = 0.0, cap_r = 0.0;    // |q_f|, |q_r| ≤ (body-lateral components of the axle forces)
+  double grip_f = 0.0, grip_r = 0.0;  // |F_f| ≤ grip_f, |F_r| ≤ grip_r
+  double sin_psi = 0.0;               // |sin ψ| ≤
+  double yaw_rate = 0.0;              // |r| ≤
+};
+
+struct Slip {  // comparison state: nondecreasing upper bounds
+  double gf = 0.0;   // |v_f| front axle's body-lateral velocity
+  double gr = 0.0;   // |v_r| rear axle's
+  double gw = 0.0;   // |w_f| front wheel's lateral velocity in its own frame
+  double r = 0.0;    // |r|
+  double psi = 0.0;  // |ψ|
+};
+
+struct Rates {
+  Slip d;
+  Bound b;
+  bool valid = true;
+};
+
+Setup make_setup(const Scene& scene) {
+  const SceneConfig& c = scene.config();
+  const VehicleParams& p = c.ego;
+  Setup s{};
+  s.scene = &scene;
+  s.m = p.mass_kg;
+  s.iz = p.yaw_inertia_kgm2;
+  s.lf = p.cg_to_front_axle_m;
+  s.lr = p.cg_to_rear_axle_m;
+  s.wheelbase = p.wheelbase_m();
+  s.h = p.cg_height_m;
+  s.width = p.width_m;
+  s.cf = p.cg_to_front_m();
+  s.cr = p.cg_to_rear_m();
+  s.rho = p.max_steer_rate_radps;
+  s.delta_max = p.max_steer_rad;
+  s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
+  s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
+  s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
+  s.mu = scene.cell().mu;
+  s.g = kGravity_mps2;
+  s.total_grip = s.mu * s.m * s.g;
+  // (C4) Loads. With the body moving forward (u > 0, front wheel rolling forwards) every commanded
+  // per-load braking is in [−mu, 0]; while mu·h < lf and mu·h < 3L/4 the load formula's
+  // acceleration is increasing in both, so it lies in [−mu·g, 0]: Fzf ≤ m g (lr + mu h)/L and
+  // Fzr ≤ m g lf / L. Otherwise only the clamp [0, m g] is used.
+  const bool monotone = s.mu * s.h < s.lf && s.mu * s.h < 0.75 * s.wheelbase;
+  s.grip_any = s.total_grip;
+  s.grip_f_fwd = monotone ? std::min(1.0, (s.lr + s.mu * s.h) / s.wheelbase) * s.total_grip : s.total_grip;
+  s.grip_r_fwd = monotone ? s.lf / s.wheelbase * s.total_grip : s.total_grip;
+  // (C5) A locked axle (mu Fz sin alpha) and the ABS floor (min(mu Fz, C tan alpha / 3)) stay under
+  // the Fiala envelope of slope K as long as K ≥ 3 mu Fz.
+  s.slope_f = std::max(p.front_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
+  s.slope_r = std::max(p.rear_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
+
+  s.v0 = scene.initial_speed_mps();
+  s.tau = c.simulation.latency_s;
+  const VehicleState start = scene.ego_initial();
+  s.x0 = start.x_m;
+  s.y0 = start.y_m;
+  s.x_tau = s.x0 + s.v0 * s.tau;
+  // (C2) Before its speed can fall below the stop threshold (and below the kinematic blend) the
+  // CG's x-velocity must fall from v0 to it at no more than mu·g: the CG travels at least this far.
+  s.stop_speed = std::max(p.kinematic_blend_speed_mps, kStoppedSpeed_mps);
+  s.stop_reach = s.x_tau + std::max(0.0, s.v0 * s.v0 - s.stop_speed * s.stop_speed) / (2.0 * s.mu * s.g);
+  s.near_x = scene.initial_distance_m();
+  s.truck_width = c.truck.width_m;
+  s.truck_length = c.truck.length_m;
+  s.y_min = c.road.drivable_min_y_m();
+  s.y_max = c.road.drivable_max_y_m();
+  return s;
+}
+
+// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`.
+Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
+  Rates out;
+  const double delta = std::min(c.rho * s, c.delta_max);
+  const double sin_d = std::sin(delta);
+  const double cos_d = std::cos(delta);
+  const double speed_lo = std::max(0.0, c.v0 - c.mu * c.g * s);
+  const double v_cg = (c.lr * z.gf + c.lf * z.gr) / c.wheelbase;  // |v| of the CG, body-lateral
+  double u_lo = 0.0;
+  double uf_lo = 0.0;
+  bool valid = was_valid && speed_lo > v_cg;
+  if (valid) {
+    u_lo = std::sqrt(speed_lo * speed_lo - v_cg * v_cg);
+    uf_lo = u_lo * cos_d - z.gf * sin_d;
+    valid = u_lo > kMinRollingSpeed_mps && uf_lo > kMinRollingSpeed_mps;
+  }
+  out.valid = valid;
+  out.b.sin_psi = z.psi >= std::numbers::pi / 2.0 ? 1.0 : std::sin(z.psi);
+  out.b.yaw_rate = z.r;
+  if (!valid) {
+    // Plain friction limits; the slip bounds are no longer needed (and no longer tracked).
+    out.b.grip_f = out.b.grip_r = out.b.cap_f = out.b.cap_r = c.grip_any;
+    out.d.r = (c.lf + c.lr) * c.grip_any / c.iz;
+    out.d.psi = z.r;
+    return out;
+  }
+  const double grip_f = c.grip_f_fwd;
+  const double grip_r = c.grip_r_fwd;
+  // (C6) |q_f| = |Fx sin δ + Fy cos δ| with Fx² + Fy² ≤ grip², |Fy| ≤ Fiala(|w_f| / u_f).
+  const auto front_component = [&](double lateral_cap) {
+    return lateral_cap >= grip_f * cos_d
+               ? grip_f
+               : lateral_cap * cos_d + std::sqrt(std::max(0.0, grip_f * grip_f - lateral_cap * lateral_cap)) * sin_d;
+  };
+  out.b.grip_f = grip_f;
+  out.b.grip_r = grip_r;
+  out.b.cap_f = front_component(fiala_cap(grip_f, c.slope_f, z.gw / uf_lo));
+  out.b.cap_r = fiala_cap(grip_r, c.slope_r, z.gr / u_lo);
+  // (C7) d|v_f|/dt: the lateral force only pushes v_f outwards while |w_f| ≤ u |sin δ|.
+  const double steering_push = front_component(fiala_cap(grip_f, c.slope_f, c.v0 * sin_d / uf_lo));
+  out.d.gf = c.a_f * steering_push + c.kappa * out.b.cap_r + c.v0 * z.r;
+  // (C7) d|v_r|/dt: the rear force always pulls v_r towards zero.
+  out.d.gr = c.kappa * out.b.cap_f + c.v0 * z.r;
+  // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
+  out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + c.rho * (z.gf * sin_d + c.v0) +
+             (c.mu * c.g + z.r * v_cg) * sin_d;
+  // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
+  out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
+  out.d.psi = z.r;
+  return out;
+}
+
+Slip advance(const Slip& z, const Slip& d, double step) {
+  return {z.gf + step * d.gf, z.gr + step * d.gr, z.gw + step * d.gw, z.r + step * d.r, z.psi + step * d.psi};
+}
+
+bool at_most(const Slip& a, const Slip& b) {
+  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi;
+}
+
+// The time grid after the latency: fine where the forces build up, coarser later. Cell k spans
+// [s_{k-1}, s_k]; every value used for a cell is the one at its right end (all bounds are
+// nondecreasing in time), so a finer grid can only tighten the bound.
+double cell_width(double base_step, double s_start) {
+  if (s_start < 0.4 - 1e-12) return base_step;
+  if (s_start < 1.2 - 1e-12) return 2.0 * base_step;
+  return 4.0 * base_step;
+}
+
+// The functionals bounded by duality (C9): per unit of |q| on each axle, per unit of |p|, and an
+// additive term, all nondecreasing in time.
+enum class Functional { kCg, kFrontAxle, kRearAxle, kYaw };
+
+struct Table {  // for one functional and one lambda: prefix sums of ĝ·w and ĝ·w·s_mid over cells
+  double lambda = 0.0;
+  std::vector<double> s0{0.0}, s1{0.0};
+};
+
+// The comparison system (C6–C8) and the duality tables (C9–C10), built lazily along the grid.
+class Bounder {
+ public:
+  Bounder(const Setup& c, double base_step, std::vector<double> lambdas)
+      : c_(c), base_step_(base_step), lambdas_(std::move(lambdas)) {
+    const Rates first = rates_at(c_, 0.0, z_, true);
+    valid_ = first.valid;
+    times_.push_back(0.0);
+    bounds_.push_back(first.b);
+  }
+
+  [[nodiscard]] double time(int k) const { return times_[static_cast<std::size_t>(k)]; }
+
+  // The least grid index k with s_k ≥ s (extending the grid), or -1 beyond the horizon.
+  int index_at_or_after(double s) {
+    if (s > kHorizon_s) return -1;
+    while (times_.back() < s) extend();
+    const auto it = std::lower_bound(times_.begin(), times_.end(), s);
+    return static_cast<int>(it - times_.begin());
+  }
+
+  // Upper bound of functional f at every arrival time T ∈ [s_{k−1}, s_k] for the trajectories that
+  // reach the crossing then; `need` is the braking impulse moment that arrival at either end
+  // requires. For each lambda the dual value is convex in T, so its larger end value bounds it
+  // on the interval; the least over lambda is kept (C10).
+  double bound(Functional f, int k, double need_lo, double need_hi) {
+    auto& tables = tables_for(f, k);
+    const auto hi = static_cast<std::size_t>(k);
+    const std::size_t lo = hi - 1;
+    const double t_lo = times_[lo];
+    const double t_hi = times_[hi];
+    double best = kInf;
+    for (const Table& t : tables) {
+      const double a = t_lo * t.s0[lo] - t.s1[lo] - t.lambda * need_lo;
+      const double b = t_hi * t.s0[hi] - t.s1[hi] - t.lambda * need_hi;
+      best = std::min(best, std::max(a, b));
+    }
+    return std::max(best, 0.0);
+  }
+
+ private:
+  // One step of the comparison system: an upper solution of z1 ≥ z + w·F(s1, z1). F is
+  // nondecreasing in s and z, so the piecewise-linear interpolation of such points is an upper
+  // solution of the ODE and bounds the true magnitudes (comparison theorem for quasi-monotone
+  // systems). A guess is grown until F maps it below itself, then iterated downwards (by
+  // monotonicity every iterate stays an upper solution).
+  void extend() {
+    const double s0 = times_.back();
+    const double w = cell_width(base_step_, s0);
+    const double s1 = s0 + w;
+    Slip end = z_;
+    if (valid_) {
+      Slip guess = advance(z_, rates_at(c_, s1, z_, true).d, 2.0 * w);
+      bool found = false;
+      for (int tries = 0; tries < 60 && !found; ++tries) {
+        const Rates r = rates_at(c_, s1, guess, true);
+        if (!r.valid) break;
+        const Slip next = advance(z_, r.d, w);
+        if (at_most(next, guess)) {
+          found = true;
+          guess = next;
+          for (int down = 0; down < 2; ++down) {
+            const Rates rd = rates_at(c_, s1, guess, true);
+            if (!rd.valid) break;
+            const Slip lower = advance(z_, rd.d, w);
+            if (!at_most(lower, guess)) break;
+            guess = lower;
+          }
+        } else {
+          guess = {2.0 * std::max(guess.gf, next.gf) + 1e-9, 2.0 * std::max(guess.gr, next.gr) + 1e-9,
+                   2.0 * std::max(guess.gw, next.gw) + 1e-9, 2.0 * std::max(guess.r, next.r) + 1e-9,
+                   2.0 * std::max(guess.psi, next.psi) + 1e-9};
+        }
+      }
+      if (found && rates_at(c_, s1, guess, true).valid) end = guess;
+      else valid_ = false;  // from here on only the plain friction limits (and the yaw bounds)
+    }
+    if (!valid_) {
+      // Constant rate: the explicit step at the larger yaw acceleration is exact from above.
+      end.r = z_.r + w * (c_.lf + c_.lr) * c_.grip_any / c_.iz;
+      end.psi = z_.psi + w * end.r;
+    }
+    z_ = end;
+    times_.push_back(s1);
+    bounds_.push_back(rates_at(c_, s1, end, valid_).b);
+  }
+
+  std::vector<Table>& tables_for(Functional f, int k) {
+    auto& tables = tables_[static_cast<std::size_t>(f)];
+    if (tables.empty()) {
+      // The yaw functional's multiplier has units rad/s² per m/s²: its grid is scaled by lf·m/Iz.
+      const double scale = f == Functional::kYaw ? c_.lf * c_.m / c_.iz : 1.0;
+      for (double l : lambdas_) tables.push_back(Table{l * scale});
+    }
+    while (static_cast<int>(times_.size()) <= k) extend();
+    for (std::size_t j = tables.front().s0.size(); j <= static_cast<std::size_t>(k); ++j) add_cell(f, tables, j);
+    return tables;
+  }
+
+  void add_cell(Functional f, std::vector<Table>& tables, std::size_t k) const {
+    const Bound& b = bounds_[k];  // right end of the cell: the largest value in it
+    const double w = times_[k] - times_[k - 1];
+    const double mid = 0.5 * (times_[k] + times_[k - 1]);
+    double a_front = 0.0, a_rear = 0.0, per_p = 0.0, extra = 0.0;
+    switch (f) {
+      case Functional::kCg:  // Ÿ = (F_bx sin ψ + F_by cos ψ)/m
+        a_front = a_rear = 1.0 / c_.m;
+        per_p = b.sin_psi / c_.m;
+        break;
+      case Functional::kFrontAxle:  // cos ψ (a_f q_f + κ q_r) + sin ψ (F_bx/m − lf r²)
+        a_front = c_.a_f;
+        a_rear = c_.kappa;
+        per_p = b.sin_psi / c_.m;
+        extra = b.sin_psi * c_.lf * b.yaw_rate * b.yaw_rate;
+        break;
+      case Functional::kRearAxle:  // cos ψ (κ q_f + a_r q_r) + sin ψ (F_bx/m + lr r²)
+        a_front = c_.kappa;
+        a_rear = c_.a_r;
+        per_p = b.sin_psi / c_.m;
+        extra = b.sin_psi * c_.lr * b.yaw_rate * b.yaw_rate;
+        break;
+      case Functional::kYaw:  // ψ̈ = (lf q_f − lr q_r)/Iz
+        a_front = c_.lf / c_.iz;
+        a_rear = c_.lr / c_.iz;
+        break;
+    }
+    for (Table& t : tables) {
+      // The arrival constraint's braking, b ≤ (|p_f| + |p_r|)/m + (|q_f| + |q_r|)|sin ψ|/m.
+      const double brake_q = t.lambda * b.sin_psi / c_.m;
+      const double brake_p = t.lambda / c_.m;
+      const double g = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
+                                         b.cap_f, b.cap_r, c_.total_grip) +
+                       extra;
+      t.s0.push_back(t.s0.back() + g * w);
+      t.s1.push_back(t.s1.back() + g * w * mid);
+    }
+  }
+
+  const Setup& c_;
+  double base_step_;
+  std::vector<double> lambdas_;
+  std::vector<double> times_;
+  std::vector<Bound> bounds_;
+  Slip z_;
+  bool valid_ = true;
+  std::array<std::vector<Table>, 4> tables_;
+};
+
+struct Witness {
+  bool disc = false;
+  double crossing_x = 0.0;
+  double heading_cap = 0.0;
+};
+
+struct Evaluation {
+  double margin = -kInf;
+  double window_start_s = 0.0, window_end_s = 0.0;
+};
+
+// The arrival window of the CG at x = xi, as times after the latency (C3): no faster than v0, no
+// later than braking at mu·g from the end of the latency.
+std::pair<double, double> arrival_window(const Setup& c, double xi) {
+  const double travel = xi - c.x_tau;
+  const double early = travel / c.v0;
+  const double late = (c.v0 - std::sqrt(c.v0 * c.v0 - 2.0 * c.mu * c.g * travel)) / (c.mu * c.g);
+  return {early, late};
+}
+
+// (C11–C12) The margin by which every trajectory reaching the crossing between the given times
+// (absolute) with the given bounds overlaps the truck or crosses an edge; disp bounds the lateral
+// displacement of the relevant points, heading_cap |ψ|.
+double route_margins(const Setup& c, double top_lo, double bottom_hi, double t_start, double t_end) {
+  const double front_start = c.scene->truck_front_y_at(t_start);
+  const double front_end = c.scene->truck_front_y_at(t_end);
+  // Below the truck: the car's cross-section (at least `width` across) must fit between the right
+  // edge and the truck's front, which only descends: its highest point is below the front at
+  // the start of the interval at the latest.
+  const double below = std::max(top_lo - front_start, 0.5 * (c.width - (front_start - c.y_min)));
+  // Above the truck (behind it, once it has crossed): the front only descends, so the truck's far
+  // end is lowest at the end of the interval.
+  const double rear_end = front_end + c.truck_length;
+  const double above = std::max(rear_end - bottom_hi, 0.5 * (c.width - (c.y_max - rear_end)));
+  return std::min(below, above);
+}
+
+Evaluation evaluate(const Setup& c, Bounder& b, const Witness& w) {
+  Evaluation out;
+  const double xi = w.crossing_x;
+  const double min_margin = kCertificateMinMargin_m;
+  const double face_x = c.near_x + min_margin;  // the crossing line, inside the truck by the margin
+  if (!(xi < c.stop_reach) || !(xi > c.x0)) return out;
+
+  // Geometry of the witness.
+  double a_lo = 0.0, a_hi = 0.0, cos_cap = 1.0, sin_cap = 0.0;
+  if (w.disc) {
+    if (c.cf < 0.5 * c.width || c.cr < 0.5 * c.width) return out;  // the disc must lie in the car
+    if (xi < face_x || xi > c.near_x + c.truck_width - min_margin) return out;
+  } else {
+    if (!(w.heading_cap > 0.0 && w.heading_cap < 1.5)) return out;
+    sin_cap = std::sin(w.heading_cap);
+    cos_cap = std::cos(w.heading_cap);
+    const double gap = face_x - xi;
+    // Both sides of the car cross x = face_x for every heading within the cap (front corners past
+    // it, rear corners short of it), at body coordinates a in [a_lo, a_hi], monotone in ψ.
+    if (xi < face_x - (c.cf * cos_cap - 0.5 * c.width * sin_cap)) return out;
+    if (xi > face_x + (c.cr * cos_cap - 0.5 * c.width * sin_cap)) return out;
+    if (std::abs(gap) * sin_cap >= 0.5 * c.width) return out;
+    a_lo = (gap - 0.5 * c.width * sin_cap) / cos_cap;
+    a_hi = (gap + 0.5 * c.width * sin_cap) / cos_cap;
+  }
+
+  // Which points' displacement matters, and how it follows from the functionals (C12).
+  const auto side_displacement = [&](double cg, double front, double rear) {
+    // |ΔY_a| for the body point at a, by four sound routes; the largest over the a-range (each
+    // route is convex in a) of each route, the least over routes.
+    const auto route = [&](auto&& at) { return std::max(at(a_lo), at(a_hi)); };
+    const double l = c.wheelbase;
+    const double by_axles = route([&](double a) {
+      return std::abs(a + c.lr) / l * front + std::abs(c.lf - a) / l * rear;
+    });
+    const double by_cg = route([&](double a) { return cg + std::abs(a) * sin_cap; });
+    const double by_front = route([&](double a) { return front + std::abs(a - c.lf) * sin_cap; });
+    const double by_rear = route([&](double a) { return rear + std::abs(a + c.lr) * sin_cap; });
+    return std::min({by_axles, by_cg, by_front, by_rear});
+  };
+
+  double margin = kInf;
+  if (xi <= c.x_tau) {
+    // Reached during the latency: exactly on the straight line, at a known time.
+    const double t = (xi - c.x0) / c.v0;
+    margin = route_margins(c, c.y0 + 0.5 * c.width, c.y0 - 0.5 * c.width, t, t);
+    out.window_start_s = out.window_end_s = t;
+  } else {
+    const auto [early, late] = arrival_window(c, xi);
+    out.window_start_s = c.tau + early;
+    out.window_end_s = c.tau + late;
+    const int k_last = b.index_at_or_after(late);
+    if (k_last < 0) return out;
+    int k = std::max(1, b.index_at_or_after(early));
+    for (; k <= k_last; ++k) {
+      const double s_lo = b.time(k - 1);
+      const double s_hi = b.time(k);
+      // Braking impulse moment needed to arrive at s: ∫(s − σ) b dσ = x_τ + v0 s − xi.
+      const double need_lo = c.x_tau + c.v0 * s_lo - xi;
+      const double need_hi = c.x_tau + c.v0 * s_hi - xi;
+      const double d_cg = b.bound(Functional::kCg, k, need_lo, need_hi);
+      double top_lo = 0.0, bottom_hi = 0.0;
+      if (w.disc) {
+        top_lo = c.y0 - d_cg + 0.5 * c.width;
+        bottom_hi = c.y0 + d_cg - 0.5 * c.width;
+      } else {
+        const double psi = b.bound(Functional::kYaw, k, need_lo, need_hi);
+        if (!(psi < w.heading_cap)) return out;
+        const double d_front = b.bound(Functional::kFrontAxle, k, need_lo, need_hi);
+        const double d_rear = b.bound(Functional::kRearAxle, k, need_lo, need_hi);
+        const double disp = side_displacement(d_cg, d_front, d_rear);
+        top_lo = c.y0 - disp + 0.5 * c.width * cos_cap;
+        bottom_hi = c.y0 + disp - 0.5 * c.width * cos_cap;
+      }
+      margin = std::min(margin, route_margins(c, top_lo, bottom_hi, c.tau + s_lo, c.tau + s_hi));
+      if (!(margin >= min_margin)) return out;
+    }
+  }
+  out.margin = margin;
+  return out;
+}
+
+std::vector<Witness> witnesses(const Setup& c) {
+  std::vector<Witness> out;
+  const double face_x = c.near_x + kCertificateMinMargin_m;
+  for (double xi : {face_x, face_x + 0.1, face_x + 0.3, c.near_x + 0.5 * c.truck_width,
+                    c.near_x + c.truck_width - kCertificateMinMargin_m})
+    out.push_back({true, xi, 0.0});
+  for (double cap : kHeadingCaps)
+    out.push_back({false, face_x - (c.cf * std::cos(cap) - 0.5 * c.width * std::sin(cap)), cap});
+  return out;
+}
+
+bool applicable(const Scene& scene) {
+  const SceneConfig& c = scene.config();
+  return c.simulation.vehicle_model == SingleTrackFiala::kName && c.simulation.dt_s <= kMaxSceneStep_s &&
+         scene.initial_speed_mps() > 0.0 && scene.cell().mu > 0.0;
+}
+
+}  // namespace
+
+std::optional<Certificate> certify_unavoidable(const Scene& scene) {
+  if (!applicable(scene)) return std::nullopt;
+  const Setup c = make_setup(scene);
+  // Quick exit: if the CG can stop before any witness's crossing, nothing can be shown.
+  const std::vector<Witness> ws = witnesses(c);
+  if (std::none_of(ws.begin(), ws.end(), [&](const Witness& w) { return w.crossing_x < c.stop_reach; }))
+    return std::nullopt;
+  Bounder bounder(c, kStep_s, std::vector<double>(kLambdas.begin(), kLambdas.end()));
+  for (const Witness& w : ws) {
+    const Evaluation e = evaluate(c, bounder, w);
+    if (!(e.margin >= kCertificateMinMargin_m)) continue;
+    Certificate cert;
+    cert.margin_m = e.margin;
+    cert.witness = w.disc ? "disc" : "side";
+    cert.crossing_x_m = w.crossing_x;
+    cert.heading_cap_rad = w.heading_cap;
+    cert.window_start_s = e.window_start_s;
+    cert.window_end_s = e.window_end_s;
+    cert.stop_reach_x_m = c.stop_reach;
+    cert.step_s = kStep_s;
+    cert.cell = scene.cell();
+    cert.latency_s = scene.config().simulation.latency_s;
+    return cert;
+  }
+  return std::nullopt;
+}
+
+bool check_certificate(const Scene& scene, const Certificate& cert) {
+  if (cert.method != "lateral-reach" || !applicable(scene)) return false;
+  const CellInput& a = cert.cell;
+  const CellInput& b = scene.cell();
+  if (a.speed_kph != b.speed_kph || a.ttc_s != b.ttc_s || a.mu != b.mu || a.passage_m != b.passage_m ||
+      a.truck_speed_kph != b.truck_speed_kph || cert.latency_s != scene.config().simulation.latency_s)
+    return false;
+  if (cert.witness != "disc" && cert.witness != "side") return false;
+  if (!std::isfinite(cert.crossing_x_m) || !std::isfinite(cert.heading_cap_rad)) return false;
+  const Setup c = make_setup(scene);
+  const Witness w{cert.witness == "disc", cert.crossing_x_m, cert.heading_cap_rad};
+  // A denser set of multipliers: every one of them is a valid bound on its own. The finer step is
+  // tried first; the claim also holds if the certifier's own step shows it (each is a sound bound).
+  std::vector<double> lambdas;
+  for (int i = 0; i <= 240; ++i) lambdas.push_back(0.05 * i);
+  for (const double step : {kCheckStep_s, kStep_s}) {
+    Bounder bounder(c, step, lambdas);
+    if (evaluate(c, bounder, w).margin >= kCertificateMinMargin_m) return true;
+  }
+  return false;
+}
+
+}  // namespace emrm::sim
