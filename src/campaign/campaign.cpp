@@ -367,6 +367,7 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
   if (result.feasible) r.evidence = std::string(sim::evidence_name(result.evidence));
   r.mitigation_evidence = result.mitigation_evidence;
   r.strengthened = result.strengthened;
+  if (result.certificate) r.certificate = sim::to_json(*result.certificate).dump();
   r.p_mais3_reduction = result.p_mais3_reduction;
   r.p_fatal_reduction = result.p_fatal_reduction;
   for (const auto& o : result.strategies) {

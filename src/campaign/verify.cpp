@@ -12,6 +12,7 @@
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/sim/certificate.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
@@ -227,7 +228,21 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     if (!avoidable && r.evidence != "certificate" && r.evidence != "undecided")
       fail("", fmt::format("region {} with evidence '{}'", r.region, r.evidence));
     if (r.evidence == "undecided") ++report.undecided;
-    if (r.evidence == "certificate") fail("", "certificates cannot be checked by this build");
+    if (r.evidence == "certificate" && r.certificate.empty()) fail("", "evidence 'certificate' without one");
+    if (!r.certificate.empty()) {
+      const std::string where = fmt::format("{}: cell {}#{} certificate", results_sqlite.string(), r.grid, r.index);
+      nlohmann::json json;
+      try {
+        json = nlohmann::json::parse(r.certificate);
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(SourceLocation{results_sqlite.string()},
+                         fmt::format("cell {}#{}: the stored certificate is not JSON: {}", r.grid, r.index, e.what()));
+      }
+      ++report.certificates;
+      if (!sim::check_certificate(scene, sim::certificate_from_json(json, where)))
+        fail("", "the certificate does not hold");
+      if (avoidable) fail("", fmt::format("region {} although a certificate says nothing avoids", r.region));
+    }
 
     // A chooser is never worse than an option it had.
     for (const auto& chooser : r.outcomes) {

@@ -77,7 +77,51 @@ nlohmann::json truck_trajectory_json(const Scene& scene, const std::vector<PathP
   return out;
 }
 
+std::string text(const nlohmann::json& j, const char* key, const std::string& where) {
+  const auto& v = member(j, key, where);
+  if (!v.is_string()) throw InputError(SourceLocation{}, fmt::format("{}: '{}' must be a string", where, key));
+  return v.get<std::string>();
+}
+
 }  // namespace
+
+nlohmann::json to_json(const Certificate& c) {
+  return {{"method", c.method},
+          {"margin_m", c.margin_m},
+          {"witness", c.witness},
+          {"crossing_x_m", c.crossing_x_m},
+          {"heading_cap_rad", c.heading_cap_rad},
+          {"window_start_s", c.window_start_s},
+          {"window_end_s", c.window_end_s},
+          {"stop_reach_x_m", c.stop_reach_x_m},
+          {"step_s", c.step_s},
+          {"cell",
+           {{"speed_kph", c.cell.speed_kph},
+            {"ttc_s", c.cell.ttc_s},
+            {"mu", c.cell.mu},
+            {"passage_m", c.cell.passage_m},
+            {"truck_speed_kph", c.cell.truck_speed_kph}}},
+          {"latency_s", c.latency_s}};
+}
+
+Certificate certificate_from_json(const nlohmann::json& j, const std::string& where) {
+  Certificate c;
+  c.method = text(j, "method", where);
+  c.margin_m = number(j, "margin_m", where);
+  c.witness = text(j, "witness", where);
+  c.crossing_x_m = number(j, "crossing_x_m", where);
+  c.heading_cap_rad = number(j, "heading_cap_rad", where);
+  c.window_start_s = number(j, "window_start_s", where);
+  c.window_end_s = number(j, "window_end_s", where);
+  c.stop_reach_x_m = number(j, "stop_reach_x_m", where);
+  c.step_s = number(j, "step_s", where);
+  const auto& cell = member(j, "cell", where);
+  const std::string at = where + ": cell";
+  c.cell = {number(cell, "speed_kph", at), number(cell, "ttc_s", at), number(cell, "mu", at),
+            number(cell, "passage_m", at), number(cell, "truck_speed_kph", at)};
+  c.latency_s = number(j, "latency_s", where);
+  return c;
+}
 
 nlohmann::json to_json(const Maneuver& maneuver) {
   nlohmann::json plan = nlohmann::json::array();
@@ -139,6 +183,7 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
     if (!result.mitigation_evidence.empty()) j["mitigation_evidence"] = result.mitigation_evidence;
     j["strengthened"] = result.strengthened;
     j["harm_reduction"] = {{"p_mais3", result.p_mais3_reduction}, {"p_fatal", result.p_fatal_reduction}};
+    if (result.certificate) j["certificate"] = to_json(*result.certificate);
   }
   j["unmitigated"] = impact_json(result.unmitigated);
   nlohmann::json strategies = nlohmann::json::object();

@@ -188,7 +188,9 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
     return *trace;
   };
 
-  const bool certified = false;
+  // A proof first: in a cell that nothing can avoid, no search for an avoidance is needed.
+  if (options.certify && at_risk) result.certificate = certify_unavoidable(scene);
+  const bool certified = result.certificate.has_value();
   std::map<std::string, StrategyOutcome> outcomes;
   const auto any_avoided = [&] {
     for (const auto& [name, o] : outcomes)

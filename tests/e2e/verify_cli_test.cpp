@@ -88,6 +88,20 @@ TEST_F(VerifyCli, AWitnessThatDoesNotDriveTheClaimIsFound) {
   EXPECT_THAT(r.out, HasSubstr("replay does not avoid"));
 }
 
+TEST_F(VerifyCli, ACertificateForAnotherCellIsFound) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const auto count = [&](const fs::path& dir) {
+    return run_emrm("verify " + quoted(dir) + " --json");
+  };
+  ASSERT_THAT(count(*dir_ / "out").out, ::testing::Not(HasSubstr("\"certificates\": 0"))) << "no certified cell";
+  const auto dir = tampered(*dir_ / "out", *dir_ / "certificate",
+                            "UPDATE cells SET certificate = replace(certificate, '\\\"speed_kph\\\":70.0', "
+                            "'\\\"speed_kph\\\":30.0') WHERE certificate != ''");
+  const auto r = run_emrm("verify " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("the certificate does not hold"));
+}
+
 TEST_F(VerifyCli, ADamagedManeuverIsBadInputNamingTheCell) {
   if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
   const auto dir = tampered(*dir_ / "out", *dir_ / "damaged",

@@ -18,6 +18,12 @@ struct JsonOptions {
 [[nodiscard]] nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed,
                                      const JsonOptions& options = {});
 
+/// A certificate as JSON, every number to full precision (check_certificate re-derives it).
+[[nodiscard]] nlohmann::json to_json(const Certificate& certificate);
+/// The certificate back from that JSON. Throws InputError naming `where` and the key when a member
+/// is missing, of the wrong type or not finite.
+[[nodiscard]] Certificate certificate_from_json(const nlohmann::json& j, const std::string& where);
+
 /// A maneuver as JSON: {"plan": [segment…], "tail": {…} or null}, every number to full precision so
 /// that a replay reproduces the run bit for bit.
 [[nodiscard]] nlohmann::json to_json(const Maneuver& maneuver);

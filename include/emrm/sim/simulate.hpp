@@ -6,12 +6,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "emrm/core/random.hpp"
 #include "emrm/fsm/generator.hpp"
+#include "emrm/sim/certificate.hpp"
 #include "emrm/sim/loss.hpp"
 #include "emrm/sim/planner.hpp"
 #include "emrm/sim/scene.hpp"
@@ -61,6 +63,8 @@ struct CellResult {
   /// The searches were strengthened (restarts with seeds independent of the cell's, the reference
   /// planner) because the first found no avoidance and no certificate settles the cell.
   bool strengthened = false;
+  /// The proof that nothing avoids the truck, when the cell has one (O and R cells only).
+  std::optional<Certificate> certificate;
   ImpactAssessment unmitigated;
   /// Mitigation within a level: the unmitigated reference's P(MAIS3+) and P(fatal) minus the best
   /// (lowest) of the strategies' (0 when there is no risk; the reference's own when one avoids).

@@ -345,3 +345,49 @@ TEST(SeedStability, DISABLED_HundredCellsNearTheBoundariesFiveSeeds) {
 
 }  // namespace
 }  // namespace emrm::sim
+
+namespace emrm::sim {
+namespace {
+
+TEST(Evidence, ACertifiedCellSkipsTheAvoidanceSearchesAndSaysWhy) {
+  // 70 km/h, 4.9 m to the truck: no car gets past it. The certificate settles the region, and
+  // the searches it makes pointless are not run; with certify off they run and find nothing.
+  const SceneConfig config;
+  const CellInput cell{70.0, 0.25, 1.0, 3.0, 10.0};
+  const CellResult r = simulate_cell(config, cell, {});
+  ASSERT_TRUE(r.certificate.has_value());
+  EXPECT_TRUE(check_certificate(Scene(config, cell), *r.certificate));
+  EXPECT_TRUE(r.region == Region::kO || r.region == Region::kR);
+  EXPECT_EQ(r.evidence, Evidence::kCertificate);
+  EXPECT_FALSE(r.strengthened);
+  for (const char* name : {"dodge", "drift_to_avoid"}) {
+    EXPECT_EQ(outcome(r, name).planner.nodes, 0) << name;
+    EXPECT_EQ(outcome(r, name).evidence, Evidence::kCertificate) << name;
+  }
+  CellOptions full;
+  full.certify = false;
+  const CellResult searched = simulate_cell(config, cell, full);
+  EXPECT_FALSE(searched.certificate.has_value());
+  EXPECT_GT(outcome(searched, "dodge").planner.nodes, 0);
+  for (const auto& o : searched.strategies) EXPECT_FALSE(o.avoided) << o.strategy;
+  EXPECT_EQ(searched.evidence, Evidence::kUndecided);
+}
+
+TEST(Evidence, GreenAndYellowCellsCarryWitnessesOrangeAndRedNeverDo) {
+  const SceneConfig config;
+  for (const CellInput& cell : evasion_cells()) {
+    const CellResult r = simulate_cell(config, cell, {});
+    if (r.region == Region::kG || r.region == Region::kY) {
+      EXPECT_EQ(r.evidence, Evidence::kWitness);
+      EXPECT_TRUE(r.mitigation_evidence.empty());
+    } else {
+      EXPECT_NE(r.evidence, Evidence::kWitness);
+      EXPECT_FALSE(r.mitigation_evidence.empty());
+    }
+    EXPECT_GE(r.p_mais3_reduction, 0.0);
+    EXPECT_LE(r.p_mais3_reduction, r.unmitigated.p_mais3);
+  }
+}
+
+}  // namespace
+}  // namespace emrm::sim
