@@ -440,9 +440,10 @@ std::pair<double, double> arrival_window(const Setup& c, double xi) {
   return {early, late};
 }
 
-// (C11–C12) The margin by which every trajectory reaching the crossing between the given times
-// (absolute) with the given bounds overlaps the truck or crosses an edge; disp bounds the lateral
-// displacement of the relevant points, heading_cap |ψ|.
+// (C11–C12) The margin by which a car whose cross-section at the crossing line spans at least
+// [bottom_hi, top_lo] (and is at least `width` long), crossing it between the absolute times
+// t_start and t_end, overlaps the truck or crosses an edge: the larger of the two ways each route
+// fails, the smaller over the two routes (below the truck's front, above its far end).
 double route_margins(const Setup& c, double top_lo, double bottom_hi, double t_start, double t_end) {
   const double front_start = c.scene->truck_front_y_at(t_start);
   const double front_end = c.scene->truck_front_y_at(t_end);
