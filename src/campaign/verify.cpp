@@ -304,7 +304,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
 std::string to_text(const VerifyReport& report) {
   std::string out = fmt::format(
       "Verified {} feasible cells: {} maneuvers replayed, {} avoidances re-checked every millisecond "
-      "(least clearance to the truck {:.3f} m), {} certificates re-derived, {} undecided cells\n",
+      "(least clearance to the truck {:.4g} m), {} certificates re-derived, {} undecided cells\n",
       report.cells, report.witnesses, report.avoidances, report.least_clearance_m, report.certificates,
       report.undecided);
   out += "| region | witness | certificate | undecided |\n| --- | --- | --- | --- |\n";
