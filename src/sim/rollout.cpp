@@ -223,11 +223,11 @@ class RoadDepartureCheck {
     const double move = rate * step.dt_s;
     // Cheap first: the CG's distance to the edges less the car's reach.
     if (std::min(step.state.y_m - min_y_m_, max_y_m_ - step.state.y_m) - motion_.reach_m() > move) return false;
-    if (gap_of(step.ego) > move) return false;
+    if (scene_.edge_gap_m(step.ego) > move) return false;
     const double mu = scene_.cell().mu;
     const PoseInStep pose(step);
     const auto touch =
-        first_touch(step.dt_s, rate, [&](double tau) { return gap_of(scene_.ego_box(pose.at(tau))); });
+        first_touch(step.dt_s, rate, [&](double tau) { return scene_.edge_gap_m(scene_.ego_box(pose.at(tau))); });
     if (!touch) return false;
     step.state = model_.step(step.before, step.control, mu, *touch);
     step.t_s = step.t_s - step.dt_s + *touch;
@@ -237,15 +237,6 @@ class RoadDepartureCheck {
   }
 
  private:
-  // Distance from the box to the nearer edge of the drivable band (negative once across).
-  double gap_of(const core::OrientedBox& box) const noexcept {
-    const auto [cos_h, sin_h] = core::cos_sin(box.heading_rad);
-    const double c = std::abs(cos_h);
-    const double s = std::abs(sin_h);
-    const double half_extent_y = 0.5 * (box.length_m * s + box.width_m * c);
-    return std::min(box.center.y - half_extent_y - min_y_m_, max_y_m_ - box.center.y - half_extent_y);
-  }
-
   ImpactAssessment assess(const VehicleState& s, const core::OrientedBox& ego_box) const {
     const auto& cfg = scene_.config();
     if (!cfg.roadside.barrier()) {

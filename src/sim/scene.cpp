@@ -127,14 +127,14 @@ core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
   return {core::Vec2{s.x_m, s.y_m} + heading * offset_m, s.yaw_rad, ego.length_m, ego.width_m};
 }
 
-bool Scene::on_drivable_area(const core::OrientedBox& ego) const noexcept {
+bool Scene::on_drivable_area(const core::OrientedBox& ego) const noexcept { return edge_gap_m(ego) >= 0.0; }
+
+double Scene::edge_gap_m(const core::OrientedBox& box) const noexcept {
   // The lowest and highest corner: the box's half-extent across the road.
-  const auto [cos_h, sin_h] = core::cos_sin(ego.heading_rad);
-  const double c = std::abs(cos_h);
-  const double s = std::abs(sin_h);
-  const double half_extent_y = 0.5 * (ego.length_m * s + ego.width_m * c);
-  return ego.center.y - half_extent_y >= config_->road.drivable_min_y_m() &&
-         ego.center.y + half_extent_y <= config_->road.drivable_max_y_m();
+  const auto [cos_h, sin_h] = core::cos_sin(box.heading_rad);
+  const double half_extent_y = 0.5 * (box.length_m * std::abs(sin_h) + box.width_m * std::abs(cos_h));
+  return std::min(box.center.y - half_extent_y - config_->road.drivable_min_y_m(),
+                  config_->road.drivable_max_y_m() - box.center.y - half_extent_y);
 }
 
 double Scene::truck_far_x_m() const noexcept { return initial_distance_m_ + config_->truck.width_m; }

@@ -254,6 +254,9 @@ class Scene {
   [[nodiscard]] core::OrientedBox ego_box(const VehicleState& s) const noexcept;
   /// All four corners within the drivable band y ∈ [min, max].
   [[nodiscard]] bool on_drivable_area(const core::OrientedBox& ego) const noexcept;
+  /// How far the box is from the nearer edge of the drivable band (m): its lowest corner above
+  /// y_min or its highest below y_max; negative once a corner is across.
+  [[nodiscard]] double edge_gap_m(const core::OrientedBox& box) const noexcept;
   /// x of the truck's far side: an ego whose rear is beyond it has passed the truck.
   [[nodiscard]] double truck_far_x_m() const noexcept;
 

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "emrm/core/random.hpp"
+#include "emrm/sim/json.hpp"
+#include "emrm/sim/planner.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/strategy.hpp"
@@ -47,6 +49,12 @@ const StrategyOutcome& outcome(const CellResult& r, const std::string& name) {
   if (!scene.on_drivable_area(at_rest))
     return ::testing::AssertionFailure() << o.strategy << " has no room to stop on the road";
   return ::testing::AssertionSuccess();
+}
+
+double lowest_corner_y(const Scene& scene, const VehicleState& state) {
+  double lowest = 1e9;
+  for (const auto& corner : scene.ego_box(state).corners()) lowest = std::min(lowest, corner.y);
+  return lowest;
 }
 
 // Cells across the band where braking alone fails (dry road, wide and tight passages, wet road).
@@ -179,9 +187,7 @@ TEST(Roadside, TheDepartureIsTimedAtTheEdge) {
   const RolloutResult r = leave_the_road(config, 60.0, -0.3);
   ASSERT_EQ(r.termination, Termination::kRoadDeparture);
   const Scene scene(config, {60.0, 2.0, 1.0, 5.0, 0.0});
-  double lowest = 1e9;
-  for (const auto& corner : scene.ego_box(r.end_state).corners()) lowest = std::min(lowest, corner.y);
-  EXPECT_NEAR(lowest, config.road.drivable_min_y_m(), 1e-3);
+  EXPECT_NEAR(lowest_corner_y(scene, r.end_state), config.road.drivable_min_y_m(), 1e-3);
 }
 
 TEST(ContinuousCollision, ACoarseStepDoesNotTunnelThroughTheTruck) {
@@ -210,9 +216,7 @@ TEST(ContinuousCollision, ACoarseStepDoesNotJumpAcrossTheRoadEdge) {
   const RolloutResult r = roller.roll(start, 0.0, {}, Tail{}, 1);
   ASSERT_EQ(r.termination, Termination::kRoadDeparture);
   EXPECT_LT(r.end_time_s, 0.25);
-  double lowest = 1e9;
-  for (const auto& corner : scene.ego_box(r.end_state).corners()) lowest = std::min(lowest, corner.y);
-  EXPECT_NEAR(lowest, config.road.drivable_min_y_m(), 1e-3);
+  EXPECT_NEAR(lowest_corner_y(scene, r.end_state), config.road.drivable_min_y_m(), 1e-3);
 }
 
 TEST(EmrmChoice, NeverWorseThanTheStrategiesItMayChoose) {
@@ -256,31 +260,41 @@ TEST(EmrmChoice, ALaterStrategysAvoidanceIsSharedWithAnEarlierOneWhoseLimitsItOb
 namespace emrm::sim {
 namespace {
 
-TEST(Witness, ReplayingAnOutcomesManeuverReproducesItStepForStep) {
-  // Every outcome carries the controls that drove it; replaying them from the initial state gives
-  // the same run (termination, end, impact) and the trajectory it shows, at every step.
+TEST(Witness, TheStitchedManeuverOfAPlannerReplaysItsRunStepForStep) {
+  // The RRT builds its answer from tree edges rolled out from nodes at various times, recorded every
+  // fifth step; the maneuver it reports (the edges' controls chained, through JSON and back) must
+  // replay from t = 0 to the very same run: same end, same time, same impact, and every point the
+  // planner recorded found again at its time.
   const SceneConfig config;
-  const StrategyTable table = registered_strategies();
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  const ControlLimits drift{.allow_rear_lock = true};
+  int compared = 0;
   for (const CellInput& cell : evasion_cells()) {
     const Scene scene(config, cell);
-    const CellResult r = simulate_cell(config, cell, {});
-    for (const auto& o : r.strategies) {
-      const std::string& source = o.adopted_from.empty() ? o.strategy : o.adopted_from;
-      const StrategyInfo* info = table.info(source);
-      ASSERT_NE(info, nullptr) << source;
-      if (info->role == StrategyRole::kChooser) continue;
-      const RolloutResult again = replay(scene, *model, info->limits, o.maneuver);
-      EXPECT_EQ(again.avoided(), o.avoided) << o.strategy;
-      EXPECT_EQ(again.termination == Termination::kContact, o.contact) << o.strategy;
-      ASSERT_EQ(again.path.size(), o.path.size()) << o.strategy;
-      EXPECT_EQ(again.end_state.x_m, o.path.back().state.x_m);
-      EXPECT_EQ(again.end_state.y_m, o.path.back().state.y_m);
-      EXPECT_EQ(again.impact.delta_v_mps, o.impact.delta_v_mps);
-      for (std::size_t k = 1; k + 1 < o.path.size(); ++k)
-        ASSERT_NEAR(o.path[k].t_s - o.path[k - 1].t_s, config.simulation.dt_s, 1e-9) << "every step is recorded";
+    const PlanResult plan = plan_rrt(scene, *model, drift, 7, false);
+    for (const auto* found : {&plan.avoidance, &plan.collision}) {
+      if (!found->has_value()) continue;
+      const RolloutResult& planned = **found;
+      const Maneuver maneuver = maneuver_from_json(to_json(planned.maneuver), "test");
+      const RolloutResult again = replay(scene, *model, drift, maneuver);
+      ++compared;
+      EXPECT_EQ(again.termination, planned.termination) << cell.speed_kph << " " << cell.ttc_s;
+      EXPECT_EQ(again.end_time_s, planned.end_time_s);
+      EXPECT_EQ(again.end_state.x_m, planned.end_state.x_m);
+      EXPECT_EQ(again.end_state.y_m, planned.end_state.y_m);
+      EXPECT_EQ(again.impact.delta_v_mps, planned.impact.delta_v_mps);
+      std::size_t k = 0;
+      for (const auto& point : planned.path) {
+        while (k < again.path.size() && again.path[k].t_s < point.t_s - 1e-12) ++k;
+        ASSERT_LT(k, again.path.size()) << "no replayed point at t = " << point.t_s;
+        EXPECT_EQ(again.path[k].state.x_m, point.state.x_m) << "t = " << point.t_s;
+        EXPECT_EQ(again.path[k].state.yaw_rad, point.state.yaw_rad) << "t = " << point.t_s;
+      }
+      for (std::size_t n = 1; n + 1 < again.path.size(); ++n)
+        ASSERT_NEAR(again.path[n].t_s - again.path[n - 1].t_s, config.simulation.dt_s, 1e-9) << "every step";
     }
   }
+  EXPECT_GT(compared, 10);
 }
 
 }  // namespace
