@@ -23,9 +23,13 @@
 #include <vector>
 
 #include "emrm/sim/vehicle.hpp"
+#include "certificate_support.hpp"
 
 namespace emrm::sim {
 namespace {
+
+using certificate_support::axle_pair_support;
+using certificate_support::fiala_cap;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // The simulator's "stopped" speed (rollout.cpp, StoppedTest): a run ends as stopped below it.
@@ -46,64 +50,6 @@ constexpr std::array kLambdas{0.0, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 3.0,
 // Heading caps tried by the "side" witness.
 constexpr std::array kHeadingCaps{0.01, 0.02, 0.03, 0.05, 0.07, 0.1,  0.12, 0.15, 0.17, 0.2, 0.25,
                                   0.3,  0.35, 0.4,  0.47, 0.55, 0.62, 0.7,  0.8,  0.9, 1.1, 1.3};
-
-// Fiala envelope: the largest lateral force an axle with grip N and slope K can give at
-// |tan(alpha)| ≤ t. f(z) = z − z²/3 + z³/27 up to z = 3, then 1 (C5).
-double fiala_cap(double grip_n, double slope_n_per_rad, double tan_bound) {
-  if (grip_n <= 0.0) return 0.0;
-  const double z = slope_n_per_rad * tan_bound / grip_n;
-  if (z >= 3.0) return grip_n;
-  return grip_n * z * (1.0 - z / 3.0 + z * z / 27.0);
-}
-
-// One axle's part of a functional: max{ a|q| + b|p| : p² + q² ≤ N², |q| ≤ cap } as a function of
-// the friction disc's radius N (the support of the disc cut to the band |q| ≤ cap). Concave and
-// nondecreasing in N: linear with slope s = √(a² + b²) up to N_switch = cap·s/a, then
-// a·cap + b·√(N² − cap²).
-struct AxleSupport {
-  double a, b, s, cap, switch_n;
-
-  AxleSupport(double a_in, double b_in, double cap_in)
-      : a(a_in), b(b_in), s(std::sqrt(a_in * a_in + b_in * b_in)), cap(cap_in),
-        switch_n(a_in > 0.0 ? cap_in * s / a_in : kInf) {}
-
-  [[nodiscard]] double value(double n) const {
-    if (n <= switch_n) return n * s;
-    return a * cap + b * std::sqrt(std::max(0.0, n * n - cap * cap));
-  }
-  [[nodiscard]] double slope(double n) const {
-    if (n <= switch_n) return s;
-    const double root = std::sqrt(std::max(0.0, n * n - cap * cap));
-    return root > 0.0 ? b * n / root : s;
-  }
-  // max over 0 ≤ N ≤ n_max of (value(N) − nu·N), in closed form (where the slope falls to nu).
-  [[nodiscard]] double value_minus(double n_max, double nu) const {
-    if (nu >= s || n_max <= 0.0) return 0.0;
-    if (n_max <= switch_n) return (s - nu) * n_max;
-    double n = n_max;
-    if (nu > b) n = std::min(n_max, nu * cap / std::sqrt(nu * nu - b * b));
-    n = std::max(n, switch_n);
-    return value(n) - nu * n;
-  }
-};
-
-// Both axles: max of a_f|q_f| + b|p_f| + a_r|q_r| + b|p_r| with each axle in its friction disc
-// (radius ≤ its grip), its body-lateral component within its cap, and the two radii summing to at
-// most mu·m·g (the loads sum to m·g). Bounded from above by weak duality over the sum constraint:
-// for every nu ≥ 0 the value is ≤ nu·S + Σ max_N(support − nu·N); a few nu are tried (C10).
-double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f,
-                         double cap_r, double total_n) {
-  const AxleSupport front(a_f, b, cap_f);
-  const AxleSupport rear(a_r, b, cap_r);
-  double best = front.value(grip_f) + rear.value(grip_r);
-  if (grip_f + grip_r <= total_n) return best;
-  // The slopes at the ends of the feasible splits of the total, and the lesser initial slope.
-  const std::array nus{front.slope(grip_f), rear.slope(grip_r), front.slope(std::max(0.0, total_n - grip_r)),
-                       rear.slope(std::max(0.0, total_n - grip_f)), std::min(front.s, rear.s)};
-  for (double nu : nus)
-    best = std::min(best, nu * total_n + front.value_minus(grip_f, nu) + rear.value_minus(grip_r, nu));
-  return best;
-}
 
 // Everything fixed for a cell.
 struct Setup {
