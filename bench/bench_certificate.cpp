@@ -18,7 +18,7 @@ using emrm::sim::SceneConfig;
 // quickly rejected cells.
 void certify_fine_grid(benchmark::State& state, double latency_s) {
   SceneConfig config;
-  config.simulation.latency_s = latency_s;
+  config.actuation.perception_latency_s = latency_s;
   std::vector<CellInput> cells;
   for (int s = 30; s <= 72; ++s)
     for (int k = 0; k < 46; ++k) {

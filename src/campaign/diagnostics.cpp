@@ -242,7 +242,7 @@ FsmCoverage loss_evaluation_fsm_coverage(const std::vector<CellRecord>& records,
 Diagnostics run_diagnostics(const std::vector<CellRecord>& records, const sim::SceneConfig& scene,
                             const DiagnosticsOptions& options) {
   Diagnostics d;
-  d.stop_boundary = check_stop_boundary(records, scene.simulation.latency_s);
+  d.stop_boundary = check_stop_boundary(records, scene.actuation.perception_latency_s);
   d.monotonicity = check_monotonicity(records);
   d.reference =
       check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);

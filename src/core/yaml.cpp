@@ -151,6 +151,11 @@ YamlReader::YamlReader(YamlNode map) : node_(std::move(map)) {
   if (!node_.is_map()) node_.fail("expected a mapping, got " + node_.describe());
 }
 
+void YamlReader::moved(std::string_view key, std::string_view now_at) const {
+  if (auto child = node_.find(key))
+    child->fail(fmt::format("'{}' has moved: write it as {} (docs/scene-yaml.md)", key, now_at));
+}
+
 void YamlReader::finish() const {
   for (const auto& [key, value] : node_.entries()) {
     const std::string name = key.as_string();

@@ -399,8 +399,8 @@ ReportSummary write_report(const fs::path& dir) {
   ReportSummary summary;
   const auto start = Clock::now();
   const std::string grid = campaign::headline_grid(records);
-  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, scene.simulation.latency_s));
-  summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, scene.simulation.latency_s));
+  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, scene.actuation.perception_latency_s));
+  summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, scene.actuation.perception_latency_s));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));

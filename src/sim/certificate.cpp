@@ -55,6 +55,8 @@ constexpr std::array kHeadingCaps{0.01, 0.02, 0.03, 0.05, 0.07, 0.1,  0.12, 0.15
 struct Setup {
   // car
   double m, iz, lf, lr, wheelbase, h, width, cf, cr, rho, delta_max;
+  // steering actuator (C3a): dead time, lag, and the simulator's step the wheel path is sampled at
+  double steer_dead, steer_lag, steer_lead;
   double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
   double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
   // cell
@@ -103,6 +105,12 @@ Setup make_setup(const Scene& scene) {
   s.cr = p.cg_to_rear_m();
   s.rho = p.max_steer_rate_radps;
   s.delta_max = p.max_steer_rad;
+  const ActuationConfig& act = c.actuation;
+  s.steer_dead = act.steer_dead_time_s;
+  s.steer_lag = act.steer_time_constant_s;
+  // With actuators the simulator moves the wheels linearly between its steps' ends, where they sit
+  // on the lagged response: one step's lead covers the chord (docs/physics.md, (C3a)).
+  s.steer_lead = act.instant() ? 0.0 : c.simulation.dt_s;
   s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
   s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
   s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
@@ -123,7 +131,7 @@ Setup make_setup(const Scene& scene) {
   s.slope_r = std::max(p.rear_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
 
   s.v0 = scene.initial_speed_mps();
-  s.tau = c.simulation.latency_s;
+  s.tau = c.actuation.perception_latency_s;
   const VehicleState start = scene.ego_initial();
   s.x0 = start.x_m;
   s.y0 = start.y_m;
@@ -140,10 +148,27 @@ Setup make_setup(const Scene& scene) {
   return s;
 }
 
+// (C3a) Bounds on the road-wheel angle and its rate at time s after the perception latency: the
+// commanded angle moves at most at rho from zero; the wheels follow it after the dead time through
+// a first-order lag, whose response to that ramp is rho·(t − T(1 − e^(−t/T))) at rate
+// rho·(1 − e^(−t/T)) (the lag's kernel is positive and integrates to one, so it keeps both bounds).
+struct Wheel {
+  double angle, rate;
+};
+Wheel wheel_bound(const Setup& c, double s) {
+  if (c.steer_dead == 0.0 && c.steer_lag == 0.0 && c.steer_lead == 0.0) return {std::min(c.rho * s, c.delta_max), c.rho};
+  const double t = s - c.steer_dead + c.steer_lead;
+  if (t <= 0.0) return {0.0, 0.0};
+  if (c.steer_lag == 0.0) return {std::min(c.rho * t, c.delta_max), c.rho};
+  const double settle = 1.0 - std::exp(-t / c.steer_lag);
+  return {std::min(c.delta_max, c.rho * (t - c.steer_lag * settle)), c.rho * settle};
+}
+
 // (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`.
 Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
   Rates out;
-  const double delta = std::min(c.rho * s, c.delta_max);
+  const Wheel wheel = wheel_bound(c, s);
+  const double delta = wheel.angle;
   const double sin_d = std::sin(delta);
   const double cos_d = std::cos(delta);
   const double speed_lo = std::max(0.0, c.v0 - c.mu * c.g * s);
@@ -184,7 +209,7 @@ Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
   // (C7) d|v_r|/dt: the rear force always pulls v_r towards zero.
   out.d.gr = c.kappa * out.b.cap_f + c.v0 * z.r;
   // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
-  out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + c.rho * (z.gf * sin_d + c.v0) +
+  out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
              (c.mu * c.g + z.r * v_cg) * sin_d;
   // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
   out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
@@ -497,6 +522,12 @@ std::vector<Witness> witnesses(const Setup& c) {
   return out;
 }
 
+bool same_actuation(const ActuationConfig& a, const ActuationConfig& b) {
+  return a.perception_latency_s == b.perception_latency_s && a.brake_dead_time_s == b.brake_dead_time_s &&
+         a.brake_ramp_s == b.brake_ramp_s && a.max_decel_mps2 == b.max_decel_mps2 &&
+         a.steer_dead_time_s == b.steer_dead_time_s && a.steer_time_constant_s == b.steer_time_constant_s;
+}
+
 bool applicable(const Scene& scene) {
   const SceneConfig& c = scene.config();
   return c.simulation.vehicle_model == SingleTrackFiala::kName && c.simulation.dt_s <= kMaxSceneStep_s &&
@@ -526,7 +557,8 @@ std::optional<Certificate> certify_unavoidable(const Scene& scene) {
     cert.stop_reach_x_m = c.stop_reach;
     cert.step_s = kStep_s;
     cert.cell = scene.cell();
-    cert.latency_s = scene.config().simulation.latency_s;
+    cert.latency_s = scene.config().actuation.perception_latency_s;
+    cert.actuation = scene.config().actuation;
     return cert;
   }
   return std::nullopt;
@@ -537,7 +569,8 @@ bool check_certificate(const Scene& scene, const Certificate& cert) {
   const CellInput& a = cert.cell;
   const CellInput& b = scene.cell();
   if (a.speed_kph != b.speed_kph || a.ttc_s != b.ttc_s || a.mu != b.mu || a.passage_m != b.passage_m ||
-      a.truck_speed_kph != b.truck_speed_kph || cert.latency_s != scene.config().simulation.latency_s)
+      a.truck_speed_kph != b.truck_speed_kph || cert.latency_s != scene.config().actuation.perception_latency_s ||
+      !same_actuation(cert.actuation, scene.config().actuation))
     return false;
   if (cert.witness != "disc" && cert.witness != "side") return false;
   if (!std::isfinite(cert.crossing_x_m) || !std::isfinite(cert.heading_cap_rad)) return false;

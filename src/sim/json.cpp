@@ -101,7 +101,14 @@ nlohmann::json to_json(const Certificate& c) {
             {"mu", c.cell.mu},
             {"passage_m", c.cell.passage_m},
             {"truck_speed_kph", c.cell.truck_speed_kph}}},
-          {"latency_s", c.latency_s}};
+          {"latency_s", c.latency_s},
+          {"actuation",
+           {{"perception_latency_s", c.actuation.perception_latency_s},
+            {"brake_dead_time_s", c.actuation.brake_dead_time_s},
+            {"brake_ramp_s", c.actuation.brake_ramp_s},
+            {"max_decel_mps2", c.actuation.max_decel_mps2},
+            {"steer_dead_time_s", c.actuation.steer_dead_time_s},
+            {"steer_time_constant_s", c.actuation.steer_time_constant_s}}}};
 }
 
 Certificate certificate_from_json(const nlohmann::json& j, const std::string& where) {
@@ -120,6 +127,15 @@ Certificate certificate_from_json(const nlohmann::json& j, const std::string& wh
   c.cell = {number(cell, "speed_kph", at), number(cell, "ttc_s", at), number(cell, "mu", at),
             number(cell, "passage_m", at), number(cell, "truck_speed_kph", at)};
   c.latency_s = number(j, "latency_s", where);
+  // Certificates written before actuators existed were made for instant actuation.
+  c.actuation.perception_latency_s = c.latency_s;
+  if (j.contains("actuation")) {
+    const auto& a = member(j, "actuation", where);
+    const std::string in = where + ": actuation";
+    c.actuation = {number(a, "perception_latency_s", in), number(a, "brake_dead_time_s", in),
+                   number(a, "brake_ramp_s", in),         number(a, "max_decel_mps2", in),
+                   number(a, "steer_dead_time_s", in),    number(a, "steer_time_constant_s", in)};
+  }
   return c;
 }
 

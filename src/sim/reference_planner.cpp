@@ -28,7 +28,7 @@ PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const C
     if (!result.collision || less_loss(r.impact, result.collision->impact)) result.collision = std::move(r);
   };
 
-  const double latency = cfg.simulation.latency_s;
+  const double latency = cfg.actuation.perception_latency_s;
   const std::vector<ControlSegment> wait =
       latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : std::vector<ControlSegment>{};
   consider(roller.roll(start, 0.0, wait, stop, 5));

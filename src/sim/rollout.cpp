@@ -43,8 +43,8 @@ class RearSlidingCheck {
  public:
   RearSlidingCheck(const VehicleModel& model, double mu) : model_(model), mu_(mu) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    const AxleForces rear = model_.tire_forces(step.state, step.control, mu_).rear;
-    if (step.control.rear_lock || (rear.saturated && std::abs(rear.slip_angle_rad) > kSlidingSlipAngle_rad))
+    const AxleForces rear = model_.tire_forces(step.state, step.applied, mu_).rear;
+    if (step.applied.rear_lock || (rear.saturated && std::abs(rear.slip_angle_rad) > kSlidingSlipAngle_rad))
       return end(why, Termination::kConstraint);
     return false;
   }
@@ -172,7 +172,7 @@ class TruckContactCheck {
       return core::separation_lower_bound(scene_.ego_box(pose.at(tau)), scene_.truck_at(start + tau).box);
     });
     if (!touch) return false;
-    step.state = model_.step(step.before, step.control, mu, *touch);
+    step.state = model_.step(step.before, step.applied, mu, *touch);
     step.t_s = start + *touch;
     step.ego = scene_.ego_box(step.state);
     result.impact = impact_with(step.state, step.ego, scene_.truck_at(step.t_s));
@@ -229,7 +229,7 @@ class RoadDepartureCheck {
     const auto touch =
         first_touch(step.dt_s, rate, [&](double tau) { return scene_.edge_gap_m(scene_.ego_box(pose.at(tau))); });
     if (!touch) return false;
-    step.state = model_.step(step.before, step.control, mu, *touch);
+    step.state = model_.step(step.before, step.applied, mu, *touch);
     step.t_s = step.t_s - step.dt_s + *touch;
     step.ego = scene_.ego_box(step.state);
     result.impact = assess(step.state, step.ego);
@@ -289,33 +289,35 @@ class StoppedTest {
   }
 };
 
-// Braking straight at the friction limit, the rest is closed form: the car stops short of the
-// truck, and the rollout jumps to where and when it comes to rest.
+// Braking straight at full demand (the friction limit, or the brakes' cap), the rest is closed form:
+// the car stops short of the truck, and the rollout jumps to where and when it comes to rest.
 class StopsShortTest {
  public:
-  explicit StopsShortTest(const Scene& scene) : truck_near_x_m_(scene.initial_distance_m()), mu_(scene.cell().mu) {}
+  explicit StopsShortTest(const Scene& scene)
+      : truck_near_x_m_(scene.initial_distance_m()), decel_mps2_(scene.config().actuation.full_decel_mps2(scene.cell().mu)) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
     const Control& u = step.control;
     VehicleState& s = step.state;
-    if (!(u.brake >= 0.999 && !u.rear_lock && std::abs(s.yaw_rad) < 0.02 && std::abs(s.steer_rad) < 0.005 &&
+    if (!(step.full_brake_held && !step.applied.rear_lock && std::abs(s.yaw_rad) < 0.02 &&
+          std::abs(s.steer_rad) < 0.005 && std::abs(step.steer_command_rad) < 0.005 &&
           std::abs(s.yaw_rate_radps) < 0.01 && std::abs(s.vy_mps) < 0.05))
       return false;
     const double speed = s.speed_mps();
-    const double stop_distance = speed * speed / (2.0 * mu_ * kGravity_mps2);
+    const double stop_distance = speed * speed / (2.0 * decel_mps2_);
     if (!(step.ego_extent.max_x + stop_distance + 0.05 < truck_near_x_m_ &&
           step.truck_extent.max_y > step.ego_extent.min_y))
       return false;
     if (result.path.empty() || result.path.back().t_s != step.t_s) result.path.push_back({step.t_s, s, u});
     s.x_m += stop_distance * std::cos(s.yaw_rad);
     s.y_m += stop_distance * std::sin(s.yaw_rad);
-    step.t_s += speed / (mu_ * kGravity_mps2);
+    step.t_s += speed / decel_mps2_;
     s.vx_mps = s.vy_mps = s.yaw_rate_radps = 0.0;
     return end(why, Termination::kStopped);
   }
 
  private:
   double truck_near_x_m_;
-  double mu_;
+  double decel_mps2_;
 };
 
 class HorizonTest {
@@ -336,7 +338,7 @@ class HorizonTest {
 class StabilisedTest {
  public:
   explicit StabilisedTest(const Scene& scene)
-      : scene_(scene), bounds_(scene.config().safe_state), decel_mps2_(scene.cell().mu * kGravity_mps2) {}
+      : scene_(scene), bounds_(scene.config().safe_state), actuation_(scene.config().actuation), mu_(scene.cell().mu) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
     const VehicleState& s = step.state;
     if (!(std::abs(s.yaw_rate_radps) <= bounds_.max_yaw_rate_radps &&
@@ -345,7 +347,8 @@ class StabilisedTest {
           std::abs(s.steer_rad) <= bounds_.max_steer_rad))
       return false;
     const double speed = s.speed_mps();
-    const double stop_distance = speed * speed / (2.0 * decel_mps2_);
+    // A stop from here, through the brakes' dead time and ramp.
+    const double stop_distance = actuation_.stopping_distance_m(speed, mu_, false);
     core::OrientedBox at_rest = step.ego;
     at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
     if (!scene_.on_drivable_area(at_rest)) return false;
@@ -355,7 +358,8 @@ class StabilisedTest {
  private:
   const Scene& scene_;
   SafeStateConfig bounds_;
-  double decel_mps2_;
+  ActuationConfig actuation_;
+  double mu_;
 };
 
 }  // namespace
@@ -526,10 +530,13 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
       model_(model),
       limits_(limits),
       validity_(std::move(validity)),
-      termination_(std::move(termination)) {}
+      termination_(std::move(termination)),
+      actuators_(scene.config().actuation, model.params(), scene.cell().mu, scene.config().simulation.dt_s),
+      instant_actuation_(scene.config().actuation.instant()) {}
 
 [[gnu::flatten]] RolloutResult Roller::roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
-                           const std::optional<Tail>& tail, int record_every) const {
+                           const std::optional<Tail>& tail, int record_every,
+                           const ActuatorState* actuators) const {
   const double dt = scene_.config().simulation.dt_s;
   const double mu = scene_.cell().mu;
   ControlSchedule schedule(plan, tail, model_.params(), limits_, mu, dt);
@@ -541,8 +548,10 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
   step.state = start;
   step.t_s = t0_s;
   step.dt_s = dt;
+  ActuatorState act = actuators != nullptr ? *actuators : Actuators::at_rest(start);
   auto finish = [&](Termination why) {
     r.termination = why;
+    r.end_actuators = std::move(act);
     r.passed_truck = step.recovering || why == Termination::kPassed;
     r.end_time_s = step.t_s;
     r.end_state = step.state;
@@ -551,7 +560,15 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
   };
 
   for (int n = 0;; ++n) {
-    const std::optional<Control> u = schedule.control_at(step.state);
+    // Controllers steer the commanded angle: they see it, not the lagging wheels.
+    std::optional<Control> u;
+    if (instant_actuation_) {
+      u = schedule.control_at(step.state);
+    } else {
+      VehicleState seen = step.state;
+      seen.steer_rad = act.steer_command_rad;
+      u = schedule.control_at(seen);
+    }
     if (!u) {
       step.control = Control{};
       if (r.path.empty()) r.path.push_back({step.t_s, step.state, step.control});
@@ -561,7 +578,16 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
     if (n == 0) r.path.push_back({step.t_s, step.state, step.control});  // the start, with its control
 
     step.before = step.state;
-    step.state = model_.step(step.state, step.control, mu, dt);
+    if (instant_actuation_) {
+      step.applied = step.control;
+      step.full_brake_held = step.control.brake >= 0.999;
+    } else {
+      step.applied = actuators_.apply(act, step.state, step.control, step.t_s);
+      step.full_brake_held = actuators_.full_brake_held(act, step.control);
+    }
+    step.state = model_.step(step.state, step.applied, mu, dt);
+    if (instant_actuation_) act.steer_command_rad = step.state.steer_rad;  // the wheels are the command
+    step.steer_command_rad = act.steer_command_rad;
     step.t_s += dt;
     schedule.advance();
     step.ego = scene_.ego_box(step.state);

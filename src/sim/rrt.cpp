@@ -15,6 +15,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Node {
   VehicleState state;
+  ActuatorState actuators;  // where the actuators are at `state` (commands still in flight)
   double t_s = 0.0;
   int parent = -1;
   std::vector<PathPoint> edge;  // the path that led here from the parent
@@ -36,11 +37,13 @@ class Rrt {
     const auto& cfg = scene_.config();
     const auto& pc = cfg.planner;
 
-    // Latency: nothing is actuated until latency_s.
+    // Perception latency: nothing is commanded until perception_latency_s.
     Node root;
     root.state = scene_.ego_initial();
-    if (cfg.simulation.latency_s > 0.0) {
-      RolloutResult coast = roller_.roll(root.state, 0.0, {hold(Control{}, cfg.simulation.latency_s)}, std::nullopt, 5);
+    root.actuators = Actuators::at_rest(root.state);
+    if (cfg.actuation.perception_latency_s > 0.0) {
+      RolloutResult coast =
+          roller_.roll(root.state, 0.0, {hold(Control{}, cfg.actuation.perception_latency_s)}, std::nullopt, 5);
       ++result_.stats.rollouts;
       if (coast.termination != Termination::kOpen) {
         if (coast.avoided()) result_.avoidance = std::move(coast);
@@ -48,6 +51,7 @@ class Rrt {
         return finish(started);
       }
       root.state = coast.end_state;
+      root.actuators = std::move(coast.end_actuators);
       root.t_s = coast.end_time_s;
       root.edge = coast.path;
       root.plan = coast.maneuver.plan;
@@ -174,8 +178,8 @@ class Rrt {
         plan[0].friction_circle_brake = true;
         plan[0].control.brake = 1.0;
       }
-      if (k == 3) plan = lane_change_primitive(base.state, target);
-      RolloutResult r = roller_.roll(base.state, base.t_s, plan, std::nullopt, 5);
+      if (k == 3) plan = lane_change_primitive(base.state, base.actuators.steer_command_rad, target);
+      RolloutResult r = roller_.roll(base.state, base.t_s, plan, std::nullopt, 5, &base.actuators);
       ++result_.stats.rollouts;
       if (keep_tree_) result_.tree.push_back({r.path, false});
       if (r.avoided()) {
@@ -198,6 +202,7 @@ class Rrt {
     if (!best) return false;
     Node node;
     node.state = best->end_state;
+    node.actuators = std::move(best->end_actuators);
     node.t_s = best->end_time_s;
     node.parent = from;
     node.edge = std::move(best->path);
@@ -208,7 +213,9 @@ class Rrt {
 
   // Steer towards the target's side at the full rate up to a sampled peak, hold, counter-steer
   // through straight to a sampled fraction of the peak, and straighten; brake held at a sampled level.
-  std::vector<ControlSegment> lane_change_primitive(const VehicleState& s, const core::Vec2& target) {
+  // `steer_command_rad` is where the commanded wheel angle stands (the wheels may lag behind it).
+  std::vector<ControlSegment> lane_change_primitive(const VehicleState& s, double steer_command_rad,
+                                                    const core::Vec2& target) {
     const auto& p = scene_.config().ego;
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double side = target.y < s.y_m ? -1.0 : 1.0;
@@ -224,7 +231,7 @@ class Rrt {
     c.rear_lock = false;
     std::vector<ControlSegment> plan;
     c.steer_rate_radps = side * rate;
-    plan.push_back(hold(c, std::max(0.0, (side * peak - s.steer_rad) / (side * rate))));
+    plan.push_back(hold(c, std::max(0.0, (side * peak - steer_command_rad) / (side * rate))));
     c.steer_rate_radps = 0.0;
     plan.push_back(hold(c, unit(rng_) * 1.2));  // long holds matter on low friction
     c.steer_rate_radps = -side * rate;
@@ -257,7 +264,7 @@ class Rrt {
       tails.push_back(swerve);
     }
     for (const Tail& tail : tails) {
-      RolloutResult r = roller_.roll(n.state, n.t_s, {}, tail, 5);
+      RolloutResult r = roller_.roll(n.state, n.t_s, {}, tail, 5, &n.actuators);
       ++result_.stats.rollouts;
       if (keep_tree_) result_.tree.push_back({r.path, true});
       if (r.avoided()) {

@@ -25,7 +25,7 @@ class EmergencyStop final : public Strategy {
  public:
   StrategyOutcome run(const StrategyInfo& self, const StrategyContext& c) const override {
     const Roller roller(c.scene, c.model, self.limits);
-    const double latency = c.scene.config().simulation.latency_s;
+    const double latency = c.scene.config().actuation.perception_latency_s;
     const std::vector<ControlSegment> wait =
         latency > 0.0 ? std::vector<ControlSegment>{hold(Control{}, latency)} : kNoPlan;
     const RolloutResult r = roller.roll(c.scene.ego_initial(), 0.0, wait, Tail::full_stop(), 1);

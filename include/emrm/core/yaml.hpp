@@ -147,6 +147,8 @@ class YamlReader {
     known_.emplace_back(key);
     if (auto child = node_.find(key); child && !child->is_null()) YamlCodec<T>::read(*child, value);
   }
+  /// A key that used to belong here: its presence is an error that says where it went.
+  void moved(std::string_view key, std::string_view now_at) const;
   /// Records where the mapping being read starts.
   void location(SourceLocation& where) const { where = node_.location(); }
   /// Rules are checked by Validator once the whole configuration is read.

@@ -37,7 +37,8 @@ struct Certificate {
   double stop_reach_x_m = 0.0;    ///< least x the CG reaches before its speed can fall to the stop threshold
   double step_s = 0.0;            ///< time step of the bound's integration
   CellInput cell;                 ///< the cell it was made for
-  double latency_s = 0.0;         ///< the scene's latency it was made for
+  double latency_s = 0.0;         ///< the scene's perception latency it was made for
+  ActuationConfig actuation;      ///< the scene's actuators it was made for (latency_s included)
 };
 
 /// A certificate for the cell, or nothing when the bound cannot prove unavoidability (always
@@ -46,7 +47,7 @@ struct Certificate {
 [[nodiscard]] std::optional<Certificate> certify_unavoidable(const Scene& scene);
 
 /// Re-derives the certificate's claim independently (for `emrm verify`): true when it holds. It
-/// checks that the certificate names this scene's cell and latency, and re-evaluates its witness
+/// checks that the certificate names this scene's cell, latency and actuators, and re-evaluates its witness
 /// from scratch, ignoring the certificate's numbers but the witness, with a denser set of
 /// multipliers (each sound on its own) at half the certifier's step and, failing that, at its
 /// step, requiring the least margin kCertificateMinMargin_m.

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "emrm/core/geometry.hpp"
+#include "emrm/sim/actuation.hpp"
 #include "emrm/sim/loss.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/vehicle.hpp"
@@ -95,7 +96,8 @@ struct Maneuver {
   std::optional<Tail> tail;
 };
 
-/// One sampled point of a path: time, state and the control being applied.
+/// One sampled point of a path: time, state and the control being commanded (what the actuators
+/// make of it is in the state: the wheel angle).
 struct PathPoint {
   double t_s = 0.0;
   VehicleState state;
@@ -114,6 +116,8 @@ struct RolloutResult {
   /// rollouts, the whole chain from t = 0.
   Maneuver maneuver;
   bool passed_truck = false;  ///< it got past the truck (an avoidance, or a recovery that failed)
+  /// The actuators at the end: where a rollout that continues this one starts from.
+  ActuatorState end_actuators;
   /// avoided: no contact, no departure, no violated constraint, and a safe state reached (stopped,
   /// or stable with room to stop; without recovery, passing the truck is enough).
   [[nodiscard]] bool avoided() const {
@@ -163,7 +167,13 @@ struct Step {
   VehicleState state;   ///< the state at its end
   double t_s = 0.0;     ///< the time of `state`
   double dt_s = 0.0;    ///< the step's length
-  Control control;      ///< applied during the step
+  Control control;      ///< commanded during the step
+  /// What the actuators made of it: the control the vehicle model integrated over the step (the
+  /// command itself with instant actuation). Checks that re-integrate part of the step use this.
+  Control applied;
+  double steer_command_rad = 0.0;  ///< the commanded wheel angle at the step's end
+  /// The brake stays at its full demand from here (pressure built, every command in flight asks for it).
+  bool full_brake_held = false;
   core::OrientedBox ego;  ///< the ego's footprint at `state`
   TruckState truck;       ///< the truck at `t_s`
   /// Extents of `ego` and of the truck's box, filled once the step is valid (for the termination
@@ -258,8 +268,11 @@ class Roller {
   /// With recovery (the default), passing the truck hands the car to the recovery controller
   /// (ControlSchedule::recover) until it is stopped or stable with room to stop (an avoidance),
   /// leaves the road or reaches the scene's safe_state.horizon_s (not an avoidance).
+  /// `actuators` carries on the actuators of a rollout that ended in `start` (a planner's tree node);
+  /// by default they are at rest, with the wheels at start's angle (the hazard's first moment).
   [[nodiscard]] RolloutResult roll(const VehicleState& start, double t0_s, const std::vector<ControlSegment>& plan,
-                                   const std::optional<Tail>& tail, int record_every = 5) const;
+                                   const std::optional<Tail>& tail, int record_every = 5,
+                                   const ActuatorState* actuators = nullptr) const;
   /// Without recovery, passing the truck ends a rollout (Termination::kPassed): for the
   /// no-action reference, which asks only whether the car would touch the truck.
   void set_recovery(bool on) noexcept { recovery_ = on; }
@@ -273,6 +286,8 @@ class Roller {
   ControlLimits limits_;
   ValidityChecker validity_;
   TerminationTest termination_;
+  Actuators actuators_;
+  bool instant_actuation_;
   bool recovery_ = true;
 };
 

@@ -10,6 +10,7 @@
 
 #include "emrm/core/config.hpp"
 #include "emrm/core/geometry.hpp"
+#include "emrm/sim/actuation.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -56,13 +57,12 @@ struct SimulationConfig {
   std::string vehicle_model = "single_track_fiala";
   double dt_s = 0.01;
   double horizon_s = 4.0;   ///< longest simulated time after t = 0
-  double latency_s = 0.0;   ///< before any actuation
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, vehicle_model, core::one_of(vehicle_model_names, "vehicle model"));
     EMRM_FIELD(a, dt_s, core::positive);
     EMRM_FIELD(a, horizon_s, core::positive);
-    EMRM_FIELD(a, latency_s, core::non_negative);
+    if constexpr (requires { a.moved("", ""); }) a.moved("latency_s", "actuation.perception_latency_s");
     a.ensure(!(dt_s > horizon_s), "dt_s", "expected a time step no longer than the horizon ({} s), got {} s",
              horizon_s, dt_s);
   }
@@ -160,6 +160,7 @@ struct SceneConfig {
   TruckConfig truck;
   VehicleParams ego;
   SimulationConfig simulation;
+  ActuationConfig actuation;
   SeverityConfig severity;
   PlannerConfig planner;
   RoadsideConfig roadside;
@@ -173,6 +174,7 @@ struct SceneConfig {
     EMRM_FIELD(a, truck);
     EMRM_FIELD(a, ego);
     EMRM_FIELD(a, simulation);
+    EMRM_FIELD(a, actuation);
     EMRM_FIELD(a, severity);
     EMRM_FIELD(a, planner);
     EMRM_FIELD(a, roadside);

@@ -27,7 +27,7 @@ class HalfBrake final : public sim::Strategy {
  public:
   sim::StrategyOutcome run(const sim::StrategyInfo& self, const sim::StrategyContext& c) const override {
     const sim::Roller roller(c.scene, c.model, self.limits);
-    const double latency = c.scene.config().simulation.latency_s;
+    const double latency = c.scene.config().actuation.perception_latency_s;
     std::vector<sim::ControlSegment> plan;
     if (latency > 0.0) plan.push_back(sim::hold(sim::Control{}, latency));
     const sim::Tail tail{sim::Control{0.0, 0.5, false}, true, false, std::nullopt};

@@ -97,7 +97,7 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCell) {
 
 TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
   SceneConfig config;
-  config.simulation.latency_s = 0.25;
+  config.actuation.perception_latency_s = 0.25;
   const SoundnessRun run = run_soundness(config, 400, 77, true);
   EXPECT_GT(run.certified, 20);
   EXPECT_EQ(run.violations, 0);
@@ -116,7 +116,7 @@ TEST(Certificate, DISABLED_LongSoundnessRun) {
   SceneConfig config;
   config.planner.max_nodes = nodes_env != nullptr ? std::atoi(nodes_env) : 300;
   SceneConfig delayed = config;
-  delayed.simulation.latency_s = 0.25;
+  delayed.actuation.perception_latency_s = 0.25;
   const SoundnessRun a = run_soundness(config, cells / 2, 1, true);
   const SoundnessRun b = run_soundness(delayed, cells - cells / 2, 2, true);
   std::printf("long soundness run: %d cells tried, %d certified, %d violations\n", a.tried + b.tried,
@@ -156,7 +156,7 @@ TEST(Certificate, TruckOutOfTheLaneIsNeverCertified) {
 TEST(Certificate, CellsWhereBrakingAvoidsAreNeverCertified) {
   for (double latency : {0.0, 0.25, 0.5}) {
     SceneConfig config;
-    config.simulation.latency_s = latency;
+    config.actuation.perception_latency_s = latency;
     for (double mu : {0.1, 0.3, 0.6, 1.0, 1.2})
       for (double speed = 5.0; speed <= 100.0; speed += 5.0) {
         const double v = speed / 3.6;
@@ -188,7 +188,7 @@ TEST(Certificate, CheckerAcceptsCertificatesAndRejectsTamperedOnes) {
 
   // Another latency.
   SceneConfig delayed = config;
-  delayed.simulation.latency_s = 0.5;
+  delayed.actuation.perception_latency_s = 0.5;
   EXPECT_FALSE(check_certificate(Scene(delayed, cell), *cert));
 
   // A witness moved to where the claim fails (far before the truck, or past the stop reach).
@@ -215,7 +215,7 @@ TEST(Certificate, CheckerAcceptsCertificatesAndRejectsTamperedOnes) {
 TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
   for (double latency : {0.0, 0.25}) {
     SceneConfig config;
-    config.simulation.latency_s = latency;
+    config.actuation.perception_latency_s = latency;
     int certified = 0;
     for (int speed = 30; speed <= 72; speed += 3)
       for (int k = 0; k < 46; k += 2) {
@@ -239,7 +239,7 @@ TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
 TEST(Certificate, CertifiedSetShrinksWithTtcAndGrowsAsFrictionFalls) {
   for (double latency : {0.0, 0.25}) {
     SceneConfig config;
-    config.simulation.latency_s = latency;
+    config.actuation.perception_latency_s = latency;
     for (double speed : {30.0, 50.0, 72.0, 90.0})
       for (double mu : {0.3, 0.7, 1.0}) {
         bool seen_uncertified = false;

@@ -111,7 +111,7 @@ TEST(OneImpactModel, AStopThatNeverBrakesBeforeContactIsTheUnmitigatedReference)
   // trajectory: its impact must be the reference's, number for number (one model for both).
   for (const double speed : {40.0, 55.0, 70.0}) {
     SceneConfig config;
-    config.simulation.latency_s = 1.0;
+    config.actuation.perception_latency_s = 1.0;
     config.planner.max_nodes = 1;
     const CellResult r = simulate_cell(config, {speed, 0.3, 1.0, 3.0, 10.0}, {});
     const auto& stop = outcome(r, "emergency_stop");

@@ -96,7 +96,7 @@ TEST(SceneConfig, DefaultsAreThoseOfDesignSection6) {
   EXPECT_EQ(c.ego.rear_cornering_stiffness_n_per_rad, 105000.0);
   EXPECT_EQ(c.simulation.vehicle_model, "single_track_fiala");
   EXPECT_EQ(c.simulation.dt_s, 0.01);
-  EXPECT_EQ(c.simulation.latency_s, 0.0);
+  EXPECT_EQ(c.actuation.perception_latency_s, 0.0);
   EXPECT_EQ(c.severity.restitution, 0.0);
   EXPECT_EQ(c.severity.mais3_intercept, 4.591);
   EXPECT_EQ(c.severity.mais3_slope_per_mps, 0.185);
@@ -335,7 +335,15 @@ TEST(SceneLoad, BadInputNamesLineAndColumn) {
       {"simulation:\n  dt_s: -0.01\n", "-0.01", "simulation.dt_s"},
       {"simulation:\n  horizon_s: 0\n", "0", "simulation.horizon_s"},
       {"simulation:\n  dt_s: 5\n  horizon_s: 4\n", "5", "no longer than the horizon"},
-      {"simulation:\n  latency_s: -0.1\n", "-0.1", "simulation.latency_s"},
+      // Older scenes: the latency has moved to the actuators, and the message says where.
+      {"simulation:\n  latency_s: 0.25\n", "0.25", "'latency_s' has moved: write it as actuation.perception_latency_s"},
+      {"actuation:\n  perception_latency_s: -0.1\n", "-0.1", "actuation.perception_latency_s"},
+      {"actuation:\n  brake_dead_time_s: .nan\n", ".nan", "finite"},
+      {"actuation:\n  brake_ramp_s: -1\n", "-1", "actuation.brake_ramp_s: expected a value >= 0"},
+      {"actuation:\n  max_decel_mps2: -9\n", "-9", "actuation.max_decel_mps2"},
+      {"actuation:\n  steer_dead_time_s: -0.05\n", "-0.05", "actuation.steer_dead_time_s"},
+      {"actuation:\n  steer_time_constant_s: x\n", "x", "number"},
+      {"actuation:\n  steer_lag_s: 0.1\n", "steer_lag_s", "unknown field 'steer_lag_s'"},
       {"simulation:\n  vehicle_model: unicycle\n", "unicycle", "unknown vehicle model 'unicycle'"},
       {"severity:\n  restitution: 1.5\n", "1.5", "severity.restitution"},
       {"planner:\n  min_duration_s: 0.5\n  max_duration_s: 0.2\n", "0.5", "min_duration_s <= max_duration_s"},
