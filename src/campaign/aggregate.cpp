@@ -239,4 +239,11 @@ bool analytically_stoppable(double speed_kph, double ttc_s, double mu, double la
   return ttc_s + kCutTolerance >= latency_s + v / (2.0 * mu * sim::kGravity_mps2);
 }
 
+bool analytically_stoppable(double speed_kph, double ttc_s, double mu, const sim::ActuationConfig& actuation) noexcept {
+  if (actuation.brake_dead_time_s == 0.0 && actuation.brake_ramp_s == 0.0 && actuation.max_decel_mps2 == 0.0)
+    return analytically_stoppable(speed_kph, ttc_s, mu, actuation.perception_latency_s);
+  const double v = speed_kph / 3.6;
+  return v * (ttc_s + kCutTolerance) >= actuation.stopping_distance_m(v, mu, true);
+}
+
 }  // namespace emrm::campaign

@@ -111,12 +111,19 @@ CellRef cell_ref(const CellRecord& r) {
 }
 
 StopBoundaryCheck check_stop_boundary(const std::vector<CellRecord>& records, double latency_s) {
+  sim::ActuationConfig actuation;
+  actuation.perception_latency_s = latency_s;
+  return check_stop_boundary(records, actuation);
+}
+
+StopBoundaryCheck check_stop_boundary(const std::vector<CellRecord>& records, const sim::ActuationConfig& actuation) {
   StopBoundaryCheck c;
-  c.latency_s = latency_s;
+  c.latency_s = actuation.perception_latency_s;
+  c.actuation = actuation;
   for (const auto& r : records) {
     if (!r.feasible) continue;
     ++c.feasible;
-    const bool stoppable = analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, latency_s);
+    const bool stoppable = analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, actuation);
     if (stoppable) {
       ++c.stoppable;
       if (r.region == "R") c.stoppable_red.push_back(cell_ref(r));
@@ -242,7 +249,7 @@ FsmCoverage loss_evaluation_fsm_coverage(const std::vector<CellRecord>& records,
 Diagnostics run_diagnostics(const std::vector<CellRecord>& records, const sim::SceneConfig& scene,
                             const DiagnosticsOptions& options) {
   Diagnostics d;
-  d.stop_boundary = check_stop_boundary(records, scene.actuation.perception_latency_s);
+  d.stop_boundary = check_stop_boundary(records, scene.actuation);
   d.monotonicity = check_monotonicity(records);
   d.reference =
       check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
@@ -253,8 +260,13 @@ Diagnostics run_diagnostics(const std::vector<CellRecord>& records, const sim::S
 
 nlohmann::ordered_json to_json(const Diagnostics& d) {
   const auto& sb = d.stop_boundary;
-  Json stop{{"definition", "feasible cells with TTC >= latency + v/(2 mu g) are analytically stoppable"},
+  Json stop{{"definition",
+             "feasible cells with v TTC >= v (perception latency + brake dead time + ramp/2) + v^2/(2a) - a ramp^2/24 "
+             "(a = mu g or the brake cap) are analytically stoppable"},
             {"latency_s", sb.latency_s},
+            {"brake_dead_time_s", sb.actuation.brake_dead_time_s},
+            {"brake_ramp_s", sb.actuation.brake_ramp_s},
+            {"max_decel_mps2", sb.actuation.max_decel_mps2},
             {"feasible", sb.feasible},
             {"stoppable", sb.stoppable},
             {"stoppable_red_count", sb.stoppable_red.size()},

@@ -399,8 +399,12 @@ ReportSummary write_report(const fs::path& dir) {
   ReportSummary summary;
   const auto start = Clock::now();
   const std::string grid = campaign::headline_grid(records);
-  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, scene.actuation.perception_latency_s));
-  summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, scene.actuation.perception_latency_s));
+  // The dashed stop boundary as a latency: perception, brake dead time and half the ramp (the ramp's
+  // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check).
+  const auto& act = scene.actuation;
+  const double boundary_latency_s = act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s;
+  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, boundary_latency_s));
+  summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));

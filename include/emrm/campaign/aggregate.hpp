@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "emrm/campaign/records.hpp"
+#include "emrm/sim/actuation.hpp"
 #include "emrm/core/error.hpp"
 
 namespace emrm::campaign {
@@ -107,5 +108,9 @@ struct StrategyKpis {
 /// truck's near side iff TTC >= L + v / (2 mu g).
 [[nodiscard]] bool analytically_stoppable(double speed_kph, double ttc_s, double mu,
                                           double latency_s = 0.0) noexcept;
+/// The same through the scene's actuators: v·TTC at least the stopping distance of
+/// sim::ActuationConfig::stopping_distance_m (perception latency, brake dead time, ramp, cap).
+[[nodiscard]] bool analytically_stoppable(double speed_kph, double ttc_s, double mu,
+                                          const sim::ActuationConfig& actuation) noexcept;
 
 }  // namespace emrm::campaign

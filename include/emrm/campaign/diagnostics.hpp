@@ -29,9 +29,11 @@ struct CellRef {
 };
 [[nodiscard]] CellRef cell_ref(const CellRecord& r);
 
-/// (a) The analytic stop boundary TTC >= L + v/(2 mu g) against the stored regions.
+/// (a) The analytic stop boundary TTC >= L + v/(2 mu g) (through the actuators:
+/// v·TTC >= their stopping distance) against the stored regions.
 struct StopBoundaryCheck {
-  double latency_s = 0.0;
+  double latency_s = 0.0;  ///< perception latency
+  sim::ActuationConfig actuation;
   std::size_t feasible = 0;
   std::size_t stoppable = 0;                 ///< feasible cells above the boundary
   std::vector<CellRef> stoppable_red;        ///< must be empty: a car that can stop is never R
@@ -40,6 +42,8 @@ struct StopBoundaryCheck {
 };
 [[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<CellRecord>& records,
                                                     double latency_s = 0.0);
+[[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<CellRecord>& records,
+                                                    const sim::ActuationConfig& actuation);
 
 /// (b) One monotonicity reversal: a strategy avoided at a lower TTC (or μ) but not at the next
 /// higher one, all other factors equal.
