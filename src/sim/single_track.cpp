@@ -30,13 +30,13 @@ struct AxleSlip {
   double stiffness_tan_n;  // C |tan(alpha)|
 };
 
-AxleSlip axle_slip(double tan_alpha, double stiffness_n_per_rad) {
+[[gnu::always_inline]] inline AxleSlip axle_slip(double tan_alpha, double stiffness_n_per_rad) {
   return {tan_alpha, stiffness_n_per_rad * std::abs(tan_alpha)};
 }
 
 // Fiala brush tire. With z = C |tan(alpha)| / Fy_max the force is Fy_max (z - z^2/3 + z^3/27) against
 // the slip up to z = 3 (the sliding angle tan(alpha_sl) = 3 Fy_max / C) and Fy_max beyond.
-LateralForce fiala_lateral(const AxleSlip& slip, double limit_n) {
+[[gnu::always_inline]] inline LateralForce fiala_lateral(const AxleSlip& slip, double limit_n) {
   if (limit_n <= kNoGrip_n) return {0.0, true};
   const double z = slip.stiffness_tan_n / limit_n;
   if (z >= 3.0) return {-std::copysign(limit_n, slip.tan_alpha), true};
@@ -58,7 +58,8 @@ struct AbsBraking {
 // braking force is capped at sqrt(grip^2 - Fy_abs^2), Fy_abs = min(grip, C |tan(alpha)| / 3). Below the
 // cap this is the plain friction circle with Fiala; at the cap the Fiala force under the remaining
 // limit would be below Fy_abs, so the axle slides at Fy_abs (continuous in the brake: both meet there).
-AbsBraking abs_braking(double commanded_n, const AxleSlip& slip, double grip_n) {
+[[gnu::always_inline]] inline AbsBraking abs_braking(double commanded_n, const AxleSlip& slip,
+                                                     double grip_n) {
   if (commanded_n != 0.0) {  // without brake pressure there is nothing for the ABS to release
     const double floor_n = std::min(grip_n, slip.stiffness_tan_n / 3.0);
     const double cap_n = std::sqrt(std::max(0.0, grip_n * grip_n - floor_n * floor_n));
@@ -68,8 +69,10 @@ AbsBraking abs_braking(double commanded_n, const AxleSlip& slip, double grip_n) 
 }
 
 // The wheel-frame forces of a rolling axle with its braking settled: at the cap it slides at the
-// floor, below it the Fiala force under what the friction circle leaves.
-void set_rolling(AxleForces& axle, const AbsBraking& braking, const AxleSlip& slip, double grip_n) {
+// floor, below it the Fiala force under what the friction circle leaves. These helpers are inlined
+// so that the two axles' chains of square roots and divisions overlap.
+[[gnu::always_inline]] inline void set_rolling(AxleForces& axle, const AbsBraking& braking,
+                                               const AxleSlip& slip, double grip_n) {
   axle.longitudinal_n = braking.longitudinal_n;
   if (braking.capped) {
     axle.lateral_n = -std::copysign(braking.floor_n, slip.tan_alpha);
