@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace emrm::sim {
 namespace {
@@ -43,8 +42,7 @@ class RearSlidingCheck {
  public:
   RearSlidingCheck(const VehicleModel& model, double mu) : model_(model), mu_(mu) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    const AxleForces rear = model_.tire_forces(step.state, step.applied, mu_).rear;
-    if (step.applied.rear_lock || (rear.saturated && std::abs(rear.slip_angle_rad) > kSlidingSlipAngle_rad))
+    if (step.applied.rear_lock || model_.rear_axle_sliding(step.state, step.applied, mu_, kSlidingSlipAngle_rad))
       return end(why, Termination::kConstraint);
     return false;
   }
@@ -343,7 +341,7 @@ class StabilisedTest {
     const VehicleState& s = step.state;
     if (!(std::abs(s.yaw_rate_radps) <= bounds_.max_yaw_rate_radps &&
           std::abs(s.slip_angle_rad()) <= bounds_.max_slip_angle_rad &&
-          std::abs(std::remainder(s.yaw_rad, 2.0 * std::numbers::pi)) <= bounds_.max_heading_error_rad &&
+          std::abs(core::wrap_angle(s.yaw_rad)) <= bounds_.max_heading_error_rad &&
           std::abs(s.steer_rad) <= bounds_.max_steer_rad))
       return false;
     const double speed = s.speed_mps();
@@ -379,7 +377,7 @@ double pursuit_steer_rate(const VehicleState& s, const core::Vec2& target, const
                           double grip, double dt_s) noexcept {
   const double dx = target.x - s.x_m;
   const double dy = target.y - s.y_m;
-  const double alpha = std::remainder(std::atan2(dy, dx) - s.yaw_rad, 2.0 * std::numbers::pi);
+  const double alpha = core::wrap_angle(std::atan2(dy, dx) - s.yaw_rad);
   const double lookahead = std::max(std::hypot(dx, dy), 1.0);
   const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
   const double grip_limit = std::min(p.max_steer_rad, std::atan(p.wheelbase_m() * grip * mu * kGravity_mps2 / v2));

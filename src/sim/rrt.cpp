@@ -22,6 +22,14 @@ struct Node {
   std::vector<ControlSegment> plan;  // the controls of that edge
 };
 
+// What the sampling reads of a node: its position, whether it still moves (at 0.5 m/s or more), and
+// its weight for random_moving_node (e^(-t/0.3 s) when moving, else 0).
+struct NodeSummary {
+  core::Vec2 position;
+  double weight = 0.0;
+  bool moving = false;
+};
+
 class Rrt {
  public:
   Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
@@ -56,7 +64,7 @@ class Rrt {
       root.edge = coast.path;
       root.plan = coast.maneuver.plan;
     }
-    nodes_.push_back(std::move(root));
+    add_node(std::move(root));
     result_.stats.nodes = 1;
     if (fail_safes(0)) return finish(started);
 
@@ -105,21 +113,28 @@ class Rrt {
     return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.drivable_max_y_m() - y_min)};
   }
 
+  // Nodes never change once added: what the sampling loops read of them is worked out here once,
+  // and kept side by side for a fast scan.
+  void add_node(Node node) {
+    NodeSummary summary{{node.state.x_m, node.state.y_m}, 0.0, node.state.speed_mps() >= 0.5};
+    if (summary.moving) summary.weight = std::exp(-node.t_s / 0.3);
+    summaries_.push_back(summary);
+    nodes_.push_back(std::move(node));
+  }
+
   // A random moving node, early ones preferred (weight e^(-t/0.3 s)): with a short TTC the first
   // few tenths of a second decide the outcome, so that is where the search should branch most.
   int random_moving_node() {
-    weights_.assign(nodes_.size(), 0.0);
     double total = 0.0;
-    for (std::size_t i = 0; i < nodes_.size(); ++i)
-      if (nodes_[i].state.speed_mps() >= 0.5) total += weights_[i] = std::exp(-nodes_[i].t_s / 0.3);
+    for (const NodeSummary& n : summaries_) total += n.weight;  // 0 for nodes at rest
     if (total <= 0.0) return -1;
     double pick = std::uniform_real_distribution<double>(0.0, total)(rng_);
-    for (std::size_t i = 0; i < nodes_.size(); ++i) {
-      pick -= weights_[i];
-      if (pick <= 0.0 && weights_[i] > 0.0) return static_cast<int>(i);
+    for (std::size_t i = 0; i < summaries_.size(); ++i) {
+      pick -= summaries_[i].weight;
+      if (pick <= 0.0 && summaries_[i].weight > 0.0) return static_cast<int>(i);
     }
-    for (std::size_t i = nodes_.size(); i-- > 0;)
-      if (weights_[i] > 0.0) return static_cast<int>(i);
+    for (std::size_t i = summaries_.size(); i-- > 0;)
+      if (summaries_[i].weight > 0.0) return static_cast<int>(i);
     return -1;
   }
 
@@ -127,11 +142,11 @@ class Rrt {
   int nearest(const core::Vec2& target) const {
     int best = -1;
     double best_d2 = kInfinity;
-    for (std::size_t i = 0; i < nodes_.size(); ++i) {
-      const auto& s = nodes_[i].state;
-      if (s.speed_mps() < 0.5) continue;
-      const double dx = target.x - s.x_m;
-      const double dy = target.y - s.y_m;
+    for (std::size_t i = 0; i < summaries_.size(); ++i) {
+      const NodeSummary& n = summaries_[i];
+      if (!n.moving) continue;
+      const double dx = target.x - n.position.x;
+      const double dy = target.y - n.position.y;
       const double d2 = dx * dx + dy * dy + (dx < 0 ? 4.0 * dx * dx : 0.0);
       if (d2 < best_d2) {
         best_d2 = d2;
@@ -207,7 +222,7 @@ class Rrt {
     node.parent = from;
     node.edge = std::move(best->path);
     node.plan = std::move(best->maneuver.plan);
-    nodes_.push_back(std::move(node));
+    add_node(std::move(node));
     return fail_safes(static_cast<int>(nodes_.size()) - 1);
   }
 
@@ -318,8 +333,8 @@ class Rrt {
   bool keep_tree_;
   std::vector<Node> nodes_;
   PlanResult result_;
-  std::optional<std::pair<double, double>> passage_band_;
-  std::vector<double> weights_;  // scratch for random_moving_node  // y range the ego's CG may use beside the truck
+  std::optional<std::pair<double, double>> passage_band_;  // y range the ego's CG may use beside the truck
+  std::vector<NodeSummary> summaries_;  // per node, what random_moving_node and nearest read
   int iterations_ = 0;  // extension attempts, some of which add no node
 };
 

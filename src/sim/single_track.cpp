@@ -23,23 +23,33 @@ struct LateralForce {
   bool sliding;
 };
 
-// Fiala brush tire. With z = C |tan(alpha)| / Fy_max the force is Fy_max (z - z^2/3 + z^3/27) against
-// the slip up to z = 3 (the sliding angle tan(alpha_sl) = 3 Fy_max / C) and Fy_max beyond.
-LateralForce fiala_lateral(double tan_alpha, double stiffness_n_per_rad, double limit_n) {
-  if (limit_n <= kNoGrip_n) return {0.0, true};
-  const double z = stiffness_n_per_rad * std::abs(tan_alpha) / limit_n;
-  if (z >= 3.0) return {-std::copysign(limit_n, tan_alpha), true};
-  const double magnitude = limit_n * z * (1.0 - z / 3.0 + z * z / 27.0);
-  return {-std::copysign(magnitude, tan_alpha), false};
+// The slip of a rolling axle, fixed within one evaluation (the load passes below change only the
+// grip): tan(alpha) and C |tan(alpha)|.
+struct AxleSlip {
+  double tan_alpha;
+  double stiffness_tan_n;  // C |tan(alpha)|
+};
+
+[[gnu::always_inline]] inline AxleSlip axle_slip(double tan_alpha, double stiffness_n_per_rad) {
+  return {tan_alpha, stiffness_n_per_rad * std::abs(tan_alpha)};
 }
 
-// Wheel-frame forces of a rolling (not locked) axle.
-struct RollingAxle {
+// Fiala brush tire. With z = C |tan(alpha)| / Fy_max the force is Fy_max (z - z^2/3 + z^3/27) against
+// the slip up to z = 3 (the sliding angle tan(alpha_sl) = 3 Fy_max / C) and Fy_max beyond.
+[[gnu::always_inline]] inline LateralForce fiala_lateral(const AxleSlip& slip, double limit_n) {
+  if (limit_n <= kNoGrip_n) return {0.0, true};
+  const double z = slip.stiffness_tan_n / limit_n;
+  if (z >= 3.0) return {-std::copysign(limit_n, slip.tan_alpha), true};
+  const double magnitude = limit_n * z * (1.0 - z / 3.0 + z * z / 27.0);
+  return {-std::copysign(magnitude, slip.tan_alpha), false};
+}
+
+// The braking of a rolling axle under the ABS, before its lateral force: what the load transfer needs.
+struct AbsBraking {
+  double commanded_n;
   double longitudinal_n;
-  double lateral_n;
-  double lateral_limit_n;
-  bool saturated;
-  bool capped;  // the ABS braked with less than the commanded force
+  double floor_n;  // the lateral floor Fy_abs; set only when capped
+  bool capped;     // the ABS braked with less than the commanded force
 };
 
 // A rolling axle braked with `commanded_n` (signed, |commanded_n| = brake * grip) under ABS. The ABS
@@ -48,23 +58,34 @@ struct RollingAxle {
 // braking force is capped at sqrt(grip^2 - Fy_abs^2), Fy_abs = min(grip, C |tan(alpha)| / 3). Below the
 // cap this is the plain friction circle with Fiala; at the cap the Fiala force under the remaining
 // limit would be below Fy_abs, so the axle slides at Fy_abs (continuous in the brake: both meet there).
-RollingAxle abs_axle(double commanded_n, double tan_alpha, double stiffness_n_per_rad, double grip_n) {
+[[gnu::always_inline]] inline AbsBraking abs_braking(double commanded_n, const AxleSlip& slip,
+                                                     double grip_n) {
   if (commanded_n != 0.0) {  // without brake pressure there is nothing for the ABS to release
-    const double floor_n = std::min(grip_n, stiffness_n_per_rad * std::abs(tan_alpha) / 3.0);
+    const double floor_n = std::min(grip_n, slip.stiffness_tan_n / 3.0);
     const double cap_n = std::sqrt(std::max(0.0, grip_n * grip_n - floor_n * floor_n));
-    if (std::abs(commanded_n) > cap_n)
-      return {std::copysign(cap_n, commanded_n), -std::copysign(floor_n, tan_alpha), floor_n, true, true};
+    if (std::abs(commanded_n) > cap_n) return {commanded_n, std::copysign(cap_n, commanded_n), floor_n, true};
   }
-  const double limit_n = std::sqrt(std::max(0.0, grip_n * grip_n - commanded_n * commanded_n));
-  const LateralForce fy = fiala_lateral(tan_alpha, stiffness_n_per_rad, limit_n);
-  return {commanded_n, fy.force_n, limit_n, fy.sliding, false};
+  return {commanded_n, commanded_n, 0.0, false};
 }
 
-void set_rolling(AxleForces& axle, const RollingAxle& forces) {
-  axle.longitudinal_n = forces.longitudinal_n;
-  axle.lateral_n = forces.lateral_n;
-  axle.lateral_limit_n = forces.lateral_limit_n;
-  axle.saturated = forces.saturated;
+// The wheel-frame forces of a rolling axle with its braking settled: at the cap it slides at the
+// floor, below it the Fiala force under what the friction circle leaves. These helpers are inlined
+// so that the two axles' chains of square roots and divisions overlap.
+[[gnu::always_inline]] inline void set_rolling(AxleForces& axle, const AbsBraking& braking,
+                                               const AxleSlip& slip, double grip_n) {
+  axle.longitudinal_n = braking.longitudinal_n;
+  if (braking.capped) {
+    axle.lateral_n = -std::copysign(braking.floor_n, slip.tan_alpha);
+    axle.lateral_limit_n = braking.floor_n;
+    axle.saturated = true;
+    return;
+  }
+  const double commanded_n = braking.commanded_n;
+  const double limit_n = std::sqrt(std::max(0.0, grip_n * grip_n - commanded_n * commanded_n));
+  const LateralForce fy = fiala_lateral(slip, limit_n);
+  axle.lateral_n = fy.force_n;
+  axle.lateral_limit_n = limit_n;
+  axle.saturated = fy.sliding;
 }
 
 // Everything the derivative and the diagnostics need, computed once per evaluation.
@@ -79,7 +100,10 @@ struct AxleSolution {
   double commanded_accel_mps2 = 0.0;  // longitudinal, from the commanded (braking) forces
 };
 
-AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s, const Control& u, double mu) {
+// Inlined into each caller: the derivative uses only the body-frame sums, and the compiler drops
+// the rest.
+[[gnu::always_inline]] inline AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s,
+                                                       const Control& u, double mu) {
   const double lf = p.cg_to_front_axle_m;
   const double lr = p.cg_to_rear_axle_m;
   const double wheelbase = lf + lr;
@@ -125,40 +149,50 @@ AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s, const Co
   out.rear_lateral_velocity_mps = vy_rear;
   AxleForces& front = out.tires.front;
   AxleForces& rear = out.tires.rear;
-  const double tan_front = w_front / std::max(std::abs(u_front), detail::kRollingEpsilon_mps);
-  const double tan_rear = vy_rear / std::max(std::abs(s.vx_mps), detail::kRollingEpsilon_mps);
+  const AxleSlip front_slip = axle_slip(w_front / std::max(std::abs(u_front), detail::kRollingEpsilon_mps),
+                                        p.front_cornering_stiffness_n_per_rad);
+  const AxleSlip rear_slip = axle_slip(vy_rear / std::max(std::abs(s.vx_mps), detail::kRollingEpsilon_mps),
+                                       p.rear_cornering_stiffness_n_per_rad);
 
-  // Both axles for a front load; true when the ABS capped a braking force.
-  const auto solve = [&](double load_front) {
-    const double load_rear = m * g - load_front;
-    front.normal_load_n = load_front;
-    const double front_grip = mu * load_front;
-    const RollingAxle f = abs_axle(-brake * mu * load_front * front_sign, tan_front,
-                                   p.front_cornering_stiffness_n_per_rad, front_grip);
-    set_rolling(front, f);
-    bool capped = f.capped;
-    rear.normal_load_n = load_rear;
-    const double rear_grip = mu * load_rear;
-    if (u.rear_lock) {
-      // A locked axle slides: mu Fz against its velocity, in both directions; no cornering grip.
-      rear.longitudinal_n = -rear_grip * s.vx_mps * rear_inv_speed;
-      rear.lateral_n = -rear_grip * vy_rear * rear_inv_speed;
-      rear.lateral_limit_n =
-          std::sqrt(std::max(0.0, rear_grip * rear_grip - rear.longitudinal_n * rear.longitudinal_n));
-      rear.saturated = true;
-    } else {
-      const RollingAxle r = abs_axle(-brake * rear_grip * rear_rolling_sign, tan_rear,
-                                     p.rear_cornering_stiffness_n_per_rad, rear_grip);
-      set_rolling(rear, r);
-      capped = capped || r.capped;
-    }
-    return capped;
+  // The braking of both axles for a front load (a locked rear slides at mu Fz against its velocity).
+  struct Braking {
+    double load_front_n, load_rear_n;
+    AbsBraking front, rear;
+    double rear_locked_x_n;
+  };
+  const auto brake_axles = [&](double load_front) {
+    Braking b{};
+    b.load_front_n = load_front;
+    b.load_rear_n = m * g - load_front;
+    b.front = abs_braking(-brake * mu * load_front * front_sign, front_slip, mu * load_front);
+    const double rear_grip = mu * b.load_rear_n;
+    if (u.rear_lock) b.rear_locked_x_n = -rear_grip * s.vx_mps * rear_inv_speed;
+    else b.rear = abs_braking(-brake * rear_grip * rear_rolling_sign, rear_slip, rear_grip);
+    return b;
   };
   // Where the ABS brakes less than commanded, the loads are taken once more from the braking it applies
   // (else a released front keeps the load of full braking, and the light rear spins the car); without a
-  // cap (straight braking, coasting) the closed form is already exact. One pass, not a fixed point.
-  if (solve(front_load_at(accel)))
-    solve(front_load_at((front.longitudinal_n * cos_steer + rear.longitudinal_n) / m));
+  // cap (straight braking, coasting) the closed form is already exact. One pass, not a fixed point; the
+  // lateral forces are worked out only for the pass that stands.
+  Braking b = brake_axles(front_load_at(accel));
+  if (b.front.capped || b.rear.capped) {
+    const double rear_x = u.rear_lock ? b.rear_locked_x_n : b.rear.longitudinal_n;
+    b = brake_axles(front_load_at((b.front.longitudinal_n * cos_steer + rear_x) / m));
+  }
+  front.normal_load_n = b.load_front_n;
+  set_rolling(front, b.front, front_slip, mu * b.load_front_n);
+  rear.normal_load_n = b.load_rear_n;
+  const double rear_grip = mu * b.load_rear_n;
+  if (u.rear_lock) {
+    // A locked axle slides: mu Fz against its velocity, in both directions; no cornering grip.
+    rear.longitudinal_n = b.rear_locked_x_n;
+    rear.lateral_n = -rear_grip * vy_rear * rear_inv_speed;
+    rear.lateral_limit_n =
+        std::sqrt(std::max(0.0, rear_grip * rear_grip - rear.longitudinal_n * rear.longitudinal_n));
+    rear.saturated = true;
+  } else {
+    set_rolling(rear, b.rear, rear_slip, rear_grip);
+  }
 
   const double front_x = front.longitudinal_n * cos_steer - front.lateral_n * sin_steer;
   const double front_y = front.longitudinal_n * sin_steer + front.lateral_n * cos_steer;
@@ -170,10 +204,14 @@ AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s, const Co
 
 // Weight of the dynamic model: 0 below half the blend speed, 1 above it, linear between, so the
 // tire model (singular at standstill) never acts alone at walking pace.
-double dynamic_weight(const VehicleParams& p, double speed_mps) {
+double dynamic_weight(const VehicleParams& p, const VehicleState& s) {
   const double half = 0.5 * p.kinematic_blend_speed_mps;
   if (half <= 0.0) return 1.0;
-  return std::clamp((speed_mps - half) / half, 0.0, 1.0);
+  // Above four times half the blend speed the ratio is near 3, clamped to 1 for certain: decided on
+  // the squared speed, without the square root and the division (the common case).
+  const double speed_sq = s.vx_mps * s.vx_mps + s.vy_mps * s.vy_mps;
+  if (speed_sq >= 16.0 * half * half) return 1.0;
+  return std::clamp((std::sqrt(speed_sq) - half) / half, 0.0, 1.0);
 }
 
 }  // namespace
@@ -192,7 +230,7 @@ VehicleState SingleTrackFiala::derivative(const VehicleState& s, const Control& 
   d.yaw_rate_radps = axles.yaw_moment_nm / p.yaw_inertia_kgm2;
   d.steer_rad = detail::limited_steer_rate(p, s, u);
 
-  const double w = dynamic_weight(p, s.speed_mps());
+  const double w = dynamic_weight(p, s);
   if (w < 1.0) {
     const detail::KinematicBodyRates kin =
         detail::kinematic_body_rates(p, s, d.steer_rad, axles.commanded_accel_mps2, mu * kGravity_mps2);
@@ -211,6 +249,18 @@ TireForces SingleTrackFiala::tire_forces(const VehicleState& s, const Control& u
       std::atan2(axles.front_lateral_velocity_mps, std::abs(axles.front_rolling_velocity_mps));
   out.rear.slip_angle_rad = std::atan2(axles.rear_lateral_velocity_mps, std::abs(s.vx_mps));
   return out;
+}
+
+bool SingleTrackFiala::rear_axle_sliding(const VehicleState& s, const Control& u, double mu,
+                                         double min_slip_angle_rad) const {
+  // The rear slip angle is atan2(vy_rear, |vx|), as in tire_forces. Where |vy_rear| is at most
+  // 0.999 min_slip |vx| it is certainly within the limit (tan(x) > x on (0, pi/2), and the rounding
+  // of the product and of atan2 is far below 0.1 %): no atan2 and no axle solution needed.
+  const double vy_rear = s.vy_mps - params_.cg_to_rear_axle_m * s.yaw_rate_radps;
+  const double vx = std::abs(s.vx_mps);
+  if (std::abs(vy_rear) <= 0.999 * min_slip_angle_rad * vx) return false;
+  if (!(std::abs(std::atan2(vy_rear, vx)) > min_slip_angle_rad)) return false;
+  return solve_axles(params_, s, u, mu).tires.rear.saturated;
 }
 
 }  // namespace emrm::sim

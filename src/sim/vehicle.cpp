@@ -77,8 +77,6 @@ constexpr std::array kModels{
 
 }  // namespace
 
-double VehicleState::speed_mps() const { return std::sqrt(vx_mps * vx_mps + vy_mps * vy_mps); }
-
 double VehicleState::slip_angle_rad() const {
   // atan2(0, -0.0) would be pi: a vehicle at rest has no slip.
   if (vx_mps == 0.0 && vy_mps == 0.0) return 0.0;
@@ -105,6 +103,12 @@ VehicleState VehicleModel::step(const VehicleState& s, const Control& u, double 
   const bool braking = u.brake > 0.0 || u.rear_lock;
   if (braking && comes_to_rest(params_, s, {s2, s3, s4, out})) return rest_state(s, k1, dt_s, out.steer_rad);
   return out;
+}
+
+bool VehicleModel::rear_axle_sliding(const VehicleState& s, const Control& u, double mu,
+                                     double min_slip_angle_rad) const {
+  const AxleForces rear = tire_forces(s, u, mu).rear;
+  return rear.saturated && std::abs(rear.slip_angle_rad) > min_slip_angle_rad;
 }
 
 void validate(const VehicleParams& params) { core::validate_fields("vehicle", params); }

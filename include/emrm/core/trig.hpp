@@ -1,9 +1,11 @@
 #pragma once
 
 // cos and sin of one angle at once, fast and the same on every platform: what the simulator's hot
-// paths (box headings, the vehicle model's yaw and steering) use instead of two library calls.
+// paths (box headings, the vehicle model's yaw and steering) use instead of two library calls; and
+// the wrapping of an angle, exact and cheap for the angles a simulation meets.
 
 #include <cmath>
+#include <numbers>
 
 namespace emrm::core {
 
@@ -54,6 +56,13 @@ constexpr double kFastAngleLimit = 8.0e5;
 inline CosSin cos_sin(double x) noexcept {
   if (!(std::abs(x) < kFastAngleLimit)) return {std::cos(x), std::sin(x)};
   return cos_sin_kernel(x);
+}
+
+// std::remainder(x, 2π), the angle wrapped into [-π, π], without the library call for the usual
+// angle within ±3 rad: there the quotient rounds to 0 and the (exact) IEEE remainder is x itself.
+inline double wrap_angle(double x) noexcept {
+  if (std::abs(x) <= 3.0) return x;
+  return std::remainder(x, 2.0 * std::numbers::pi);
 }
 
 }  // namespace emrm::core

@@ -6,6 +6,7 @@
 // for comparison. Models are picked by name from a registry; all are pure and thread-safe.
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -75,7 +76,8 @@ struct VehicleState {
   double yaw_rate_radps = 0.0;
   double steer_rad = 0.0;  ///< road-wheel steering angle (left positive)
 
-  [[nodiscard]] double speed_mps() const;
+  /// sqrt(vx^2 + vy^2); inline, as the rollouts ask for it several times a step.
+  [[nodiscard]] double speed_mps() const { return std::sqrt(vx_mps * vx_mps + vy_mps * vy_mps); }
   /// Body slip angle atan2(vy, vx); 0 at standstill.
   [[nodiscard]] double slip_angle_rad() const;
 };
@@ -117,6 +119,11 @@ class VehicleModel {
   [[nodiscard]] virtual VehicleState derivative(const VehicleState& s, const Control& u, double mu) const = 0;
   /// Tire forces at this state (zeros for models without tires).
   [[nodiscard]] virtual TireForces tire_forces(const VehicleState& s, const Control& u, double mu) const = 0;
+  /// Whether the rear axle is saturated at a slip angle beyond `min_slip_angle_rad` (dodge's
+  /// constraint): tire_forces(s, u, mu).rear.saturated && |its slip_angle_rad| > min_slip_angle_rad,
+  /// which a model may answer more cheaply, but always the same.
+  [[nodiscard]] virtual bool rear_axle_sliding(const VehicleState& s, const Control& u, double mu,
+                                               double min_slip_angle_rad) const;
 
   /// One classic RK4 step of `dt_s`. Keeps the steering angle within its limit, and a vehicle
   /// that comes to rest under braking stays at rest (no creeping backwards).
@@ -143,6 +150,9 @@ class SingleTrackFiala final : public VehicleModel {
   /// moving backwards is measured from its backward direction, so the lateral force always
   /// opposes the lateral sliding.
   [[nodiscard]] TireForces tire_forces(const VehicleState& s, const Control& u, double mu) const override;
+  /// Decides from the rear slip angle first, solving the axles only when it is beyond the limit.
+  [[nodiscard]] bool rear_axle_sliding(const VehicleState& s, const Control& u, double mu,
+                                       double min_slip_angle_rad) const override;
 };
 
 /// Kinematic single-track model ("kinematic_bicycle"): no tires; the CG moves at the slip angle
@@ -166,6 +176,8 @@ inline constexpr double kRollingEpsilon_mps = 1e-3;
 /// Rolling direction of a wheel moving at `u_mps` along itself: ±1, ramping linearly through zero
 /// within ±kRollingEpsilon_mps so that braking forces vanish at rest instead of chattering.
 [[nodiscard]] inline double rolling_sign(double u_mps) {
+  // Well outside the ramp the quotient is beyond ±1 for certain: the clamp's bound without the division.
+  if (std::abs(u_mps) >= 2.0 * kRollingEpsilon_mps) return std::copysign(1.0, u_mps);
   return std::clamp(u_mps / kRollingEpsilon_mps, -1.0, 1.0);
 }
 
