@@ -57,10 +57,11 @@ struct Setup {
   double m, iz, lf, lr, wheelbase, h, width, cf, cr, rho, delta_max;
   // steering actuator (C3a): dead time, lag, and the simulator's step the wheel path is sampled at
   double steer_dead, steer_lag, steer_lead;
+  double brake_dead;  // (C2a) no braking force until this long after the latency (one step's lead taken off)
   double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
   double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
   // cell
-  double mu, g, v0, tau, x0, x_tau, y0, stop_speed, stop_reach;
+  double mu, g, v0, tau, x0, x_tau, y0, stop_speed;
   double near_x, truck_width, truck_length, y_min, y_max;
   // grips: forward rolling (C4) and in general
   double grip_f_fwd, grip_r_fwd, grip_any, total_grip;
@@ -111,6 +112,7 @@ Setup make_setup(const Scene& scene) {
   // With actuators the simulator moves the wheels linearly between its steps' ends, where they sit
   // on the lagged response: one step's lead covers the chord (docs/physics.md, (C3a)).
   s.steer_lead = act.instant() ? 0.0 : c.simulation.dt_s;
+  s.brake_dead = std::max(0.0, act.brake_dead_time_s - s.steer_lead);
   s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
   s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
   s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
@@ -137,9 +139,9 @@ Setup make_setup(const Scene& scene) {
   s.y0 = start.y_m;
   s.x_tau = s.x0 + s.v0 * s.tau;
   // (C2) Before its speed can fall below the stop threshold (and below the kinematic blend) the
-  // CG's x-velocity must fall from v0 to it at no more than mu·g: the CG travels at least this far.
+  // CG's x-velocity must fall from v0 to it at no more than mu·g (and less before the brakes act,
+  // (C2a), class Braking): the CG travels at least so far.
   s.stop_speed = std::max(p.kinematic_blend_speed_mps, kStoppedSpeed_mps);
-  s.stop_reach = s.x_tau + std::max(0.0, s.v0 * s.v0 - s.stop_speed * s.stop_speed) / (2.0 * s.mu * s.g);
   s.near_x = scene.initial_distance_m();
   s.truck_width = c.truck.width_m;
   s.truck_length = c.truck.length_m;
@@ -255,6 +257,7 @@ class Bounder {
   }
 
   [[nodiscard]] double time(int k) const { return times_[static_cast<std::size_t>(k)]; }
+  [[nodiscard]] double sin_psi(int k) const { return bounds_[static_cast<std::size_t>(k)].sin_psi; }
 
   // The least grid index k with s_k ≥ s (extending the grid), or -1 beyond the horizon.
   int index_at_or_after(double s) {
@@ -369,13 +372,20 @@ class Bounder {
         a_rear = c_.lr / c_.iz;
         break;
     }
+    // (C2a) Before the brakes act neither axle has a longitudinal force: the front's force is its
+    // lateral force, so |p_f| = |q_f| tan δ, and p_r = 0.
+    const bool unbraked = times_[k] <= c_.brake_dead;
+    const double tan_delta = unbraked ? std::tan(wheel_bound(c_, times_[k]).angle) : 0.0;
     for (Table& t : tables) {
       // The arrival constraint's braking, b ≤ (|p_f| + |p_r|)/m + (|q_f| + |q_r|)|sin ψ|/m.
       const double brake_q = t.lambda * b.sin_psi / c_.m;
       const double brake_p = t.lambda / c_.m;
-      const double g = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
-                                         b.cap_f, b.cap_r, c_.total_grip) +
-                       extra;
+      double support = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
+                                         b.cap_f, b.cap_r, c_.total_grip);
+      if (unbraked)
+        support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
+                                        (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      const double g = support + extra;
       t.s0.push_back(t.s0.back() + g * w);
       t.s1.push_back(t.s1.back() + g * w * mid);
     }
@@ -402,13 +412,63 @@ struct Evaluation {
   double window_start_s = 0.0, window_end_s = 0.0;
 };
 
+// (C2a) The least progress of the CG along x after the latency. Its x-deceleration is at most
+// mu·g; before the brakes act (the brake dead time after the latency, less one simulator step for
+// the rear lock's timing) no axle has a longitudinal force, so the only x-force is the front's
+// lateral force through the wheel angle and the lateral force through the heading:
+// |ẍ| ≤ mu·g·(sin δ̄ + sin ψ̄). Piecewise constant on the comparison system's grid up to then, mu·g
+// after: knots of the least x-velocity and the least travel.
+class Braking {
+ public:
+  Braking(const Setup& c, Bounder& b) : full_(c.mu * c.g), stop_speed_(c.stop_speed) {
+    s_.push_back(0.0);
+    w_.push_back(c.v0);
+    x_.push_back(0.0);
+    if (c.brake_dead <= 0.0) return;
+    const int last = b.index_at_or_after(c.brake_dead);
+    if (last < 0) return;
+    for (int k = 1; k <= last && w_.back() > stop_speed_; ++k) {
+      const double t0 = b.time(k - 1);
+      const double t1 = std::min(b.time(k), c.brake_dead);
+      if (t1 <= t0) break;
+      const double d = std::min(full_, full_ * (std::sin(wheel_bound(c, b.time(k)).angle) + b.sin_psi(k)));
+      double h = t1 - t0;
+      if (d > 0.0) h = std::min(h, (w_.back() - stop_speed_) / d);  // falls to the stop speed inside
+      decel_.push_back(d);
+      x_.push_back(x_.back() + w_.back() * h - 0.5 * d * h * h);
+      w_.push_back(w_.back() - d * h);
+      s_.push_back(t0 + h);
+    }
+  }
+  /// Least x-travel (from the end of the latency) before the x-velocity can fall to the stop speed.
+  [[nodiscard]] double stop_travel() const {
+    const double w = w_.back();
+    return x_.back() + std::max(0.0, w * w - stop_speed_ * stop_speed_) / (2.0 * full_);
+  }
+  /// Latest time after the latency the CG can first reach `travel` (< stop_travel()).
+  [[nodiscard]] double latest(double travel) const {
+    for (std::size_t k = 0; k + 1 < s_.size(); ++k) {
+      if (travel > x_[k + 1]) continue;
+      const double rest = travel - x_[k];
+      const double d = decel_[k];
+      const double w = w_[k];
+      return s_[k] + (d > 0.0 ? (w - std::sqrt(std::max(0.0, w * w - 2.0 * d * rest))) / d : rest / w);
+    }
+    const double w = w_.back();
+    const double rest = travel - x_.back();
+    return s_.back() + (w - std::sqrt(w * w - 2.0 * full_ * rest)) / full_;
+  }
+
+ private:
+  double full_, stop_speed_;
+  std::vector<double> s_, w_, x_, decel_;
+};
+
 // The arrival window of the CG at x = xi, as times after the latency (C3): no faster than v0, no
-// later than braking at mu·g from the end of the latency.
-std::pair<double, double> arrival_window(const Setup& c, double xi) {
+// later than the least progress of (C2a).
+std::pair<double, double> arrival_window(const Setup& c, const Braking& braking, double xi) {
   const double travel = xi - c.x_tau;
-  const double early = travel / c.v0;
-  const double late = (c.v0 - std::sqrt(c.v0 * c.v0 - 2.0 * c.mu * c.g * travel)) / (c.mu * c.g);
-  return {early, late};
+  return {travel / c.v0, braking.latest(travel)};
 }
 
 // (C11–C12) The margin by which a car whose cross-section at the crossing line spans at least
@@ -429,12 +489,12 @@ double route_margins(const Setup& c, double top_lo, double bottom_hi, double t_s
   return std::min(below, above);
 }
 
-Evaluation evaluate(const Setup& c, Bounder& b, const Witness& w) {
+Evaluation evaluate(const Setup& c, Bounder& b, const Braking& braking, const Witness& w) {
   Evaluation out;
   const double xi = w.crossing_x;
   const double min_margin = kCertificateMinMargin_m;
   const double face_x = c.near_x + min_margin;  // the crossing line, inside the truck by the margin
-  if (!(xi < c.stop_reach) || !(xi > c.x0)) return out;
+  if (!(xi < c.x_tau + braking.stop_travel()) || !(xi > c.x0)) return out;
 
   // Geometry of the witness.
   double a_lo = 0.0, a_hi = 0.0, cos_cap = 1.0, sin_cap = 0.0;
@@ -477,7 +537,7 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Witness& w) {
     margin = route_margins(c, c.y0 + 0.5 * c.width, c.y0 - 0.5 * c.width, t, t);
     out.window_start_s = out.window_end_s = t;
   } else {
-    const auto [early, late] = arrival_window(c, xi);
+    const auto [early, late] = arrival_window(c, braking, xi);
     out.window_start_s = c.tau + early;
     out.window_end_s = c.tau + late;
     const int k_last = b.index_at_or_after(late);
@@ -539,13 +599,15 @@ bool applicable(const Scene& scene) {
 std::optional<Certificate> certify_unavoidable(const Scene& scene) {
   if (!applicable(scene)) return std::nullopt;
   const Setup c = make_setup(scene);
+  Bounder bounder(c, kStep_s, std::vector<double>(kLambdas.begin(), kLambdas.end()));
+  const Braking braking(c, bounder);
+  const double stop_reach = c.x_tau + braking.stop_travel();
   // Quick exit: if the CG can stop before any witness's crossing, nothing can be shown.
   const std::vector<Witness> ws = witnesses(c);
-  if (std::none_of(ws.begin(), ws.end(), [&](const Witness& w) { return w.crossing_x < c.stop_reach; }))
+  if (std::none_of(ws.begin(), ws.end(), [&](const Witness& w) { return w.crossing_x < stop_reach; }))
     return std::nullopt;
-  Bounder bounder(c, kStep_s, std::vector<double>(kLambdas.begin(), kLambdas.end()));
   for (const Witness& w : ws) {
-    const Evaluation e = evaluate(c, bounder, w);
+    const Evaluation e = evaluate(c, bounder, braking, w);
     if (!(e.margin >= kCertificateMinMargin_m)) continue;
     Certificate cert;
     cert.margin_m = e.margin;
@@ -554,7 +616,7 @@ std::optional<Certificate> certify_unavoidable(const Scene& scene) {
     cert.heading_cap_rad = w.heading_cap;
     cert.window_start_s = e.window_start_s;
     cert.window_end_s = e.window_end_s;
-    cert.stop_reach_x_m = c.stop_reach;
+    cert.stop_reach_x_m = stop_reach;
     cert.step_s = kStep_s;
     cert.cell = scene.cell();
     cert.latency_s = scene.config().actuation.perception_latency_s;
@@ -582,7 +644,8 @@ bool check_certificate(const Scene& scene, const Certificate& cert) {
   for (int i = 0; i <= 240; ++i) lambdas.push_back(0.05 * i);
   for (const double step : {kCheckStep_s, kStep_s}) {
     Bounder bounder(c, step, lambdas);
-    if (evaluate(c, bounder, w).margin >= kCertificateMinMargin_m) return true;
+    const Braking braking(c, bounder);
+    if (evaluate(c, bounder, braking, w).margin >= kCertificateMinMargin_m) return true;
   }
   return false;
 }

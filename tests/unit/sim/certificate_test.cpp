@@ -104,6 +104,37 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
   std::printf("latency 0.25: %d cells tried, %d certified, %d violations\n", run.tried, run.certified, run.violations);
 }
 
+// Under actuators (docs/actuation.md): the bound uses the steering's dead time and lag and the
+// brakes' dead time (C1a, C2a). 300 cells, each with its own random actuation.
+TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
+  std::mt19937_64 rng(20261124);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int tried = 0, certified = 0;
+  while (tried < 300) {
+    SceneConfig config;
+    config.actuation = {0.4 * unit(rng), 0.3 * unit(rng), 0.5 * unit(rng),
+                        unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0, 0.15 * unit(rng), 0.25 * unit(rng)};
+    const CellInput cell = random_cell(rng);
+    try {
+      validate_cell(config, cell);
+    } catch (const UsageError&) {
+      continue;
+    }
+    ++tried;
+    const auto cert = certify_unavoidable(Scene(config, cell));
+    if (!cert) continue;
+    ++certified;
+    EXPECT_TRUE(check_certificate(Scene(config, cell), *cert)) << describe(cell);
+    const Avoidance a = find_avoidance(config, cell, true);
+    EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(cell) << ", actuation "
+                        << config.actuation.perception_latency_s << "/" << config.actuation.brake_dead_time_s << "/"
+                        << config.actuation.brake_ramp_s << "/" << config.actuation.max_decel_mps2 << "/"
+                        << config.actuation.steer_dead_time_s << "/" << config.actuation.steer_time_constant_s;
+  }
+  EXPECT_GT(certified, 20) << "too few certified cells to test anything";
+  std::printf("actuators: %d cells tried, %d certified\n", tried, certified);
+}
+
 // The long version (docs/physics.md reports its result): EMRM_CERT_CELLS cells (20 000 by
 // default), every strategy at a reduced planner budget (planner.max_nodes = EMRM_CERT_NODES, 300 by
 // default; a smaller budget finds fewer avoidances, which the reference planner's full dense family
