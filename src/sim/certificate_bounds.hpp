@@ -1,0 +1,435 @@
+#pragma once
+
+// The unavoidability certificate's bounds (docs/physics.md, "Unavoidability certificates"): the
+// cell's constants (C1–C4), the comparison system of slip, yaw and heading bounds (C5–C8), the
+// duality tables of the displacement functionals (C9–C10) and the least x-progress (C2a). Internal
+// to src/sim: certificate.cpp is the only user, and the witnesses (C11–C12) are there.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "certificate_support.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::sim::certificate_bounds {
+
+using certificate_support::axle_pair_support;
+using certificate_support::fiala_cap;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// The simulator's "stopped" speed (rollout.cpp, StoppedTest): a run ends as stopped below it.
+constexpr double kStoppedSpeed_mps = 0.05;
+// Longest time after the latency the bound is integrated; witnesses needing more are not tried.
+constexpr double kHorizon_s = 3.0;
+// The slip bounds need the body's forward speed (and the front wheel's rolling speed) bounded away
+// from zero; below this the bound falls back to the plain friction limits.
+constexpr double kMinRollingSpeed_mps = 0.1;
+
+// Everything fixed for a cell.
+struct Setup {
+  // car
+  double m, iz, lf, lr, wheelbase, h, width, cf, cr, rho, delta_max;
+  // steering actuator (C3a): dead time, lag, and the simulator's step the wheel path is sampled at
+  double steer_dead, steer_lag, steer_lead;
+  double brake_dead;  // (C2a) no braking force until this long after the latency (one step's lead taken off)
+  double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
+  double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
+  // cell
+  double mu, g, v0, tau, x0, x_tau, y0, stop_speed;
+  double near_x, truck_width, truck_length, y_min, y_max;
+  // grips: forward rolling (C4) and in general
+  double grip_f_fwd, grip_r_fwd, grip_any, total_grip;
+  const Scene* scene;
+};
+
+// One grid point of the comparison system (C6–C8), at s = k·h after the latency.
+struct Bound {
+  double cap_f = 0.0, cap_r = 0.0;    // |q_f|, |q_r| ≤ (body-lateral components of the axle forces)
+  double grip_f = 0.0, grip_r = 0.0;  // |F_f| ≤ grip_f, |F_r| ≤ grip_r
+  double sin_psi = 0.0;               // |sin ψ| ≤
+  double yaw_rate = 0.0;              // |r| ≤
+};
+
+struct Slip {  // comparison state: nondecreasing upper bounds
+  double gf = 0.0;   // |v_f| front axle's body-lateral velocity
+  double gr = 0.0;   // |v_r| rear axle's
+  double gw = 0.0;   // |w_f| front wheel's lateral velocity in its own frame
+  double r = 0.0;    // |r|
+  double psi = 0.0;  // |ψ|
+};
+
+struct Rates {
+  Slip d;
+  Bound b;
+  bool valid = true;
+};
+
+inline Setup make_setup(const Scene& scene) {
+  const SceneConfig& c = scene.config();
+  const VehicleParams& p = c.ego;
+  Setup s{};
+  s.scene = &scene;
+  s.m = p.mass_kg;
+  s.iz = p.yaw_inertia_kgm2;
+  s.lf = p.cg_to_front_axle_m;
+  s.lr = p.cg_to_rear_axle_m;
+  s.wheelbase = p.wheelbase_m();
+  s.h = p.cg_height_m;
+  s.width = p.width_m;
+  s.cf = p.cg_to_front_m();
+  s.cr = p.cg_to_rear_m();
+  s.rho = p.max_steer_rate_radps;
+  s.delta_max = p.max_steer_rad;
+  const ActuationConfig& act = c.actuation;
+  s.steer_dead = act.steer_dead_time_s;
+  s.steer_lag = act.steer_time_constant_s;
+  // With actuators the simulator moves the wheels linearly between its steps' ends, where they sit
+  // on the lagged response: one step's lead covers the chord (docs/physics.md, (C3a)).
+  s.steer_lead = act.instant() ? 0.0 : c.simulation.dt_s;
+  s.brake_dead = std::max(0.0, act.brake_dead_time_s - s.steer_lead);
+  s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
+  s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
+  s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
+  s.mu = scene.cell().mu;
+  s.g = kGravity_mps2;
+  s.total_grip = s.mu * s.m * s.g;
+  // (C4) Loads. With the body moving forward (u > 0, front wheel rolling forwards) every commanded
+  // per-load braking is in [−mu, 0]; while mu·h < lf and mu·h < 3L/4 the load formula's
+  // acceleration is increasing in both, so it lies in [−mu·g, 0]: Fzf ≤ m g (lr + mu h)/L and
+  // Fzr ≤ m g lf / L. Otherwise only the clamp [0, m g] is used.
+  const bool monotone = s.mu * s.h < s.lf && s.mu * s.h < 0.75 * s.wheelbase;
+  s.grip_any = s.total_grip;
+  s.grip_f_fwd = monotone ? std::min(1.0, (s.lr + s.mu * s.h) / s.wheelbase) * s.total_grip : s.total_grip;
+  s.grip_r_fwd = monotone ? s.lf / s.wheelbase * s.total_grip : s.total_grip;
+  // (C5) A locked axle (mu Fz sin alpha) and the ABS floor (min(mu Fz, C tan alpha / 3)) stay under
+  // the Fiala envelope of slope K as long as K ≥ 3 mu Fz.
+  s.slope_f = std::max(p.front_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
+  s.slope_r = std::max(p.rear_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
+
+  s.v0 = scene.initial_speed_mps();
+  s.tau = c.actuation.perception_latency_s;
+  const VehicleState start = scene.ego_initial();
+  s.x0 = start.x_m;
+  s.y0 = start.y_m;
+  s.x_tau = s.x0 + s.v0 * s.tau;
+  // (C2) Before its speed can fall below the stop threshold (and below the kinematic blend) the
+  // CG's x-velocity must fall from v0 to it at no more than mu·g (and less before the brakes act,
+  // (C2a), class Braking): the CG travels at least so far.
+  s.stop_speed = std::max(p.kinematic_blend_speed_mps, kStoppedSpeed_mps);
+  s.near_x = scene.initial_distance_m();
+  s.truck_width = c.truck.width_m;
+  s.truck_length = c.truck.length_m;
+  s.y_min = c.road.drivable_min_y_m();
+  s.y_max = c.road.drivable_max_y_m();
+  return s;
+}
+
+// (C3a) Bounds on the road-wheel angle and its rate at time s after the perception latency: the
+// commanded angle moves at most at rho from zero; the wheels follow it after the dead time through
+// a first-order lag, whose response to that ramp is rho·(t − T(1 − e^(−t/T))) at rate
+// rho·(1 − e^(−t/T)) (the lag's kernel is positive and integrates to one, so it keeps both bounds).
+struct Wheel {
+  double angle, rate;
+};
+inline Wheel wheel_bound(const Setup& c, double s) {
+  if (c.steer_dead == 0.0 && c.steer_lag == 0.0 && c.steer_lead == 0.0) return {std::min(c.rho * s, c.delta_max), c.rho};
+  const double t = s - c.steer_dead + c.steer_lead;
+  if (t <= 0.0) return {0.0, 0.0};
+  if (c.steer_lag == 0.0) return {std::min(c.rho * t, c.delta_max), c.rho};
+  const double settle = 1.0 - std::exp(-t / c.steer_lag);
+  return {std::min(c.delta_max, c.rho * (t - c.steer_lag * settle)), c.rho * settle};
+}
+
+// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`.
+inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
+  Rates out;
+  const Wheel wheel = wheel_bound(c, s);
+  const double delta = wheel.angle;
+  const double sin_d = std::sin(delta);
+  const double cos_d = std::cos(delta);
+  const double speed_lo = std::max(0.0, c.v0 - c.mu * c.g * s);
+  const double v_cg = (c.lr * z.gf + c.lf * z.gr) / c.wheelbase;  // |v| of the CG, body-lateral
+  double u_lo = 0.0;
+  double uf_lo = 0.0;
+  bool valid = was_valid && speed_lo > v_cg;
+  if (valid) {
+    u_lo = std::sqrt(speed_lo * speed_lo - v_cg * v_cg);
+    uf_lo = u_lo * cos_d - z.gf * sin_d;
+    valid = u_lo > kMinRollingSpeed_mps && uf_lo > kMinRollingSpeed_mps;
+  }
+  out.valid = valid;
+  out.b.sin_psi = z.psi >= std::numbers::pi / 2.0 ? 1.0 : std::sin(z.psi);
+  out.b.yaw_rate = z.r;
+  if (!valid) {
+    // Plain friction limits; the slip bounds are no longer needed (and no longer tracked).
+    out.b.grip_f = out.b.grip_r = out.b.cap_f = out.b.cap_r = c.grip_any;
+    out.d.r = (c.lf + c.lr) * c.grip_any / c.iz;
+    out.d.psi = z.r;
+    return out;
+  }
+  const double grip_f = c.grip_f_fwd;
+  const double grip_r = c.grip_r_fwd;
+  // (C6) |q_f| = |Fx sin δ + Fy cos δ| with Fx² + Fy² ≤ grip², |Fy| ≤ Fiala(|w_f| / u_f).
+  const auto front_component = [&](double lateral_cap) {
+    return lateral_cap >= grip_f * cos_d
+               ? grip_f
+               : lateral_cap * cos_d + std::sqrt(std::max(0.0, grip_f * grip_f - lateral_cap * lateral_cap)) * sin_d;
+  };
+  out.b.grip_f = grip_f;
+  out.b.grip_r = grip_r;
+  out.b.cap_f = front_component(fiala_cap(grip_f, c.slope_f, z.gw / uf_lo));
+  out.b.cap_r = fiala_cap(grip_r, c.slope_r, z.gr / u_lo);
+  // (C7) d|v_f|/dt: the lateral force only pushes v_f outwards while |w_f| ≤ u |sin δ|.
+  const double steering_push = front_component(fiala_cap(grip_f, c.slope_f, c.v0 * sin_d / uf_lo));
+  out.d.gf = c.a_f * steering_push + c.kappa * out.b.cap_r + c.v0 * z.r;
+  // (C7) d|v_r|/dt: the rear force always pulls v_r towards zero.
+  out.d.gr = c.kappa * out.b.cap_f + c.v0 * z.r;
+  // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
+  out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
+             (c.mu * c.g + z.r * v_cg) * sin_d;
+  // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
+  out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
+  out.d.psi = z.r;
+  return out;
+}
+
+inline Slip advance(const Slip& z, const Slip& d, double step) {
+  return {z.gf + step * d.gf, z.gr + step * d.gr, z.gw + step * d.gw, z.r + step * d.r, z.psi + step * d.psi};
+}
+
+inline bool at_most(const Slip& a, const Slip& b) {
+  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi;
+}
+
+// The time grid after the latency: fine where the forces build up, coarser later. Cell k spans
+// [s_{k-1}, s_k]; every value used for a cell is the one at its right end (all bounds are
+// nondecreasing in time), so a finer grid can only tighten the bound.
+inline double cell_width(double base_step, double s_start) {
+  if (s_start < 0.4 - 1e-12) return base_step;
+  if (s_start < 1.2 - 1e-12) return 2.0 * base_step;
+  return 4.0 * base_step;
+}
+
+// The functionals bounded by duality (C9): per unit of |q| on each axle, per unit of |p|, and an
+// additive term, all nondecreasing in time.
+enum class Functional { kCg, kFrontAxle, kRearAxle, kYaw };
+
+struct Table {  // for one functional and one lambda: prefix sums of ĝ·w and ĝ·w·s_mid over cells
+  double lambda = 0.0;
+  std::vector<double> s0{0.0}, s1{0.0};
+};
+
+// The comparison system (C6–C8) and the duality tables (C9–C10), built lazily along the grid.
+class Bounder {
+ public:
+  Bounder(const Setup& c, double base_step, std::vector<double> lambdas)
+      : c_(c), base_step_(base_step), lambdas_(std::move(lambdas)) {
+    const Rates first = rates_at(c_, 0.0, z_, true);
+    valid_ = first.valid;
+    times_.push_back(0.0);
+    bounds_.push_back(first.b);
+  }
+
+  [[nodiscard]] double time(int k) const { return times_[static_cast<std::size_t>(k)]; }
+  [[nodiscard]] double sin_psi(int k) const { return bounds_[static_cast<std::size_t>(k)].sin_psi; }
+
+  // The least grid index k with s_k ≥ s (extending the grid), or -1 beyond the horizon.
+  int index_at_or_after(double s) {
+    if (s > kHorizon_s) return -1;
+    while (times_.back() < s) extend();
+    const auto it = std::lower_bound(times_.begin(), times_.end(), s);
+    return static_cast<int>(it - times_.begin());
+  }
+
+  // Upper bound of functional f at every arrival time T ∈ [s_{k−1}, s_k] for the trajectories that
+  // reach the crossing then; `need` is the braking impulse moment that arrival at either end
+  // requires. For each lambda the dual value is convex in T, so its larger end value bounds it
+  // on the interval; the least over lambda is kept (C10).
+  double bound(Functional f, int k, double need_lo, double need_hi) {
+    auto& tables = tables_for(f, k);
+    const auto hi = static_cast<std::size_t>(k);
+    const std::size_t lo = hi - 1;
+    const double t_lo = times_[lo];
+    const double t_hi = times_[hi];
+    double best = kInf;
+    for (const Table& t : tables) {
+      const double a = t_lo * t.s0[lo] - t.s1[lo] - t.lambda * need_lo;
+      const double b = t_hi * t.s0[hi] - t.s1[hi] - t.lambda * need_hi;
+      best = std::min(best, std::max(a, b));
+    }
+    return std::max(best, 0.0);
+  }
+
+ private:
+  // One step of the comparison system: an upper solution of z1 ≥ z + w·F(s1, z1). F is
+  // nondecreasing in s and z, so the piecewise-linear interpolation of such points is an upper
+  // solution of the ODE and bounds the true magnitudes (comparison theorem for quasi-monotone
+  // systems). A guess is grown until F maps it below itself, then iterated downwards (by
+  // monotonicity every iterate stays an upper solution).
+  void extend() {
+    const double s0 = times_.back();
+    const double w = cell_width(base_step_, s0);
+    const double s1 = s0 + w;
+    Slip end = z_;
+    if (valid_) {
+      Slip guess = advance(z_, rates_at(c_, s1, z_, true).d, 2.0 * w);
+      bool found = false;
+      for (int tries = 0; tries < 60 && !found; ++tries) {
+        const Rates r = rates_at(c_, s1, guess, true);
+        if (!r.valid) break;
+        const Slip next = advance(z_, r.d, w);
+        if (at_most(next, guess)) {
+          found = true;
+          guess = next;
+          for (int down = 0; down < 2; ++down) {
+            const Rates rd = rates_at(c_, s1, guess, true);
+            if (!rd.valid) break;
+            const Slip lower = advance(z_, rd.d, w);
+            if (!at_most(lower, guess)) break;
+            guess = lower;
+          }
+        } else {
+          guess = {2.0 * std::max(guess.gf, next.gf) + 1e-9, 2.0 * std::max(guess.gr, next.gr) + 1e-9,
+                   2.0 * std::max(guess.gw, next.gw) + 1e-9, 2.0 * std::max(guess.r, next.r) + 1e-9,
+                   2.0 * std::max(guess.psi, next.psi) + 1e-9};
+        }
+      }
+      if (found && rates_at(c_, s1, guess, true).valid) end = guess;
+      else valid_ = false;  // from here on only the plain friction limits (and the yaw bounds)
+    }
+    if (!valid_) {
+      // Constant rate: the explicit step at the larger yaw acceleration is exact from above.
+      end.r = z_.r + w * (c_.lf + c_.lr) * c_.grip_any / c_.iz;
+      end.psi = z_.psi + w * end.r;
+    }
+    z_ = end;
+    times_.push_back(s1);
+    bounds_.push_back(rates_at(c_, s1, end, valid_).b);
+  }
+
+  std::vector<Table>& tables_for(Functional f, int k) {
+    auto& tables = tables_[static_cast<std::size_t>(f)];
+    if (tables.empty()) {
+      // The yaw functional's multiplier has units rad/s² per m/s²: its grid is scaled by lf·m/Iz.
+      const double scale = f == Functional::kYaw ? c_.lf * c_.m / c_.iz : 1.0;
+      for (double l : lambdas_) tables.push_back(Table{l * scale});
+    }
+    while (static_cast<int>(times_.size()) <= k) extend();
+    for (std::size_t j = tables.front().s0.size(); j <= static_cast<std::size_t>(k); ++j) add_cell(f, tables, j);
+    return tables;
+  }
+
+  void add_cell(Functional f, std::vector<Table>& tables, std::size_t k) const {
+    const Bound& b = bounds_[k];  // right end of the cell: the largest value in it
+    const double w = times_[k] - times_[k - 1];
+    const double mid = 0.5 * (times_[k] + times_[k - 1]);
+    double a_front = 0.0, a_rear = 0.0, per_p = 0.0, extra = 0.0;
+    switch (f) {
+      case Functional::kCg:  // Ÿ = (F_bx sin ψ + F_by cos ψ)/m
+        a_front = a_rear = 1.0 / c_.m;
+        per_p = b.sin_psi / c_.m;
+        break;
+      case Functional::kFrontAxle:  // cos ψ (a_f q_f + κ q_r) + sin ψ (F_bx/m − lf r²)
+        a_front = c_.a_f;
+        a_rear = c_.kappa;
+        per_p = b.sin_psi / c_.m;
+        extra = b.sin_psi * c_.lf * b.yaw_rate * b.yaw_rate;
+        break;
+      case Functional::kRearAxle:  // cos ψ (κ q_f + a_r q_r) + sin ψ (F_bx/m + lr r²)
+        a_front = c_.kappa;
+        a_rear = c_.a_r;
+        per_p = b.sin_psi / c_.m;
+        extra = b.sin_psi * c_.lr * b.yaw_rate * b.yaw_rate;
+        break;
+      case Functional::kYaw:  // ψ̈ = (lf q_f − lr q_r)/Iz
+        a_front = c_.lf / c_.iz;
+        a_rear = c_.lr / c_.iz;
+        break;
+    }
+    // (C2a) Before the brakes act neither axle has a longitudinal force: the front's force is its
+    // lateral force, so |p_f| = |q_f| tan δ, and p_r = 0.
+    const bool unbraked = times_[k] <= c_.brake_dead;
+    const double tan_delta = unbraked ? std::tan(wheel_bound(c_, times_[k]).angle) : 0.0;
+    for (Table& t : tables) {
+      // The arrival constraint's braking, b ≤ (|p_f| + |p_r|)/m + (|q_f| + |q_r|)|sin ψ|/m.
+      const double brake_q = t.lambda * b.sin_psi / c_.m;
+      const double brake_p = t.lambda / c_.m;
+      double support = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
+                                         b.cap_f, b.cap_r, c_.total_grip);
+      if (unbraked)
+        support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
+                                        (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      const double g = support + extra;
+      t.s0.push_back(t.s0.back() + g * w);
+      t.s1.push_back(t.s1.back() + g * w * mid);
+    }
+  }
+
+  const Setup& c_;
+  double base_step_;
+  std::vector<double> lambdas_;
+  std::vector<double> times_;
+  std::vector<Bound> bounds_;
+  Slip z_;
+  bool valid_ = true;
+  std::array<std::vector<Table>, 4> tables_;
+};
+
+// (C2a) The least progress of the CG along x after the latency. Its x-deceleration is at most
+// mu·g; before the brakes act (the brake dead time after the latency, less one simulator step for
+// the rear lock's timing) no axle has a longitudinal force, so the only x-force is the front's
+// lateral force through the wheel angle and the lateral force through the heading:
+// |ẍ| ≤ mu·g·(sin δ̄ + sin ψ̄). Piecewise constant on the comparison system's grid up to then, mu·g
+// after: knots of the least x-velocity and the least travel.
+class Braking {
+ public:
+  Braking(const Setup& c, Bounder& b) : full_(c.mu * c.g), stop_speed_(c.stop_speed) {
+    s_.push_back(0.0);
+    w_.push_back(c.v0);
+    x_.push_back(0.0);
+    if (c.brake_dead <= 0.0) return;
+    const int last = b.index_at_or_after(c.brake_dead);
+    if (last < 0) return;
+    for (int k = 1; k <= last && w_.back() > stop_speed_; ++k) {
+      const double t0 = b.time(k - 1);
+      const double t1 = std::min(b.time(k), c.brake_dead);
+      if (t1 <= t0) break;
+      const double d = std::min(full_, full_ * (std::sin(wheel_bound(c, b.time(k)).angle) + b.sin_psi(k)));
+      double h = t1 - t0;
+      if (d > 0.0) h = std::min(h, (w_.back() - stop_speed_) / d);  // falls to the stop speed inside
+      decel_.push_back(d);
+      x_.push_back(x_.back() + w_.back() * h - 0.5 * d * h * h);
+      w_.push_back(w_.back() - d * h);
+      s_.push_back(t0 + h);
+    }
+  }
+  /// Least x-travel (from the end of the latency) before the x-velocity can fall to the stop speed.
+  [[nodiscard]] double stop_travel() const {
+    const double w = w_.back();
+    return x_.back() + std::max(0.0, w * w - stop_speed_ * stop_speed_) / (2.0 * full_);
+  }
+  /// Latest time after the latency the CG can first reach `travel` (< stop_travel()).
+  [[nodiscard]] double latest(double travel) const {
+    for (std::size_t k = 0; k + 1 < s_.size(); ++k) {
+      if (travel > x_[k + 1]) continue;
+      const double rest = travel - x_[k];
+      const double d = decel_[k];
+      const double w = w_[k];
+      return s_[k] + (d > 0.0 ? (w - std::sqrt(std::max(0.0, w * w - 2.0 * d * rest))) / d : rest / w);
+    }
+    const double w = w_.back();
+    const double rest = travel - x_.back();
+    return s_.back() + (w - std::sqrt(w * w - 2.0 * full_ * rest)) / full_;
+  }
+
+ private:
+  double full_, stop_speed_;
+  std::vector<double> s_, w_, x_, decel_;
+};
+
+}  // namespace emrm::sim::certificate_bounds
