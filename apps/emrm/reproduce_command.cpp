@@ -55,6 +55,7 @@ struct ReproduceOptions {
   std::string examples_dir;  // empty: search (see find_examples)
   int threads = 0;
   std::size_t sample = 40;
+  std::string profile;
 };
 
 constexpr const char* kExampleFiles[] = {"safety.yaml",   "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
@@ -140,7 +141,8 @@ int run(const ReproduceOptions& options) {
   const fs::path examples = find_examples(options);
   const fs::path out = options.output_dir;
   // Read every input before any long work, so bad input fails in a second and not after the sweep.
-  const campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
+  campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
+  if (!options.profile.empty()) campaign::apply_profile(plan, options.profile);
   const campaign::PaperReference paper = campaign::load_paper_reference(examples / "paper_reference.yaml");
   const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml");
   fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
@@ -203,6 +205,7 @@ int run(const ReproduceOptions& options) {
   run_options.output_dir = out / "plan_results";
   run_options.threads = options.threads;
   run_options.progress = sweep_options.progress;
+  run_options.profile = options.profile;
   const campaign::RunResult run = campaign::run_scenarios(run_options);
   const auto& all = run.subsets.front().estimate;
   fmt::print(
@@ -264,6 +267,7 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
       ->type_name("DIR");
   cmd->add_option("--threads", options->threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->add_option("--examples", options->examples_dir,
                   "Example folder (default: examples/tjunction here or above, or beside the executable)")
       ->type_name("DIR");

@@ -18,6 +18,7 @@ struct RunCommandOptions {
   std::string output_dir;
   std::string safety;
   int threads = 0;
+  std::string profile;
 };
 
 int run(const RunCommandOptions& o) {
@@ -27,6 +28,7 @@ int run(const RunCommandOptions& o) {
   options.scenarios_csv = o.scenarios;
   options.output_dir = o.output_dir;
   options.threads = o.threads;
+  options.profile = o.profile;
   if (!o.safety.empty()) {
     if (!std::filesystem::is_regular_file(o.safety))
       throw UsageError(fmt::format("emrm run: --safety '{}' does not exist", o.safety));
@@ -49,6 +51,7 @@ void register_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--safety", options->safety,
                   "safety case for the traceability matrix (default: the plan's, from scenarios.json)");
   cmd->add_option("--threads", options->threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->callback([options, &exit_code] { exit_code = run(*options); });
 }
 

@@ -25,11 +25,17 @@ struct SimulateOptions {
   bool paths = false;  // kept so that older scripts still run: the trajectories are always in the JSON
   bool no_certify = false;
   std::string figure;
+  std::string profile;
 };
 
 int run(const SimulateOptions& options) {
-  const sim::SceneConfig config =
+  sim::SceneConfig config =
       options.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(options.scene_file);
+  // A profile NAME is looked up beside the scene file (the current folder without one).
+  if (!options.profile.empty())
+    sim::apply_profile(config, options.profile,
+                       options.scene_file.empty() ? std::filesystem::current_path()
+                                                  : std::filesystem::path(options.scene_file).parent_path());
   sim::CellInput cell = options.cell;
   if (!options.truck_speed_given) cell.truck_speed_kph = config.truck.speed_kph;
   sim::CellOptions cell_options;
@@ -82,6 +88,7 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
   cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");
   cmd->add_flag("--paths", o->paths, "Kept for older scripts: the JSON always has every trajectory");
+  cmd->add_option("--profile", o->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->add_flag("--no-certify", o->no_certify,
                 "Search every cell in full, even where a certificate proves that nothing avoids (to check certificates)");
   cmd->add_option("--figure", o->figure, "Draw the trajectory trees to FILE.svg or FILE.png (gnuplot)");

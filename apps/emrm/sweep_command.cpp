@@ -20,6 +20,7 @@ struct SweepCommandOptions {
   int threads = 0;
   std::string shard = "1/1";
   bool force = false;
+  std::string profile;
 };
 
 struct MergeCommandOptions {
@@ -32,7 +33,8 @@ int run_sweep(const SweepCommandOptions& o) {
   campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
   options.output_dir = o.output_dir;
   options.threads = o.threads;
-  const campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
+  campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
+  if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
   const campaign::SweepSummary s = campaign::sweep(c, options);
   const double rate = s.seconds > 0.0 ? static_cast<double>(s.cells_simulated) / s.seconds : 0.0;
   std::cout << fmt::format(
@@ -76,6 +78,9 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                    "Take only shard K of N (K/N, 1 <= K <= N); join shards with `emrm merge`")
       ->capture_default_str();
   sweep->add_flag("--force", s->force, "Allow grids of more than max_cells cells");
+  sweep->add_option("--profile", s->profile,
+                    "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE "
+                    "(docs/actuation.md)");
   sweep->callback([s, &exit_code] { exit_code = run_sweep(*s); });
 
   auto m = std::make_shared<MergeCommandOptions>();

@@ -156,6 +156,10 @@ RunResult run_scenarios(const RunOptions& options) {
     campaign.scene_file = settings.scene_file->string();
     campaign.scene = sim::load_scene_config(*settings.scene_file);
   }
+  if (!options.profile.empty()) {
+    const fs::path scene_dir = settings.scene_file ? settings.scene_file->parent_path() : fs::current_path();
+    sim::apply_profile(campaign.scene, options.profile, scene_dir);
+  }
   if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
   GridSpec grid;
   grid.name = kGrid;

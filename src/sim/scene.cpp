@@ -35,6 +35,7 @@ void validate(const SeverityConfig& severity) { core::validate_fields("severity"
 void validate(const PlannerConfig& planner) { core::validate_fields("planner", planner); }
 void validate(const RoadsideConfig& roadside) { core::validate_fields("roadside", roadside); }
 void validate(const SafeStateConfig& safe_state) { core::validate_fields("safe_state", safe_state); }
+void validate(const ActuationConfig& actuation) { core::validate_fields("actuation", actuation); }
 
 SceneConfig load_scene_config(const std::filesystem::path& path) {
   return read_scene(core::YamlNode::load_file(path));
@@ -45,6 +46,38 @@ SceneConfig parse_scene_config(const std::string& text, const std::string& file_
 }
 
 std::string to_yaml(const SceneConfig& config) { return core::to_yaml_text(core::write_yaml(config)); }
+
+std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir) {
+  if (profile.find('/') != std::string::npos || profile.ends_with(".yaml")) {
+    if (!std::filesystem::is_regular_file(profile))
+      throw UsageError(fmt::format("--profile: profile file '{}' does not exist", profile));
+    return profile;
+  }
+  const std::filesystem::path folder = scene_dir / "profiles";
+  const std::filesystem::path file = folder / (profile + ".yaml");
+  if (std::filesystem::is_regular_file(file)) return file;
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  throw UsageError(fmt::format("--profile: no profile '{}' in {} (known: {})", profile, folder.string(),
+                               names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+}
+
+void apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir) {
+  const std::filesystem::path file = profile_path(profile, scene_dir);
+  const core::YamlNode root = core::YamlNode::load_file(file);
+  ActuationProfile overlay;
+  overlay.actuation = config.actuation;  // keys the profile leaves out keep the scene's values
+  core::read_yaml(root, overlay);
+  try {
+    validate(overlay.actuation);
+  } catch (const core::ConfigError& e) {
+    core::fail_at(*root.find("actuation"), e, /*with_path=*/true);
+  }
+  config.actuation = overlay.actuation;
+}
 
 void validate_cell(const SceneConfig& config, const CellInput& cell) {
   const auto finite_positive = [](double value, std::string_view factor, std::string_view unit) {

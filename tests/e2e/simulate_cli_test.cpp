@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <fstream>
+
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
@@ -117,6 +120,54 @@ TEST(SimulateCli, MalformedSceneFileExitsTwoNamingLineAndColumn) {
   write_text(dir / "scene2.yaml", "road: [1, 2\n");
   expect_bad_input(run_emrm("simulate --scene " + quoted(dir / "scene2.yaml") + " --speed-kph 50 --ttc-s 1"),
                    "malformed YAML");
+}
+
+}  // namespace
+}  // namespace emrm::e2e
+
+namespace emrm::e2e {
+namespace {
+
+// Profiles (docs/actuation.md): a NAME from the scene's profiles/ folder, or a FILE.
+TEST(SimulateCli, ProductionProfileMovesTheStopBoundary) {
+  // 50 km/h on a dry road: instant braking stops within TTC 0.71 s; the production profile's
+  // latency, dead time and ramp add about 0.48 s, so at TTC 1.0 s the stop no longer avoids.
+  const std::string cell = " --speed-kph 50 --ttc-s 1.0 --strategy emergency_stop --json";
+  const auto ideal = run_emrm("simulate --scene " + quoted(example("scene.yaml")) + " --profile ideal" + cell);
+  const auto production =
+      run_emrm("simulate --scene " + quoted(example("scene.yaml")) + " --profile production" + cell);
+  const auto file = run_emrm("simulate --profile " + quoted(example("profiles/production.yaml")) + cell);
+  ASSERT_EQ(ideal.exit_code, 0) << ideal.err;
+  ASSERT_EQ(production.exit_code, 0) << production.err;
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  EXPECT_TRUE(nlohmann::json::parse(ideal.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
+  EXPECT_FALSE(nlohmann::json::parse(production.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
+  EXPECT_EQ(production.out, file.out);
+}
+
+TEST(SimulateCli, BadProfilesAreBadInput) {
+  const std::string scene = " --scene " + quoted(example("scene.yaml")) + " --speed-kph 50 --ttc-s 1.0";
+  const auto unknown = run_emrm("simulate" + scene + " --profile racing");
+  expect_bad_input(unknown, "no profile 'racing'");
+  EXPECT_THAT(unknown.err, HasSubstr("production"));  // the known names are listed
+  expect_bad_input(run_emrm("simulate" + scene + " --profile /nonexistent/p.yaml"), "does not exist");
+
+  const std::string dir = ::testing::TempDir() + "/emrm-profile-test";
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir + "/" + name) << text;
+    return dir + "/" + name;
+  };
+  const auto negative = run_emrm("simulate --speed-kph 50 --ttc-s 1.0 --profile " +
+                                 quoted(write("negative.yaml", "actuation:\n  brake_ramp_s: -0.2\n")));
+  expect_bad_input(negative, "negative.yaml:2:17");
+  EXPECT_THAT(negative.err, HasSubstr("expected a value >= 0"));
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1.0 --profile " +
+                            quoted(write("typo.yaml", "actuation:\n  brake_lag_s: 0.2\n"))),
+                   "unknown field 'brake_lag_s'");
+  expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1.0 --profile " +
+                            quoted(write("empty.yaml", "description: nothing\n"))),
+                   "actuation");
 }
 
 }  // namespace

@@ -54,6 +54,11 @@ void validate(const Campaign& campaign, bool force = false);
 /// names: a cell of a product grid at the first factor value the simulator rejects on its own. A
 /// missing or bad scene file is reported at the `scene:` entry or inside the scene file.
 [[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);
+
+/// Overlays an actuation profile (sim::apply_profile) on a loaded campaign's scene; a NAME is
+/// looked up in the profiles/ folder beside the scene file (beside the campaign file when it names
+/// none).
+void apply_profile(Campaign& campaign, const std::string& profile);
 /// As load_campaign, from text; a relative `scene:` is resolved against `base_dir`.
 [[nodiscard]] Campaign parse_campaign(const std::string& text, const std::string& file_name,
                                       const std::filesystem::path& base_dir, bool force = false);

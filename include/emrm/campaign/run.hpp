@@ -26,6 +26,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> safety_file;  ///< default: the plan's (scenarios.json)
   int threads = 0;
   bool progress = true;
+  /// An actuation profile overlaying the plan's scene (sim::apply_profile; a NAME is looked up in
+  /// the scene's profiles/ folder). Empty: the scene as it is.
+  std::string profile;
 };
 
 /// What a plan says beyond its CSV (read from scenarios.json beside it, when present).

@@ -205,6 +205,7 @@ void validate(const SeverityConfig& severity);
 void validate(const PlannerConfig& planner);
 void validate(const RoadsideConfig& roadside);
 void validate(const SafeStateConfig& safe_state);
+void validate(const ActuationConfig& actuation);
 
 /// Loads a scene file and validates it (validate(const SceneConfig&)). Throws InputError
 /// (file:line:column) for malformed YAML, wrong types, unknown fields, and for a value validate()
@@ -214,6 +215,26 @@ void validate(const SafeStateConfig& safe_state);
 [[nodiscard]] SceneConfig parse_scene_config(const std::string& text, const std::string& file_name);
 /// The effective scene as YAML.
 [[nodiscard]] std::string to_yaml(const SceneConfig& config);
+
+/// An actuation profile (docs/actuation.md, "Profiles"): a YAML file with an optional
+/// `description:` and an `actuation:` mapping whose keys overlay the scene's.
+struct ActuationProfile {
+  std::string description;
+  ActuationConfig actuation;
+  template <class A>
+  void serialize(A& a) {
+    EMRM_FIELD(a, description);
+    EMRM_REQUIRED_FIELD(a, actuation);
+  }
+};
+
+/// Where a profile's file is: `profile` itself when it names a file (it contains a '/' or ends in
+/// .yaml), else `scene_dir`/profiles/`profile`.yaml. Throws UsageError for a NAME with no such file
+/// (listing the names in that folder).
+[[nodiscard]] std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir);
+/// Overlays the profile on `config`'s actuation (keys it does not give keep the scene's values) and
+/// validates the result. Throws InputError (file:line:column) for a malformed profile.
+void apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir);
 
 /// The factors of one scenario cell.
 struct CellInput {
