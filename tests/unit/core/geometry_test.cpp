@@ -1,4 +1,5 @@
 #include "emrm/core/geometry.hpp"
+#include "emrm/core/trig.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <vector>
 
 namespace emrm::core {
 namespace {
@@ -383,6 +385,20 @@ TEST(TimeToOverlap, AgreesWithSampledSeparatingAxisTests) {
     }
   }
   EXPECT_GT(hits, 100);
+}
+
+// wrap_angle skips the library within ±3 rad: it must be remainder(x, 2 pi) bit for bit everywhere.
+TEST(WrapAngle, IsTheLibraryRemainderBitForBit) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> angle(-20.0, 20.0);
+  std::vector<double> xs{0.0, -0.0, 3.0, -3.0, std::nextafter(3.0, 4.0), kPi, -kPi, 2 * kPi, 1e6};
+  for (int i = 0; i < 10000; ++i) xs.push_back(angle(rng));
+  for (double x : xs) {
+    const double expected = std::remainder(x, 2.0 * kPi);
+    const double got = wrap_angle(x);
+    EXPECT_EQ(std::signbit(got), std::signbit(expected)) << x;
+    EXPECT_EQ(got, expected) << x;
+  }
 }
 
 }  // namespace

@@ -141,6 +141,38 @@ TEST(VehicleModelRegistry, RejectsParametersItCannotSimulateNamingTheField) {
   EXPECT_THROW((void)make_vehicle_model("kinematic_bicycle", params), InputError);
 }
 
+// rear_axle_sliding is a shortcut of tire_forces: it must decide the same everywhere, including
+// at the edge of the slip limit (rear slip angles just below, at and just above it).
+TEST(SingleTrackFiala, RearAxleSlidingDecidesAsTheTireForcesDo) {
+  const SingleTrackFiala model{VehicleParams{}};
+  const VehicleParams& p = model.params();
+  constexpr double kLimit = 0.035;
+  int sliding = 0;
+  int checked = 0;
+  for (double vx : {-3.0, 0.0, 0.0005, 4.0, 12.0, 25.0})
+    for (double angle : {0.0, 0.02, kLimit * 0.9995, kLimit, std::nextafter(kLimit, 1.0), 0.036, 0.2, 1.2})
+      for (double sign : {-1.0, 1.0})
+        for (double yaw_rate : {0.0, 0.4})
+          for (double brake : {0.0, 0.5, 1.0}) {
+            VehicleState s = moving(vx, 0.1);
+            // vy - lr r = tan(angle) |vx|: the rear slip angle is `angle` (up to rounding).
+            s.yaw_rate_radps = yaw_rate;
+            s.vy_mps = sign * std::tan(angle) * std::abs(vx) + p.cg_to_rear_axle_m * yaw_rate;
+            const Control u{0.2, brake, false};
+            for (double mu : {0.3, 1.0}) {
+              const AxleForces rear = model.tire_forces(s, u, mu).rear;
+              const bool expected = rear.saturated && std::abs(rear.slip_angle_rad) > kLimit;
+              EXPECT_EQ(model.rear_axle_sliding(s, u, mu, kLimit), expected)
+                  << "vx " << vx << " angle " << angle << " sign " << sign << " r " << yaw_rate << " brake "
+                  << brake << " mu " << mu;
+              sliding += expected ? 1 : 0;
+              ++checked;
+            }
+          }
+  EXPECT_GT(sliding, 0);
+  EXPECT_LT(sliding, checked);
+}
+
 TEST(SingleTrackFiala, StraightCoastingKeepsSpeedAndHeading) {
   const auto model = fiala();
   VehicleState start = moving(25.0);
