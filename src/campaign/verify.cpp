@@ -198,7 +198,7 @@ bool better(const OutcomeRecord& a, const OutcomeRecord& b) {
 VerifyReport verify_results(const std::filesystem::path& results_sqlite, const VerifyOptions& options) {
   const ResultStore store = ResultStore::open_for_reading(results_sqlite);
   const sim::SceneConfig config =
-      sim::parse_scene_config(store.meta().scene_yaml, results_sqlite.string() + " (scene)");
+      sim::parse_stored_scene_config(store.meta().scene_yaml, results_sqlite.string() + " (scene)");
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
   const sim::StrategyTable table = sim::registered_strategies();
   bool every_strategy_stored = true;

@@ -393,7 +393,7 @@ ReportSummary write_report(const fs::path& dir) {
   const auto store_path = dir / "results.sqlite";
   const campaign::CampaignMeta meta = campaign::read_meta(store_path);
   const std::vector<campaign::CellRecord> records = campaign::read_results(store_path);
-  const sim::SceneConfig scene = sim::parse_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
+  const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
   const fs::path figures_dir = dir / "figures";
 
   ReportSummary summary;

@@ -45,6 +45,17 @@ SceneConfig parse_scene_config(const std::string& text, const std::string& file_
   return read_scene(core::YamlNode::parse(text, file_name));
 }
 
+SceneConfig parse_stored_scene_config(const std::string& text, const std::string& file_name) {
+  const core::YamlNode node = core::YamlNode::parse(text, file_name);
+  YAML::Node root = node.raw();  // shares the parsed tree
+  if (root.IsMap() && root["simulation"].IsMap() && root["simulation"]["latency_s"]) {
+    root["actuation"]["perception_latency_s"] = root["simulation"]["latency_s"];
+    root["simulation"].remove("latency_s");
+    return parse_scene_config(core::to_yaml_text(root), file_name);
+  }
+  return read_scene(node);
+}
+
 std::string to_yaml(const SceneConfig& config) { return core::to_yaml_text(core::write_yaml(config)); }
 
 std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir) {

@@ -213,6 +213,9 @@ void validate(const ActuationConfig& actuation);
 /// field kept its default.
 [[nodiscard]] SceneConfig load_scene_config(const std::filesystem::path& path);
 [[nodiscard]] SceneConfig parse_scene_config(const std::string& text, const std::string& file_name);
+/// A scene as a results store keeps it: the same, except that a store written before the actuators
+/// existed has `simulation.latency_s`, read as `actuation.perception_latency_s` (its meaning).
+[[nodiscard]] SceneConfig parse_stored_scene_config(const std::string& text, const std::string& file_name);
 /// The effective scene as YAML.
 [[nodiscard]] std::string to_yaml(const SceneConfig& config);
 

@@ -363,6 +363,21 @@ TEST(SceneLoad, BadInputNamesLineAndColumn) {
   }
 }
 
+TEST(SceneLoad, StoresWrittenBeforeTheActuatorsReadTheirLatencyAsThePerceptionLatency) {
+  // A user's scene file with the old key is told where it went; a store's scene (written by an
+  // older emrm) is read with its meaning kept.
+  const std::string old_text = "simulation:\n  dt_s: 0.01\n  latency_s: 0.3\n";
+  EXPECT_THROW((void)parse_scene_config(old_text, "scene.yaml"), InputError);
+  const SceneConfig stored = parse_stored_scene_config(old_text, "results.sqlite (scene)");
+  EXPECT_EQ(stored.actuation.perception_latency_s, 0.3);
+  EXPECT_EQ(stored.simulation.dt_s, 0.01);
+  EXPECT_TRUE(stored.actuation.instant());
+  // A current store's scene reads as it is.
+  SceneConfig current;
+  current.actuation.brake_ramp_s = 0.2;
+  EXPECT_EQ(parse_stored_scene_config(to_yaml(current), "store").actuation.brake_ramp_s, 0.2);
+}
+
 TEST(SceneLoad, UnknownVehicleModelListsTheKnownOnes) {
   const auto e = parse_error("simulation:\n  vehicle_model: unicycle\n");
   for (const auto& name : vehicle_model_names()) EXPECT_THAT(e.message(), HasSubstr(name));
