@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev
+  graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev libnlopt-cxx-dev
   chromium fonts-dejavu-core
 )
 missing=()

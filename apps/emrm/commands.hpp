@@ -27,5 +27,7 @@ void register_run_command(CLI::App& app, int& exit_code);
 void register_report_command(CLI::App& app, int& exit_code);
 /// `emrm verify DIR`: re-checks a results store without trusting it.
 void register_verify_command(CLI::App& app, int& exit_code);
+/// `emrm calibrate`: fits the brakes' actuation to measured brake tests.
+void register_calibrate_command(CLI::App& app, int& exit_code);
 
 }  // namespace emrm::cli

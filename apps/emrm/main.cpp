@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   emrm::cli::register_run_command(app, exit_code);
   emrm::cli::register_report_command(app, exit_code);
   emrm::cli::register_verify_command(app, exit_code);
+  emrm::cli::register_calibrate_command(app, exit_code);
 
   try {
     app.parse(argc, argv);

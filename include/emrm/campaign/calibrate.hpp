@@ -1,0 +1,85 @@
+#pragma once
+
+// `emrm calibrate` (docs/actuation.md, "Calibration"): fits actuation parameters to measured brake
+// tests with NLopt, states a 95 % profile-likelihood interval for each, and says when the data
+// cannot tell the parameters apart.
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "emrm/sim/actuation.hpp"
+
+namespace emrm::campaign {
+
+/// One straight-line stop: from the brake command at `speed_kph` on friction `mu` to standstill.
+struct StopRecord {
+  double speed_kph = 0.0;
+  double mu = 1.0;
+  double stop_distance_m = 0.0;
+  double time_to_stop_s = -1.0;  ///< < 0: not measured
+};
+
+/// One speed sample of a brake application; t = 0 is the brake command.
+struct TraceSample {
+  std::string run;
+  double t_s = 0.0;
+  double speed_mps = 0.0;
+};
+
+/// Reads `speed_kph, mu, stop_distance_m[, time_to_stop_s]` (any column order, a header row).
+/// Throws InputError at file:line:column for a missing column, a field that is not a finite
+/// number, a speed or distance <= 0, mu outside (0, 2], or no rows.
+[[nodiscard]] std::vector<StopRecord> read_stops(const std::filesystem::path& file);
+/// Reads `run, t_s, speed_mps`; the same errors, and a run whose times do not increase.
+[[nodiscard]] std::vector<TraceSample> read_decel_trace(const std::filesystem::path& file);
+
+/// The actuation parameters a brake test can identify, by name.
+[[nodiscard]] std::vector<std::string> calibratable_parameters();
+
+struct FitBounds {
+  double low = 0.0;
+  double high = 0.0;
+};
+
+struct FittedValue {
+  double value = 0.0;
+  double ci_low = 0.0;  ///< 95 % profile-likelihood interval
+  double ci_high = 0.0;
+  bool identifiable = true;  ///< false: the interval reaches both bounds (a flat profile)
+};
+
+struct CalibrationResult {
+  std::map<std::string, FittedValue> fitted;
+  sim::ActuationConfig actuation;  ///< the starting actuation with the fitted values
+  double residual_rms = 0.0;       ///< in the data's unit (m for stops, m/s for a trace)
+  std::size_t observations = 0;
+  bool converged = false;
+  std::vector<std::string> warnings;  ///< not identifiable parameters, strong correlations, bounds hit
+};
+
+struct CalibrationRequest {
+  std::vector<std::string> fit;               ///< parameter names
+  std::map<std::string, FitBounds> bounds;    ///< overrides of the defaults
+  sim::ActuationConfig start;                 ///< the scene's (or profile's) actuation
+};
+
+/// The default search bounds of a parameter.
+[[nodiscard]] FitBounds default_bounds(const std::string& name);
+
+/// Fits to stops (the closed-form stopping distance of sim::ActuationConfig, and the stopping time
+/// where given). Throws UsageError for an unknown or unidentifiable-by-stops parameter name, or
+/// bounds that are empty or outside the parameter's domain.
+[[nodiscard]] CalibrationResult calibrate_stops(const std::vector<StopRecord>& stops, const CalibrationRequest& request);
+/// Fits to speed traces (dead time, then the ramp, then the full deceleration; each run's initial
+/// speed a nuisance parameter).
+[[nodiscard]] CalibrationResult calibrate_trace(const std::vector<TraceSample>& trace, const CalibrationRequest& request);
+
+/// The speed `t_s` after a brake command from `v0` (closed form; 0 once stopped).
+[[nodiscard]] double braked_speed_mps(const sim::ActuationConfig& a, double mu, double v0, double t_s);
+
+/// The profile YAML (`description:` and an `actuation:` overlay) with `command` in its header.
+[[nodiscard]] std::string profile_yaml(const CalibrationResult& result, const std::string& command);
+
+}  // namespace emrm::campaign
