@@ -23,6 +23,7 @@
 #include "emrm/campaign/verify.hpp"
 #include "emrm/campaign/paper_reference.hpp"
 #include "emrm/campaign/run.hpp"
+#include "emrm/campaign/sensitivity.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/campaign/tables.hpp"
@@ -175,6 +176,8 @@ int run(const ReproduceOptions& options) {
   table_options.grid = campaign::headline_grid(records, paper.fine_grid.grid);
   table_options.cuts.car_width_m = plan.scene.ego.width_m;
   campaign::write_tables(out, records, paper, table_options);
+  core::write_table(out / "tables", "brake_sensitivity",
+                    campaign::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
 
   campaign::DiagnosticsOptions diagnostics_options;
   diagnostics_options.reference_sample = options.sample;
@@ -238,7 +241,7 @@ int run(const ReproduceOptions& options) {
   const auto report = report::write_report(out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
-      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims,coverage}}.{{md,csv,tex}}, kpis.csv; "
+      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims,coverage,brake_sensitivity}}.{{md,csv,tex}}, kpis.csv; "
       "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
       out.string(), out.string(), out.string(), out.string(), seconds);
   fmt::print("Report: {} (figures in {}/figures, drawn in {:.1f} s)\n", report.html.string(), out.string(),
