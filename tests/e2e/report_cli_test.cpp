@@ -55,6 +55,10 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
   EXPECT_THAT(*reproduce_out_, HasSubstr("Report: "));
   EXPECT_THAT(*reproduce_out_, HasSubstr("report.html"));
   EXPECT_TRUE(fs::exists(*out_ / "report.html"));
+  // It says which actuation made its figures and tables (the small example's scene: instant).
+  EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("Actuation: instant"));
+  // And the brakes' sensitivity table is among them.
+  EXPECT_TRUE(fs::exists(*out_ / "tables" / "brake_sensitivity.csv"));
 }
 
 TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
