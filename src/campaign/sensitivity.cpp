@@ -23,32 +23,44 @@ double green_pct(const std::vector<CellRecord>& records, std::string_view grid, 
 
 }  // namespace
 
+BrakeSensitivity brake_sensitivity(const std::vector<CellRecord>& records, std::string_view grid,
+                                   const sim::ActuationConfig& base) {
+  BrakeSensitivity out;
+  out.base_g_pct = green_pct(records, grid, base);
+  for (int k = 0; k <= 6; ++k) {
+    sim::ActuationConfig a = base;
+    a.brake_dead_time_s = 0.1 * k;
+    out.dead_times_s.push_back(a.brake_dead_time_s);
+    out.dead_time_g_pct.push_back(green_pct(records, grid, a));
+  }
+  for (const double cap : {10.0, 9.0, 8.0, 7.0, 6.0, 5.0, 4.0}) {
+    sim::ActuationConfig a = base;
+    a.max_decel_mps2 = cap;
+    out.peak_decels_mps2.push_back(cap);
+    out.peak_decel_g_pct.push_back(green_pct(records, grid, a));
+  }
+  return out;
+}
+
 core::Table brake_sensitivity_table(const std::vector<CellRecord>& records, const PaperReference& paper,
                                     std::string_view grid, const sim::ActuationConfig& base) {
+  const BrakeSensitivity s = brake_sensitivity(records, grid, base);
   core::Table t;
   t.title = fmt::format("G (emergency stop avoids) on grid '{}' against the brakes' dead time and peak deceleration",
                         grid);
   t.header = {"brakes", "G (%)", "change (points)", "paper G (%)"};
   const double paper_g = paper.fine_grid.grid == grid ? paper.fine_grid.regions_pct.g : NAN;
   const std::string paper_text = std::isnan(paper_g) ? std::string(core::kNoValue) : core::format_number(paper_g, 1);
-  const double at_base = green_pct(records, grid, base);
-  const auto row = [&](const std::string& label, const sim::ActuationConfig& a) {
-    const double g = green_pct(records, grid, a);
-    t.rows.push_back({label, core::format_number(g, 1), core::format_number(g - at_base, 1), paper_text});
+  const auto row = [&](const std::string& label, double g) {
+    t.rows.push_back({label, core::format_number(g, 1), core::format_number(g - s.base_g_pct, 1), paper_text});
   };
   row(fmt::format("this scene (dead time {:g} s, ramp {:g} s, cap {})", base.brake_dead_time_s, base.brake_ramp_s,
                   base.max_decel_mps2 > 0.0 ? fmt::format("{:g} m/s²", base.max_decel_mps2) : std::string("none")),
-      base);
-  for (int k = 0; k <= 6; ++k) {
-    sim::ActuationConfig a = base;
-    a.brake_dead_time_s = 0.1 * k;
-    row(fmt::format("dead time {:.1f} s", a.brake_dead_time_s), a);
-  }
-  for (const double cap : {10.0, 9.0, 8.0, 7.0, 6.0, 5.0, 4.0}) {
-    sim::ActuationConfig a = base;
-    a.max_decel_mps2 = cap;
-    row(fmt::format("peak deceleration {:g} m/s²", cap), a);
-  }
+      s.base_g_pct);
+  for (std::size_t k = 0; k < s.dead_times_s.size(); ++k)
+    row(fmt::format("dead time {:.1f} s", s.dead_times_s[k]), s.dead_time_g_pct[k]);
+  for (std::size_t k = 0; k < s.peak_decels_mps2.size(); ++k)
+    row(fmt::format("peak deceleration {:g} m/s²", s.peak_decels_mps2[k]), s.peak_decel_g_pct[k]);
   t.notes.push_back(
       "Computed, not swept: G is where the emergency stop avoids, and it avoids exactly when v·TTC is at least its "
       "stopping distance through the actuators (perception latency, brake dead time, ramp, cap; docs/actuation.md), "

@@ -424,6 +424,7 @@ ReportSummary write_report(const fs::path& dir) {
   const double boundary_latency_s = act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s;
   summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, boundary_latency_s));
+  summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));

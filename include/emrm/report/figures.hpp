@@ -11,6 +11,7 @@
 #include "emrm/campaign/records.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/coverage.hpp"
+#include "emrm/sim/actuation.hpp"
 
 namespace emrm::report {
 
@@ -75,5 +76,11 @@ Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& rep
 /// of scenarios that trace to it (or a mark when the link exists and no scenario is known).
 /// CSV: uca, hazard, losses, scenarios.
 Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const std::filesystem::path& dir);
+
+/// The brakes' sensitivity (docs/actuation.md, "Sensitivity"): G of `grid` against the brake dead
+/// time (0–0.6 s) and the peak deceleration (10–4 m/s²), one changed at a time from `actuation`,
+/// from the stop's closed form. A note instead when the grid has no feasible cell.
+Figure draw_brake_sensitivity(const std::vector<campaign::CellRecord>& records, const std::string& grid,
+                              const sim::ActuationConfig& actuation, const std::filesystem::path& dir);
 
 }  // namespace emrm::report
