@@ -35,16 +35,9 @@ std::pair<std::string, campaign::FitBounds> parse_bound(const std::string& text)
   const auto eq = text.find('=');
   const auto colon = text.find(':', eq == std::string::npos ? 0 : eq);
   const auto number = [&](const std::string& s) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (s.empty() || used != s.size() || !std::isfinite(v))
-      throw UsageError(fmt::format("--bounds: expected NAME=LO:HI with numbers, got '{}'", text));
-    return v;
+    const std::optional<double> v = core::parse_finite_number(s);
+    if (!v) throw UsageError(fmt::format("--bounds: expected NAME=LO:HI with numbers, got '{}'", text));
+    return *v;
   };
   if (eq == std::string::npos || colon == std::string::npos)
     throw UsageError(fmt::format("--bounds: expected NAME=LO:HI, got '{}'", text));

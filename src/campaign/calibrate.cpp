@@ -52,17 +52,11 @@ double number_at(const core::CsvRecord& r, std::size_t i, const std::string& col
   if (i >= r.fields.size())
     throw InputError({file, r.lines.front(), r.columns.back()}, fmt::format("row has no '{}' field", column));
   const std::string text = trim(r.fields[i]);
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || !std::isfinite(v))
+  const std::optional<double> v = core::parse_finite_number(text);
+  if (!v)
     throw InputError({file, r.lines[i], r.columns[i]},
                      fmt::format("{}: expected a finite number, got '{}'", column, text));
-  return v;
+  return *v;
 }
 
 void require(bool ok, const core::CsvRecord& r, std::size_t i, const std::string& file, const std::string& what) {

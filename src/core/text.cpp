@@ -1,5 +1,7 @@
 #include "emrm/core/text.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include <fstream>
@@ -37,6 +39,18 @@ std::string csv_line(const Row& fields) {
   }
   out += '\n';
   return out;
+}
+
+std::optional<double> parse_finite_number(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (text.empty() || used != text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
 }
 
 std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_name) {

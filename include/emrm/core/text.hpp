@@ -3,6 +3,7 @@
 // Small text helpers shared by the tables every command writes.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,6 +33,10 @@ struct CsvRecord {
 /// lines skipped). Throws InputError at `file_name`:line:column for an unterminated quote or text
 /// after a closing quote.
 [[nodiscard]] std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_name);
+
+/// The finite number the whole of `text` spells (strtod's syntax), or nothing: empty text, trailing
+/// characters, NaN, infinities and out-of-range values are not numbers here.
+[[nodiscard]] std::optional<double> parse_finite_number(const std::string& text);
 
 /// The whole content of a user's input file. Throws InputError naming the file when it cannot be
 /// opened or read.
