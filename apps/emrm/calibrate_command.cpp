@@ -54,9 +54,7 @@ int run(const CalibrateOptions& o) {
   }
   sim::SceneConfig scene = o.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(o.scene_file);
   if (!o.profile.empty())
-    sim::apply_profile(scene, o.profile,
-                       o.scene_file.empty() ? std::filesystem::current_path()
-                                            : std::filesystem::path(o.scene_file).parent_path());
+    sim::apply_profile(scene, o.profile, std::filesystem::path(o.scene_file).parent_path());
   request.start = scene.actuation;
 
   const campaign::CalibrationResult r = o.stops.empty()

@@ -33,9 +33,7 @@ int run(const SimulateOptions& options) {
       options.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(options.scene_file);
   // A profile NAME is looked up beside the scene file (the current folder without one).
   if (!options.profile.empty())
-    sim::apply_profile(config, options.profile,
-                       options.scene_file.empty() ? std::filesystem::current_path()
-                                                  : std::filesystem::path(options.scene_file).parent_path());
+    sim::apply_profile(config, options.profile, std::filesystem::path(options.scene_file).parent_path());
   sim::CellInput cell = options.cell;
   if (!options.truck_speed_given) cell.truck_speed_kph = config.truck.speed_kph;
   sim::CellOptions cell_options;

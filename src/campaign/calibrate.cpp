@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <nlopt.hpp>
@@ -69,13 +70,26 @@ std::vector<core::CsvRecord> records_of(const std::filesystem::path& file) {
   return records;
 }
 
-double& parameter(sim::ActuationConfig& a, const std::string& name) {
-  if (name == "brake_dead_time_s") return a.brake_dead_time_s;
-  if (name == "brake_ramp_s") return a.brake_ramp_s;
-  if (name == "max_decel_mps2") return a.max_decel_mps2;
+// The parameters a brake test can identify: name, field and default search range, in one place.
+struct Calibratable {
+  std::string_view name;
+  double sim::ActuationConfig::*field;
+  FitBounds bounds;
+};
+constexpr std::array kCalibratable{
+    Calibratable{"brake_dead_time_s", &sim::ActuationConfig::brake_dead_time_s, {0.0, 1.0}},
+    Calibratable{"brake_ramp_s", &sim::ActuationConfig::brake_ramp_s, {0.0, 1.5}},
+    Calibratable{"max_decel_mps2", &sim::ActuationConfig::max_decel_mps2, {2.0, 15.0}},
+};
+
+const Calibratable& calibratable(const std::string& name) {
+  for (const auto& c : kCalibratable)
+    if (c.name == name) return c;
   throw UsageError(fmt::format("--fit: '{}' cannot be calibrated from brake tests; expected one of: {}", name,
                                core::join(calibratable_parameters(), ", ")));
 }
+
+double& parameter(sim::ActuationConfig& a, const std::string& name) { return a.*calibratable(name).field; }
 
 // A least-squares problem over the fitted parameters (then any nuisance parameters).
 struct Problem {
@@ -137,7 +151,7 @@ Optimum minimise(const Problem& p, const std::map<std::size_t, double>& fixed, c
     }
     if (value < best.sse) {
       for (std::size_t k = 0; k < free.size(); ++k) full[free[k]] = x[k];
-      best = {full, value, ok || best.converged};
+      best = {full, value, ok};
     }
   }
   return best;
@@ -266,8 +280,7 @@ void add_fitted(Problem& p, const CalibrationRequest& request) {
   if (request.fit.empty()) throw UsageError("--fit: name at least one parameter");
   std::set<std::string> seen;
   for (const auto& name : request.fit) {
-    sim::ActuationConfig probe;
-    (void)parameter(probe, name);
+    (void)calibratable(name);
     if (!seen.insert(name).second) throw UsageError(fmt::format("--fit: '{}' is named twice", name));
     FitBounds b = default_bounds(name);
     if (const auto it = request.bounds.find(name); it != request.bounds.end()) b = it->second;
@@ -288,16 +301,13 @@ sim::ActuationConfig with(const CalibrationRequest& request, const std::vector<d
 
 }  // namespace
 
-std::vector<std::string> calibratable_parameters() { return {"brake_dead_time_s", "brake_ramp_s", "max_decel_mps2"}; }
-
-FitBounds default_bounds(const std::string& name) {
-  if (name == "brake_dead_time_s") return {0.0, 1.0};
-  if (name == "brake_ramp_s") return {0.0, 1.5};
-  if (name == "max_decel_mps2") return {2.0, 15.0};
-  sim::ActuationConfig probe;
-  (void)parameter(probe, name);  // throws the message listing the known names
-  return {};
+std::vector<std::string> calibratable_parameters() {
+  std::vector<std::string> names;
+  for (const auto& c : kCalibratable) names.emplace_back(c.name);
+  return names;
 }
+
+FitBounds default_bounds(const std::string& name) { return calibratable(name).bounds; }
 
 std::vector<StopRecord> read_stops(const std::filesystem::path& file) {
   const auto records = records_of(file);

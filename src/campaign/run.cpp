@@ -157,8 +157,7 @@ RunResult run_scenarios(const RunOptions& options) {
     campaign.scene = sim::load_scene_config(*settings.scene_file);
   }
   if (!options.profile.empty()) {
-    const fs::path scene_dir = settings.scene_file ? settings.scene_file->parent_path() : fs::current_path();
-    sim::apply_profile(campaign.scene, options.profile, scene_dir);
+    sim::apply_profile(campaign.scene, options.profile, settings.scene_file.value_or("").parent_path());
   }
   if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
   GridSpec grid;

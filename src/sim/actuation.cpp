@@ -1,6 +1,7 @@
 #include "emrm/sim/actuation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace emrm::sim {
@@ -109,35 +110,42 @@ Control Actuators::apply(ActuatorState& a, const VehicleState& s, const Control&
   a.steer_command_rad = std::clamp(a.steer_command_rad + rate * dt, -max_steer_rad_, max_steer_rad_);
 
   // Pieces of the step between the knots of the delayed inputs (sample times shifted by a dead time).
-  std::vector<double> knots;
+  // Samples are a step apart, so at most one delayed sample time falls strictly inside the step;
+  // the buffer has room to spare and no allocation in the per-step path.
+  struct Knots {
+    std::array<double, 6> at{};
+    std::size_t size = 0;
+  };
   const auto pieces = [&](double dead_time_s) {
-    knots.assign(1, t_s);
+    Knots knots;
+    knots.at[knots.size++] = t_s;
     for (const CommandSample& c : a.history)
-      if (const double k = c.t_s + dead_time_s; k > t_s + kKnotTolerance_s && k < end_s - kKnotTolerance_s)
-        knots.push_back(k);
-    knots.push_back(end_s);
+      if (const double k = c.t_s + dead_time_s;
+          k > t_s + kKnotTolerance_s && k < end_s - kKnotTolerance_s && knots.size + 1 < knots.at.size())
+        knots.at[knots.size++] = k;
+    knots.at[knots.size++] = end_s;
     return knots;
   };
 
   // Steering: the lag driven by the delayed commanded angle, linear between knots.
   const double ts = config_.steer_dead_time_s;
   double wheel = s.steer_rad;
-  const std::vector<double>& steer_knots = pieces(ts);
-  for (std::size_t i = 1; i < steer_knots.size(); ++i) {
-    const double u0 = steer_command_at(a, steer_knots[i - 1] - ts);
-    const double u1 = steer_command_at(a, steer_knots[i] - ts);
-    wheel = lag_linear(wheel, u0, u1, steer_knots[i] - steer_knots[i - 1], config_.steer_time_constant_s);
+  const Knots steer = pieces(ts);
+  for (std::size_t i = 1; i < steer.size; ++i) {
+    const double u0 = steer_command_at(a, steer.at[i - 1] - ts);
+    const double u1 = steer_command_at(a, steer.at[i] - ts);
+    wheel = lag_linear(wheel, u0, u1, steer.at[i] - steer.at[i - 1], config_.steer_time_constant_s);
   }
 
   // Braking: the pressure ramps towards the delayed demand, constant between knots.
   const double tb = config_.brake_dead_time_s;
   const double ramp_rate = config_.brake_ramp_s > 0.0 ? 1.0 / config_.brake_ramp_s : INFINITY;
   double integral = 0.0;
-  const std::vector<double>& brake_knots = pieces(tb);
-  for (std::size_t i = 1; i < brake_knots.size(); ++i) {
-    const CommandSample* c = sample_at(a, 0.5 * (brake_knots[i - 1] + brake_knots[i]) - tb);
+  const Knots brake = pieces(tb);
+  for (std::size_t i = 1; i < brake.size; ++i) {
+    const CommandSample* c = sample_at(a, 0.5 * (brake.at[i - 1] + brake.at[i]) - tb);
     const RampPiece piece =
-        ramp(a.brake_level, c ? std::clamp(c->brake, 0.0, 1.0) : 0.0, ramp_rate, brake_knots[i] - brake_knots[i - 1]);
+        ramp(a.brake_level, c ? std::clamp(c->brake, 0.0, 1.0) : 0.0, ramp_rate, brake.at[i] - brake.at[i - 1]);
     a.brake_level = piece.level;
     integral += piece.integral;
   }

@@ -137,7 +137,6 @@ struct Wheel {
   double angle, rate;
 };
 inline Wheel wheel_bound(const Setup& c, double s) {
-  if (c.steer_dead == 0.0 && c.steer_lag == 0.0 && c.steer_lead == 0.0) return {std::min(c.rho * s, c.delta_max), c.rho};
   const double t = s - c.steer_dead + c.steer_lead;
   if (t <= 0.0) return {0.0, 0.0};
   if (c.steer_lag == 0.0) return {std::min(c.rho * t, c.delta_max), c.rho};

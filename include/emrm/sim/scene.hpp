@@ -232,7 +232,7 @@ struct ActuationProfile {
 };
 
 /// Where a profile's file is: `profile` itself when it names a file (it contains a '/' or ends in
-/// .yaml), else `scene_dir`/profiles/`profile`.yaml. Throws UsageError for a NAME with no such file
+/// .yaml), else `scene_dir`/profiles/`profile`.yaml (an empty `scene_dir` is the current folder). Throws UsageError for a NAME with no such file
 /// (listing the names in that folder).
 [[nodiscard]] std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir);
 /// Overlays the profile on `config`'s actuation (keys it does not give keep the scene's values) and
