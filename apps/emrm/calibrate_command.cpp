@@ -1,5 +1,6 @@
-// `emrm calibrate (--stops FILE | --decel-trace FILE) --fit NAME[,NAME...] -o PROFILE.yaml`: fits the
-// brakes' actuation parameters to measured brake tests (docs/actuation.md, "Calibration"). Exit 1
+// `emrm calibrate (--stops FILE | --decel-trace FILE | --regions FILE) --fit NAME[,NAME...] -o PROFILE.yaml`:
+// fits actuation parameters to measured brake tests or to a grid's region fractions
+// (docs/actuation.md, "Calibration" and "Calibrating to a map"). Exit 1
 // when the fit did not converge (no profile written), or when a parameter is not identifiable, lies
 // on its bound or is confounded with another (the profile is written with the warning in it).
 
@@ -7,6 +8,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -21,6 +23,10 @@ namespace {
 struct CalibrateOptions {
   std::string stops;
   std::string trace;
+  std::string regions;
+  std::vector<std::string> match;
+  std::string campaign_file;
+  int threads = 0;
   std::vector<std::string> fit;
   std::vector<std::string> bounds;
   std::string scene_file;
@@ -44,44 +50,97 @@ std::pair<std::string, campaign::FitBounds> parse_bound(const std::string& text)
   return {text.substr(0, eq), {number(text.substr(eq + 1, colon - eq - 1)), number(text.substr(colon + 1))}};
 }
 
+void print_json(const campaign::CalibrationResult& r, const campaign::RegionCalibration* regions) {
+  nlohmann::ordered_json j;
+  j["fitted"] = nlohmann::ordered_json::object();
+  for (const auto& [name, v] : r.fitted)
+    j["fitted"][name] = {{"value", v.value}, {"ci_low", v.ci_low}, {"ci_high", v.ci_high}, {"identifiable", v.identifiable}};
+  j["residual_rms"] = r.residual_rms;
+  j["observations"] = r.observations;
+  j["converged"] = r.converged;
+  j["warnings"] = r.warnings;
+  if (regions != nullptr) {
+    j["grid"] = regions->grid;
+    j["feasible_cells"] = regions->feasible_cells;
+    j["sweeps"] = regions->sweeps;
+    j["fractions"] = nlohmann::ordered_json::object();
+    for (const auto& [name, pct] : regions->fitted_pct) {
+      const auto t = regions->target_pct.find(name);
+      j["fractions"][name] = {{"fitted_pct", pct},
+                              {"target_pct", t != regions->target_pct.end() ? nlohmann::ordered_json(t->second)
+                                                                             : nlohmann::ordered_json(nullptr)}};
+    }
+  }
+  fmt::print("{}\n", j.dump(2));
+}
+
+void print_text(const campaign::CalibrationResult& r, const campaign::RegionCalibration* regions,
+                const std::string& source, std::string_view unit, const std::string& output) {
+  if (regions != nullptr)
+    fmt::print("Calibrated to {} (grid '{}', {} feasible cells, {} simulation(s) of the grid), residual RMS {:.4g} "
+               "points:\n",
+               source, regions->grid, regions->feasible_cells, regions->sweeps, r.residual_rms);
+  else
+    fmt::print("Calibrated from {} ({} observations), residual RMS {:.4g} {}:\n", source, r.observations,
+               r.residual_rms, unit);
+  for (const auto& [name, v] : r.fitted)
+    fmt::print("  {:<22} {:>9.4f}   95 % interval [{:.4f}, {:.4f}]{}\n", name, v.value, v.ci_low, v.ci_high,
+               v.identifiable ? "" : "   NOT IDENTIFIABLE");
+  if (regions != nullptr)
+    for (const auto& [name, pct] : regions->fitted_pct) {
+      const auto t = regions->target_pct.find(name);
+      fmt::print("  {} {:>5.1f} %{}\n", name, pct,
+                 t != regions->target_pct.end() ? fmt::format("   target {:.1f} %", t->second) : std::string("   (not fitted)"));
+    }
+  for (const auto& w : r.warnings) fmt::print("warning: {}\n", w);
+  if (r.converged) fmt::print("Wrote {}\n", output);
+  else fmt::print("The fit did not converge: no profile written.\n");
+}
+
 int run(const CalibrateOptions& o) {
-  if (o.stops.empty() == o.trace.empty()) throw UsageError("emrm calibrate: give exactly one of --stops and --decel-trace");
+  if (o.stops.empty() + o.trace.empty() + o.regions.empty() != 2)
+    throw UsageError("emrm calibrate: give exactly one of --stops, --decel-trace and --regions");
+  if (!o.match.empty() && o.regions.empty()) throw UsageError("--match needs --regions");
+  if (!o.campaign_file.empty() && o.regions.empty()) throw UsageError("--campaign needs --regions");
+  if (!o.regions.empty() && o.campaign_file.empty())
+    throw UsageError("--regions needs --campaign FILE: the campaign whose grid the fractions are of");
+  if (!o.regions.empty() && !o.scene_file.empty())
+    throw UsageError("--regions takes its scene from --campaign; drop --scene");
   campaign::CalibrationRequest request;
   request.fit = o.fit;
   for (const auto& b : o.bounds) {
     const auto [name, bound] = parse_bound(b);
     request.bounds[name] = bound;
   }
-  sim::SceneConfig scene = o.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(o.scene_file);
-  if (!o.profile.empty())
-    sim::apply_profile(scene, o.profile, std::filesystem::path(o.scene_file).parent_path());
-  request.start = scene.actuation;
 
-  const campaign::CalibrationResult r = o.stops.empty()
-                                            ? campaign::calibrate_trace(campaign::read_decel_trace(o.trace), request)
-                                            : campaign::calibrate_stops(campaign::read_stops(o.stops), request);
-  if (r.converged) core::write_file(o.output, campaign::profile_yaml(r, o.command_line));
-
-  if (o.json) {
-    nlohmann::ordered_json j;
-    j["fitted"] = nlohmann::ordered_json::object();
-    for (const auto& [name, v] : r.fitted)
-      j["fitted"][name] = {{"value", v.value}, {"ci_low", v.ci_low}, {"ci_high", v.ci_high}, {"identifiable", v.identifiable}};
-    j["residual_rms"] = r.residual_rms;
-    j["observations"] = r.observations;
-    j["converged"] = r.converged;
-    j["warnings"] = r.warnings;
-    fmt::print("{}\n", j.dump(2));
+  std::optional<campaign::RegionCalibration> regions;
+  campaign::CalibrationResult r;
+  if (!o.regions.empty()) {
+    const campaign::RegionTarget target = campaign::read_region_target(o.regions);
+    campaign::Campaign c = campaign::load_campaign(o.campaign_file);
+    if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
+    request.start = c.scene.actuation;
+    regions = campaign::calibrate_regions(c, target, o.match, request, o.threads);
+    r = regions->calibration;
   } else {
-    fmt::print("Calibrated from {} ({} observations), residual RMS {:.4g} {}:\n", o.stops.empty() ? o.trace : o.stops,
-               r.observations, r.residual_rms, o.stops.empty() ? "m/s" : "m");
-    for (const auto& [name, v] : r.fitted)
-      fmt::print("  {:<22} {:>9.4f}   95 % interval [{:.4f}, {:.4f}]{}\n", name, v.value, v.ci_low, v.ci_high,
-                 v.identifiable ? "" : "   NOT IDENTIFIABLE");
-    for (const auto& w : r.warnings) fmt::print("warning: {}\n", w);
-    if (r.converged) fmt::print("Wrote {}\n", o.output);
-    else fmt::print("The fit did not converge: no profile written.\n");
+    sim::SceneConfig scene = o.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(o.scene_file);
+    if (!o.profile.empty()) sim::apply_profile(scene, o.profile, std::filesystem::path(o.scene_file).parent_path());
+    request.start = scene.actuation;
+    r = o.stops.empty() ? campaign::calibrate_trace(campaign::read_decel_trace(o.trace), request)
+                        : campaign::calibrate_stops(campaign::read_stops(o.stops), request);
   }
+  const std::string description =
+      !o.regions.empty()
+          ? fmt::format("fitted to the region fractions of {} (grid '{}')", std::filesystem::path(o.regions).filename().string(),
+                        regions->grid)
+          : fmt::format("fitted to the {} of {}", o.stops.empty() ? "speed trace" : "stops",
+                        std::filesystem::path(o.stops.empty() ? o.trace : o.stops).filename().string());
+  if (r.converged) core::write_file(o.output, campaign::profile_yaml(r, o.command_line, description));
+
+  const campaign::RegionCalibration* by_regions = regions ? &*regions : nullptr;
+  if (o.json) print_json(r, by_regions);
+  else if (!o.regions.empty()) print_text(r, by_regions, o.regions, "points", o.output);
+  else print_text(r, nullptr, o.stops.empty() ? o.trace : o.stops, o.stops.empty() ? "m/s" : "m", o.output);
   return static_cast<int>(r.converged && r.warnings.empty() ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 
@@ -91,17 +150,27 @@ void register_calibrate_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand(
       "calibrate",
-      "Fit the brakes' actuation (dead time, ramp, deceleration cap) to measured stops or a speed trace with\n"
-      "NLopt; print each value with its 95 % profile-likelihood interval and write a profile for --profile");
+      "Fit the actuation (brake dead time, ramp, deceleration cap, perception latency) to measured stops, a speed\n"
+      "trace or a grid's region fractions with NLopt; print each value with its 95 % profile-likelihood interval\n"
+      "and write a profile for --profile");
   cmd->add_option("--stops", o->stops, "CSV of stops: speed_kph, mu, stop_distance_m[, time_to_stop_s]")
       ->check(CLI::ExistingFile);
   cmd->add_option("--decel-trace", o->trace, "CSV of speed traces: run, t_s, speed_mps (t = 0 at the brake command)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--fit", o->fit, "Parameters to fit: brake_dead_time_s, brake_ramp_s, max_decel_mps2")
+  cmd->add_option("--regions", o->regions,
+                  "YAML of target region fractions of a grid: grid, regions_pct {G, Y, O, R} (or a paper_reference.yaml)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--match", o->match, "With --regions: the fractions to fit, e.g. G (default: all the file gives)")
+      ->delimiter(',');
+  cmd->add_option("--campaign", o->campaign_file, "With --regions: the campaign that defines the grid")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--threads", o->threads, "With --regions: threads for simulating the grid (0 = all cores)");
+  cmd->add_option("--fit", o->fit,
+                  "Parameters to fit: brake_dead_time_s, brake_ramp_s, max_decel_mps2, perception_latency_s")
       ->required()
       ->delimiter(',');
   cmd->add_option("--bounds", o->bounds, "Search range NAME=LO:HI (repeatable)");
-  cmd->add_option("--scene", o->scene_file, "Scene whose actuation gives the parameters not fitted")
+  cmd->add_option("--scene", o->scene_file, "Scene whose actuation gives the parameters not fitted (not with --regions)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--profile", o->profile, "Profile overlaying that scene first (NAME or FILE)");
   cmd->add_option("-o,--output", o->output, "Profile YAML to write")->required();

@@ -175,6 +175,7 @@ int run(const ReproduceOptions& options) {
   campaign::TableOptions table_options;
   table_options.grid = campaign::headline_grid(records, paper.fine_grid.grid);
   table_options.cuts.car_width_m = plan.scene.ego.width_m;
+  table_options.actuation = plan.scene.actuation;
   campaign::write_tables(out, records, paper, table_options);
   core::write_table(out / "tables", "brake_sensitivity",
                     campaign::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));

@@ -281,7 +281,8 @@ Table by_parameter_table(const std::vector<CellRecord>& records, const PaperRefe
   return t;
 }
 
-Table regions_table(const std::vector<CellRecord>& records, const PaperReference& paper) {
+Table regions_table(const std::vector<CellRecord>& records, const PaperReference& paper,
+                    const sim::ActuationConfig& actuation) {
   Table t;
   t.title = "Mitigability regions per grid (percent of feasible cells)";
   t.header = {"Grid", "Cells", "Feasible", "Infeasible", "G (%)", "Y (%)", "O (%)", "R (%)"};
@@ -326,11 +327,13 @@ Table regions_table(const std::vector<CellRecord>& records, const PaperReference
     if (best != nullptr && best->road_departure && !best->contact) ++departure_o;
   }
   std::size_t stoppable = 0;
+  std::size_t stoppable_instant = 0;
   std::size_t certified = 0;
   std::size_t undecided = 0;
   for (const auto& r : records) {
     if (r.grid != paper.fine_grid.grid || !r.feasible) continue;
-    stoppable += analytically_stoppable(r.speed_kph, r.ttc_s, r.mu);
+    stoppable += analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, actuation);
+    stoppable_instant += analytically_stoppable(r.speed_kph, r.ttc_s, r.mu);
     certified += r.evidence == "certificate";
     undecided += r.evidence == "undecided";
   }
@@ -342,14 +345,16 @@ Table regions_table(const std::vector<CellRecord>& records, const PaperReference
                   format_number(fine->pct(fine->y), 1), pr.y, format_number(fine->pct(fine->o), 1), pr.o,
                   format_number(fine->pct(fine->r), 1), pr.r));
   t.notes.push_back(fmt::format(
-      "Why they differ: our G region is the emergency stop's, which follows the analytic stop boundary "
-      "TTC ≥ v/(2μg) exactly (diagnostics.json, stop_boundary): {} of our {} feasible fine cells ({} %) lie on "
-      "or above that line with no latency. The paper draws the same line as G's border but reports G {:g} %, so "
-      "its emergency stop avoided fewer cells than the line allows (a braking latency or a deceleration below μg "
-      "would do that); the cells between are G for us and Y or R in the paper (our G is {:+.1f} points, our Y "
-      "{:+.1f} and R {:+.1f} points against the paper's).",
-      stoppable, fine->feasible, format_number(fine->pct(stoppable), 1), pr.g, fine->pct(fine->g) - pr.g,
-      fine->pct(fine->y) - pr.y, fine->pct(fine->r) - pr.r));
+      "Why they differ: our G region is the emergency stop's, which follows its stop boundary exactly "
+      "(v·TTC at least the stopping distance through the actuators; diagnostics.json, stop_boundary). Under this "
+      "scene's actuation ({}) {} of our {} feasible fine cells ({} %) lie on or above it; with instant actuation, "
+      "the line TTC ≥ v/(2μg), {} ({} %) would. The paper draws that line as G's border but reports G {:g} %, so "
+      "its emergency stop avoided fewer cells than the line allows, as a braking delay or a deceleration below "
+      "μg would (the fitted `paper` profile names one such delay; docs/actuation.md). Our G is {:+.1f} points, "
+      "our Y {:+.1f} and R {:+.1f} points against the paper's.",
+      actuation.summary(), stoppable, fine->feasible, format_number(fine->pct(stoppable), 1), stoppable_instant,
+      format_number(fine->pct(stoppable_instant), 1), pr.g, fine->pct(fine->g) - pr.g, fine->pct(fine->y) - pr.y,
+      fine->pct(fine->r) - pr.r));
   t.notes.push_back(fmt::format(
       "How our outcome model moves Y, O and R (docs/physics.md): an avoidance counts only when the car then "
       "reaches a safe state (stopped, or stable with room to stop), which takes from Y the passes that were "
@@ -493,7 +498,7 @@ std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir
             by_parameter_table(records, paper, options.grid,
                                has_grid(records, options.passage_grid) ? options.passage_grid : "",
                                options.friction_grid, options.cuts));
-  write_all("regions", regions_table(records, paper));
+  write_all("regions", regions_table(records, paper, options.actuation));
   write_all("claims", claims_table(records, paper, options.grid));
   core::write_file(tables_dir / "kpis.csv", kpis_csv(records, options.cuts));
   written.push_back(tables_dir / "kpis.csv");

@@ -1,5 +1,7 @@
 #include "emrm/sim/actuation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -39,6 +41,16 @@ RampPiece ramp(double level, double target, double rate, double h) {
 double ActuationConfig::full_decel_mps2(double mu) const noexcept {
   const double friction = mu * kGravity_mps2;
   return max_decel_mps2 > 0.0 ? std::min(friction, max_decel_mps2) : friction;
+}
+
+std::string ActuationConfig::summary() const {
+  if (instant() && perception_latency_s == 0.0) return "instant";
+  return fmt::format(
+      "perception latency {:g} s, brake dead time {:g} s, brake ramp {:g} s, {}, steering dead time {:g} s, "
+      "steering lag {:g} s",
+      perception_latency_s, brake_dead_time_s, brake_ramp_s,
+      max_decel_mps2 > 0.0 ? fmt::format("brake cap {:g} m/s²", max_decel_mps2) : std::string("no brake cap"),
+      steer_dead_time_s, steer_time_constant_s);
 }
 
 double ActuationConfig::stopping_time_s(double speed_mps, double mu, bool with_perception) const noexcept {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "run_emrm.hpp"
 
@@ -66,6 +67,55 @@ TEST(CalibrateCli, BadInputIsExitTwoWithOneMessage) {
                                " --fit brake_dead_time_s --bounds brake_dead_time_s=0.5 -o " + quoted(dir / "p.yaml"));
   EXPECT_EQ(bounds.exit_code, 2);
   EXPECT_THAT(bounds.err, HasSubstr("NAME=LO:HI"));
+}
+
+// The shipped `paper` profile is made by `emrm calibrate --regions`, never typed in: its header
+// holds the command, and running that command again must write the same profile. Its G on the
+// fine grid is within 2 points of the paper's.
+TEST(CalibrateCli, ThePaperProfileIsWhatItsCommandMakes) {
+  const std::string shipped = read_text(example("profiles/paper.yaml"));
+  const std::string prefix = "# Made by: emrm ";
+  ASSERT_EQ(shipped.rfind(prefix, 0), 0u) << shipped;
+  const std::string command = shipped.substr(prefix.size(), shipped.find('\n') - prefix.size());
+  const auto dir = scratch_dir("calibrate-paper");
+  std::string args;
+  std::istringstream words(command);
+  bool output = false;
+  for (std::string w; words >> w; output = w == "--output" || w == "-o") {
+    if (output) args += " " + quoted(dir / "paper.yaml");
+    else if (w.rfind("examples/", 0) == 0) args += " " + quoted(std::string(EMRM_SOURCE_DIR) + "/" + w);
+    else args += " " + w;
+  }
+  const auto r = run_emrm(args + " --json");
+  ASSERT_EQ(r.exit_code, 0) << args << r.out << r.err;
+  const std::string made = read_text(dir / "paper.yaml");
+  EXPECT_EQ(made.substr(made.find('\n')), shipped.substr(shipped.find('\n')));  // all but the command line
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& g = j["fractions"]["G"];
+  EXPECT_NEAR(g["fitted_pct"].get<double>(), g["target_pct"].get<double>(), 2.0);
+}
+
+TEST(CalibrateCli, RegionTargetsAndTheirCampaignAreChecked) {
+  const auto dir = scratch_dir("calibrate-regions-bad");
+  const std::string campaign = " --campaign " + quoted(example("campaign.yaml"));
+  const std::string out = " -o " + quoted(dir / "p.yaml");
+  write_text(dir / "t.yaml", "grid: fine\nregions_pct: {G: 40, Q: 3}\n");
+  const auto bad = run_emrm("calibrate --regions " + quoted(dir / "t.yaml") + campaign + " --fit brake_dead_time_s" + out);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.err, HasSubstr("t.yaml:2:22: error: regions_pct: unknown region 'Q'"));
+  write_text(dir / "g.yaml", "grid: nowhere\nregions_pct: {G: 40}\n");
+  const auto grid = run_emrm("calibrate --regions " + quoted(dir / "g.yaml") + campaign + " --fit brake_dead_time_s" + out);
+  EXPECT_EQ(grid.exit_code, 2);
+  EXPECT_THAT(grid.err, HasSubstr("g.yaml:1:7: error: grid 'nowhere' is not in the campaign"));
+  write_text(dir / "ok.yaml", "grid: fine\nregions_pct: {G: 40}\n");
+  const auto no_campaign = run_emrm("calibrate --regions " + quoted(dir / "ok.yaml") + " --fit brake_dead_time_s" + out);
+  EXPECT_EQ(no_campaign.exit_code, 2);
+  EXPECT_THAT(no_campaign.err, HasSubstr("--regions needs --campaign"));
+  const auto match = run_emrm("calibrate --regions " + quoted(dir / "ok.yaml") + campaign +
+                              " --match Y --fit brake_dead_time_s" + out);
+  EXPECT_EQ(match.exit_code, 2);
+  EXPECT_THAT(match.err, HasSubstr("--match: 'Y' is not a region fraction"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.yaml"));
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/core/error.hpp"
 #include "emrm/sim/actuation.hpp"
 
 namespace emrm::campaign {
@@ -53,7 +55,7 @@ struct FittedValue {
 struct CalibrationResult {
   std::map<std::string, FittedValue> fitted;
   sim::ActuationConfig actuation;  ///< the starting actuation with the fitted values
-  double residual_rms = 0.0;       ///< in the data's unit (m for stops, m/s for a trace)
+  double residual_rms = 0.0;  ///< in the data's unit (m for stops, m/s for a trace, points for regions)
   std::size_t observations = 0;
   bool converged = false;
   std::vector<std::string> warnings;  ///< not identifiable parameters, strong correlations, bounds hit
@@ -76,10 +78,42 @@ struct CalibrationRequest {
 /// speed a nuisance parameter).
 [[nodiscard]] CalibrationResult calibrate_trace(const std::vector<TraceSample>& trace, const CalibrationRequest& request);
 
+/// Target region fractions of one campaign grid (`--regions`): paper_reference.yaml's `fine_grid`
+/// mapping, or the same keys at a file's top level (`grid`, `regions_pct`, optional `feasible_cells`).
+struct RegionTarget {
+  std::string file;
+  std::string grid;
+  SourceLocation grid_at;
+  std::map<std::string, double> pct;  ///< G, Y, O, R (any of them), percent of the feasible cells
+};
+/// Reads a target. Throws InputError at file:line:column for malformed YAML, an unknown key or
+/// region, a percentage outside [0, 100], all four not summing to 100 ± 1, or a missing field.
+[[nodiscard]] RegionTarget read_region_target(const std::filesystem::path& file);
+
+struct RegionCalibration {
+  CalibrationResult calibration;            ///< residual_rms in percentage points
+  std::string grid;
+  std::size_t feasible_cells = 0;
+  std::size_t sweeps = 0;                   ///< simulations of the grid (0 for a fit to G alone)
+  std::map<std::string, double> target_pct;  ///< the matched fractions
+  std::map<std::string, double> fitted_pct;  ///< at the fitted values: G, and Y/O/R when simulated
+};
+
+/// Fits to a grid's region fractions: χ² over the `match`ed fractions (all the target gives when
+/// empty), each with the binomial variance of a fraction of the grid's feasible cells; G from the
+/// stop's closed form, Y/O/R by simulating the cells the stop cannot save (cached per parameter
+/// vector). A global search (DIRECT-L), since fractions are counts. `threads` 0 = all cores.
+/// Throws InputError at the target's grid when the campaign has no such grid, UsageError for a
+/// `match` the target does not give.
+[[nodiscard]] RegionCalibration calibrate_regions(const Campaign& campaign, const RegionTarget& target,
+                                                  const std::vector<std::string>& match,
+                                                  const CalibrationRequest& request, int threads = 0);
+
 /// The speed `t_s` after a brake command from `v0` (closed form; 0 once stopped).
 [[nodiscard]] double braked_speed_mps(const sim::ActuationConfig& a, double mu, double v0, double t_s);
 
 /// The profile YAML (`description:` and an `actuation:` overlay) with `command` in its header.
-[[nodiscard]] std::string profile_yaml(const CalibrationResult& result, const std::string& command);
+[[nodiscard]] std::string profile_yaml(const CalibrationResult& result, const std::string& command,
+                                       const std::string& description = "calibrated actuation");
 
 }  // namespace emrm::campaign

@@ -29,9 +29,10 @@ namespace emrm::campaign {
                                              const PaperReference& paper, std::string_view grid,
                                              std::string_view passage_grid, std::string_view friction_grid,
                                              const LevelCuts& cuts = {});
-/// Region fractions per grid, with the paper's beside the grid it names.
-[[nodiscard]] core::Table regions_table(const std::vector<CellRecord>& records,
-                                        const PaperReference& paper);
+/// Region fractions per grid, with the paper's beside the grid it names, and notes on why they
+/// differ (the stop boundary under `actuation`, the scene's, and under instant actuation).
+[[nodiscard]] core::Table regions_table(const std::vector<CellRecord>& records, const PaperReference& paper,
+                                        const sim::ActuationConfig& actuation = {});
 /// The paper's qualitative claims against ours: the highest speed at which the emergency stop
 /// avoids on `grid`; avoidance below the paper's μ at its TTC (every grid); coverage (the paper's
 /// only: not measured from a campaign).
@@ -51,6 +52,7 @@ struct TableOptions {
   std::string passage_grid = "passage";
   std::string friction_grid = "speed_mu";
   LevelCuts cuts;
+  sim::ActuationConfig actuation;  ///< the scene's, for the regions table's notes
 };
 
 /// Writes DIR/tables/{emrm_vs_baseline,by_parameter,regions,claims}.{md,csv,tex} and DIR/tables/kpis.csv.

@@ -8,6 +8,7 @@
 // controls are commands (a steering rate of the commanded angle, a brake demand, the rear lock),
 // and the vehicle model receives what the actuators make of them.
 
+#include <string>
 #include <vector>
 
 #include "emrm/core/config.hpp"
@@ -47,6 +48,9 @@ struct ActuationConfig {
   [[nodiscard]] double stopping_distance_m(double speed_mps, double mu, bool with_perception) const noexcept;
   /// Time the same stop takes.
   [[nodiscard]] double stopping_time_s(double speed_mps, double mu, bool with_perception) const noexcept;
+  /// For people: "instant", or every parameter with its unit ("perception latency 0.25 s, brake dead
+  /// time 0.1 s, …, no brake cap, …").
+  [[nodiscard]] std::string summary() const;
 };
 
 /// One command as the actuators remember it: issued at `t_s`, held for one step. The commanded
