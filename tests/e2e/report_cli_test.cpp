@@ -55,8 +55,8 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
   EXPECT_THAT(*reproduce_out_, HasSubstr("Report: "));
   EXPECT_THAT(*reproduce_out_, HasSubstr("report.html"));
   EXPECT_TRUE(fs::exists(*out_ / "report.html"));
-  // It says which actuation made its figures and tables (the small example's scene: instant).
-  EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("Actuation: instant"));
+  // It says which actuation made its figures and tables (the shipped scene's: the production car).
+  EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("Actuation: perception latency 0.25 s"));
   // And the brakes' sensitivity table is among them.
   EXPECT_TRUE(fs::exists(*out_ / "tables" / "brake_sensitivity.csv"));
 }

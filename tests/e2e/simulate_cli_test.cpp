@@ -67,9 +67,12 @@ TEST(SimulateCli, TimingIsOptInBecauseItVaries) {
   EXPECT_TRUE(nlohmann::json::parse(r.out)["strategies"]["dodge"]["planner"].contains("time_ms"));
 }
 
+// The shipped scene is the built-in defaults with the production car's actuation; the ideal
+// profile takes that back.
 TEST(SimulateCli, ShippedSceneFileEqualsTheBuiltInDefaults) {
   const auto builtin = run_emrm("simulate --speed-kph 55 --ttc-s 0.8 --json");
-  const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) + " --speed-kph 55 --ttc-s 0.8 --json");
+  const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) +
+                                " --profile ideal --speed-kph 55 --ttc-s 0.8 --json");
   ASSERT_EQ(shipped.exit_code, 0) << shipped.err;
   EXPECT_EQ(builtin.out, shipped.out);
 }
@@ -143,6 +146,10 @@ TEST(SimulateCli, ProductionProfileMovesTheStopBoundary) {
   EXPECT_TRUE(nlohmann::json::parse(ideal.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
   EXPECT_FALSE(nlohmann::json::parse(production.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
   EXPECT_EQ(production.out, file.out);
+  // The shipped scene is the production car: the profile changes nothing in it.
+  const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) + cell);
+  ASSERT_EQ(shipped.exit_code, 0) << shipped.err;
+  EXPECT_EQ(shipped.out, production.out);
 }
 
 TEST(SimulateCli, BadProfilesAreBadInput) {
