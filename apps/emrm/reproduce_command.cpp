@@ -22,6 +22,7 @@
 #include "emrm/campaign/diagnostics.hpp"
 #include "emrm/campaign/verify.hpp"
 #include "emrm/campaign/paper_reference.hpp"
+#include "emrm/campaign/profiles.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/campaign/sensitivity.hpp"
 #include "emrm/campaign/store.hpp"
@@ -180,6 +181,24 @@ int run(const ReproduceOptions& options) {
   core::write_table(out / "tables", "brake_sensitivity",
                     campaign::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
 
+  // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
+  if (const auto profiles = campaign::scene_profiles(plan); !profiles.empty()) {
+    const auto runs = campaign::sweep_profiles(plan, table_options.grid, profiles, sweep_options);
+    std::vector<std::vector<campaign::CellRecord>> per_profile;
+    std::vector<std::string> parts;
+    for (const auto& run : runs) {
+      per_profile.push_back(campaign::read_results(out / run.store));
+      const auto c = campaign::count_regions(per_profile.back(), table_options.grid);
+      parts.push_back(fmt::format("{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)),
+                                  pct(c.pct(c.o)), pct(c.pct(c.r)),
+                                  run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
+    }
+    core::write_table(out / "tables", "regions_by_profile",
+                      campaign::profiles_table(runs, per_profile, paper, table_options.grid));
+    fmt::print("profiles  grid '{}' per profile (%): {} -> {}\n", table_options.grid, core::join(parts, "; "),
+               (out / "profiles").string());
+  }
+
   campaign::DiagnosticsOptions diagnostics_options;
   diagnostics_options.reference_sample = options.sample;
   diagnostics_options.seed = plan.seed;
@@ -242,7 +261,8 @@ int run(const ReproduceOptions& options) {
   const auto report = report::write_report(out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
-      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,claims,coverage,brake_sensitivity}}.{{md,csv,tex}}, kpis.csv; "
+      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,regions_by_profile,claims,coverage,brake_sensitivity}}"
+      ".{{md,csv,tex}}, kpis.csv; "
       "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
       out.string(), out.string(), out.string(), out.string(), seconds);
   fmt::print("Report: {} (figures in {}/figures, drawn in {:.1f} s)\n", report.html.string(), out.string(),

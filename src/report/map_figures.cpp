@@ -133,6 +133,41 @@ struct MapLayout {
   double key_h = 0.0, cell_h = 0.0;
 };
 
+/// Puts panel `spec` in slot `i` (0–3, row by row) of `layout` with the cells of its grid in
+/// `records`; a grid without cells leaves the slot empty but for a label.
+void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const std::vector<CellRecord>& records) {
+  MapPanel p;
+  p.spec = spec;
+  p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
+  p.origin_y = i < 2 ? layout.key_h + layout.cell_h : layout.key_h;
+  p.cells = campaign::records_of_grid(records, p.spec.grid);
+  if (p.cells.empty()) {
+    layout.missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
+    layout.missing_labels += fmt::format(
+        "set label {} {} at screen {},{} center\n", 90 + i,
+        single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.spec.letter, p.spec.name,
+                                  enhanced_literal(p.spec.grid))),
+        p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
+    return;
+  }
+  layout.total_cells += p.cells.size();
+  p.xs = distinct_values(p.cells, p.spec.x);
+  p.ys = distinct_values(p.cells, p.spec.y);
+  p.hx = half_step(p.xs, p.spec.x);
+  p.hy = half_step(p.ys, p.spec.y);
+  p.fixed = median_of(p.cells, p.spec.fixed);
+  layout.panels.push_back(std::move(p));
+}
+
+constexpr double kMapTop = 0.955;  // below the multiplot's title
+
+MapLayout empty_layout(double key_h) {
+  MapLayout layout;
+  layout.key_h = key_h;
+  layout.cell_h = (kMapTop - key_h) / 2.0;
+  return layout;
+}
+
 MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& grids, double key_h) {
   const std::array<PanelSpec, 4> specs{{
       {'a', grids.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
@@ -140,34 +175,8 @@ MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& g
       {'c', grids.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
       {'d', grids.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
   }};
-  constexpr double kTop = 0.955;  // below the multiplot's title
-  MapLayout layout;
-  layout.key_h = key_h;
-  layout.cell_h = (kTop - key_h) / 2.0;
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    MapPanel p;
-    p.spec = specs[i];
-    p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
-    p.origin_y = i < 2 ? key_h + layout.cell_h : key_h;
-    p.cells = campaign::records_of_grid(records, p.spec.grid);
-    if (p.cells.empty()) {
-      layout.missing.push_back(
-          fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
-      layout.missing_labels += fmt::format(
-          "set label {} {} at screen {},{} center\n", 90 + i,
-          single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.spec.letter, p.spec.name,
-                                    enhanced_literal(p.spec.grid))),
-          p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
-      continue;
-    }
-    layout.total_cells += p.cells.size();
-    p.xs = distinct_values(p.cells, p.spec.x);
-    p.ys = distinct_values(p.cells, p.spec.y);
-    p.hx = half_step(p.xs, p.spec.x);
-    p.hy = half_step(p.ys, p.spec.y);
-    p.fixed = median_of(p.cells, p.spec.fixed);
-    layout.panels.push_back(std::move(p));
-  }
+  MapLayout layout = empty_layout(key_h);
+  for (std::size_t i = 0; i < specs.size(); ++i) add_panel(layout, i, specs[i], records);
   return layout;
 }
 
@@ -211,7 +220,7 @@ std::string boxes(std::string_view block, std::string_view colour) {
 
 std::string boundary_text(double latency_s) {
   return latency_s == 0.0 ? std::string("TTC = v/(2μg)")
-                          : fmt::format("TTC = {} s + v/(2μg)", plot_number(latency_s));
+                          : fmt::format("TTC = {:.3g} s + v/(2μg)", latency_s);
 }
 
 /// The dashed analytic stop boundary TTC = L + v/(2μg) as a gnuplot function of the panel's x.
@@ -288,6 +297,53 @@ std::string cross_style(const MapLayout& layout, const MapPanel& p) {
   return fmt::format("pt 2 ps {:.2f} lw 1.5 lc rgb 'black'", size);
 }
 
+/// A panel's cells in their region colours, undecided O/R cells crossed: its plot items, appended
+/// to `data` as datablocks; one CSV row per cell (cell_columns, then evidence) appended to `rows`.
+struct RegionPanel {
+  std::vector<std::string> layers;
+  std::string shares;  ///< "G 44.5 %, Y …, R … of 1165 feasible[, 12 undecided]"
+};
+RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector<core::Row>& rows, std::string& data) {
+  const auto regions = campaign::count_regions(p.cells, p.spec.grid);  // throws on a corrupt region
+  std::vector<std::string> lines, crosses;
+  for (const auto& c : p.cells) {
+    core::Row row = cell_columns(p, c);
+    row.push_back(c.feasible ? c.evidence : std::string());
+    lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(row[6]))));
+    if (is_undecided(c))
+      crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
+    rows.push_back(std::move(row));
+  }
+  RegionPanel out;
+  const std::string block = fmt::format("map_{}", p.spec.letter);
+  data += datablock(block, lines);
+  out.layers.push_back(boxes(block, "rgb variable"));
+  if (!crosses.empty()) {
+    const std::string cross_block = fmt::format("undecided_{}", p.spec.letter);
+    data += datablock(cross_block, crosses);
+    out.layers.push_back(fmt::format("${} using 1:2 with points {} notitle", cross_block, cross_style(layout, p)));
+  }
+  const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
+  out.shares = regions.feasible == 0 ? std::string("no feasible cell")
+                                     : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g),
+                                                   share(regions.y), share(regions.o), share(regions.r),
+                                                   regions.feasible);
+  if (!crosses.empty()) out.shares += fmt::format(", {} undecided", crosses.size());
+  return out;
+}
+
+/// The key of a region map: the regions, the stop boundary (`boundary` its label), and the cross
+/// when some cell is undecided.
+std::vector<std::string> region_key(const std::string& boundary, bool undecided) {
+  std::vector<std::string> key;
+  for (const auto& s : kRegions)
+    key.push_back(
+        fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
+  key.push_back(fmt::format("NaN {} title {}", kBoundaryStyle, single_quoted(boundary)));
+  if (undecided) key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
+  return key;
+}
+
 }  // namespace
 
 // --- the mitigability map -----------------------------------------------------------------------
@@ -317,34 +373,9 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   std::vector<std::string> caption_parts;
   std::string data, panel_plots;
   for (const MapPanel& p : layout.panels) {
-    const auto regions = campaign::count_regions(records, p.spec.grid);  // throws on a corrupt region
-    std::vector<std::string> lines, crosses;
-    for (const auto& c : p.cells) {
-      core::Row row = cell_columns(p, c);
-      row.push_back(c.feasible ? c.evidence : std::string());
-      lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(row[6]))));
-      if (is_undecided(c))
-        crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
-      rows.push_back(std::move(row));
-    }
-    const std::string block = fmt::format("map_{}", p.spec.letter);
-    data += datablock(block, lines);
-    std::vector<std::string> layers{boxes(block, "rgb variable")};
-    if (!crosses.empty()) {
-      const std::string cross_block = fmt::format("undecided_{}", p.spec.letter);
-      data += datablock(cross_block, crosses);
-      layers.push_back(fmt::format("${} using 1:2 with points {} notitle", cross_block, cross_style(layout, p)));
-    }
-
-    const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
-    std::string shares =
-        regions.feasible == 0
-            ? std::string("no feasible cell")
-            : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
-                          share(regions.o), share(regions.r), regions.feasible);
-    if (!crosses.empty()) shares += fmt::format(", {} undecided", crosses.size());
-    caption_parts.push_back(panel_caption(p, shares));
-    panel_plots += panel_script(layout, p, shares, layers, latency_s);
+    const RegionPanel drawn = region_panel(layout, p, rows, data);
+    caption_parts.push_back(panel_caption(p, drawn.shares));
+    panel_plots += panel_script(layout, p, drawn.shares, drawn.layers, latency_s);
   }
 
   figure.note = core::join(layout.missing, "; ");
@@ -366,13 +397,7 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
       evidence);
   write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
 
-  std::vector<std::string> key;
-  for (const auto& s : kRegions)
-    key.push_back(
-        fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
-  key.push_back(boundary_key_entry(latency_s));
-  if (undecided > 0)
-    key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
+  const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
   const std::string body =
       map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells), panel_plots, key,
                  undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
@@ -476,6 +501,60 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs:
   const std::string body = map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)",
                                                           layout.total_cells),
                                       scale + panel_plots, key, 1, 0, 0.035);
+  render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
+  return figure;
+}
+
+// --- the map under each actuation profile ---------------------------------------------------------
+
+Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
+                         const std::vector<std::vector<CellRecord>>& records, const std::string& grid,
+                         const fs::path& dir) {
+  Figure figure;
+  figure.name = "regions_by_profile";
+  figure.title = "Mitigability regions under each actuation profile";
+  const std::size_t shown = std::min<std::size_t>({runs.size(), records.size(), 4});
+  std::vector<std::string> names;  // the panels' specs view these
+  names.reserve(shown);
+  for (std::size_t i = 0; i < shown; ++i) names.push_back("profile " + runs[i].name);
+  MapLayout layout = empty_layout(0.08);
+  std::vector<std::size_t> run_of;  // the run each drawn panel shows
+  for (std::size_t i = 0; i < shown; ++i) {
+    add_panel(layout, i, {static_cast<char>('a' + i), grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, names[i]}, records[i]);
+    if (layout.panels.size() > run_of.size()) run_of.push_back(i);
+  }
+  if (layout.panels.empty()) {
+    figure.note = fmt::format("no profile sweep of grid '{}' in this folder (emrm reproduce writes them)", grid);
+    return figure;
+  }
+  std::vector<core::Row> rows;
+  std::vector<std::string> caption_parts;
+  std::string data, panel_plots;
+  bool undecided = false;
+  for (std::size_t k = 0; k < layout.panels.size(); ++k) {
+    const MapPanel& p = layout.panels[k];
+    const campaign::ProfileRun& run = runs[run_of[k]];
+    const auto& a = run.actuation;
+    const double latency_s = a.perception_latency_s + a.brake_dead_time_s + 0.5 * a.brake_ramp_s;
+    const std::size_t before = rows.size();
+    const RegionPanel drawn = region_panel(layout, p, rows, data);
+    for (std::size_t r = before; r < rows.size(); ++r) rows[r].insert(rows[r].begin() + 1, run.name);
+    undecided = undecided || drawn.layers.size() > 1;
+    caption_parts.push_back(panel_caption(p, fmt::format("{}; {}; stop boundary {}", drawn.shares, a.summary(),
+                                                         boundary_text(latency_s))));
+    panel_plots += panel_script(layout, p, drawn.shares, drawn.layers, latency_s);
+  }
+  if (runs.size() > shown) figure.note = fmt::format("{} profiles; the first {} are drawn", runs.size(), shown);
+  figure.title = fmt::format(
+      "The fine map under each actuation profile (docs/actuation.md): {}. Colours as in the mitigability map; each "
+      "panel's dashed line is its own stop boundary (perception latency, brake dead time and half the ramp before "
+      "v/(2μg)).",
+      core::join(caption_parts, "; "));
+  write_csv(figure, dir, {"panel", "profile", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"},
+            rows);
+  const std::string body = map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
+                                      region_key("stop boundary of the profile", undecided), 2, undecided ? 0 : -6,
+                                      layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }

@@ -12,6 +12,7 @@
 
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/campaign/diagnostics.hpp"
+#include "emrm/campaign/profiles.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
@@ -65,7 +66,8 @@ std::vector<TableFile> read_tables(const fs::path& dir) {
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir / "tables"))
     if (entry.path().extension() == ".csv" && entry.path().stem() != "kpis") names.push_back(entry.path().stem());
-  const std::vector<std::string> order{"emrm_vs_baseline", "by_parameter", "regions", "claims", "coverage"};
+  const std::vector<std::string> order{"emrm_vs_baseline", "by_parameter", "regions", "regions_by_profile", "claims",
+                                       "coverage"};
   std::sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
     const auto rank = [&](const std::string& n) { return std::find(order.begin(), order.end(), n) - order.begin(); };
     return std::pair(rank(a), a) < std::pair(rank(b), b);
@@ -425,6 +427,13 @@ ReportSummary write_report(const fs::path& dir) {
   summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
+  if (auto runs = campaign::read_profile_index(dir); !runs.empty()) {
+    std::error_code ec;
+    std::erase_if(runs, [&](const campaign::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
+    std::vector<std::vector<campaign::CellRecord>> per_profile;
+    for (const auto& run : runs) per_profile.push_back(campaign::read_results(dir / run.store));
+    summary.figures.push_back(draw_profile_maps(runs, per_profile, grid, figures_dir));
+  }
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/profiles.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/coverage.hpp"
@@ -76,6 +77,14 @@ Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& rep
 /// of scenarios that trace to it (or a mark when the link exists and no scenario is known).
 /// CSV: uca, hazard, losses, scenarios.
 Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const std::filesystem::path& dir);
+
+/// (1c) The headline grid under each actuation profile side by side (docs/actuation.md, "Profiles
+/// side by side"): the mitigability map's colours and crosses, one speed × TTC panel per profile
+/// (records[i] are runs[i]'s; at most four, in the 2×2 layout), each with its own dashed stop
+/// boundary. CSV columns: panel, profile, grid, speed_kph, ttc_s, mu, passage_m, region, evidence.
+Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
+                         const std::vector<std::vector<campaign::CellRecord>>& records, const std::string& grid,
+                         const std::filesystem::path& dir);
 
 /// The brakes' sensitivity (docs/actuation.md, "Sensitivity"): G of `grid` against the brake dead
 /// time (0–0.6 s) and the peak deceleration (10–4 m/s²), one changed at a time from `actuation`,

@@ -1,0 +1,147 @@
+#include "emrm/campaign/profiles.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "emrm/campaign/aggregate.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/core/yaml.hpp"
+
+namespace emrm::campaign {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool same(const sim::ActuationConfig& a, const sim::ActuationConfig& b) {
+  return a.perception_latency_s == b.perception_latency_s && a.brake_dead_time_s == b.brake_dead_time_s &&
+         a.brake_ramp_s == b.brake_ramp_s && a.max_decel_mps2 == b.max_decel_mps2 &&
+         a.steer_dead_time_s == b.steer_dead_time_s && a.steer_time_constant_s == b.steer_time_constant_s;
+}
+
+fs::path scene_dir(const Campaign& campaign) {
+  const fs::path campaign_dir = fs::path(campaign.file).parent_path();
+  if (!campaign.scene_file) return campaign_dir;
+  const fs::path scene = *campaign.scene_file;
+  return (scene.is_relative() ? campaign_dir / scene : scene).parent_path();
+}
+
+}  // namespace
+
+std::vector<fs::path> scene_profiles(const Campaign& campaign) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(scene_dir(campaign) / "profiles", ec))
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<ProfileRun> sweep_profiles(const Campaign& campaign, const std::string& grid,
+                                       const std::vector<fs::path>& profiles, const SweepOptions& options) {
+  Campaign one = campaign;
+  std::erase_if(one.grids, [&](const GridSpec& g) { return g.name != grid; });
+  if (one.grids.empty()) throw UsageError(fmt::format("the campaign {} has no grid '{}'", campaign.file, grid));
+  std::vector<ProfileRun> runs;
+  nlohmann::ordered_json index = nlohmann::ordered_json::array();
+  for (const fs::path& file : profiles) {
+    ProfileRun run;
+    run.name = file.stem().string();
+    const core::YamlNode root = core::YamlNode::load_file(file);
+    if (root.is_map())
+      if (const auto d = root.find("description")) run.description = d->as_string();
+    Campaign under = one;
+    sim::apply_profile(under.scene, file.string(), file.parent_path());
+    run.actuation = under.scene.actuation;
+    if (same(run.actuation, campaign.scene.actuation)) {
+      run.reused = true;
+      run.store = "results.sqlite";
+    } else {
+      run.store = fs::path("profiles") / run.name / "results.sqlite";
+      SweepOptions o = options;
+      o.output_dir = options.output_dir / "profiles" / run.name;
+      const SweepSummary s = sweep(under, o);
+      run.simulated = s.cells_simulated;
+      run.seconds = s.seconds;
+    }
+    index.push_back({{"name", run.name},
+                     {"description", run.description},
+                     {"actuation",
+                      {{"perception_latency_s", run.actuation.perception_latency_s},
+                       {"brake_dead_time_s", run.actuation.brake_dead_time_s},
+                       {"brake_ramp_s", run.actuation.brake_ramp_s},
+                       {"max_decel_mps2", run.actuation.max_decel_mps2},
+                       {"steer_dead_time_s", run.actuation.steer_dead_time_s},
+                       {"steer_time_constant_s", run.actuation.steer_time_constant_s}}},
+                     {"store", run.store.generic_string()},
+                     {"reused", run.reused}});
+    runs.push_back(std::move(run));
+  }
+  core::write_file(options.output_dir / "profiles" / "index.json", index.dump(2) + "\n");
+  return runs;
+}
+
+std::vector<ProfileRun> read_profile_index(const fs::path& dir) {
+  const fs::path file = dir / "profiles" / "index.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return {};
+  std::vector<ProfileRun> runs;
+  try {
+    const auto index = nlohmann::json::parse(core::read_input_file(file));
+    for (const auto& e : index) {
+      ProfileRun run;
+      run.name = e.at("name").get<std::string>();
+      run.description = e.at("description").get<std::string>();
+      const auto& a = e.at("actuation");
+      run.actuation.perception_latency_s = a.at("perception_latency_s").get<double>();
+      run.actuation.brake_dead_time_s = a.at("brake_dead_time_s").get<double>();
+      run.actuation.brake_ramp_s = a.at("brake_ramp_s").get<double>();
+      run.actuation.max_decel_mps2 = a.at("max_decel_mps2").get<double>();
+      run.actuation.steer_dead_time_s = a.at("steer_dead_time_s").get<double>();
+      run.actuation.steer_time_constant_s = a.at("steer_time_constant_s").get<double>();
+      run.store = e.at("store").get<std::string>();
+      run.reused = e.at("reused").get<bool>();
+      runs.push_back(std::move(run));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError({file.string(), 1, 1}, fmt::format("not a profile index written by emrm reproduce: {}", e.what()));
+  }
+  return runs;
+}
+
+core::Table profiles_table(const std::vector<ProfileRun>& runs, const std::vector<std::vector<CellRecord>>& records,
+                           const PaperReference& paper, const std::string& grid) {
+  core::Table t;
+  t.title = fmt::format("Regions of grid '{}' under each actuation profile (percent of feasible cells)", grid);
+  t.header = {"profile", "actuation", "feasible", "G (%)", "Y (%)", "O (%)", "R (%)", "O/R certified", "O/R undecided"};
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const RegionCounts c = count_regions(records[i], grid);
+    std::size_t certified = 0, undecided = 0;
+    for (const auto& r : records[i]) {
+      if (r.grid != grid || !r.feasible || (r.region != "O" && r.region != "R")) continue;
+      certified += r.evidence == "certificate";
+      undecided += r.evidence == "undecided";
+    }
+    t.rows.push_back({runs[i].name + (runs[i].reused ? " (this scene)" : ""), runs[i].actuation.summary(),
+                      std::to_string(c.feasible), core::format_number(c.pct(c.g), 1), core::format_number(c.pct(c.y), 1),
+                      core::format_number(c.pct(c.o), 1), core::format_number(c.pct(c.r), 1), std::to_string(certified),
+                      std::to_string(undecided)});
+  }
+  if (paper.fine_grid.grid == grid) {
+    const auto& p = paper.fine_grid.regions_pct;
+    t.rows.push_back({"the paper's map", "its own model, not stated", std::to_string(paper.fine_grid.feasible_cells), core::format_number(p.g, 1),
+                      core::format_number(p.y, 1), core::format_number(p.o, 1), core::format_number(p.r, 1),
+                      std::string(core::kNoValue), std::string(core::kNoValue)});
+  }
+  t.notes.push_back(
+      "Each profile overlays the scene's actuation (examples/tjunction/profiles/, docs/actuation.md); every other "
+      "setting, the cells and the seeds are the same. G moves with the stop's closed form (perception latency, brake "
+      "dead time, ramp, cap); Y, O and R also with the steering actuator, which delays and slows every evasive "
+      "maneuver. The `paper` profile is fitted by `emrm calibrate --regions` to the paper's G alone, so its G matches "
+      "by construction and its Y, O and R are the test of the explanation.");
+  return t;
+}
+
+}  // namespace emrm::campaign
