@@ -59,6 +59,10 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
   EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("Actuation: perception latency 0.25 s"));
   // And the brakes' sensitivity table is among them.
   EXPECT_TRUE(fs::exists(*out_ / "tables" / "brake_sensitivity.csv"));
+  // The map under each profile, side by side, one panel and CSV block per profile.
+  EXPECT_TRUE(fs::exists(*out_ / "figures" / "regions_by_profile.png"));
+  const std::string csv = read_text(*out_ / "figures" / "regions_by_profile.csv");
+  for (const char* profile : {",ideal,", ",paper,", ",production,"}) EXPECT_THAT(csv, HasSubstr(profile));
 }
 
 TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -99,6 +100,19 @@ TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
   }
   EXPECT_EQ(feasible, 7);
   EXPECT_EQ(green, 2);  // (30, 1.0), (30, 2.0); (50, 1.0) needs 16.4 m and has 13.9
+
+  // The fine grid under every profile of the example's profiles/ folder: production is the scene
+  // (its store reused), ideal and paper are swept; under ideal, G is the instant stop's.
+  const auto index = nlohmann::json::parse(read_text(out / "profiles/index.json"));
+  ASSERT_EQ(index.size(), 3u);
+  std::map<std::string, bool> reused;
+  for (const auto& e : index) reused[e["name"].get<std::string>()] = e["reused"].get<bool>();
+  EXPECT_EQ(reused, (std::map<std::string, bool>{{"ideal", false}, {"paper", false}, {"production", true}}));
+  int ideal_green = 0;
+  for (const auto& row : csv_rows(out / "profiles/ideal/regions.csv")) ideal_green += row.size() > 7 && row[7] == "G";
+  EXPECT_EQ(ideal_green, 3);  // (30, 1.0), (30, 2.0), (50, 1.0): TTC >= v/(2 mu g)
+  EXPECT_EQ(csv_rows(out / "tables/regions_by_profile.csv").size(), 5u);  // header, 3 profiles, the paper
+  EXPECT_THAT(r.out, HasSubstr("profiles  grid 'fine' per profile"));
 
   // A rerun resumes: nothing is simulated again, and the plan is the same.
   const std::string planned = read_text(out / "plan/scenarios.csv");

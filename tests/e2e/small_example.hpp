@@ -54,6 +54,7 @@ inline std::filesystem::path small_example(const std::string& name) {
   for (const char* file :
        {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml", "scene.yaml", "paper_reference.yaml"})
     std::filesystem::copy_file(example(file), dir / file);
+  std::filesystem::copy(example("profiles"), dir / "profiles");
   write_text(dir / "campaign.yaml", kSmallCampaign);
   write_text(dir / "odd.yaml", kSmallOdd);
   return dir;
