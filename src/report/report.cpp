@@ -392,19 +392,17 @@ std::vector<safety::TraceRow> read_traceability_csv(const fs::path& path) {
 
 namespace {
 
-// Which actuation made the results (docs/actuation.md): every figure and table of the report is
-// under it.
-std::string actuation_html(const sim::ActuationConfig& a) {
-  if (a.instant() && a.perception_latency_s == 0.0)
-    return "<p>Actuation: instant (no perception latency, no brake or steering dynamics; the <code>ideal</code> "
-           "profile). Every figure and table below is under it.</p>\n";
+// Which actuation made the results (docs/actuation.md), with the name of the profile it is when
+// `reproduce` swept the profiles side by side: every figure and table of the report is under it,
+// but the per-profile figure, whose panels name their own.
+std::string actuation_html(const sim::ActuationConfig& a, const std::vector<campaign::ProfileRun>& profiles) {
+  std::string name;
+  for (const auto& p : profiles)
+    if (p.reused) name = fmt::format(" (the <code>{}</code> profile)", html_escape(p.name));
   return fmt::format(
-      "<p>Actuation: perception latency {:g} s, brake dead time {:g} s, brake ramp {:g} s, deceleration cap {}, "
-      "steering dead time {:g} s, steering lag {:g} s (docs/actuation.md). Every figure and table below is under "
-      "it.</p>\n",
-      a.perception_latency_s, a.brake_dead_time_s, a.brake_ramp_s,
-      a.max_decel_mps2 > 0.0 ? fmt::format("{:g} m/s²", a.max_decel_mps2) : std::string("none (μg)"),
-      a.steer_dead_time_s, a.steer_time_constant_s);
+      "<p>Actuation: {}{} (docs/actuation.md). Every figure and table below is under it{}.</p>\n",
+      a.instant() && a.perception_latency_s == 0.0 ? std::string("instant (no perception latency, no brake or steering dynamics)") : html_escape(a.summary()),
+      name, profiles.empty() ? "" : ", but the map under each profile and its table, which name theirs");
 }
 
 }  // namespace
@@ -488,7 +486,7 @@ ReportSummary write_report(const fs::path& dir) {
       "configuration {}); this report by emrm {}.</p>\n",
       html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
-  html += actuation_html(scene.actuation);
+  html += actuation_html(scene.actuation, campaign::read_profile_index(dir));
   html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
           "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
           "<li><a href=\"#verification\">Verification</a></li>"

@@ -57,6 +57,7 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
   EXPECT_TRUE(fs::exists(*out_ / "report.html"));
   // It says which actuation made its figures and tables (the shipped scene's: the production car).
   EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("Actuation: perception latency 0.25 s"));
+  EXPECT_THAT(read_text(*out_ / "report.html"), HasSubstr("(the <code>production</code> profile)"));
   // And the brakes' sensitivity table is among them.
   EXPECT_TRUE(fs::exists(*out_ / "tables" / "brake_sensitivity.csv"));
   // The map under each profile, side by side, one panel and CSV block per profile.
