@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <nlopt.hpp>
 #include <set>
 
@@ -44,19 +45,35 @@ const Calibratable& calibratable(const std::string& name) {
 
 double& parameter(sim::ActuationConfig& a, const std::string& name) { return a.*calibratable(name).field; }
 
+// Every objective value computed, by point. In a problem of one coordinate each is a point of the
+// profile already, so the interval's ends are bracketed by them before bisecting.
+using Evaluations = std::map<std::vector<double>, double>;
+
 // 95 % profile-likelihood interval of coordinate `i`: where n·ln(SSE_profile/SSE_min) ≤ χ²(1), or
 // for a χ² objective where χ²_profile − χ²_min ≤ χ²(1).
-std::pair<double, double> profile_interval(const Problem& p, const Optimum& at, std::size_t i) {
+std::pair<double, double> profile_interval(const Problem& p, const Optimum& at, std::size_t i, const Evaluations& seen) {
   const double n = static_cast<double>(p.observations);
   const double floor_sse = std::max(at.sse, 1e-18 * n);
-  const auto excess = [&](double value) {
-    const Optimum o = fit::minimise(p, {{i, value}}, at.x, false);
-    return (p.chi_square ? o.sse - at.sse : n * std::log(std::max(o.sse, floor_sse) / floor_sse)) - kChi2_95;
+  const auto excess_of = [&](double sse) {
+    return (p.chi_square ? sse - at.sse : n * std::log(std::max(sse, floor_sse) / floor_sse)) - kChi2_95;
   };
+  const auto excess = [&](double value) { return excess_of(fit::minimise(p, {{i, value}}, at.x, false).sse); };
   const auto side = [&](double bound) {
-    if (excess(bound) <= 0.0) return bound;
     double inside = at.x[i];
     double outside = bound;
+    bool outside_known = false;
+    if (p.low.size() == 1) {
+      const auto distance = [&](double x) { return (x - at.x[i]) * (bound > at.x[i] ? 1.0 : -1.0); };
+      for (const auto& [x, sse] : seen)
+        if (distance(x[0]) > 0.0 && distance(x[0]) < distance(outside) && excess_of(sse) > 0.0) {
+          outside = x[0];
+          outside_known = true;
+        }
+      for (const auto& [x, sse] : seen)
+        if (distance(x[0]) > distance(inside) && distance(x[0]) < distance(outside) && excess_of(sse) <= 0.0)
+          inside = x[0];
+    }
+    if (!outside_known && excess(bound) <= 0.0) return bound;
     const double tolerance = p.interval_tolerance * (p.high[i] - p.low[i]);
     for (int k = 0; k < 40 && std::abs(outside - inside) > tolerance; ++k) {
       const double mid = 0.5 * (inside + outside);
@@ -176,7 +193,13 @@ Optimum minimise(const Problem& p, const std::map<std::size_t, double>& fixed, c
   return best;
 }
 
-CalibrationResult solve(const Problem& p, const CalibrationRequest& request, bool check_correlations) {
+CalibrationResult solve(const Problem& problem, const CalibrationRequest& request, bool check_correlations) {
+  auto seen = std::make_shared<Evaluations>();
+  Problem p = problem;
+  p.sse = [f = problem.sse, seen](const std::vector<double>& x) {
+    if (const auto it = seen->find(x); it != seen->end()) return it->second;
+    return (*seen)[x] = f(x);
+  };
   std::vector<double> guess;
   for (std::size_t i = 0; i < p.low.size(); ++i) guess.push_back(0.5 * (p.low[i] + p.high[i]));
   const Optimum best = minimise(p, {}, guess);
@@ -190,7 +213,7 @@ CalibrationResult solve(const Problem& p, const CalibrationRequest& request, boo
     const std::string& name = request.fit[i];
     FittedValue v;
     v.value = best.x[i];
-    std::tie(v.ci_low, v.ci_high) = profile_interval(p, best, i);
+    std::tie(v.ci_low, v.ci_high) = profile_interval(p, best, i, *seen);
     const double span = p.high[i] - p.low[i];
     const bool at_low = v.ci_low <= p.low[i] + 1e-9 * span;
     const bool at_high = v.ci_high >= p.high[i] - 1e-9 * span;
