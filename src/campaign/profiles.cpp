@@ -9,6 +9,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
+#include "emrm/sim/json.hpp"
 
 namespace emrm::campaign {
 namespace {
@@ -68,13 +69,7 @@ std::vector<ProfileRun> sweep_profiles(const Campaign& campaign, const std::stri
     }
     index.push_back({{"name", run.name},
                      {"description", run.description},
-                     {"actuation",
-                      {{"perception_latency_s", run.actuation.perception_latency_s},
-                       {"brake_dead_time_s", run.actuation.brake_dead_time_s},
-                       {"brake_ramp_s", run.actuation.brake_ramp_s},
-                       {"max_decel_mps2", run.actuation.max_decel_mps2},
-                       {"steer_dead_time_s", run.actuation.steer_dead_time_s},
-                       {"steer_time_constant_s", run.actuation.steer_time_constant_s}}},
+                     {"actuation", sim::to_json(run.actuation)},
                      {"store", run.store.generic_string()},
                      {"reused", run.reused}});
     runs.push_back(std::move(run));
@@ -94,13 +89,7 @@ std::vector<ProfileRun> read_profile_index(const fs::path& dir) {
       ProfileRun run;
       run.name = e.at("name").get<std::string>();
       run.description = e.at("description").get<std::string>();
-      const auto& a = e.at("actuation");
-      run.actuation.perception_latency_s = a.at("perception_latency_s").get<double>();
-      run.actuation.brake_dead_time_s = a.at("brake_dead_time_s").get<double>();
-      run.actuation.brake_ramp_s = a.at("brake_ramp_s").get<double>();
-      run.actuation.max_decel_mps2 = a.at("max_decel_mps2").get<double>();
-      run.actuation.steer_dead_time_s = a.at("steer_dead_time_s").get<double>();
-      run.actuation.steer_time_constant_s = a.at("steer_time_constant_s").get<double>();
+      run.actuation = sim::actuation_from_json(e.at("actuation"), file.string() + ": " + run.name);
       run.store = e.at("store").get<std::string>();
       run.reused = e.at("reused").get<bool>();
       runs.push_back(std::move(run));

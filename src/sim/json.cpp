@@ -102,13 +102,7 @@ nlohmann::json to_json(const Certificate& c) {
             {"passage_m", c.cell.passage_m},
             {"truck_speed_kph", c.cell.truck_speed_kph}}},
           {"latency_s", c.latency_s},
-          {"actuation",
-           {{"perception_latency_s", c.actuation.perception_latency_s},
-            {"brake_dead_time_s", c.actuation.brake_dead_time_s},
-            {"brake_ramp_s", c.actuation.brake_ramp_s},
-            {"max_decel_mps2", c.actuation.max_decel_mps2},
-            {"steer_dead_time_s", c.actuation.steer_dead_time_s},
-            {"steer_time_constant_s", c.actuation.steer_time_constant_s}}}};
+          {"actuation", to_json(c.actuation)}};
 }
 
 Certificate certificate_from_json(const nlohmann::json& j, const std::string& where) {
@@ -129,14 +123,20 @@ Certificate certificate_from_json(const nlohmann::json& j, const std::string& wh
   c.latency_s = number(j, "latency_s", where);
   // Certificates written before actuators existed were made for instant actuation.
   c.actuation.perception_latency_s = c.latency_s;
-  if (j.contains("actuation")) {
-    const auto& a = member(j, "actuation", where);
-    const std::string in = where + ": actuation";
-    c.actuation = {number(a, "perception_latency_s", in), number(a, "brake_dead_time_s", in),
-                   number(a, "brake_ramp_s", in),         number(a, "max_decel_mps2", in),
-                   number(a, "steer_dead_time_s", in),    number(a, "steer_time_constant_s", in)};
-  }
+  if (j.contains("actuation")) c.actuation = actuation_from_json(member(j, "actuation", where), where + ": actuation");
   return c;
+}
+
+nlohmann::json to_json(const ActuationConfig& a) {
+  return {{"perception_latency_s", a.perception_latency_s}, {"brake_dead_time_s", a.brake_dead_time_s},
+          {"brake_ramp_s", a.brake_ramp_s},                 {"max_decel_mps2", a.max_decel_mps2},
+          {"steer_dead_time_s", a.steer_dead_time_s},       {"steer_time_constant_s", a.steer_time_constant_s}};
+}
+
+ActuationConfig actuation_from_json(const nlohmann::json& a, const std::string& where) {
+  return {number(a, "perception_latency_s", where), number(a, "brake_dead_time_s", where),
+          number(a, "brake_ramp_s", where),         number(a, "max_decel_mps2", where),
+          number(a, "steer_dead_time_s", where),    number(a, "steer_time_constant_s", where)};
 }
 
 nlohmann::json to_json(const Maneuver& maneuver) {

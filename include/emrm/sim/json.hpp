@@ -18,6 +18,12 @@ struct JsonOptions {
 [[nodiscard]] nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed,
                                      const JsonOptions& options = {});
 
+/// An actuation as JSON: its six keys, every number to full precision.
+[[nodiscard]] nlohmann::json to_json(const ActuationConfig& actuation);
+/// The actuation back from that JSON. Throws InputError naming `where` and the key when a member is
+/// missing, of the wrong type or not finite.
+[[nodiscard]] ActuationConfig actuation_from_json(const nlohmann::json& j, const std::string& where);
+
 /// A certificate as JSON, every number to full precision (check_certificate re-derives it).
 [[nodiscard]] nlohmann::json to_json(const Certificate& certificate);
 /// The certificate back from that JSON. Throws InputError naming `where` and the key when a member

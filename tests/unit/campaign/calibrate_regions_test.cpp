@@ -5,9 +5,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <functional>
 #include <string>
 
 #include "emrm/campaign/aggregate.hpp"
@@ -122,53 +119,6 @@ TEST(CalibrateRegions, BadRequestsAreSaid) {
   EXPECT_THROW((void)calibrate_regions(c, g, {"G", "G"}, request), UsageError);
   request.fit = {"steer_rate"};
   EXPECT_THROW((void)calibrate_regions(c, g, {}, request), UsageError);
-}
-
-class RegionTargetFiles : public ::testing::Test {
- protected:
-  std::filesystem::path write(const std::string& name, const std::string& text) {
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "emrm-calibrate-regions-test";
-    std::filesystem::create_directories(dir);
-    std::ofstream(dir / name) << text;
-    return dir / name;
-  }
-  static std::string error_of(const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "no error";
-  }
-};
-
-TEST_F(RegionTargetFiles, OwnAndPaperShapesAreRead) {
-  const RegionTarget own = read_region_target(write("own.yaml", "grid: fine\nregions_pct: {G: 40, R: 20}\n"));
-  EXPECT_EQ(own.grid, "fine");
-  EXPECT_EQ(own.pct.size(), 2u);
-  EXPECT_DOUBLE_EQ(own.pct.at("R"), 20.0);
-  const RegionTarget paper = read_region_target(write(
-      "paper.yaml", "version: 1\nfine_grid:\n  grid: fine\n  feasible_cells: 10\n  regions_pct: {G: 40, Y: 30, O: 10, R: 20}\n"));
-  EXPECT_EQ(paper.pct.size(), 4u);
-  EXPECT_EQ(paper.grid_at.line, 3);
-}
-
-TEST_F(RegionTargetFiles, BadFieldsAreNamedWithLineAndColumn) {
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("r.yaml", "grid: fine\nregions_pct: {G: 40, B: 2}\n")); }),
-              HasSubstr("r.yaml:2:22: error: regions_pct: unknown region 'B'"));
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("p.yaml", "grid: fine\nregions_pct: {G: 140}\n")); }),
-              HasSubstr("p.yaml:2:18: error: regions_pct.G: expected a percentage in [0, 100], got 140"));
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("n.yaml", "grid: fine\nregions_pct: {G: .nan}\n")); }),
-              HasSubstr("n.yaml:2:18"));
-  EXPECT_THAT(error_of([&] {
-                (void)read_region_target(write("s.yaml", "grid: fine\nregions_pct: {G: 40, Y: 30, O: 10, R: 10}\n"));
-              }),
-              HasSubstr("s.yaml:2:14: error: regions_pct: G + Y + O + R must be 100"));
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("g.yaml", "regions_pct: {G: 40}\n")); }),
-              HasSubstr("g.yaml:1:1: error: missing field 'grid'"));
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("k.yaml", "grid: a\nregion_pct: {G: 4}\n")); }),
-              HasSubstr("k.yaml:2:1: error: unknown field 'region_pct'"));
-  EXPECT_THAT(error_of([&] { (void)read_region_target(write("y.yaml", "grid: [\n")); }), HasSubstr("y.yaml:"));
 }
 
 }  // namespace

@@ -179,5 +179,34 @@ TEST_F(CalibrateFiles, TraceFilesAreCheckedFieldByField) {
               HasSubstr("x.csv:2:5: error: speed_mps: expected a finite number"));
 }
 
+TEST_F(CalibrateFiles, RegionTargetsOfBothShapesAreRead) {
+  const RegionTarget own = read_region_target(write("own.yaml", "grid: fine\nregions_pct: {G: 40, R: 20}\n"));
+  EXPECT_EQ(own.grid, "fine");
+  EXPECT_EQ(own.pct.size(), 2u);
+  EXPECT_DOUBLE_EQ(own.pct.at("R"), 20.0);
+  const RegionTarget paper = read_region_target(write(
+      "paper.yaml", "version: 1\nfine_grid:\n  grid: fine\n  feasible_cells: 10\n  regions_pct: {G: 40, Y: 30, O: 10, R: 20}\n"));
+  EXPECT_EQ(paper.pct.size(), 4u);
+  EXPECT_EQ(paper.grid_at.line, 3);
+}
+
+TEST_F(CalibrateFiles, RegionTargetFieldsAreCheckedWithLineAndColumn) {
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("r.yaml", "grid: fine\nregions_pct: {G: 40, B: 2}\n")); }),
+              HasSubstr("r.yaml:2:22: error: regions_pct: unknown region 'B'"));
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("p.yaml", "grid: fine\nregions_pct: {G: 140}\n")); }),
+              HasSubstr("p.yaml:2:18: error: regions_pct.G: expected a percentage in [0, 100], got 140"));
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("n.yaml", "grid: fine\nregions_pct: {G: .nan}\n")); }),
+              HasSubstr("n.yaml:2:18"));
+  EXPECT_THAT(error_of([&] {
+                (void)read_region_target(write("s.yaml", "grid: fine\nregions_pct: {G: 40, Y: 30, O: 10, R: 10}\n"));
+              }),
+              HasSubstr("s.yaml:2:14: error: regions_pct: G + Y + O + R must be 100"));
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("g.yaml", "regions_pct: {G: 40}\n")); }),
+              HasSubstr("g.yaml:1:1: error: missing field 'grid'"));
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("k.yaml", "grid: a\nregion_pct: {G: 4}\n")); }),
+              HasSubstr("k.yaml:2:1: error: unknown field 'region_pct'"));
+  EXPECT_THAT(error_of([&] { (void)read_region_target(write("y.yaml", "grid: [\n")); }), HasSubstr("y.yaml:"));
+}
+
 }  // namespace
 }  // namespace emrm::campaign
