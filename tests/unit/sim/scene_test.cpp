@@ -274,7 +274,7 @@ void collect_keys(const YAML::Node& node, const std::string& prefix, std::set<st
 }
 
 // Every key, each at its built-in default but for the actuation: the shipped scene is the
-// production car (profiles/production.yaml), the built-in default instant (DESIGN.md).
+// production car (profiles/production.yaml), the built-in default instant (docs/decisions.md).
 TEST(SceneLoad, ShippedSceneWritesOutEveryDefault) {
   auto loaded = load_scene_config(kShippedScene);
   EXPECT_FALSE(loaded.actuation.instant());
