@@ -44,6 +44,8 @@ struct Setup {
   double near_x, truck_width, truck_length, y_min, y_max;
   // grips: forward rolling (C4) and in general
   double grip_f_fwd, grip_r_fwd, grip_any, total_grip;
+  // (C7a) the front's restoring force: its least grip rolling forwards, and its cornering stiffness
+  double grip_f_min, stiffness_f;
   const Scene* scene;
 };
 
@@ -106,6 +108,9 @@ inline Setup make_setup(const Scene& scene) {
   s.grip_any = s.total_grip;
   s.grip_f_fwd = monotone ? std::min(1.0, (s.lr + s.mu * s.h) / s.wheelbase) * s.total_grip : s.total_grip;
   s.grip_r_fwd = monotone ? s.lf / s.wheelbase * s.total_grip : s.total_grip;
+  // (C7a) With the same loads F_zf ≥ m g lr / L (the acceleration is at most 0); otherwise nothing.
+  s.grip_f_min = monotone ? s.lr / s.wheelbase * s.total_grip : 0.0;
+  s.stiffness_f = p.front_cornering_stiffness_n_per_rad;
   // (C5) A locked axle (mu Fz sin alpha) and the ABS floor (min(mu Fz, C tan alpha / 3)) stay under
   // the Fiala envelope of slope K as long as K ≥ 3 mu Fz.
   s.slope_f = std::max(p.front_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
@@ -144,8 +149,10 @@ inline Wheel wheel_bound(const Setup& c, double s) {
   return {std::min(c.delta_max, c.rho * (t - c.steer_lag * settle)), c.rho * settle};
 }
 
-// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`.
-inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
+// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`. `start`, when
+// given, is the bound at the start of the step the rates are for: the front's restoring force (C7a)
+// is taken at it (the least |w_f| bound on the step, so the least restoring force).
+inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, const Slip* start = nullptr) {
   Rates out;
   const Wheel wheel = wheel_bound(c, s);
   const double delta = wheel.angle;
@@ -191,6 +198,14 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
   // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
   out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
              (c.mu * c.g + z.r * v_cg) * sin_d;
+  if (start != nullptr) {
+    // (C7a) F_yf opposes w_f with at least the ABS floor min(mu F_zf, C_f |tan α_f| / 3) (rolling or
+    // braked; the front never locks), |tan α_f| ≥ |w_f| / (v0 + G_f sin Δ); it enters ẇ_f through
+    // v̇_f cos δ as a_f cos²δ F_yf. Kept nonnegative so every bound stays nondecreasing.
+    const double uf_hi = c.v0 + z.gf * sin_d;
+    const double floor = std::min(c.grip_f_min, c.stiffness_f * start->gw / (3.0 * uf_hi));
+    out.d.gw = std::max(0.0, out.d.gw - c.a_f * cos_d * cos_d * floor);
+  }
   // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
   out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
   out.d.psi = z.r;
@@ -276,17 +291,17 @@ class Bounder {
     const double s1 = s0 + w;
     Slip end = z_;
     if (valid_) {
-      Slip guess = advance(z_, rates_at(c_, s1, z_, true).d, 2.0 * w);
+      Slip guess = advance(z_, rates_at(c_, s1, z_, true, &z_).d, 2.0 * w);
       bool found = false;
       for (int tries = 0; tries < 60 && !found; ++tries) {
-        const Rates r = rates_at(c_, s1, guess, true);
+        const Rates r = rates_at(c_, s1, guess, true, &z_);
         if (!r.valid) break;
         const Slip next = advance(z_, r.d, w);
         if (at_most(next, guess)) {
           found = true;
           guess = next;
           for (int down = 0; down < 2; ++down) {
-            const Rates rd = rates_at(c_, s1, guess, true);
+            const Rates rd = rates_at(c_, s1, guess, true, &z_);
             if (!rd.valid) break;
             const Slip lower = advance(z_, rd.d, w);
             if (!at_most(lower, guess)) break;
@@ -363,6 +378,9 @@ class Bounder {
       if (unbraked)
         support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
                                         (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      // (C9a) The CG's acceleration is within mu·g in every direction (C2), so ÿ + lambda·b =
+      // (ẍ, ÿ)·(−lambda, 1) ≤ mu·g·√(1 + lambda²), whatever the heading.
+      if (f == Functional::kCg) support = std::min(support, c_.mu * c_.g * std::sqrt(1.0 + t.lambda * t.lambda));
       const double g = support + extra;
       t.s0.push_back(t.s0.back() + g * w);
       t.s1.push_back(t.s1.back() + g * w * mid);
