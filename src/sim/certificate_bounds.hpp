@@ -413,32 +413,34 @@ class Bounder {
     const bool unbraked = times_[k] <= c_.brake_dead;
     const double delta = wheel_bound(c_, times_[k]).angle;
     const double tan_delta = std::tan(delta);
-    // (C2b) Along the brake ramp |F_xf| ≤ ℓ·N_f, so |p_f| = |F_xf/cos δ − q_f tan δ| ≤ ℓ·N_f/cos δ + |q_f| tan δ;
-    // the rear may be locked (its whole disc).
     const double level = brake_level(c_, times_[k]);
     const double decel = decel_bound(c_, times_[k], std::sin(delta), b);
+    const double full = c_.mu * c_.g;
     for (Table& t : tables) {
       // The arrival constraint's braking, b ≤ (|p_f| + |p_r|)/m + (|q_f| + |q_r|)|sin ψ|/m.
       const double brake_q = t.lambda * b.sin_psi / c_.m;
       const double brake_p = t.lambda / c_.m;
-      double support = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
-                                         b.cap_f, b.cap_r, c_.total_grip);
-      if (unbraked)
-        support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
-                                        (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
-      else if (level < 1.0)
-        support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
-                                        (per_p + brake_p) * level * b.grip_f / std::cos(delta) +
-                                        AxleSupport(a_rear + brake_q, per_p + brake_p, b.cap_r).value(b.grip_r));
-      // (C9a) The CG's acceleration is within mu·g in every direction (C2) and its x-part within
-      // decel (C2a–C2b), so ÿ + lambda·b = (ẍ, ÿ)·(−lambda, 1) is at most mu·g·√(1 + lambda²), or
-      // with the x-part at its bound √((mu·g)² − decel²) + lambda·decel, whatever the heading.
+      const double per_q_front = a_front + brake_q;
+      const double per_p_all = per_p + brake_p;
+      double support = axle_pair_support(per_q_front, a_rear + brake_q, per_p_all, b.grip_f, b.grip_r, b.cap_f,
+                                         b.cap_r, c_.total_grip);
+      // The front through its lateral force only: |p_f| ≤ |q_f| tan δ, plus ℓ·N_f/cos δ along the
+      // brake ramp (C2b: p_f = F_xf/cos δ − q_f tan δ, |F_xf| ≤ ℓ·N_f).
+      const double front_steered = (per_q_front + per_p_all * tan_delta) * std::min(b.cap_f, b.grip_f);
+      if (unbraked)  // (C2a) and p_r = 0
+        support = std::min(support, front_steered + (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      else if (level < 1.0)  // (C2b) and the rear in its whole disc (it may be locked)
+        support = std::min(support, front_steered + per_p_all * level * b.grip_f / std::cos(delta) +
+                                        AxleSupport(a_rear + brake_q, per_p_all, b.cap_r).value(b.grip_r));
+      // (C10a) The CG's acceleration is within mu·g in every direction (C2) and its x-part within
+      // decel (C2a–C2b), so ÿ + lambda·b = (ẍ, ÿ)·(−lambda, 1) is at most mu·g·√(1 + lambda²),
+      // or with the x-part at its bound √((mu·g)² − decel²) + lambda·decel, whatever the heading.
       if (f == Functional::kCg) {
-        const double full = c_.mu * c_.g;
         const double unit = std::sqrt(1.0 + t.lambda * t.lambda);
-        support = std::min(support, full * t.lambda / unit <= decel
-                                        ? full * unit
-                                        : std::sqrt(std::max(0.0, full * full - decel * decel)) + t.lambda * decel);
+        const double disc = full * t.lambda / unit <= decel
+                                ? full * unit
+                                : std::sqrt(std::max(0.0, full * full - decel * decel)) + t.lambda * decel;
+        support = std::min(support, disc);
       }
       const double g = support + extra;
       t.s0.push_back(t.s0.back() + g * w);
