@@ -1,6 +1,6 @@
 // Unavoidability certificates: a sound bound on the reach of the single-track Fiala model in a
 // cell (docs/physics.md, "Unavoidability certificates", numbers every inequality used here as
-// (C1)…(C12)). The layout:
+// (C1)…(C12), with lettered additions such as (C2b) or (C10a)). The layout:
 // - the relaxation (C1–C4): coasting straight during the latency, then |a_CG| ≤ mu·g, speed ≤ v0,
 //   and the event "the CG first reaches x = xi" that every avoiding trajectory passes through;
 // - the comparison system (C5–C8): nondecreasing upper bounds, over time after the latency, on the

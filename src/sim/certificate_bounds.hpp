@@ -19,6 +19,7 @@
 namespace emrm::sim::certificate_bounds {
 
 using certificate_support::axle_pair_support;
+using certificate_support::AxleSupport;
 using certificate_support::fiala_cap;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -34,9 +35,12 @@ constexpr double kMinRollingSpeed_mps = 0.1;
 struct Setup {
   // car
   double m, iz, lf, lr, wheelbase, h, width, cf, cr, rho, delta_max;
-  // steering actuator (C3a): dead time, lag, and the simulator's step the wheel path is sampled at
+  // steering actuator (C1a): dead time, lag, and the simulator's step the wheel path is sampled at
   double steer_dead, steer_lag, steer_lead;
   double brake_dead;  // (C2a) no braking force until this long after the latency (one step's lead taken off)
+  // (C2b) the brake level's ramp: it starts rising at brake_ramp_start (the dead time less one
+  // step's lead, may be negative), at 1/brake_ramp per second (0: at once); the cap's share of mu·g
+  double brake_ramp_start, brake_ramp, brake_scale;
   double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
   double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
   // cell
@@ -44,6 +48,9 @@ struct Setup {
   double near_x, truck_width, truck_length, y_min, y_max;
   // grips: forward rolling (C4) and in general
   double grip_f_fwd, grip_r_fwd, grip_any, total_grip;
+  // (C7a) the front's restoring force: its least grip rolling forwards, and its cornering stiffness
+  double grip_f_min, stiffness_f;
+  bool monotone_loads;  // (C4) the load formula is monotone in the commanded braking
   const Scene* scene;
 };
 
@@ -61,6 +68,7 @@ struct Slip {  // comparison state: nondecreasing upper bounds
   double gw = 0.0;   // |w_f| front wheel's lateral velocity in its own frame
   double r = 0.0;    // |r|
   double psi = 0.0;  // |ψ|
+  double dv = 0.0;   // v0 − ẋ: the CG's lost x-velocity (C7b)
 };
 
 struct Rates {
@@ -89,23 +97,30 @@ inline Setup make_setup(const Scene& scene) {
   s.steer_dead = act.steer_dead_time_s;
   s.steer_lag = act.steer_time_constant_s;
   // With actuators the simulator moves the wheels linearly between its steps' ends, where they sit
-  // on the lagged response: one step's lead covers the chord (docs/physics.md, (C3a)).
+  // on the lagged response: one step's lead covers the chord (docs/physics.md, (C1a)).
   s.steer_lead = act.instant() ? 0.0 : c.simulation.dt_s;
   s.brake_dead = std::max(0.0, act.brake_dead_time_s - s.steer_lead);
+  s.brake_ramp_start = act.brake_dead_time_s - s.steer_lead;
+  s.brake_ramp = act.brake_ramp_s;
   s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
   s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
   s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
   s.mu = scene.cell().mu;
   s.g = kGravity_mps2;
+  s.brake_scale = std::min(1.0, act.full_decel_mps2(s.mu) / (s.mu * s.g));
   s.total_grip = s.mu * s.m * s.g;
   // (C4) Loads. With the body moving forward (u > 0, front wheel rolling forwards) every commanded
   // per-load braking is in [−mu, 0]; while mu·h < lf and mu·h < 3L/4 the load formula's
   // acceleration is increasing in both, so it lies in [−mu·g, 0]: Fzf ≤ m g (lr + mu h)/L and
   // Fzr ≤ m g lf / L. Otherwise only the clamp [0, m g] is used.
   const bool monotone = s.mu * s.h < s.lf && s.mu * s.h < 0.75 * s.wheelbase;
+  s.monotone_loads = monotone;
   s.grip_any = s.total_grip;
   s.grip_f_fwd = monotone ? std::min(1.0, (s.lr + s.mu * s.h) / s.wheelbase) * s.total_grip : s.total_grip;
   s.grip_r_fwd = monotone ? s.lf / s.wheelbase * s.total_grip : s.total_grip;
+  // (C7a) With the same loads F_zf ≥ m g lr / L (the acceleration is at most 0); otherwise nothing.
+  s.grip_f_min = monotone ? s.lr / s.wheelbase * s.total_grip : 0.0;
+  s.stiffness_f = p.front_cornering_stiffness_n_per_rad;
   // (C5) A locked axle (mu Fz sin alpha) and the ABS floor (min(mu Fz, C tan alpha / 3)) stay under
   // the Fiala envelope of slope K as long as K ≥ 3 mu Fz.
   s.slope_f = std::max(p.front_cornering_stiffness_n_per_rad, 3.0 * s.total_grip);
@@ -129,7 +144,7 @@ inline Setup make_setup(const Scene& scene) {
   return s;
 }
 
-// (C3a) Bounds on the road-wheel angle and its rate at time s after the perception latency: the
+// (C1a) Bounds on the road-wheel angle and its rate at time s after the perception latency: the
 // commanded angle moves at most at rho from zero; the wheels follow it after the dead time through
 // a first-order lag, whose response to that ramp is rho·(t − T(1 − e^(−t/T))) at rate
 // rho·(1 − e^(−t/T)) (the lag's kernel is positive and integrates to one, so it keeps both bounds).
@@ -144,14 +159,47 @@ inline Wheel wheel_bound(const Setup& c, double s) {
   return {std::min(c.delta_max, c.rho * (t - c.steer_lag * settle)), c.rho * settle};
 }
 
-// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`.
-inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
+// (C2b) The applied brake level at s after the latency is at most (s − t_b + h)/t_r (a step's mean
+// of a level rising at 1/t_r from the dead time), times the cap's share of mu·g.
+inline double brake_level(const Setup& c, double s) {
+  if (s <= c.brake_ramp_start) return 0.0;
+  if (c.brake_ramp <= 0.0) return c.brake_scale;
+  return std::min(1.0, (s - c.brake_ramp_start) / c.brake_ramp) * c.brake_scale;
+}
+
+// (C4a) The front's grip at s after the latency, rolling forwards. The load formula's acceleration is
+// increasing in both commanded per-load brakings (C4), the front's at least −mu·ℓ (ℓ the brake
+// level, (C2b)) and the rear's at least −mu (locked); its ABS pass brakes with |F_xf| ≤ ℓ·mu·F_zf
+// and |F_xr| ≤ mu·F_zr, F_zf ≥ m g lr/L: so |a| ≤ mu·g·(lf + ℓ·lr)/L and
+// F_zf ≤ m (g lr + |a| h)/L. Before the brakes act (no brake, no lock) a = 0.
+inline double front_grip(const Setup& c, double s) {
+  if (!c.monotone_loads) return c.grip_f_fwd;
+  const double decel = s <= c.brake_dead ? 0.0 : c.mu * c.g * (c.lf + brake_level(c, s) * c.lr) / c.wheelbase;
+  return std::min(c.grip_f_fwd, c.mu * c.m * (c.g * c.lr + decel * c.h) / c.wheelbase);
+}
+
+// (C2a–C2b) The CG's x-deceleration |ẍ| at s after the latency, for the wheel angle's and the
+// bounds' values `sin_delta` and `b` there: the front's lateral force through the wheel angle and
+// the lateral forces through the heading, plus, once the brakes act, the ramped front and the
+// (possibly locked) rear; at most mu·g.
+inline double decel_bound(const Setup& c, double s, double sin_delta, const Bound& b) {
+  const double full = c.mu * c.g;
+  double d = full * (sin_delta + b.sin_psi);
+  if (s > c.brake_dead) d += (brake_level(c, s) * b.grip_f + b.grip_r) / c.m;
+  return std::min(full, d);
+}
+
+// (C6–C8) The comparison system's rates at time s after the latency, for bounds `z`. `start`, when
+// given, is the bound at the start of the step the rates are for: the front's restoring force (C7a)
+// is taken at it (the least |w_f| bound on the step, so the least restoring force).
+inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, const Slip* start = nullptr) {
   Rates out;
   const Wheel wheel = wheel_bound(c, s);
   const double delta = wheel.angle;
   const double sin_d = std::sin(delta);
   const double cos_d = std::cos(delta);
-  const double speed_lo = std::max(0.0, c.v0 - c.mu * c.g * s);
+  // (C7b) The speed is at least ẋ ≥ v0 − ∫|ẍ| (C2a–C2b), and falls at most at mu·g (C3).
+  const double speed_lo = std::max(0.0, c.v0 - std::min(c.mu * c.g * s, z.dv));
   const double v_cg = (c.lr * z.gf + c.lf * z.gr) / c.wheelbase;  // |v| of the CG, body-lateral
   double u_lo = 0.0;
   double uf_lo = 0.0;
@@ -171,7 +219,7 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
     out.d.psi = z.r;
     return out;
   }
-  const double grip_f = c.grip_f_fwd;
+  const double grip_f = front_grip(c, s);
   const double grip_r = c.grip_r_fwd;
   // (C6) |q_f| = |Fx sin δ + Fy cos δ| with Fx² + Fy² ≤ grip², |Fy| ≤ Fiala(|w_f| / u_f).
   const auto front_component = [&](double lateral_cap) {
@@ -181,6 +229,7 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
   };
   out.b.grip_f = grip_f;
   out.b.grip_r = grip_r;
+  out.d.dv = decel_bound(c, s, sin_d, out.b);
   out.b.cap_f = front_component(fiala_cap(grip_f, c.slope_f, z.gw / uf_lo));
   out.b.cap_r = fiala_cap(grip_r, c.slope_r, z.gr / u_lo);
   // (C7) d|v_f|/dt: the lateral force only pushes v_f outwards while |w_f| ≤ u |sin δ|.
@@ -191,6 +240,14 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
   // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
   out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
              (c.mu * c.g + z.r * v_cg) * sin_d;
+  if (start != nullptr) {
+    // (C7a) F_yf opposes w_f with at least the ABS floor min(mu F_zf, C_f |tan α_f| / 3) (rolling or
+    // braked; the front never locks), |tan α_f| ≥ |w_f| / (v0 + G_f sin Δ); it enters ẇ_f through
+    // v̇_f cos δ as a_f cos²δ F_yf. Kept nonnegative so every bound stays nondecreasing.
+    const double uf_hi = c.v0 + z.gf * sin_d;
+    const double floor = std::min(c.grip_f_min, c.stiffness_f * start->gw / (3.0 * uf_hi));
+    out.d.gw = std::max(0.0, out.d.gw - c.a_f * cos_d * cos_d * floor);
+  }
   // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
   out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
   out.d.psi = z.r;
@@ -198,11 +255,12 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid) {
 }
 
 inline Slip advance(const Slip& z, const Slip& d, double step) {
-  return {z.gf + step * d.gf, z.gr + step * d.gr, z.gw + step * d.gw, z.r + step * d.r, z.psi + step * d.psi};
+  return {z.gf + step * d.gf, z.gr + step * d.gr, z.gw + step * d.gw,
+          z.r + step * d.r,   z.psi + step * d.psi, z.dv + step * d.dv};
 }
 
 inline bool at_most(const Slip& a, const Slip& b) {
-  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi;
+  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi && a.dv <= b.dv;
 }
 
 // The time grid after the latency: fine where the forces build up, coarser later. Cell k spans
@@ -235,7 +293,7 @@ class Bounder {
   }
 
   [[nodiscard]] double time(int k) const { return times_[static_cast<std::size_t>(k)]; }
-  [[nodiscard]] double sin_psi(int k) const { return bounds_[static_cast<std::size_t>(k)].sin_psi; }
+  [[nodiscard]] const Bound& at(int k) const { return bounds_[static_cast<std::size_t>(k)]; }
 
   // The least grid index k with s_k ≥ s (extending the grid), or -1 beyond the horizon.
   int index_at_or_after(double s) {
@@ -276,17 +334,17 @@ class Bounder {
     const double s1 = s0 + w;
     Slip end = z_;
     if (valid_) {
-      Slip guess = advance(z_, rates_at(c_, s1, z_, true).d, 2.0 * w);
+      Slip guess = advance(z_, rates_at(c_, s1, z_, true, &z_).d, 2.0 * w);
       bool found = false;
       for (int tries = 0; tries < 60 && !found; ++tries) {
-        const Rates r = rates_at(c_, s1, guess, true);
+        const Rates r = rates_at(c_, s1, guess, true, &z_);
         if (!r.valid) break;
         const Slip next = advance(z_, r.d, w);
         if (at_most(next, guess)) {
           found = true;
           guess = next;
           for (int down = 0; down < 2; ++down) {
-            const Rates rd = rates_at(c_, s1, guess, true);
+            const Rates rd = rates_at(c_, s1, guess, true, &z_);
             if (!rd.valid) break;
             const Slip lower = advance(z_, rd.d, w);
             if (!at_most(lower, guess)) break;
@@ -295,7 +353,7 @@ class Bounder {
         } else {
           guess = {2.0 * std::max(guess.gf, next.gf) + 1e-9, 2.0 * std::max(guess.gr, next.gr) + 1e-9,
                    2.0 * std::max(guess.gw, next.gw) + 1e-9, 2.0 * std::max(guess.r, next.r) + 1e-9,
-                   2.0 * std::max(guess.psi, next.psi) + 1e-9};
+                   2.0 * std::max(guess.psi, next.psi) + 1e-9, 2.0 * std::max(guess.dv, next.dv) + 1e-9};
         }
       }
       if (found && rates_at(c_, s1, guess, true).valid) end = guess;
@@ -353,16 +411,37 @@ class Bounder {
     // (C2a) Before the brakes act neither axle has a longitudinal force: the front's force is its
     // lateral force, so |p_f| = |q_f| tan δ, and p_r = 0.
     const bool unbraked = times_[k] <= c_.brake_dead;
-    const double tan_delta = unbraked ? std::tan(wheel_bound(c_, times_[k]).angle) : 0.0;
+    const double delta = wheel_bound(c_, times_[k]).angle;
+    const double tan_delta = std::tan(delta);
+    const double level = brake_level(c_, times_[k]);
+    const double decel = decel_bound(c_, times_[k], std::sin(delta), b);
+    const double full = c_.mu * c_.g;
     for (Table& t : tables) {
       // The arrival constraint's braking, b ≤ (|p_f| + |p_r|)/m + (|q_f| + |q_r|)|sin ψ|/m.
       const double brake_q = t.lambda * b.sin_psi / c_.m;
       const double brake_p = t.lambda / c_.m;
-      double support = axle_pair_support(a_front + brake_q, a_rear + brake_q, per_p + brake_p, b.grip_f, b.grip_r,
-                                         b.cap_f, b.cap_r, c_.total_grip);
-      if (unbraked)
-        support = std::min(support, (a_front + brake_q + (per_p + brake_p) * tan_delta) * std::min(b.cap_f, b.grip_f) +
-                                        (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      const double per_q_front = a_front + brake_q;
+      const double per_p_all = per_p + brake_p;
+      double support = axle_pair_support(per_q_front, a_rear + brake_q, per_p_all, b.grip_f, b.grip_r, b.cap_f,
+                                         b.cap_r, c_.total_grip);
+      // The front through its lateral force only: |p_f| ≤ |q_f| tan δ, plus ℓ·N_f/cos δ along the
+      // brake ramp (C2b: p_f = F_xf/cos δ − q_f tan δ, |F_xf| ≤ ℓ·N_f).
+      const double front_steered = (per_q_front + per_p_all * tan_delta) * std::min(b.cap_f, b.grip_f);
+      if (unbraked)  // (C2a) and p_r = 0
+        support = std::min(support, front_steered + (a_rear + brake_q) * std::min(b.cap_r, b.grip_r));
+      else if (level < 1.0)  // (C2b) and the rear in its whole disc (it may be locked)
+        support = std::min(support, front_steered + per_p_all * level * b.grip_f / std::cos(delta) +
+                                        AxleSupport(a_rear + brake_q, per_p_all, b.cap_r).value(b.grip_r));
+      // (C10a) The CG's acceleration is within mu·g in every direction (C2) and its x-part within
+      // decel (C2a–C2b), so ÿ + lambda·b = (ẍ, ÿ)·(−lambda, 1) is at most mu·g·√(1 + lambda²),
+      // or with the x-part at its bound √((mu·g)² − decel²) + lambda·decel, whatever the heading.
+      if (f == Functional::kCg) {
+        const double unit = std::sqrt(1.0 + t.lambda * t.lambda);
+        const double disc = full * t.lambda / unit <= decel
+                                ? full * unit
+                                : std::sqrt(std::max(0.0, full * full - decel * decel)) + t.lambda * decel;
+        support = std::min(support, disc);
+      }
       const double g = support + extra;
       t.s0.push_back(t.s0.back() + g * w);
       t.s1.push_back(t.s1.back() + g * w * mid);
@@ -383,28 +462,39 @@ class Bounder {
 // mu·g; before the brakes act (the brake dead time after the latency, less one simulator step for
 // the rear lock's timing) no axle has a longitudinal force, so the only x-force is the front's
 // lateral force through the wheel angle and the lateral force through the heading:
-// |ẍ| ≤ mu·g·(sin δ̄ + sin ψ̄). Piecewise constant on the comparison system's grid up to then, mu·g
-// after: knots of the least x-velocity and the least travel.
+// |ẍ| ≤ mu·g·(sin δ̄ + sin ψ̄). (C2b) Along the brake ramp the applied brake level (a step's mean)
+// is at most ℓ(s) = (s − t_b + h)/t_r, so |F_xf| ≤ ℓ·(cap share)·mu·F_zf, while a locked rear
+// slides at mu·F_zr at once: |ẍ| ≤ (ℓ·N_f + N_r)/m + mu·g·(sin δ̄ + sin ψ̄). Piecewise constant on
+// the comparison system's grid up to the ramp's end, mu·g after: knots of the least x-velocity and
+// the least travel.
 class Braking {
  public:
   Braking(const Setup& c, Bounder& b) : full_(c.mu * c.g), stop_speed_(c.stop_speed) {
     s_.push_back(0.0);
     w_.push_back(c.v0);
     x_.push_back(0.0);
-    if (c.brake_dead <= 0.0) return;
-    const int last = b.index_at_or_after(c.brake_dead);
+    const double ramp_end = c.brake_ramp > 0.0 ? c.brake_ramp_start + c.brake_ramp : 0.0;
+    const double until = std::max(c.brake_dead, ramp_end);
+    if (until <= 0.0) return;
+    const int last = b.index_at_or_after(until);
     if (last < 0) return;
     for (int k = 1; k <= last && w_.back() > stop_speed_; ++k) {
-      const double t0 = b.time(k - 1);
-      const double t1 = std::min(b.time(k), c.brake_dead);
-      if (t1 <= t0) break;
-      const double d = std::min(full_, full_ * (std::sin(wheel_bound(c, b.time(k)).angle) + b.sin_psi(k)));
-      double h = t1 - t0;
-      if (d > 0.0) h = std::min(h, (w_.back() - stop_speed_) / d);  // falls to the stop speed inside
-      decel_.push_back(d);
-      x_.push_back(x_.back() + w_.back() * h - 0.5 * d * h * h);
-      w_.push_back(w_.back() - d * h);
-      s_.push_back(t0 + h);
+      double t0 = b.time(k - 1);
+      const double cell_end = std::min(b.time(k), until);
+      const double sin_delta = std::sin(wheel_bound(c, b.time(k)).angle);
+      while (t0 < cell_end && w_.back() > stop_speed_) {
+        // The dead time's end splits a cell; each piece takes the bound at its right end (the
+        // wheel angle and the comparison system's bounds at the cell's).
+        const double t1 = t0 < c.brake_dead ? std::min(cell_end, c.brake_dead) : cell_end;
+        const double d = decel_bound(c, t1, sin_delta, b.at(k));
+        double h = t1 - t0;
+        if (d > 0.0) h = std::min(h, (w_.back() - stop_speed_) / d);  // falls to the stop speed inside
+        decel_.push_back(d);
+        x_.push_back(x_.back() + w_.back() * h - 0.5 * d * h * h);
+        w_.push_back(w_.back() - d * h);
+        s_.push_back(t0 + h);
+        t0 = t1;
+      }
     }
   }
   /// Least x-travel (from the end of the latency) before the x-velocity can fall to the stop speed.

@@ -27,6 +27,14 @@ CellInput random_cell(std::mt19937_64& rng) {
           30.0 * unit(rng)};
 }
 
+// The `production` profile (examples/tjunction/profiles/production.yaml).
+const ActuationConfig kProductionActuation{.perception_latency_s = 0.25,
+                                           .brake_dead_time_s = 0.1,
+                                           .brake_ramp_s = 0.25,
+                                           .max_decel_mps2 = 0.0,
+                                           .steer_dead_time_s = 0.05,
+                                           .steer_time_constant_s = 0.1};
+
 std::string describe(const CellInput& c) {
   return "speed " + std::to_string(c.speed_kph) + " km/h, TTC " + std::to_string(c.ttc_s) + " s, mu " +
          std::to_string(c.mu) + ", passage " + std::to_string(c.passage_m) + " m, truck " +
@@ -104,8 +112,9 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
   std::printf("latency 0.25: %d cells tried, %d certified, %d violations\n", run.tried, run.certified, run.violations);
 }
 
-// Under actuators (docs/actuation.md): the bound uses the steering's dead time and lag and the
-// brakes' dead time (C1a, C2a). 300 cells, each with its own random actuation.
+// Under actuators (docs/actuation.md): the bound uses the steering's dead time and lag, the
+// brakes' dead time and ramp and the cap (C1a, C2a, C2b, C4a). 300 cells, each with its own random
+// actuation.
 TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
   std::mt19937_64 rng(20261124);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -244,9 +253,11 @@ TEST(Certificate, CheckerAcceptsCertificatesAndRejectsTamperedOnes) {
 }
 
 TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
-  for (double latency : {0.0, 0.25}) {
+  for (const ActuationConfig& actuation : {ActuationConfig{}, ActuationConfig{.perception_latency_s = 0.25},
+                                           kProductionActuation}) {
     SceneConfig config;
-    config.actuation.perception_latency_s = latency;
+    config.actuation = actuation;
+    const double latency = actuation.perception_latency_s;
     int certified = 0;
     for (int speed = 30; speed <= 72; speed += 3)
       for (int k = 0; k < 46; k += 2) {
@@ -261,6 +272,38 @@ TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
         }
       }
     EXPECT_GT(certified, 10) << "latency " << latency;
+  }
+}
+
+// The tightenings of docs/physics.md (C2b, C4a, C7a, C7b, C10a): cells of the fine grid that the
+// bound without them left undecided, and that each of them is needed for (dropping or mis-signing
+// one loses the cells named with it), are certified, the certificates check, and neither any
+// strategy nor the reference planner (drift and dodge limits) avoids the truck there.
+TEST(Certificate, TightenedBoundCertifiesCellsTheLooserOneCouldNot) {
+  struct Case {
+    ActuationConfig actuation;
+    CellInput cell;
+    const char* needs;
+  };
+  const ActuationConfig latency{.perception_latency_s = 0.25};
+  const std::vector<Case> cases{
+      {{}, {50.0, 0.31, 1.0, 3.0, 10.0}, "C10a"},
+      {{}, {30.0, 0.25, 1.0, 3.0, 10.0}, "C7a"},
+      {{}, {66.0, 0.37, 1.0, 3.0, 10.0}, "C7a, C10a"},
+      {latency, {60.0, 0.61, 1.0, 3.0, 10.0}, "C10a"},
+      {kProductionActuation, {47.0, 0.67, 1.0, 3.0, 10.0}, "C2b, C10a"},
+      {kProductionActuation, {46.0, 0.67, 1.0, 3.0, 10.0}, "C2b, C7a, C7b, C10a"},
+      {kProductionActuation, {62.0, 0.73, 1.0, 3.0, 10.0}, "C2b, C4a, C7a, C7b, C10a"},
+  };
+  for (const Case& c : cases) {
+    SceneConfig config;
+    config.actuation = c.actuation;
+    const Scene scene(config, c.cell);
+    const auto cert = certify_unavoidable(scene);
+    ASSERT_TRUE(cert.has_value()) << describe(c.cell) << " needs " << c.needs;
+    EXPECT_TRUE(check_certificate(scene, *cert)) << describe(c.cell);
+    const Avoidance a = find_avoidance(config, c.cell, true);
+    EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(c.cell);
   }
 }
 
