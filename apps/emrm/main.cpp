@@ -1,5 +1,5 @@
 // The emrm command line: parses arguments, calls the library, maps errors to exit codes
-// (0 success, 1 the analysis found errors, 2 bad input or usage).
+// (0 success, 1 the analysis found errors, 2 bad input or usage, 128 + signal after an interrupt).
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/interrupt.hpp"
 #include "emrm/version.hpp"
 
 int main(int argc, char** argv) {
@@ -40,6 +41,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const emrm::core::Interrupted& e) {  // the work so far is stored; the message says how to resume
+    std::fprintf(stderr, "%s\n", e.what());
+    return 128 + e.signal();
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return static_cast<int>(emrm::ExitCode::kBadInput);

@@ -29,6 +29,7 @@
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/interrupt.hpp"
 #include "emrm/core/table.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
@@ -297,7 +298,10 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
       ->type_name("DIR");
   cmd->add_option("--sample", options->sample, "Cells checked against the reference planner (default 40)")
       ->type_name("N");
-  cmd->callback([options, &exit_code] { exit_code = run(*options); });
+  cmd->callback([options, &exit_code] {
+    const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
+    exit_code = run(*options);
+  });
 }
 
 }  // namespace emrm::cli

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/interrupt.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -52,7 +53,10 @@ void register_run_command(CLI::App& app, int& exit_code) {
                   "safety case for the traceability matrix (default: the plan's, from scenarios.json)");
   cmd->add_option("--threads", options->threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
-  cmd->callback([options, &exit_code] { exit_code = run(*options); });
+  cmd->callback([options, &exit_code] {
+    const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
+    exit_code = run(*options);
+  });
 }
 
 }  // namespace emrm::cli

@@ -10,6 +10,7 @@
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
+#include "emrm/core/interrupt.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -81,7 +82,10 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_option("--profile", s->profile,
                     "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE "
                     "(docs/actuation.md)");
-  sweep->callback([s, &exit_code] { exit_code = run_sweep(*s); });
+  sweep->callback([s, &exit_code] {
+    const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
+    exit_code = run_sweep(*s);
+  });
 
   auto m = std::make_shared<MergeCommandOptions>();
   auto* merge =

@@ -184,6 +184,7 @@ RunResult run_scenarios(const RunOptions& options) {
   sweep_options.output_dir = options.output_dir;
   sweep_options.threads = options.threads;
   sweep_options.progress = options.progress;
+  sweep_options.unit = "scenarios";
   result.sweep = sweep(campaign, sweep_options);
 
   // Outcomes, in file order.

@@ -16,6 +16,7 @@
 
 #include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
+#include "emrm/core/interrupt.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::campaign {
@@ -34,8 +35,8 @@ struct WorkItem {
 // thread ever waits for a batch to end and memory holds at most a batch or two.
 class Committer {
  public:
-  Committer(ResultStore& store, std::size_t total, bool progress)
-      : store_(store), total_(total), progress_(progress), start_(Clock::now()) {
+  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit)
+      : store_(store), total_(total), progress_(progress), unit_(std::move(unit)), start_(Clock::now()) {
     last_commit_ns_ = now_ns();
   }
 
@@ -92,8 +93,9 @@ class Committer {
       const auto left = static_cast<long long>(static_cast<double>(total_ - done) / rate);
       eta = fmt::format("{}:{:02d}", left / 60, left % 60);
     }
-    std::fprintf(stderr, "\r[%s%s] %zu/%zu cells  %.1f cells/s  ETA %s ", std::string(filled, '#').c_str(),
-                 std::string(kWidth - filled, '.').c_str(), done, total_, rate, eta.c_str());
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu %s  %.1f %s/s  ETA %s ", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), done, total_, unit_.c_str(), rate, unit_.c_str(),
+                 eta.c_str());
     std::fflush(stderr);
     drew_ = true;
   }
@@ -101,6 +103,7 @@ class Committer {
   ResultStore& store_;
   std::size_t total_;
   bool progress_;
+  std::string unit_;
   Clock::time_point start_;
   std::mutex pending_mutex_;
   std::vector<CellRecord> pending_;
@@ -186,13 +189,14 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     if (options.threads > 0)
       limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
-    Committer committer(store, work.size(), options.progress && ::isatty(2) == 1);
+    Committer committer(store, work.size(), options.progress && ::isatty(2) == 1, options.unit);
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
     tbb::parallel_for(
         0, workers,
         [&](int) {
-          for (std::size_t w = next++; w < work.size(); w = next++) {
+          // After an interrupt no worker takes another cell; the ones in flight finish.
+          for (std::size_t w = next++; w < work.size() && core::interrupt_signal() == 0; w = next++) {
             const GridSpec& grid = campaign.grids[work[w].grid];
             const sim::CellInput& cell = grid.cells[work[w].index];
             sim::CellOptions cell_options;
@@ -209,6 +213,10 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     committer.finish();
     summary.cells_simulated = committer.simulated();
   }
+  if (const int signal = core::interrupt_signal(); signal != 0)
+    throw core::Interrupted(signal, fmt::format("interrupted: {} of {} {} stored in {}; rerun the same command to resume",
+                                                summary.cells_done_before + summary.cells_simulated,
+                                                summary.cells_total, options.unit, store_path.string()));
   write_exports(store_path, options.output_dir);
   summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return summary;

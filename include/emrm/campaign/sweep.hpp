@@ -17,6 +17,7 @@ struct SweepOptions {
   int shard_index = 1;  ///< 1-based: this run takes the cells whose global position % count == index − 1
   int shard_count = 1;
   bool progress = true;  ///< a progress bar on stderr, only when stderr is a terminal
+  std::string unit = "cells";  ///< what the progress bar and messages count ("scenarios" for a planned run)
 };
 
 struct SweepSummary {
@@ -35,7 +36,8 @@ void parse_shard(const std::string& text, int& index, int& count);
 /// thread count. Throws core::ConfigError (an InputError) for a campaign validate(campaign, true)
 /// rejects (max_cells is not applied: the cells are already expanded); UsageError (exit 2) when
 /// the store holds another configuration or shard, or the shard is invalid; emrm::Error when the
-/// store cannot be written.
+/// store cannot be written; core::Interrupted after an interrupt (core/interrupt.hpp), once the
+/// cells in flight are stored.
 SweepSummary sweep(const Campaign& campaign, const SweepOptions& options);
 
 }  // namespace emrm::campaign
