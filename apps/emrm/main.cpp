@@ -6,11 +6,44 @@
 
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/core/interrupt.hpp"
 #include "emrm/version.hpp"
+
+namespace {
+
+// An option the command does not have, with the nearest it has: CLI11 would first complain about
+// a required option the misspelling was meant to be ("--speed-kph is required").
+std::optional<std::string> unknown_option(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return std::nullopt;
+  const CLI::App* command = nullptr;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (sub->get_name() == argv[1]) command = sub;
+  if (command == nullptr) return std::nullopt;
+  for (int i = 2; i < argc; ++i) {
+    std::string word = argv[i];
+    if (word == "--") break;
+    if (word.size() < 2 || word[0] != '-' || emrm::core::parse_finite_number(word)) continue;
+    word = word.substr(0, word.find('='));
+    if (word.rfind("--", 0) != 0 && word.size() > 2) continue;  // -abc: CLI11's own business
+    if (command->get_option_no_throw(word) != nullptr) continue;
+    std::vector<std::string> names;
+    for (const CLI::Option* o : command->get_options())
+      for (const auto& l : o->get_lnames()) names.push_back("--" + l);
+    return fmt::format("emrm {}: unknown option '{}'{}; see 'emrm {} --help'", argv[1], word,
+                       emrm::core::did_you_mean(word, names), argv[1]);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"emrm — verification and validation of an Evasive Minimum-Risk Maneuver (EMRM).\n"
@@ -33,6 +66,10 @@ int main(int argc, char** argv) {
   emrm::cli::register_verify_command(app, exit_code);
   emrm::cli::register_calibrate_command(app, exit_code);
 
+  if (const auto message = unknown_option(app, argc, argv)) {
+    std::fprintf(stderr, "%s\n", message->c_str());
+    return static_cast<int>(emrm::ExitCode::kBadInput);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

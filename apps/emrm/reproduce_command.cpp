@@ -118,9 +118,11 @@ bool run_analysis(const fs::path& examples, const fs::path& out) {
   safety::write_analysis(dir, analysis);
   const auto& c = analysis.safety_case;
   fmt::print(
-      "analysis  {}: {} losses, {} hazards, {} UCAs; {} errors, {} warnings; {} traceability rows -> {}\n",
-      safety_file.string(), c.losses.size(), c.hazards.size(), c.ucas.size(), analysis.errors(),
-      analysis.warnings(), analysis.matrix.size(), dir.string());
+      "analysis  {}: {}, {}, {}; {}, {}; {} -> {}\n", safety_file.string(),
+      core::counted(c.losses.size(), "loss", "losses"), core::counted(c.hazards.size(), "hazard", "hazards"),
+      core::counted(c.ucas.size(), "UCA", "UCAs"), core::counted(analysis.errors(), "error", "errors"),
+      core::counted(analysis.warnings(), "warning", "warnings"),
+      core::counted(analysis.matrix.size(), "traceability row", "traceability rows"), dir.string());
   return analysis.errors() == 0;
 }
 

@@ -44,7 +44,7 @@ bool OneOf::holds(const std::string& v) const {
 }
 
 std::string OneOf::message(const std::string& v) const {
-  return fmt::format("unknown {} '{}'; expected one of: {}", what, v, join(names(), ", "));
+  return fmt::format("unknown {} '{}'{}; expected one of: {}", what, v, did_you_mean(v, names()), join(names(), ", "));
 }
 
 std::string FieldPath::str() const {

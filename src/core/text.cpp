@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -156,6 +158,49 @@ std::string markdown_table(const Row& header, const std::vector<Row>& rows) {
   out += "\n";
   for (const auto& row : rows) out += line(row);
   return out;
+}
+
+namespace {
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? std::size_t{0} : std::size_t{1})});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string counted(std::size_t n, std::string_view one, std::string_view many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
+std::string did_you_mean(std::string_view name, const std::vector<std::string>& candidates) {
+  // A name that starts another is a shortened one ("--speed" for "--speed-kph"): that one first.
+  for (const auto& c : candidates)
+    if (name.size() >= 3 && c.size() > name.size() && c.compare(0, name.size(), name) == 0)
+      return fmt::format(" (did you mean '{}'?)", c);
+  const std::string* best = nullptr;
+  std::size_t best_distance = 0;
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(name, c);
+    if (best == nullptr || d < best_distance) {
+      best = &c;
+      best_distance = d;
+    }
+  }
+  if (best == nullptr || best_distance > std::max<std::size_t>(2, name.size() / 3)) return {};
+  return fmt::format(" (did you mean '{}'?)", *best);
 }
 
 std::string read_input_file(const std::filesystem::path& path) {

@@ -161,7 +161,9 @@ void YamlReader::finish() const {
     const std::string name = key.as_string();
     bool known = false;
     for (const auto& k : known_) known = known || k == name;
-    if (!known) key.fail(fmt::format("unknown field '{}'; expected one of: {}", name, join_keys(known_)));
+    if (!known)
+      key.fail(fmt::format("unknown field '{}'{}; expected one of: {}", name, did_you_mean(name, known_),
+                           join_keys(known_)));
   }
 }
 

@@ -10,13 +10,7 @@
 #include "emrm/core/text.hpp"
 
 namespace emrm::safety {
-namespace {
-
-std::string counted(std::size_t n, std::string_view one, std::string_view many) {
-  return fmt::format("{} {}", n, n == 1 ? one : many);
-}
-
-}  // namespace
+using core::counted;
 
 Analysis analyze(SafetyCase sc, std::optional<FsmTransitions> fsm) {
   Analysis analysis{std::move(sc), std::move(fsm), {}, {}};

@@ -25,8 +25,10 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n", v * c.ttc_s,
                      v / (2.0 * c.mu * kGravity_mps2));
   if (!r.feasible) {
-    out += fmt::format("Infeasible: the initial distance exceeds max_initial_distance_m = {:g} m\n",
-                       config.max_initial_distance_m);
+    out += fmt::format(
+        "Infeasible: the initial distance v·TTC = {:.2f} m exceeds the scene's max_initial_distance_m = {:g} m "
+        "(the speed is in km/h, the TTC in seconds)\n",
+        v * c.ttc_s, config.max_initial_distance_m);
     return out;
   }
   const auto& u = r.unmitigated;

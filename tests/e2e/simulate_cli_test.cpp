@@ -179,3 +179,29 @@ TEST(SimulateCli, BadProfilesAreBadInput) {
 
 }  // namespace
 }  // namespace emrm::e2e
+
+namespace emrm::e2e {
+namespace {
+
+// Messages a new user met (issue "your own case"): a misspelt option or key names the one meant,
+// an infeasible cell says why with its units.
+TEST(SimulateCli, MisspellingsNameWhatWasMeant) {
+  const auto option = run_emrm("simulate --speed 50 --ttc-s 1");
+  EXPECT_EQ(option.exit_code, 2);
+  EXPECT_THAT(option.err, HasSubstr("unknown option '--speed' (did you mean '--speed-kph'?)"));
+  const std::string dir = ::testing::TempDir() + "/emrm-misspelt";
+  std::filesystem::create_directories(dir);
+  std::string scene = read_text(example("scene.yaml"));
+  scene.replace(scene.find("\nseverity:"), 10, "\nseverty:");
+  std::ofstream(dir + "/scene.yaml") << scene;
+  const auto key = run_emrm("simulate --scene " + quoted(dir + "/scene.yaml") + " --speed-kph 50 --ttc-s 1");
+  EXPECT_EQ(key.exit_code, 2);
+  EXPECT_THAT(key.err, HasSubstr("unknown field 'severty' (did you mean 'severity'?)"));
+  const auto far = run_emrm("simulate --speed-kph 50 --ttc-s 800");
+  EXPECT_EQ(far.exit_code, 0);
+  EXPECT_THAT(far.out, HasSubstr("v·TTC = 11111.11 m exceeds the scene's max_initial_distance_m = 24.5 m"));
+  EXPECT_THAT(far.out, HasSubstr("TTC in seconds"));
+}
+
+}  // namespace
+}  // namespace emrm::e2e

@@ -15,6 +15,14 @@ using Row = std::vector<std::string>;
 /// Joins `parts` with `separator`.
 [[nodiscard]] std::string join(const std::vector<std::string>& parts, std::string_view separator);
 
+/// "1 warning", "2 warnings": `n` and the word for its number.
+[[nodiscard]] std::string counted(std::size_t n, std::string_view one, std::string_view many);
+
+/// " (did you mean 'severity'?)" for a misspelt `name`: a candidate it starts (a shortened name),
+/// else the candidate nearest to it by edit distance (ignoring case) when that is within a third of
+/// the name's length (at least 2 edits); else "".
+[[nodiscard]] std::string did_you_mean(std::string_view name, const std::vector<std::string>& candidates);
+
 /// One CSV line (RFC 4180 quoting, "\n" terminated).
 [[nodiscard]] std::string csv_line(const Row& fields);
 /// A whole CSV document: header then rows.

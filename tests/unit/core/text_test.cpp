@@ -39,4 +39,13 @@ TEST(WriteFile, UnwritablePlaceIsAnError) {
 }
 
 }  // namespace
+TEST(DidYouMean, SuggestsTheNearestNameOrAPrefixAndNothingFar) {
+  const std::vector<std::string> keys{"severity", "simulation", "safe_state"};
+  EXPECT_EQ(did_you_mean("severty", keys), " (did you mean 'severity'?)");
+  EXPECT_EQ(did_you_mean("Simulaton", keys), " (did you mean 'simulation'?)");
+  EXPECT_EQ(did_you_mean("--speed", {"--seed", "--speed-kph", "--ttc-s"}), " (did you mean '--speed-kph'?)");
+  EXPECT_EQ(did_you_mean("colour", keys), "");
+  EXPECT_EQ(did_you_mean("x", {}), "");
+}
+
 }  // namespace emrm::core

@@ -94,7 +94,11 @@ TEST(YamlReader, UnknownFieldPointsAtTheKey) {
   const auto e = read_error("name: a\ninner:\n  widht_m: 2\n");
   EXPECT_EQ(e.where().line, 3);
   EXPECT_EQ(e.where().column, 3);
-  EXPECT_THAT(e.message(), HasSubstr("unknown field 'widht_m'; expected one of: width_m, counts"));
+  EXPECT_THAT(e.message(),
+              HasSubstr("unknown field 'widht_m' (did you mean 'width_m'?); expected one of: width_m, counts"));
+  // Nothing near: no suggestion.
+  EXPECT_THAT(read_error("name: a\ninner:\n  colour_of_sky: 2\n").message(),
+              HasSubstr("unknown field 'colour_of_sky'; expected one of: width_m, counts"));
 }
 
 TEST(YamlReader, WrongTypesSayWhatWasExpected) {
