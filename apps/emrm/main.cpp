@@ -14,7 +14,6 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/core/interrupt.hpp"
 #include "emrm/version.hpp"
 
 namespace {

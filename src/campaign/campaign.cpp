@@ -409,14 +409,15 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
   return r;
 }
 
-void apply_profile(Campaign& campaign, const std::string& profile) {
+std::filesystem::path scene_folder(const Campaign& campaign) {
   const std::filesystem::path campaign_dir = std::filesystem::path(campaign.file).parent_path();
-  std::filesystem::path scene_dir = campaign_dir;
-  if (campaign.scene_file) {
-    const std::filesystem::path scene = *campaign.scene_file;
-    scene_dir = (scene.is_relative() ? campaign_dir / scene : scene).parent_path();
-  }
-  sim::apply_profile(campaign.scene, profile, scene_dir);
+  if (!campaign.scene_file) return campaign_dir;
+  const std::filesystem::path scene = *campaign.scene_file;
+  return (scene.is_relative() ? campaign_dir / scene : scene).parent_path();
+}
+
+void apply_profile(Campaign& campaign, const std::string& profile) {
+  sim::apply_profile(campaign.scene, profile, scene_folder(campaign));
 }
 
 }  // namespace emrm::campaign

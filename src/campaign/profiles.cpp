@@ -22,19 +22,12 @@ bool same(const sim::ActuationConfig& a, const sim::ActuationConfig& b) {
          a.steer_dead_time_s == b.steer_dead_time_s && a.steer_time_constant_s == b.steer_time_constant_s;
 }
 
-fs::path scene_dir(const Campaign& campaign) {
-  const fs::path campaign_dir = fs::path(campaign.file).parent_path();
-  if (!campaign.scene_file) return campaign_dir;
-  const fs::path scene = *campaign.scene_file;
-  return (scene.is_relative() ? campaign_dir / scene : scene).parent_path();
-}
-
 }  // namespace
 
 std::vector<fs::path> scene_profiles(const Campaign& campaign) {
   std::vector<fs::path> files;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(scene_dir(campaign) / "profiles", ec))
+  for (const auto& entry : fs::directory_iterator(scene_folder(campaign) / "profiles", ec))
     if (entry.is_regular_file() && entry.path().extension() == ".yaml") files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   return files;

@@ -55,6 +55,9 @@ void validate(const Campaign& campaign, bool force = false);
 /// missing or bad scene file is reported at the `scene:` entry or inside the scene file.
 [[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);
 
+/// The folder of the campaign's scene file (the campaign file's when it names none): where its
+/// profiles/ folder is.
+[[nodiscard]] std::filesystem::path scene_folder(const Campaign& campaign);
 /// Overlays an actuation profile (sim::apply_profile) on a loaded campaign's scene; a NAME is
 /// looked up in the profiles/ folder beside the scene file (beside the campaign file when it names
 /// none).
