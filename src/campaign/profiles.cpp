@@ -8,19 +8,12 @@
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/core/yaml.hpp"
 #include "emrm/sim/json.hpp"
 
 namespace emrm::campaign {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool same(const sim::ActuationConfig& a, const sim::ActuationConfig& b) {
-  return a.perception_latency_s == b.perception_latency_s && a.brake_dead_time_s == b.brake_dead_time_s &&
-         a.brake_ramp_s == b.brake_ramp_s && a.max_decel_mps2 == b.max_decel_mps2 &&
-         a.steer_dead_time_s == b.steer_dead_time_s && a.steer_time_constant_s == b.steer_time_constant_s;
-}
 
 }  // namespace
 
@@ -43,13 +36,10 @@ std::vector<ProfileRun> sweep_profiles(const Campaign& campaign, const std::stri
   for (const fs::path& file : profiles) {
     ProfileRun run;
     run.name = file.stem().string();
-    const core::YamlNode root = core::YamlNode::load_file(file);
-    if (root.is_map())
-      if (const auto d = root.find("description")) run.description = d->as_string();
     Campaign under = one;
-    sim::apply_profile(under.scene, file.string(), file.parent_path());
+    run.description = sim::apply_profile(under.scene, file.string(), file.parent_path());
     run.actuation = under.scene.actuation;
-    if (same(run.actuation, campaign.scene.actuation)) {
+    if (run.actuation == campaign.scene.actuation) {
       run.reused = true;
       run.store = "results.sqlite";
     } else {

@@ -260,8 +260,9 @@ std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string
   return out + "\n";
 }
 
-std::string boundary_key_entry(double latency_s) {
-  return fmt::format("NaN {} title {}", kBoundaryStyle, single_quoted("stop boundary " + boundary_text(latency_s)));
+/// The key's entry for a dashed stop boundary titled `label`.
+std::string boundary_key_entry(const std::string& label) {
+  return fmt::format("NaN {} title {}", kBoundaryStyle, single_quoted(label));
 }
 
 /// The whole map: a multiplot titled `title` holding `panels` (panel_script), then the key strip
@@ -301,7 +302,7 @@ std::string cross_style(const MapLayout& layout, const MapPanel& p) {
 /// to `data` as datablocks; one CSV row per cell (cell_columns, then evidence) appended to `rows`.
 struct RegionPanel {
   std::vector<std::string> layers;
-  std::string shares;  ///< "G 44.5 %, Y …, R … of 1165 feasible[, 12 undecided]"
+  std::string shares;  ///< "G a %, Y b %, O c %, R d % of N feasible[, k undecided]"
 };
 RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector<core::Row>& rows, std::string& data) {
   const auto regions = campaign::count_regions(p.cells, p.spec.grid);  // throws on a corrupt region
@@ -339,7 +340,7 @@ std::vector<std::string> region_key(const std::string& boundary, bool undecided)
   for (const auto& s : kRegions)
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
-  key.push_back(fmt::format("NaN {} title {}", kBoundaryStyle, single_quoted(boundary)));
+  key.push_back(boundary_key_entry(boundary));
   if (undecided) key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
   return key;
 }
@@ -504,7 +505,7 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs:
       plot_number(largest > 0.0 ? largest : 1.0));
   const std::vector<std::string> key{fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title 'infeasible'",
                                                  single_quoted(region_colour("infeasible"))),
-                                     boundary_key_entry(latency_s)};
+                                     boundary_key_entry("stop boundary " + boundary_text(latency_s))};
   const std::string body = map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)",
                                                           layout.total_cells),
                                       scale + panel_plots, key, 1, 0, 0.035);

@@ -399,10 +399,9 @@ std::string actuation_html(const sim::ActuationConfig& a, const std::vector<camp
   std::string name;
   for (const auto& p : profiles)
     if (p.reused) name = fmt::format(" (the <code>{}</code> profile)", html_escape(p.name));
-  return fmt::format(
-      "<p>Actuation: {}{} (docs/actuation.md). Every figure and table below is under it{}.</p>\n",
-      a.instant() && a.perception_latency_s == 0.0 ? std::string("instant (no perception latency, no brake or steering dynamics)") : html_escape(a.summary()),
-      name, profiles.empty() ? "" : ", but the map under each profile and its table, which name theirs");
+  return fmt::format("<p>Actuation: {}{} (docs/actuation.md). Every figure and table below is under it{}.</p>\n",
+                     html_escape(a.summary()), name,
+                     profiles.empty() ? "" : ", but the map under each profile and its table, which name theirs");
 }
 
 }  // namespace
@@ -425,7 +424,8 @@ ReportSummary write_report(const fs::path& dir) {
   summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, boundary_latency_s));
   summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
-  if (auto runs = campaign::read_profile_index(dir); !runs.empty()) {
+  std::vector<campaign::ProfileRun> runs = campaign::read_profile_index(dir);
+  if (!runs.empty()) {
     std::error_code ec;
     std::erase_if(runs, [&](const campaign::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
     std::vector<std::vector<campaign::CellRecord>> per_profile;
@@ -486,7 +486,7 @@ ReportSummary write_report(const fs::path& dir) {
       "configuration {}); this report by emrm {}.</p>\n",
       html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
-  html += actuation_html(scene.actuation, campaign::read_profile_index(dir));
+  html += actuation_html(scene.actuation, runs);
   html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
           "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
           "<li><a href=\"#verification\">Verification</a></li>"

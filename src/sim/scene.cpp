@@ -76,7 +76,7 @@ std::filesystem::path profile_path(const std::string& profile, const std::filesy
                                names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
 }
 
-void apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir) {
+std::string apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir) {
   const std::filesystem::path file = profile_path(profile, scene_dir);
   const core::YamlNode root = core::YamlNode::load_file(file);
   ActuationProfile overlay;
@@ -88,6 +88,7 @@ void apply_profile(SceneConfig& config, const std::string& profile, const std::f
     core::fail_at(*root.find("actuation"), e, /*with_path=*/true);
   }
   config.actuation = overlay.actuation;
+  return overlay.description;
 }
 
 void validate_cell(const SceneConfig& config, const CellInput& cell) {

@@ -35,6 +35,8 @@ struct ActuationConfig {
     EMRM_FIELD(a, steer_time_constant_s, core::non_negative);
   }
 
+  bool operator==(const ActuationConfig&) const = default;
+
   /// The actuators pass commands through unchanged (the perception latency aside).
   [[nodiscard]] bool instant() const noexcept {
     return brake_dead_time_s == 0.0 && brake_ramp_s == 0.0 && max_decel_mps2 == 0.0 && steer_dead_time_s == 0.0 &&

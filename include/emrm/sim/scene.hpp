@@ -236,8 +236,9 @@ struct ActuationProfile {
 /// (listing the names in that folder).
 [[nodiscard]] std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir);
 /// Overlays the profile on `config`'s actuation (keys it does not give keep the scene's values) and
-/// validates the result. Throws InputError (file:line:column) for a malformed profile.
-void apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir);
+/// validates the result; returns the profile's `description:`. Throws InputError (file:line:column)
+/// for a malformed profile.
+std::string apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir);
 
 /// The factors of one scenario cell.
 struct CellInput {
