@@ -27,6 +27,8 @@ void register_run_command(CLI::App& app, int& exit_code);
 void register_report_command(CLI::App& app, int& exit_code);
 /// `emrm verify DIR`: re-checks a results store without trusting it.
 void register_verify_command(CLI::App& app, int& exit_code);
+/// `emrm diagnose DIR`: the campaign diagnostics on any results store.
+void register_diagnose_command(CLI::App& app, int& exit_code);
 /// `emrm calibrate`: fits the brakes' actuation to measured brake tests.
 void register_calibrate_command(CLI::App& app, int& exit_code);
 

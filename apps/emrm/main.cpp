@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   emrm::cli::register_run_command(app, exit_code);
   emrm::cli::register_report_command(app, exit_code);
   emrm::cli::register_verify_command(app, exit_code);
+  emrm::cli::register_diagnose_command(app, exit_code);
   emrm::cli::register_calibrate_command(app, exit_code);
 
   if (const auto message = unknown_option(app, argc, argv)) {

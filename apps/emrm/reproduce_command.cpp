@@ -45,12 +45,6 @@ namespace emrm::cli {
 namespace {
 
 // "0 dodge, 1 drift_to_avoid": how many avoidances the RRT missed, per checked strategy.
-std::string missed_text(const campaign::ReferenceCheck& check) {
-  std::vector<std::string> parts;
-  for (const auto& c : check.strategies) parts.push_back(fmt::format("{} {}", c.missed, c.strategy));
-  return core::join(parts, ", ");
-}
-
 namespace fs = std::filesystem;
 
 struct ReproduceOptions {
@@ -251,16 +245,7 @@ int run(const ReproduceOptions& options) {
              pct(regions.pct(regions.r)), pr.r);
   const auto table = campaign::emrm_vs_baseline_table(records, paper, table_options.grid);
   fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
-  const auto& sb = diagnostics.stop_boundary;
-  const auto& rc = diagnostics.reference;
-  fmt::print(
-      "\nDiagnostics: {} analytically stoppable cells classified R{}; {} G cells below the stop boundary; "
-      "{} monotonicity reversals; reference planner on {} cells: RRT missed {}; "
-      "FSM transition coverage {}/{} (EMRM), {}/{} (loss evaluation)\n",
-      sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
-      sb.green_not_stoppable.size(), diagnostics.monotonicity.total_reversals, rc.sampled, missed_text(rc), diagnostics.emrm_fsm.coverage.covered, diagnostics.emrm_fsm.coverage.counts.size(),
-      diagnostics.loss_evaluation_fsm.coverage.covered,
-      diagnostics.loss_evaluation_fsm.coverage.counts.size());
+  fmt::print("\nDiagnostics: {}\n", campaign::summary(diagnostics));
   const auto report = report::write_report(out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(

@@ -321,6 +321,26 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
             {"loss_evaluation_fsm", coverage_json(d.loss_evaluation_fsm)}}}};
 }
 
+std::string summary(const Diagnostics& d) {
+  const auto& sb = d.stop_boundary;
+  const auto& rc = d.reference;
+  std::vector<std::string> missed;
+  for (const auto& c : rc.strategies) missed.push_back(fmt::format("{} {}", c.missed, c.strategy));
+  return fmt::format(
+      "{} analytically stoppable cells classified R{}; {} G cells below the stop boundary; {} monotonicity "
+      "reversals; reference planner on {} cells: RRT missed {}; FSM transition coverage {}/{} (EMRM), {}/{} "
+      "(loss evaluation)",
+      sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
+      sb.green_not_stoppable.size(), d.monotonicity.total_reversals, rc.sampled,
+      missed.empty() ? std::string("nothing (no strategy checked)") : core::join(missed, ", "),
+      d.emrm_fsm.coverage.covered, d.emrm_fsm.coverage.counts.size(), d.loss_evaluation_fsm.coverage.covered,
+      d.loss_evaluation_fsm.coverage.counts.size());
+}
+
+bool contradicts_physics(const Diagnostics& d) noexcept {
+  return !d.stop_boundary.stoppable_red.empty() || !d.stop_boundary.green_not_stoppable.empty();
+}
+
 std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d) {
   std::vector<std::filesystem::path> written;
   core::write_file(dir / "diagnostics.json", to_json(d).dump(2) + "\n");

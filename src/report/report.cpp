@@ -205,10 +205,55 @@ std::string findings_html(const fs::path& dir) {
   return html_table(header, rows);
 }
 
+// The checks of diagnostics.json (campaign::to_json) as one table: what each found, then the file.
+std::string diagnostics_table(const nlohmann::json& d) {
+  const auto& stop = d.at("stop_boundary");
+  const auto& mono = d.at("monotonicity");
+  const auto& reference = d.at("rrt_vs_reference");
+  const auto count = [](const nlohmann::json& j, const char* key) { return j.at(key).get<std::size_t>(); };
+  core::Row header{"check", "result"};
+  std::vector<core::Row> rows;
+  rows.push_back({"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
+                                               "(must be 0), {} G cells below the boundary (must be 0)",
+                                               count(stop, "stoppable"), count(stop, "feasible"),
+                                               count(stop, "stoppable_red_count"),
+                                               count(stop, "green_not_stoppable_count"))});
+  std::vector<std::string> reversals;
+  for (const auto& c : mono.at("counts"))
+    if (count(c, "reversals") > 0)
+      reversals.push_back(fmt::format("{} {} over {}: {} of {} pairs", c.at("grid").get<std::string>(),
+                                      c.at("strategy").get<std::string>(), c.at("factor").get<std::string>(),
+                                      count(c, "reversals"), count(c, "pairs")));
+  rows.push_back({"monotonicity in TTC and mu", fmt::format("{} reversals{}", count(mono, "total_reversals"),
+                                                            reversals.empty() ? "" : " (" + core::join(reversals, "; ") + ")")});
+  std::vector<std::string> planners;
+  for (const auto& [name, c] : reference.items())
+    if (c.is_object())
+      planners.push_back(fmt::format("{}: reference avoids {}, RRT missed {}, RRT beyond the reference {}", name,
+                                     count(c, "reference_avoids"), count(c, "rrt_missed"),
+                                     count(c, "rrt_beyond_reference")));
+  rows.push_back({fmt::format("RRT against the reference planner ({} cells, seed {})", count(reference, "sampled"),
+                              reference.at("seed").get<std::uint64_t>()),
+                  planners.empty() ? std::string("no strategy checked") : core::join(planners, "; ")});
+  for (const auto& [name, c] : d.at("fsm_coverage").items())
+    rows.push_back({"FSM transition coverage: " + name,
+                    fmt::format("{} of {} transitions exercised by {} traces", count(c, "covered"), count(c, "total"),
+                                count(c, "traces"))});
+  return html_table(header, rows);
+}
+
 std::string diagnostics_html(const fs::path& dir) {
   const std::string text = read_or_empty(dir / "diagnostics.json");
-  if (text.empty()) return "<p>No diagnostics in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
-  return "<details open><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
+  if (text.empty())
+    return "<p>No diagnostics in this folder: <code>emrm diagnose " + html_escape(dir.string()) +
+           "</code> writes them (<code>emrm reproduce</code> does so itself).</p>\n";
+  std::string table;
+  try {
+    table = diagnostics_table(nlohmann::json::parse(text));
+  } catch (const nlohmann::json::exception& e) {
+    table = "<p>diagnostics.json is not in the form emrm writes (" + html_escape(e.what()) + "); shown as it is.</p>\n";
+  }
+  return table + "<details><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
 std::string estimates_html(const fs::path& dir) {

@@ -138,6 +138,14 @@ struct Diagnostics {
 
 [[nodiscard]] nlohmann::ordered_json to_json(const Diagnostics& d);
 
+/// One paragraph for a terminal: the stop boundary's contradictions, the monotonicity reversals,
+/// the reference planner's sample with what the RRT missed per strategy, the FSM coverage.
+[[nodiscard]] std::string summary(const Diagnostics& d);
+
+/// True when the stored regions contradict the analytic stop boundary: a cell that can stop
+/// classified R, or a G cell below the boundary. Reversals and RRT misses are reported, not errors.
+[[nodiscard]] bool contradicts_physics(const Diagnostics& d) noexcept;
+
 /// Writes DIR/diagnostics.json and DIR/fsm/{emrm_fsm,loss_evaluation_fsm}.dot, plus the .svg files
 /// when Graphviz is installed, the transitions coloured by their coverage counts. Returns the files
 /// written. Throws emrm::Error when a file cannot be written or Graphviz fails.
