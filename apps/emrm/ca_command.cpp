@@ -97,8 +97,7 @@ void register_ca_command(CLI::App& app, int& exit_code) {
       "ca",
       "Generate a covering array (strength 2 or 3) from level counts or a PICT-style model\n"
       "file, printed as CSV; a summary goes to stderr.");
-  cmd->add_option("model", o->model_file, "PICT-style model file ('Name: v1, v2' lines and constraints)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("model", o->model_file, "PICT-style model file ('Name: v1, v2' lines and constraints)");
   cmd->add_option("--levels", o->levels, "Comma-separated level counts, e.g. 3,3,3,3 (instead of a model)");
   cmd->add_option("--strength,-t", o->strength, "Interaction strength t, 2 or 3")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same array")

@@ -153,25 +153,20 @@ void register_calibrate_command(CLI::App& app, int& exit_code) {
       "Fit the actuation (brake dead time, ramp, deceleration cap, perception latency) to measured stops, a speed\n"
       "trace or a grid's region fractions with NLopt; print each value with its 95 % profile-likelihood interval\n"
       "and write a profile for --profile");
-  cmd->add_option("--stops", o->stops, "CSV of stops: speed_kph, mu, stop_distance_m[, time_to_stop_s]")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--decel-trace", o->trace, "CSV of speed traces: run, t_s, speed_mps (t = 0 at the brake command)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--stops", o->stops, "CSV of stops: speed_kph, mu, stop_distance_m[, time_to_stop_s]");
+  cmd->add_option("--decel-trace", o->trace, "CSV of speed traces: run, t_s, speed_mps (t = 0 at the brake command)");
   cmd->add_option("--regions", o->regions,
-                  "YAML of target region fractions of a grid: grid, regions_pct {G, Y, O, R} (or a paper_reference.yaml)")
-      ->check(CLI::ExistingFile);
+                  "YAML of target region fractions of a grid: grid, regions_pct {G, Y, O, R} (or a paper_reference.yaml)");
   cmd->add_option("--match", o->match, "With --regions: the fractions to fit, e.g. G (default: all the file gives)")
       ->delimiter(',');
-  cmd->add_option("--campaign", o->campaign_file, "With --regions: the campaign that defines the grid")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--campaign", o->campaign_file, "With --regions: the campaign that defines the grid");
   cmd->add_option("--threads", o->threads, "With --regions: threads for simulating the grid (0 = all cores)");
   cmd->add_option("--fit", o->fit,
                   "Parameters to fit: brake_dead_time_s, brake_ramp_s, max_decel_mps2, perception_latency_s")
       ->required()
       ->delimiter(',');
   cmd->add_option("--bounds", o->bounds, "Search range NAME=LO:HI (repeatable)");
-  cmd->add_option("--scene", o->scene_file, "Scene whose actuation gives the parameters not fitted (not with --regions)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--scene", o->scene_file, "Scene whose actuation gives the parameters not fitted (not with --regions)");
   cmd->add_option("--profile", o->profile, "Profile overlaying that scene first (NAME or FILE)");
   cmd->add_option("-o,--output", o->output, "Profile YAML to write")->required();
   cmd->add_flag("--json", o->json, "Print {fitted: {NAME: {value, ci_low, ci_high}}, residual_rms, converged}");

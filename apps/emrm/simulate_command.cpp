@@ -66,8 +66,7 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("simulate",
                                  "Simulate one scenario cell of the T-junction under every strategy and report\n"
                                  "avoidance, impact, loss level and the cell's region (G, Y, O, R).");
-  cmd->add_option("--scene", o->scene_file, "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--scene", o->scene_file, "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml)");
   cmd->add_option("--speed-kph", o->cell.speed_kph, "Ego speed when the hazard appears (km/h)")->required();
   cmd->add_option("--ttc-s", o->cell.ttc_s, "Time to collision when the hazard appears (s)")->required();
   cmd->add_option("--mu", o->cell.mu, "Tire-road friction coefficient, (0, 2]")->capture_default_str();

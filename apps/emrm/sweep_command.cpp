@@ -68,8 +68,7 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                          "Simulate every cell of a campaign's grids in parallel into DIR/results.sqlite\n"
                          "(resumable: a rerun skips stored cells) and export regions.csv and cells.csv.");
   sweep->add_option("campaign", s->campaign_file, "Campaign file (docs/campaign.md)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   sweep->add_option("-o,--output", s->output_dir, "Output folder")->required();
   sweep->add_option("--threads", s->threads, "Worker threads (0: all cores)")
       ->capture_default_str()

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -204,12 +205,24 @@ std::string did_you_mean(std::string_view name, const std::vector<std::string>& 
 }
 
 std::string read_input_file(const std::filesystem::path& path) {
+  const SourceLocation where{path.string(), 0, 0};
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw InputError(where, "the file does not exist");
+  if (std::filesystem::is_directory(status)) throw InputError(where, "this is a folder; expected a file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path.string(), 0, 0}, "cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError({path.string(), 0, 0}, "cannot read file");
-  return text.str();
+  if (!in) throw InputError(where, "cannot open the file (no permission to read it?)");
+  // Read in pieces up to the cap, so that a device or a pipe without end cannot exhaust memory.
+  std::string text;
+  std::array<char, 1 << 16> buffer{};
+  while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxInputFileBytes)
+      throw InputError(where, fmt::format("the file is larger than {} MiB; expected an emrm input file",
+                                          kMaxInputFileBytes >> 20));
+  }
+  if (in.bad()) throw InputError(where, "cannot read the file");
+  return text;
 }
 
 void write_file(const std::filesystem::path& path, std::string_view content) {

@@ -211,7 +211,7 @@ TEST(FsmCli, BadInputFilesExitTwoWithFileLineAndColumn) {
 
   r = run_emrm("fsm " + arg(scratch_dir("missing") / "none.yaml"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_THAT(r.err, HasSubstr("cannot open file"));
+  EXPECT_THAT(r.err, HasSubstr("none.yaml: error: the file does not exist"));
 }
 
 TEST(FsmCli, InvalidOptionValuesExitTwo) {

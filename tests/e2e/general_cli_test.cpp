@@ -40,5 +40,27 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(run_emrm("analyze " + quoted(example("safety.yaml")) + " --no-such-flag").exit_code, 2);
 }
 
+// Every command that reads a file says in one format that it is missing, a folder or too large:
+// "PATH: error: …", exit 2, no CLI11 "Run with --help" (issue: `analyze nosuch.yaml` differed).
+TEST(Cli, AMissingOrWrongInputFileIsOneMessageInOneFormat) {
+  const auto dir = scratch_dir("input-files");
+  const std::string missing = (dir / "nosuch.yaml").string();
+  for (const std::string& command :
+       {"analyze " + missing, "fsm " + missing, "sweep " + missing + " -o " + (dir / "out").string(),
+        "simulate --speed-kph 30 --ttc-s 1 --scene " + missing, "ca " + missing,
+        "calibrate --stops " + missing + " --fit brake_dead_time_s -o " + (dir / "p.yaml").string()}) {
+    const auto r = run_emrm(command);
+    EXPECT_EQ(r.exit_code, 2) << command;
+    EXPECT_EQ(r.err, missing + ": error: the file does not exist\n") << command;
+  }
+  const auto folder = run_emrm("analyze " + dir.string());
+  EXPECT_EQ(folder.exit_code, 2);
+  EXPECT_EQ(folder.err, dir.string() + ": error: this is a folder; expected a file\n");
+  const auto endless = run_emrm("fsm /dev/zero");
+  EXPECT_EQ(endless.exit_code, 2);
+  EXPECT_THAT(endless.err, HasSubstr("/dev/zero: error: the file is larger than 64 MiB"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
 }  // namespace
 }  // namespace emrm::e2e

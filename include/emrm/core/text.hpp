@@ -2,6 +2,7 @@
 
 // Small text helpers shared by the tables every command writes.
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -46,8 +47,12 @@ struct CsvRecord {
 /// characters, NaN, infinities and out-of-range values are not numbers here.
 [[nodiscard]] std::optional<double> parse_finite_number(const std::string& text);
 
-/// The whole content of a user's input file. Throws InputError naming the file when it cannot be
-/// opened or read.
+/// The largest input file emrm reads (64 MiB): every input is a hand-written or generated text of
+/// far less; the cap keeps a device or an endless pipe from exhausting memory.
+inline constexpr std::size_t kMaxInputFileBytes = std::size_t{64} << 20;
+
+/// The whole content of a user's input file. Throws InputError naming the file when it does not
+/// exist, is a folder, cannot be opened or read, or exceeds kMaxInputFileBytes.
 [[nodiscard]] std::string read_input_file(const std::filesystem::path& path);
 
 /// Writes a file atomically (temporary file, then rename), creating parent folders.
