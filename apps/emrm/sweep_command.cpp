@@ -22,6 +22,7 @@ struct SweepCommandOptions {
   std::string shard = "1/1";
   bool force = false;
   std::string profile;
+  std::string progress_log;
 };
 
 struct MergeCommandOptions {
@@ -34,6 +35,7 @@ int run_sweep(const SweepCommandOptions& o) {
   campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
   options.output_dir = o.output_dir;
   options.threads = o.threads;
+  options.progress_log = o.progress_log;
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
   if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
   const campaign::SweepSummary s = campaign::sweep(c, options);
@@ -81,6 +83,9 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_option("--profile", s->profile,
                     "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE "
                     "(docs/actuation.md)");
+  sweep->add_option("--progress-log", s->progress_log,
+                    "Also write the progress to FILE, one JSON line per commit: done, total, elapsed_s, eta_s")
+      ->type_name("FILE");
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
     exit_code = run_sweep(*s);

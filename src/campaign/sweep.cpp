@@ -7,16 +7,21 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <mutex>
 #include <optional>
+#include <random>
 
+#include "emrm/campaign/eta.hpp"
 #include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/sim/actuation.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::campaign {
@@ -28,6 +33,7 @@ struct WorkItem {
   std::uint32_t grid;
   std::uint32_t index;
   int cost = 0;  ///< expected_cost()
+  bool probe = false;  ///< among the first cells of its class (order_work)
 };
 
 // Results wait here until one thread commits them. Any worker that finds 64 results waiting, or
@@ -35,17 +41,34 @@ struct WorkItem {
 // thread ever waits for a batch to end and memory holds at most a batch or two.
 class Committer {
  public:
-  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit)
-      : store_(store), total_(total), progress_(progress), unit_(std::move(unit)), start_(Clock::now()) {
+  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit, EtaModel eta,
+            const std::filesystem::path& log)
+      : store_(store),
+        total_(total),
+        progress_(progress),
+        unit_(std::move(unit)),
+        start_(Clock::now()),
+        eta_(eta) {
     last_commit_ns_ = now_ns();
+    if (!log.empty()) {
+      log_ = std::fopen(log.string().c_str(), "w");
+      if (log_ == nullptr) throw UsageError(fmt::format("--progress-log: cannot write '{}'", log.string()));
+    }
   }
+  ~Committer() {
+    if (log_ != nullptr) std::fclose(log_);
+  }
+  Committer(const Committer&) = delete;
+  Committer& operator=(const Committer&) = delete;
 
-  void add(CellRecord record) {
+  /// A cell's record, its cost class and the seconds its worker spent on it.
+  void add(CellRecord record, int cost, double seconds) {
     std::size_t waiting = 0;
     {
       std::lock_guard lock(pending_mutex_);
       pending_.push_back(std::move(record));
       waiting = pending_.size();
+      eta_.record(cost, seconds);
     }
     ++simulated_;
     if (waiting < kBatchCells && now_ns() - last_commit_ns_.load() < kBatchNs) return;
@@ -79,6 +102,21 @@ class Committer {
     store_.insert(batch);
     last_commit_ns_ = now_ns();
     if (progress_) draw();
+    if (log_ != nullptr) log_line();
+  }
+
+  [[nodiscard]] std::optional<double> remaining_s() {
+    const double seconds = static_cast<double>(now_ns()) * 1e-9;
+    std::lock_guard lock(pending_mutex_);
+    return eta_.remaining_seconds(seconds);
+  }
+
+  // One JSON line per commit: what a user without a terminal (or a benchmark) reads.
+  void log_line() {
+    const auto left = remaining_s();
+    std::fprintf(log_, "{\"done\": %zu, \"total\": %zu, \"elapsed_s\": %.3f, \"eta_s\": %s}\n", simulated_.load(),
+                 total_, static_cast<double>(now_ns()) * 1e-9, left ? fmt::format("{:.3f}", *left).c_str() : "null");
+    std::fflush(log_);
   }
 
   void draw() {
@@ -89,8 +127,8 @@ class Committer {
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(fraction * kWidth);
     std::string eta = "--:--";
-    if (rate > 0.0) {
-      const auto left = static_cast<long long>(static_cast<double>(total_ - done) / rate);
+    if (const auto left_s = remaining_s()) {
+      const auto left = std::llround(*left_s);
       eta = fmt::format("{}:{:02d}", left / 60, left % 60);
     }
     std::fprintf(stderr, "\r[%s%s] %zu/%zu %s  %.1f %s/s  ETA %s ", std::string(filled, '#').c_str(),
@@ -111,16 +149,36 @@ class Committer {
   std::atomic<std::int64_t> last_commit_ns_{0};
   std::atomic<std::size_t> simulated_{0};
   bool drew_ = false;
+  EtaModel eta_;  // guarded by pending_mutex_
+  std::FILE* log_ = nullptr;
 };
 
-// 2: braking alone cannot stop in time, every RRT strategy spends its budget (up to ~150 ms);
+// 2: braking alone (through the scene's actuators) cannot stop in time, so every search runs;
 // 1: feasible; 0: infeasible, nothing is simulated.
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
   const sim::CellInput& cell = campaign.grids[item.grid].cells[item.index];
   const double v_mps = cell.speed_kph / 3.6;
   const double distance_m = v_mps * cell.ttc_s;
   if (!sim::Scene(campaign.scene, cell).feasible()) return 0;
-  return v_mps * v_mps / (2.0 * cell.mu * sim::kGravity_mps2) > distance_m ? 2 : 1;
+  return campaign.scene.actuation.stopping_distance_m(v_mps, cell.mu, true) > distance_m ? 2 : 1;
+}
+
+// The order cells run in (results do not depend on it): within each cost class shuffled with a
+// fixed seed, so the cells done early are a fair sample of their class for the ETA; first a probe
+// of 5 % of every class, so every class's cost is known early; then the dearest first, so
+// the run ends with cheap cells and no worker idles long behind a dear one at the end.
+std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& work) {
+  std::mt19937_64 random(0x5eed5eedULL);
+  std::shuffle(work.begin(), work.end(), random);
+  std::stable_sort(work.begin(), work.end(), [](const WorkItem& a, const WorkItem& b) { return a.cost > b.cost; });
+  std::array<std::size_t, EtaModel::kClasses> counts{}, taken{};
+  for (const WorkItem& item : work) ++counts[static_cast<std::size_t>(item.cost)];
+  for (WorkItem& item : work) {
+    const auto c = static_cast<std::size_t>(item.cost);
+    item.probe = taken[c]++ < std::max<std::size_t>(4, counts[c] / 20);  // 5 % of the class, at least 4
+  }
+  std::stable_partition(work.begin(), work.end(), [](const WorkItem& item) { return item.probe; });
+  return counts;  // cells per class
 }
 
 }  // namespace
@@ -181,15 +239,13 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
       }
     }
 
-    // Dearest cells first, then workers pull the next cell from a shared counter: the run ends
-    // with cheap cells, so no thread idles long behind a 150 ms cell at the end.
-    std::stable_sort(work.begin(), work.end(),
-                     [&](const WorkItem& a, const WorkItem& b) { return a.cost > b.cost; });
+    const auto counts = order_work(work);
     std::optional<tbb::global_control> limit;
     if (options.threads > 0)
       limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
-    Committer committer(store, work.size(), options.progress && ::isatty(2) == 1, options.unit);
+    Committer committer(store, work.size(), options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
+                        options.progress_log);
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
     tbb::parallel_for(
@@ -204,9 +260,11 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
             cell_options.seed =
                 grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[work[w].index];
             cell_options.keep_trees = grid.keep_trees;
+            const auto cell_start = Clock::now();
             const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
             committer.add(to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result,
-                                    grid.keep_trees));
+                                    grid.keep_trees),
+                          work[w].cost, std::chrono::duration<double>(Clock::now() - cell_start).count());
           }
         },
         tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread

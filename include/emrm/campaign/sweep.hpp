@@ -18,6 +18,8 @@ struct SweepOptions {
   int shard_count = 1;
   bool progress = true;  ///< a progress bar on stderr, only when stderr is a terminal
   std::string unit = "cells";  ///< what the progress bar and messages count ("scenarios" for a planned run)
+  /// When set, one JSON line per commit ({"done", "total", "elapsed_s", "eta_s"}), terminal or not.
+  std::filesystem::path progress_log;
 };
 
 struct SweepSummary {
