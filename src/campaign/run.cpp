@@ -62,6 +62,33 @@ Json estimate_json(const scenario::WeightedEstimate& e) {
               {"wilson", {e.wilson.low, e.wilson.high}}};
 }
 
+// A plan cell's bins: its "levels" object, factor → bin label, in the file's order.
+std::vector<std::pair<std::string, std::string>> cell_levels(const nlohmann::json& cell, const std::string& file) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto& levels = member(cell, "levels", file, nlohmann::json::value_t::object);
+  if (!levels.is_object()) return out;
+  for (const auto& [factor, label] : levels.items()) {
+    if (!label.is_string()) throw InputError({file, 1, 1}, "'levels' of a cell must map factors to bin labels");
+    out.emplace_back(factor, label.get<std::string>());
+  }
+  return out;
+}
+
+// The factor columns of estimates.csv: every factor some cell names, in the order first met.
+std::vector<std::string> level_factors(const std::vector<CellEstimate>& cells) {
+  std::vector<std::string> out;
+  for (const auto& c : cells)
+    for (const auto& [factor, label] : c.levels)
+      if (std::find(out.begin(), out.end(), factor) == out.end()) out.push_back(factor);
+  return out;
+}
+
+std::string level_of(const CellEstimate& c, const std::string& factor) {
+  for (const auto& [f, label] : c.levels)
+    if (f == factor) return label;
+  return "";
+}
+
 }  // namespace
 
 PlanSettings read_plan_settings(const fs::path& scenarios_json) {
@@ -108,9 +135,12 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
       s.seed = v.get<std::uint64_t>();
   }
   if (const auto& cells = member(j, "cells", file, nlohmann::json::value_t::array); cells.is_array())
-    for (const auto& c : cells)
-      if (c.is_object() && c.value("tracked", false) && c.contains("cell") && c["cell"].is_string())
-        s.tracked_cells.insert(c["cell"].get<std::string>());
+    for (const auto& c : cells) {
+      if (!c.is_object() || !c.contains("cell") || !c["cell"].is_string()) continue;
+      const std::string key = c["cell"].get<std::string>();
+      if (const auto t = c.find("tracked"); t != c.end() && t->is_boolean() && t->get<bool>()) s.tracked_cells.insert(key);
+      s.cell_levels[key] = cell_levels(c, file);
+    }
   // Paths in a scenarios.json are relative to its own folder.
   for (auto* p : {&s.safety_file, &s.scene_file})
     if (*p && (*p)->is_relative()) *p = scenarios_json.parent_path() / **p;
@@ -127,6 +157,50 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
     throw InputError({file, 1, 1}, fmt::format("delta must lie in (0, 1), got {:g}", s.delta));
   return s;
 }
+
+namespace {
+
+// outcomes.csv (a row per scenario with its factor values) and estimates.csv (a row per cell with
+// its bins), docs/plan.md.
+void write_run_tables(const fs::path& dir, const RunResult& result) {
+  std::vector<core::Row> rows;
+  for (const auto& o : result.outcomes) {
+    core::Row row{o.id, o.cell};
+    for (const double v : o.factor_values) row.push_back(number(v));
+    for (const auto& field : {core::join(o.malfunctions, " "), number(o.weight), std::string(o.feasible ? "yes" : "no"),
+                              o.region, o.feasible ? std::to_string(o.success) : "", o.chosen_strategy,
+                              o.feasible ? number(o.impact_speed_kph) : "", o.feasible ? std::to_string(o.loss_level) : ""})
+      row.push_back(field);
+    rows.push_back(std::move(row));
+  }
+  core::Row header{"id", "cell"};
+  header.insert(header.end(), result.factors.begin(), result.factors.end());
+  for (const char* name : {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy",
+                           "impact_speed_kph", "loss_level"})
+    header.emplace_back(name);
+  core::write_file(dir / "outcomes.csv", core::csv_table(header, rows));
+
+  const std::vector<std::string> factors = level_factors(result.cells);
+  rows.clear();
+  for (const auto& c : result.cells) {
+    core::Row row{c.cell};
+    for (const auto& f : factors) row.push_back(level_of(c, f));
+    for (const auto& field :
+         {std::to_string(c.n), std::to_string(c.successes), number(static_cast<double>(c.successes) / static_cast<double>(c.n)),
+          number(c.wilson.low), number(c.wilson.high), number(c.wilson.half_width()), number(c.hoeffding_epsilon),
+          std::string(c.tracked ? "yes" : "no")})
+      row.push_back(field);
+    rows.push_back(std::move(row));
+  }
+  header = {"cell"};
+  header.insert(header.end(), factors.begin(), factors.end());
+  for (const char* name :
+       {"n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width", "hoeffding_epsilon", "tracked"})
+    header.emplace_back(name);
+  core::write_file(dir / "estimates.csv", core::csv_table(header, rows));
+}
+
+}  // namespace
 
 RunResult run_scenarios(const RunOptions& options) {
   const scenario::ScenarioFile file = scenario::read_scenarios_csv(options.scenarios_csv);
@@ -160,6 +234,7 @@ RunResult run_scenarios(const RunOptions& options) {
     sim::apply_profile(campaign.scene, options.profile, settings.scene_file.value_or("").parent_path());
   }
   if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
+  result.factors = file.factors;
   GridSpec grid;
   grid.name = kGrid;
   grid.where = {file.file, 1, 1};
@@ -203,6 +278,7 @@ RunResult run_scenarios(const RunOptions& options) {
     o.cell = row.cell;
     o.malfunctions = row.malfunctions;
     o.weight = row.weight;
+    o.factor_values = row.values;
     o.feasible = record->feasible;
     o.region = record->region;
     if (record->feasible) {
@@ -224,6 +300,7 @@ RunResult run_scenarios(const RunOptions& options) {
     c.wilson = scenario::wilson_interval(static_cast<double>(c.successes), static_cast<double>(c.n), result.confidence);
     c.hoeffding_epsilon = scenario::hoeffding_epsilon(static_cast<double>(c.n), settings.delta);
     c.tracked = settings.tracked_cells.count(key) > 0;
+    if (const auto it = settings.cell_levels.find(key); it != settings.cell_levels.end()) c.levels = it->second;
     if (c.tracked) result.widest_tracked_half_width = std::max(result.widest_tracked_half_width, c.wilson.half_width());
     result.cells.push_back(c);
   }
@@ -256,25 +333,7 @@ RunResult run_scenarios(const RunOptions& options) {
 
   // Files.
   const fs::path& dir = options.output_dir;
-  std::vector<core::Row> rows;
-  for (const auto& o : result.outcomes)
-    rows.push_back({o.id, o.cell, core::join(o.malfunctions, " "), number(o.weight), o.feasible ? "yes" : "no",
-                    o.region, o.feasible ? std::to_string(o.success) : "", o.chosen_strategy,
-                    o.feasible ? number(o.impact_speed_kph) : "", o.feasible ? std::to_string(o.loss_level) : ""});
-  core::write_file(dir / "outcomes.csv",
-                   core::csv_table({"id", "cell", "malfunctions", "weight", "feasible", "region", "success",
-                                    "chosen_strategy", "impact_speed_kph", "loss_level"},
-                                   rows));
-  rows.clear();
-  for (const auto& c : result.cells)
-    rows.push_back({c.cell, std::to_string(c.n), std::to_string(c.successes),
-                    number(static_cast<double>(c.successes) / static_cast<double>(c.n)), number(c.wilson.low),
-                    number(c.wilson.high), number(c.wilson.half_width()), number(c.hoeffding_epsilon),
-                    c.tracked ? "yes" : "no"});
-  core::write_file(dir / "estimates.csv",
-                   core::csv_table({"cell", "n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width",
-                                    "hoeffding_epsilon", "tracked"},
-                                   rows));
+  write_run_tables(dir, result);
 
   if (settings.safety_file) {
     const safety::SafetyCase sc = safety::load_safety_case(*settings.safety_file);
@@ -339,7 +398,10 @@ Json to_json(const RunResult& r) {
   double widest = 0.0;
   for (const auto& c : r.cells) {
     widest = std::max(widest, c.wilson.half_width());
+    Json levels = Json::object();
+    for (const auto& [factor, label] : c.levels) levels[factor] = label;
     cells.push_back({{"cell", c.cell},
+                     {"levels", levels},
                      {"n", c.n},
                      {"successes", c.successes},
                      {"wilson", {c.wilson.low, c.wilson.high}},

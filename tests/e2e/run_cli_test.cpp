@@ -41,6 +41,35 @@ class RunCli : public ::testing::Test {
 };
 fs::path* RunCli::plan_ = nullptr;
 
+// Every table that names a cell also says where it lies: outcomes.csv carries each scenario's factor
+// values (as in scenarios.csv), estimates.csv each cell's bin of every factor (from scenarios.json).
+TEST_F(RunCli, TablesNameCellsByTheirFactors) {
+  const auto out = plan_->parent_path() / "labelled";
+  const auto r = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto scenarios = csv_rows(*plan_ / "scenarios.csv");
+  const auto outcomes = csv_rows(out / "outcomes.csv");
+  ASSERT_EQ(outcomes.size(), scenarios.size());
+  for (const std::string factor : {"speed_kph", "ttc_s", "mu"})
+    for (std::size_t i = 1; i < outcomes.size(); ++i)
+      EXPECT_DOUBLE_EQ(std::stod(outcomes[i][column_of(outcomes.front(), factor)]),
+                       std::stod(scenarios[i][column_of(scenarios.front(), factor)]))
+          << factor << " of " << outcomes[i][0];
+  // The bins: each cell's labels are those scenarios.json gives it, and each scenario lies inside.
+  const auto plan = nlohmann::json::parse(read_text(*plan_ / "scenarios.json"));
+  std::map<std::string, nlohmann::json> levels;
+  for (const auto& c : plan["cells"]) levels[c["cell"].get<std::string>()] = c["levels"];
+  const auto estimates = csv_rows(out / "estimates.csv");
+  const auto& h = estimates.front();
+  ASSERT_GT(estimates.size(), 1u);
+  for (std::size_t i = 1; i < estimates.size(); ++i) {
+    const auto& expected = levels.at(estimates[i][column_of(h, "cell")]);
+    ASSERT_FALSE(expected.empty());
+    for (const auto& [factor, label] : expected.items())
+      EXPECT_EQ(estimates[i][column_of(h, factor)], label.get<std::string>()) << estimates[i][0];
+  }
+}
+
 TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
   const auto out = plan_->parent_path() / "results";
   const auto r = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");

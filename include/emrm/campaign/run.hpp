@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -42,6 +43,8 @@ struct PlanSettings {
   double epsilon = 0.25;
   std::uint64_t seed = 1;
   std::set<std::string> tracked_cells;  ///< cell keys with a precision target
+  /// Each cell's bins as (factor, bin label) in the plan's factor order (scenarios.json "cells").
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> cell_levels;
 };
 
 /// Reads scenarios.json; throws InputError when it is malformed or names an unknown strategy.
@@ -59,6 +62,7 @@ struct ScenarioOutcome {
   std::string chosen_strategy;
   double impact_speed_kph = 0.0;
   int loss_level = 0;
+  std::vector<double> factor_values;  ///< the scenario's factor columns, in file order
 };
 
 struct CellEstimate {
@@ -68,6 +72,7 @@ struct CellEstimate {
   scenario::Interval wilson;
   double hoeffding_epsilon = 1.0;  ///< at the plan's δ
   bool tracked = false;
+  std::vector<std::pair<std::string, std::string>> levels;  ///< (factor, bin label); empty when unknown
 };
 
 struct SubsetEstimate {
@@ -77,6 +82,7 @@ struct SubsetEstimate {
 
 struct RunResult {
   SweepSummary sweep;
+  std::vector<std::string> factors;              ///< the scenario file's factor columns
   std::vector<std::string> unsimulated_factors;  ///< factor columns the simulator has no use for
   std::vector<ScenarioOutcome> outcomes;         ///< in file order
   std::vector<CellEstimate> cells;               ///< by cell key
