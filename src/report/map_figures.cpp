@@ -762,7 +762,7 @@ Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSli
   const std::string body =
       map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
                  panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key,
-                 evidence.undecided == 0 ? 3 : 4, -8, layout.key_h);
+                 evidence.undecided == 0 ? 3 : 4, 0, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kSliceWidthPx, kSliceHeightPx, kMapFontPt);
   return figure;
 }
