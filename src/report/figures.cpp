@@ -245,7 +245,8 @@ Figure draw_binned_sweep_curves(const std::vector<CellRecord>& cells, const std:
     tics.push_back(fmt::format("{} {}", single_quoted(label), k));
   }
   const std::string grid = cells.empty() ? std::string() : cells.front().grid;
-  const SweepAxis axis{enhanced_literal(plan_factor_label(factor)), fmt::format("set xtics ({}) noenhanced\n", core::join(tics, ", ")),
+  const SweepAxis axis{enhanced_literal(plan_factor_label(factor)),
+                       fmt::format("set xtics ({}) noenhanced\n", core::join(tics, ", ")),
                        fmt::format("Parameter sweep by the ODD's bins of {}", enhanced_literal(factor.name)), -0.5,
                        static_cast<double>(factor.levels.size()) - 0.5};
   if (!draw_curves(figure, points, cells, grid, {"level", "bin"}, axis, dir)) {

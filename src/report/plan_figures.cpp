@@ -31,7 +31,8 @@ nlohmann::json parse_json_file(const fs::path& path) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path.string(), 1, static_cast<int>(e.byte)}, fmt::format("not valid JSON: {}", e.what()));
+    throw InputError({path.string(), 1, static_cast<int>(e.byte)},
+                     fmt::format("not valid JSON: {}", e.what()));
   }
 }
 
@@ -40,9 +41,10 @@ std::vector<PlanFactor> factors_of(const nlohmann::json& list, const std::string
   std::vector<PlanFactor> factors;
   if (list.is_null()) return factors;
   const auto bad = [&](std::size_t i) {
-    return InputError({file, 1, 1}, fmt::format("'factors[{}]' must be an object with a string 'name', a string "
-                                                "'unit' and 'levels' listing objects with a string 'label'",
-                                                i));
+    return InputError({file, 1, 1},
+                      fmt::format("'factors[{}]' must be an object with a string 'name', a string "
+                                  "'unit' and 'levels' listing objects with a string 'label'",
+                                  i));
   };
   if (!list.is_array()) throw bad(0);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -75,9 +77,10 @@ std::vector<int> levels_of_key(const std::string& key, const std::vector<PlanFac
                                const SourceLocation& where) {
   std::vector<int> levels;
   const auto bad = [&] {
-    return InputError(where, fmt::format("cell '{}' is not a key of the plan's {} factors (c, then one level each, "
-                                         "separated by '.')",
-                                         key, factors.size()));
+    return InputError(where,
+                      fmt::format("cell '{}' is not a key of the plan's {} factors (c, then one level each, "
+                                  "separated by '.')",
+                                  key, factors.size()));
   };
   if (key.empty() || key[0] != 'c') throw bad();
   const char* p = key.data() + 1;
@@ -98,7 +101,8 @@ std::vector<int> levels_of_key(const std::string& key, const std::vector<PlanFac
 
 void read_outcomes(const fs::path& path, PlannedRun& run) {
   const auto records = core::parse_csv(core::read_input_file(path), path.string());
-  if (records.empty()) throw InputError({path.string(), 1, 1}, "expected a header: id, cell, ..., feasible, success");
+  if (records.empty())
+    throw InputError({path.string(), 1, 1}, "expected a header: id, cell, ..., feasible, success");
   const core::Row& header = records.front().fields;
   const auto column = [&](const char* name) {
     const auto it = std::find(header.begin(), header.end(), name);
@@ -131,8 +135,8 @@ void attach_records(const fs::path& store, PlannedRun& run) {
                                  cells.size(), campaign::kPlanGrid));
   for (auto& c : cells) {
     if (c.index < 0 || static_cast<std::size_t>(c.index) >= run.scenarios.size())
-      throw UsageError(fmt::format("{} holds a scenario index {} beyond the run's {} scenarios", store.string(),
-                                   c.index, run.scenarios.size()));
+      throw UsageError(fmt::format("{} holds a scenario index {} beyond the run's {} scenarios",
+                                   store.string(), c.index, run.scenarios.size()));
     run.scenarios[static_cast<std::size_t>(c.index)].record = std::move(c);
   }
 }
@@ -148,7 +152,8 @@ constexpr int kPlanMapWidthPx = 1000, kPlanMapHeightPx = 760, kPlanMapFontPt = 1
 
 std::string tics(const PlanFactor& f) {
   std::vector<std::string> items;
-  for (std::size_t k = 0; k < f.levels.size(); ++k) items.push_back(fmt::format("{} {}", single_quoted(f.levels[k]), k));
+  for (std::size_t k = 0; k < f.levels.size(); ++k)
+    items.push_back(fmt::format("{} {}", single_quoted(f.levels[k]), k));
   return fmt::format("({}) noenhanced", core::join(items, ", "));
 }
 
@@ -182,20 +187,29 @@ PairData pair_data(const PlannedRun& run, std::size_t a, std::size_t b) {
       const PairCell& c = cells[i][k];
       if (c.scenarios == 0) continue;
       const std::string box = fmt::format("{} {} 0.48 0.48", i, k);
-      core::Row row{fa.name, std::to_string(i), fa.levels[i], fb.name, std::to_string(k), fb.levels[k],
-                    std::to_string(c.scenarios), std::to_string(c.feasible), std::to_string(c.successes)};
+      core::Row row{fa.name,
+                    std::to_string(i),
+                    fa.levels[i],
+                    fb.name,
+                    std::to_string(k),
+                    fb.levels[k],
+                    std::to_string(c.scenarios),
+                    std::to_string(c.feasible),
+                    std::to_string(c.successes)};
       if (c.feasible > 0) {
         const double n = static_cast<double>(c.feasible), rate = static_cast<double>(c.successes) / n;
         const auto w = scenario::wilson_interval(static_cast<double>(c.successes), n, run.confidence);
         d.rated.push_back(fmt::format("{} {}", box, plot_number(rate)));
-        d.labels.push_back(fmt::format("{} {} {}/{} [{:.2f},{:.2f}]", i, k, c.successes, c.feasible, w.low, w.high));
+        d.labels.push_back(
+            fmt::format("{} {} {}/{} [{:.2f},{:.2f}]", i, k, c.successes, c.feasible, w.low, w.high));
         row.insert(row.end(), {plot_number(rate), plot_number(w.low), plot_number(w.high)});
       } else {
         d.infeasible.push_back(fmt::format("{} {}", box, rgb_value("#bdbdbd")));
         row.insert(row.end(), 3, std::string());
       }
-      if (c.undecided > 0) d.crosses.push_back(fmt::format("{} {}", plot_number(static_cast<double>(i) + 0.36),
-                                                     plot_number(static_cast<double>(k) + 0.36)));
+      if (c.undecided > 0)
+        d.crosses.push_back(fmt::format("{} {}", plot_number(static_cast<double>(i) + 0.36),
+                                        plot_number(static_cast<double>(k) + 0.36)));
       row.push_back(std::to_string(c.undecided));
       d.rows.push_back(std::move(row));
       d.undecided += c.undecided;
@@ -206,32 +220,40 @@ PairData pair_data(const PlannedRun& run, std::size_t a, std::size_t b) {
 }
 
 /// The gnuplot body of a pair map: one panel over a key strip.
-std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairData& d, const std::string& title) {
+std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairData& d,
+                        const std::string& title) {
   constexpr double kKeyH = 0.07, kTop = 0.955;
   std::string body = fmt::format(
       "set multiplot title {} font ',16'\nset tics out nomirror\nset border 3\nset key off\n"
-      "set palette defined (0 '#d73027', 0.5 '#fee08b', 1 '#1a9850')\nset cbrange [0:1]\nset cbtics 0,0.25,1\n"
+      "set palette defined (0 '#d73027', 0.5 '#fee08b', 1 '#1a9850')\nset cbrange [0:1]\nset cbtics "
+      "0,0.25,1\n"
       "set cblabel 'estimated success (share of feasible scenarios)'\n",
       single_quoted(title));
   body += fmt::format("set origin 0,{}\nset size 1,{}\n", kKeyH, kTop - kKeyH);
   body += fmt::format("set xlabel {}\nset ylabel {}\nset xtics {}\nset ytics {}\n",
                       single_quoted(enhanced_literal(plan_factor_label(fa))),
                       single_quoted(enhanced_literal(plan_factor_label(fb))), tics(fa), tics(fb));
-  body += fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]\n", plot_number(static_cast<double>(fa.levels.size()) - 0.5),
+  body += fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]\n",
+                      plot_number(static_cast<double>(fa.levels.size()) - 0.5),
                       plot_number(static_cast<double>(fb.levels.size()) - 0.5));
   std::vector<std::string> layers;
-  if (!d.rated.empty()) layers.push_back("$rated using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc palette");
+  if (!d.rated.empty())
+    layers.push_back("$rated using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc palette");
   if (!d.infeasible.empty())
     layers.push_back("$infeasible using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc rgb variable");
   if (!d.labels.empty())
-    layers.push_back("$labels using 1:($2+0.1):3 with labels noenhanced font ',13', "
-                     "$labels using 1:($2-0.14):4 with labels noenhanced font ',10'");
-  if (!d.crosses.empty()) layers.push_back("$crosses using 1:2 with points pt 2 ps 1.5 lw 1.5 lc rgb 'black'");
-  body += "plot " + core::join(layers, ", ") + "\n";
-  std::vector<std::string> key{"NaN with boxes fs solid 1.0 lc rgb '#bdbdbd' title 'all its scenarios infeasible'"};
+    layers.push_back(
+        "$labels using 1:($2+0.1):3 with labels noenhanced font ',13', "
+        "$labels using 1:($2-0.14):4 with labels noenhanced font ',10'");
   if (!d.crosses.empty())
-    key.push_back("NaN with points pt 2 ps 1.2 lw 1.5 lc rgb 'black' title 'undecided scenario (no avoidance found, "
-                  "none proven impossible)'");
+    layers.push_back("$crosses using 1:2 with points pt 2 ps 1.5 lw 1.5 lc rgb 'black'");
+  body += "plot " + core::join(layers, ", ") + "\n";
+  std::vector<std::string> key{
+      "NaN with boxes fs solid 1.0 lc rgb '#bdbdbd' title 'all its scenarios infeasible'"};
+  if (!d.crosses.empty())
+    key.push_back(
+        "NaN with points pt 2 ps 1.2 lw 1.5 lc rgb 'black' title 'undecided scenario (no avoidance found, "
+        "none proven impossible)'");
   return body + "set key on\n" + key_strip(kKeyH, 1, 0, key) + "unset multiplot\n";
 }
 
@@ -242,16 +264,20 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
   const PairData d = pair_data(run, a, b);
   const std::string pair = fmt::format("{} × {}", fa.name, fb.name);
   figure.title = fmt::format(
-      "Planned run, {}: estimated success ({}) per pair of the ODD's levels, pooled over the other factors ({} "
-      "scenarios, {} feasible). Each rectangle is a pair of levels, coloured by the share of its feasible scenarios "
-      "that succeed (red 0, yellow 0.5, green 1) and labelled successes/feasible over the Wilson interval at {:g} "
+      "Planned run, {}: estimated success ({}) per pair of the ODD's levels, pooled over the other factors "
+      "({} "
+      "scenarios, {} feasible). Each rectangle is a pair of levels, coloured by the share of its feasible "
+      "scenarios "
+      "that succeed (red 0, yellow 0.5, green 1) and labelled successes/feasible over the Wilson interval at "
+      "{:g} "
       "%; grey: only infeasible scenarios; blank: no scenario planned there.{}",
-      pair, run.acceptance.empty() ? std::string("the plan's acceptance") : run.acceptance, d.scenarios, d.feasible,
-      100.0 * run.confidence,
-      d.undecided == 0 ? std::string()
-                       : fmt::format(" A cross marks a pair with undecided scenarios ({} in all): a search found no "
-                                     "avoidance, but nothing proves that none exists.",
-                                     d.undecided));
+      pair, run.acceptance.empty() ? std::string("the plan's acceptance") : run.acceptance, d.scenarios,
+      d.feasible, 100.0 * run.confidence,
+      d.undecided == 0
+          ? std::string()
+          : fmt::format(" A cross marks a pair with undecided scenarios ({} in all): a search found no "
+                        "avoidance, but nothing proves that none exists.",
+                        d.undecided));
   detail::write_csv(figure, dir,
                     {"factor_x", "level_x", "bin_x", "factor_y", "level_y", "bin_y", "scenarios", "feasible",
                      "successes", "rate", "wilson_low", "wilson_high", "undecided"},
@@ -259,8 +285,8 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
   std::string data = datablock("rated", d.rated) + datablock("infeasible", d.infeasible) +
                      datablock("labels", d.labels) + datablock("crosses", d.crosses);
   const std::string title = fmt::format("Planned run: estimated success, {}", enhanced_literal(pair));
-  render_png_and_svg(figure.png, figure.svg, data, pair_script(fa, fb, d, title), kPlanMapWidthPx, kPlanMapHeightPx,
-                     kPlanMapFontPt);
+  render_png_and_svg(figure.png, figure.svg, data, pair_script(fa, fb, d, title), kPlanMapWidthPx,
+                     kPlanMapHeightPx, kPlanMapFontPt);
   return figure;
 }
 
@@ -269,7 +295,8 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
 std::optional<PlannedRun> read_planned_run(const fs::path& dir) {
   for (const fs::path& folder : {dir / "plan_results", dir}) {
     std::error_code ec;
-    if (!fs::is_regular_file(folder / "outcomes.csv", ec) || !fs::is_regular_file(folder / "estimates.json", ec))
+    if (!fs::is_regular_file(folder / "outcomes.csv", ec) ||
+        !fs::is_regular_file(folder / "estimates.json", ec))
       continue;
     PlannedRun run;
     run.folder = folder;
@@ -288,7 +315,8 @@ std::vector<Figure> draw_plan_maps(const PlannedRun& run, const fs::path& dir, s
       if (run.factors[a].levels.size() > 1 && run.factors[b].levels.size() > 1) pairs.emplace_back(a, b);
   std::vector<Figure> figures;
   const std::size_t drawn = std::min(pairs.size(), max_maps);
-  for (std::size_t i = 0; i < drawn; ++i) figures.push_back(draw_pair_map(run, pairs[i].first, pairs[i].second, dir));
+  for (std::size_t i = 0; i < drawn; ++i)
+    figures.push_back(draw_pair_map(run, pairs[i].first, pairs[i].second, dir));
   if (drawn < pairs.size()) {
     Figure more;
     more.name = "plan_map_more";
@@ -317,9 +345,10 @@ Figure draw_plan_sweep_curves(const PlannedRun& run, const fs::path& dir, const 
     Figure figure;
     figure.name = name;
     figure.title = "Parameter sweep of the planned run by the ODD's bins";
-    figure.note = run.factors.empty() ? "no ODD factors in estimates.json (emrm run copies them from the plan's "
-                                        "scenarios.json beside scenarios.csv)"
-                                      : "no factor of the ODD has two levels or more";
+    figure.note = run.factors.empty()
+                      ? "no ODD factors in estimates.json (emrm run copies them from the plan's "
+                        "scenarios.json beside scenarios.csv)"
+                      : "no factor of the ODD has two levels or more";
     return figure;
   }
   std::vector<CellRecord> cells;

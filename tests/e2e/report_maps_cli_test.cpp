@@ -60,33 +60,47 @@ bool is_png(const fs::path& file) {
   return bytes.size() > 1000 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
 }
 
-// One sweep and one report for the suite.
-class ReportMapsOfAGrid : public ::testing::Test {
+// A results folder and its report.html, made once for a suite (each suite sets them up in turn).
+class ReportFolder : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    const auto example_dir = small_example("report_maps_grid");
-    write_text(example_dir / "wet.yaml", kWetCampaign);
-    out_ = new fs::path(example_dir.parent_path() / "out");
-    const auto sweep = run_emrm("sweep " + quoted(example_dir / "wet.yaml") + " -o " + quoted(*out_) + " --threads 2");
-    ASSERT_EQ(sweep.exit_code, 0) << sweep.out << sweep.err;
-    const auto report = run_emrm("report " + quoted(*out_));
-    ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
-    html_ = new std::string(read_text(*out_ / "report.html"));
+  /// Runs `emrm report` on `out` and keeps the folder and its report.html for the suite's tests.
+  static void report(const fs::path& out) {
+    out_ = new fs::path(out);
+    const auto r = run_emrm("report " + quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    html_ = new std::string(read_text(out / "report.html"));
   }
   static void TearDownTestSuite() {
     delete out_;
     delete html_;
+    out_ = nullptr;
+    html_ = nullptr;
   }
   static fs::path* out_;
   static std::string* html_;
 };
-fs::path* ReportMapsOfAGrid::out_ = nullptr;
-std::string* ReportMapsOfAGrid::html_ = nullptr;
+fs::path* ReportFolder::out_ = nullptr;
+std::string* ReportFolder::html_ = nullptr;
+
+// One sweep of the wet campaign.
+class ReportMapsOfAGrid : public ReportFolder {
+ protected:
+  static void SetUpTestSuite() {
+    const auto example_dir = small_example("report_maps_grid");
+    write_text(example_dir / "wet.yaml", kWetCampaign);
+    const fs::path out = example_dir.parent_path() / "out";
+    const auto sweep =
+        run_emrm("sweep " + quoted(example_dir / "wet.yaml") + " -o " + quoted(out) + " --threads 2");
+    ASSERT_EQ(sweep.exit_code, 0) << sweep.out << sweep.err;
+    report(out);
+  }
+};
 
 TEST_F(ReportMapsOfAGrid, AGridOfItsOwnNameGetsAMapInTheReport) {
   EXPECT_THAT(figure_ids(*html_, "map_wet"), ::testing::Contains("map_wet"));
   EXPECT_TRUE(is_png(*out_ / "figures" / "map_wet.png"));
-  EXPECT_THAT(caption_of(*html_, "map_wet"), HasSubstr("Mitigability regions of grid &#39;wet&#39;: 2 speeds × 2 TTCs, μ = 0.5"));
+  EXPECT_THAT(caption_of(*html_, "map_wet"),
+              HasSubstr("Mitigability regions of grid &#39;wet&#39;: 2 speeds × 2 TTCs, μ = 0.5"));
   // Not the paper's map and its complaint: the store holds none of the paper's grids.
   EXPECT_THAT(*html_, Not(HasSubstr("none of the grids")));
   EXPECT_TRUE(figure_ids(*html_, "mitigability_map").empty());
@@ -96,8 +110,8 @@ TEST_F(ReportMapsOfAGrid, AGridOfItsOwnNameGetsAMapInTheReport) {
   std::map<std::string, std::string> region_of;  // "speed ttc" -> region
   for (std::size_t i = 1; i < regions.size(); ++i)
     if (regions[i][column_of(regions[0], "grid")] == "wet")
-      region_of[regions[i][column_of(regions[0], "speed_kph")] + " " + regions[i][column_of(regions[0], "ttc_s")]] =
-          regions[i][column_of(regions[0], "region")];
+      region_of[regions[i][column_of(regions[0], "speed_kph")] + " " +
+                regions[i][column_of(regions[0], "ttc_s")]] = regions[i][column_of(regions[0], "region")];
   const auto map = csv_rows(*out_ / "figures" / "map_wet.csv");
   ASSERT_EQ(map.size(), 1 + region_of.size());
   for (std::size_t i = 1; i < map.size(); ++i) {
@@ -109,9 +123,11 @@ TEST_F(ReportMapsOfAGrid, AGridOfItsOwnNameGetsAMapInTheReport) {
 
 TEST_F(ReportMapsOfAGrid, AThreeFactorGridGetsOneNamedMapPerSlice) {
   EXPECT_EQ(figure_ids(*html_, "map_wet3"), (std::vector<std::string>{"map_wet3_mu_0.5", "map_wet3_mu_1"}));
-  for (const auto& [stem, mu] : std::map<std::string, std::string>{{"map_wet3_mu_0.5", "0.5"}, {"map_wet3_mu_1", "1"}}) {
+  for (const auto& [stem, mu] :
+       std::map<std::string, std::string>{{"map_wet3_mu_0.5", "0.5"}, {"map_wet3_mu_1", "1"}}) {
     EXPECT_TRUE(is_png(*out_ / "figures" / (stem + ".png"))) << stem;
-    EXPECT_THAT(caption_of(*html_, stem), HasSubstr("grid &#39;wet3&#39;, slice μ = " + mu + ": 2 speeds × 2 TTCs"));
+    EXPECT_THAT(caption_of(*html_, stem),
+                HasSubstr("grid &#39;wet3&#39;, slice μ = " + mu + ": 2 speeds × 2 TTCs"));
     const auto map = csv_rows(*out_ / "figures" / (stem + ".csv"));
     ASSERT_EQ(map.size(), 5u) << stem;  // the slice's four cells, none of the other's
     for (std::size_t i = 1; i < map.size(); ++i) {
@@ -121,30 +137,19 @@ TEST_F(ReportMapsOfAGrid, AThreeFactorGridGetsOneNamedMapPerSlice) {
   }
 }
 
-// One plan, one run and one report for the suite.
-class ReportOfAPlannedRun : public ::testing::Test {
+// One plan of the small ODD and one run of it.
+class ReportOfAPlannedRun : public ReportFolder {
  protected:
   static void SetUpTestSuite() {
     const auto example_dir = small_example("report_maps_plan");
-    const fs::path plan = example_dir.parent_path() / "plan";
-    out_ = new fs::path(example_dir.parent_path() / "run");
+    const fs::path plan = example_dir.parent_path() / "plan", out = example_dir.parent_path() / "run";
     const auto p = run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(plan));
     ASSERT_EQ(p.exit_code, 0) << p.out << p.err;
-    const auto r = run_emrm("run " + quoted(plan / "scenarios.csv") + " -o " + quoted(*out_) + " --threads 2");
+    const auto r = run_emrm("run " + quoted(plan / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-    const auto report = run_emrm("report " + quoted(*out_));
-    ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
-    html_ = new std::string(read_text(*out_ / "report.html"));
+    report(out);
   }
-  static void TearDownTestSuite() {
-    delete out_;
-    delete html_;
-  }
-  static fs::path* out_;
-  static std::string* html_;
 };
-fs::path* ReportOfAPlannedRun::out_ = nullptr;
-std::string* ReportOfAPlannedRun::html_ = nullptr;
 
 TEST_F(ReportOfAPlannedRun, APlannedRunGetsAMapPerPairOfOddFactors) {
   // The small ODD's factors with two levels or more: speed, TTC, passage (truck speed and μ are
@@ -157,13 +162,14 @@ TEST_F(ReportOfAPlannedRun, APlannedRunGetsAMapPerPairOfOddFactors) {
     EXPECT_TRUE(is_png(*out_ / "figures" / (stem + ".png"))) << stem;
     const auto map = csv_rows(*out_ / "figures" / (stem + ".csv"));
     const auto& h = map.front();
-    EXPECT_THAT(caption_of(*html_, stem),
-                HasSubstr("Planned run, " + map[1][column_of(h, "factor_x")] + " × " + map[1][column_of(h, "factor_y")]));
+    EXPECT_THAT(caption_of(*html_, stem), HasSubstr("Planned run, " + map[1][column_of(h, "factor_x")] +
+                                                    " × " + map[1][column_of(h, "factor_y")]));
     // Each pair of levels once, and every scenario in exactly one of them.
     std::set<std::string> cells;
     std::size_t scenarios = 0;
     for (std::size_t i = 1; i < map.size(); ++i) {
-      EXPECT_TRUE(cells.insert(map[i][column_of(h, "level_x")] + " " + map[i][column_of(h, "level_y")]).second);
+      EXPECT_TRUE(
+          cells.insert(map[i][column_of(h, "level_x")] + " " + map[i][column_of(h, "level_y")]).second);
       scenarios += std::stoul(map[i][column_of(h, "scenarios")]);
       EXPECT_LE(std::stoul(map[i][column_of(h, "successes")]), std::stoul(map[i][column_of(h, "feasible")]));
     }
@@ -198,7 +204,8 @@ TEST_F(ReportOfAPlannedRun, SweepCurvesHaveOnePointPerOddBinNotPerExactSpeed) {
   }
   ASSERT_FALSE(bins_of.empty());
   for (const auto& [strategy, bins] : bins_of) {
-    EXPECT_EQ(bins, (std::set<std::string>{"[30, 51)", "[51, 72]"})) << strategy;  // the small ODD's speed bins
+    EXPECT_EQ(bins, (std::set<std::string>{"[30, 51)", "[51, 72]"}))
+        << strategy;                                      // the small ODD's speed bins
     EXPECT_EQ(cells_of[strategy], feasible) << strategy;  // every feasible scenario in one bin
   }
   EXPECT_THAT(caption_of(*html_, "sweep_curves"), HasSubstr("by the ODD&#39;s 2 bins of speed_kph"));
