@@ -29,8 +29,6 @@ std::string default_acceptance_strategy() {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-constexpr const char* kGrid = "plan";
-
 // A JSON value of the expected kind, or an InputError naming the key.
 const nlohmann::json& member(const nlohmann::json& object, const char* key, const std::string& file,
                              nlohmann::json::value_t type) {
@@ -134,6 +132,8 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
     if (const auto& v = member(settings, "seed", file, nlohmann::json::value_t::number_float); v.is_number())
       s.seed = v.get<std::uint64_t>();
   }
+  if (const auto& factors = member(j, "factors", file, nlohmann::json::value_t::array); factors.is_array())
+    s.factors = factors;
   if (const auto& cells = member(j, "cells", file, nlohmann::json::value_t::array); cells.is_array())
     for (const auto& c : cells) {
       if (!c.is_object() || !c.contains("cell") || !c["cell"].is_string()) continue;
@@ -236,7 +236,7 @@ RunResult run_scenarios(const RunOptions& options) {
   if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
   result.factors = file.factors;
   GridSpec grid;
-  grid.name = kGrid;
+  grid.name = kPlanGrid;
   grid.where = {file.file, 1, 1};
   for (const auto& name : file.factors) {
     sim::CellInput probe;
@@ -266,7 +266,7 @@ RunResult run_scenarios(const RunOptions& options) {
   const std::vector<CellRecord> records = read_results(options.output_dir / "results.sqlite");
   std::vector<const CellRecord*> by_index(file.rows.size(), nullptr);
   for (const auto& r : records)
-    if (r.grid == kGrid && r.index >= 0 && static_cast<std::size_t>(r.index) < by_index.size())
+    if (r.grid == kPlanGrid && r.index >= 0 && static_cast<std::size_t>(r.index) < by_index.size())
       by_index[static_cast<std::size_t>(r.index)] = &r;
   std::map<std::string, CellEstimate> cells;
   for (std::size_t i = 0; i < file.rows.size(); ++i) {
@@ -347,6 +347,7 @@ RunResult run_scenarios(const RunOptions& options) {
   }
   Json j = to_json(result);
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
+  if (!settings.factors.is_null()) j["factors"] = settings.factors;  // the report groups by the ODD's levels
   core::write_file(dir / "estimates.json", j.dump(2) + "\n");
   return result;
 }

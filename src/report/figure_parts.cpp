@@ -23,6 +23,10 @@ double value_of(const CellRecord& r, Axis a) {
       return r.ttc_s;
     case Axis::kMu:
       return r.mu;
+    case Axis::kPassage:
+      return r.passage_m;
+    case Axis::kTruckSpeed:
+      return r.truck_speed_kph;
   }
   return 0.0;
 }
@@ -34,5 +38,8 @@ std::vector<double> distinct_values(const std::vector<CellRecord>& cells, Axis a
   v.erase(std::unique(v.begin(), v.end(), [](double x, double y) { return std::abs(x - y) <= kSameValue; }), v.end());
   return v;
 }
+
+bool is_o_or_r(const CellRecord& c) { return c.feasible && (c.region == "O" || c.region == "R"); }
+bool is_undecided(const CellRecord& c) { return is_o_or_r(c) && c.evidence == "undecided"; }
 
 }  // namespace emrm::report::detail

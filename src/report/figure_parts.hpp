@@ -19,12 +19,18 @@ inline constexpr double kSameValue = 1e-9;
 void write_csv(Figure& figure, const std::filesystem::path& dir, const core::Row& header,
                const std::vector<core::Row>& rows);
 
-enum class Axis { kSpeed, kTtc, kMu };
+/// A factor of a grid's cells, as a figure's axis or a map's slice.
+enum class Axis { kSpeed, kTtc, kMu, kPassage, kTruckSpeed };
 
-/// The cell's ego speed (km/h), TTC (s) or μ.
+/// The cell's ego speed (km/h), TTC (s), μ, passage width (m) or truck speed (km/h).
 [[nodiscard]] double value_of(const campaign::CellRecord& r, Axis a);
 
 /// The distinct values of `a` over `cells`, ascending (values within kSameValue are one).
 [[nodiscard]] std::vector<double> distinct_values(const std::vector<campaign::CellRecord>& cells, Axis a);
+
+/// A feasible cell in region O or R.
+[[nodiscard]] bool is_o_or_r(const campaign::CellRecord& c);
+/// An O/R cell whose region rests on a failed search only: no avoidance found, none proven impossible.
+[[nodiscard]] bool is_undecided(const campaign::CellRecord& c);
 
 }  // namespace emrm::report::detail

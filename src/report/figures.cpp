@@ -128,43 +128,45 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
 
 // --- sweep curves -----------------------------------------------------------------------------
 
-Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
-  Figure figure;
-  figure.name = "sweep_curves";
-  figure.title = fmt::format("Parameter sweep over grid '{}'", grid);
-  const auto cells = campaign::records_of_grid(records, grid);
-  if (cells.empty()) {
-    figure.note = fmt::format("no sweep curves: no grid '{}' in the store", grid);
-    return figure;
-  }
+namespace {
+
+/// One point of each strategy's curve: where it sits on the x axis, its leading CSV columns and the
+/// cells it is the rate over.
+struct SweepPoint {
+  double x = 0.0;
+  core::Row key;
+  std::vector<CellRecord> cells;
+};
+
+/// The x axis of the sweep: its label and range, the tics when it is categorical, the multiplot's title.
+struct SweepAxis {
+  std::string label, tics, title;
+  double lo = 0.0, hi = 0.0;
+};
+
+/// Draws the curves of `points` into `figure` (its name and caption set by the caller): one row per
+/// point and strategy with a feasible cell, the CSV's columns `key_header` then strategy, cells and
+/// the two rates. False, with nothing written, when no point has a feasible cell.
+bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const std::vector<CellRecord>& cells,
+                 const std::string& grid, const core::Row& key_header, const SweepAxis& axis, const fs::path& dir) {
   const auto strategies = ordered_strategies(cells);
-  const auto speeds = distinct_values(cells, Axis::kSpeed);
   std::vector<core::Row> rows;
   std::vector<std::vector<std::string>> per_strategy(strategies.size());
-  for (const double speed : speeds) {
-    std::vector<CellRecord> at_speed;
-    for (const auto& c : cells)
-      if (std::abs(c.speed_kph - speed) <= kSameValue) at_speed.push_back(c);
+  for (const SweepPoint& point : points) {
     for (std::size_t s = 0; s < strategies.size(); ++s) {
-      const auto k = campaign::strategy_kpis(at_speed, strategies[s], grid);
-      if (k.cells == 0) continue;  // every cell at this speed infeasible: no point, the line bridges it
-      core::Row row{plot_number(speed), strategies[s], std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
-                    plot_percent(k.mitigability_success_pct)};
-      per_strategy[s].push_back(fmt::format("{} {} {}", row[0], row[3], row[4]));
+      const auto k = campaign::strategy_kpis(point.cells, strategies[s], grid);
+      if (k.cells == 0) continue;  // every cell of this point infeasible: no point, the line bridges it
+      core::Row row = point.key;
+      row.insert(row.end(), {strategies[s], std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
+                             plot_percent(k.mitigability_success_pct)});
+      per_strategy[s].push_back(fmt::format("{} {} {}", plot_number(point.x), row[row.size() - 2], row.back()));
       rows.push_back(std::move(row));
     }
   }
-  if (rows.empty()) {
-    figure.note = fmt::format("no sweep curves: grid '{}' has no feasible cell with a strategy outcome", grid);
-    return figure;
-  }
-  figure.title = fmt::format(
-      "Parameter sweep over grid '{}' ({} cells, {} ego speeds from {} to {} km/h), per strategy. Left: "
-      "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
-      "feasible cells at that speed.",
-      grid, cells.size(), speeds.size(), plot_number(speeds.front()), plot_number(speeds.back()));
-  write_csv(figure, dir, {"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct", "mitigability_success_pct"},
-            rows);
+  if (rows.empty()) return false;
+  core::Row header = key_header;
+  header.insert(header.end(), {"strategy", "cells", "collision_avoidance_rate_pct", "mitigability_success_pct"});
+  write_csv(figure, dir, header, rows);
 
   std::string data;
   std::vector<std::string> car_plot, ms_plot, key;
@@ -180,12 +182,11 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
     key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
   }
   const double key_h = 0.08, top = 0.93;
-  const double x_lo = speeds.front() - 1.0, x_hi = speeds.back() + 1.0;
   std::string body = fmt::format(
       "set multiplot title {} font ',16'\n"
       "set tics out nomirror\nset border 3\nset key off\nset grid lc rgb '#dddddd'\n"
-      "set xrange [{}:{}]\nset yrange [-2:102]\nset ytics 0,20,100\nset xlabel 'ego speed (km/h)'\n",
-      single_quoted(fmt::format("Parameter sweep, grid '{}'", enhanced_literal(grid))), plot_number(x_lo), plot_number(x_hi));
+      "set xrange [{}:{}]\nset yrange [-2:102]\nset ytics 0,20,100\nset xlabel {}\n{}",
+      single_quoted(axis.title), plot_number(axis.lo), plot_number(axis.hi), single_quoted(axis.label), axis.tics);
   body += fmt::format("set origin 0,{0}\nset size 0.5,{1}\nset title 'Collision avoidance'\n"
                       "set ylabel 'collision-avoidance rate (%)'\nplot {2}\n",
                       key_h, top - key_h, core::join(car_plot, ", "));
@@ -194,7 +195,74 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
                       key_h, top - key_h, core::join(ms_plot, ", "));
   body += "set key on\n" + key_strip(key_h, 1, 0, key) + "unset multiplot\n";
   render_png_and_svg(figure.png, figure.svg, data, body, 1400, 650, 13);
+  return true;
+}
+
+}  // namespace
+
+Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
+  Figure figure;
+  figure.name = "sweep_curves";
+  figure.title = fmt::format("Parameter sweep over grid '{}'", grid);
+  const auto cells = campaign::records_of_grid(records, grid);
+  if (cells.empty()) {
+    figure.note = fmt::format("no sweep curves: no grid '{}' in the store", grid);
+    return figure;
+  }
+  const auto speeds = distinct_values(cells, Axis::kSpeed);
+  std::vector<SweepPoint> points;
+  for (const double speed : speeds) {
+    SweepPoint& point = points.emplace_back(SweepPoint{speed, {plot_number(speed)}, {}});
+    for (const auto& c : cells)
+      if (std::abs(c.speed_kph - speed) <= kSameValue) point.cells.push_back(c);
+  }
+  const SweepAxis axis{"ego speed (km/h)", "", fmt::format("Parameter sweep, grid '{}'", enhanced_literal(grid)),
+                       speeds.front() - 1.0, speeds.back() + 1.0};
+  if (!draw_curves(figure, points, cells, grid, {"speed_kph"}, axis, dir)) {
+    figure.note = fmt::format("no sweep curves: grid '{}' has no feasible cell with a strategy outcome", grid);
+    return figure;
+  }
+  figure.title = fmt::format(
+      "Parameter sweep over grid '{}' ({} cells, {} ego speeds from {} to {} km/h), per strategy. Left: "
+      "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
+      "feasible cells at that speed.",
+      grid, cells.size(), speeds.size(), plot_number(speeds.front()), plot_number(speeds.back()));
   return figure;
+}
+
+Figure draw_binned_sweep_curves(const std::vector<CellRecord>& cells, const std::vector<int>& levels,
+                                const PlanFactor& factor, const fs::path& dir, const std::string& name) {
+  Figure figure;
+  figure.name = name;
+  figure.title = fmt::format("Parameter sweep of the planned run by the ODD's bins of {}", factor.name);
+  std::vector<SweepPoint> points;
+  std::vector<std::string> tics;
+  for (std::size_t k = 0; k < factor.levels.size(); ++k) {
+    const std::string& label = factor.levels[k];
+    SweepPoint& point = points.emplace_back(SweepPoint{static_cast<double>(k), {std::to_string(k), label}, {}});
+    for (std::size_t i = 0; i < cells.size() && i < levels.size(); ++i)
+      if (levels[i] == static_cast<int>(k)) point.cells.push_back(cells[i]);
+    tics.push_back(fmt::format("{} {}", single_quoted(label), k));
+  }
+  const std::string grid = cells.empty() ? std::string() : cells.front().grid;
+  const SweepAxis axis{enhanced_literal(plan_factor_label(factor)),
+                       fmt::format("set xtics ({}) noenhanced\n", core::join(tics, ", ")),
+                       fmt::format("Parameter sweep by the ODD's bins of {}", enhanced_literal(factor.name)), -0.5,
+                       static_cast<double>(factor.levels.size()) - 0.5};
+  if (!draw_curves(figure, points, cells, grid, {"level", "bin"}, axis, dir)) {
+    figure.note = "no sweep curves: the planned run has no feasible scenario with a strategy outcome";
+    return figure;
+  }
+  figure.title = fmt::format(
+      "Parameter sweep of the planned run ({} scenarios) by the ODD's {} bins of {} ({}), per strategy. Left: "
+      "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
+      "feasible scenarios in that bin (a bin without one has no point).",
+      cells.size(), factor.levels.size(), factor.name, core::join(factor.levels, ", "));
+  return figure;
+}
+
+std::string plan_factor_label(const PlanFactor& factor) {
+  return factor.unit.empty() || factor.unit == "1" ? factor.name : fmt::format("{} ({})", factor.name, factor.unit);
 }
 
 // --- coverage comparison ----------------------------------------------------------------------

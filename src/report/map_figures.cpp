@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
+#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -28,6 +31,8 @@ namespace fs = std::filesystem;
 using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
+using detail::is_o_or_r;
+using detail::is_undecided;
 using detail::value_of;
 using detail::write_csv;
 
@@ -52,6 +57,10 @@ std::string_view axis_label(Axis a) {
       return "time to collision TTC (s)";
     case Axis::kMu:
       return "road friction μ (–)";
+    case Axis::kPassage:
+      return "passage width (m)";
+    case Axis::kTruckSpeed:
+      return "truck speed (km/h)";
   }
   return "";
 }
@@ -64,6 +73,10 @@ std::string_view axis_plural(Axis a) {
       return "TTCs";
     case Axis::kMu:
       return "μ";
+    case Axis::kPassage:
+      return "passage widths";
+    case Axis::kTruckSpeed:
+      return "truck speeds";
   }
   return "";
 }
@@ -73,7 +86,8 @@ double half_step(const std::vector<double>& values, Axis a) {
   double step = std::numeric_limits<double>::infinity();
   for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
   if (std::isfinite(step)) return step / 2.0;
-  return a == Axis::kSpeed ? 1.0 : 0.05;  // a single value: a band of a plausible width
+  // A single value: a band of a plausible width.
+  return a == Axis::kSpeed || a == Axis::kTruckSpeed ? 1.0 : 0.05;
 }
 
 double median_of(const std::vector<CellRecord>& cells, Axis a) {
@@ -92,6 +106,10 @@ std::string fixed_text(Axis a, double v) {
       return fmt::format("TTC = {} s", plot_number(v));
     case Axis::kMu:
       return fmt::format("μ = {}", plot_number(v));
+    case Axis::kPassage:
+      return fmt::format("passage {} m", plot_number(v));
+    case Axis::kTruckSpeed:
+      return fmt::format("truck {} km/h", plot_number(v));
   }
   return "";
 }
@@ -120,8 +138,12 @@ struct MapPanel {
   std::vector<double> xs, ys;  ///< the distinct values along each axis
   double hx = 0.0, hy = 0.0;   ///< half a cell's width and height
   double fixed = 0.0;          ///< the median of the factor the panel holds fixed
+  std::string held;            ///< what the panel holds fixed, as its heading says it: "μ = 1"
+  bool lettered = true;        ///< headed "(a) NAME" (a panel of the 2×2 layout), else "NAME"
   double origin_x = 0.0, origin_y = 0.0;
 };
+
+constexpr int kMapWidthPx = 1400, kMapHeightPx = 1000, kMapFontPt = 13;
 
 /// A map's 2×2 layout above a key strip `key_h` high (screen units): the panels that have cells,
 /// in order (a)–(d); a missing grid leaves its slot empty but for a label, and is said in `missing`.
@@ -131,7 +153,20 @@ struct MapLayout {
   std::string missing_labels;  ///< gnuplot labels for the empty slots, drawn with the key strip
   std::size_t total_cells = 0;
   double key_h = 0.0, cell_h = 0.0;
+  double panel_w = 0.5;  ///< a panel's width (screen units)
+  int width_px = kMapWidthPx, height_px = kMapHeightPx;
 };
+
+/// Gives `p` its cells and their extent along the axes of its spec.
+void fill_panel(MapPanel& p, std::vector<CellRecord> cells) {
+  p.cells = std::move(cells);
+  p.xs = distinct_values(p.cells, p.spec.x);
+  p.ys = distinct_values(p.cells, p.spec.y);
+  p.hx = half_step(p.xs, p.spec.x);
+  p.hy = half_step(p.ys, p.spec.y);
+  p.fixed = median_of(p.cells, p.spec.fixed);
+  p.held = fixed_text(p.spec.fixed, p.fixed);
+}
 
 /// Puts panel `spec` in slot `i` (0–3, row by row) of `layout` with the cells of its grid in
 /// `records`; a grid without cells leaves the slot empty but for a label.
@@ -140,8 +175,8 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const st
   p.spec = spec;
   p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
   p.origin_y = i < 2 ? layout.key_h + layout.cell_h : layout.key_h;
-  p.cells = campaign::records_of_grid(records, p.spec.grid);
-  if (p.cells.empty()) {
+  std::vector<CellRecord> cells = campaign::records_of_grid(records, p.spec.grid);
+  if (cells.empty()) {
     layout.missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
     layout.missing_labels += fmt::format(
         "set label {} {} at screen {},{} center\n", 90 + i,
@@ -150,12 +185,8 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const st
         p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
     return;
   }
-  layout.total_cells += p.cells.size();
-  p.xs = distinct_values(p.cells, p.spec.x);
-  p.ys = distinct_values(p.cells, p.spec.y);
-  p.hx = half_step(p.xs, p.spec.x);
-  p.hy = half_step(p.ys, p.spec.y);
-  p.fixed = median_of(p.cells, p.spec.fixed);
+  layout.total_cells += cells.size();
+  fill_panel(p, std::move(cells));
   layout.panels.push_back(std::move(p));
 }
 
@@ -188,13 +219,17 @@ std::string no_map_note(std::string_view what, const MapPanels& grids) {
 /// "5 speeds × 6 TTCs, μ = 1": the panel's extent, as its heading and the caption state it.
 std::string panel_extent(const MapPanel& p) {
   return fmt::format("{} {} × {} {}, {}", p.xs.size(), axis_plural(p.spec.x), p.ys.size(), axis_plural(p.spec.y),
-                     fixed_text(p.spec.fixed, p.fixed));
+                     p.held);
+}
+
+/// "(a) Speed × TTC, coarse grid", or the name alone for a map of one panel.
+std::string panel_name(const MapPanel& p) {
+  return p.lettered ? fmt::format("({}) {}", p.spec.letter, p.spec.name) : std::string(p.spec.name);
 }
 
 /// The panel's part of the figure's caption, `detail` after its cell count.
 std::string panel_caption(const MapPanel& p, std::string_view detail) {
-  return fmt::format("({}) {}, {} ({} cells; {})", p.spec.letter, p.spec.name, panel_extent(p), p.cells.size(),
-                     detail);
+  return fmt::format("{}, {} ({} cells; {})", panel_name(p), panel_extent(p), p.cells.size(), detail);
 }
 
 /// The CSV columns every map starts a cell's row with: panel, grid, speed_kph, ttc_s, mu,
@@ -233,6 +268,7 @@ std::string boundary_function(const MapPanel& p, double latency_s) {
     if (p.fixed <= latency_s) return "";  // nothing stops within the latency alone
     return fmt::format("(x/3.6/({}*({} - {})))", plot_number(two_g), plot_number(p.fixed), plot_number(latency_s));
   }
+  if (s.x != Axis::kTtc || s.y != Axis::kMu) return "";  // no closed form over other factors
   // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
   return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", plot_number(p.fixed), plot_number(latency_s),
                      plot_number(two_g));
@@ -244,9 +280,9 @@ constexpr std::string_view kBoundaryStyle = "with lines dt 2 lw 2.5 lc rgb 'blac
 /// `layers` (plot items over its cells) and the stop boundary on top.
 std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
                          const std::vector<std::string>& layers, double latency_s) {
-  const std::string heading =
-      fmt::format("({}) {}: {} ({} cells)", p.spec.letter, p.spec.name, panel_extent(p), p.cells.size());
-  std::string out = fmt::format("set origin {},{}\nset size 0.5,{}\n", p.origin_x, p.origin_y, layout.cell_h);
+  const std::string heading = fmt::format("{}: {} ({} cells)", panel_name(p), panel_extent(p), p.cells.size());
+  std::string out =
+      fmt::format("set origin {},{}\nset size {},{}\n", p.origin_x, p.origin_y, layout.panel_w, layout.cell_h);
   out += fmt::format("set title {}\n",
                      double_quoted(enhanced_literal(heading) + "\n{/*0.8 " + enhanced_literal(subtitle) + "}"));
   out += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.spec.x)),
@@ -278,10 +314,6 @@ std::string map_script(const MapLayout& layout, std::string_view title, const st
   return body + "unset multiplot\n";
 }
 
-constexpr int kMapWidthPx = 1400, kMapHeightPx = 1000, kMapFontPt = 13;
-
-bool is_o_or_r(const CellRecord& c) { return c.feasible && (c.region == "O" || c.region == "R"); }
-bool is_undecided(const CellRecord& c) { return is_o_or_r(c) && c.evidence == "undecided"; }
 
 constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
 constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
@@ -291,8 +323,8 @@ constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
 /// 80 % of its width and 70 % of its height): readable on the fine grid's flat cells, and not
 /// filling a coarse grid's cell.
 std::string cross_style(const MapLayout& layout, const MapPanel& p) {
-  const double cell_w_px = 0.5 * kMapWidthPx * 0.8 / static_cast<double>(p.xs.size());
-  const double cell_h_px = layout.cell_h * kMapHeightPx * 0.7 / static_cast<double>(p.ys.size());
+  const double cell_w_px = layout.panel_w * layout.width_px * 0.8 / static_cast<double>(p.xs.size());
+  const double cell_h_px = layout.cell_h * layout.height_px * 0.7 / static_cast<double>(p.ys.size());
   constexpr double kPointPx = 9.0;  // about the size of a cross at point size 1 at this size and font
   const double size = std::clamp(0.6 * std::sqrt(cell_w_px * cell_h_px) / kPointPx, 0.5, 1.5);
   return fmt::format("pt 2 ps {:.2f} lw 1.5 lc rgb 'black'", size);
@@ -333,14 +365,42 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
   return out;
 }
 
-/// The key of a region map: the regions, the stop boundary (`boundary` its label), and the cross
-/// when some cell is undecided.
+/// What backs the O/R cells of a map, as its caption says it.
+struct EvidenceCounts {
+  std::size_t undecided = 0, certified = 0, unproven = 0;
+  [[nodiscard]] std::string caption() const {
+    std::string out;
+    if (undecided > 0)
+      out = fmt::format(" A cross marks the {} undecided O/R cells: a search found no avoidance, but nothing "
+                        "proves that none exists.",
+                        undecided);
+    if (certified > 0)
+      out += unproven == 0 ? fmt::format(" {} O/R cells ({}) are certified unavoidable.",
+                                         undecided == 0 ? "All" : "The unmarked", certified)
+                           : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.", certified,
+                                         unproven);
+    return out;
+  }
+};
+EvidenceCounts count_evidence(const std::vector<CellRecord>& cells) {
+  EvidenceCounts n;
+  for (const auto& c : cells) {
+    if (!is_o_or_r(c)) continue;
+    n.undecided += is_undecided(c);
+    n.certified += c.evidence == "certificate";
+    n.unproven += c.evidence != "undecided" && c.evidence != "certificate";
+  }
+  return n;
+}
+
+/// The key of a region map: the regions, the stop boundary (`boundary` its label; none when empty),
+/// and the cross when some cell is undecided.
 std::vector<std::string> region_key(const std::string& boundary, bool undecided) {
   std::vector<std::string> key;
   for (const auto& s : kRegions)
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
-  key.push_back(boundary_key_entry(boundary));
+  if (!boundary.empty()) key.push_back(boundary_key_entry(boundary));
   if (undecided) key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
   return key;
 }
@@ -356,14 +416,12 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   figure.title = "Mitigability regions";  // replaced by the full caption once drawn
   // Undecided O/R cells (a search found no avoidance, nothing proves there is none) carry a cross
   // over their region colour: their region is a search's verdict, not a proof.
-  std::size_t undecided = 0, certified = 0, unproven = 0;
+  std::vector<CellRecord> mapped;
   for (const std::string& grid : {panels.coarse, panels.fine, panels.speed_mu, panels.ttc_mu})
-    for (const auto& c : records) {
-      if (c.grid != grid || !is_o_or_r(c)) continue;
-      undecided += is_undecided(c);
-      certified += c.evidence == "certificate";
-      unproven += c.evidence != "undecided" && c.evidence != "certificate";
-    }
+    for (const auto& c : records)
+      if (c.grid == grid) mapped.push_back(c);
+  const EvidenceCounts evidence = count_evidence(mapped);
+  const std::size_t undecided = evidence.undecided;
   const MapLayout layout = lay_out_map(records, panels, undecided == 0 ? 0.06 : 0.1);  // a third key row
   if (layout.panels.empty()) {
     figure.note = no_map_note("mitigability map", panels);
@@ -380,22 +438,12 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   }
 
   figure.note = core::join(layout.missing, "; ");
-  std::string evidence;
-  if (undecided > 0)
-    evidence = fmt::format(" A cross marks the {} undecided O/R cells: a search found no avoidance, but nothing "
-                           "proves that none exists.",
-                           undecided);
-  if (certified > 0)
-    evidence += unproven == 0 ? fmt::format(" {} O/R cells ({}) are certified unavoidable.",
-                                            undecided == 0 ? "All" : "The unmarked", certified)
-                              : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.",
-                                            certified, unproven);
   figure.title = fmt::format(
       "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
       "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
       "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
       layout.total_cells, core::join(caption_parts, "; "), boundary_text(latency_s), plot_number(sim::kGravity_mps2),
-      evidence);
+      evidence.caption());
   write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
 
   const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
@@ -565,6 +613,197 @@ Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
                                       layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
+}
+
+// --- maps of any grid ------------------------------------------------------------------------------
+
+namespace {
+
+// The order in which a grid's factors become a map's axes: the first two that vary.
+constexpr std::array<Axis, 5> kFactorOrder{Axis::kSpeed, Axis::kTtc, Axis::kMu, Axis::kPassage, Axis::kTruckSpeed};
+
+/// The factor's key in a campaign file, as a figure's file name uses it.
+std::string_view axis_key(Axis a) {
+  switch (a) {
+    case Axis::kSpeed:
+      return "speed_kph";
+    case Axis::kTtc:
+      return "ttc_s";
+    case Axis::kMu:
+      return "mu";
+    case Axis::kPassage:
+      return "passage_m";
+    case Axis::kTruckSpeed:
+      return "truck_speed_kph";
+  }
+  return "";
+}
+
+/// How a grid is cut into maps: its axes, the factor the stop boundary holds fixed, and the factors
+/// each slice holds fixed (`sliced` those of them that vary over the grid).
+struct GridCut {
+  Axis x = Axis::kSpeed, y = Axis::kTtc, fixed = Axis::kMu;
+  std::vector<Axis> held, sliced;
+};
+
+/// The first two varying factors as axes (a constant one fills in for a 1-D or 0-D grid: a strip).
+GridCut cut_grid(const std::vector<CellRecord>& cells) {
+  std::vector<Axis> varying, constant;
+  for (const Axis a : kFactorOrder) (distinct_values(cells, a).size() > 1 ? varying : constant).push_back(a);
+  std::vector<Axis> order = varying;
+  order.insert(order.end(), constant.begin(), constant.end());
+  GridCut cut;
+  cut.x = order[0];
+  cut.y = order[1];
+  cut.held.assign(order.begin() + 2, order.end());
+  for (const Axis a : cut.held)
+    if (std::find(varying.begin(), varying.end(), a) != varying.end()) cut.sliced.push_back(a);
+  for (const Axis a : {Axis::kMu, Axis::kTtc, Axis::kSpeed})  // the boundary's third factor, when it has one
+    if (a != cut.x && a != cut.y) cut.fixed = a;
+  return cut;
+}
+
+/// The cells of a grid that share the values of every factor the cut holds fixed.
+struct GridSlice {
+  std::vector<CellRecord> cells;
+  std::vector<double> held_values;  ///< in the order of GridCut::held
+};
+
+/// The grid's slices, ordered by their held values (factor by factor, ascending).
+std::vector<GridSlice> slices_of(const std::vector<CellRecord>& cells, const GridCut& cut) {
+  std::vector<std::vector<double>> distinct;
+  for (const Axis a : cut.held) distinct.push_back(distinct_values(cells, a));
+  std::map<std::vector<std::size_t>, GridSlice> by_key;
+  for (const auto& c : cells) {
+    std::vector<std::size_t> key;
+    for (std::size_t i = 0; i < cut.held.size(); ++i) {
+      const auto& values = distinct[i];
+      const double v = value_of(c, cut.held[i]);
+      key.push_back(static_cast<std::size_t>(
+          std::lower_bound(values.begin(), values.end(), v - detail::kSameValue) - values.begin()));
+    }
+    GridSlice& slice = by_key[key];
+    if (slice.cells.empty())
+      for (std::size_t i = 0; i < key.size(); ++i) slice.held_values.push_back(distinct[i][key[i]]);
+    slice.cells.push_back(c);
+  }
+  std::vector<GridSlice> out;
+  for (auto& [key, slice] : by_key) out.push_back(std::move(slice));
+  return out;
+}
+
+/// "μ = 0.5, passage 3 m" for `factors` of the cut at the slice's values.
+std::string held_text(const GridCut& cut, const GridSlice& slice, const std::vector<Axis>& factors) {
+  std::vector<std::string> parts;
+  for (std::size_t i = 0; i < cut.held.size(); ++i)
+    if (std::find(factors.begin(), factors.end(), cut.held[i]) != factors.end())
+      parts.push_back(fixed_text(cut.held[i], slice.held_values[i]));
+  return core::join(parts, ", ");
+}
+
+/// A figure's file stem: letters, digits, '.', '-' and '_' kept, anything else '_'.
+std::string file_stem(std::string_view text) {
+  std::string out(text);
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return out;
+}
+
+/// "map_GRID", then "_FACTOR_VALUE" for each factor the slice is cut along.
+std::string slice_stem(const std::string& grid, const GridCut& cut, const GridSlice& slice) {
+  std::string stem = "map_" + file_stem(grid);
+  for (std::size_t i = 0; i < cut.held.size(); ++i)
+    if (std::find(cut.sliced.begin(), cut.sliced.end(), cut.held[i]) != cut.sliced.end())
+      stem += fmt::format("_{}_{}", axis_key(cut.held[i]), file_stem(plot_number(slice.held_values[i])));
+  return stem;
+}
+
+constexpr int kSliceWidthPx = 1000, kSliceHeightPx = 760;
+
+/// One slice of a grid as a map of one panel, in the mitigability map's colours and crosses.
+Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSlice& slice, const std::string& name,
+                      const fs::path& dir, double latency_s) {
+  Figure figure;
+  figure.name = name;
+  const std::string slice_label = held_text(cut, slice, cut.sliced);
+  const std::string what = fmt::format("grid '{}'{}", grid, slice_label.empty() ? "" : ", slice " + slice_label);
+  const EvidenceCounts evidence = count_evidence(slice.cells);
+  MapLayout layout = empty_layout(evidence.undecided == 0 ? 0.13 : 0.17);  // three key rows, or four
+  layout.panel_w = 1.0;
+  layout.cell_h = kMapTop - layout.key_h;
+  layout.width_px = kSliceWidthPx;
+  layout.height_px = kSliceHeightPx;
+  const std::string panel_title = "Grid " + grid;  // the spec views it
+  MapPanel p;
+  p.spec = {'a', grid, cut.x, cut.y, cut.fixed, panel_title};
+  p.lettered = false;
+  p.origin_y = layout.key_h;
+  fill_panel(p, slice.cells);
+  p.held = held_text(cut, slice, cut.held);
+  layout.total_cells = p.cells.size();
+
+  std::vector<core::Row> rows;
+  std::string data;
+  const RegionPanel drawn = region_panel(layout, p, rows, data);
+  for (auto& row : rows) row[0] = slice_label;
+  const bool boundary = !boundary_function(p, latency_s).empty();
+  figure.title = fmt::format(
+      "Mitigability regions of {}: {} ({} cells; {}). Each rectangle is one cell: G (green) fully avoidable, "
+      "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey "
+      "infeasible.{}{}",
+      what, panel_extent(p), p.cells.size(), drawn.shares,
+      boundary ? fmt::format(" Dashed: the analytic stop boundary {} (g = {} m/s²) at {}.", boundary_text(latency_s),
+                             plot_number(sim::kGravity_mps2), fixed_text(p.spec.fixed, p.fixed))
+               : std::string(),
+      evidence.caption());
+  write_csv(figure, dir, {"slice", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
+  const std::vector<std::string> key =
+      region_key(boundary ? "stop boundary " + boundary_text(latency_s) : std::string(), evidence.undecided > 0);
+  const std::string body =
+      map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
+                 panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key,
+                 evidence.undecided == 0 ? 3 : 4, 0, layout.key_h);
+  render_png_and_svg(figure.png, figure.svg, data, body, kSliceWidthPx, kSliceHeightPx, kMapFontPt);
+  return figure;
+}
+
+/// The report's entry for slices left undrawn: their count and values.
+Figure undrawn_slices(const std::string& grid, const std::string& name, const GridCut& cut,
+                      const std::vector<GridSlice>& slices, std::size_t drawn) {
+  Figure figure;
+  figure.name = name;
+  figure.title = fmt::format("Mitigability regions of grid '{}', further slices", grid);
+  std::vector<std::string> left;
+  for (std::size_t i = drawn; i < slices.size(); ++i) left.push_back(held_text(cut, slices[i], cut.sliced));
+  figure.note = fmt::format("grid '{}' has {} slices; the first {} are drawn, these not: {}", grid, slices.size(),
+                            drawn, core::join(left, "; "));
+  return figure;
+}
+
+}  // namespace
+
+std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const fs::path& dir,
+                                   const GridMapOptions& options) {
+  std::vector<Figure> figures;
+  std::set<std::string> stems;
+  const auto unique_stem = [&stems](std::string stem) {
+    const std::string base = stem;
+    for (int n = 2; !stems.insert(stem).second; ++n) stem = fmt::format("{}_{}", base, n);
+    return stem;
+  };
+  for (const auto& grid : campaign::grid_names(records)) {
+    if (std::find(options.skip.begin(), options.skip.end(), grid) != options.skip.end()) continue;
+    const std::vector<CellRecord> cells = campaign::records_of_grid(records, grid);
+    const GridCut cut = cut_grid(cells);
+    const std::vector<GridSlice> slices = slices_of(cells, cut);
+    const std::size_t drawn = std::min(slices.size(), options.max_slices_per_grid);
+    for (std::size_t i = 0; i < drawn; ++i)
+      figures.push_back(
+          draw_slice_map(grid, cut, slices[i], unique_stem(slice_stem(grid, cut, slices[i])), dir, options.latency_s));
+    if (drawn < slices.size())
+      figures.push_back(undrawn_slices(grid, unique_stem("map_" + file_stem(grid) + "_more"), cut, slices, drawn));
+  }
+  return figures;
 }
 
 }  // namespace emrm::report

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -18,6 +19,8 @@
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
+#include "emrm/campaign/run.hpp"
+#include "emrm/report/plan_figures.hpp"
 #include "emrm/report/trajectory_figure.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
@@ -449,6 +452,15 @@ std::string actuation_html(const sim::ActuationConfig& a, const std::vector<camp
                      profiles.empty() ? "" : ", but the map under each profile and its table, which name theirs");
 }
 
+// The sweep curves: by the ODD's bins when the headline grid is a planned run's (and the ODD is
+// known), else by exact speed; a planned run beside another grid (reproduce) adds its own curves.
+Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
+                    const std::optional<PlannedRun>& planned, const fs::path& figures_dir) {
+  if (planned && !planned->factors.empty() && grid == campaign::kPlanGrid)
+    return draw_plan_sweep_curves(*planned, figures_dir);
+  return draw_sweep_curves(records, grid, figures_dir);
+}
+
 }  // namespace
 
 ReportSummary write_report(const fs::path& dir) {
@@ -466,8 +478,23 @@ ReportSummary write_report(const fs::path& dir) {
   // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check).
   const auto& act = scene.actuation;
   const double boundary_latency_s = act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s;
-  summary.figures.push_back(draw_mitigability_map(records, figures_dir, {}, boundary_latency_s));
-  summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, {}, boundary_latency_s));
+  const std::optional<PlannedRun> planned = read_planned_run(dir);
+  // The paper's four-panel maps when the store holds one of their grids; any other grid its own maps.
+  const MapPanels paper;
+  const std::vector<std::string> paper_grids{paper.coarse, paper.fine, paper.speed_mu, paper.ttc_mu};
+  const auto grids = campaign::grid_names(records);
+  GridMapOptions grid_maps;
+  grid_maps.skip = paper_grids;
+  if (planned) grid_maps.skip.push_back(campaign::kPlanGrid);  // scenarios, not a grid: mapped by the ODD's cells
+  grid_maps.latency_s = boundary_latency_s;
+  if (std::any_of(paper_grids.begin(), paper_grids.end(),
+                  [&](const std::string& g) { return std::find(grids.begin(), grids.end(), g) != grids.end(); })) {
+    summary.figures.push_back(draw_mitigability_map(records, figures_dir, paper, boundary_latency_s));
+    summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, paper, boundary_latency_s));
+  }
+  for (Figure& f : draw_grid_maps(records, figures_dir, grid_maps)) summary.figures.push_back(std::move(f));
+  if (planned)
+    for (Figure& f : draw_plan_maps(*planned, figures_dir)) summary.figures.push_back(std::move(f));
   summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
   std::vector<campaign::ProfileRun> runs = campaign::read_profile_index(dir);
   if (!runs.empty()) {
@@ -479,7 +506,9 @@ ReportSummary write_report(const fs::path& dir) {
   }
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
-  summary.figures.push_back(draw_sweep_curves(records, grid, figures_dir));
+  summary.figures.push_back(sweep_curves(records, grid, planned, figures_dir));
+  if (planned && !planned->factors.empty() && grid != campaign::kPlanGrid)
+    summary.figures.push_back(draw_plan_sweep_curves(*planned, figures_dir, "plan_sweep_curves"));
   {
     Figure coverage;
     coverage.name = "coverage_comparison";

@@ -21,6 +21,9 @@
 
 namespace emrm::campaign {
 
+/// The grid a run stores its scenarios in: cell i is the scenario on row i of scenarios.csv.
+inline constexpr const char* kPlanGrid = "plan";
+
 struct RunOptions {
   std::filesystem::path scenarios_csv;
   std::filesystem::path output_dir;
@@ -45,6 +48,9 @@ struct PlanSettings {
   std::set<std::string> tracked_cells;  ///< cell keys with a precision target
   /// Each cell's bins as (factor, bin label) in the plan's factor order (scenarios.json "cells").
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> cell_levels;
+  /// The ODD's factors with their levels, as scenarios.json lists them (null without one): copied
+  /// into estimates.json, so that the report groups the run by the ODD's bins.
+  nlohmann::ordered_json factors;
 };
 
 /// Reads scenarios.json; throws InputError when it is malformed or names an unknown strategy.

@@ -54,6 +54,27 @@ Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, c
 Figure draw_harm_reduction_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
                                const MapPanels& panels = {}, double latency_s = 0.0);
 
+/// What draw_grid_maps draws.
+struct GridMapOptions {
+  std::vector<std::string> skip;       ///< grids drawn elsewhere (the paper map's panels)
+  std::size_t max_slices_per_grid = 12;  ///< further slices are listed in a note, not drawn
+  double latency_s = 0.0;              ///< of the dashed stop boundary, as draw_mitigability_map
+};
+
+/// (1d) A map of every grid of `records` but those in `options.skip`, whatever its name: the
+/// mitigability map's colours, crosses and stop boundary in one panel per figure. The axes are the
+/// first two factors that vary over the grid, in the order speed, TTC, μ, passage width, truck
+/// speed (a grid varying one factor or none gets a strip: a constant factor is its second axis);
+/// a grid varying more is cut into slices, one per combination of the values of the other
+/// varying factors, one figure each, in ascending order of those values. Stems: map_GRID, then
+/// _FACTOR_VALUE per factor the slice is cut along (e.g. map_wet3_mu_0.5; characters other than
+/// letters, digits, '.', '-' and '_' become '_'). At most `max_slices_per_grid` slices a grid are
+/// drawn; then one more Figure, map_GRID_more, has no files and a note listing the slices left out.
+/// Each caption names the grid, the slice and the region shares. CSV columns: slice, grid,
+/// speed_kph, ttc_s, mu, passage_m, region, evidence.
+std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records,
+                                   const std::filesystem::path& dir, const GridMapOptions& options = {});
+
 /// (3) Loss comparison on `grid`: collision-avoidance rate (%) and mean residual impact speed (km/h)
 /// per strategy, as two bar panels. CSV: strategy, cells, collision_avoidance_rate_pct,
 /// mean_impact_speed_kph.
@@ -65,6 +86,25 @@ Figure draw_loss_comparison(const std::vector<campaign::CellRecord>& records, co
 /// collision_avoidance_rate_pct, mitigability_success_pct.
 Figure draw_sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
                          const std::filesystem::path& dir);
+
+/// A factor of a plan's ODD as the figures of a planned run group by it (estimates.json "factors"):
+/// its name, unit and the label of each level (a bin "[44, 58)", a class or a constant), in level order.
+struct PlanFactor {
+  std::string name, unit;
+  std::vector<std::string> levels;
+};
+
+/// "speed_kph (km/h)", or the name alone when the unit is empty or "1": the factor on an axis.
+[[nodiscard]] std::string plan_factor_label(const PlanFactor& factor);
+
+/// (4b) The parameter sweep of a planned run: draw_sweep_curves's panels with one point per level of
+/// `factor` (levels[i] is the level of cells[i]) over the feasible scenarios in it, the bins' labels
+/// as x tics. CSV: level, bin, strategy, cells, collision_avoidance_rate_pct,
+/// mitigability_success_pct, one row per (bin, strategy) with a feasible scenario, bins ascending.
+/// `name` is the figure's stem.
+Figure draw_binned_sweep_curves(const std::vector<campaign::CellRecord>& cells, const std::vector<int>& levels,
+                                const PlanFactor& factor, const std::filesystem::path& dir,
+                                const std::string& name = "sweep_curves");
 
 /// (5) Coverage comparison of `reports`, the plan's then the baselines' (as coverage.json holds
 /// them: scenario::read_coverage_json): hazard, UCA and cell coverage (%) per method as grouped

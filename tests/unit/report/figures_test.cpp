@@ -1,4 +1,5 @@
 #include "emrm/report/figures.hpp"
+#include "emrm/report/plan_figures.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -330,6 +331,131 @@ TEST_F(FigureEmpty, MapWithoutAnyOfItsGridsWritesNothing) {
   EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
 }
 
+// --- maps of any grid -------------------------------------------------------------------------
+
+using FigureGridMaps = FigureTest;
+
+/// A grid `name` over the product of the values given, in expansion order.
+std::vector<CellRecord> product_grid(const std::string& name, const std::vector<double>& speeds,
+                                     const std::vector<double>& ttcs, const std::vector<double>& mus,
+                                     const std::vector<double>& passages = {3.0}) {
+  std::vector<CellRecord> cells;
+  std::int64_t i = 0;
+  for (const double m : mus)
+    for (const double p : passages)
+      for (const double v : speeds)
+        for (const double t : ttcs) {
+          cells.push_back(synthetic_cell(name, i++, v, t, m));
+          cells.back().passage_m = p;
+        }
+  return cells;
+}
+
+std::vector<std::string> names_of(const std::vector<Figure>& figures) {
+  std::vector<std::string> names;
+  for (const auto& f : figures) names.push_back(f.name);
+  return names;
+}
+
+TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
+  const auto cells = product_grid("wet", {30, 35, 40, 45, 50, 55}, {0.25, 0.5, 0.75, 1.0, 1.25}, {0.5});
+  const std::size_t undecided = count_evidence(cells, "undecided");
+  ASSERT_GT(undecided, 0u);
+  const auto figures = draw_grid_maps(cells, out());
+  ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_wet"});
+  const Figure& f = figures.front();
+  expect_drawn(f, out(), "map_wet");
+  EXPECT_NE(f.title.find("grid 'wet': 6 speeds × 5 TTCs, μ = 0.5"), std::string::npos) << f.title;
+  EXPECT_NE(f.title.find(fmt::format("A cross marks the {} undecided O/R cells", undecided)), std::string::npos);
+  EXPECT_EQ(crosses_in(f.svg), undecided + 1);  // and the key's
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.size(), 1 + cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) EXPECT_EQ(csv[i + 1][6], cells[i].region) << i;
+}
+
+TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
+  // Speed × TTC × μ × passage: slices along μ and passage, in ascending order of both.
+  const auto cells = product_grid("g 4", {30, 40}, {0.5, 1.0}, {0.3, 0.6}, {2.0, 3.0});
+  GridMapOptions options;
+  options.max_slices_per_grid = 3;
+  const auto figures = draw_grid_maps(cells, out(), options);
+  ASSERT_EQ(names_of(figures), (std::vector<std::string>{"map_g_4_mu_0.3_passage_m_2", "map_g_4_mu_0.3_passage_m_3",
+                                                         "map_g_4_mu_0.6_passage_m_2", "map_g_4_more"}));
+  for (std::size_t i = 0; i < 3; ++i) {
+    expect_drawn(figures[i], out(), figures[i].name);
+    EXPECT_EQ(csv_of(figures[i].csv).size(), 1u + 4u);  // its own four cells
+  }
+  EXPECT_NE(figures[1].title.find("grid 'g 4', slice μ = 0.3, passage 3 m: 2 speeds × 2 TTCs"), std::string::npos)
+      << figures[1].title;
+  const Figure& more = figures.back();
+  EXPECT_TRUE(more.png.empty() && more.csv.empty());
+  EXPECT_NE(more.note.find("4 slices; the first 3 are drawn, these not: μ = 0.6, passage 3 m"), std::string::npos)
+      << more.note;
+}
+
+TEST_F(FigureGridMaps, AGridVaryingOneFactorIsAStrip) {
+  const auto cells = product_grid("speeds", {30, 40, 50, 60, 70}, {1.0}, {1.0});
+  const auto figures = draw_grid_maps(cells, out());
+  ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_speeds"});
+  expect_drawn(figures.front(), out(), "map_speeds");
+  EXPECT_NE(figures.front().title.find("5 speeds × 1 TTCs"), std::string::npos) << figures.front().title;
+}
+
+TEST_F(FigureEmpty, GridMapsLeaveOutTheGridsTheyAreToldTo) {
+  GridMapOptions options;
+  options.skip = {"coarse", "fine", "speed_mu", "ttc_mu"};
+  EXPECT_TRUE(draw_grid_maps(campaign_records(), out(), options).empty());
+}
+
+// --- a planned run ------------------------------------------------------------------------------
+
+using FigurePlanMaps = FigureTest;
+
+// Factors a (2 levels), k (constant), b (3 levels), c (2 levels); one scenario per cell; the cells
+// with a = 1, b = 2 infeasible; success when a + b is even.
+PlannedRun synthetic_run() {
+  PlannedRun run;
+  run.factors = {{"a", "m", {"[0, 1)", "[1, 2]"}},
+                 {"k", "", {"7"}},
+                 {"b", "s", {"low", "mid", "high"}},
+                 {"c", "1", {"[0, 5)", "[5, 9]"}}};
+  run.acceptance = "emrm avoided";
+  std::int64_t i = 0;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < 2; ++c) {
+        PlannedScenario s;
+        s.id = fmt::format("S{}", i);
+        s.levels = {a, 0, b, c};
+        s.record = synthetic_cell("plan", i++, 30.0 + 10.0 * a + c, 0.5 + 0.5 * b, 1.0);
+        s.feasible = !(a == 1 && b == 2);
+        s.success = (a + b) % 2 == 0 ? 1 : 0;
+        run.scenarios.push_back(std::move(s));
+      }
+  return run;
+}
+
+TEST_F(FigurePlanMaps, OneMapPerPairOfFactorsPooledOverTheOthers) {
+  const auto figures = draw_plan_maps(synthetic_run(), out(), 2);
+  ASSERT_EQ(names_of(figures), (std::vector<std::string>{"plan_map_a_b", "plan_map_a_c", "plan_map_more"}));
+  expect_drawn(figures[0], out(), "plan_map_a_b");
+  EXPECT_NE(figures[0].title.find("Planned run, a × b: estimated success (emrm avoided)"), std::string::npos)
+      << figures[0].title;
+  EXPECT_NE(figures.back().note.find("these not: b × c"), std::string::npos) << figures.back().note;
+
+  // a × b: six pairs of levels, two scenarios each (c pooled).
+  const auto csv = csv_of(figures[0].csv);
+  ASSERT_EQ(csv.size(), 1u + 6u);
+  for (std::size_t r = 1; r < csv.size(); ++r) {
+    const int a = std::stoi(csv[r][1]), b = std::stoi(csv[r][4]);
+    EXPECT_EQ(csv[r][6], "2");
+    const bool feasible = !(a == 1 && b == 2);
+    EXPECT_EQ(csv[r][7], feasible ? "2" : "0");
+    EXPECT_EQ(csv[r][8], feasible && (a + b) % 2 == 0 ? "2" : "0");
+    EXPECT_EQ(csv[r][9].empty(), !feasible);  // no rate without a feasible scenario
+  }
+}
+
 // --- the harm-reduction map -------------------------------------------------------------------
 
 using FigureHarmMap = FigureTest;
@@ -494,6 +620,28 @@ TEST_F(FigureEmpty, SweepOfAMissingGridWritesNothing) {
   const auto f = draw_sweep_curves(campaign_records(), "no_such_grid", out());
   expect_nothing_written(f, out());
   EXPECT_NE(f.note.find("no_such_grid"), std::string::npos) << f.note;
+}
+
+TEST_F(FigureSweep, ABinnedSweepHasOnePointPerBinAndStrategy) {
+  // The fine grid's 43 speeds in three bins: below 40, 40 to 55, above.
+  const auto fine = campaign::records_of_grid(campaign_records(), "fine");
+  std::vector<int> levels;
+  for (const auto& c : fine) levels.push_back(c.speed_kph < 40.0 ? 0 : c.speed_kph < 55.0 ? 1 : 2);
+  const PlanFactor speed{"speed_kph", "km/h", {"[30, 40)", "[40, 55)", "[55, 72]"}};
+  const auto f = draw_binned_sweep_curves(fine, levels, speed, out());
+  expect_drawn(f, out(), "sweep_curves");
+  const auto csv = csv_of(f.csv);
+  ASSERT_EQ(csv.size(), 1 + 3 * kStrategies.size());
+  for (std::size_t line = 1; line < csv.size(); ++line) {
+    const int level = std::stoi(csv[line][0]);
+    EXPECT_EQ(csv[line][1], speed.levels[static_cast<std::size_t>(level)]);
+    std::vector<CellRecord> in_bin;
+    for (std::size_t i = 0; i < fine.size(); ++i)
+      if (levels[i] == level) in_bin.push_back(fine[i]);
+    const Rates r = rates_of(in_bin, csv[line][2]);
+    EXPECT_EQ(csv[line][3], std::to_string(r.cells));
+    EXPECT_NEAR(num(csv[line][4]), r.car_pct, 1e-4);
+  }
 }
 
 // --- coverage comparison ----------------------------------------------------------------------
