@@ -300,7 +300,13 @@ RunResult run_scenarios(const RunOptions& options) {
     c.wilson = scenario::wilson_interval(static_cast<double>(c.successes), static_cast<double>(c.n), result.confidence);
     c.hoeffding_epsilon = scenario::hoeffding_epsilon(static_cast<double>(c.n), settings.delta);
     c.tracked = settings.tracked_cells.count(key) > 0;
-    if (const auto it = settings.cell_levels.find(key); it != settings.cell_levels.end()) c.levels = it->second;
+    if (const auto it = settings.cell_levels.find(key); it != settings.cell_levels.end()) {
+      c.levels = it->second;  // in the scenario file's column order
+      const auto rank = [&](const auto& level) {
+        return std::find(file.factors.begin(), file.factors.end(), level.first) - file.factors.begin();
+      };
+      std::stable_sort(c.levels.begin(), c.levels.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+    }
     if (c.tracked) result.widest_tracked_half_width = std::max(result.widest_tracked_half_width, c.wilson.half_width());
     result.cells.push_back(c);
   }

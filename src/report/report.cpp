@@ -22,6 +22,8 @@
 #include "emrm/campaign/run.hpp"
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/trajectory_figure.hpp"
+#include "html.hpp"
+#include "statistics_section.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/version.hpp"
@@ -30,12 +32,9 @@ namespace emrm::report {
 namespace {
 
 namespace fs = std::filesystem;
+using detail::html_table;
+using detail::read_or_empty;
 using Clock = std::chrono::steady_clock;
-
-std::string read_or_empty(const fs::path& path) {
-  std::error_code ec;
-  return fs::is_regular_file(path, ec) ? core::read_file(path) : std::string();
-}
 
 // The folder must be a results folder of this version: checked before anything is written.
 void check_results_dir(const fs::path& dir) {
@@ -115,24 +114,6 @@ std::string inline_markdown(std::string_view text) {
     }
   }
   return code ? out + "</code>" : out;
-}
-
-std::string html_table(const std::vector<core::CsvRecord>& rows) {
-  std::string out = "<div class=\"scroll\"><table>\n";
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    out += "<tr>";
-    for (const auto& cell : rows[r].fields)
-      out += (r == 0 ? "<th>" : "<td>") + html_escape(cell) + (r == 0 ? "</th>" : "</td>");
-    out += "</tr>\n";
-  }
-  return out + "</table></div>\n";
-}
-
-std::string html_table(const core::Row& header, const std::vector<core::Row>& rows) {
-  std::vector<core::CsvRecord> records;
-  records.push_back({header, {}, {}});
-  for (const auto& r : rows) records.push_back({r, {}, {}});
-  return html_table(records);
 }
 
 std::string figure_html(const Figure& f, const fs::path& dir) {
@@ -259,31 +240,6 @@ std::string diagnostics_html(const fs::path& dir) {
   return table + "<details><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
-std::string estimates_html(const fs::path& dir) {
-  for (const fs::path& file : {dir / "plan_results" / "estimates.json", dir / "estimates.json"}) {
-    const std::string text = read_or_empty(file);
-    if (text.empty()) continue;
-    const auto j = nlohmann::json::parse(text, nullptr, false);
-    if (!j.is_object() || !j.contains("weighted_success")) continue;
-    core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high"};
-    std::vector<core::Row> rows;
-    for (const auto& [subset, e] : j["weighted_success"].items()) {
-      const auto num = [&](const char* key) {
-        return e.contains(key) && e[key].is_number() ? fmt::format("{:.3f}", e[key].get<double>()) : "—";
-      };
-      const auto wilson = e.value("wilson", nlohmann::json::array());
-      rows.push_back({subset, std::to_string(e.value("n", 0)), num("n_eff"), num("estimate"),
-                      wilson.size() == 2 ? fmt::format("{:.3f}", wilson[0].get<double>()) : "—",
-                      wilson.size() == 2 ? fmt::format("{:.3f}", wilson[1].get<double>()) : "—"});
-    }
-    return fmt::format("<p>From {}: {} scenarios; widest Wilson half-width in a tracked cell {:.3f} (target "
-                       "{:g}).</p>\n",
-                       html_escape(fs::relative(file, dir).generic_string()), j.value("scenarios", 0),
-                       j.value("widest_tracked_wilson_half_width", 0.0), j.value("epsilon", 0.0)) +
-           html_table(header, rows);
-  }
-  return "<p>No planned scenario set was run in this folder (<code>emrm plan</code>, <code>emrm run</code>).</p>\n";
-}
 
 std::string regions_html(const std::vector<campaign::CellRecord>& records) {
   core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %", "O/R certified", "O/R undecided"};
@@ -576,7 +532,7 @@ ReportSummary write_report(const fs::path& dir) {
   }
   html += "<h2 id=\"figures\">Figures</h2>\n";
   for (const auto& f : summary.figures) html += figure_html(f, dir);
-  html += "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + estimates_html(dir);
+  html += "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(dir);
   html += "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir);
   html += "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir);
   html += "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);

@@ -28,6 +28,11 @@ std::pair<double, double> wilson(double k, double n, double z) {
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
+// "…): n = N → M at the observed rate (+M−N)", the tail of a shortfall line of the report.
+std::string fmt_count(int n, int m) {
+  return "n = " + std::to_string(n) + " → " + std::to_string(m) + " at the observed rate (+" + std::to_string(m - n) + ")";
+}
+
 class RunCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -68,6 +73,49 @@ TEST_F(RunCli, TablesNameCellsByTheirFactors) {
     for (const auto& [factor, label] : expected.items())
       EXPECT_EQ(estimates[i][column_of(h, factor)], label.get<std::string>()) << estimates[i][0];
   }
+}
+
+// The report's statistics section: per cell whether the precision target is met, and for each cell
+// that misses it how many tests would meet it at the observed rate (a tighter target is set by
+// editing estimates.json, as a user would ask "and at ±0.15?").
+TEST_F(RunCli, TheReportSaysWhichCellsMissTheirTargetAndWhatWouldMeetIt) {
+  const auto out = plan_->parent_path() / "statistics";
+  const auto r = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  auto j = nlohmann::ordered_json::parse(read_text(out / "estimates.json"));
+  constexpr double kTarget = 0.15;
+  j["epsilon"] = kTarget;
+  write_text(out / "estimates.json", j.dump(2));
+  ASSERT_EQ(run_emrm("report " + quoted(out)).exit_code, 0);
+  const std::string html = read_text(out / "report.html");
+
+  const double z = 1.959963985;
+  std::size_t tracked = 0, met = 0;
+  std::string example;  // the first cell that misses: "CELL (bins…): n = N → M"
+  for (const auto& c : j["cells"]) {
+    if (!c["tracked"].get<bool>()) continue;
+    ++tracked;
+    const auto n = c["n"].get<int>(), k = c["successes"].get<int>();
+    if (0.5 * (c["wilson"][1].get<double>() - c["wilson"][0].get<double>()) <= kTarget) {
+      ++met;
+      continue;
+    }
+    if (!example.empty()) continue;
+    int m = n;  // the least m at which the observed rate's Wilson half-width is within the target
+    for (;; ++m) {
+      const auto [low, high] = wilson(static_cast<double>(k) / n * m, m, z);
+      if (0.5 * (high - low) <= kTarget) break;
+    }
+    example = c["cell"].get<std::string>() + " (";
+    example += fmt_count(n, m);
+  }
+  ASSERT_GT(tracked, met) << "the tighter target must leave some cell short";
+  EXPECT_THAT(html, HasSubstr(std::to_string(met) + " of " + std::to_string(tracked) + " tracked cells meet it"));
+  EXPECT_THAT(html, HasSubstr(std::to_string(tracked - met) + " tracked cells miss the target"));
+  const auto start = example.find(" (");
+  EXPECT_THAT(html, HasSubstr(example.substr(0, start + 2)));
+  EXPECT_THAT(html, HasSubstr(example.substr(start + 2)));
+  EXPECT_THAT(html, HasSubstr("Hoeffding"));
 }
 
 TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
