@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "headless_chromium.hpp"
 #include "run_emrm.hpp"
 #include "small_example.hpp"
 
@@ -157,43 +158,15 @@ TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
 
 TEST_F(ReportCli, HtmlOpensInHeadlessChromiumWithoutErrorsOrMissingImages) {
   ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
-  const char* candidates[] = {"/usr/bin/chromium", "/usr/bin/chromium-browser"};
-  std::string chromium;
-  for (const char* c : candidates)
-    if (fs::exists(c)) chromium = c;
-  if (chromium.empty()) GTEST_SKIP() << "Chromium is not installed (scripts/install-deps.sh installs it)";
-  const fs::path html = fs::absolute(*out_ / "report.html");
-  const fs::path shot = *out_ / "report_screenshot.png";
-  const fs::path dom = *out_ / "report_dom.html";
-  const fs::path log = *out_ / "chromium.log";
-  const std::string flags = "--headless --no-sandbox --disable-gpu --disable-dev-shm-usage --virtual-time-budget=10000 ";
-  ASSERT_EQ(std::system((chromium + " " + flags + "--window-size=1280,2000 --screenshot=" + quoted(shot) +
-                         " file://" + html.string() + " > /dev/null 2> " + quoted(log))
-                            .c_str()),
-            0)
-      << read_text(log);
-  EXPECT_TRUE(is_png(shot));
-  ASSERT_EQ(std::system((chromium + " " + flags + "--enable-logging=stderr --dump-dom file://" + html.string() +
-                         " > " + quoted(dom) + " 2> " + quoted(log))
-                            .c_str()),
-            0)
-      << read_text(log);
-  const std::string page = read_text(dom);
-  const auto body_at = page.find("<body");
-  ASSERT_NE(body_at, std::string::npos) << page.substr(0, 2000);
-  const std::string body = page.substr(body_at, page.find('>', body_at) - body_at + 1);
-  const auto attribute = [&](const std::string& name) {
-    const auto at = body.find(name + "=\"");
-    if (at == std::string::npos) return std::string("missing");
-    const auto start = at + name.size() + 2;
-    return body.substr(start, body.find('"', start) - start);
-  };
-  ASSERT_NE(attribute("data-images"), "missing") << body;  // the page's load handler ran
-  EXPECT_GE(std::stoi(attribute("data-images")), 8);      // every figure embedded
-  EXPECT_EQ(attribute("data-broken-images"), "0");
-  EXPECT_EQ(attribute("data-errors"), "0");
-  EXPECT_THAT(read_text(log), ::testing::Not(HasSubstr("Uncaught")));
-  EXPECT_THAT(read_text(log), ::testing::Not(HasSubstr(":CONSOLE")));
+  const BrowserView view = open_in_chromium(*out_ / "report.html", "report");
+  if (!view.available) GTEST_SKIP() << "Chromium is not installed (scripts/install-deps.sh installs it)";
+  EXPECT_TRUE(is_png(view.screenshot));
+  ASSERT_TRUE(view.loaded) << view.log;  // the page's load handler ran
+  EXPECT_GE(view.images, 8);             // every figure embedded
+  EXPECT_EQ(view.broken_images, 0);
+  EXPECT_EQ(view.errors, 0);
+  EXPECT_THAT(view.log, ::testing::Not(HasSubstr("Uncaught")));
+  EXPECT_THAT(view.log, ::testing::Not(HasSubstr(":CONSOLE")));
 }
 
 TEST(ReportCliBadInput, MissingEmptyOrOtherFoldersAreBadInput) {
