@@ -208,6 +208,16 @@ MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& g
   }};
   MapLayout layout = empty_layout(key_h);
   for (std::size_t i = 0; i < specs.size(); ++i) add_panel(layout, i, specs[i], records);
+  if (layout.panels.size() != 1) return layout;
+  // One of the four grids alone (a fine-only campaign, or a user's grid of that name): the whole
+  // page for it, not three empty slots; the others are said in `missing` only.
+  layout.missing_labels.clear();
+  layout.panel_w = 1.0;
+  layout.cell_h = kMapTop - key_h;
+  MapPanel& only = layout.panels.front();
+  only.lettered = false;
+  only.origin_x = 0.0;
+  only.origin_y = key_h;
   return layout;
 }
 

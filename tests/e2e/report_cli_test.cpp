@@ -156,6 +156,19 @@ TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
   EXPECT_TRUE(detection);
 }
 
+// The small campaign holds one of the paper's four map grids (`fine`): its map fills the page as
+// one panel instead of leaving three slots empty with "no grid … in the store".
+TEST_F(ReportCli, OnePaperGridAloneFillsItsMapWithoutEmptyPanels) {
+  ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
+  for (const char* map : {"mitigability_map", "harm_reduction_map"}) {
+    const std::string svg = read_text(*out_ / "figures" / (std::string(map) + ".svg"));
+    ASSERT_FALSE(svg.empty()) << map;
+    EXPECT_THAT(svg, ::testing::Not(HasSubstr("in the store"))) << map;
+    EXPECT_THAT(svg, ::testing::Not(HasSubstr("(b) Speed"))) << map;  // one panel: no letter
+    EXPECT_THAT(svg, HasSubstr("Speed × TTC, fine grid")) << map;
+  }
+}
+
 TEST_F(ReportCli, HtmlOpensInHeadlessChromiumWithoutErrorsOrMissingImages) {
   ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
   const BrowserView view = open_in_chromium(*out_ / "report.html", "report");
