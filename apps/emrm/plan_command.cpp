@@ -36,15 +36,16 @@ struct PlanOptions {
 
 // The safety case's analysis, as `emrm analyze` reports it: its counts, and its findings when it has
 // errors. False when the errors refuse the plan.
-bool safety_case_acceptable(const safety::Analysis& analysis, const PlanOptions& o, std::vector<std::string>& warnings) {
+bool safety_case_acceptable(const safety::Analysis& analysis, const PlanOptions& o,
+                            std::vector<std::string>& warnings) {
   if (analysis.findings.empty()) return true;
   const std::string& file = analysis.safety_case.file;
   const bool refused = analysis.errors() > 0 && !o.allow_findings;
   fmt::print("safety    {}: {}, {}{}\n", file, core::counted(analysis.errors(), "error", "errors"),
              core::counted(analysis.warnings(), "warning", "warnings"),
-             refused                   ? "; no plan (fix them, or plan anyway with --allow-findings)"
+             refused                  ? "; no plan (fix them, or plan anyway with --allow-findings)"
              : analysis.errors() == 0 ? fmt::format(" (emrm analyze {} lists them)", file)
-                                       : std::string());
+                                      : std::string());
   if (analysis.errors() > 0) fmt::print("{}", safety::findings_text(analysis.findings));
   if (!refused && analysis.errors() > 0)
     warnings.push_back(fmt::format("{}: warning: planned despite {} (--allow-findings)", file,
@@ -64,7 +65,8 @@ int run(const PlanOptions& o) {
   if (odd.safety_file) {
     const safety::Analysis analysis = analyze_safety_file(*odd.safety_file);
     if (!safety_case_acceptable(analysis, o, warnings)) return static_cast<int>(ExitCode::kFindings);
-    for (auto& w : campaign::safety_range_warnings(odd, analysis.safety_case)) warnings.push_back(std::move(w));
+    for (auto& w : campaign::safety_range_warnings(odd, analysis.safety_case))
+      warnings.push_back(std::move(w));
   }
   const scenario::Plan plan = scenario::build_plan(odd);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -84,9 +86,10 @@ int run(const PlanOptions& o) {
 
 void register_plan_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<PlanOptions>();
-  CLI::App* cmd = app.add_subcommand("plan", "Build the minimum scenario set of an ODD (C1-C4, statistics).\n"
-                                             "Exit 0: planned; 1: the safety case has error findings (no plan) or "
-                                             "C1-C4 fail; 2: bad input.");
+  CLI::App* cmd = app.add_subcommand("plan",
+                                     "Build the minimum scenario set of an ODD (C1-C4, statistics).\n"
+                                     "Exit 0: planned; 1: the safety case has error findings (no plan) or "
+                                     "C1-C4 fail; 2: bad input.");
   cmd->add_option("ODD", options->odd_file, "ODD file (docs/odd-yaml.md)")->required();
   cmd->add_option("--safety", options->safety_file, "safety case whose UCAs are the malfunction modes "
                                                     "(default: the ODD's 'safety:' entry)");

@@ -47,9 +47,10 @@ int run(const RunCommandOptions& o) {
 void register_run_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<RunCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "run", "Simulate a planned scenario set (scenarios.csv from `emrm plan`) and estimate per cell and per "
-             "malfunction (Wilson, Hoeffding, weighted S(A)); resumable like `emrm sweep`.\n"
-             "Exit 0: done; 1: done, but the plan fell short of its targets (warnings say where); 2: bad input.");
+      "run",
+      "Simulate a planned scenario set (scenarios.csv from `emrm plan`) and estimate per cell and per "
+      "malfunction (Wilson, Hoeffding, weighted S(A)); resumable like `emrm sweep`.\n"
+      "Exit 0: done; 1: done, but the plan fell short of its targets (warnings say where); 2: bad input.");
   cmd->add_option("SCENARIOS", options->scenarios, "scenarios.csv written by `emrm plan`")->required();
   cmd->add_option("-o,--output", options->output_dir, "output folder")->required();
   cmd->add_option("--safety", options->safety,

@@ -66,14 +66,17 @@ Json estimate_json(const scenario::WeightedEstimate& e) {
 void read_plan_modes(const nlohmann::json& j, const std::string& file, PlanSettings& s) {
   if (const auto& modes = member(j, "malfunctions", file, nlohmann::json::value_t::array); modes.is_array())
     for (const auto& m : modes)
-      if (m.is_object() && m.contains("id") && m["id"].is_string()) s.malfunctions.push_back(m["id"].get<std::string>());
+      if (m.is_object() && m.contains("id") && m["id"].is_string())
+        s.malfunctions.push_back(m["id"].get<std::string>());
   const auto& stop = member(j, "stop", file, nlohmann::json::value_t::object);
   if (!stop.is_object()) return;
   if (const auto& list = member(stop, "shortfalls", file, nlohmann::json::value_t::array); list.is_array())
     for (const auto& item : list) {
-      if (item.is_string()) s.shortfalls.push_back({"", "", item.get<std::string>()});
+      if (item.is_string())
+        s.shortfalls.push_back({"", "", item.get<std::string>()});
       else if (item.is_object())
-        s.shortfalls.push_back({item.value("kind", ""), item.value("subject", ""), item.value("message", "")});
+        s.shortfalls.push_back(
+            {item.value("kind", ""), item.value("subject", ""), item.value("message", "")});
       else
         throw InputError({file, 1, 1}, "'stop.shortfalls' must list shortfalls (objects or text)");
     }
@@ -81,8 +84,8 @@ void read_plan_modes(const nlohmann::json& j, const std::string& file, PlanSetti
 
 // Ŝ(A) over the whole set and over each mode's region: every mode of the plan, with or without tests,
 // marked with the plan's shortfall for it.
-std::vector<SubsetEstimate> subset_estimates(const std::vector<ScenarioOutcome>& outcomes, const PlanSettings& settings,
-                                             double confidence) {
+std::vector<SubsetEstimate> subset_estimates(const std::vector<ScenarioOutcome>& outcomes,
+                                             const PlanSettings& settings, double confidence) {
   std::vector<std::string> subsets{"all"};
   const auto add = [&](const std::string& m) {
     if (std::find(subsets.begin(), subsets.end(), m) == subsets.end()) subsets.push_back(m);
@@ -97,7 +100,8 @@ std::vector<SubsetEstimate> subset_estimates(const std::vector<ScenarioOutcome>&
     std::vector<int> y;
     for (const auto& o : outcomes) {
       if (!o.feasible) continue;
-      if (subset != "all" && std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
+      if (subset != "all" &&
+          std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
         continue;
       w.push_back(o.weight);
       y.push_back(o.success);
@@ -345,7 +349,8 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
   out += fmt::format("run       {}: {} scenarios ({} feasible), {} simulated, {} already stored, {:.1f} s\n",
                      scenarios_file, result.outcomes.size(), feasible, result.sweep.cells_simulated,
                      result.sweep.cells_done_before, result.sweep.seconds);
-  for (const auto& s : result.plan_shortfalls) out += fmt::format("warning: the plan fell short: {}\n", s.message);
+  for (const auto& s : result.plan_shortfalls)
+    out += fmt::format("warning: the plan fell short: {}\n", s.message);
   if (!result.unsimulated_factors.empty())
     out += fmt::format("  not simulated (carried through only): {}\n",
                        core::join(result.unsimulated_factors, ", "));
@@ -358,7 +363,8 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
   for (const auto& s : result.subsets) {
     const auto& e = s.estimate;
     if (e.n == 0) {
-      out += fmt::format("  S({}): no tests{}\n", s.subset, s.shortfall.empty() ? "" : " (a plan shortfall, above)");
+      out += fmt::format("  S({}): no tests{}\n", s.subset,
+                         s.shortfall.empty() ? "" : " (a plan shortfall, above)");
       continue;
     }
     out += fmt::format("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset,

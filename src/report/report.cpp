@@ -6,8 +6,8 @@
 #include <chrono>
 #include <fstream>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -266,8 +266,9 @@ std::string shortfalls_html(const fs::path& dir) {
   if (!run || !run->second.contains("shortfalls") || !run->second["shortfalls"].is_array() ||
       run->second["shortfalls"].empty())
     return "";
-  std::string out = "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
-                    "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
+  std::string out =
+      "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
+      "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
   for (const auto& s : run->second["shortfalls"])
     out += "<li>" + html_escape(s.is_object() ? s.value("message", "") : s.dump()) + "</li>\n";
   return out + "</ul></div>\n";
@@ -475,8 +476,9 @@ ReportSummary write_report(const fs::path& dir) {
     Figure coverage;
     coverage.name = "coverage_comparison";
     coverage.title = "Coverage comparison";
-    coverage.note = "no coverage.json (written by emrm plan and emrm reproduce) in this folder, nor beside the "
-                    "scenarios.csv a run here read";
+    coverage.note =
+        "no coverage.json (written by emrm plan and emrm reproduce) in this folder, nor beside the "
+        "scenarios.csv a run here read";
     for (const fs::path& file : coverage_candidates(dir)) {
       const std::string text = read_or_empty(file);
       if (text.empty()) continue;

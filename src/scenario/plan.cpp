@@ -341,22 +341,26 @@ std::optional<std::string> why_region_empty(const Odd& odd, const Malfunction& m
   if (!in_domain)
     return fmt::format("{} holds nowhere in the factors' domains ({})", region,
                        domains_text(odd, m.region->used_variables()));
-  if (!relevant) return fmt::format("{} holds only where the relevance rule '{}' fails", region, odd.relevance->text());
+  if (!relevant)
+    return fmt::format("{} holds only where the relevance rule '{}' fails", region, odd.relevance->text());
   for (std::size_t k = 0; k < kept.size(); ++k)
-    if (!kept[k]) return fmt::format("{} holds only where the constraint '{}' fails", region, odd.constraints[k].text());
+    if (!kept[k])
+      return fmt::format("{} holds only where the constraint '{}' fails", region, odd.constraints[k].text());
   return fmt::format("{} holds only where the relevance rule or some constraint fails", region);
 }
 
 // The shortfall of mode `m` with `have` tests after the allocation gave up: an empty region when
 // no cell had a point of it and the probes say why.
-Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_t have, bool searched_everywhere) {
+Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_t have,
+                                bool searched_everywhere) {
   const auto needed = static_cast<std::size_t>(odd.n_m);
   if (have == 0 && searched_everywhere)
     if (auto why = why_region_empty(odd, m))
-      return {ShortfallKind::kEmptyRegion, m.id, have, needed,
-              fmt::format("malfunction {}: its region is empty inside the ODD: {}; no test can exercise it (C4 "
-                          "needs {})",
-                          m.id, *why, needed)};
+      return {
+          ShortfallKind::kEmptyRegion, m.id, have, needed,
+          fmt::format("malfunction {}: its region is empty inside the ODD: {}; no test can exercise it (C4 "
+                      "needs {})",
+                      m.id, *why, needed)};
   return {ShortfallKind::kTooFewTests, m.id, have, needed,
           fmt::format("malfunction {}: only {} of {} tests found in its region", m.id, have, needed)};
 }
@@ -383,8 +387,8 @@ std::size_t malfunction_allocation(const Odd& odd, Builder& b, Plan& plan) {
         outside.insert(c);
       }
       if (!placed) {
-        plan.shortfalls.push_back(
-            malfunction_shortfall(odd, m, static_cast<std::size_t>(have), outside.size() == b.cells().size()));
+        plan.shortfalls.push_back(malfunction_shortfall(odd, m, static_cast<std::size_t>(have),
+                                                        outside.size() == b.cells().size()));
         break;
       }
     }
@@ -400,9 +404,9 @@ std::size_t cell_fill(const Odd& odd, Builder& b, Plan& plan) {
       auto p = b.sample(c, std::nullopt, 0.0, kAnyPoint);
       if (!p || !b.add(*p, "cell_fill")) {
         const std::string key = cell_key(b.cells()[c].levels);
-        plan.shortfalls.push_back({ShortfallKind::kTooFewPoints, key, b.counts()[c], static_cast<std::size_t>(odd.n_c),
-                                   fmt::format("cell {}: only {} distinct admissible points found", key,
-                                               b.counts()[c])});
+        plan.shortfalls.push_back(
+            {ShortfallKind::kTooFewPoints, key, b.counts()[c], static_cast<std::size_t>(odd.n_c),
+             fmt::format("cell {}: only {} distinct admissible points found", key, b.counts()[c])});
         break;
       }
       ++added;
@@ -469,7 +473,8 @@ std::vector<RelevantCell> relevant_cells(const Odd& odd) {
       }
     }
     if (cell.witness.empty()) return;
-    for (std::size_t i = 0; i < levels.size(); ++i) cell.prior *= odd.factors[i].prior[static_cast<std::size_t>(levels[i])];
+    for (std::size_t i = 0; i < levels.size(); ++i)
+      cell.prior *= odd.factors[i].prior[static_cast<std::size_t>(levels[i])];
     cells.push_back(std::move(cell));
   });
   double total = 0.0;
@@ -544,11 +549,12 @@ Plan build_plan(const Odd& odd) {
                                    odd.budget, coverage_size > odd.budget ? " by the coverage constraints alone" : "",
                                    short_cells, plan.tests_per_tracked_cell);
   else
-    plan.stop_reason = fmt::format("targets not met: {}{}",
-                                   short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
-                                                             short_cells, plan.shortfalls.empty() ? "" : "; ")
-                                               : std::string(),
-                                   shortfall_messages(plan));
+    plan.stop_reason =
+        fmt::format("targets not met: {}{}",
+                    short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
+                                              short_cells, plan.shortfalls.empty() ? "" : "; ")
+                                : std::string(),
+                    shortfall_messages(plan));
 
   // Weights w = π(cell) / q(cell) with q the plan's own cell frequencies; ids in plan order.
   auto& scenarios = b.scenarios();

@@ -109,7 +109,8 @@ std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config) {
       {"ttc_s", "s", "time to collision", 0.0, false, kUnbounded, ""},
       {"mu", "1", "friction coefficient", 0.0, false, 2.0, ""},
       {"passage_m", "m", "passage width", 0.0, false, drivable_width_m,
-       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", drivable_width_m)},
+       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road",
+                   drivable_width_m)},
       {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kUnbounded, ""},
   };
 }
@@ -120,9 +121,10 @@ void validate_cell(const SceneConfig& config, const CellInput& cell) {
   for (std::size_t i = 0; i < limits.size(); ++i) {
     const CellFactorLimit& l = limits[i];
     if (l.accepts(values[i])) continue;
-    throw UsageError(fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
-                                 l.unit == "1" ? "" : " " + l.unit, values[i],
-                                 values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
+    throw UsageError(
+        fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
+                    l.unit == "1" ? "" : " " + l.unit, values[i],
+                    values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
   }
 }
 

@@ -211,7 +211,8 @@ TEST(PlanCli, SafetyCaseWithErrorFindingsIsRefusedUnlessAllowed) {
   const auto refused = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "refused"));
   EXPECT_EQ(refused.exit_code, 1) << refused.out << refused.err;
   EXPECT_THAT(refused.out, HasSubstr("1 error, "));
-  EXPECT_THAT(refused.out, HasSubstr("error SAF001 [UCA1]: UCA 'UCA1' refers to hazard 'H99', which does not exist"));
+  EXPECT_THAT(refused.out,
+              HasSubstr("error SAF001 [UCA1]: UCA 'UCA1' refers to hazard 'H99', which does not exist"));
   EXPECT_THAT(refused.out, HasSubstr("--allow-findings"));
   EXPECT_FALSE(fs::exists(dir / "refused" / "scenarios.csv"));
 
@@ -223,15 +224,17 @@ TEST(PlanCli, SafetyCaseWithErrorFindingsIsRefusedUnlessAllowed) {
                                      ": warning: planned despite 1 error finding (--allow-findings)"));
   const std::string safety = read_text(dir / "safety.yaml");
   std::size_t hazards = 0;
-  for (auto at = safety.find("\n  - id: H"); at != std::string::npos; at = safety.find("\n  - id: H", at + 1)) ++hazards;
+  for (auto at = safety.find("\n  - id: H"); at != std::string::npos; at = safety.find("\n  - id: H", at + 1))
+    ++hazards;
   const auto coverage = nlohmann::json::parse(read_text(dir / "allowed" / "coverage.json"));
   EXPECT_EQ(coverage.at("plan").at("hazards").at("total").get<std::size_t>(), hazards);
   EXPECT_THAT(coverage.at("plan").at("hazards").at("missing").dump(), ::testing::Not(HasSubstr("H99")));
 }
 
 TEST(PlanCli, UcaNamingATransitionTheFsmLacksIsRefused) {
-  const fs::path dir = edited_small_example("plan-transition", "safety.yaml", "{from: S4, event: emrm_done, to: S1}",
-                                            "{from: S4, event: emrm_finished, to: S1}");
+  const fs::path dir =
+      edited_small_example("plan-transition", "safety.yaml", "{from: S4, event: emrm_done, to: S1}",
+                           "{from: S4, event: emrm_finished, to: S1}");
   const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("error SAF011 [UCA4]"));
@@ -243,8 +246,10 @@ TEST(PlanCli, UcaNamingATransitionTheFsmLacksIsRefused) {
 
 TEST(PlanCli, FrictionAsAPercentageIsBadInputAtTheOdd) {
   const fs::path dir = small_example("plan-mu-percent");
-  const std::string text = replaced(read_text(dir / "odd.yaml"), "type: constant, value: 1.0}", "type: constant, value: 50}");
-  expect_bad_odd_at(dir / "odd.yaml", text, "50}", 0, "mu 50: expected a friction coefficient in (0, 2]; a percentage?");
+  const std::string text =
+      replaced(read_text(dir / "odd.yaml"), "type: constant, value: 1.0}", "type: constant, value: 50}");
+  expect_bad_odd_at(dir / "odd.yaml", text, "50}", 0,
+                    "mu 50: expected a friction coefficient in (0, 2]; a percentage?");
 }
 
 TEST(PlanCli, SpeedInAnotherUnitThanTheSimulatorsIsBadInputAtTheUnit) {
@@ -259,9 +264,10 @@ TEST(PlanCli, WarnsWhereTheRelevanceRuleAdmitsWhatTheSceneCannotPlace) {
   const std::string odd = read_text(dir / "odd.yaml");
   const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
   EXPECT_NE(r.exit_code, 2) << r.out << r.err;
-  const std::string at_relevance = (dir / "odd.yaml").string() + ":" + line_col(odd, "speed_kph / 3.6 * ttc_s <= 40") + ": warning: ";
-  const std::string at_limit =
-      (dir / "scene.yaml").string() + ":" + line_col(read_text(dir / "scene.yaml"), "max_initial_distance_m: 24.5", 24);
+  const std::string at_relevance =
+      (dir / "odd.yaml").string() + ":" + line_col(odd, "speed_kph / 3.6 * ttc_s <= 40") + ": warning: ";
+  const std::string at_limit = (dir / "scene.yaml").string() + ":" +
+                               line_col(read_text(dir / "scene.yaml"), "max_initial_distance_m: 24.5", 24);
   EXPECT_THAT(r.out, HasSubstr(at_relevance)) << r.out;
   EXPECT_THAT(r.out, HasSubstr(" planned scenarios lie beyond the scene's max_initial_distance_m = 24.5 m (" +
                                at_limit + ")"));
@@ -270,14 +276,17 @@ TEST(PlanCli, WarnsWhereTheRelevanceRuleAdmitsWhatTheSceneCannotPlace) {
 }
 
 TEST(PlanCli, WarnsWhereTheOddReachesBeyondTheSafetyCasesRange) {
-  const fs::path dir = edited_small_example("plan-ranges", "odd.yaml", "bins: [30, 51, 72]", "bins: [30, 51, 100]");
+  const fs::path dir =
+      edited_small_example("plan-ranges", "odd.yaml", "bins: [30, 51, 72]", "bins: [30, 51, 100]");
   const std::string odd = read_text(dir / "odd.yaml");
   const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
   EXPECT_NE(r.exit_code, 2) << r.out << r.err;
   const std::string safety = read_text(dir / "safety.yaml");
-  EXPECT_THAT(r.out, HasSubstr((dir / "odd.yaml").string() + ":" + line_col(odd, "100]") +
-                               ": warning: speed_kph spans [30, 100] in the ODD, beyond [30, 72] of the safety case (" +
-                               (dir / "safety.yaml").string() + ":" + line_col(safety, "{name: speed_kph") + ")"))
+  EXPECT_THAT(
+      r.out,
+      HasSubstr((dir / "odd.yaml").string() + ":" + line_col(odd, "100]") +
+                ": warning: speed_kph spans [30, 100] in the ODD, beyond [30, 72] of the safety case (" +
+                (dir / "safety.yaml").string() + ":" + line_col(safety, "{name: speed_kph") + ")"))
       << r.out;
 }
 

@@ -38,7 +38,8 @@ class ShortfallCli : public ::testing::Test {
     safety.insert(safety.find("\n# SMIL lookup") + 1, kIceUca);
     write_text(example_dir / "safety.yaml", safety);
     root_ = new fs::path(example_dir.parent_path());
-    plan_ = new RunResult(run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(*root_ / "plan")));
+    plan_ = new RunResult(
+        run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(*root_ / "plan")));
     run_ = new RunResult(run_emrm("run " + quoted(*root_ / "plan" / "scenarios.csv") + " -o " +
                                   quoted(*root_ / "results") + " --threads 2"));
   }
@@ -56,7 +57,8 @@ RunResult* ShortfallCli::plan_ = nullptr;
 RunResult* ShortfallCli::run_ = nullptr;
 
 constexpr const char* kEmpty =
-    "malfunction UCA5: its region is empty inside the ODD: 'mu < 0.35' holds nowhere in the factors' domains (mu = 1)";
+    "malfunction UCA5: its region is empty inside the ODD: 'mu < 0.35' holds nowhere in the factors' domains "
+    "(mu = 1)";
 
 TEST_F(ShortfallCli, PlanSaysTheRegionIsEmptyAndWhy) {
   EXPECT_EQ(plan_->exit_code, 1) << plan_->out << plan_->err;  // C4 fails for UCA5

@@ -92,8 +92,8 @@ struct RunResult {
   std::vector<CellEstimate> cells;               ///< by cell key
   double widest_tracked_half_width = 0.0;        ///< largest Wilson half-width over tracked cells
   double epsilon = 0.25;                         ///< the plan's target for it
-  std::vector<SubsetEstimate> subsets;           ///< Ŝ(A): all, then each malfunction (every mode of the plan)
-  std::vector<PlanShortfall> plan_shortfalls;    ///< the plan's, repeated as warnings
+  std::vector<SubsetEstimate> subsets;         ///< Ŝ(A): all, then each malfunction (every mode of the plan)
+  std::vector<PlanShortfall> plan_shortfalls;  ///< the plan's, repeated as warnings
   std::size_t transitions_exercised = 0;         ///< EMRM FSM transitions the traces took
   std::size_t transitions_total = 0;
   std::vector<std::string> transitions_missed;
@@ -112,9 +112,9 @@ RunResult run_scenarios(const RunOptions& options);
 /// estimates.json (without its "acceptance" member, which run_scenarios adds from the plan).
 [[nodiscard]] nlohmann::ordered_json to_json(const RunResult& result);
 
-/// The summary `emrm run` prints: the plan's shortfalls as warnings, scenarios and what was simulated, the widest tracked Wilson
-/// half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the files written
-/// into `output_dir`. `scenarios_file` is shown as given.
+/// The summary `emrm run` prints: the plan's shortfalls as warnings, scenarios and what was simulated, the
+/// widest tracked Wilson half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the
+/// files written into `output_dir`. `scenarios_file` is shown as given.
 [[nodiscard]] std::string to_text(const RunResult& result, const std::string& scenarios_file,
                                   const std::filesystem::path& output_dir);
 

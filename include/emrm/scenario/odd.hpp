@@ -38,8 +38,9 @@ struct OddFactor {
   bool influential = true;            ///< part of Q_f (t-wise coverage)
   double nominal = 0.0;               ///< value of the nominal scenario (HARA baseline)
   SourceLocation where;
-  SourceLocation unit_where;                ///< the `unit:` entry as written (else `where`)
-  std::vector<SourceLocation> value_where;  ///< each bin edge, class value (or name) or the constant value as written
+  SourceLocation unit_where;  ///< the `unit:` entry as written (else `where`)
+  std::vector<SourceLocation>
+      value_where;  ///< each bin edge, class value (or name) or the constant value as written
 
   [[nodiscard]] int levels() const noexcept;
   /// Level of a value: its bin (values outside the domain are clamped into the first or last

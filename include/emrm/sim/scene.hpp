@@ -253,9 +253,9 @@ struct CellInput {
 /// What validate_cell accepts for one factor of a cell: a finite value above `low` (or equal to it
 /// when `low_inclusive`) and at most `high`.
 struct CellFactorLimit {
-  std::string name;   ///< "mu": as campaigns, ODDs and scenario files name the factor
-  std::string unit;   ///< "km/h", "s", "1" (a plain number), "m"
-  std::string what;   ///< "friction coefficient"
+  std::string name;  ///< "mu": as campaigns, ODDs and scenario files name the factor
+  std::string unit;  ///< "km/h", "s", "1" (a plain number), "m"
+  std::string what;  ///< "friction coefficient"
   double low = 0.0;
   bool low_inclusive = false;
   double high = std::numeric_limits<double>::infinity();
