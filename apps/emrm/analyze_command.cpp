@@ -6,12 +6,10 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <utility>
 
 #include "commands.hpp"
-#include "emrm/fsm/load.hpp"
 #include "emrm/safety/analysis.hpp"
-#include "emrm/safety/load.hpp"
+#include "safety_case.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -25,20 +23,10 @@ struct AnalyzeOptions {
   bool strict = false;  // warnings count as errors
 };
 
-// The FSM the UCAs refer to: --fsm, else the safety case's `fsm:` (relative to its file).
-std::optional<safety::FsmTransitions> load_fsm_transitions(const AnalyzeOptions& options,
-                                                           const safety::SafetyCase& sc) {
-  if (options.no_fsm) return std::nullopt;
-  const auto path =
-      options.fsm_file.empty() ? safety::fsm_file(sc) : std::filesystem::path(options.fsm_file);
-  if (!path) return std::nullopt;
-  return safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
-}
-
 int run(const AnalyzeOptions& options) {
-  safety::SafetyCase sc = safety::load_safety_case(options.safety_file);
-  auto fsm = load_fsm_transitions(options, sc);
-  const safety::Analysis analysis = safety::analyze(std::move(sc), std::move(fsm));
+  std::optional<std::filesystem::path> fsm;
+  if (!options.fsm_file.empty()) fsm = options.fsm_file;
+  const safety::Analysis analysis = analyze_safety_file(options.safety_file, fsm, options.no_fsm);
 
   if (options.format == "json")
     std::cout << safety::to_json(analysis).dump(2) << "\n";

@@ -40,6 +40,7 @@
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "safety_case.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -103,11 +104,7 @@ std::string pct(double v) { return core::format_number(v, 1); }
 // Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
 bool run_analysis(const fs::path& examples, const fs::path& out) {
   const auto safety_file = examples / "safety.yaml";
-  safety::SafetyCase sc = safety::load_safety_case(safety_file);
-  std::optional<safety::FsmTransitions> known;
-  if (const auto path = safety::fsm_file(sc))
-    known = safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
-  const safety::Analysis analysis = safety::analyze(std::move(sc), std::move(known));
+  const safety::Analysis analysis = analyze_safety_file(safety_file);
   const auto dir = out / "analysis";
   safety::write_analysis(dir, analysis);
   const auto& c = analysis.safety_case;

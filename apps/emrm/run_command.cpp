@@ -1,5 +1,6 @@
 // `emrm run SCENARIOS.csv -o DIR`: a planned scenario set through the campaign engine, with the
-// statistics of the paper's §V-B (docs/plan.md).
+// statistics of the paper's §V-B (docs/plan.md). Exit 1 when the plan recorded shortfalls (repeated
+// as warnings), as `emrm plan` exited 1 for them.
 
 #include <fmt/format.h>
 
@@ -37,7 +38,8 @@ int run(const RunCommandOptions& o) {
   }
   const campaign::RunResult r = campaign::run_scenarios(options);
   fmt::print("{}", campaign::to_text(r, o.scenarios, o.output_dir));
-  return static_cast<int>(ExitCode::kSuccess);
+  // The plan's shortfalls are the same exit 1 as `emrm plan` gave them: the evidence has gaps.
+  return static_cast<int>(r.plan_shortfalls.empty() ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 
 }  // namespace
@@ -45,8 +47,10 @@ int run(const RunCommandOptions& o) {
 void register_run_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<RunCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "run", "Simulate a planned scenario set (scenarios.csv from `emrm plan`) and estimate per cell and per "
-             "malfunction (Wilson, Hoeffding, weighted S(A)); resumable like `emrm sweep`");
+      "run",
+      "Simulate a planned scenario set (scenarios.csv from `emrm plan`) and estimate per cell and per "
+      "malfunction (Wilson, Hoeffding, weighted S(A)); resumable like `emrm sweep`.\n"
+      "Exit 0: done; 1: done, but the plan fell short of its targets (warnings say where); 2: bad input.");
   cmd->add_option("SCENARIOS", options->scenarios, "scenarios.csv written by `emrm plan`")->required();
   cmd->add_option("-o,--output", options->output_dir, "output folder")->required();
   cmd->add_option("--safety", options->safety,

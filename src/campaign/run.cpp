@@ -72,6 +72,58 @@ std::vector<std::pair<std::string, std::string>> cell_levels(const nlohmann::jso
   return out;
 }
 
+// The plan's modes and its shortfalls (objects, or the text of plans written before they had kinds).
+void read_plan_modes(const nlohmann::json& j, const std::string& file, PlanSettings& s) {
+  if (const auto& modes = member(j, "malfunctions", file, nlohmann::json::value_t::array); modes.is_array())
+    for (const auto& m : modes)
+      if (m.is_object() && m.contains("id") && m["id"].is_string())
+        s.malfunctions.push_back(m["id"].get<std::string>());
+  const auto& stop = member(j, "stop", file, nlohmann::json::value_t::object);
+  if (!stop.is_object()) return;
+  if (const auto& list = member(stop, "shortfalls", file, nlohmann::json::value_t::array); list.is_array())
+    for (const auto& item : list) {
+      if (item.is_string())
+        s.shortfalls.push_back({"", "", item.get<std::string>()});
+      else if (item.is_object())
+        s.shortfalls.push_back(
+            {item.value("kind", ""), item.value("subject", ""), item.value("message", "")});
+      else
+        throw InputError({file, 1, 1}, "'stop.shortfalls' must list shortfalls (objects or text)");
+    }
+}
+
+// Ŝ(A) over the whole set and over each mode's region: every mode of the plan, with or without tests,
+// marked with the plan's shortfall for it.
+std::vector<SubsetEstimate> subset_estimates(const std::vector<ScenarioOutcome>& outcomes,
+                                             const PlanSettings& settings, double confidence) {
+  std::vector<std::string> subsets{"all"};
+  const auto add = [&](const std::string& m) {
+    if (std::find(subsets.begin(), subsets.end(), m) == subsets.end()) subsets.push_back(m);
+  };
+  for (const auto& m : settings.malfunctions) add(m);
+  for (const auto& o : outcomes)
+    for (const auto& m : o.malfunctions) add(m);
+  std::sort(subsets.begin() + 1, subsets.end());
+  std::vector<SubsetEstimate> out;
+  for (const auto& subset : subsets) {
+    std::vector<double> w;
+    std::vector<int> y;
+    for (const auto& o : outcomes) {
+      if (!o.feasible) continue;
+      if (subset != "all" &&
+          std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
+        continue;
+      w.push_back(o.weight);
+      y.push_back(o.success);
+    }
+    SubsetEstimate e{subset, scenario::weighted_success(w, y, confidence), ""};
+    for (const auto& s : settings.shortfalls)
+      if (s.subject == subset) e.shortfall = s.message;
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
 // The factor columns of estimates.csv: every factor some cell names, in the order first met.
 std::vector<std::string> level_factors(const std::vector<CellEstimate>& cells) {
   std::vector<std::string> out;
@@ -85,6 +137,18 @@ std::string level_of(const CellEstimate& c, const std::string& factor) {
   for (const auto& [f, label] : c.levels)
     if (f == factor) return label;
   return "";
+}
+
+// Where the plan lives, relative to the run's folder, so that `emrm report` finds its coverage.
+Json plan_location_json(const fs::path& scenarios_csv, const fs::path& output_dir) {
+  const auto relative = [&](const fs::path& p) {
+    std::error_code ec;
+    const auto r = fs::relative(fs::absolute(p), fs::absolute(output_dir), ec);
+    return (ec || r.empty() ? p : r).generic_string();
+  };
+  const fs::path coverage = scenarios_csv.parent_path() / "coverage.json";
+  return Json{{"scenarios", relative(scenarios_csv)},
+              {"coverage", fs::is_regular_file(coverage) ? Json(relative(coverage)) : Json(nullptr)}};
 }
 
 }  // namespace
@@ -134,6 +198,7 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
   }
   if (const auto& factors = member(j, "factors", file, nlohmann::json::value_t::array); factors.is_array())
     s.factors = factors;
+  read_plan_modes(j, file, s);
   if (const auto& cells = member(j, "cells", file, nlohmann::json::value_t::array); cells.is_array())
     for (const auto& c : cells) {
       if (!c.is_object() || !c.contains("cell") || !c["cell"].is_string()) continue;
@@ -311,24 +376,8 @@ RunResult run_scenarios(const RunOptions& options) {
     result.cells.push_back(c);
   }
 
-  // Ŝ(A) over the whole set and over each malfunction's region.
-  std::vector<std::string> subsets{"all"};
-  for (const auto& o : result.outcomes)
-    for (const auto& m : o.malfunctions)
-      if (std::find(subsets.begin(), subsets.end(), m) == subsets.end()) subsets.push_back(m);
-  std::sort(subsets.begin() + 1, subsets.end());
-  for (const auto& subset : subsets) {
-    std::vector<double> w;
-    std::vector<int> y;
-    for (const auto& o : result.outcomes) {
-      if (!o.feasible) continue;
-      if (subset != "all" && std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
-        continue;
-      w.push_back(o.weight);
-      y.push_back(o.success);
-    }
-    result.subsets.push_back({subset, scenario::weighted_success(w, y, result.confidence)});
-  }
+  result.subsets = subset_estimates(result.outcomes, settings, result.confidence);
+  result.plan_shortfalls = settings.shortfalls;
 
   // The EMRM FSM transitions the runs took.
   const FsmCoverage fc = emrm_fsm_coverage(records, sim::default_emrm_fsm());
@@ -354,6 +403,7 @@ RunResult run_scenarios(const RunOptions& options) {
   Json j = to_json(result);
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
   if (!settings.factors.is_null()) j["factors"] = settings.factors;  // the report groups by the ODD's levels
+  j["plan"] = plan_location_json(options.scenarios_csv, dir);
   core::write_file(dir / "estimates.json", j.dump(2) + "\n");
   return result;
 }
@@ -365,6 +415,8 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
   out += fmt::format("run       {}: {} scenarios ({} feasible), {} simulated, {} already stored, {:.1f} s\n",
                      scenarios_file, result.outcomes.size(), feasible, result.sweep.cells_simulated,
                      result.sweep.cells_done_before, result.sweep.seconds);
+  for (const auto& s : result.plan_shortfalls)
+    out += fmt::format("warning: the plan fell short: {}\n", s.message);
   if (!result.unsimulated_factors.empty())
     out += fmt::format("  not simulated (carried through only): {}\n",
                        core::join(result.unsimulated_factors, ", "));
@@ -376,7 +428,11 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
       result.epsilon);
   for (const auto& s : result.subsets) {
     const auto& e = s.estimate;
-    if (e.n == 0) continue;
+    if (e.n == 0) {
+      out += fmt::format("  S({}): no tests{}\n", s.subset,
+                         s.shortfall.empty() ? "" : " (a plan shortfall, above)");
+      continue;
+    }
     out += fmt::format("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset,
                        e.estimate, e.n, e.n_eff, e.wilson.low, e.wilson.high);
   }
@@ -389,6 +445,9 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
                        (output_dir / "traceability.csv").string());
   out += fmt::format("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n",
                      output_dir.string());
+  if (!result.plan_shortfalls.empty())
+    out += fmt::format("run       {} of the plan (scenarios.json): the estimates above lack them\n",
+                       core::counted(result.plan_shortfalls.size(), "shortfall", "shortfalls"));
   return out;
 }
 
@@ -399,7 +458,10 @@ Json to_json(const RunResult& r) {
   j["confidence"] = r.confidence;
   j["unsimulated_factors"] = r.unsimulated_factors;
   Json subsets = Json::object();
-  for (const auto& s : r.subsets) subsets[s.subset] = estimate_json(s.estimate);
+  for (const auto& s : r.subsets) {
+    subsets[s.subset] = estimate_json(s.estimate);
+    if (!s.shortfall.empty()) subsets[s.subset]["shortfall"] = s.shortfall;
+  }
   j["weighted_success"] = subsets;
   Json cells = Json::array();
   double widest = 0.0;
@@ -424,6 +486,10 @@ Json to_json(const RunResult& r) {
                           {"total", r.transitions_total},
                           {"missed", r.transitions_missed}};
   j["traceability_rows"] = r.traceability_rows;
+  Json shortfalls = Json::array();
+  for (const auto& s : r.plan_shortfalls)
+    shortfalls.push_back({{"kind", s.kind}, {"subject", s.subject}, {"message", s.message}});
+  j["shortfalls"] = shortfalls;
   return j;
 }
 

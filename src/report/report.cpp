@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -240,6 +241,41 @@ std::string diagnostics_html(const fs::path& dir) {
   return table + "<details><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
+// The estimates.json of a planned run in this folder (reproduce's plan_results/ or `emrm run`'s own),
+// with the folder it is in; nothing when there is none.
+std::optional<std::pair<fs::path, nlohmann::json>> run_estimates(const fs::path& dir) {
+  for (const fs::path& file : {dir / "plan_results" / "estimates.json", dir / "estimates.json"}) {
+    auto j = nlohmann::json::parse(read_or_empty(file), nullptr, false);
+    if (j.is_object() && j.contains("weighted_success")) return std::pair{file.parent_path(), std::move(j)};
+  }
+  return std::nullopt;
+}
+
+// Where a plan's coverage.json may be: reproduce's plan/, this folder, and beside the scenarios.csv
+// the run read (estimates.json's "plan", relative to its own folder).
+std::vector<fs::path> coverage_candidates(const fs::path& dir) {
+  std::vector<fs::path> files{dir / "plan" / "coverage.json", dir / "coverage.json"};
+  if (const auto run = run_estimates(dir)) {
+    const auto& plan = run->second.value("plan", nlohmann::json::object());
+    if (plan.is_object() && plan.contains("coverage") && plan["coverage"].is_string())
+      files.push_back(run->first / plan["coverage"].get<std::string>());
+  }
+  return files;
+}
+
+// The plan's shortfalls that the run repeated, first thing in the report: its estimates lack them.
+std::string shortfalls_html(const fs::path& dir) {
+  const auto run = run_estimates(dir);
+  if (!run || !run->second.contains("shortfalls") || !run->second["shortfalls"].is_array() ||
+      run->second["shortfalls"].empty())
+    return "";
+  std::string out =
+      "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
+      "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
+  for (const auto& s : run->second["shortfalls"])
+    out += "<li>" + html_escape(s.is_object() ? s.value("message", "") : s.dump()) + "</li>\n";
+  return out + "</ul></div>\n";
+}
 
 std::string regions_html(const std::vector<campaign::CellRecord>& records) {
   core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %", "O/R certified", "O/R undecided"};
@@ -469,8 +505,10 @@ ReportSummary write_report(const fs::path& dir) {
     Figure coverage;
     coverage.name = "coverage_comparison";
     coverage.title = "Coverage comparison";
-    coverage.note = "no coverage.json (written by emrm plan and emrm reproduce) in this folder";
-    for (const fs::path& file : {dir / "plan" / "coverage.json", dir / "coverage.json"}) {
+    coverage.note =
+        "no coverage.json (written by emrm plan and emrm reproduce) in this folder, nor beside the "
+        "scenarios.csv a run here read";
+    for (const fs::path& file : coverage_candidates(dir)) {
       const std::string text = read_or_empty(file);
       if (text.empty()) continue;
       coverage = draw_coverage_comparison(scenario::parse_coverage_json(text, file.string()), figures_dir);
@@ -516,6 +554,7 @@ ReportSummary write_report(const fs::path& dir) {
       "configuration {}); this report by emrm {}.</p>\n",
       html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
+  html += shortfalls_html(dir);
   html += actuation_html(scene.actuation, runs);
   html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
           "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"

@@ -81,13 +81,14 @@ Cells cells_table(const Json& j, double epsilon, double confidence) {
 }
 
 std::string weighted_table(const Json& j) {
-  core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high"};
+  core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high", "shortfall of the plan"};
   std::vector<core::Row> rows;
   for (const auto& [subset, e] : j.at("weighted_success").items()) {
     const auto num = [&](const char* key) { return e.contains(key) && e[key].is_number() ? fixed3(e[key].get<double>()) : "—"; };
     const auto& w = e.at("wilson");
     rows.push_back({subset, std::to_string(e.at("n").get<std::size_t>()), num("n_eff"), num("estimate"),
-                    fixed3(w.at(0).get<double>()), fixed3(w.at(1).get<double>())});
+                    fixed3(w.at(0).get<double>()), fixed3(w.at(1).get<double>()),
+                    e.contains("shortfall") && e["shortfall"].is_string() ? e["shortfall"].get<std::string>() : ""});
   }
   return html_table(header, rows);
 }

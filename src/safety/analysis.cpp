@@ -24,6 +24,14 @@ std::optional<std::filesystem::path> fsm_file(const SafetyCase& sc) {
   return std::filesystem::path(sc.file).parent_path() / *sc.fsm;
 }
 
+std::string findings_text(const std::vector<Finding>& findings) {
+  std::string out;
+  for (const auto& f : findings)
+    out += fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code,
+                       f.subject, f.message);
+  return out;
+}
+
 std::string to_text(const Analysis& analysis) {
   const SafetyCase& sc = analysis.safety_case;
   std::string out = fmt::format("Safety case '{}' ({})\n", sc.name, sc.file);
@@ -37,9 +45,7 @@ std::string to_text(const Analysis& analysis) {
 
   out += fmt::format("\nFindings: {}, {}\n", counted(analysis.errors(), "error", "errors"),
                      counted(analysis.warnings(), "warning", "warnings"));
-  for (const auto& f : analysis.findings)
-    out += fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code, f.subject,
-                       f.message);
+  out += findings_text(analysis.findings);
 
   out += "\nHARA ratings (ASIL by ISO 26262-3 Table 4; SMIL by the case's table)\n";
   out += core::markdown_table(asil_header(), asil_rows(sc));

@@ -172,6 +172,19 @@ void check_at(const core::YamlNode& root, std::string_view list, std::size_t ind
   });
 }
 
+// Where each value of a factor's domain was written: its bin edges, class numbers (else names) or
+// constant value.
+std::vector<SourceLocation> value_locations(const core::YamlNode& node) {
+  for (const char* key : {"bins", "values", "classes"})
+    if (const auto list = node.find(key); list && list->is_sequence()) {
+      std::vector<SourceLocation> out;
+      for (const auto& e : list->elements()) out.push_back(e.location());
+      return out;
+    }
+  if (const auto value = node.find("value")) return {value->location()};
+  return {};
+}
+
 // A factor as an OddFactor: first the keys its type takes and needs, then, at factors[index], its
 // domain, its prior and its nominal value, each checked before the next is derived from it.
 OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root,
@@ -182,6 +195,8 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
   f.type = y.type;
   f.kinks = y.kinks;
   f.where = y.where;
+  f.unit_where = field(node, "unit").location();
+  f.value_where = value_locations(node);
   const auto forbid = [&](bool present, std::string_view key, std::string_view type) {
     if (present) field(node, key).fail(fmt::format("'{}' does not apply to a {} factor", key, type));
   };
@@ -409,8 +424,11 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   }
   if (hazards_node)
     for (const auto& h : hazards_node->elements()) add_unique(odd.hazards, h.as_string());
-  for (const auto& m : odd.malfunctions)
-    for (const auto& h : m.hazards) add_unique(odd.hazards, h);
+  // With a safety case its hazards are all there are: a UCA naming another one is a finding, not a
+  // hazard to cover.
+  if (!odd.safety_file)
+    for (const auto& m : odd.malfunctions)
+      for (const auto& h : m.hazards) add_unique(odd.hazards, h);
 
   // Manual baseline grid.
   if (baselines_node) {

@@ -287,6 +287,84 @@ std::size_t combinatorial_core(const Odd& odd, Builder& b) {
   return added;
 }
 
+// The factors' domains as a reader sees them: "mu in [0.1, 1]", "road in {dry, wet}", "truck = 10".
+std::string domains_text(const Odd& odd, const std::vector<std::string>& names) {
+  std::vector<std::string> parts;
+  for (const auto& name : names) {
+    const OddFactor& f = odd.factors[*odd.factor_index(name)];
+    if (f.type == FactorType::kConstant)
+      parts.push_back(fmt::format("{} = {:g}", f.name, f.nominal));
+    else if (f.type == FactorType::kCategorical)
+      parts.push_back(fmt::format("{} in {{{}}}", f.name, core::join(f.classes, ", ")));
+    else
+      parts.push_back(fmt::format("{} in [{:g}, {:g}]", f.name, f.domain_min(), f.domain_max()));
+  }
+  return core::join(parts, ", ");
+}
+
+// Calls visit(levels) for every cell of the abstract domain, in odometer order (the last factor
+// varies fastest).
+template <class Visit>
+void for_each_cell(const Odd& odd, Visit visit) {
+  std::vector<int> levels(odd.factors.size(), 0);
+  for (bool more = !odd.factors.empty(); more;) {
+    visit(levels);
+    more = false;
+    for (std::size_t i = levels.size(); i-- > 0;) {
+      if (++levels[i] < odd.factors[i].levels()) {
+        more = true;
+        break;
+      }
+      levels[i] = 0;
+    }
+  }
+}
+
+// Why a mode's region holds at no admissible point, as far as the probes of every cell of the
+// domain show: nowhere in the factors' domains, or only where R_f or a constraint fails. None when
+// a probe finds an admissible point of the region (then the region is not empty, only hard to hit).
+std::optional<std::string> why_region_empty(const Odd& odd, const Malfunction& m) {
+  if (!m.region) return std::nullopt;
+  bool in_domain = false, relevant = false, admissible = false;
+  std::vector<bool> kept(odd.constraints.size(), false);
+  for_each_cell(odd, [&](const std::vector<int>& levels) {
+    for (const auto& p : probes(odd, levels)) {
+      if (!m.region->holds(p)) continue;
+      in_domain = true;
+      relevant = relevant || !odd.relevance || odd.relevance->holds(p);
+      admissible = admissible || odd.admissible(p);
+      for (std::size_t k = 0; k < kept.size(); ++k) kept[k] = kept[k] || odd.constraints[k].holds(p);
+    }
+  });
+  const std::string region = "'" + m.region->text() + "'";
+  if (admissible) return std::nullopt;
+  if (!in_domain)
+    return fmt::format("{} holds nowhere in the factors' domains ({})", region,
+                       domains_text(odd, m.region->used_variables()));
+  if (!relevant)
+    return fmt::format("{} holds only where the relevance rule '{}' fails", region, odd.relevance->text());
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (!kept[k])
+      return fmt::format("{} holds only where the constraint '{}' fails", region, odd.constraints[k].text());
+  return fmt::format("{} holds only where the relevance rule or some constraint fails", region);
+}
+
+// The shortfall of mode `m` with `have` tests after the allocation gave up: an empty region when
+// no cell had a point of it and the probes say why.
+Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_t have,
+                                bool searched_everywhere) {
+  const auto needed = static_cast<std::size_t>(odd.n_m);
+  if (have == 0 && searched_everywhere)
+    if (auto why = why_region_empty(odd, m))
+      return {
+          ShortfallKind::kEmptyRegion, m.id, have, needed,
+          fmt::format("malfunction {}: its region is empty inside the ODD: {}; no test can exercise it (C4 "
+                      "needs {})",
+                      m.id, *why, needed)};
+  return {ShortfallKind::kTooFewTests, m.id, have, needed,
+          fmt::format("malfunction {}: only {} of {} tests found in its region", m.id, have, needed)};
+}
+
 // Step 3 (C4): n_m tests inside each malfunction's hazard region, in the least-tested cells.
 std::size_t malfunction_allocation(const Odd& odd, Builder& b, Plan& plan) {
   std::size_t added = 0;
@@ -309,8 +387,8 @@ std::size_t malfunction_allocation(const Odd& odd, Builder& b, Plan& plan) {
         outside.insert(c);
       }
       if (!placed) {
-        plan.shortfalls.push_back(fmt::format("malfunction {}: only {} of {} tests found in its region", m.id,
-                                              have, odd.n_m));
+        plan.shortfalls.push_back(malfunction_shortfall(odd, m, static_cast<std::size_t>(have),
+                                                        outside.size() == b.cells().size()));
         break;
       }
     }
@@ -325,8 +403,10 @@ std::size_t cell_fill(const Odd& odd, Builder& b, Plan& plan) {
     while (b.counts()[c] < static_cast<std::size_t>(odd.n_c)) {
       auto p = b.sample(c, std::nullopt, 0.0, kAnyPoint);
       if (!p || !b.add(*p, "cell_fill")) {
-        plan.shortfalls.push_back(fmt::format("cell {}: only {} distinct admissible points found",
-                                              cell_key(b.cells()[c].levels), b.counts()[c]));
+        const std::string key = cell_key(b.cells()[c].levels);
+        plan.shortfalls.push_back(
+            {ShortfallKind::kTooFewPoints, key, b.counts()[c], static_cast<std::size_t>(odd.n_c),
+             fmt::format("cell {}: only {} distinct admissible points found", key, b.counts()[c])});
         break;
       }
       ++added;
@@ -369,6 +449,12 @@ std::size_t top_up(const Odd& odd, Builder& b, std::size_t target, std::size_t& 
   return still_short;
 }
 
+std::string shortfall_messages(const Plan& plan) {
+  std::vector<std::string> messages;
+  for (const auto& s : plan.shortfalls) messages.push_back(s.message);
+  return core::join(messages, "; ");
+}
+
 }  // namespace
 
 std::vector<RelevantCell> relevant_cells(const Odd& odd) {
@@ -376,8 +462,7 @@ std::vector<RelevantCell> relevant_cells(const Odd& odd) {
     throw InputError(SourceLocation{odd.file, 1, 1},
                      fmt::format("the factors' levels make {:.0f} cells, more than 200000", odd.cell_count()));
   std::vector<RelevantCell> cells;
-  std::vector<int> levels(odd.factors.size(), 0);
-  for (bool more = !odd.factors.empty(); more;) {
+  for_each_cell(odd, [&](const std::vector<int>& levels) {
     RelevantCell cell{levels, {}, 1.0, false};
     for (auto& p : probes(odd, levels)) {
       if (!odd.admissible(p)) continue;
@@ -387,20 +472,11 @@ std::vector<RelevantCell> relevant_cells(const Odd& odd) {
         break;
       }
     }
-    if (!cell.witness.empty()) {
-      for (std::size_t i = 0; i < levels.size(); ++i) cell.prior *= odd.factors[i].prior[static_cast<std::size_t>(levels[i])];
-      cells.push_back(std::move(cell));
-    }
-    // Odometer: the last factor varies fastest.
-    more = false;
-    for (std::size_t i = levels.size(); i-- > 0;) {
-      if (++levels[i] < odd.factors[i].levels()) {
-        more = true;
-        break;
-      }
-      levels[i] = 0;
-    }
-  }
+    if (cell.witness.empty()) return;
+    for (std::size_t i = 0; i < levels.size(); ++i)
+      cell.prior *= odd.factors[i].prior[static_cast<std::size_t>(levels[i])];
+    cells.push_back(std::move(cell));
+  });
   double total = 0.0;
   for (const auto& c : cells) total += c.prior;
   for (auto& c : cells) c.prior = total > 0.0 ? c.prior / total : 1.0 / static_cast<double>(cells.size());
@@ -473,11 +549,12 @@ Plan build_plan(const Odd& odd) {
                                    odd.budget, coverage_size > odd.budget ? " by the coverage constraints alone" : "",
                                    short_cells, plan.tests_per_tracked_cell);
   else
-    plan.stop_reason = fmt::format("targets not met: {}{}",
-                                   short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
-                                                             short_cells, plan.shortfalls.empty() ? "" : "; ")
-                                               : std::string(),
-                                   core::join(plan.shortfalls, "; "));
+    plan.stop_reason =
+        fmt::format("targets not met: {}{}",
+                    short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
+                                              short_cells, plan.shortfalls.empty() ? "" : "; ")
+                                : std::string(),
+                    shortfall_messages(plan));
 
   // Weights w = π(cell) / q(cell) with q the plan's own cell frequencies; ids in plan order.
   auto& scenarios = b.scenarios();

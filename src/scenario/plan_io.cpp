@@ -51,6 +51,23 @@ nlohmann::ordered_json acceptance_json(const Odd& odd) {
   return a;
 }
 
+// Every mode with its region and how many planned tests fall in it, so that `emrm run` keeps the
+// modes that got none.
+nlohmann::ordered_json malfunctions_json(const Odd& odd, const Plan& plan) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const auto& m : odd.malfunctions) {
+    const auto tests = std::count_if(plan.scenarios.begin(), plan.scenarios.end(), [&](const Scenario& s) {
+      return std::find(s.malfunctions.begin(), s.malfunctions.end(), m.id) != s.malfunctions.end();
+    });
+    list.push_back({{"id", m.id},
+                    {"region", m.region ? m.region->text() : std::string("true")},
+                    {"hazards", m.hazards},
+                    {"transitions", m.transitions},
+                    {"tests", tests}});
+  }
+  return list;
+}
+
 std::string percent_text(const CoverageCount& c) {
   return fmt::format("{:.1f} % ({}/{})", 100.0 * c.fraction(), c.covered, c.total);
 }
@@ -119,7 +136,8 @@ nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan, const st
                {"tracked_cells", plan.tracked_cells},
                {"tests_per_tracked_cell", plan.tests_per_tracked_cell},
                {"infeasible", plan.infeasible},
-               {"shortfalls", plan.shortfalls}};
+               {"shortfalls", shortfalls_json(plan.shortfalls)}};
+  j["malfunctions"] = malfunctions_json(odd, plan);
   std::map<std::vector<int>, std::size_t> planned;
   for (const auto& s : plan.scenarios) ++planned[s.cell];
   nlohmann::ordered_json cells = nlohmann::ordered_json::array();
@@ -165,11 +183,24 @@ std::vector<CoverageReport> coverage_comparison(const Odd& odd, const Plan& plan
   return reports;
 }
 
-nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports) {
+nlohmann::ordered_json shortfalls_json(const std::vector<Shortfall>& shortfalls) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const auto& s : shortfalls)
+    list.push_back({{"kind", core::enum_name(s.kind)},
+                    {"subject", s.subject},
+                    {"found", s.found},
+                    {"needed", s.needed},
+                    {"message", s.message}});
+  return list;
+}
+
+nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports,
+                                     const std::vector<Shortfall>& shortfalls) {
   nlohmann::ordered_json j;
   j["plan"] = to_json(reports.front());
   j["baselines"] = nlohmann::ordered_json::array();
   for (std::size_t i = 1; i < reports.size(); ++i) j["baselines"].push_back(to_json(reports[i]));
+  j["shortfalls"] = shortfalls_json(shortfalls);
   return j;
 }
 
@@ -220,7 +251,7 @@ void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& pl
                 const std::vector<CoverageReport>& reports) {
   core::write_file(dir / "scenarios.csv", scenarios_csv(odd, plan));
   core::write_file(dir / "scenarios.json", scenarios_json(odd, plan, dir).dump(2) + "\n");
-  core::write_file(dir / "coverage.json", coverage_json(reports).dump(2) + "\n");
+  core::write_file(dir / "coverage.json", coverage_json(reports, plan.shortfalls).dump(2) + "\n");
   const auto [header, rows] = coverage_table(reports);
   core::write_file(dir / "coverage.csv", core::csv_table(header, rows));
   core::write_file(dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows));
@@ -238,7 +269,7 @@ std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan
   out += fmt::format("  {} scenarios in {:.2f} s; {}\n", plan.scenarios.size(), seconds, plan.stop_reason);
   for (const auto& note : plan.infeasible)
     out += fmt::format("  no admissible point (exempt from C2): {}\n", note);
-  for (const auto& note : plan.shortfalls) out += fmt::format("  shortfall: {}\n", note);
+  for (const auto& s : plan.shortfalls) out += fmt::format("  shortfall: {}\n", s.message);
   const auto& ours = reports.front();
   out += fmt::format("  coverage: hazards {}, UCAs {}, transitions {}, cells {}, {}-wise {}, boundaries {}\n",
                      percent_text(ours.hazards), percent_text(ours.malfunctions),

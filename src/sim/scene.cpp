@@ -91,26 +91,41 @@ std::string apply_profile(SceneConfig& config, const std::string& profile, const
   return overlay.description;
 }
 
-void validate_cell(const SceneConfig& config, const CellInput& cell) {
-  const auto finite_positive = [](double value, std::string_view factor, std::string_view unit) {
-    if (!std::isfinite(value) || !(value > 0.0))
-      throw UsageError(fmt::format("{} must be a finite number > 0 {}, got {}", factor, unit, value));
-  };
-  finite_positive(cell.speed_kph, "speed_kph", "km/h");
-  finite_positive(cell.ttc_s, "ttc_s", "s");
-  if (!std::isfinite(cell.mu) || !(cell.mu > 0.0 && cell.mu <= 2.0))
-    throw UsageError(
-        fmt::format("mu must be a finite friction coefficient with 0 < mu <= 2, got {}", cell.mu));
-  if (!std::isfinite(cell.truck_speed_kph) || !(cell.truck_speed_kph >= 0.0))
-    throw UsageError(
-        fmt::format("truck_speed_kph must be a finite number >= 0 km/h, got {}", cell.truck_speed_kph));
-  finite_positive(cell.passage_m, "passage_m", "m");
+bool CellFactorLimit::accepts(double value) const noexcept {
+  return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high;
+}
+
+std::string CellFactorLimit::inequality() const {
+  const std::string_view op = low_inclusive ? "<=" : "<";
+  if (std::isinf(high)) return fmt::format("{} {} {:g}", name, low_inclusive ? ">=" : ">", low);
+  return fmt::format("{:g} {} {} <= {:g}", low, op, name, high);
+}
+
+std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config) {
+  constexpr double kUnbounded = std::numeric_limits<double>::infinity();
   const double drivable_width_m = config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
-  if (cell.passage_m > drivable_width_m)
-    throw UsageError(fmt::format(
-        "passage_m must be in (0, {}] m (the width of the drivable area), got {} m: a scene whose passage is "
-        "wider than the road",
-        drivable_width_m, cell.passage_m));
+  return {
+      {"speed_kph", "km/h", "ego speed", 0.0, false, kUnbounded, ""},
+      {"ttc_s", "s", "time to collision", 0.0, false, kUnbounded, ""},
+      {"mu", "1", "friction coefficient", 0.0, false, 2.0, ""},
+      {"passage_m", "m", "passage width", 0.0, false, drivable_width_m,
+       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road",
+                   drivable_width_m)},
+      {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kUnbounded, ""},
+  };
+}
+
+void validate_cell(const SceneConfig& config, const CellInput& cell) {
+  const double values[] = {cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph};
+  const auto limits = cell_factor_limits(config);
+  for (std::size_t i = 0; i < limits.size(); ++i) {
+    const CellFactorLimit& l = limits[i];
+    if (l.accepts(values[i])) continue;
+    throw UsageError(
+        fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
+                    l.unit == "1" ? "" : " " + l.unit, values[i],
+                    values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
+  }
 }
 
 Scene::Scene(const SceneConfig& config, const CellInput& cell)

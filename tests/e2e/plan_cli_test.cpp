@@ -11,6 +11,7 @@
 #include <string>
 
 #include "run_emrm.hpp"
+#include "small_example.hpp"
 
 namespace emrm::e2e {
 namespace {
@@ -53,11 +54,9 @@ std::string line_col(const std::string& text, const std::string& needle, int off
 
 // Runs `emrm plan` on `text` written to a scratch folder: exit 2 and exactly one line on stderr,
 // FILE:LINE:COL: error: ..., at `needle` (+ offset) and saying `words`.
-void expect_bad_odd(const std::string& name, const std::string& text, const std::string& needle, int offset,
-                    const std::string& words) {
-  SCOPED_TRACE(name);
-  const auto dir = scratch_dir("plan-bad-" + name);
-  const fs::path odd = dir / "odd.yaml";
+void expect_bad_odd_at(const fs::path& odd, const std::string& text, const std::string& needle, int offset,
+                       const std::string& words) {
+  const fs::path dir = odd.parent_path();
   write_text(odd, text);
   const auto r = run_emrm("plan " + quoted(odd) + " -o " + quoted(dir / "out"));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
@@ -66,6 +65,20 @@ void expect_bad_odd(const std::string& name, const std::string& text, const std:
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_THAT(r.err, HasSubstr(words));
   EXPECT_FALSE(fs::exists(dir / "out" / "scenarios.csv"));
+}
+
+void expect_bad_odd(const std::string& name, const std::string& text, const std::string& needle, int offset,
+                    const std::string& words) {
+  SCOPED_TRACE(name);
+  expect_bad_odd_at(scratch_dir("plan-bad-" + name) / "odd.yaml", text, needle, offset, words);
+}
+
+// The small example (small_example.hpp) with one edit to one of its files; returns its folder.
+fs::path edited_small_example(const std::string& name, const std::string& file, const std::string& from,
+                              const std::string& to) {
+  const fs::path dir = small_example(name);
+  write_text(dir / file, replaced(read_text(dir / file), from, to));
+  return dir;
 }
 
 TEST(PlanCli, ShippedExampleWritesEveryFileAndHoldsC1ToC4) {
@@ -188,6 +201,93 @@ TEST(PlanCli, StrengthLargerThanTheFactors) {
 TEST(PlanCli, UnsatisfiableConstraintSet) {
   const std::string text = replaced(odd_text(), "\ntracked:", "\nconstraints:\n  - \"mu >= 0.1\"\n  - \"speed_kph > 80\"\ntracked:");
   expect_bad_odd("unsatisfiable", text, "\"speed_kph > 80\"", 0, "unsatisfiable");
+}
+
+// ---- checks across files: the safety case as `emrm analyze` checks it ------------------------------
+
+TEST(PlanCli, SafetyCaseWithErrorFindingsIsRefusedUnlessAllowed) {
+  const fs::path dir = edited_small_example("plan-findings", "safety.yaml", "hazards: [H8, H1, H9]",
+                                            "hazards: [H8, H1, H9, H99]");
+  const auto refused = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "refused"));
+  EXPECT_EQ(refused.exit_code, 1) << refused.out << refused.err;
+  EXPECT_THAT(refused.out, HasSubstr("1 error, "));
+  EXPECT_THAT(refused.out,
+              HasSubstr("error SAF001 [UCA1]: UCA 'UCA1' refers to hazard 'H99', which does not exist"));
+  EXPECT_THAT(refused.out, HasSubstr("--allow-findings"));
+  EXPECT_FALSE(fs::exists(dir / "refused" / "scenarios.csv"));
+
+  // Allowed, the plan is built, but the phantom hazard is not one to cover: the case's hazards are.
+  const auto allowed =
+      run_emrm("plan " + quoted(dir / "odd.yaml") + " --allow-findings -o " + quoted(dir / "allowed"));
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.out << allowed.err;
+  EXPECT_THAT(allowed.out, HasSubstr((dir / "safety.yaml").string() +
+                                     ": warning: planned despite 1 error finding (--allow-findings)"));
+  const std::string safety = read_text(dir / "safety.yaml");
+  std::size_t hazards = 0;
+  for (auto at = safety.find("\n  - id: H"); at != std::string::npos; at = safety.find("\n  - id: H", at + 1))
+    ++hazards;
+  const auto coverage = nlohmann::json::parse(read_text(dir / "allowed" / "coverage.json"));
+  EXPECT_EQ(coverage.at("plan").at("hazards").at("total").get<std::size_t>(), hazards);
+  EXPECT_THAT(coverage.at("plan").at("hazards").at("missing").dump(), ::testing::Not(HasSubstr("H99")));
+}
+
+TEST(PlanCli, UcaNamingATransitionTheFsmLacksIsRefused) {
+  const fs::path dir =
+      edited_small_example("plan-transition", "safety.yaml", "{from: S4, event: emrm_done, to: S1}",
+                           "{from: S4, event: emrm_finished, to: S1}");
+  const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("error SAF011 [UCA4]"));
+  EXPECT_THAT(r.out, HasSubstr("S4 -emrm_finished-> S1"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "scenarios.csv"));
+}
+
+// ---- checks across files: the ODD against the scene, the simulator and the safety case --------------
+
+TEST(PlanCli, FrictionAsAPercentageIsBadInputAtTheOdd) {
+  const fs::path dir = small_example("plan-mu-percent");
+  const std::string text =
+      replaced(read_text(dir / "odd.yaml"), "type: constant, value: 1.0}", "type: constant, value: 50}");
+  expect_bad_odd_at(dir / "odd.yaml", text, "50}", 0,
+                    "mu 50: expected a friction coefficient in (0, 2]; a percentage?");
+}
+
+TEST(PlanCli, SpeedInAnotherUnitThanTheSimulatorsIsBadInputAtTheUnit) {
+  const fs::path dir = small_example("plan-speed-unit");
+  const std::string text =
+      replaced(read_text(dir / "odd.yaml"), "{name: speed_kph, bins:", "{name: speed_kph, unit: m/s, bins:");
+  expect_bad_odd_at(dir / "odd.yaml", text, "m/s", 0, "speed_kph: unit 'm/s': expected km/h");
+}
+
+TEST(PlanCli, WarnsWhereTheRelevanceRuleAdmitsWhatTheSceneCannotPlace) {
+  const fs::path dir = edited_small_example("plan-relevance", "odd.yaml", "ttc_s <= 24.5", "ttc_s <= 40");
+  const std::string odd = read_text(dir / "odd.yaml");
+  const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
+  EXPECT_NE(r.exit_code, 2) << r.out << r.err;
+  const std::string at_relevance =
+      (dir / "odd.yaml").string() + ":" + line_col(odd, "speed_kph / 3.6 * ttc_s <= 40") + ": warning: ";
+  const std::string at_limit = (dir / "scene.yaml").string() + ":" +
+                               line_col(read_text(dir / "scene.yaml"), "max_initial_distance_m: 24.5", 24);
+  EXPECT_THAT(r.out, HasSubstr(at_relevance)) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(" planned scenarios lie beyond the scene's max_initial_distance_m = 24.5 m (" +
+                               at_limit + ")"));
+  EXPECT_THAT(r.out, HasSubstr("the relevance rule 'speed_kph / 3.6 * ttc_s <= 40' admits them"));
+  EXPECT_THAT(r.out, HasSubstr("plan      1 warning\n"));
+}
+
+TEST(PlanCli, WarnsWhereTheOddReachesBeyondTheSafetyCasesRange) {
+  const fs::path dir =
+      edited_small_example("plan-ranges", "odd.yaml", "bins: [30, 51, 72]", "bins: [30, 51, 100]");
+  const std::string odd = read_text(dir / "odd.yaml");
+  const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
+  EXPECT_NE(r.exit_code, 2) << r.out << r.err;
+  const std::string safety = read_text(dir / "safety.yaml");
+  EXPECT_THAT(
+      r.out,
+      HasSubstr((dir / "odd.yaml").string() + ":" + line_col(odd, "100]") +
+                ": warning: speed_kph spans [30, 100] in the ODD, beyond [30, 72] of the safety case (" +
+                (dir / "safety.yaml").string() + ":" + line_col(safety, "{name: speed_kph") + ")"))
+      << r.out;
 }
 
 }  // namespace

@@ -35,6 +35,13 @@ struct RunOptions {
   std::string profile;
 };
 
+/// A target the plan fell short of (scenarios.json's `stop.shortfalls`), repeated by `emrm run`.
+struct PlanShortfall {
+  std::string kind;     ///< empty_region, too_few_tests, too_few_points (empty in older plans)
+  std::string subject;  ///< the mode's id or the cell's key (empty in older plans)
+  std::string message;
+};
+
 /// What a plan says beyond its CSV (read from scenarios.json beside it, when present).
 struct PlanSettings {
   std::optional<std::filesystem::path> safety_file;
@@ -51,6 +58,8 @@ struct PlanSettings {
   /// The ODD's factors with their levels, as scenarios.json lists them (null without one): copied
   /// into estimates.json, so that the report groups the run by the ODD's bins.
   nlohmann::ordered_json factors;
+  std::vector<std::string> malfunctions;  ///< every mode of the plan, in plan order
+  std::vector<PlanShortfall> shortfalls;
 };
 
 /// Reads scenarios.json; throws InputError when it is malformed or names an unknown strategy.
@@ -84,6 +93,7 @@ struct CellEstimate {
 struct SubsetEstimate {
   std::string subset;  ///< "all", a malfunction id
   scenario::WeightedEstimate estimate;
+  std::string shortfall;  ///< the plan's shortfall for this mode, if any
 };
 
 struct RunResult {
@@ -94,7 +104,8 @@ struct RunResult {
   std::vector<CellEstimate> cells;               ///< by cell key
   double widest_tracked_half_width = 0.0;        ///< largest Wilson half-width over tracked cells
   double epsilon = 0.25;                         ///< the plan's target for it
-  std::vector<SubsetEstimate> subsets;           ///< Ŝ(A): all, then each malfunction
+  std::vector<SubsetEstimate> subsets;         ///< Ŝ(A): all, then each malfunction (every mode of the plan)
+  std::vector<PlanShortfall> plan_shortfalls;  ///< the plan's, repeated as warnings
   std::size_t transitions_exercised = 0;         ///< EMRM FSM transitions the traces took
   std::size_t transitions_total = 0;
   std::vector<std::string> transitions_missed;
@@ -104,6 +115,8 @@ struct RunResult {
 
 /// Runs the scenarios into OPTIONS.output_dir (results.sqlite and the sweep's exports, then
 /// outcomes.csv, estimates.csv, estimates.json and — with a safety case — traceability.csv/.md).
+/// estimates.json records where the plan lives ("plan": its scenarios.csv and coverage.json,
+/// relative to the output folder) and the plan's shortfalls.
 /// Throws InputError for a bad scenarios file (line:column) or one whose values the simulator
 /// rejects; UsageError when the store holds another plan.
 RunResult run_scenarios(const RunOptions& options);
@@ -111,9 +124,9 @@ RunResult run_scenarios(const RunOptions& options);
 /// estimates.json (without its "acceptance" member, which run_scenarios adds from the plan).
 [[nodiscard]] nlohmann::ordered_json to_json(const RunResult& result);
 
-/// The summary `emrm run` prints: scenarios and what was simulated, the widest tracked Wilson
-/// half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the files written
-/// into `output_dir`. `scenarios_file` is shown as given.
+/// The summary `emrm run` prints: the plan's shortfalls as warnings, scenarios and what was simulated, the
+/// widest tracked Wilson half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the
+/// files written into `output_dir`. `scenarios_file` is shown as given.
 [[nodiscard]] std::string to_text(const RunResult& result, const std::string& scenarios_file,
                                   const std::filesystem::path& output_dir);
 

@@ -45,6 +45,9 @@ template <class Transitions>
   return known;
 }
 
+/// One line per finding, as `emrm analyze` lists them: "  FILE:LINE:COL: error SAF001 [UCA5]: …".
+[[nodiscard]] std::string findings_text(const std::vector<Finding>& findings);
+
 /// The analysis as `emrm analyze` prints it: counts, findings, the HARA ratings table, M_HARA-STPA
 /// and the size of the traceability matrix.
 [[nodiscard]] std::string to_text(const Analysis& analysis);

@@ -38,6 +38,9 @@ struct OddFactor {
   bool influential = true;            ///< part of Q_f (t-wise coverage)
   double nominal = 0.0;               ///< value of the nominal scenario (HARA baseline)
   SourceLocation where;
+  SourceLocation unit_where;  ///< the `unit:` entry as written (else `where`)
+  std::vector<SourceLocation>
+      value_where;  ///< each bin edge, class value (or name) or the constant value as written
 
   [[nodiscard]] int levels() const noexcept;
   /// Level of a value: its bin (values outside the domain are clamped into the first or last
@@ -77,7 +80,9 @@ struct Odd {
   std::vector<core::Expression> constraints;      ///< every scenario satisfies all of them
   std::optional<core::Expression> tracked;        ///< cells with a precision target; none = all
   std::vector<Malfunction> malfunctions;
-  std::vector<std::string> hazards;  ///< every hazard of the safety case (or the modes name)
+  /// Every hazard of the safety case; without one, the ODD's `hazards:` and those its modes name. A
+  /// hazard a UCA names but the safety case lacks (a finding of `emrm analyze`) is not counted.
+  std::vector<std::string> hazards;
   std::optional<std::filesystem::path> safety_file;  ///< as resolved against the ODD file
   std::optional<std::filesystem::path> scene_file;
   std::vector<std::string> strategies;  ///< for `emrm run`; empty = all

@@ -52,6 +52,22 @@ struct BoundaryTarget {
 };
 [[nodiscard]] std::vector<BoundaryTarget> boundary_targets(const Odd& odd);
 
+/// Why a malfunction mode or a relevant cell has fewer tests than its target.
+enum class ShortfallKind {
+  kEmptyRegion,   ///< no admissible point of the mode's region exists (as far as every cell's probes show)
+  kTooFewTests,   ///< the mode's region has admissible points, but fewer than n_m distinct ones were found
+  kTooFewPoints,  ///< a relevant cell has fewer than n_c distinct admissible points
+};
+
+/// A target of C1 or C4 the plan could not meet, and why.
+struct Shortfall {
+  ShortfallKind kind = ShortfallKind::kTooFewTests;
+  std::string subject;     ///< the mode's id or the cell's key
+  std::size_t found = 0;   ///< tests the plan holds there
+  std::size_t needed = 0;  ///< n_m or n_c
+  std::string message;     ///< "malfunction UCA5: …", "cell c1.0.2: …", as printed
+};
+
 struct PlanStep {
   std::string name;
   std::size_t added = 0;
@@ -66,7 +82,7 @@ struct Plan {
   std::size_t tracked_cells = 0;
   std::size_t tests_per_tracked_cell = 0;     ///< from ε and δ (worst-case Wilson)
   std::vector<std::string> infeasible;        ///< boundary targets no admissible point reaches (C2 exempts them)
-  std::vector<std::string> shortfalls;        ///< modes or cells that could not get enough distinct tests
+  std::vector<Shortfall> shortfalls;          ///< modes or cells that could not get enough distinct tests
   bool targets_met = false;                   ///< C1–C4 and the precision target
   std::string stop_reason;
 };
@@ -81,3 +97,11 @@ void classify(const Odd& odd, const std::vector<double>& values, std::vector<std
               std::vector<std::string>& transitions);
 
 }  // namespace emrm::scenario
+
+template <>
+struct emrm::core::EnumNames<emrm::scenario::ShortfallKind> {
+  static constexpr std::array<std::pair<emrm::scenario::ShortfallKind, std::string_view>, 3> kNames{
+      {{emrm::scenario::ShortfallKind::kEmptyRegion, "empty_region"},
+       {emrm::scenario::ShortfallKind::kTooFewTests, "too_few_tests"},
+       {emrm::scenario::ShortfallKind::kTooFewPoints, "too_few_points"}}};
+};

@@ -21,7 +21,8 @@ namespace emrm::scenario {
 /// Columns: id, step, one per factor, cell, malfunctions (space-separated), transitions
 /// ("; "-separated), weight, seed.
 [[nodiscard]] std::string scenarios_csv(const Odd& odd, const Plan& plan);
-/// {"odd", "settings", "steps", "stop", "scenarios": [...]}. File paths (ODD, safety case, scene)
+/// {"odd", "settings", "factors", "steps", "stop", "malfunctions", "cells", "scenarios": [...]}, the
+/// stop's shortfalls as shortfalls_json writes them. File paths (ODD, safety case, scene)
 /// are written relative to `folder`, where the file will be written.
 [[nodiscard]] nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan,
                                                     const std::filesystem::path& folder = ".");
@@ -29,8 +30,11 @@ namespace emrm::scenario {
 /// The plan's coverage (measured by the independent checker), then the baselines' by the same code:
 /// "emrm plan", "HARA only", "STPA only", "manual grid" (the last only when the ODD declares one).
 [[nodiscard]] std::vector<CoverageReport> coverage_comparison(const Odd& odd, const Plan& plan);
-/// {"plan": report, "baselines": [reports]}.
-[[nodiscard]] nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports);
+/// [{"kind", "subject", "found", "needed", "message"}]: the plan's shortfalls, in plan order.
+[[nodiscard]] nlohmann::ordered_json shortfalls_json(const std::vector<Shortfall>& shortfalls);
+/// {"plan": report, "baselines": [reports], "shortfalls": shortfalls_json(shortfalls)}.
+[[nodiscard]] nlohmann::ordered_json coverage_json(const std::vector<CoverageReport>& reports,
+                                                   const std::vector<Shortfall>& shortfalls = {});
 /// The reports of a coverage.json's text (coverage_json's document) in its order: the plan's, then
 /// the baselines'. Throws InputError at `file_name` when the text is not JSON or not that layout
 /// (the message names the field).

@@ -5,6 +5,7 @@
 // +x), y to the left; the ego's front bumper is at x = 0 when the hazard appears (t = 0).
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -249,8 +250,29 @@ struct CellInput {
   double truck_speed_kph = 10.0;
 };
 
-/// Checks a cell against the scene: speed > 0, TTC > 0, 0 < mu <= 2, truck speed >= 0, passage
-/// > 0 and not wider than the drivable area, all finite. Throws UsageError naming the factor.
+/// What validate_cell accepts for one factor of a cell: a finite value above `low` (or equal to it
+/// when `low_inclusive`) and at most `high`.
+struct CellFactorLimit {
+  std::string name;  ///< "mu": as campaigns, ODDs and scenario files name the factor
+  std::string unit;  ///< "km/h", "s", "1" (a plain number), "m"
+  std::string what;  ///< "friction coefficient"
+  double low = 0.0;
+  bool low_inclusive = false;
+  double high = std::numeric_limits<double>::infinity();
+  std::string why_high;  ///< why there is an upper limit, when the scene sets it
+
+  [[nodiscard]] bool accepts(double value) const noexcept;
+  /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0".
+  [[nodiscard]] std::string inequality() const;
+};
+
+/// The limits validate_cell checks, in the order speed_kph, ttc_s, mu, passage_m, truck_speed_kph.
+/// The passage's upper limit is the width of the scene's drivable area.
+[[nodiscard]] std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config);
+
+/// Checks a cell against cell_factor_limits: speed > 0, TTC > 0, 0 < mu <= 2, truck speed >= 0,
+/// passage > 0 and not wider than the drivable area, all finite. Throws UsageError naming the
+/// factor and its accepted range.
 void validate_cell(const SceneConfig& config, const CellInput& cell);
 
 /// Where the truck is at a time, and how fast it moves.

@@ -59,7 +59,7 @@ inline std::string describe(const CoverageReport& r) {
 inline std::string describe(const Plan& plan) {
   std::string out = fmt::format("{} scenarios; {}", plan.scenarios.size(), plan.stop_reason);
   for (const auto& s : plan.infeasible) out += "\n  infeasible " + s;
-  for (const auto& s : plan.shortfalls) out += "\n  shortfall " + s;
+  for (const auto& s : plan.shortfalls) out += "\n  shortfall " + s.message;
   return out;
 }
 
@@ -114,7 +114,7 @@ inline std::optional<std::vector<std::vector<double>>> all_admissible_points(con
 
 inline bool reported(const Plan& plan, const std::string& prefix) {
   return std::any_of(plan.shortfalls.begin(), plan.shortfalls.end(),
-                     [&](const std::string& s) { return s.rfind(prefix, 0) == 0; });
+                     [&](const Shortfall& s) { return s.message.rfind(prefix, 0) == 0; });
 }
 
 // On a finite domain the planner's shortfalls can be checked exactly: a mode or cell falls short only

@@ -136,5 +136,50 @@ TEST(PlanBoundary, UnreachableEdgesAreListedAndExemptFromC2) {
   expect_plan_invariants(odd, plan);
 }
 
+// ---- modes whose region is empty inside the ODD ---------------------------------------------------
+
+const char* kEmptyRegions = R"(name: empty regions
+factors:
+  - {name: x, bins: [0, 1, 2]}
+  - {name: y, bins: [0, 1, 2]}
+relevance: "x + y <= 3"
+constraints:
+  - "x <= 1.5"
+coverage: {strength: 2, n_c: 1, n_m: 2, epsilon: 0.45, budget: 100}
+malfunctions:
+  - {id: M1, region: "x + y > 1"}
+  - {id: M2, region: "x > 5"}
+  - {id: M3, region: "x + y > 3.5"}
+  - {id: M4, region: "x > 1.8"}
+)";
+
+const Shortfall* shortfall_of(const Plan& plan, const std::string& subject) {
+  for (const auto& s : plan.shortfalls)
+    if (s.subject == subject) return &s;
+  return nullptr;
+}
+
+TEST(PlanShortfalls, AnEmptyRegionSaysSoAndWhy) {
+  const Odd odd = parse_odd(kEmptyRegions, "e.yaml", fs::temp_directory_path());
+  const Plan plan = build_plan(odd);
+  EXPECT_EQ(shortfall_of(plan, "M1"), nullptr) << describe(plan);
+  // Outside the factors' domains, outside R_f, outside a constraint: each named.
+  const std::vector<std::pair<std::string, std::string>> expected{
+      {"M2", "'x > 5' holds nowhere in the factors' domains (x in [0, 2])"},
+      {"M3", "'x + y > 3.5' holds only where the relevance rule 'x + y <= 3' fails"},
+      {"M4", "'x > 1.8' holds only where the constraint 'x <= 1.5' fails"}};
+  for (const auto& [id, why] : expected) {
+    const Shortfall* s = shortfall_of(plan, id);
+    ASSERT_NE(s, nullptr) << id << "\n" << describe(plan);
+    EXPECT_EQ(s->kind, ShortfallKind::kEmptyRegion) << id;
+    EXPECT_EQ(s->found, 0u);
+    EXPECT_EQ(s->needed, 2u);
+    EXPECT_THAT(s->message, HasSubstr("malfunction " + id + ": its region is empty inside the ODD: " + why));
+    EXPECT_THAT(plan.stop_reason, HasSubstr(s->message));
+  }
+  EXPECT_FALSE(plan.targets_met);
+  EXPECT_FALSE(measure_coverage(odd, points_of(plan), "plan").c4);  // C4 still fails: the checker is not told
+}
+
 }  // namespace
 }  // namespace emrm::scenario
