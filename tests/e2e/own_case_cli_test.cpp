@@ -1,0 +1,180 @@
+// End-to-end, as a functional-safety engineer adapting the shipped example to a wet road would:
+// a campaign with grids of their own names (one of them over two friction values), a plan from an
+// edited ODD (μ 0.5) and an edited safety case (a new hazard and a UCA whose region the wet ODD
+// cannot reach), the run, and both reports. The reports hold a map for every grid slice and for
+// the planned run, curves per ODD bin, estimates labelled with their bins, and the plan's
+// shortfall first; both open in headless Chromium without errors (screenshots in
+// BUILD/test-artefacts/).
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <set>
+
+#include "headless_chromium.hpp"
+#include "run_emrm.hpp"
+#include "small_example.hpp"
+
+namespace emrm::e2e {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+constexpr const char* kWetCampaign = R"(scene: scene.yaml
+seed: 2
+strategies: [emergency_stop, emrm]
+grids:
+  - name: wet_road
+    speed_kph: [40, 60]
+    ttc_s: [0.8, 1.6]
+    mu: 0.5
+    passage_m: 2.0
+  - name: wet_or_damp
+    speed_kph: [40, 60]
+    ttc_s: [1.0, 2.0]
+    mu: [0.4, 0.6]
+    passage_m: 2.0
+)";
+
+constexpr const char* kWetOdd = R"(name: wet T-junction ODD
+safety: safety.yaml
+scene: scene.yaml
+seed: 1
+factors:
+  - {name: speed_kph, unit: km/h, bins: [30, 51, 72]}
+  - {name: truck_speed_kph, unit: km/h, type: constant, value: 10}
+  - {name: ttc_s, unit: s, bins: [0.25, 1.0, 2.0]}
+  - {name: mu, type: constant, value: 0.5}
+  - {name: passage_m, unit: m, bins: [1.0, 2.0, 3.0]}
+relevance: "speed_kph / 3.6 * ttc_s <= 24.5"
+coverage: {strength: 2, n_c: 1, n_m: 1, epsilon: 0.45, delta: 0.05, budget: 40}
+baselines:
+  manual: {speed_kph: [30, 72], ttc_s: [0.25, 2.0]}
+)";
+
+// A hazard of the wet road and a UCA leading to it, only on ice: no wet-road test can reach it.
+constexpr const char* kNewHazard = R"(  - id: H10
+    description: Wet road; the EMRM misjudges the grip and slides into the truck.
+    losses: [L4, L6]
+    severity: S3
+    exposure: E2
+    controllability: C3
+    asil: B
+    maneuverability: M3
+    avoidability: A2
+    mitigability: MT1
+    smil: D
+
+control_actions:)";
+constexpr const char* kNewUca = R"(  - id: UCA5
+    control_action: CA1
+    type: provided
+    context: EMRM brakes as on a dry road on ice and slides into the truck.
+    hazards: [H10]
+    fsm_transitions:
+      - {from: S4, event: emrm_done, to: S1}
+    region: "mu < 0.35"
+
+smil:)";
+
+std::string replaced_once(std::string text, const std::string& what, const std::string& with) {
+  const auto at = text.find(what);
+  EXPECT_NE(at, std::string::npos) << what;
+  return at == std::string::npos ? text : text.replace(at, what.size(), with);
+}
+
+std::vector<std::string> figure_ids(const std::string& html) {
+  std::vector<std::string> ids;
+  const std::regex id("<figure id=\"fig-([^\"]+)\">");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), id); it != std::sregex_iterator(); ++it)
+    ids.push_back((*it)[1].str());
+  return ids;
+}
+
+void expect_clean_in_chromium(const fs::path& html, const std::string& name) {
+  const BrowserView view = open_in_chromium(html, name);
+  if (!view.available) GTEST_SKIP() << "Chromium is not installed (scripts/install-deps.sh installs it)";
+  ASSERT_TRUE(view.loaded) << view.log;
+  EXPECT_GE(view.images, 3);
+  EXPECT_EQ(view.broken_images, 0);
+  EXPECT_EQ(view.errors, 0);
+  EXPECT_THAT(view.log, ::testing::Not(HasSubstr("Uncaught")));
+}
+
+class OwnCase : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(small_example("own_case"));
+    write_text(*dir_ / "wet.yaml", kWetCampaign);
+    write_text(*dir_ / "odd.yaml", kWetOdd);
+    std::string safety = read_text(*dir_ / "safety.yaml");
+    safety = replaced_once(safety, "control_actions:", kNewHazard);
+    safety = replaced_once(safety, "smil:\n  levels", std::string(kNewUca) + "\n  levels");
+    write_text(*dir_ / "safety.yaml", safety);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path* dir_;
+};
+fs::path* OwnCase::dir_ = nullptr;
+
+TEST_F(OwnCase, ASweepOfGridsOfTheirOwnNamesGetsAMapPerSlice) {
+  const fs::path out = dir_->parent_path() / "sweep";
+  const auto sweep = run_emrm("sweep " + quoted(*dir_ / "wet.yaml") + " -o " + quoted(out) + " --threads 2");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.out << sweep.err;
+  const auto report = run_emrm("report " + quoted(out));
+  ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
+  const std::string html = read_text(out / "report.html");
+  const auto ids = figure_ids(html);
+  const std::set<std::string> maps(ids.begin(), ids.end());
+  EXPECT_TRUE(maps.count("map_wet_road")) << html.substr(0, 200);
+  // The grid over two friction values: one map per value, each named by it.
+  std::size_t slices = 0;
+  for (const auto& id : ids) slices += id.rfind("map_wet_or_damp", 0) == 0;
+  EXPECT_EQ(slices, 2u);
+  EXPECT_EQ(maps.count("mitigability_map"), 0u);  // none of the paper's grids
+  expect_clean_in_chromium(out / "report.html", "own_case_sweep");
+}
+
+TEST_F(OwnCase, APlanFromTheEditedCaseRunsAndItsReportShowsMapsBinsEstimatesAndTheShortfall) {
+  const fs::path plan = dir_->parent_path() / "plan";
+  const auto planned = run_emrm("plan " + quoted(*dir_ / "odd.yaml") + " -o " + quoted(plan));
+  EXPECT_EQ(planned.exit_code, 1) << planned.out << planned.err;  // C4 cannot hold for UCA5
+  EXPECT_THAT(planned.out, HasSubstr("UCA5: its region is empty inside the ODD"));
+  const fs::path out = dir_->parent_path() / "run";
+  const auto run = run_emrm("run " + quoted(plan / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
+  EXPECT_EQ(run.exit_code, 1) << run.out << run.err;  // the shortfall travels: a warning, exit 1
+  EXPECT_THAT(run.out + run.err, HasSubstr("UCA5"));
+  const auto report = run_emrm("report " + quoted(out));
+  ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
+  const std::string html = read_text(out / "report.html");
+
+  // The shortfall first, before the regions.
+  const auto shortfalls = html.find("id=\"shortfalls\"");
+  ASSERT_NE(shortfalls, std::string::npos);
+  EXPECT_LT(shortfalls, html.find("id=\"regions\""));
+  EXPECT_NE(html.find("UCA5", shortfalls), std::string::npos);
+  // A map per pair of the ODD's varying factors (speed, TTC, passage; μ and the truck are fixed).
+  std::size_t pair_maps = 0;
+  for (const auto& id : figure_ids(html)) pair_maps += id.rfind("plan_map_", 0) == 0;
+  EXPECT_EQ(pair_maps, 3u);
+  // Curves per ODD speed bin, not per exact speed.
+  const auto curves = csv_rows(out / "figures" / "sweep_curves.csv");
+  std::set<std::string> bins;
+  for (std::size_t i = 1; i < curves.size(); ++i) bins.insert(curves[i][column_of(curves[0], "bin")]);
+  EXPECT_EQ(bins, (std::set<std::string>{"[30, 51)", "[51, 72]"}));
+  // Estimates labelled with their bins, in the statistics section and in estimates.csv.
+  const auto statistics = html.find("id=\"statistics\"");
+  ASSERT_NE(statistics, std::string::npos);
+  EXPECT_NE(html.find("[30, 51)", statistics), std::string::npos);
+  const auto estimates = csv_rows(out / "estimates.csv");
+  for (std::size_t i = 1; i < estimates.size(); ++i)
+    EXPECT_FALSE(estimates[i][column_of(estimates[0], "speed_kph")].empty());
+  // The coverage of the plan beside the scenarios the run read.
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("no coverage.json in this folder")));
+  expect_clean_in_chromium(out / "report.html", "own_case_run");
+}
+
+}  // namespace
+}  // namespace emrm::e2e
