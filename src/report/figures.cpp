@@ -66,19 +66,25 @@ bool is_baseline(std::string_view strategy) {
   return info != nullptr && info->role == sim::StrategyRole::kBaseline;
 }
 
+// A figure of one grid: named and titled, with the grid's cells; a note when the store lacks it.
+std::vector<CellRecord> figure_of_grid(Figure& figure, std::string name, std::string title, std::string_view what,
+                                       const std::vector<CellRecord>& records, const std::string& grid) {
+  figure.name = std::move(name);
+  figure.title = std::move(title);
+  auto cells = campaign::records_of_grid(records, grid);
+  if (cells.empty()) figure.note = fmt::format("no {}: no grid '{}' in the store", what, grid);
+  return cells;
+}
+
 }  // namespace
 
 // --- loss comparison --------------------------------------------------------------------------
 
 Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
   Figure figure;
-  figure.name = "loss_comparison";
-  figure.title = fmt::format("Loss comparison on grid '{}'", grid);
-  const auto cells = campaign::records_of_grid(records, grid);
-  if (cells.empty()) {
-    figure.note = fmt::format("no loss comparison: no grid '{}' in the store", grid);
-    return figure;
-  }
+  const auto cells = figure_of_grid(figure, "loss_comparison", fmt::format("Loss comparison on grid '{}'", grid),
+                                    "loss comparison", records, grid);
+  if (cells.empty()) return figure;
   const auto strategies = ordered_strategies(cells);
   std::vector<core::Row> rows;
   std::vector<std::string> lines, tics;
@@ -202,13 +208,9 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
 
 Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
   Figure figure;
-  figure.name = "sweep_curves";
-  figure.title = fmt::format("Parameter sweep over grid '{}'", grid);
-  const auto cells = campaign::records_of_grid(records, grid);
-  if (cells.empty()) {
-    figure.note = fmt::format("no sweep curves: no grid '{}' in the store", grid);
-    return figure;
-  }
+  const auto cells = figure_of_grid(figure, "sweep_curves", fmt::format("Parameter sweep over grid '{}'", grid),
+                                    "sweep curves", records, grid);
+  if (cells.empty()) return figure;
   const auto speeds = distinct_values(cells, Axis::kSpeed);
   std::vector<SweepPoint> points;
   for (const double speed : speeds) {
