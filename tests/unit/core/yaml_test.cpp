@@ -1,5 +1,6 @@
 #include "emrm/core/yaml.hpp"
 
+#include <filesystem>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include "input_error.hpp"
@@ -145,7 +146,13 @@ TEST(YamlNode, UnreadableFileIsAnInputErrorNamingIt) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "/no/such/file.yaml");
-    EXPECT_THAT(e.message(), HasSubstr("cannot open"));
+    EXPECT_EQ(e.message(), "the file does not exist");
+  }
+  try {
+    (void)YamlNode::load_file(std::filesystem::temp_directory_path());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.message(), "this is a folder; expected a file");
   }
 }
 
