@@ -222,7 +222,47 @@ std::string read_input_file(const std::filesystem::path& path) {
                                           kMaxInputFileBytes >> 20));
   }
   if (in.bad()) throw InputError(where, "cannot read the file");
+  // Text is UTF-8 from here on (every name may reach a JSON writer): a byte-order mark is dropped, a
+  // byte that is not UTF-8 is bad input at its line and column.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  if (const auto bad = first_invalid_utf8(text)) {
+    const std::string_view before = std::string_view(text).substr(0, *bad);
+    const auto newline = before.rfind('\n');
+    const auto line = static_cast<int>(std::count(before.begin(), before.end(), '\n')) + 1;
+    const auto column = static_cast<int>(newline == std::string_view::npos ? *bad + 1 : *bad - newline);
+    throw InputError({path.string(), line, column},
+                     fmt::format("byte 0x{:02X} is not UTF-8; expected text in UTF-8 (save the file as UTF-8)",
+                                 static_cast<unsigned char>(text[*bad])));
+  }
   return text;
+}
+
+std::optional<std::size_t> first_invalid_utf8(std::string_view text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  const auto continuation = [&](std::size_t i) { return i < text.size() && (byte(i) & 0xC0) == 0x80; };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char b = byte(i);
+    std::size_t length = 0;
+    unsigned char low = 0x80, high = 0xBF;  // the allowed range of the second byte
+    if (b < 0x80) length = 1;
+    else if (b >= 0xC2 && b <= 0xDF) length = 2;
+    else if (b >= 0xE0 && b <= 0xEF) {
+      length = 3;
+      if (b == 0xE0) low = 0xA0;       // no overlong forms
+      if (b == 0xED) high = 0x9F;      // no surrogates
+    } else if (b >= 0xF0 && b <= 0xF4) {
+      length = 4;
+      if (b == 0xF0) low = 0x90;       // no overlong forms
+      if (b == 0xF4) high = 0x8F;      // nothing above U+10FFFF
+    } else {
+      return i;
+    }
+    if (length > 1 && (i + 1 >= text.size() || byte(i + 1) < low || byte(i + 1) > high)) return i;
+    for (std::size_t k = 2; k < length; ++k)
+      if (!continuation(i + k)) return i;
+    i += length;
+  }
+  return std::nullopt;
 }
 
 void write_file(const std::filesystem::path& path, std::string_view content) {

@@ -62,5 +62,33 @@ TEST(Cli, AMissingOrWrongInputFileIsOneMessageInOneFormat) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 
+// Text that is not UTF-8 inside a name is bad input where it stands, for every reader, and no
+// output is left behind (it used to reach the JSON writers: "internal error", exit 70, and a
+// half-written plan folder).
+TEST(Cli, ABytesThatIsNotUtf8IsBadInputAtItsPlaceAndWritesNothing) {
+  const auto dir = scratch_dir("not-utf8");
+  const auto broken = [&](const std::string& name, const std::string& key) {
+    std::string text = read_text(example(name));
+    const auto at = text.find(key);
+    text.insert(at + key.size() + 1, "\xC3(");
+    const auto file = dir / name;
+    write_text(file, text);
+    return file;
+  };
+  // Files that name other files are written beside copies of them.
+  for (const char* name : {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml", "scene.yaml"})
+    std::filesystem::copy_file(example(name), dir / name, std::filesystem::copy_options::overwrite_existing);
+  const auto odd = broken("odd.yaml", "\nname:");
+  const auto fsm = broken("emrm_fsm.yaml", "\nname:");
+  for (const auto& [command, file] :
+       {std::pair{"plan " + odd.string() + " -o " + (dir / "plan").string(), odd},
+        std::pair{"fsm " + fsm.string() + " --format json", fsm}}) {
+    const auto r = run_emrm(command);
+    EXPECT_EQ(r.exit_code, 2) << command << r.err;
+    EXPECT_THAT(r.err, ::testing::MatchesRegex(file.string() + ":[0-9]+:7: error: byte 0xC3 is not UTF-8.*\n"));
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "plan"));
+}
+
 }  // namespace
 }  // namespace emrm::e2e

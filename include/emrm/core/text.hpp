@@ -51,8 +51,13 @@ struct CsvRecord {
 /// far less; the cap keeps a device or an endless pipe from exhausting memory.
 inline constexpr std::size_t kMaxInputFileBytes = std::size_t{64} << 20;
 
-/// The whole content of a user's input file. Throws InputError naming the file when it does not
-/// exist, is a folder, cannot be opened or read, or exceeds kMaxInputFileBytes.
+/// The offset of the first byte of `text` that does not begin a well-formed UTF-8 sequence
+/// (overlong forms, surrogates and code points above U+10FFFF are not), or nullopt.
+[[nodiscard]] std::optional<std::size_t> first_invalid_utf8(std::string_view text);
+
+/// The whole content of a user's input file, as UTF-8 without a byte-order mark. Throws InputError
+/// naming the file when it does not exist, is a folder, cannot be opened or read, exceeds
+/// kMaxInputFileBytes, or holds a byte that is not UTF-8 (at its line and column).
 [[nodiscard]] std::string read_input_file(const std::filesystem::path& path);
 
 /// Writes a file atomically (temporary file, then rename), creating parent folders.
