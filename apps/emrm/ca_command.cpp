@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/scenario/covering_array.hpp"
 #include "emrm/scenario/covering_array_io.hpp"
@@ -101,10 +102,11 @@ void register_ca_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--levels", o->levels, "Comma-separated level counts, e.g. 3,3,3,3 (instead of a model)");
   cmd->add_option("--strength,-t", o->strength, "Interaction strength t, 2 or 3")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same array")
+      ->check(seed_value())
       ->capture_default_str();
   cmd->add_option("--effort", o->effort,
                   "Effort of the row-removing search after the greedy array (0: greedy only)")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(finite_in(0.0, 1e6))
       ->capture_default_str();
   cmd->add_flag("--check", o->check, "Verify the array by brute force and print OK (exit 1 if not)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/campaign/calibrate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
@@ -160,7 +161,7 @@ void register_calibrate_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--match", o->match, "With --regions: the fractions to fit, e.g. G (default: all the file gives)")
       ->delimiter(',');
   cmd->add_option("--campaign", o->campaign_file, "With --regions: the campaign that defines the grid");
-  cmd->add_option("--threads", o->threads, "With --regions: threads for simulating the grid (0 = all cores)");
+  add_threads_option(cmd, o->threads, "With --regions: threads for simulating the grid (0 = all cores)");
   cmd->add_option("--fit", o->fit,
                   "Parameters to fit: brake_dead_time_s, brake_ramp_s, max_decel_mps2, perception_latency_s")
       ->required()

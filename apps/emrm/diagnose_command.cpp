@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/campaign/diagnostics.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
@@ -69,8 +70,8 @@ void register_diagnose_command(CLI::App& app, int& exit_code) {
   cmd->add_option("DIR", o->dir, "results folder written by emrm sweep, run or reproduce")->required();
   cmd->add_option("--sample", o->sample, "Cells the reference planner re-checks (0: none)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{100000}));
-  cmd->add_option("--seed", o->seed, "Seed of the sample (default: the campaign's)");
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--seed", o->seed, "Seed of the sample (default: the campaign's)")->check(seed_value());
+  add_threads_option(cmd, o->threads, "Worker threads (0: all cores)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });
 }
 

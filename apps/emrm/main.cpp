@@ -4,13 +4,16 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/text.hpp"
@@ -23,8 +26,14 @@ namespace {
 std::optional<std::string> unknown_option(const CLI::App& app, int argc, char** argv) {
   if (argc < 2) return std::nullopt;
   const CLI::App* command = nullptr;
-  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    commands.push_back(sub->get_name());
     if (sub->get_name() == argv[1]) command = sub;
+  }
+  if (command == nullptr && argv[1][0] != '-')  // CLI11 would say "A subcommand is required"
+    return fmt::format("emrm: unknown command '{}'{}; see 'emrm --help'", emrm::cli::shortened(argv[1]),
+                       emrm::core::did_you_mean(argv[1], commands));
   if (command == nullptr) return std::nullopt;
   for (int i = 2; i < argc; ++i) {
     std::string word = argv[i];
@@ -36,10 +45,23 @@ std::optional<std::string> unknown_option(const CLI::App& app, int argc, char** 
     std::vector<std::string> names;
     for (const CLI::Option* o : command->get_options())
       for (const auto& l : o->get_lnames()) names.push_back("--" + l);
-    return fmt::format("emrm {}: unknown option '{}'{}; see 'emrm {} --help'", argv[1], word,
+    return fmt::format("emrm {}: unknown option '{}'{}; see 'emrm {} --help'", argv[1], emrm::cli::shortened(word),
                        emrm::core::did_you_mean(word, names), argv[1]);
   }
   return std::nullopt;
+}
+
+// CLI11's message with every over-long word (a 10 MB number, say) cut short.
+std::string short_words(const std::string& message) {
+  std::string out;
+  std::size_t start = 0;
+  while (start <= message.size()) {
+    const std::size_t end = std::min(message.find(' ', start), message.size());
+    if (!out.empty() || start > 0) out += ' ';
+    out += emrm::cli::shortened(std::string_view(message).substr(start, end - start), 60);
+    start = end + 1;
+  }
+  return out;
 }
 
 }  // namespace
@@ -82,10 +104,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", e.what());
     return 128 + e.signal();
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    std::fprintf(stderr, "%s\nRun with --help for more information.\n", short_words(e.what()).c_str());
     return static_cast<int>(emrm::ExitCode::kBadInput);
   } catch (const emrm::Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
+    return static_cast<int>(emrm::ExitCode::kBadInput);
+  } catch (const std::filesystem::filesystem_error& e) {  // a path the system refuses (too long, no access)
+    std::fprintf(stderr, "%s: error: %s\n", emrm::cli::shortened(e.path1().string(), 80).c_str(),
+                 e.code().message().c_str());
     return static_cast<int>(emrm::ExitCode::kBadInput);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "emrm: internal error: %s\n", e.what());

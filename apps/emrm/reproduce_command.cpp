@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/diagnostics.hpp"
@@ -274,8 +275,7 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
                   "Output folder (a rerun resumes the sweep stored there)")
       ->required()
       ->type_name("DIR");
-  cmd->add_option("--threads", options->threads, "Worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+  add_threads_option(cmd, options->threads, "Worker threads (0: all cores)");
   cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->add_option("--examples", options->examples_dir,
                   "Example folder (default: examples/tjunction here or above, or beside the executable)")

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
@@ -55,7 +56,7 @@ void register_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("-o,--output", options->output_dir, "output folder")->required();
   cmd->add_option("--safety", options->safety,
                   "safety case for the traceability matrix (default: the plan's, from scenarios.json)");
-  cmd->add_option("--threads", options->threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  add_threads_option(cmd, options->threads, "worker threads (0: all cores)");
   cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->callback([options, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)

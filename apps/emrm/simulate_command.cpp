@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/report/trajectory_figure.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/scene.hpp"
@@ -81,7 +82,7 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--strategy", o->strategies,
                   "emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm, or all (repeatable)")
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Random seed of the planners")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed of the planners")->check(seed_value())->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
   cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");
   cmd->add_flag("--paths", o->paths, "Kept for older scripts: the JSON always has every trajectory");

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
@@ -72,9 +73,7 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_option("campaign", s->campaign_file, "Campaign file (docs/campaign.md)")
       ->required();
   sweep->add_option("-o,--output", s->output_dir, "Output folder")->required();
-  sweep->add_option("--threads", s->threads, "Worker threads (0: all cores)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  add_threads_option(sweep, s->threads, "Worker threads (0: all cores)")->capture_default_str();
   sweep
       ->add_option("--shard", s->shard,
                    "Take only shard K of N (K/N, 1 <= K <= N); join shards with `emrm merge`")

@@ -103,15 +103,18 @@ std::string CellFactorLimit::inequality() const {
 
 std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config) {
   constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+  constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
   const double drivable_width_m = config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
   return {
-      {"speed_kph", "km/h", "ego speed", 0.0, false, kUnbounded, ""},
+      {"speed_kph", "km/h", "ego speed", 0.0, false, kMaxSpeed_kph,
+       "faster than any road vehicle drives; the speed is in km/h"},
       {"ttc_s", "s", "time to collision", 0.0, false, kUnbounded, ""},
       {"mu", "1", "friction coefficient", 0.0, false, 2.0, ""},
       {"passage_m", "m", "passage width", 0.0, false, drivable_width_m,
        fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road",
                    drivable_width_m)},
-      {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kUnbounded, ""},
+      {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kMaxSpeed_kph,
+       "faster than any road vehicle drives; the speed is in km/h"},
   };
 }
 
