@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -163,6 +164,18 @@ std::vector<std::string> split_words(const std::string& text) {
   return out;
 }
 
+[[noreturn]] void not_a_store(const std::filesystem::path& path, const std::string& why);
+
+// A whole number the store keeps as text, or not_a_store naming what holds something else.
+template <typename T>
+T whole_number(const std::filesystem::path& path, const std::string& what, const std::string& text) {
+  T value{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+    not_a_store(path, fmt::format("its {} is '{}', not a whole number", what, text.substr(0, 40)));
+  return value;
+}
+
 [[noreturn]] void not_a_store(const std::filesystem::path& path, const std::string& why) {
   throw UsageError(fmt::format("{}: error: not an emrm results store ({})", path.string(), why));
 }
@@ -178,9 +191,11 @@ CampaignMeta load_meta(sqlite3* db, const std::filesystem::path& path) {
       not_a_store(path, why);
     }
     int rc = 0;
-    while ((rc = sqlite3_step(raw)) == SQLITE_ROW)
-      kv[reinterpret_cast<const char*>(sqlite3_column_text(raw, 0))] =
-          reinterpret_cast<const char*>(sqlite3_column_text(raw, 1));
+    const auto column = [&](int i) {  // NULL (a store edited by hand) reads as empty
+      const unsigned char* text = sqlite3_column_text(raw, i);
+      return text != nullptr ? std::string(reinterpret_cast<const char*>(text)) : std::string();
+    };
+    while ((rc = sqlite3_step(raw)) == SQLITE_ROW) kv[column(0)] = column(1);
     sqlite3_finalize(raw);
     if (rc != SQLITE_DONE) not_a_store(path, sqlite3_errmsg(db));
   }
@@ -199,11 +214,11 @@ CampaignMeta load_meta(sqlite3* db, const std::filesystem::path& path) {
   meta.emrm_version = get("emrm_version");
   meta.campaign_yaml = get("campaign_yaml");
   meta.scene_yaml = get("scene_yaml");
-  meta.seed = std::stoull(get("seed"));
+  meta.seed = whole_number<std::uint64_t>(path, "seed", get("seed"));
   meta.strategies = split_lines(get("strategies"));
   meta.grids = split_lines(get("grids"));
-  meta.shard_index = std::stoi(get("shard_index"));
-  meta.shard_count = std::stoi(get("shard_count"));
+  meta.shard_index = whole_number<int>(path, "shard_index", get("shard_index"));
+  meta.shard_count = whole_number<int>(path, "shard_count", get("shard_count"));
   return meta;
 }
 
@@ -440,7 +455,7 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
     r.mu = cells.real(4);
     r.passage_m = cells.real(5);
     r.truck_speed_kph = cells.real(6);
-    r.seed = std::stoull(cells.text(7));
+    r.seed = whole_number<std::uint64_t>(path_, fmt::format("seed of cell {}#{}", r.grid, r.index), cells.text(7));
     r.feasible = cells.integer(8) != 0;
     r.region = cells.text(9);
     r.unmitigated_impact_speed_kph = cells.real(10);

@@ -60,6 +60,27 @@ TEST_F(VerifyCli, AStoreFromASweepHoldsEveryClaim) {
   EXPECT_THAT(j.out, HasSubstr("\"ok\": true"));
 }
 
+// A store damaged by hand is bad input with the damage named, for every reader (report, verify,
+// diagnose), never a crash: a NULL key in its metadata (was SIGSEGV), a seed that is not a number
+// (was an uncaught std::stoull exception), another schema version.
+TEST_F(VerifyCli, ADamagedStoreIsBadInputNamingTheDamage) {
+  if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
+  const std::vector<std::pair<std::string, std::string>> damages{
+      {"UPDATE meta SET key = NULL WHERE key = 'grids'", "no 'grids' in its metadata"},
+      {"UPDATE meta SET value = 'abc' WHERE key = 'seed'", "its seed is 'abc', not a whole number"},
+      {"UPDATE cells SET seed = 'x1' WHERE cell_index = 0", "is 'x1', not a whole number"},
+      {"UPDATE meta SET value = '99' WHERE key = 'schema_version'", "schema version 99"}};
+  int n = 0;
+  for (const auto& [sql, message] : damages) {
+    const auto dir = tampered(*dir_ / "out", *dir_ / ("damaged" + std::to_string(n++)), sql);
+    for (const std::string command : {"verify ", "report ", "diagnose "}) {
+      const auto r = run_emrm(command + quoted(dir));
+      EXPECT_EQ(r.exit_code, 2) << command << sql << "\n" << r.err;
+      EXPECT_THAT(r.err, HasSubstr(message)) << command << sql;
+    }
+  }
+}
+
 TEST_F(VerifyCli, AChangedRegionIsFound) {
   if (!have_sqlite_shell()) GTEST_SKIP() << "the sqlite3 shell is needed to change a store";
   const auto dir = tampered(*dir_ / "out", *dir_ / "region",
