@@ -173,6 +173,17 @@ constexpr const char* kScript = R"js(
 })();
 )js";
 
+// The findings of analysis/findings.json, one row each.
+std::string findings_table(const nlohmann::json& list) {
+  core::Row header{"severity", "code", "subject", "where", "message"};
+  std::vector<core::Row> rows;
+  for (const auto& f : list)
+    rows.push_back({f.value("severity", ""), f.value("code", ""), f.value("subject", ""),
+                    fmt::format("{}:{}:{}", f.value("file", ""), f.value("line", 0), f.value("column", 0)),
+                    f.value("message", "")});
+  return html_table(header, rows);
+}
+
 std::string findings_html(const fs::path& dir) {
   const std::string text = read_or_empty(dir / "analysis" / "findings.json");
   if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
@@ -181,13 +192,12 @@ std::string findings_html(const fs::path& dir) {
     return "<pre>" + html_escape(text) + "</pre>\n";
   const auto& list = j.is_array() ? j : j["findings"];
   if (list.empty()) return "<p class=\"ok\">No findings.</p>\n";
-  core::Row header{"severity", "code", "subject", "where", "message"};
-  std::vector<core::Row> rows;
-  for (const auto& f : list)
-    rows.push_back({f.value("severity", ""), f.value("code", ""), f.value("subject", ""),
-                    fmt::format("{}:{}:{}", f.value("file", ""), f.value("line", 0), f.value("column", 0)),
-                    f.value("message", "")});
-  return html_table(header, rows);
+  try {
+    return findings_table(list);
+  } catch (const nlohmann::json::exception& e) {  // a file edited by hand: shown as it is
+    return "<p>analysis/findings.json is not in the form emrm writes (" + html_escape(e.what()) +
+           "); shown as it is.</p>\n<pre>" + html_escape(text) + "</pre>\n";
+  }
 }
 
 // The checks of diagnostics.json (campaign::to_json) as one table: what each found, then the file.

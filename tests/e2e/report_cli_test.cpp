@@ -169,6 +169,23 @@ TEST_F(ReportCli, OnePaperGridAloneFillsItsMapWithoutEmptyPanels) {
   }
 }
 
+// Side files edited by hand with values of the wrong type: the report shows them as they are and
+// says so; it never ends in an uncaught exception (was: "internal error", exit 70).
+TEST_F(ReportCli, SideFilesOfTheWrongShapeAreShownAsTheyAreNotACrash) {
+  const fs::path copy = out_->parent_path() / "side_files";
+  fs::remove_all(copy);
+  fs::copy(*out_, copy, fs::copy_options::recursive);
+  write_text(copy / "analysis" / "findings.json", R"([{"severity": 1, "file": [], "line": "x", "message": null}])");
+  write_text(copy / "diagnostics.json", R"({"stop_boundary": {"feasible": "many"}})");
+  write_text(copy / "plan_results" / "estimates.json", R"({"weighted_success": {"all": {"n": "x"}}, "cells": 3})");
+  const auto r = run_emrm("report " + quoted(copy));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = read_text(copy / "report.html");
+  EXPECT_THAT(html, HasSubstr("analysis/findings.json is not in the form emrm writes"));
+  EXPECT_THAT(html, HasSubstr("diagnostics.json is not in the form emrm writes"));
+  EXPECT_THAT(html, HasSubstr("is not in the form emrm run writes"));
+}
+
 TEST_F(ReportCli, HtmlOpensInHeadlessChromiumWithoutErrorsOrMissingImages) {
   ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
   const BrowserView view = open_in_chromium(*out_ / "report.html", "report");
