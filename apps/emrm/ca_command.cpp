@@ -22,6 +22,7 @@ struct CaOptions {
   int strength = 2;
   std::uint64_t seed = 1;
   double effort = scenario::CoveringArrayOptions{}.improvement_effort;
+  std::size_t max_tuples = scenario::CoveringArrayOptions{}.max_tuples;
   bool check = false;
 };
 
@@ -70,6 +71,7 @@ int run(const CaOptions& o) {
   options.strength = o.strength;
   options.seed = o.seed;
   options.improvement_effort = o.effort;
+  options.max_tuples = o.max_tuples;
   const auto start = std::chrono::steady_clock::now();
   const scenario::CoveringArray ca = scenario::generate_covering_array(levels, options, violates);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -107,6 +109,9 @@ void register_ca_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--effort", o->effort,
                   "Effort of the row-removing search after the greedy array (0: greedy only)")
       ->check(finite_in(0.0, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--max-tuples", o->max_tuples, "Most t-tuples to cover (memory grows with them)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}))
       ->capture_default_str();
   cmd->add_flag("--check", o->check, "Verify the array by brute force and print OK (exit 1 if not)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });

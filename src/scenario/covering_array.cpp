@@ -1,5 +1,7 @@
 #include "emrm/scenario/covering_array.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <utility>
 
 #include "covering_array_internal.hpp"
+#include "emrm/core/error.hpp"
 #include "emrm/core/random.hpp"
 
 namespace emrm::scenario {
@@ -269,6 +272,20 @@ class Builder {
   std::vector<Row> rows_;
 };
 
+// The t-tuples over every t-subset of the factors (as a double: it may not fit an integer).
+double tuple_count(const std::vector<int>& levels, int strength) {
+  double total = 0.0;
+  const std::size_t k = levels.size();
+  for (std::size_t a = 0; a < k; ++a)
+    for (std::size_t b = a + 1; b < k; ++b) {
+      const double pair = static_cast<double>(levels[a]) * levels[b];
+      if (strength == 2) total += pair;
+      else
+        for (std::size_t c = b + 1; c < k; ++c) total += pair * levels[c];
+    }
+  return total;
+}
+
 void validate(const std::vector<int>& levels, const CoveringArrayOptions& options) {
   if (options.strength != 2 && options.strength != 3)
     throw std::invalid_argument("strength must be 2 or 3, got " + std::to_string(options.strength));
@@ -282,6 +299,10 @@ void validate(const std::vector<int>& levels, const CoveringArrayOptions& option
   if (!(options.improvement_effort >= 0.0 && options.improvement_effort <= 1e6) ||
       options.improvement_max_moves < 0)
     throw std::invalid_argument("improvement_effort must be in [0, 1e6] and improvement_max_moves >= 0");
+  if (const double tuples = tuple_count(levels, options.strength); tuples > static_cast<double>(options.max_tuples))
+    throw UsageError(fmt::format("the covering array has {:.3g} {}-tuples to cover, more than the limit of {} "
+                                 "(ca --max-tuples raises it; memory grows with it)",
+                                 tuples, options.strength, options.max_tuples));
   for (const Row& r : options.seed_rows) {
     if (r.size() != levels.size()) throw std::invalid_argument("a seed row has the wrong number of entries");
     for (std::size_t c = 0; c < r.size(); ++c)

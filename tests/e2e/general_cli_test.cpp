@@ -90,5 +90,25 @@ TEST(Cli, ABytesThatIsNotUtf8IsBadInputAtItsPlaceAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(dir / "plan"));
 }
 
+// Small inputs that asked for unbounded work: a covering array with 3·10⁹ pairs (ran out of
+// memory), a scene step of 10⁻⁹ s (ran for days). Each is refused at once, naming the limit.
+TEST(Cli, SmallInputsThatAskForUnboundedWorkAreRefusedNamingTheLimit) {
+  const auto ca = run_emrm("ca --levels 3,1000000000");
+  EXPECT_EQ(ca.exit_code, 2);
+  EXPECT_THAT(ca.err, HasSubstr("more than the limit of 20000000 (ca --max-tuples raises it"));
+  EXPECT_EQ(run_emrm("ca --levels 3,3,3 --max-tuples 27").exit_code, 0);  // exactly at the limit
+  EXPECT_EQ(run_emrm("ca --levels 3,3,3 --max-tuples 26").exit_code, 2);
+
+  const auto dir = scratch_dir("tiny-step");
+  std::string scene = read_text(example("scene.yaml"));
+  const auto at = scene.find("dt_s:");
+  ASSERT_NE(at, std::string::npos);
+  scene.replace(at, scene.find('#', at) - at, "dt_s: 1e-9 ");
+  write_text(dir / "scene.yaml", scene);
+  const auto simulate = run_emrm("simulate --speed-kph 40 --ttc-s 1 --scene " + quoted(dir / "scene.yaml"));
+  EXPECT_EQ(simulate.exit_code, 2);
+  EXPECT_THAT(simulate.err, HasSubstr("simulation.dt_s: expected a value in [0.0001, 0.1], got 1e-09"));
+}
+
 }  // namespace
 }  // namespace emrm::e2e

@@ -30,6 +30,9 @@ struct CoveringArrayOptions {
   std::uint64_t seed = 1;             ///< same seed, same array
   int candidates_per_row = 24;        ///< candidate rows built per emitted row
   int restarts = 2;                   ///< whole-array greedy attempts; the smallest is kept
+  /// Most t-tuples (summed over every t-subset of the factors) the generator takes on: its tables
+  /// grow with them. More is refused with emrm::UsageError naming the limit.
+  std::size_t max_tuples = 20'000'000;
   bool remove_redundant_rows = true;  ///< drop rows whose every tuple is covered elsewhere
   /// Effort of the post-optimisation that removes rows from the greedy array (a tabu search, see
   /// docs/covering-arrays.md): it gives up on a size after this many moves per required t-tuple
@@ -52,7 +55,8 @@ struct CoveringArray {
 
 /// Builds a covering array of `options.strength` over factors with `levels[i]` values each.
 /// Deterministic for equal inputs, options and seed. Throws std::invalid_argument when strength is
-/// not 2 or 3, exceeds levels.size(), a level count is < 1, a seed row has the wrong length or an
+/// not 2 or 3, exceeds levels.size(), a level count is < 1, UsageError when the t-tuples exceed
+/// max_tuples, a seed row has the wrong length or an
 /// out-of-range entry, candidates_per_row or restarts are non-positive, or improvement_effort is
 /// outside [0, 1e6] or improvement_max_moves negative; throws std::domain_error when no valid row
 /// exists or a seed row cannot be completed without breaking a constraint.

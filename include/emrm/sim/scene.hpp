@@ -55,14 +55,17 @@ struct TruckConfig {
 };
 
 struct SimulationConfig {
+  static constexpr double kMinStep_s = 1e-4, kMaxStep_s = 0.1, kMaxHorizon_s = 60.0;
   std::string vehicle_model = "single_track_fiala";
   double dt_s = 0.01;
   double horizon_s = 4.0;   ///< longest simulated time after t = 0
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, vehicle_model, core::one_of(vehicle_model_names, "vehicle model"));
-    EMRM_FIELD(a, dt_s, core::positive);
-    EMRM_FIELD(a, horizon_s, core::positive);
+    // A finer step than 0.1 ms or a horizon beyond a minute adds no accuracy to a maneuver of a
+    // few seconds, only time: the bounds keep a small file from running for hours.
+    EMRM_FIELD(a, dt_s, core::within(kMinStep_s, kMaxStep_s));
+    EMRM_FIELD(a, horizon_s, core::within(kMinStep_s, kMaxHorizon_s));
     if constexpr (requires { a.moved("", ""); }) a.moved("latency_s", "actuation.perception_latency_s");
     a.ensure(!(dt_s > horizon_s), "dt_s", "expected a time step no longer than the horizon ({} s), got {} s",
              horizon_s, dt_s);

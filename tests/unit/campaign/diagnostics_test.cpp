@@ -128,7 +128,7 @@ TEST(ReferenceCheck, ValidatesTheSceneItIsGiven) {
     (void)check_against_reference({}, scene, 40, 1);
     FAIL() << "expected a ConfigError";
   } catch (const core::ConfigError& e) {
-    EXPECT_EQ(std::string(e.message()), "scene: simulation.dt_s: expected a value > 0, got 0");
+    EXPECT_EQ(std::string(e.message()), "scene: simulation.dt_s: expected a value in [0.0001, 0.1], got 0");
   }
 }
 

@@ -335,10 +335,10 @@ TEST(SceneLoad, BadInputNamesLineAndColumn) {
       {"road:\n  ego_lane_center_m: -4.5\n", "-4.5", "does not fit on the drivable area"},
       // The ego lane keeps its default but no longer fits: point at the road that changed.
       {"road:\n  lane_width_m: 2.0\n  shoulder_m: 0\n", "lane_width_m", "ego_lane_center_m"},
-      {"simulation:\n  dt_s: 0\n", "0", "simulation.dt_s: expected a value > 0"},
+      {"simulation:\n  dt_s: 0\n", "0", "simulation.dt_s: expected a value in [0.0001, 0.1], got 0"},
       {"simulation:\n  dt_s: -0.01\n", "-0.01", "simulation.dt_s"},
       {"simulation:\n  horizon_s: 0\n", "0", "simulation.horizon_s"},
-      {"simulation:\n  dt_s: 5\n  horizon_s: 4\n", "5", "no longer than the horizon"},
+      {"simulation:\n  dt_s: 0.05\n  horizon_s: 0.02\n", "0.05", "no longer than the horizon"},
       // Older scenes: the latency has moved to the actuators, and the message says where.
       {"simulation:\n  latency_s: 0.25\n", "0.25", "'latency_s' has moved: write it as actuation.perception_latency_s"},
       {"actuation:\n  perception_latency_s: -0.1\n", "-0.1", "actuation.perception_latency_s"},
@@ -488,7 +488,7 @@ TEST(SceneValidate, EachPartValidatesOnItsOwnNamedAfterThePart) {
   EXPECT_EQ(message(TruckConfig{}, [](TruckConfig& t) { t.width_m = 0; }),
             "truck: width_m: expected a value > 0, got 0");
   EXPECT_EQ(message(SimulationConfig{}, [](SimulationConfig& s) { s.horizon_s = -1; }),
-            "simulation: horizon_s: expected a value > 0, got -1");
+            "simulation: horizon_s: expected a value in [0.0001, 60], got -1");
   EXPECT_EQ(message(SeverityConfig{}, [](SeverityConfig& s) { s.l6_p_mais3 = 2; }),
             "severity: l6_p_mais3: expected a probability in (0, 1], got 2");
   EXPECT_EQ(message(PlannerConfig{}, [](PlannerConfig& p) { p.goal_bias = -0.5; }),
