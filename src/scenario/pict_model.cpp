@@ -1,5 +1,7 @@
 #include "emrm/scenario/pict_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -56,10 +58,18 @@ struct PictModel::Constraint {
 
   [[nodiscard]] Tri eval(std::span<const int> row) const {
     switch (kind) {
-      case Kind::kAnd:
-        return tri_and(children[0]->eval(row), children[1]->eval(row));
-      case Kind::kOr:
-        return tri_or(children[0]->eval(row), children[1]->eval(row));
+      case Kind::kAnd: {  // n-ary: a long chain of ANDs is one node, not a deep tree
+        Tri all = Tri::kTrue;
+        for (const auto& c : children)
+          if ((all = tri_and(all, c->eval(row))) == Tri::kFalse) break;
+        return all;
+      }
+      case Kind::kOr: {
+        Tri any = Tri::kFalse;
+        for (const auto& c : children)
+          if ((any = tri_or(any, c->eval(row))) == Tri::kTrue) break;
+        return any;
+      }
       case Kind::kNot:
         return tri_not(children[0]->eval(row));
       case Kind::kIf: {
@@ -226,30 +236,37 @@ class ConstraintParser {
   }
   bool is_punct(const char* p) const { return peek().kind == Token::Kind::kPunct && peek().text == p; }
 
-  NodePtr combine(Node::Kind kind, NodePtr a, NodePtr b) {
+  // `operand (WORD operand)*` as one n-ary node of `kind` (the operand alone when there is one).
+  template <class Operand>
+  NodePtr chain(Node::Kind kind, const char* word, Operand operand) {
+    NodePtr first = operand();
+    if (!is_word(word)) return first;
     auto n = std::make_shared<Node>();
     n->kind = kind;
-    n->children = {std::move(a), std::move(b)};
+    n->children.push_back(std::move(first));
+    while (is_word(word)) {
+      next();
+      n->children.push_back(operand());
+    }
     return n;
   }
 
   NodePtr predicate() {
-    NodePtr left = conjunction();
-    while (is_word("OR")) {
-      next();
-      left = combine(Node::Kind::kOr, left, conjunction());
-    }
-    return left;
+    return chain(Node::Kind::kOr, "OR", [this] { return conjunction(); });
   }
   NodePtr conjunction() {
-    NodePtr left = unary();
-    while (is_word("AND")) {
-      next();
-      left = combine(Node::Kind::kAnd, left, unary());
-    }
-    return left;
+    return chain(Node::Kind::kAnd, "AND", [this] { return unary(); });
   }
   NodePtr unary() {
+    // Parentheses and NOTs recurse: a depth limit keeps a hostile file from overflowing the stack.
+    struct Depth {
+      int& d;
+      explicit Depth(int& depth) : d(++depth) {}
+      ~Depth() { --d; }
+    } depth(depth_);
+    if (depth_ > kMaxNesting)
+      fail(peek(), fmt::format("parentheses and NOTs nested more than {} deep; expected a flatter constraint",
+                               kMaxNesting));
     if (is_word("NOT")) {
       next();
       auto n = std::make_shared<Node>();
@@ -352,10 +369,13 @@ class ConstraintParser {
     return n;
   }
 
+  static constexpr int kMaxNesting = 200;
+
   const std::string& file_;
   const std::vector<PictParameter>& params_;
   std::vector<Token> tokens_;
   std::size_t pos_ = 0;
+  int depth_ = 0;  // of unary() calls in progress
 };
 
 bool starts_constraint(const std::string& line) {

@@ -63,5 +63,24 @@ TEST(PictModel, BadInputIsReportedAtLineAndColumn) {
   expect_error_at("A 1, 2\n", 1, 1, "expected a parameter line");
 }
 
+// Hostile constraints: 50 000 nested parentheses (overflowed the stack) are refused at the depth
+// limit; 300 000 ORs in a row (a tree as deep, overflowed it when evaluated and destroyed) are one
+// flat node that evaluates like the short form.
+TEST(PictModel, DeepNestingIsRefusedAndLongChainsStayFlat) {
+  const std::string head = "A: 1, 2\nB: 1, 2\n\n";
+  const std::string deep = head + "IF " + std::string(50000, '(') + "[A] = 1" + std::string(50000, ')') + " THEN [B] = 2;\n";
+  EXPECT_THROW((void)parse_pict_model(deep, "deep.txt"), InputError);
+  const std::string ok = head + "IF " + std::string(150, '(') + "[A] = 1" + std::string(150, ')') + " THEN [B] = 2;\n";
+  EXPECT_NO_THROW((void)parse_pict_model(ok, "ok.txt"));
+
+  std::string ors = head + "IF [A] = 2";
+  for (int i = 0; i < 300000; ++i) ors += " OR [A] = 2";
+  ors += " THEN [B] = 2;\n";
+  const PictModel chain = parse_pict_model(ors, "ors.txt");
+  const PictModel shortest = parse_pict_model(head + "IF [A] = 2 THEN [B] = 2;\n", "short.txt");
+  for (const std::vector<int>& row : {std::vector{0, 0}, std::vector{0, 1}, std::vector{1, 0}, std::vector{1, 1}})
+    EXPECT_EQ(chain.violates(row), shortest.violates(row)) << row[0] << row[1];
+}
+
 }  // namespace
 }  // namespace emrm::scenario
