@@ -193,8 +193,13 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
       s.delta = v.get<double>();
     if (const auto& v = member(settings, "epsilon", file, nlohmann::json::value_t::number_float); v.is_number())
       s.epsilon = v.get<double>();
-    if (const auto& v = member(settings, "seed", file, nlohmann::json::value_t::number_float); v.is_number())
+    if (const auto& v = member(settings, "seed", file, nlohmann::json::value_t::number_float); v.is_number()) {
+      // A float or a negative number would convert with undefined behaviour or wrap around.
+      if (!v.is_number_unsigned())
+        throw InputError({file, 1, 1}, fmt::format("settings.seed: expected a whole number from 0 to 2^64 - 1, got {}",
+                                                   v.dump().substr(0, 40)));
       s.seed = v.get<std::uint64_t>();
+    }
   }
   if (const auto& factors = member(j, "factors", file, nlohmann::json::value_t::array); factors.is_array())
     s.factors = factors;
@@ -218,6 +223,8 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
   if (s.acceptance_outcome != "avoided" && s.acceptance_outcome != "mitigated")
     throw InputError({file, 1, 1},
                      fmt::format("acceptance outcome must be avoided or mitigated, got '{}'", s.acceptance_outcome));
+  if (!(s.epsilon > 0.0 && s.epsilon < 0.5))
+    throw InputError({file, 1, 1}, fmt::format("settings.epsilon: expected a half-width in (0, 0.5), got {:g}", s.epsilon));
   if (!(s.delta > 0.0 && s.delta < 1.0))
     throw InputError({file, 1, 1}, fmt::format("delta must lie in (0, 1), got {:g}", s.delta));
   return s;

@@ -118,6 +118,24 @@ TEST_F(RunCli, TheReportSaysWhichCellsMissTheirTargetAndWhatWouldMeetIt) {
   EXPECT_THAT(html, HasSubstr("Hoeffding"));
 }
 
+// A scenarios.json edited by hand: a seed of 1e300 (undefined behaviour converting it) or -1 (it
+// wrapped) and an epsilon outside (0, 0.5) are bad input, not a run with other settings.
+TEST_F(RunCli, EditedSettingsOutOfRangeAreBadInput) {
+  const std::vector<std::pair<std::string, std::string>> edits{
+      {"seed", "1e300"}, {"seed", "-1"}, {"epsilon", "-0.3"}, {"epsilon", "5"}};
+  for (const auto& [key, value] : edits) {
+    const fs::path copy = plan_->parent_path() / ("plan_" + key);
+    fs::remove_all(copy);
+    fs::copy(*plan_, copy, fs::copy_options::recursive);
+    auto j = nlohmann::ordered_json::parse(read_text(copy / "scenarios.json"));
+    j["settings"][key] = nlohmann::ordered_json::parse(value);
+    write_text(copy / "scenarios.json", j.dump());
+    const auto r = run_emrm("run " + quoted(copy / "scenarios.csv") + " -o " + quoted(copy / "out"));
+    EXPECT_EQ(r.exit_code, 2) << key << " " << value << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("settings." + key + ": expected")) << key << " " << value;
+  }
+}
+
 TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
   const auto out = plan_->parent_path() / "results";
   const auto r = run_emrm("run " + quoted(*plan_ / "scenarios.csv") + " -o " + quoted(out) + " --threads 2");
