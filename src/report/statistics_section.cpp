@@ -83,7 +83,9 @@ Cells cells_table(const Json& j, double epsilon, double confidence) {
 std::string weighted_table(const Json& j) {
   core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high", "shortfall of the plan"};
   std::vector<core::Row> rows;
-  for (const auto& [subset, e] : j.at("weighted_success").items()) {
+  for (const auto& item : j.at("weighted_success").items()) {  // not a structured binding: clang < 16
+    const std::string& subset = item.key();                    // cannot capture one in a lambda
+    const Json& e = item.value();
     const auto num = [&](const char* key) { return e.contains(key) && e[key].is_number() ? fixed3(e[key].get<double>()) : "—"; };
     const auto& w = e.at("wilson");
     rows.push_back({subset, std::to_string(e.at("n").get<std::size_t>()), num("n_eff"), num("estimate"),
