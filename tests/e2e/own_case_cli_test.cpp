@@ -9,7 +9,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <regex>
 #include <set>
 
 #include "headless_chromium.hpp"
@@ -83,14 +82,6 @@ std::string replaced_once(std::string text, const std::string& what, const std::
   const auto at = text.find(what);
   EXPECT_NE(at, std::string::npos) << what;
   return at == std::string::npos ? text : text.replace(at, what.size(), with);
-}
-
-std::vector<std::string> figure_ids(const std::string& html) {
-  std::vector<std::string> ids;
-  const std::regex id("<figure id=\"fig-([^\"]+)\">");
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), id); it != std::sregex_iterator(); ++it)
-    ids.push_back((*it)[1].str());
-  return ids;
 }
 
 void expect_clean_in_chromium(const fs::path& html, const std::string& name) {

@@ -8,7 +8,6 @@
 
 #include <filesystem>
 #include <map>
-#include <regex>
 #include <set>
 #include <string>
 
@@ -37,15 +36,6 @@ grids:
     ttc_s: [1.0, 2.0]
     mu: [0.5, 1.0]
 )";
-
-/// The stems of the figures report.html holds whose stem starts with `prefix`, in page order.
-std::vector<std::string> figure_ids(const std::string& html, const std::string& prefix) {
-  std::vector<std::string> ids;
-  const std::regex id("<figure id=\"fig-([^\"]+)\">");
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), id); it != std::sregex_iterator(); ++it)
-    if ((*it)[1].str().rfind(prefix, 0) == 0) ids.push_back((*it)[1].str());
-  return ids;
-}
 
 /// The caption of figure `stem` in report.html (empty when it has none).
 std::string caption_of(const std::string& html, const std::string& stem) {

@@ -66,6 +66,21 @@ inline RunResult run_emrm(const std::string& args) {
   return result;
 }
 
+/// The stems of the figures report.html holds (`<figure id="fig-STEM">`) that start with `prefix`,
+/// in page order. (No std::regex: GCC 12 warns inside it under the sanitizers' -O1.)
+inline std::vector<std::string> figure_ids(const std::string& html, const std::string& prefix = "") {
+  std::vector<std::string> ids;
+  const std::string open = "<figure id=\"fig-";
+  for (auto at = html.find(open); at != std::string::npos; at = html.find(open, at + 1)) {
+    const auto start = at + open.size();
+    const auto end = html.find('"', start);
+    if (end == std::string::npos) break;
+    std::string id = html.substr(start, end - start);
+    if (id.rfind(prefix, 0) == 0) ids.push_back(std::move(id));
+  }
+  return ids;
+}
+
 /// Single-quotes a path for run_emrm's shell text. (The std::string overload is a better match
 /// than std::quoted, which argument-dependent lookup would otherwise find.)
 inline std::string quoted(const std::string& path) { return "'" + path + "'"; }
