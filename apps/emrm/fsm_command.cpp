@@ -30,6 +30,7 @@ struct FsmOptions {
   std::vector<std::string> word_queries;
   std::string traces;
   std::string compose;
+  std::size_t max_states = fsm::kDefaultMaxComposedStates;
   std::string dot;
   std::string svg;
   std::string format = "text";
@@ -39,7 +40,7 @@ int run_fsm(const FsmOptions& options) {
   fsm::Generator g = fsm::load_generator(options.file);
   std::string source = options.file;
   if (!options.compose.empty()) {
-    g = fsm::compose(g, fsm::load_generator(options.compose));
+    g = fsm::compose(g, fsm::load_generator(options.compose), options.max_states);
     source = options.file + " || " + options.compose;
   }
   // Read every input before writing anything, so a bad trace file leaves no half-written output.
@@ -98,6 +99,9 @@ void register_fsm_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--compose", options->compose,
                   "Work on the synchronous composition G || OTHER (another FSM YAML file)")
       ->type_name("OTHER");
+  cmd->add_option("--max-states", options->max_states, "With --compose: most states of the product")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}))
+      ->capture_default_str();
   cmd->add_option("--dot", options->dot,
                   "Write the Graphviz DOT diagram to FILE (edges coloured by --traces)")
       ->type_name("FILE");

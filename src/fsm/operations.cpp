@@ -369,7 +369,7 @@ CheckReport check_all(const Generator& g) {
   return {check_accessible(g), check_coaccessible(g), check_deterministic(g), check_nonblocking(g)};
 }
 
-Generator compose(const Generator& g1, const Generator& g2) {
+Generator compose(const Generator& g1, const Generator& g2, std::size_t max_states) {
   Generator out(g1.name() + "||" + g2.name(),
                 fmt::format("synchronous composition of {} and {}", g1.name(), g2.name()));
   struct UnionEvent {
@@ -418,6 +418,10 @@ Generator compose(const Generator& g1, const Generator& g2) {
           auto [it, inserted] = pair_index.emplace(Pair{a2, b2}, static_cast<int>(pairs.size()));
           if (inserted) pairs.emplace_back(a2, b2);
           edges.push_back({static_cast<int>(k), u, it->second});
+          if (pairs.size() > max_states || edges.size() > 10 * max_states)
+            throw UsageError(fmt::format("fsm: the composition of {} and {} has more than {} states or {} transitions; "
+                                         "--max-states raises the limit",
+                                         g1.name(), g2.name(), max_states, 10 * max_states));
         }
     }
   }

@@ -148,8 +148,12 @@ struct CheckReport {
 /// are pairs named "s1|s2", only the accessible ones, in breadth-first order from (s01, s02); a pair
 /// is marked when both halves are. The result is named "G1||G2". If either has no initial state the
 /// result has no states. Throws emrm::Error if two pairs would get the same name (possible only when
-/// ids themselves contain '|').
-[[nodiscard]] Generator compose(const Generator& g1, const Generator& g2);
+/// ids themselves contain '|'); throws emrm::UsageError when the product has more than
+/// `max_states` accessible states or ten times as many transitions (two machines of a thousand
+/// states each could otherwise take gigabytes).
+inline constexpr std::size_t kDefaultMaxComposedStates = 100'000;
+[[nodiscard]] Generator compose(const Generator& g1, const Generator& g2,
+                                std::size_t max_states = kDefaultMaxComposedStates);
 
 // ---- coverage -----------------------------------------------------------------------------
 
