@@ -30,16 +30,7 @@ struct DiagnoseOptions {
 
 int run(const DiagnoseOptions& options) {
   const fs::path dir(options.dir);
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw UsageError(fmt::format("emrm diagnose: '{}' is not a folder; expected a results folder written by emrm "
-                                 "sweep, run or reproduce",
-                                 dir.string()));
-  const fs::path store = dir / "results.sqlite";
-  if (!fs::is_regular_file(store, ec))
-    throw UsageError(fmt::format("emrm diagnose: '{}' holds no results.sqlite; expected a results folder written "
-                                 "by emrm sweep, run or reproduce",
-                                 dir.string()));
+  const fs::path store = campaign::results_store_in(dir, "emrm diagnose");
   const campaign::CampaignMeta meta = campaign::read_meta(store);
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string() + " (scene)");
   const auto records = campaign::read_results(store);

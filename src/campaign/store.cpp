@@ -527,6 +527,22 @@ CampaignMeta read_meta(const std::filesystem::path& results_sqlite) {
   return ResultStore::open_for_reading(results_sqlite).meta();
 }
 
+std::filesystem::path results_store_in(const std::filesystem::path& dir, std::string_view command) {
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec))
+    throw UsageError(fmt::format("{}: results folder '{}' does not exist", command, dir.string()));
+  if (!std::filesystem::is_directory(dir, ec))
+    throw UsageError(fmt::format("{}: '{}' is not a folder; expected a results folder written by emrm sweep, run or "
+                                 "reproduce",
+                                 command, dir.string()));
+  const auto store = dir / "results.sqlite";
+  if (!std::filesystem::is_regular_file(store, ec))
+    throw UsageError(fmt::format("{}: '{}' holds no results.sqlite; expected a results folder written by emrm "
+                                 "sweep, run or reproduce",
+                                 command, dir.string()));
+  return store;
+}
+
 std::vector<CellRecord> read_results(const std::filesystem::path& results_sqlite) {
   const ResultStore store = ResultStore::open_for_reading(results_sqlite);
   std::vector<CellRecord> out;

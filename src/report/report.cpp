@@ -39,18 +39,7 @@ using Clock = std::chrono::steady_clock;
 
 // The folder must be a results folder of this version: checked before anything is written.
 void check_results_dir(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec))
-    throw UsageError(fmt::format("emrm report: results folder '{}' does not exist", dir.string()));
-  if (!fs::is_directory(dir, ec))
-    throw UsageError(fmt::format("emrm report: '{}' is not a folder; expected a results folder written by emrm "
-                                 "sweep, run or reproduce",
-                                 dir.string()));
-  if (!fs::is_regular_file(dir / "results.sqlite", ec))
-    throw UsageError(fmt::format("emrm report: '{}' holds no results.sqlite; expected a results folder written by "
-                                 "emrm sweep, run or reproduce",
-                                 dir.string()));
-  (void)campaign::read_meta(dir / "results.sqlite");  // refuses another schema version (UsageError)
+  (void)campaign::read_meta(campaign::results_store_in(dir, "emrm report"));  // and of this schema version
 }
 
 // A table written by `emrm reproduce` (DIR/tables/NAME.csv with its Markdown twin): title, rows

@@ -64,8 +64,8 @@ Cells cells_table(const Json& j, double epsilon, double confidence) {
                               fixed3(0.5 * (high - low)), std::string(!tracked ? "no target" : met ? "yes" : "NO")})
       row.push_back(field);
     rows.push_back(std::move(row));
-    out.smallest_n = out.tracked == 0 && tracked ? n : tracked ? std::min(out.smallest_n, n) : out.smallest_n;
     if (!tracked) continue;
+    out.smallest_n = out.tracked == 0 ? n : std::min(out.smallest_n, n);
     ++out.tracked;
     if (met) {
       ++out.met;

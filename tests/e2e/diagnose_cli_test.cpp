@@ -74,7 +74,7 @@ TEST_F(DiagnoseCli, AFolderWithoutAStoreIsBadInput) {
   EXPECT_THAT(r.err, HasSubstr("holds no results.sqlite"));
   const auto missing = run_emrm("diagnose " + quoted(*dir_ / "nosuch"));
   EXPECT_EQ(missing.exit_code, 2);
-  EXPECT_THAT(missing.err, HasSubstr("is not a folder"));
+  EXPECT_THAT(missing.err, HasSubstr("does not exist"));
 }
 
 }  // namespace

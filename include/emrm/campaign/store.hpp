@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
@@ -73,6 +74,10 @@ class ResultStore {
   std::filesystem::path path_;
   CampaignMeta meta_;
 };
+
+/// DIR/results.sqlite of a results folder, for `command`'s messages ("emrm report"). Throws
+/// UsageError (exit 2) when DIR does not exist, is not a folder or holds no results.sqlite.
+[[nodiscard]] std::filesystem::path results_store_in(const std::filesystem::path& dir, std::string_view command);
 
 /// Every cell of a store, ordered by grid order then index. Throws as read_meta.
 [[nodiscard]] std::vector<CellRecord> read_results(const std::filesystem::path& results_sqlite);
