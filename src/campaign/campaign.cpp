@@ -52,7 +52,13 @@ sim::CellInput default_cell(const sim::SceneConfig& scene) {
 }
 
 std::string max_cells_message(long long max_cells) {
-  return fmt::format("max_cells must be >= 1, got {}", max_cells);
+  return fmt::format("max_cells must lie in [1, {}], got {}", kMaxCampaignCells, max_cells);
+}
+
+std::string campaign_too_large_message(double cells) {
+  return fmt::format("the campaign's grids have {:.0f} cells, more than the {} a campaign may hold even with "
+                     "--force; split the domain into several campaigns",
+                     cells, kMaxCampaignCells);
 }
 
 std::string too_many_cells_message(const std::string& grid, double cells, std::size_t max_cells) {
@@ -70,7 +76,7 @@ struct GridNodes {
 // Reads the shape of a grid: its fields, factor values and cells. Whether they make a valid grid
 // is validate()'s question; only the size of a product is checked here, before it is expanded.
 GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells,
-                   bool force, GridNodes& nodes) {
+                   bool force, std::size_t cells_before, GridNodes& nodes) {
   if (!node.is_map()) node.fail("expected a grid (a mapping with name and factors), got " + node.describe());
   GridSpec grid;
   grid.where = node.location();
@@ -110,6 +116,8 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
       factor_of(defaults, f) = factors[f][0];
     }
     for (const auto& element : nodes.cells->elements()) {
+      if (cells_before + grid.cells.size() >= kMaxCampaignCells)
+        element.fail(campaign_too_large_message(static_cast<double>(kMaxCampaignCells + 1)));
       if (!element.is_map())
         element.fail("expected a cell (a mapping of factors), got " + element.describe());
       sim::CellInput cell = defaults;
@@ -135,6 +143,8 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
   }
   if (count > static_cast<double>(max_cells) && !force)
     node.fail(too_many_cells_message(grid.name, count, max_cells));
+  if (count + static_cast<double>(cells_before) > static_cast<double>(kMaxCampaignCells))
+    node.fail(campaign_too_large_message(count + static_cast<double>(cells_before)));
   grid.cells.reserve(static_cast<std::size_t>(count));
   for (double speed : factors[0])
     for (double ttc : factors[1])
@@ -184,8 +194,11 @@ void validate(const Campaign& campaign, bool force) {
     }
     if (campaign.strategies.empty()) v.fail({}, "the list of strategies is empty");
   }
-  if (campaign.max_cells < 1)
+  if (campaign.max_cells < 1 || campaign.max_cells > kMaxCampaignCells)
     v.fail("max_cells", max_cells_message(static_cast<long long>(campaign.max_cells)));
+  std::size_t total = 0;
+  for (const GridSpec& grid : campaign.grids) total += grid.cells.size();
+  if (total > kMaxCampaignCells) v.fail("grids", campaign_too_large_message(static_cast<double>(total)));
   const core::Validator::Scope grids(v, "grids");
   std::set<std::string> names;
   for (std::size_t i = 0; i < campaign.grids.size(); ++i) {
@@ -244,7 +257,7 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
     } else if (k == "max_cells") {
       // Checked at once: the grids below are expanded only up to this limit.
       const long long max = value.as_int();
-      if (max < 1) value.fail(max_cells_message(max));
+      if (max < 1 || max > static_cast<long long>(kMaxCampaignCells)) value.fail(max_cells_message(max));
       campaign.max_cells = static_cast<std::size_t>(max);
     } else if (k == "grids") {
       grids_node = value;
@@ -258,9 +271,11 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
   if (!grids_node) root.fail("a campaign needs 'grids'");
   // Grids come after the scene is known: the truck speed default needs it.
   std::vector<GridNodes> grid_nodes;
+  std::size_t cells = 0;
   for (const auto& element : grids_node->elements()) {
     GridNodes& nodes = grid_nodes.emplace_back(GridNodes{element, std::nullopt, {}});
-    campaign.grids.push_back(read_grid(element, campaign.scene, campaign.max_cells, force, nodes));
+    campaign.grids.push_back(read_grid(element, campaign.scene, campaign.max_cells, force, cells, nodes));
+    cells += campaign.grids.back().cells.size();
   }
   try {
     validate(campaign, force);

@@ -37,13 +37,16 @@ std::vector<double> expand_range(const YamlNode& node) {
     const double q = (hi - lo) / dx;
     // `to` counts as reached within 1e-9 relative: 0.25 + 45·0.06 is 2.9500000000000002.
     const double n = std::floor(q + 1e-9 * std::max(1.0, q));
-    if (n > 1e8) node.fail(fmt::format("range of {:g} values is too large", n + 1));
+    if (n + 1 > static_cast<double>(kMaxFactorValues))
+      node.fail(fmt::format("the range has {:g} values, more than the {} a factor may have; use a larger step",
+                            n + 1, kMaxFactorValues));
     for (long long i = 0; i <= static_cast<long long>(n); ++i)
       values.push_back(round_1e9(lo + static_cast<double>(i) * dx));
   } else {
     const long long count = levels->as_int();
     if (count < 1) levels->fail(fmt::format("levels must be >= 1, got {}", count));
-    if (count > 100000000) levels->fail(fmt::format("levels must be <= 1e8, got {}", count));
+    if (count > static_cast<long long>(kMaxFactorValues))
+      levels->fail(fmt::format("levels must be <= {} (a factor's most values), got {}", kMaxFactorValues, count));
     if (count == 1) {
       if (hi != lo) levels->fail("levels 1 needs from == to");
       values.push_back(round_1e9(lo));
@@ -68,7 +71,11 @@ std::vector<double> expand_values(const YamlNode& node) {
   if (node.is_scalar()) return {round_1e9(node.as_double())};
   if (node.is_sequence()) {
     std::vector<double> values;
-    for (const auto& element : node.elements()) values.push_back(round_1e9(scalar_number(element)));
+    for (const auto& element : node.elements()) {
+      if (values.size() == kMaxFactorValues)
+        element.fail(fmt::format("the list has more than the {} values a factor may have", kMaxFactorValues));
+      values.push_back(round_1e9(scalar_number(element)));
+    }
     if (values.empty()) node.fail("empty list of values");
     return values;
   }

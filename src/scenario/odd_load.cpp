@@ -432,6 +432,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
 
   // Manual baseline grid.
   if (baselines_node) {
+    double points = 1.0;
     for (const auto& [key, value] : baselines_node->entries()) {
       if (key.as_string() != "manual")
         key.fail("unknown baseline '" + key.as_string() + "'; expected manual");
@@ -441,6 +442,10 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
           fkey.fail(fmt::format("unknown factor '{}'; expected one of {}", fkey.as_string(),
                                 core::join(names, ", ")));
         odd.manual_grid.emplace_back(*i, core::expand_values(fvalue));
+        points *= static_cast<double>(odd.manual_grid.back().second.size());
+        if (points > static_cast<double>(kMaxManualGridPoints))
+          fvalue.fail(fmt::format("the manual grid has {:.0f} points, more than the {} it may have; use fewer values",
+                                  points, kMaxManualGridPoints));
       }
     }
   }

@@ -28,6 +28,11 @@ struct GridSpec {
   SourceLocation where;  ///< the grid's mapping in the campaign file
 };
 
+/// The most cells a campaign may hold over all its grids, --force or not: each cell's inputs,
+/// outcomes and exported rows are held in memory (a few hundred bytes a cell), and a campaign of this
+/// size already takes days on a laptop. Larger domains are split into several campaigns.
+inline constexpr std::size_t kMaxCampaignCells = 5'000'000;
+
 struct Campaign {
   std::string file;                       ///< the campaign file
   std::optional<std::string> scene_file;  ///< as written (relative to the campaign file)
@@ -35,12 +40,13 @@ struct Campaign {
   std::uint64_t seed = 1;
   std::vector<std::string> strategies = sim::strategy_names();
   std::vector<GridSpec> grids;
-  std::size_t max_cells = 20000;  ///< per grid, unless --force
+  std::size_t max_cells = 20000;  ///< per grid, unless --force; at most kMaxCampaignCells
   std::string text;               ///< the campaign file's text, kept in the results store
 };
 
 /// Checks a campaign, loaded or built in code: its scene (sim::validate), strategies that are
-/// registered (sim::validate_strategy), listed once and not none, max_cells >= 1, at least one
+/// registered (sim::validate_strategy), listed once and not none, max_cells in [1,
+/// kMaxCampaignCells], no more than kMaxCampaignCells cells over all grids (even with `force`), at least one
 /// grid, and for every grid a name that is not empty and not another grid's, at least one cell,
 /// every cell accepted by sim::validate_cell, a seed per cell or none, and — unless `force` — no
 /// more than max_cells cells. The seed is unsigned: any value is valid. Throws core::ConfigError
@@ -50,7 +56,7 @@ void validate(const Campaign& campaign, bool force = false);
 /// Loads and expands a campaign file, then validate(campaign, force). Throws InputError
 /// (file:line:column) for malformed YAML, unknown fields or factors, a negative seed, empty or
 /// reversed ranges, non-positive steps, levels < 1, a product grid of more than max_cells cells
-/// (unless `force`, checked before it is expanded), and what validate() rejects, at the node it
+/// (unless `force`) or taking the campaign past kMaxCampaignCells (checked before it is expanded), and what validate() rejects, at the node it
 /// names: a cell of a product grid at the first factor value the simulator rejects on its own. A
 /// missing or bad scene file is reported at the `scene:` entry or inside the scene file.
 [[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);

@@ -71,6 +71,10 @@ struct Malfunction {
 /// What counts as a success Y(d) = 1 when a planned scenario is run.
 enum class Acceptance { kAvoided, kMitigated };
 
+/// The most points the manual baseline grid may have (the product of its factors' values): each is
+/// a scenario whose coverage is measured against every cell.
+inline constexpr std::size_t kMaxManualGridPoints = 100'000;
+
 struct Odd {
   std::string file;
   std::string name;
@@ -95,7 +99,8 @@ struct Odd {
   double delta = 0.05;           ///< 1 − confidence
   std::size_t budget = 1000;     ///< most scenarios the plan may hold
   std::uint64_t seed = 1;
-  /// Manual baseline: the values of some factors (others at their nominal value).
+  /// Manual baseline: the values of some factors (others at their nominal value); at most
+  /// kMaxManualGridPoints points in all.
   std::vector<std::pair<std::size_t, std::vector<double>>> manual_grid;
   /// Total FSM transitions the transition coverage is measured against (empty: those the
   /// malfunctions name).

@@ -150,6 +150,29 @@ TEST(LoadCampaign, RefusesAGridAboveMaxCellsUnlessForced) {
   EXPECT_EQ(parse(text, /*force=*/true).grids[0].cells.size(), 11u);
 }
 
+// A file of a few lines must not make the loader allocate gigabytes: these limits hold with --force
+// too, and are checked before anything is expanded.
+TEST(LoadCampaign, HardLimitsHoldEvenWhenForced) {
+  EXPECT_THAT(error_of("grids:\n  - name: big\n    speed_kph: {from: 30, to: 72, levels: 100000000}\n", true),
+              HasSubstr("c.yaml:3:43: error: levels must be <= 1000000"));
+  EXPECT_THAT(error_of("grids:\n  - name: big\n    speed_kph: {from: 0.001, to: 400, step: 0.0001}\n", true),
+              HasSubstr("more than the 1000000 a factor may have"));
+  // 2 000 × 3 000 = 6 million cells, each factor well inside its own limit.
+  const std::string product =
+      "grids:\n  - name: big\n    speed_kph: {from: 5, to: 100, levels: 2000}\n"
+      "    ttc_s: {from: 0.1, to: 4, levels: 3000}\n";
+  EXPECT_THAT(error_of(product, true), HasSubstr("c.yaml:2:5: error: the campaign's grids have 6000000 cells, "
+                                                 "more than the 5000000 a campaign may hold even with --force"));
+  // Three grids within max_cells each, too many together.
+  std::string three = "max_cells: 5000000\ngrids:\n";
+  for (const char* name : {"a", "b", "c"})
+    three += std::string("  - name: ") + name +
+             "\n    speed_kph: {from: 5, to: 100, levels: 1000}\n    ttc_s: {from: 0.1, to: 4, levels: 2000}\n";
+  EXPECT_THAT(error_of(three), HasSubstr("c.yaml:9:5: error: the campaign's grids have 6000000 cells"));
+  EXPECT_THAT(error_of("max_cells: 1000000000000\ngrids:\n  - name: g\n"),
+              HasSubstr("c.yaml:1:12: error: max_cells must lie in [1, 5000000], got 1000000000000"));
+}
+
 // ---- campaigns built in code ----------------------------------------------------------------------
 
 Campaign code_built() {
@@ -189,7 +212,7 @@ TEST(ValidateCampaign, EachRuleNamesTheFieldPath) {
       {[](Campaign& c) { c.strategies[1] = "emergency_stop"; },
        "campaign: strategies[1]: strategy 'emergency_stop' is listed twice"},
       {[](Campaign& c) { c.strategies.clear(); }, "campaign: strategies: the list of strategies is empty"},
-      {[](Campaign& c) { c.max_cells = 0; }, "campaign: max_cells: max_cells must be >= 1, got 0"},
+      {[](Campaign& c) { c.max_cells = 0; }, "campaign: max_cells: max_cells must lie in [1, 5000000], got 0"},
       {[](Campaign& c) { c.grids.clear(); }, "campaign: grids: a campaign needs at least one grid"},
       {[](Campaign& c) { c.grids[0].name.clear(); },
        "campaign: grids[0].name: a grid name must not be empty"},
@@ -234,7 +257,7 @@ TEST(ValidateCampaign, TheFileReportsTheSameRulesAtTheirNodes) {
   EXPECT_THAT(error_of("strategies: []\ngrids:\n  - name: g\n"),
               HasSubstr("c.yaml:1:13: error: the list of strategies is empty"));
   EXPECT_THAT(error_of("max_cells: 0\ngrids:\n  - name: g\n"),
-              HasSubstr("c.yaml:1:12: error: max_cells must be >= 1"));
+              HasSubstr("c.yaml:1:12: error: max_cells must lie in [1, 5000000], got 0"));
   EXPECT_THAT(error_of("grids: []\n"), HasSubstr("c.yaml:1:8: error: a campaign needs at least one grid"));
 }
 

@@ -4,6 +4,7 @@
 
 #include "emrm/scenario/coverage.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -375,6 +376,22 @@ double normalised_distance(const Odd& odd, const std::vector<double>& a, const s
     if (w > 0) d += std::pow((a[i] - b[i]) / w, 2);
   }
   return std::sqrt(d);
+}
+
+// Two lines of YAML could ask for 10⁸ × 10⁸ baseline scenarios: refused at the factor that
+// passes the limit, before any is built.
+TEST(CoverageBaselines, AManualGridTooLargeIsRefusedWhereItGrows) {
+  std::string text = kBaselineOdd;
+  const std::string small = "    ttc_s: {from: 0, to: 3, levels: 4}\n";
+  text.replace(text.find(small), small.size(), "    ttc_s: {from: 0, to: 3, levels: 40000}\n");
+  try {
+    (void)odd_from(text);
+    FAIL() << "a manual grid of 120 000 points was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("the manual grid has 120000 points, more than the 100000 it may have"));
+    const std::string before = text.substr(0, text.find("ttc_s: {from: 0, to: 3, levels: 40000}"));
+    EXPECT_EQ(e.where().line, 1 + std::count(before.begin(), before.end(), '\n'));
+  }
 }
 
 TEST(CoverageBaselines, NominalPointTakesEveryFactorsNominal) {
