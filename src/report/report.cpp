@@ -272,7 +272,10 @@ std::string shortfalls_html(const fs::path& dir) {
       "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
       "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
   for (const auto& s : run->second["shortfalls"])
-    out += "<li>" + html_escape(s.is_object() ? s.value("message", "") : s.dump()) + "</li>\n";
+    out += "<li>" + html_escape(s.is_object() && s.contains("message") && s["message"].is_string()
+                                    ? s["message"].get<std::string>()
+                                    : s.dump()) +
+           "</li>\n";
   return out + "</ul></div>\n";
 }
 
@@ -329,7 +332,17 @@ std::vector<safety::TraceRow> find_traceability(const fs::path& dir, std::string
   return {};
 }
 
+// The sections after the figures that come from side files.
+std::string side_sections_html(const fs::path& dir) {
+  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" +
+         detail::statistics_html(dir) + "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" +
+         verification_html(dir) + "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir) +
+         "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
+}
+
 }  // namespace
+
+std::string side_files_html(const fs::path& dir) { return shortfalls_html(dir) + side_sections_html(dir); }
 
 std::string base64(std::string_view bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -570,10 +583,7 @@ ReportSummary write_report(const fs::path& dir) {
   }
   html += "<h2 id=\"figures\">Figures</h2>\n";
   for (const auto& f : summary.figures) html += figure_html(f, dir);
-  html += "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(dir);
-  html += "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir);
-  html += "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir);
-  html += "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
+  html += side_sections_html(dir);
   html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
   html += "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) +
           "</pre></details>\n";

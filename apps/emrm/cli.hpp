@@ -1,0 +1,17 @@
+#pragma once
+
+// The whole emrm command line as one function, for main() and for the CLI fuzz target.
+
+namespace emrm::cli {
+
+enum class Mode {
+  kRun,        ///< parse, then run the command
+  kParseOnly,  ///< parse and check every argument, run nothing (the fuzz target)
+};
+
+/// Parses `argv` as emrm's command line and runs the command; returns the exit code (0 success,
+/// 1 the check found errors, 2 bad input or usage, 128 + signal after an interrupt; 70 only for
+/// an internal error, which is a bug).
+int run_cli(int argc, char** argv, Mode mode = Mode::kRun);
+
+}  // namespace emrm::cli
