@@ -148,18 +148,18 @@ void command_line(std::string_view data) {
 
 const std::vector<Target>& targets() {
   static const std::vector<Target> all{
-      {"safety", "examples/tjunction/safety.yaml", safety_case},
-      {"fsm", "examples/tjunction/emrm_fsm.yaml examples/tjunction/loss_evaluation_fsm.yaml", fsm_file},
-      {"odd", "examples/tjunction/odd.yaml", odd_file},
-      {"scene", "examples/tjunction/scene.yaml examples/tjunction/profiles", scene_file},
-      {"campaign", "examples/tjunction/campaign.yaml", campaign_file},
-      {"pict", "fuzz/seeds/pict", pict_model},
-      {"plan_json", "fuzz/seeds/plan", plan_json},
-      {"scenarios_csv", "fuzz/seeds/plan", scenarios_csv},
-      {"results_store", "fuzz/seeds/store", results_store},
-      {"report_side_files", "fuzz/seeds/report", report_side_files},
-      {"measurements", "fuzz/seeds/measurements examples/tjunction/paper_reference.yaml", measurements},
-      {"cli", "fuzz/seeds/cli", command_line},
+      {"safety", safety_case},
+      {"fsm", fsm_file},
+      {"odd", odd_file},
+      {"scene", scene_file},
+      {"campaign", campaign_file},
+      {"pict", pict_model},
+      {"plan_json", plan_json},
+      {"scenarios_csv", scenarios_csv},
+      {"results_store", results_store},
+      {"report_side_files", report_side_files},
+      {"measurements", measurements},
+      {"cli", command_line},
   };
   return all;
 }

@@ -19,8 +19,7 @@ namespace emrm::fuzz {
 using TargetFunction = void (*)(std::string_view data);
 
 struct Target {
-  std::string_view name;       ///< also the fuzzer's executable (fuzz_NAME) and its corpus folder
-  std::string_view seeds;      ///< shipped files that seed its corpus (glob under the source tree)
+  std::string_view name;  ///< its executable is fuzz_NAME, its seeds are fuzz/seeds/NAME/
   TargetFunction run;
 };
 

@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Builds emrm and runs every test twice: a normal build (preset dev), then one under
-# AddressSanitizer + UndefinedBehaviorSanitizer (preset asan). Run scripts/install-deps.sh first.
+# Builds emrm and runs every test three times: a normal GCC build (preset dev), GCC under
+# AddressSanitizer + UndefinedBehaviorSanitizer (preset asan), and clang under both sanitizers
+# (preset clang), whose libFuzzer targets then each run a short smoke run (docs/fuzzing.md).
+# Run scripts/install-deps.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --workflow --preset dev
 cmake --workflow --preset asan
+cmake --workflow --preset clang
+./scripts/fuzz.sh --seconds 20

@@ -1,6 +1,6 @@
 # cmake -DSOURCE_DIR=... -P check_references.cmake
 # The repository stands alone: code and docs name no file outside it, and every file they name
-# inside it exists.
+# inside it exists (the shipped examples and scripts included).
 # - No mention of DESIGN.md or of ../shared (a folder beside the repository, not in it).
 # - Every docs/NAME.md named in a header, a source file or the README exists.
 # - Every relative Markdown link in README.md and docs/*.md points to an existing file.
@@ -11,7 +11,8 @@ endif()
 file(GLOB_RECURSE code RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/include/*.hpp ${SOURCE_DIR}/src/*.cpp ${SOURCE_DIR}/src/*.hpp ${SOURCE_DIR}/apps/*.cpp
      ${SOURCE_DIR}/apps/*.hpp ${SOURCE_DIR}/bench/*.cpp ${SOURCE_DIR}/tests/*.cpp ${SOURCE_DIR}/tests/*.hpp
-     ${SOURCE_DIR}/cmake/*.in ${SOURCE_DIR}/cmake/*.cmake ${SOURCE_DIR}/CMakeLists.txt)
+     ${SOURCE_DIR}/cmake/*.in ${SOURCE_DIR}/cmake/*.cmake ${SOURCE_DIR}/CMakeLists.txt
+     ${SOURCE_DIR}/examples/*.yaml ${SOURCE_DIR}/fuzz/*.cpp ${SOURCE_DIR}/fuzz/*.hpp ${SOURCE_DIR}/scripts/*.sh)
 file(GLOB docs RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/docs/*.md)
 set(problems "")
 foreach(file IN LISTS code docs ITEMS README.md)
