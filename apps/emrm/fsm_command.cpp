@@ -52,15 +52,14 @@ int run_fsm(const FsmOptions& options) {
 
   fsm::Report report = fsm::make_report(std::move(g), std::move(source), request);
   if (!options.dot.empty() || !options.svg.empty()) {
+    // Rendered before either file is written, then both or neither: a missing Graphviz leaves no
+    // --dot file behind.
     const std::string dot = fsm::diagram_dot(report);
-    if (!options.dot.empty()) {
-      core::write_file(options.dot, dot);
-      report.written.push_back(options.dot);
-    }
-    if (!options.svg.empty()) {
-      core::write_file(options.svg, fsm::render_svg(dot));
-      report.written.push_back(options.svg);
-    }
+    std::vector<core::FileContent> files;
+    if (!options.dot.empty()) files.push_back({options.dot, dot});
+    if (!options.svg.empty()) files.push_back({options.svg, fsm::render_svg(dot)});
+    core::write_files(files);
+    for (const auto& f : files) report.written.push_back(f.path.string());
   }
   if (options.format == "json")
     fmt::print("{}\n", fsm::to_json(report).dump(2));

@@ -342,9 +342,9 @@ bool contradicts_physics(const Diagnostics& d) noexcept {
 }
 
 std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d) {
-  std::vector<std::filesystem::path> written;
-  core::write_file(dir / "diagnostics.json", to_json(d).dump(2) + "\n");
-  written.push_back(dir / "diagnostics.json");
+  // Every file rendered before the first is written, then all together: a failing Graphviz leaves
+  // no diagnostics.json without its diagrams.
+  std::vector<core::FileContent> files{{dir / "diagnostics.json", to_json(d).dump(2) + "\n"}};
   const bool svg = fsm::dot_available();
   for (const auto& [stem, c] :
        {std::pair{"emrm_fsm", &d.emrm_fsm}, std::pair{"loss_evaluation_fsm", &d.loss_evaluation_fsm}}) {
@@ -353,13 +353,12 @@ std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path
     options.transition_counts = c->coverage.counts;
     const std::string dot = fsm::to_dot(*c->generator, options);
     const auto base = dir / "fsm" / stem;
-    core::write_file(base.string() + ".dot", dot);
-    written.emplace_back(base.string() + ".dot");
-    if (svg) {
-      core::write_file(base.string() + ".svg", fsm::render_svg(dot));
-      written.emplace_back(base.string() + ".svg");
-    }
+    files.push_back({base.string() + ".dot", dot});
+    if (svg) files.push_back({base.string() + ".svg", fsm::render_svg(dot)});
   }
+  core::write_files(files);
+  std::vector<std::filesystem::path> written;
+  for (const auto& f : files) written.push_back(f.path);
   return written;
 }
 

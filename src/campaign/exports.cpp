@@ -3,12 +3,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <fstream>
+#include <ostream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "emrm/campaign/store.hpp"
-#include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 
 namespace emrm::campaign {
@@ -23,16 +22,15 @@ std::string number(double v) {
 
 void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir) {
   const ResultStore store = ResultStore::open_for_reading(results_sqlite);
-  std::filesystem::create_directories(dir);
-  // Written beside the target, then renamed: a reader never sees half a file.
-  const auto open = [&](const std::string& name) {
-    std::ofstream out(dir / (name + ".tmp"), std::ios::binary);
-    if (!out) throw Error(fmt::format("{}: cannot write", (dir / name).string()));
-    return out;
-  };
-  std::ofstream regions = open("regions.csv");
-  std::ofstream cells = open("cells.csv");
-  std::ofstream json = open("cells.json");
+  // Streamed into temporaries beside the targets (core::OutputFile), renamed only once all three
+  // are complete: a reader never sees half a file, and a failure (a corrupt row, a full disk)
+  // leaves the previous exports and no temporary.
+  core::OutputFile regions_file(dir / "regions.csv");
+  core::OutputFile cells_file(dir / "cells.csv");
+  core::OutputFile json_file(dir / "cells.json");
+  std::ostream& regions = regions_file.stream();
+  std::ostream& cells = cells_file.stream();
+  std::ostream& json = json_file.stream();
   regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible",
                              "region", "evidence", "mitigation_evidence", "p_mais3_reduction",
                              "p_fatal_reduction"});
@@ -105,12 +103,8 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     first = false;
   });
   json << "\n]\n";
-  for (auto* out : {&regions, &cells, &json}) {
-    out->close();
-    if (!*out) throw Error(fmt::format("{}: cannot write the exports", dir.string()));
-  }
-  for (const char* name : {"regions.csv", "cells.csv", "cells.json"})
-    std::filesystem::rename(dir / (std::string(name) + ".tmp"), dir / name);
+  for (auto* file : {&regions_file, &cells_file, &json_file}) file->close();
+  for (auto* file : {&regions_file, &cells_file, &json_file}) file->commit();
 }
 
 }  // namespace emrm::campaign

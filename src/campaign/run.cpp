@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/diagnostics.hpp"
@@ -234,7 +235,7 @@ namespace {
 
 // outcomes.csv (a row per scenario with its factor values) and estimates.csv (a row per cell with
 // its bins), docs/plan.md.
-void write_run_tables(const fs::path& dir, const RunResult& result) {
+std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& result) {
   std::vector<core::Row> rows;
   for (const auto& o : result.outcomes) {
     core::Row row{o.id, o.cell};
@@ -250,7 +251,7 @@ void write_run_tables(const fs::path& dir, const RunResult& result) {
   for (const char* name : {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy",
                            "impact_speed_kph", "loss_level"})
     header.emplace_back(name);
-  core::write_file(dir / "outcomes.csv", core::csv_table(header, rows));
+  std::vector<core::FileContent> files{{dir / "outcomes.csv", core::csv_table(header, rows)}};
 
   const std::vector<std::string> factors = level_factors(result.cells);
   rows.clear();
@@ -269,7 +270,8 @@ void write_run_tables(const fs::path& dir, const RunResult& result) {
   for (const char* name :
        {"n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width", "hoeffding_epsilon", "tracked"})
     header.emplace_back(name);
-  core::write_file(dir / "estimates.csv", core::csv_table(header, rows));
+  files.push_back({dir / "estimates.csv", core::csv_table(header, rows)});
+  return files;
 }
 
 }  // namespace
@@ -306,6 +308,10 @@ RunResult run_scenarios(const RunOptions& options) {
     sim::apply_profile(campaign.scene, options.profile, settings.scene_file.value_or("").parent_path());
   }
   if (!settings.strategies.empty()) campaign.strategies = settings.strategies;
+  // Every input is read before the sweep writes anything: a broken safety case fails here, not
+  // after the store and half the files are written.
+  std::optional<safety::SafetyCase> safety_case;
+  if (settings.safety_file) safety_case = safety::load_safety_case(*settings.safety_file);
   result.factors = file.factors;
   GridSpec grid;
   grid.name = kPlanGrid;
@@ -393,25 +399,24 @@ RunResult run_scenarios(const RunOptions& options) {
   for (std::size_t t = 0; t < fc.transitions.size(); ++t)
     if (fc.coverage.counts[t] == 0) result.transitions_missed.push_back(fc.transitions[t].str());
 
-  // Files.
+  // Files, all composed first and then written together (the sweep wrote the store and its exports).
   const fs::path& dir = options.output_dir;
-  write_run_tables(dir, result);
-
-  if (settings.safety_file) {
-    const safety::SafetyCase sc = safety::load_safety_case(*settings.safety_file);
-    auto matrix = safety::traceability_matrix(sc);
+  std::vector<core::FileContent> files = run_tables(dir, result);
+  if (safety_case) {
+    auto matrix = safety::traceability_matrix(*safety_case);
     for (auto& row : matrix)
       for (const auto& o : result.outcomes)
         if (std::find(o.malfunctions.begin(), o.malfunctions.end(), row.uca) != o.malfunctions.end())
           row.scenarios.push_back(o.id);
     result.traceability_rows = matrix.size();
-    safety::write_traceability(dir, sc.name, matrix);
+    for (auto& f : safety::traceability_files(dir, safety_case->name, matrix)) files.push_back(std::move(f));
   }
   Json j = to_json(result);
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
   if (!settings.factors.is_null()) j["factors"] = settings.factors;  // the report groups by the ODD's levels
   j["plan"] = plan_location_json(options.scenarios_csv, dir);
-  core::write_file(dir / "estimates.json", j.dump(2) + "\n");
+  files.push_back({dir / "estimates.json", j.dump(2) + "\n"});
+  core::write_files(files);
   return result;
 }
 

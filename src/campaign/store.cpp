@@ -233,6 +233,18 @@ sqlite3* open_db(const std::filesystem::path& path, int flags) {
   return db;
 }
 
+// A database without a single table: a store whose creation was cut short before its first
+// commit (the schema and the metadata are one transaction), or an empty file. It is created afresh
+// rather than refused as "not a store", so that rerunning the command resumes.
+// A file that is no database at all is left to load_meta, which says so.
+bool without_tables(sqlite3* db) {
+  sqlite3_stmt* q = nullptr;
+  const bool empty = sqlite3_prepare_v2(db, "SELECT COUNT(*) FROM sqlite_master", -1, &q, nullptr) == SQLITE_OK &&
+                     sqlite3_step(q) == SQLITE_ROW && sqlite3_column_int64(q, 0) == 0;
+  sqlite3_finalize(q);
+  return empty;
+}
+
 // RAII closing for the error paths before a ResultStore owns the handle.
 struct DbGuard {
   sqlite3* db;
@@ -278,7 +290,7 @@ ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_s
   const bool existed = std::filesystem::exists(results_sqlite);
   DbGuard guard{open_db(results_sqlite, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE)};
   sqlite3* db = guard.db;
-  if (existed) {
+  if (existed && !without_tables(db)) {
     const CampaignMeta stored = load_meta(db, results_sqlite);
     const std::string dir = results_sqlite.parent_path().string();
     if (stored.config_hash != meta.config_hash)
@@ -414,11 +426,13 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
         trajectory.step();
       }
     }
+    exec(db_, path_, "COMMIT");
   } catch (...) {
+    // The whole batch or nothing: a failed COMMIT (a full disk) leaves the transaction open until
+    // rolled back, and the next batch must not begin inside it.
     sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
-  exec(db_, path_, "COMMIT");
 }
 
 void ResultStore::for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const {

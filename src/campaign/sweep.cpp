@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -41,22 +42,16 @@ struct WorkItem {
 // thread ever waits for a batch to end and memory holds at most a batch or two.
 class Committer {
  public:
-  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit, EtaModel eta,
-            const std::filesystem::path& log)
+  /// `log`: the open --progress-log, or null.
+  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit, EtaModel eta, std::FILE* log)
       : store_(store),
         total_(total),
         progress_(progress),
         unit_(std::move(unit)),
         start_(Clock::now()),
-        eta_(eta) {
+        eta_(eta),
+        log_(log) {
     last_commit_ns_ = now_ns();
-    if (!log.empty()) {
-      log_ = std::fopen(log.string().c_str(), "w");
-      if (log_ == nullptr) throw UsageError(fmt::format("--progress-log: cannot write '{}'", log.string()));
-    }
-  }
-  ~Committer() {
-    if (log_ != nullptr) std::fclose(log_);
   }
   Committer(const Committer&) = delete;
   Committer& operator=(const Committer&) = delete;
@@ -153,6 +148,19 @@ class Committer {
   std::FILE* log_ = nullptr;
 };
 
+struct CloseFile {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+
+// The --progress-log, opened before the store: a path that cannot be written is bad input and fails
+// with nothing written. A log is a stream read while the sweep runs, so it is written in place.
+std::unique_ptr<std::FILE, CloseFile> open_progress_log(const std::filesystem::path& log) {
+  if (log.empty()) return nullptr;
+  std::unique_ptr<std::FILE, CloseFile> file(std::fopen(log.string().c_str(), "w"));
+  if (!file) throw UsageError(fmt::format("--progress-log: cannot write '{}'", log.string()));
+  return file;
+}
+
 // 2: braking alone (through the scene's actuators) cannot stop in time, so every search runs;
 // 1: feasible; 0: infeasible, nothing is simulated.
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
@@ -214,6 +222,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
 
   SweepSummary summary;
   {
+    const auto log = open_progress_log(options.progress_log);
     ResultStore store = ResultStore::open_for_writing(store_path, meta);
     std::vector<std::vector<char>> done(campaign.grids.size());
     for (std::size_t g = 0; g < campaign.grids.size(); ++g) done[g].assign(campaign.grids[g].cells.size(), 0);
@@ -245,7 +254,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
       limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
     Committer committer(store, work.size(), options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
-                        options.progress_log);
+                        log.get());
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
     tbb::parallel_for(

@@ -487,21 +487,22 @@ std::string kpis_csv(const std::vector<CellRecord>& records, const LevelCuts& cu
 std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir,
                                                 const std::vector<CellRecord>& records,
                                                 const PaperReference& paper, const TableOptions& options) {
+  // Every table computed before the first file is written, then all together (core::write_files).
   const auto tables_dir = dir / "tables";
-  std::vector<std::filesystem::path> written;
-  const auto write_all = [&](const std::string& stem, const Table& t) {
-    const auto files = core::write_table(tables_dir, stem, t);
-    written.insert(written.end(), files.begin(), files.end());
+  std::vector<core::FileContent> files;
+  const auto add = [&](const std::string& stem, const Table& t) {
+    for (auto& f : core::table_files(tables_dir, stem, t)) files.push_back(std::move(f));
   };
-  write_all("emrm_vs_baseline", emrm_vs_baseline_table(records, paper, options.grid));
-  write_all("by_parameter",
-            by_parameter_table(records, paper, options.grid,
-                               has_grid(records, options.passage_grid) ? options.passage_grid : "",
-                               options.friction_grid, options.cuts));
-  write_all("regions", regions_table(records, paper, options.actuation));
-  write_all("claims", claims_table(records, paper, options.grid));
-  core::write_file(tables_dir / "kpis.csv", kpis_csv(records, options.cuts));
-  written.push_back(tables_dir / "kpis.csv");
+  add("emrm_vs_baseline", emrm_vs_baseline_table(records, paper, options.grid));
+  add("by_parameter", by_parameter_table(records, paper, options.grid,
+                                         has_grid(records, options.passage_grid) ? options.passage_grid : "",
+                                         options.friction_grid, options.cuts));
+  add("regions", regions_table(records, paper, options.actuation));
+  add("claims", claims_table(records, paper, options.grid));
+  files.push_back({tables_dir / "kpis.csv", kpis_csv(records, options.cuts)});
+  core::write_files(files);
+  std::vector<std::filesystem::path> written;
+  for (const auto& f : files) written.push_back(f.path);
   return written;
 }
 

@@ -97,15 +97,19 @@ std::string to_latex(const Table& table) {
   return out;
 }
 
+std::vector<FileContent> table_files(const std::filesystem::path& tables_dir, const std::string& stem,
+                                     const Table& table) {
+  return {{tables_dir / (stem + ".md"), to_markdown(table)},
+          {tables_dir / (stem + ".csv"), to_csv(table)},
+          {tables_dir / (stem + ".tex"), to_latex(table)}};
+}
+
 std::vector<std::filesystem::path> write_table(const std::filesystem::path& tables_dir, const std::string& stem,
                                                const Table& table) {
+  const std::vector<FileContent> files = table_files(tables_dir, stem, table);
+  write_files(files);
   std::vector<std::filesystem::path> written;
-  for (const auto& [ext, text] : {std::pair{".md", to_markdown(table)}, std::pair{".csv", to_csv(table)},
-                                  std::pair{".tex", to_latex(table)}}) {
-    const auto path = tables_dir / (stem + ext);
-    write_file(path, text);
-    written.push_back(path);
-  }
+  for (const auto& f : files) written.push_back(f.path);
   return written;
 }
 

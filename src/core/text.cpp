@@ -4,10 +4,15 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cerrno>
 #include <cctype>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <system_error>
 
@@ -265,18 +270,70 @@ std::optional<std::size_t> first_invalid_utf8(std::string_view text) {
   return std::nullopt;
 }
 
-void write_file(const std::filesystem::path& path, std::string_view content) {
+namespace {
+
+// A name beside `path` that no other process (the pid) and no other thread of this one (the
+// counter) uses at the same time.
+std::filesystem::path temporary_for(const std::filesystem::path& path) {
+  static std::atomic<unsigned long> counter{0};
+  return path.string() + fmt::format(".tmp.{}.{}", ::getpid(), counter++);
+}
+
+}  // namespace
+
+OutputFile::OutputFile(std::filesystem::path path) : path_(std::move(path)) {
   std::error_code ec;
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
-  if (ec) throw Error(fmt::format("cannot create folder '{}': {}", path.parent_path().string(), ec.message()));
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (!out) throw Error(fmt::format("cannot write '{}'", temporary.string()));
+  if (path_.has_parent_path()) std::filesystem::create_directories(path_.parent_path(), ec);
+  if (ec) throw Error(fmt::format("cannot create folder '{}': {}", path_.parent_path().string(), ec.message()));
+  // The rename would fail at the end; failing now writes nothing (write_files: none of the files).
+  if (std::filesystem::is_directory(path_, ec))
+    throw Error(fmt::format("cannot write '{}': it is a folder", path_.string()));
+  temporary_ = temporary_for(path_);
+  out_.open(temporary_, std::ios::binary | std::ios::trunc);
+  if (!out_) {
+    const std::string why = std::generic_category().message(errno);
+    std::filesystem::remove(temporary_, ec);
+    throw Error(fmt::format("cannot write '{}': {}", path_.string(), why));
   }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw Error(fmt::format("cannot write '{}': {}", path.string(), ec.message()));
+}
+
+OutputFile::~OutputFile() {
+  if (committed_) return;
+  out_.close();
+  std::error_code ignored;
+  std::filesystem::remove(temporary_, ignored);
+}
+
+void OutputFile::close() {
+  if (out_.is_open()) out_.close();
+  if (!out_) throw Error(fmt::format("cannot write '{}' (is the disk full?)", path_.string()));
+}
+
+void OutputFile::commit() {
+  if (committed_) return;
+  close();
+  std::error_code ec;
+  std::filesystem::rename(temporary_, path_, ec);
+  if (ec) throw Error(fmt::format("cannot write '{}': {}", path_.string(), ec.message()));
+  committed_ = true;
+}
+
+void write_file(const std::filesystem::path& path, std::string_view content) {
+  OutputFile file(path);
+  file.stream().write(content.data(), static_cast<std::streamsize>(content.size()));
+  file.commit();
+}
+
+void write_files(const std::vector<FileContent>& files) {
+  // Every file complete in its temporary before the first rename: a failure on the way (the
+  // destructors remove the temporaries) changes none of the targets.
+  std::vector<std::unique_ptr<OutputFile>> staged;
+  for (const auto& f : files) {
+    staged.push_back(std::make_unique<OutputFile>(f.path));
+    staged.back()->stream().write(f.content.data(), static_cast<std::streamsize>(f.content.size()));
+    staged.back()->close();
+  }
+  for (auto& file : staged) file->commit();
 }
 
 }  // namespace emrm::core

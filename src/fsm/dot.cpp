@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <utility>
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
+#include "emrm/core/text.hpp"
 
 namespace emrm::fsm {
 namespace {
@@ -176,7 +176,7 @@ std::string render(const std::string& dot_source, const std::string& format, con
   core::TempDir dir("emrm-dot");
   const auto input = dir.path() / "graph.dot";
   const auto output = dir.path() / ("graph." + format);
-  { std::ofstream(input, std::ios::binary) << dot_source; }
+  core::write_file(input, dot_source);  // checked: a truncated graph could still render
   const auto run = core::run_program(*program, {"-T" + format, "-o", output.string(), input.string()});
   if (run.exit_code != 0)
     throw Error(fmt::format("'{} -T{}' failed{}{}", program->string(), format, run.error_output.empty() ? "" : ": ",

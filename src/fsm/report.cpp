@@ -315,10 +315,11 @@ Report write_check_files(const std::filesystem::path& fsm_file, const std::files
   request.check = true;
   Report report = make_report(load_generator(fsm_file), fsm_file.string(), request);
   const std::string stem = fsm_file.stem().string();
-  core::write_file(dir / (stem + "_check.json"), to_json(report).dump(2) + "\n");
   const std::string dot = to_dot(report.machine);
-  core::write_file(dir / (stem + "_plain.dot"), dot);
-  if (dot_available()) core::write_file(dir / (stem + "_plain.svg"), render_svg(dot));
+  std::vector<core::FileContent> files{{dir / (stem + "_check.json"), to_json(report).dump(2) + "\n"},
+                                       {dir / (stem + "_plain.dot"), dot}};
+  if (dot_available()) files.push_back({dir / (stem + "_plain.svg"), render_svg(dot)});
+  core::write_files(files);  // rendered first, then all or none
   return report;
 }
 

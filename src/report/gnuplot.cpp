@@ -18,7 +18,9 @@ std::string gnuplot_terminal(const fs::path& output, int width_px, int height_px
   throw UsageError(fmt::format("cannot draw '{}': expected a file name ending in .png or .svg", output.string()));
 }
 
-void run_gnuplot(const std::string& script, const fs::path& work_dir) {
+fs::path drawing_path(const fs::path& work_dir, const fs::path& output) { return work_dir / output.filename(); }
+
+void run_gnuplot(const std::string& script, const fs::path& work_dir, const std::vector<fs::path>& outputs) {
   const auto gnuplot = core::find_program("gnuplot");
   if (!gnuplot)
     throw Error("cannot draw figures: gnuplot was not found on PATH; install it (apt-get install gnuplot-nox)");
@@ -27,20 +29,25 @@ void run_gnuplot(const std::string& script, const fs::path& work_dir) {
   const auto run = core::run_program(*gnuplot, {script_path.string()});
   if (run.exit_code != 0)
     throw Error(fmt::format("gnuplot failed{}{}", run.error_output.empty() ? "" : ": ", run.error_output));
+  // Only now does a figure reach its folder, whole: gnuplot writes its output as it draws.
+  for (const fs::path& output : outputs) {
+    const std::string drawing = core::read_file(drawing_path(work_dir, output));
+    if (drawing.empty()) throw Error(fmt::format("gnuplot drew nothing for '{}'", output.string()));
+    core::write_file(output, drawing);
+  }
 }
 
 void render_png_and_svg(const fs::path& png, const fs::path& svg, const std::string& data, const std::string& body,
                         int width_px, int height_px, int font_pt) {
+  core::TempDir work("emrm-figure");
   std::string script = "set encoding utf8\n" + data;
   for (const fs::path& output : {png, svg}) {
     script += gnuplot_terminal(output, width_px, height_px) + "\n";
     script += fmt::format("set termoption font 'Sans,{}'\n", font_pt);
-    script += "set output " + single_quoted(output.string()) + "\n";
+    script += "set output " + single_quoted(drawing_path(work.path(), output).string()) + "\n";
     script += "reset\nset encoding utf8\nset datafile missing 'NaN'\n" + body + "unset output\n";
   }
-  if (png.has_parent_path()) fs::create_directories(png.parent_path());
-  core::TempDir work("emrm-figure");
-  run_gnuplot(script, work.path());
+  run_gnuplot(script, work.path(), {png, svg});
 }
 
 std::string single_quoted(std::string_view text) {

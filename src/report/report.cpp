@@ -42,6 +42,16 @@ void check_results_dir(const fs::path& dir) {
   (void)campaign::read_meta(campaign::results_store_in(dir, "emrm report"));  // and of this schema version
 }
 
+// Both drawing programs, found before the first figure: without one the report would stop halfway.
+void require_drawing_programs() {
+  if (!core::find_program("gnuplot"))
+    throw Error("emrm report: cannot draw figures: gnuplot was not found on PATH; install it (apt-get install "
+                "gnuplot-nox)");
+  if (!fsm::dot_available())
+    throw Error("emrm report: cannot draw the FSM figures: the Graphviz program 'dot' was not found on PATH; "
+                "install Graphviz (apt-get install graphviz)");
+}
+
 // A table written by `emrm reproduce` (DIR/tables/NAME.csv with its Markdown twin): title, rows
 // and the paragraphs that follow the Markdown table.
 struct TableFile {
@@ -388,18 +398,19 @@ Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& 
   fsm::DotOptions options;
   options.transition_counts = counts;
   const std::string dot = fsm::to_dot(g, options);
-  core::write_file(dir / (name + ".dot"), dot);
   std::vector<core::Row> rows;
   for (std::size_t t = 0; t < g.transitions().size(); ++t) {
     const auto& tr = g.transitions()[t];
     rows.push_back({tr.from, tr.event, tr.to, t < counts.size() ? std::to_string(counts[t]) : "0"});
   }
   f.csv = dir / (name + ".csv");
-  core::write_file(f.csv, core::csv_table({"from", "event", "to", "count"}, rows));
   f.svg = dir / (name + ".svg");
   f.png = dir / (name + ".png");
-  core::write_file(f.svg, fsm::render(dot, "svg"));
-  core::write_file(f.png, fsm::render(dot, "png"));
+  // Rendered first, then the four files together: a failing Graphviz leaves none of them.
+  core::write_files({{dir / (name + ".dot"), dot},
+                     {f.csv, core::csv_table({"from", "event", "to", "count"}, rows)},
+                     {f.svg, fsm::render(dot, "svg")},
+                     {f.png, fsm::render(dot, "png")}});
   return f;
 }
 
@@ -465,15 +476,48 @@ Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const std:
   return draw_sweep_curves(records, grid, figures_dir);
 }
 
+// Every input of a report that can be malformed, read before the first figure is drawn so that a
+// broken one fails the report with nothing written.
+struct ReportInputs {
+  std::optional<PlannedRun> planned;
+  std::vector<campaign::ProfileRun> runs;  ///< those whose store exists
+  std::vector<std::vector<campaign::CellRecord>> per_profile;
+  std::optional<std::vector<scenario::CoverageReport>> coverage;
+  std::string trace_source;
+  std::vector<safety::TraceRow> trace_rows;
+  std::vector<TableFile> tables;
+};
+
+ReportInputs read_inputs(const fs::path& dir) {
+  ReportInputs in;
+  in.planned = read_planned_run(dir);
+  in.runs = campaign::read_profile_index(dir);
+  std::error_code ec;
+  std::erase_if(in.runs, [&](const campaign::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
+  for (const auto& run : in.runs) in.per_profile.push_back(campaign::read_results(dir / run.store));
+  for (const fs::path& file : coverage_candidates(dir)) {
+    const std::string text = read_or_empty(file);
+    if (text.empty()) continue;
+    in.coverage = scenario::parse_coverage_json(text, file.string());
+    break;
+  }
+  in.trace_rows = find_traceability(dir, in.trace_source);
+  in.tables = read_tables(dir);
+  return in;
+}
+
 }  // namespace
 
 ReportSummary write_report(const fs::path& dir) {
   check_results_dir(dir);
+  require_drawing_programs();
   const auto store_path = dir / "results.sqlite";
   const campaign::CampaignMeta meta = campaign::read_meta(store_path);
   const std::vector<campaign::CellRecord> records = campaign::read_results(store_path);
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
   const fs::path figures_dir = dir / "figures";
+  const ReportInputs in = read_inputs(dir);
+  const std::optional<PlannedRun>& planned = in.planned;
 
   ReportSummary summary;
   const auto start = Clock::now();
@@ -482,7 +526,6 @@ ReportSummary write_report(const fs::path& dir) {
   // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check).
   const auto& act = scene.actuation;
   const double boundary_latency_s = act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s;
-  const std::optional<PlannedRun> planned = read_planned_run(dir);
   // The paper's four-panel maps when the store holds one of their grids; any other grid its own maps.
   const MapPanels paper;
   const std::vector<std::string> paper_grids{paper.coarse, paper.fine, paper.speed_mu, paper.ttc_mu};
@@ -500,14 +543,7 @@ ReportSummary write_report(const fs::path& dir) {
   if (planned)
     for (Figure& f : draw_plan_maps(*planned, figures_dir)) summary.figures.push_back(std::move(f));
   summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
-  std::vector<campaign::ProfileRun> runs = campaign::read_profile_index(dir);
-  if (!runs.empty()) {
-    std::error_code ec;
-    std::erase_if(runs, [&](const campaign::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
-    std::vector<std::vector<campaign::CellRecord>> per_profile;
-    for (const auto& run : runs) per_profile.push_back(campaign::read_results(dir / run.store));
-    summary.figures.push_back(draw_profile_maps(runs, per_profile, grid, figures_dir));
-  }
+  if (!in.runs.empty()) summary.figures.push_back(draw_profile_maps(in.runs, in.per_profile, grid, figures_dir));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(sweep_curves(records, grid, planned, figures_dir));
@@ -520,12 +556,7 @@ ReportSummary write_report(const fs::path& dir) {
     coverage.note =
         "no coverage.json (written by emrm plan and emrm reproduce) in this folder, nor beside the "
         "scenarios.csv a run here read";
-    for (const fs::path& file : coverage_candidates(dir)) {
-      const std::string text = read_or_empty(file);
-      if (text.empty()) continue;
-      coverage = draw_coverage_comparison(scenario::parse_coverage_json(text, file.string()), figures_dir);
-      break;
-    }
+    if (in.coverage) coverage = draw_coverage_comparison(*in.coverage, figures_dir);
     summary.figures.push_back(coverage);
   }
   const auto emrm_coverage = campaign::emrm_fsm_coverage(records, sim::default_emrm_fsm());
@@ -539,22 +570,19 @@ ReportSummary write_report(const fs::path& dir) {
                                             "Loss-evaluation FSM, transitions coloured by how often emrm's decisions "
                                             "took them (dashed red: never)",
                                             figures_dir));
-  std::string trace_source;
-  const auto trace_rows = find_traceability(dir, trace_source);
-  if (trace_rows.empty()) {
+  if (in.trace_rows.empty()) {
     Figure f;
     f.name = "traceability_matrix";
     f.title = "Traceability matrix";
     f.note = "no traceability.csv (written by emrm analyze, run and reproduce) in this folder";
     summary.figures.push_back(f);
   } else {
-    summary.figures.push_back(draw_traceability(trace_rows, figures_dir));
-    summary.figures.back().note = "from " + trace_source;
+    summary.figures.push_back(draw_traceability(in.trace_rows, figures_dir));
+    summary.figures.back().note = "from " + in.trace_source;
   }
   summary.figure_seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  // report.html
-  const auto tables = read_tables(dir);
+  // report.html, last: written only when every figure was drawn.
   std::string html = "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   html += fmt::format("<title>emrm report: {}</title>\n<style>{}</style>\n<script>{}</script>\n</head>\n<body>\n",
@@ -567,7 +595,7 @@ ReportSummary write_report(const fs::path& dir) {
       html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
   html += shortfalls_html(dir);
-  html += actuation_html(scene.actuation, runs);
+  html += actuation_html(scene.actuation, in.runs);
   html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
           "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
           "<li><a href=\"#verification\">Verification</a></li>"
@@ -575,8 +603,8 @@ ReportSummary write_report(const fs::path& dir) {
           "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
   html += "<h2 id=\"regions\">Regions per grid</h2>\n" + regions_html(records);
   html += "<h2 id=\"tables\">Tables (ours beside the paper's)</h2>\n";
-  if (tables.empty()) html += "<p>No tables in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
-  for (const auto& t : tables) {
+  if (in.tables.empty()) html += "<p>No tables in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
+  for (const auto& t : in.tables) {
     html += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
     html += html_table(t.rows);
     for (const auto& note : t.notes) html += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";

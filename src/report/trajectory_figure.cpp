@@ -65,7 +65,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
   const double truck_top = scene.truck_at(0.0).box.center.y + config.truck.length_m / 2.0;
 
   std::string script = terminal + "\n";
-  script += "set output " + single_quoted(output.string()) + "\n";
+  script += "set output " + single_quoted(drawing_path(dir.path(), output).string()) + "\n";
   script += fmt::format("set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n",
                         panels, result.input.speed_kph, result.input.ttc_s, "{/Symbol m}", result.input.mu,
                         result.input.passage_m, sim::region_name(result.region));
@@ -104,8 +104,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
         file("truck0.dat"), file("truck_end" + tag + ".dat"), file("ego" + tag + ".dat"), file("path" + tag + ".dat"));
   }
   script += "unset multiplot\n";
-  if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
-  run_gnuplot(script, dir.path());
+  run_gnuplot(script, dir.path(), {output});
 }
 
 }  // namespace emrm::report
@@ -235,7 +234,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   for (const auto& output : {figure.png, figure.svg}) {
     std::string script = gnuplot_terminal(output, 1600, 330 * rows + 60) + "\n";
-    script += "set output " + single_quoted(output.string()) + "\n";
+    script += "set output " + single_quoted(drawing_path(work.path(), output).string()) + "\n";
     script += fmt::format("set multiplot layout {},{} title 'RRT validation scenarios (grid {}): goal tree, "
                           "fail-safe tree, executed EMRM path' noenhanced\n",
                           rows, columns, grid);
@@ -258,7 +257,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
           file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
     }
     script += "unset multiplot\n";
-    run_gnuplot(script, work.path());
+    run_gnuplot(script, work.path(), {output});
   }
   return figure;
 }

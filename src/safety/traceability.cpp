@@ -114,10 +114,10 @@ std::string traceability_markdown(const std::vector<TraceRow>& rows) {
   return core::markdown_table(traceability_header(), table);
 }
 
-void write_traceability(const std::filesystem::path& dir, const std::string& case_name,
-                        const std::vector<TraceRow>& rows) {
-  core::write_file(dir / "traceability.csv", traceability_csv(rows));
-  core::write_file(dir / "traceability.md", "# Traceability matrix: " + case_name + "\n\n" + traceability_markdown(rows));
+std::vector<core::FileContent> traceability_files(const std::filesystem::path& dir, const std::string& case_name,
+                                                  const std::vector<TraceRow>& rows) {
+  return {{dir / "traceability.csv", traceability_csv(rows)},
+          {dir / "traceability.md", "# Traceability matrix: " + case_name + "\n\n" + traceability_markdown(rows)}};
 }
 
 core::Row asil_header() {

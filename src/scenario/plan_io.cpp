@@ -249,12 +249,13 @@ std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<Co
 
 void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& plan,
                 const std::vector<CoverageReport>& reports) {
-  core::write_file(dir / "scenarios.csv", scenarios_csv(odd, plan));
-  core::write_file(dir / "scenarios.json", scenarios_json(odd, plan, dir).dump(2) + "\n");
-  core::write_file(dir / "coverage.json", coverage_json(reports, plan.shortfalls).dump(2) + "\n");
+  // All five or none: `emrm run` reads scenarios.csv with the scenarios.json beside it.
   const auto [header, rows] = coverage_table(reports);
-  core::write_file(dir / "coverage.csv", core::csv_table(header, rows));
-  core::write_file(dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows));
+  core::write_files({{dir / "scenarios.csv", scenarios_csv(odd, plan)},
+                     {dir / "scenarios.json", scenarios_json(odd, plan, dir).dump(2) + "\n"},
+                     {dir / "coverage.json", coverage_json(reports, plan.shortfalls).dump(2) + "\n"},
+                     {dir / "coverage.csv", core::csv_table(header, rows)},
+                     {dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows)}});
 }
 
 std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan& plan,

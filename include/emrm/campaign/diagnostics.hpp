@@ -147,8 +147,9 @@ struct Diagnostics {
 [[nodiscard]] bool contradicts_physics(const Diagnostics& d) noexcept;
 
 /// Writes DIR/diagnostics.json and DIR/fsm/{emrm_fsm,loss_evaluation_fsm}.dot, plus the .svg files
-/// when Graphviz is installed, the transitions coloured by their coverage counts. Returns the files
-/// written. Throws emrm::Error when a file cannot be written or Graphviz fails.
+/// when Graphviz is installed, the transitions coloured by their coverage counts; every file is
+/// rendered first, then all are written or none (core::write_files). Returns the files written.
+/// Throws emrm::Error when a file cannot be written or Graphviz fails.
 std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d);
 
 }  // namespace emrm::campaign

@@ -9,7 +9,8 @@ namespace emrm::campaign {
 
 /// Writes DIR/regions.csv (every cell), DIR/cells.csv (one row per feasible cell and strategy) and
 /// DIR/cells.json (every cell with its outcomes), sorted by grid order, index and strategy order,
-/// CSV numbers with {:.6g}; each file is written beside its target and renamed into place. Throws
+/// CSV numbers with {:.6g}; the three are streamed into temporaries and renamed into place once all
+/// three are complete (core::OutputFile), so a failure leaves the previous exports. Throws
 /// as read_meta for a missing or foreign store, and emrm::Error when a file cannot be written.
 void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir);
 

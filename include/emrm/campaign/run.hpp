@@ -117,6 +117,9 @@ struct RunResult {
 /// outcomes.csv, estimates.csv, estimates.json and — with a safety case — traceability.csv/.md).
 /// estimates.json records where the plan lives ("plan": its scenarios.csv and coverage.json,
 /// relative to the output folder) and the plan's shortfalls.
+/// Every input (the scenarios, scenarios.json, the scene, the profile, the safety case) is read
+/// before the store is opened, so bad input writes nothing; the files after the sweep are written
+/// all or none (core::write_files).
 /// Throws InputError for a bad scenarios file (line:column) or one whose values the simulator
 /// rejects; UsageError when the store holds another plan.
 RunResult run_scenarios(const RunOptions& options);

@@ -40,7 +40,8 @@ struct CampaignMeta {
 /// An open results store. Move-only; closes the database when destroyed.
 class ResultStore {
  public:
-  /// Opens DIR's store for writing, creating it (and DIR) with `meta` when absent. Throws
+  /// Opens DIR's store for writing, creating it (and DIR) with `meta` when absent or without any
+  /// table (an empty file, or a creation cut short before its one transaction committed). Throws
   /// UsageError (exit 2) when the existing store has another config hash (the message names the
   /// store and both hashes), another shard, or another schema version, or is not a store.
   static ResultStore open_for_writing(const std::filesystem::path& results_sqlite, const CampaignMeta& meta);

@@ -55,7 +55,8 @@ struct TableOptions {
   sim::ActuationConfig actuation;  ///< the scene's, for the regions table's notes
 };
 
-/// Writes DIR/tables/{emrm_vs_baseline,by_parameter,regions,claims}.{md,csv,tex} and DIR/tables/kpis.csv.
+/// Writes DIR/tables/{emrm_vs_baseline,by_parameter,regions,claims}.{md,csv,tex} and DIR/tables/kpis.csv,
+/// all computed first, then written all or none (core::write_files).
 /// A grid named in the options that has no records is reported in the tables as having no cells.
 /// Returns the files written. Throws emrm::Error when a file cannot be written.
 std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir,

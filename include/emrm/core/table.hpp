@@ -38,7 +38,11 @@ struct Table {
 /// A number for a table: `decimals` places, kNoValue for NaN, "inf" or "-inf" for infinities.
 [[nodiscard]] std::string format_number(double value, int decimals);
 
-/// Writes TABLES_DIR/STEM.md, .csv and .tex (atomically, creating the folder); returns the files
+/// TABLES_DIR/STEM.md, .csv and .tex with their contents, for write_files.
+[[nodiscard]] std::vector<FileContent> table_files(const std::filesystem::path& tables_dir, const std::string& stem,
+                                                   const Table& table);
+
+/// Writes table_files, all three or none (write_files, creating the folder); returns the files
 /// written. Throws emrm::Error when a file cannot be written.
 std::vector<std::filesystem::path> write_table(const std::filesystem::path& tables_dir, const std::string& stem,
                                                const Table& table);

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -60,8 +61,51 @@ inline constexpr std::size_t kMaxInputFileBytes = std::size_t{64} << 20;
 /// kMaxInputFileBytes, or holds a byte that is not UTF-8 (at its line and column).
 [[nodiscard]] std::string read_input_file(const std::filesystem::path& path);
 
-/// Writes a file atomically (temporary file, then rename), creating parent folders.
-/// Throws emrm::Error when the file cannot be written.
+/// An output file written whole or not at all (docs/outputs.md, "Atomic outputs"): the text goes
+/// to a temporary beside the target, `NAME.tmp.PID.N` (the process id and a counter, so that two
+/// processes or threads writing the same folder never share one), which commit() renames onto the
+/// target once everything reached the disk. Destroyed without commit() — an exception on the way —
+/// it removes the temporary, so a failed command leaves neither a half-written file nor a
+/// temporary. For a file written in pieces (the exports stream a whole store); write_file and
+/// write_files use it for text held in memory.
+class OutputFile {
+ public:
+  /// Creates the target's folders and opens the temporary. Throws emrm::Error when a folder cannot
+  /// be created, the target is a folder, or the temporary cannot be opened.
+  explicit OutputFile(std::filesystem::path path);
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();
+
+  [[nodiscard]] std::ostream& stream() noexcept { return out_; }
+  [[nodiscard]] const std::filesystem::path& path() const noexcept { return path_; }
+  /// Closes the temporary. Throws emrm::Error when anything written to it was lost (a full disk
+  /// shows only when the last buffer is flushed, here).
+  void close();
+  /// close(), then renames the temporary onto the target. Throws emrm::Error when it cannot.
+  void commit();
+
+ private:
+  std::filesystem::path path_;
+  std::filesystem::path temporary_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+/// Writes a file atomically (an OutputFile), creating parent folders.
+/// Throws emrm::Error when the file cannot be written; the target is then as it was.
 void write_file(const std::filesystem::path& path, std::string_view content);
+
+/// A file's path and its whole content, for write_files.
+struct FileContent {
+  std::filesystem::path path;
+  std::string content;
+};
+
+/// Writes files that belong together (a plan, an analysis, a run's tables) all or nothing, as far
+/// as a file system allows: every file complete in its temporary first, then the renames, one after
+/// another. A failure while writing (a full disk, a target that is a folder) leaves every target as
+/// it was and no temporary. Throws as write_file.
+void write_files(const std::vector<FileContent>& files);
 
 }  // namespace emrm::core

@@ -82,8 +82,8 @@ struct Report {
 
 /// The check files of `emrm reproduce` for one FSM: DIR/STEM_check.json, byte for byte what
 /// `emrm fsm FSM_FILE --check --format json` prints, DIR/STEM_plain.dot (the plain diagram) and,
-/// when Graphviz is installed, DIR/STEM_plain.svg. Returns the check report. Throws InputError for
-/// a bad FSM file and emrm::Error when a file cannot be written.
+/// when Graphviz is installed, DIR/STEM_plain.svg, all or none (core::write_files). Returns the
+/// check report. Throws InputError for a bad FSM file and emrm::Error when a file cannot be written.
 Report write_check_files(const std::filesystem::path& fsm_file, const std::filesystem::path& dir);
 
 }  // namespace emrm::fsm

@@ -15,13 +15,22 @@ namespace emrm::report {
 /// or .svg. Throws UsageError for any other extension.
 [[nodiscard]] std::string gnuplot_terminal(const std::filesystem::path& output, int width_px, int height_px);
 
-/// Runs gnuplot on `script` (written to a file in `work_dir`). Throws emrm::Error if gnuplot is
-/// not installed (saying how to install it) or fails (with its message).
-void run_gnuplot(const std::string& script, const std::filesystem::path& work_dir);
+/// Where gnuplot draws `output` (the script's `set output`): a file of the same name in `work_dir`,
+/// so that the figure reaches `output` only whole (run_gnuplot).
+[[nodiscard]] std::filesystem::path drawing_path(const std::filesystem::path& work_dir,
+                                                 const std::filesystem::path& output);
+
+/// Runs gnuplot on `script` (written to a file in `work_dir`), which draws each of `outputs` at its
+/// drawing_path; once gnuplot has succeeded, each drawing is written to its output atomically
+/// (core::write_file). A failing gnuplot leaves the outputs as they were: no half-drawn figure.
+/// Throws emrm::Error if gnuplot is not installed (saying how to install it), fails (with its
+/// message) or drew nothing for an output.
+void run_gnuplot(const std::string& script, const std::filesystem::path& work_dir,
+                 const std::vector<std::filesystem::path>& outputs);
 
 /// Draws `png` and `svg` with one gnuplot run: `data` (datablocks) once, then per terminal its
 /// size, the font size `font_pt` and `body`, which starts from `reset` so that the second pass
-/// sees none of the first one's settings. Creates the folder of `png`. Throws as run_gnuplot.
+/// sees none of the first one's settings. Throws as run_gnuplot.
 void render_png_and_svg(const std::filesystem::path& png, const std::filesystem::path& svg, const std::string& data,
                         const std::string& body, int width_px, int height_px, int font_pt);
 

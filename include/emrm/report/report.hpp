@@ -30,9 +30,11 @@ struct ReportSummary {
   double figure_seconds = 0.0;     ///< wall time spent rendering figures
 };
 
-/// Writes DIR/figures/* and DIR/report.html. Throws UsageError (exit 2) when DIR is missing, is
-/// not a folder, holds no results.sqlite, or its store is of another schema version; emrm::Error
-/// when gnuplot or Graphviz is missing or fails.
+/// Writes DIR/figures/* and DIR/report.html. Every input is read, and gnuplot and Graphviz are
+/// found, before the first figure is drawn; each file is written whole (core::write_file), and
+/// report.html last. Throws UsageError (exit 2) when DIR is missing, is not a folder, holds no
+/// results.sqlite, or its store is of another schema version; InputError for a malformed file in
+/// it; emrm::Error when gnuplot or Graphviz is missing or fails.
 ReportSummary write_report(const std::filesystem::path& dir);
 
 /// The report's sections that come from side files of DIR, as report.html shows them: the plan's

@@ -56,9 +56,9 @@ template <class Transitions>
 /// when the transitions were checked against one.
 [[nodiscard]] nlohmann::json to_json(const Analysis& analysis);
 
-/// The files of an analysis in `dir`: traceability.csv and traceability.md (write_traceability),
-/// findings.json and asil.csv. Returns their paths in that order. Throws emrm::Error when a file
-/// cannot be written.
+/// The files of an analysis in `dir`: traceability.csv and traceability.md (traceability_files),
+/// findings.json and asil.csv, all four or none (core::write_files). Returns their paths in that
+/// order. Throws emrm::Error when a file cannot be written.
 std::vector<std::filesystem::path> write_analysis(const std::filesystem::path& dir, const Analysis& analysis);
 
 }  // namespace emrm::safety

@@ -59,11 +59,12 @@ struct TraceRow {
 [[nodiscard]] std::string traceability_csv(const std::vector<TraceRow>& rows);
 /// As Markdown; a scenarios cell of more than six ids reads "292: S003 S004 … ".
 [[nodiscard]] std::string traceability_markdown(const std::vector<TraceRow>& rows);
-/// The one writer of the matrix files (`emrm analyze`, `emrm run`, `emrm reproduce`):
+/// The one producer of the matrix files (`emrm analyze`, `emrm run`, `emrm reproduce`):
 /// DIR/traceability.csv and DIR/traceability.md, the latter titled "Traceability matrix: NAME"
-/// after the safety case. Throws emrm::Error when a file cannot be written.
-void write_traceability(const std::filesystem::path& dir, const std::string& case_name,
-                        const std::vector<TraceRow>& rows);
+/// after the safety case, for a command to write with its other files (core::write_files).
+[[nodiscard]] std::vector<core::FileContent> traceability_files(const std::filesystem::path& dir,
+                                                                const std::string& case_name,
+                                                                const std::vector<TraceRow>& rows);
 
 /// Per hazard: S, E, C, the ASIL they give, the stated ASIL, the extended ratings, the SMIL the
 /// table gives and the stated SMIL.

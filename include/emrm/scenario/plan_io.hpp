@@ -46,7 +46,8 @@ namespace emrm::scenario {
 /// column per report.
 [[nodiscard]] std::pair<core::Row, std::vector<core::Row>> coverage_table(const std::vector<CoverageReport>& reports);
 
-/// Writes DIR/scenarios.csv, scenarios.json, coverage.json, coverage.csv and coverage.md.
+/// Writes DIR/scenarios.csv, scenarios.json, coverage.json, coverage.csv and coverage.md, all five or
+/// none (core::write_files).
 void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& plan,
                 const std::vector<CoverageReport>& reports);
 

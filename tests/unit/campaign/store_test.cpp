@@ -212,6 +212,71 @@ TEST(ReadMeta, RefusesWhatIsNotAStore) {
   EXPECT_THROW((void)read_meta(dir / "empty.sqlite"), UsageError);
 }
 
+// A store whose creation was cut short holds no table (the schema and metadata are one
+// transaction); a rerun creates it afresh instead of refusing it as "not a store".
+TEST(ResultStore, AnEmptyStoreFileIsCreatedAfresh) {
+  const auto path = scratch("empty_store") / "results.sqlite";
+  { std::ofstream empty(path); }
+  {
+    ResultStore store = ResultStore::open_for_writing(path, test_meta());
+    store.insert({record("first", 0, true)});
+  }
+  EXPECT_EQ(read_meta(path).config_hash, test_meta().config_hash);
+  EXPECT_EQ(read_results(path).size(), 1u);
+  // Text is not an empty store: still refused.
+  const auto text = scratch("text_store") / "results.sqlite";
+  std::ofstream(text) << "this is not a database, just some text that is long enough\n";
+  EXPECT_THROW((void)ResultStore::open_for_writing(text, test_meta()), UsageError);
+}
+
+// The names in `dir` that are temporaries of an atomic write (NAME.tmp.PID.N).
+std::vector<std::string> temporaries_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp") != std::string::npos)
+      names.push_back(entry.path().filename().string());
+  return names;
+}
+
+// The exports stream the whole store: a row that fails half-way (a certificate that is not JSON)
+// leaves the previous exports whole and no temporary.
+TEST(WriteExports, AFailureHalfWayLeavesThePreviousExportsAndNoTemporary) {
+  const auto dir = scratch("exports_fail");
+  {
+    ResultStore store = ResultStore::open_for_writing(dir / "results.sqlite", test_meta());
+    store.insert({record("first", 0, true)});
+  }
+  write_exports(dir / "results.sqlite", dir);
+  const std::string regions = read_text(dir / "regions.csv");
+  const std::string cells = read_text(dir / "cells.csv");
+  const std::string json = read_text(dir / "cells.json");
+  {
+    ResultStore store = ResultStore::open_for_writing(dir / "results.sqlite", test_meta());
+    CellRecord corrupt = record("second", 0, true);
+    corrupt.certificate = "{not json";
+    store.insert({record("first", 1, true), corrupt});
+  }
+  EXPECT_ANY_THROW(write_exports(dir / "results.sqlite", dir));
+  EXPECT_EQ(read_text(dir / "regions.csv"), regions);
+  EXPECT_EQ(read_text(dir / "cells.csv"), cells);
+  EXPECT_EQ(read_text(dir / "cells.json"), json);
+  EXPECT_EQ(temporaries_in(dir), std::vector<std::string>{});
+}
+
+// cells.json cannot be written (a folder of that name): none of the three exports is.
+TEST(WriteExports, AllThreeOrNone) {
+  const auto dir = scratch("exports_none");
+  {
+    ResultStore store = ResultStore::open_for_writing(dir / "results.sqlite", test_meta());
+    store.insert({record("first", 0, true)});
+  }
+  fs::create_directories(dir / "cells.json" / "inside");
+  EXPECT_THROW(write_exports(dir / "results.sqlite", dir), Error);
+  EXPECT_FALSE(fs::exists(dir / "regions.csv"));
+  EXPECT_FALSE(fs::exists(dir / "cells.csv"));
+  EXPECT_EQ(temporaries_in(dir), std::vector<std::string>{});
+}
+
 TEST(WriteExports, WritesSortedRowsWithTheDocumentedColumns) {
   const auto dir = scratch("exports");
   {

@@ -3,10 +3,15 @@
 #include "emrm/core/error.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace emrm::core {
 namespace {
@@ -36,6 +41,109 @@ TEST(WriteFile, CreatesFoldersAndReplacesContent) {
 
 TEST(WriteFile, UnwritablePlaceIsAnError) {
   EXPECT_THROW(write_file("/proc/emrm-cannot-write/x.txt", "x"), emrm::Error);
+}
+
+// A fresh folder for one test of the atomic writers.
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-text-test-" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// The names in `dir`, sorted.
+std::vector<std::string> names_in(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string text_of(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The rename fails (the target is a folder that holds a file): an error, and no temporary left.
+TEST(WriteFile, ATargetThatIsAFolderIsAnErrorAndLeavesNoTemporary) {
+  const auto dir = fresh_dir("target-folder");
+  std::filesystem::create_directories(dir / "out.csv");
+  write_file(dir / "out.csv" / "inside.txt", "x");
+  EXPECT_THROW(write_file(dir / "out.csv", "a,b\n"), emrm::Error);
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"out.csv"});
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "out.csv"));
+}
+
+TEST(WriteFile, AParentThatIsAFileIsAnError) {
+  const auto dir = fresh_dir("parent-file");
+  write_file(dir / "plain", "x");
+  EXPECT_THROW(write_file(dir / "plain" / "out.csv", "a\n"), emrm::Error);
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"plain"});
+}
+
+TEST(WriteFile, LeavesOnlyTheTargetBehind) {
+  const auto dir = fresh_dir("only-target");
+  write_file(dir / "a.txt", "one");
+  write_file(dir / "a.txt", "two");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"a.txt"});
+  EXPECT_EQ(text_of(dir / "a.txt"), "two");
+}
+
+// One target that cannot be written fails them all: the others keep their old content (or stay
+// absent), and no temporary is left.
+TEST(WriteFiles, AllOrNothing) {
+  const auto dir = fresh_dir("all-or-nothing");
+  write_file(dir / "first.txt", "old");
+  std::filesystem::create_directories(dir / "second.txt" / "sub");
+  EXPECT_THROW(write_files({{dir / "first.txt", "new"}, {dir / "third.txt", "3"}, {dir / "second.txt", "2"}}),
+               emrm::Error);
+  EXPECT_EQ(names_in(dir), (std::vector<std::string>{"first.txt", "second.txt"}));
+  EXPECT_EQ(text_of(dir / "first.txt"), "old");
+
+  write_files({{dir / "first.txt", "new"}, {dir / "sub" / "third.txt", "3"}});
+  EXPECT_EQ(text_of(dir / "first.txt"), "new");
+  EXPECT_EQ(text_of(dir / "sub" / "third.txt"), "3");
+  EXPECT_EQ(names_in(dir), (std::vector<std::string>{"first.txt", "second.txt", "sub"}));
+}
+
+// A file streamed in pieces appears only at commit(); abandoned (an exception on the way), it
+// leaves the target as it was and no temporary.
+TEST(OutputFile, PublishesOnlyOnCommitAndCleansUpWhenAbandoned) {
+  const auto dir = fresh_dir("output-file");
+  write_file(dir / "data.csv", "old\n");
+  try {
+    OutputFile file(dir / "data.csv");
+    file.stream() << "half of the ";
+    EXPECT_EQ(text_of(dir / "data.csv"), "old\n");
+    throw std::runtime_error("a corrupt row");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"data.csv"});
+  EXPECT_EQ(text_of(dir / "data.csv"), "old\n");
+  {
+    OutputFile file(dir / "data.csv");
+    file.stream() << "new\n";
+    file.commit();
+  }
+  EXPECT_EQ(text_of(dir / "data.csv"), "new\n");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"data.csv"});
+}
+
+// Two writers of one file at once (two processes, or two threads) each have their own temporary:
+// the file is one writer's whole text, never a mix.
+TEST(OutputFile, TwoWritersOfOneFileDoNotShareATemporary) {
+  const auto dir = fresh_dir("two-writers");
+  OutputFile first(dir / "shared.txt");
+  OutputFile second(dir / "shared.txt");
+  first.stream() << std::string(100000, 'a');
+  second.stream() << "b";
+  first.commit();
+  EXPECT_EQ(text_of(dir / "shared.txt"), std::string(100000, 'a'));
+  second.commit();
+  EXPECT_EQ(text_of(dir / "shared.txt"), "b");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"shared.txt"});
 }
 
 }  // namespace
