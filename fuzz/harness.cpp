@@ -10,6 +10,7 @@
 #include "cli.hpp"
 #include "emrm/campaign/calibrate.hpp"
 #include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/paper_reference.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/campaign/store.hpp"
@@ -102,6 +103,7 @@ void results_store(std::string_view data) {
   write(file, data);
   refused_or_read([&] { (void)campaign::read_meta(file); });
   refused_or_read([&] { (void)campaign::read_results(file); });
+  refused_or_read([&] { campaign::write_exports(file, file.parent_path() / "exports"); });
 }
 
 // The report's side files: the input stands for each of them at once (what one rejects another

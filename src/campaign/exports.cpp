@@ -64,7 +64,14 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
       j["evidence"] = r.evidence;
       if (!r.mitigation_evidence.empty()) j["mitigation_evidence"] = r.mitigation_evidence;
       j["strengthened"] = r.strengthened;
-      if (!r.certificate.empty()) j["certificate"] = nlohmann::ordered_json::parse(r.certificate);
+      if (!r.certificate.empty()) {
+        try {
+          j["certificate"] = nlohmann::ordered_json::parse(r.certificate);
+        } catch (const nlohmann::json::parse_error& e) {  // a store damaged or edited by hand
+          throw InputError(SourceLocation{results_sqlite.string()},
+                           fmt::format("cell {}#{}: the stored certificate is not JSON: {}", r.grid, r.index, e.what()));
+        }
+      }
       j["harm_reduction"] = {{"p_mais3", r.p_mais3_reduction}, {"p_fatal", r.p_fatal_reduction}};
       j["unmitigated"] = {{"impact_speed_kph", r.unmitigated_impact_speed_kph},
                           {"delta_v_kph", r.unmitigated_delta_v_kph},
