@@ -23,6 +23,7 @@ struct CaOptions {
   std::uint64_t seed = 1;
   double effort = scenario::CoveringArrayOptions{}.improvement_effort;
   std::size_t max_tuples = scenario::CoveringArrayOptions{}.max_tuples;
+  std::uint64_t max_search_steps = scenario::kDefaultMaxSearchSteps;
   bool check = false;
 };
 
@@ -58,7 +59,7 @@ int run(const CaOptions& o) {
   std::optional<scenario::PictModel> model;
   std::vector<int> levels;
   if (!o.model_file.empty()) {
-    model.emplace(scenario::load_pict_model(o.model_file));
+    model.emplace(scenario::load_pict_model(o.model_file, o.max_search_steps));
     levels = model->levels();
   } else {
     levels = parse_levels(o.levels);
@@ -72,6 +73,7 @@ int run(const CaOptions& o) {
   options.seed = o.seed;
   options.improvement_effort = o.effort;
   options.max_tuples = o.max_tuples;
+  options.max_search_steps = o.max_search_steps;
   const auto start = std::chrono::steady_clock::now();
   const scenario::CoveringArray ca = scenario::generate_covering_array(levels, options, violates);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -81,7 +83,7 @@ int run(const CaOptions& o) {
       "{} rows, strength {}, {} of {} tuples covered ({} excluded by constraints), {:.3f} s\n",
       ca.rows.size(), ca.strength, ca.required_tuples, ca.required_tuples, ca.forbidden_tuples, seconds);
   if (o.check) {
-    const auto report = scenario::check_covering_array(levels, o.strength, ca.rows, violates);
+    const auto report = scenario::check_covering_array(levels, o.strength, ca.rows, violates, o.max_search_steps);
     if (!report.ok()) {
       std::cerr << "check FAILED: " << report.first_problem << "\n";
       return static_cast<int>(ExitCode::kFindings);
@@ -112,6 +114,11 @@ void register_ca_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--max-tuples", o->max_tuples, "Most t-tuples to cover (memory grows with them)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}))
+      ->capture_default_str();
+  cmd->add_option("--max-search-steps", o->max_search_steps,
+                  "Most steps of the constraint search for loading the model, for generating the\n"
+                  "array and for --check, each (the search is exponential in the worst case)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1'000'000'000'000}))
       ->capture_default_str();
   cmd->add_flag("--check", o->check, "Verify the array by brute force and print OK (exit 1 if not)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });

@@ -22,27 +22,29 @@ using detail::Feasibility;
 using detail::Row;
 using detail::TupleSpace;
 
-bool complete_from(const std::vector<int>& levels, Row& row, std::size_t from, const RowViolates& violates) {
+bool complete_from(const std::vector<int>& levels, Row& row, std::size_t from, const RowViolates& violates,
+                   SearchBudget& budget) {
+  budget.spend();
   if (violates && violates(row)) return false;
   while (from < row.size() && row[from] != kDontCare) ++from;
   if (from == row.size()) return true;
   for (int v = 0; v < levels[from]; ++v) {
     row[from] = v;
-    if (complete_from(levels, row, from + 1, violates)) return true;
+    if (complete_from(levels, row, from + 1, violates, budget)) return true;
   }
   row[from] = kDontCare;
   return false;
 }
 
 Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& levels,
-                           const RowViolates& violates) {
+                           const RowViolates& violates, SearchBudget& budget) {
   Feasibility f{Bitset(space.total()), 0};
   if (!violates) return f;
   Bitset feasible(space.total());
   auto mark_feasible = [&](const Row& r) {
     space.for_each_tuple(r, [&](std::size_t i) { feasible.set(i); });
   };
-  auto any = complete_row(levels, Row(levels.size(), kDontCare), violates);
+  auto any = complete_row(levels, Row(levels.size(), kDontCare), violates, budget);
   if (!any) throw std::domain_error("the constraints exclude every row");
   mark_feasible(*any);
   Row partial(levels.size(), kDontCare);
@@ -52,7 +54,7 @@ Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& leve
       std::fill(partial.begin(), partial.end(), kDontCare);
       space.decode(k, i, partial);
       std::optional<Row> witness;
-      if (!violates(partial)) witness = complete_row(levels, partial, violates);
+      if (!violates(partial)) witness = complete_row(levels, partial, violates, budget);
       if (witness) {
         mark_feasible(*witness);
       } else {
@@ -67,9 +69,10 @@ Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& leve
 class Builder {
  public:
   Builder(const TupleSpace& space, const Feasibility& feasibility, const RowViolates& violates,
-          const CoveringArrayOptions& options, std::uint64_t seed)
+          SearchBudget& budget, const CoveringArrayOptions& options, std::uint64_t seed)
       : space_(space),
         violates_(violates),
+        budget_(budget),
         options_(options),
         rng_(seed),
         covered_(feasibility.forbidden),
@@ -155,7 +158,7 @@ class Builder {
     const auto c = static_cast<std::size_t>(col);
     for (const auto& [s, v] : order) {
       row[c] = v;
-      if (!violates_ || complete_row(levels_of_space(), row, violates_)) {
+      if (!violates_ || complete_row(levels_of_space(), row, violates_, budget_)) {
         assigned.push_back(col);
         return gains[static_cast<std::size_t>(v)];
       }
@@ -210,7 +213,7 @@ class Builder {
 
   Row fill_seed(const Row& seed) {
     Row row = seed;
-    if (violates_ && !complete_row(levels_of_space(), row, violates_))
+    if (violates_ && !complete_row(levels_of_space(), row, violates_, budget_))
       throw std::domain_error("a seed row cannot be completed without breaking a constraint");
     std::vector<int> assigned;
     for (int c = 0; c < space_.columns(); ++c)
@@ -261,6 +264,7 @@ class Builder {
 
   const TupleSpace& space_;
   const RowViolates& violates_;
+  SearchBudget& budget_;  // shared with find_forbidden and the other restarts
   const CoveringArrayOptions& options_;
   core::SplitMix64 rng_;
   Bitset covered_;  // covered, or forbidden (never required)
@@ -313,24 +317,39 @@ void validate(const std::vector<int>& levels, const CoveringArrayOptions& option
 
 }  // namespace
 
+void SearchBudget::spend() {
+  if (used_ >= limit_)
+    throw UsageError(fmt::format("the constraints took more than {} search steps to satisfy "
+                                 "(ca --max-search-steps raises it)",
+                                 limit_));
+  ++used_;
+}
+
+std::optional<std::vector<int>> complete_row(const std::vector<int>& levels, std::vector<int> partial,
+                                             const RowViolates& violates, SearchBudget& budget) {
+  if (!complete_from(levels, partial, 0, violates, budget)) return std::nullopt;
+  return partial;
+}
+
 std::optional<std::vector<int>> complete_row(const std::vector<int>& levels, std::vector<int> partial,
                                              const RowViolates& violates) {
-  if (!complete_from(levels, partial, 0, violates)) return std::nullopt;
-  return partial;
+  SearchBudget budget;
+  return complete_row(levels, std::move(partial), violates, budget);
 }
 
 CoveringArray generate_covering_array(const std::vector<int>& levels, const CoveringArrayOptions& options,
                                       const RowViolates& violates) {
   validate(levels, options);
   const TupleSpace space(levels, options.strength);
-  const Feasibility feasibility = find_forbidden(space, levels, violates);
+  SearchBudget budget(options.max_search_steps);
+  const Feasibility feasibility = find_forbidden(space, levels, violates, budget);
   CoveringArray best;
   best.levels = levels;
   best.strength = options.strength;
   best.required_tuples = space.total() - feasibility.forbidden_count;
   best.forbidden_tuples = feasibility.forbidden_count;
   for (int attempt = 0; attempt < options.restarts; ++attempt) {
-    Builder builder(space, feasibility, violates, options,
+    Builder builder(space, feasibility, violates, budget, options,
                     options.seed * 0x100000001B3ULL + static_cast<std::uint64_t>(attempt));
     auto rows = builder.build();
     if (attempt == 0 || rows.size() < best.rows.size()) best.rows = std::move(rows);
@@ -343,8 +362,10 @@ CoveringArray generate_covering_array(const std::vector<int>& levels, const Cove
 }
 
 ArrayCheck check_covering_array(const std::vector<int>& levels, int strength,
-                                const std::vector<std::vector<int>>& rows, const RowViolates& violates) {
+                                const std::vector<std::vector<int>>& rows, const RowViolates& violates,
+                                std::uint64_t max_search_steps) {
   ArrayCheck report;
+  SearchBudget budget(max_search_steps);
   const std::size_t n = levels.size();
   for (std::size_t r = 0; r < rows.size(); ++r) {
     bool bad = rows[r].size() != n;
@@ -375,7 +396,7 @@ ArrayCheck check_covering_array(const std::vector<int>& levels, int strength,
           partial[cols[j]] = static_cast<int>(rest % static_cast<std::size_t>(levels[cols[j]]));
           rest /= static_cast<std::size_t>(levels[cols[j]]);
         }
-        if (!seen[i] && violates && !complete_row(levels, partial, violates)) continue;  // forbidden
+        if (!seen[i] && violates && !complete_row(levels, partial, violates, budget)) continue;  // forbidden
         ++report.required_tuples;
         if (seen[i]) {
           ++report.covered_tuples;

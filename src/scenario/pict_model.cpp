@@ -384,6 +384,36 @@ bool starts_constraint(const std::string& line) {
                         u.rfind("NOT ", 0) == 0);
 }
 
+// Throws InputError when no row satisfies `model`'s constraints, at the first constraint that with
+// those before it excludes every row. One search budget covers the whole check, culprit included;
+// running out is reported at the first constraint, since no single one is to blame yet.
+void check_satisfiable(const PictModel& model, const std::vector<NodePtr>& constraints,
+                       std::uint64_t max_search_steps) {
+  const auto& params = model.parameters();
+  const std::vector<int> empty(params.size(), kDontCare);
+  const SourceLocation& first = constraints.front()->where;
+  SearchBudget budget(max_search_steps);
+  try {
+    if (complete_row(model.levels(), empty, model.row_violates(), budget)) return;
+  } catch (const UsageError& e) {
+    throw InputError(first, e.what());
+  }
+  const std::string unsatisfiable = "the constraints are unsatisfiable: no row satisfies them all";
+  try {
+    for (std::size_t k = 1; k <= constraints.size(); ++k) {
+      const PictModel prefix(params, std::vector<NodePtr>(constraints.begin(),
+                                                          constraints.begin() + static_cast<std::ptrdiff_t>(k)));
+      if (!complete_row(prefix.levels(), empty, prefix.row_violates(), budget))
+        throw InputError(constraints[k - 1]->where, unsatisfiable);
+    }
+  } catch (const UsageError&) {
+    // Known to be unsatisfiable; only the culprit is missing.
+    throw InputError(first, fmt::format("{} (finding the first constraint to blame took more than {} search steps; "
+                                        "ca --max-search-steps raises it)",
+                                        unsatisfiable, max_search_steps));
+  }
+}
+
 }  // namespace
 
 PictModel::PictModel(std::vector<PictParameter> parameters,
@@ -406,7 +436,7 @@ RowViolates PictModel::row_violates() const {
   return [this](std::span<const int> row) { return violates(row); };
 }
 
-PictModel parse_pict_model(std::string_view text, const std::string& file) {
+PictModel parse_pict_model(std::string_view text, const std::string& file, std::uint64_t max_search_steps) {
   std::vector<PictParameter> params;
   std::size_t pos = 0;
   int line_no = 0;
@@ -466,22 +496,12 @@ PictModel parse_pict_model(std::string_view text, const std::string& file) {
   if (constraints_at < text.size())
     constraints = ConstraintParser(text.substr(constraints_at), constraints_line, file, params).parse_all();
   PictModel model(params, constraints);
-  if (!constraints.empty() &&
-      !complete_row(model.levels(), std::vector<int>(params.size(), kDontCare), model.row_violates())) {
-    // Point at the first constraint that, with those before it, excludes every row.
-    for (std::size_t k = 1; k <= constraints.size(); ++k) {
-      PictModel prefix(params, std::vector<NodePtr>(constraints.begin(),
-                                                    constraints.begin() + static_cast<std::ptrdiff_t>(k)));
-      if (!complete_row(prefix.levels(), std::vector<int>(params.size(), kDontCare), prefix.row_violates()))
-        throw InputError(constraints[k - 1]->where,
-                         "the constraints are unsatisfiable: no row satisfies them all");
-    }
-  }
+  if (!constraints.empty()) check_satisfiable(model, constraints, max_search_steps);
   return model;
 }
 
-PictModel load_pict_model(const std::filesystem::path& path) {
-  return parse_pict_model(core::read_input_file(path), path.string());
+PictModel load_pict_model(const std::filesystem::path& path, std::uint64_t max_search_steps) {
+  return parse_pict_model(core::read_input_file(path), path.string(), max_search_steps);
 }
 
 }  // namespace emrm::scenario

@@ -59,10 +59,14 @@ class PictModel {
 /// parameters, a parameter without values, a duplicate parameter or value, a constraint naming an
 /// unknown parameter, syntax PICT has but emrm does not (sub-models, LIKE, ...) or that is
 /// malformed, ordering comparisons with non-numbers, and a constraint set no row satisfies
-/// (pointing at the first constraint that makes it unsatisfiable).
-[[nodiscard]] PictModel parse_pict_model(std::string_view text, const std::string& file);
+/// (pointing at the first constraint that makes it unsatisfiable). Deciding that takes at most
+/// `max_search_steps` steps of the constraint search (SearchBudget, for the whole set and the search
+/// for the culprit together); more is an InputError at the first constraint naming the limit.
+[[nodiscard]] PictModel parse_pict_model(std::string_view text, const std::string& file,
+                                         std::uint64_t max_search_steps = kDefaultMaxSearchSteps);
 
 /// Reads and parses a model file. Throws InputError as parse_pict_model, or when unreadable.
-[[nodiscard]] PictModel load_pict_model(const std::filesystem::path& path);
+[[nodiscard]] PictModel load_pict_model(const std::filesystem::path& path,
+                                        std::uint64_t max_search_steps = kDefaultMaxSearchSteps);
 
 }  // namespace emrm::scenario

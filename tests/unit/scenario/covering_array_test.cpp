@@ -3,6 +3,7 @@
 
 #include "emrm/scenario/covering_array.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,8 +11,11 @@
 #include <cstdint>
 #include <random>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "emrm/core/error.hpp"
 
 namespace emrm::scenario {
 namespace {
@@ -269,6 +273,92 @@ TEST(CoveringArray, RejectsBadArguments) {
   EXPECT_THROW((void)generate_covering_array({2, 2, 2}, negative_moves), std::invalid_argument);
   const RowViolates everything = [](std::span<const int> r) { return r[0] != kDontCare; };
   EXPECT_THROW((void)generate_covering_array({2, 2}, {}, everything), std::domain_error);
+}
+
+// 30 two-level factors where x1 = 1 is impossible, but only the last factor shows it: the search
+// has to try all 2^28 values of the factors in between before it can tell.
+constexpr int kHopelessFactors = 30;
+bool hopeless_violates(std::span<const int> r) { return r[0] == 1 && r.back() != kDontCare; }
+
+template <class F>
+std::string usage_error_of(F&& f) {
+  try {
+    f();
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "no UsageError";
+}
+
+TEST(CoveringArray, SearchBudgetStopsAHopelessCompletion) {
+  const std::vector<int> levels(kHopelessFactors, 2);
+  std::vector<int> partial(kHopelessFactors, kDontCare);
+  partial[0] = 1;
+  SearchBudget budget(1000);
+  const auto message = usage_error_of([&] { (void)complete_row(levels, partial, hopeless_violates, budget); });
+  EXPECT_EQ(message, "the constraints took more than 1000 search steps to satisfy (ca --max-search-steps raises it)");
+  EXPECT_EQ(budget.used(), 1000U);
+  // The same budget is spent: a search that would fit a fresh one does not fit what is left.
+  EXPECT_THROW((void)complete_row(levels, std::vector<int>(kHopelessFactors, kDontCare), hopeless_violates, budget),
+               UsageError);
+  SearchBudget fresh(kHopelessFactors + 1);  // one step per node: the root and one per factor
+  EXPECT_TRUE(complete_row(levels, std::vector<int>(kHopelessFactors, kDontCare), hopeless_violates, fresh));
+  EXPECT_EQ(fresh.used(), static_cast<std::uint64_t>(kHopelessFactors + 1));
+}
+
+// A valid row is found at once, but proving the tuples with x1 = 1 infeasible never ends: the
+// generation stops at its budget, the default one too, instead of running for hours.
+TEST(CoveringArray, GenerationStopsAtTheSearchBudget) {
+  const std::vector<int> levels(kHopelessFactors, 2);
+  EXPECT_TRUE(complete_row(levels, std::vector<int>(kHopelessFactors, kDontCare), hopeless_violates));
+  CoveringArrayOptions small;
+  small.max_search_steps = 5000;
+  EXPECT_THAT(usage_error_of([&] { (void)generate_covering_array(levels, small, hopeless_violates); }),
+              ::testing::HasSubstr("more than 5000 search steps to satisfy (ca --max-search-steps raises it)"));
+  EXPECT_THAT(usage_error_of([&] { (void)generate_covering_array(levels, {}, hopeless_violates); }),
+              ::testing::HasSubstr(std::to_string(kDefaultMaxSearchSteps) + " search steps"));
+}
+
+// The budget caps work and changes nothing else: a budget just large enough gives the same array
+// as the default, and one step less fails. The builder's completions count too, not only the
+// search for forbidden tuples.
+TEST(CoveringArray, BudgetWithinReachLeavesTheArrayUnchanged) {
+  const RowViolates violates = [](std::span<const int> r) { return r[0] == 0 && r[1] == 0; };
+  const std::vector<int> levels{2, 2, 2, 3};
+  const auto reference = generate_covering_array(levels, {}, violates);
+  std::uint64_t low = 0;  // fails
+  std::uint64_t high = kDefaultMaxSearchSteps;  // works
+  CoveringArrayOptions options;
+  auto works = [&](std::uint64_t steps) {
+    options.max_search_steps = steps;
+    try {
+      return generate_covering_array(levels, options, violates).rows == reference.rows;
+    } catch (const UsageError&) {
+      return false;
+    }
+  };
+  while (high - low > 1) {  // works() is monotone: the search does not depend on the budget
+    const std::uint64_t mid = low + (high - low) / 2;
+    if (works(mid)) {
+      high = mid;
+    } else {
+      low = mid;
+    }
+  }
+  EXPECT_GT(high, 200U);  // far more than finding the forbidden tuple alone takes
+  EXPECT_TRUE(works(high));
+  EXPECT_FALSE(works(high - 1));
+}
+
+TEST(CoveringArray, CheckerStopsAtItsSearchBudget) {
+  const std::vector<int> levels(kHopelessFactors, 2);
+  const std::vector<std::vector<int>> rows{std::vector<int>(kHopelessFactors, 0)};
+  EXPECT_THAT(usage_error_of([&] { (void)check_covering_array(levels, 2, rows, hopeless_violates, 2000); }),
+              ::testing::HasSubstr("more than 2000 search steps"));
+  const RowViolates easy = [](std::span<const int> r) { return r[0] == 0 && r[1] == 0; };
+  const auto report = check_covering_array({2, 2}, 2, {{0, 1}, {1, 0}, {1, 1}}, easy, 20);
+  EXPECT_TRUE(report.ok()) << report.first_problem;
+  EXPECT_EQ(report.required_tuples, 3U);
 }
 
 TEST(CoveringArray, CheckerReportsAMissingPair) {

@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <string>
+
 namespace emrm::scenario {
 namespace {
 
@@ -61,6 +64,59 @@ TEST(PictModel, BadInputIsReportedAtLineAndColumn) {
   expect_error_at("A: 1, 2\nB: 1, 2\n[A] = 1;\n[A] = 2;\n", 4, 1, "unsatisfiable");
   expect_error_at("A: 1, 2\n{ A } @ 2\n", 2, 1, "sub-models");
   expect_error_at("A 1, 2\n", 1, 1, "expected a parameter line");
+}
+
+// 30 two-value parameters and two constraints that contradict each other only once the last one is
+// set: proving that no row exists visits all 2^31 nodes of the search (a fuzzer's 28-parameter
+// model like this took 41 s; this one would take minutes).
+std::string hopeless_model() {
+  std::string text = "# no row satisfies this, and only the last parameter shows it\n";
+  for (int i = 1; i <= 30; ++i) text += "X" + std::to_string(i) + ": 0, 1\n";
+  return text + "\n[X30] = [X1];\n[X30] <> [X1];\n";
+}
+
+InputError input_error_of(const std::string& text, std::uint64_t max_search_steps) {
+  try {
+    (void)parse_pict_model(text, "m.txt", max_search_steps);
+  } catch (const InputError& e) {
+    return e;
+  }
+  return InputError({}, "no InputError");
+}
+
+TEST(PictModel, HopelessConstraintsStopAtTheSearchBudget) {
+  for (const std::uint64_t steps : {std::uint64_t{1000}, kDefaultMaxSearchSteps}) {
+    const InputError e = input_error_of(hopeless_model(), steps);
+    EXPECT_EQ(e.where().file, "m.txt");
+    EXPECT_EQ(e.where().line, 33);  // the first constraint
+    EXPECT_EQ(e.where().column, 1);
+    EXPECT_EQ(e.message(), "the constraints took more than " + std::to_string(steps) +
+                               " search steps to satisfy (ca --max-search-steps raises it)");
+  }
+}
+
+// One step is one node of the search. kSample's first row, 30 dry day, is valid: the root and three
+// parameters take four steps. An unsatisfiable pair takes 3 steps to refute, the culprit search 3
+// for [A] = 1 alone (satisfiable) and 3 more for both: nine in all, from one budget.
+TEST(PictModel, SmallBudgetsSufficeForEasyModels) {
+  EXPECT_EQ(parse_pict_model(kSample, "m.txt", 4).constraint_count(), 3U);
+  EXPECT_THAT(input_error_of(kSample, 3).message(), ::testing::HasSubstr("more than 3 search steps"));
+  EXPECT_EQ(input_error_of(kSample, 3).where().line, 6);
+
+  const std::string unsatisfiable = "A: 1, 2\nB: 1, 2\n[A] = 1;\n[A] = 2;\n";
+  const InputError culprit = input_error_of(unsatisfiable, 9);
+  EXPECT_EQ(culprit.where().line, 4);
+  EXPECT_EQ(culprit.message(), "the constraints are unsatisfiable: no row satisfies them all");
+  // Refuted, but the budget ends in the search for the culprit: unsatisfiable, at the first one.
+  const InputError no_culprit = input_error_of(unsatisfiable, 8);
+  EXPECT_EQ(no_culprit.where().line, 3);
+  EXPECT_EQ(no_culprit.message(),
+            "the constraints are unsatisfiable: no row satisfies them all (finding the first constraint to blame "
+            "took more than 8 search steps; ca --max-search-steps raises it)");
+  const InputError undecided = input_error_of(unsatisfiable, 2);
+  EXPECT_EQ(undecided.where().line, 3);
+  EXPECT_EQ(undecided.message(),
+            "the constraints took more than 2 search steps to satisfy (ca --max-search-steps raises it)");
 }
 
 // Hostile constraints: 50 000 nested parentheses (overflowed the stack) are refused at the depth
