@@ -4,9 +4,10 @@
 # a crash, a leak, an input slower than 10 s or one using more than 2 GB; its input is then in
 # BUILD/fuzz-artifacts/TARGET/ (save it under tests/fuzz-regressions/TARGET/ once fixed).
 #
-#   scripts/fuzz.sh [--seconds S] [--build DIR] [--jobs N] [TARGET...]
+#   scripts/fuzz.sh [--seconds S] [--build DIR] [--jobs N] [--seed K] [TARGET...]
 #
-# Defaults: 30 s, build/clang, 2 jobs, every target. The working corpus grows in
+# Defaults: 30 s, build/clang, 2 jobs, seed 1 (libFuzzer's -seed: the same mutations on every
+# machine, so CI's smoke run is reproducible; 0 picks a random one), every target. The working corpus grows in
 # BUILD/fuzz-corpus/TARGET/, seeded from fuzz/seeds/TARGET/ (kept between runs: a long campaign
 # is the same command with more seconds, or several in a row).
 set -euo pipefail
@@ -14,13 +15,15 @@ cd "$(dirname "$0")/.."
 seconds=30
 build=build/clang
 jobs=2
+seed=1
 targets=()
 while (($#)); do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --seed) seed="$2"; shift 2 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     -*) echo "fuzz.sh: unknown option '$1'" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -38,7 +41,7 @@ run_one() {
   cp -L fuzz/seeds/"$t"/* "$corpus"/ 2>/dev/null || true
   local status=0
   ASAN_OPTIONS="detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
-    "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+    "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
     -close_fd_mask=1 -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
   local execs cov corpus_size
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
@@ -53,5 +56,5 @@ run_one() {
   fi
 }
 export -f run_one
-export build seconds
+export build seconds seed
 printf '%s\n' "${targets[@]}" | xargs -P "$jobs" -I{} bash -c 'run_one "$@"' _ {} || exit 1

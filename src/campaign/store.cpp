@@ -123,11 +123,18 @@ class Statement {
   void bind(int i, bool v) { sqlite3_bind_int(stmt_, i, v ? 1 : 0); }
   void bind_null(int i) { sqlite3_bind_null(stmt_, i); }
 
+  /// The text of a column; a store edited by hand may hold bytes that are not UTF-8, refused here
+  /// before they reach a JSON or CSV writer.
   std::string text(int col) const {
     const auto* p = sqlite3_column_text(stmt_, col);
-    return p ? std::string(reinterpret_cast<const char*>(p),
-                           static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
-             : std::string();
+    std::string value = p ? std::string(reinterpret_cast<const char*>(p),
+                                        static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+                          : std::string();
+    if (const auto bad = core::first_invalid_utf8(value))
+      throw UsageError(fmt::format("{}: error: not an emrm results store (column '{}' holds a byte that is not "
+                                   "UTF-8 at offset {}; it was damaged or edited)",
+                                   path_->string(), sqlite3_column_name(stmt_, col), *bad));
+    return value;
   }
   double real(int col) const { return sqlite3_column_double(stmt_, col); }
   std::int64_t int64(int col) const { return sqlite3_column_int64(stmt_, col); }
@@ -193,7 +200,12 @@ CampaignMeta load_meta(sqlite3* db, const std::filesystem::path& path) {
     int rc = 0;
     const auto column = [&](int i) {  // NULL (a store edited by hand) reads as empty
       const unsigned char* text = sqlite3_column_text(raw, i);
-      return text != nullptr ? std::string(reinterpret_cast<const char*>(text)) : std::string();
+      std::string value = text != nullptr ? std::string(reinterpret_cast<const char*>(text)) : std::string();
+      if (core::first_invalid_utf8(value)) {
+        sqlite3_finalize(raw);
+        not_a_store(path, "its metadata holds a byte that is not UTF-8");
+      }
+      return value;
     };
     while ((rc = sqlite3_step(raw)) == SQLITE_ROW) kv[column(0)] = column(1);
     sqlite3_finalize(raw);
