@@ -13,6 +13,11 @@ namespace {
 
 using ::testing::HasSubstr;
 
+// A PICT model with one constraint, every row easy to complete.
+const char* const kSmallModel =
+    "Speed: 30, 50, 70\nRoad: dry, wet, icy\nLight: day, night\n"
+    "IF [Road] = \"icy\" THEN [Speed] <= 50;\n";
+
 std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(text);
@@ -43,9 +48,7 @@ TEST(CaCli, LevelsGiveASmallPairwiseArray) {
 
 TEST(CaCli, PictModelWithCheck) {
   const auto dir = scratch_dir("ca-model");
-  write_text(dir / "m.txt",
-             "Speed: 30, 50, 70\nRoad: dry, wet, icy\nLight: day, night\n"
-             "IF [Road] = \"icy\" THEN [Speed] <= 50;\n");
+  write_text(dir / "m.txt", kSmallModel);
   const auto r = run_emrm("ca " + quoted(dir / "m.txt") + " --check --seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("Speed,Road,Light\n"));
@@ -98,9 +101,7 @@ TEST(CaCli, HopelessConstraintsStopAtTheSearchBudget) {
 
 TEST(CaCli, MaxSearchStepsWithinReachChangesNothing) {
   const auto dir = scratch_dir("ca-budget-easy");
-  write_text(dir / "m.txt",
-             "Speed: 30, 50, 70\nRoad: dry, wet, icy\nLight: day, night\n"
-             "IF [Road] = \"icy\" THEN [Speed] <= 50;\n");
+  write_text(dir / "m.txt", kSmallModel);
   const auto plain = run_emrm("ca " + quoted(dir / "m.txt") + " --check");
   const auto budget = run_emrm("ca " + quoted(dir / "m.txt") + " --check --max-search-steps 100000");
   ASSERT_EQ(budget.exit_code, 0) << budget.err;
