@@ -162,6 +162,8 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError({file, 1, static_cast<int>(e.byte)}, fmt::format("not valid JSON: {}", e.what()));
+  } catch (const nlohmann::json::exception& e) {  // a number too large for a double: 1e999
+    throw InputError({file, 1, 1}, fmt::format("not valid JSON: {}", e.what()));
   }
   if (!j.is_object()) throw InputError({file, 1, 1}, "expected a scenarios.json object (odd, settings, scenarios)");
   PlanSettings s;

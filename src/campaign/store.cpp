@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -92,6 +93,17 @@ std::vector<Polyline> decode_lines(std::string_view text) {
   throw Error(fmt::format("{}: {}: {}", path.string(), what, db ? sqlite3_errmsg(db) : "out of memory"));
 }
 
+// A text column (NULL, in a store edited by hand, reads as empty), or nothing when its bytes are
+// not UTF-8.
+std::optional<std::string> column_text(sqlite3_stmt* stmt, int col) {
+  const auto* p = sqlite3_column_text(stmt, col);
+  std::string value =
+      p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt, col)))
+        : std::string();
+  if (core::first_invalid_utf8(value)) return std::nullopt;
+  return value;
+}
+
 // A prepared statement that finalizes itself.
 class Statement {
  public:
@@ -126,15 +138,10 @@ class Statement {
   /// The text of a column; a store edited by hand may hold bytes that are not UTF-8, refused here
   /// before they reach a JSON or CSV writer.
   std::string text(int col) const {
-    const auto* p = sqlite3_column_text(stmt_, col);
-    std::string value = p ? std::string(reinterpret_cast<const char*>(p),
-                                        static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
-                          : std::string();
-    if (const auto bad = core::first_invalid_utf8(value))
-      throw UsageError(fmt::format("{}: error: not an emrm results store (column '{}' holds a byte that is not "
-                                   "UTF-8 at offset {}; it was damaged or edited)",
-                                   path_->string(), sqlite3_column_name(stmt_, col), *bad));
-    return value;
+    if (auto value = column_text(stmt_, col)) return *value;
+    throw UsageError(fmt::format("{}: error: not an emrm results store (column '{}' holds a byte that is not "
+                                 "UTF-8; it was damaged or edited)",
+                                 path_->string(), sqlite3_column_name(stmt_, col)));
   }
   double real(int col) const { return sqlite3_column_double(stmt_, col); }
   std::int64_t int64(int col) const { return sqlite3_column_int64(stmt_, col); }
@@ -199,13 +206,12 @@ CampaignMeta load_meta(sqlite3* db, const std::filesystem::path& path) {
     }
     int rc = 0;
     const auto column = [&](int i) {  // NULL (a store edited by hand) reads as empty
-      const unsigned char* text = sqlite3_column_text(raw, i);
-      std::string value = text != nullptr ? std::string(reinterpret_cast<const char*>(text)) : std::string();
-      if (core::first_invalid_utf8(value)) {
+      auto value = column_text(raw, i);
+      if (!value) {
         sqlite3_finalize(raw);
         not_a_store(path, "its metadata holds a byte that is not UTF-8");
       }
-      return value;
+      return *value;
     };
     while ((rc = sqlite3_step(raw)) == SQLITE_ROW) kv[column(0)] = column(1);
     sqlite3_finalize(raw);

@@ -33,6 +33,8 @@ nlohmann::json parse_json_file(const fs::path& path) {
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError({path.string(), 1, static_cast<int>(e.byte)},
                      fmt::format("not valid JSON: {}", e.what()));
+  } catch (const nlohmann::json::exception& e) {  // a number too large for a double: 1e999
+    throw InputError({path.string(), 1, 1}, fmt::format("not valid JSON: {}", e.what()));
   }
 }
 
