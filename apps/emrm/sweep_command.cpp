@@ -24,6 +24,10 @@ struct SweepCommandOptions {
   bool force = false;
   std::string profile;
   std::string progress_log;
+  bool adaptive = false;
+  std::size_t verify_sample = 100;
+  std::size_t initial_levels = 5;
+  std::size_t stride = 4;
 };
 
 struct MergeCommandOptions {
@@ -31,12 +35,39 @@ struct MergeCommandOptions {
   std::vector<std::string> dirs;
 };
 
+double percent(std::size_t part, std::size_t whole) {
+  return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+}
+
+// The adaptive search of one grid in three lines: what it cost, what the sample found, what broke
+// monotonicity.
+void print_adaptive(const campaign::AdaptiveSummary& a) {
+  std::cout << fmt::format("grid '{}': simulated {} of {} cells ({:.1f} %); {} inferred ({} by the stop boundary)\n",
+                           a.grid, a.simulated, a.feasible, percent(a.simulated, a.feasible), a.inferred,
+                           a.inferred_stop);
+  if (a.verify_sampled > 0)
+    std::cout << fmt::format(
+        "  verification: {} of {} sampled inferred cells disagreed ({:.1f} %; 95 % Wilson interval {:.1f} to "
+        "{:.1f} %)\n",
+        a.verify_disagreements, a.verify_sampled, percent(a.verify_disagreements, a.verify_sampled),
+        100.0 * a.disagreement_low, 100.0 * a.disagreement_high);
+  else
+    std::cout << "  verification: none (--verify-sample 0, or nothing inferred from simulations)\n";
+  std::cout << fmt::format("  monotonicity: {} violation{} found, {} line{} resolved in full around them\n",
+                           a.violations, a.violations == 1 ? "" : "s", a.lines_fully_resolved,
+                           a.lines_fully_resolved == 1 ? "" : "s");
+}
+
 int run_sweep(const SweepCommandOptions& o) {
   campaign::SweepOptions options;
   campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
   options.output_dir = o.output_dir;
   options.threads = o.threads;
   options.progress_log = o.progress_log;
+  options.adaptive = o.adaptive;
+  options.verify_sample = o.verify_sample;
+  options.initial_levels = o.initial_levels;
+  options.stride = o.stride;
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
   if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
   const campaign::SweepSummary s = campaign::sweep(c, options);
@@ -47,6 +78,7 @@ int run_sweep(const SweepCommandOptions& o) {
       options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
                               : std::string(),
       o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
+  for (const auto& a : s.adaptive) print_adaptive(a);
   std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n",
                            o.output_dir);
   return static_cast<int>(ExitCode::kSuccess);
@@ -85,6 +117,21 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_option("--progress-log", s->progress_log,
                     "Also write the progress to FILE, one JSON line per commit: done, total, elapsed_s, eta_s")
       ->type_name("FILE");
+  sweep->add_flag("--adaptive", s->adaptive,
+                  "Adaptive boundary search on every product grid: simulate only the cells near region "
+                  "boundaries and infer the rest (docs/adaptive.md)");
+  sweep->add_option("--verify-sample", s->verify_sample,
+                    "Adaptive: inferred cells re-simulated at random to measure the disagreement rate")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{1000000}, "0 to 1000000"))
+      ->capture_default_str();
+  sweep->add_option("--initial-levels", s->initial_levels,
+                    "Adaptive: lines sampled per factor before refining (2 to 1000)")
+      ->check(CLI::Range(std::size_t{2}, std::size_t{1000}, "2 to 1000"))
+      ->capture_default_str();
+  sweep->add_option("--stride", s->stride,
+                    "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
+      ->capture_default_str();
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
     exit_code = run_sweep(*s);

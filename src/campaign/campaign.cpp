@@ -70,6 +70,7 @@ std::string too_many_cells_message(const std::string& grid, double cells, std::s
 struct GridNodes {
   core::YamlNode grid;
   std::optional<core::YamlNode> cells;
+  std::optional<core::YamlNode> adaptive;
   std::array<std::optional<core::YamlNode>, kFactors.size()> factors;
 };
 
@@ -93,17 +94,24 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
       (void)value.as_string();
     } else if (k == "keep_trees") {
       grid.keep_trees = value.as_bool();
+    } else if (k == "adaptive") {
+      grid.adaptive = value.as_bool();
+      nodes.adaptive = value;
     } else if (auto f = factor_index(k)) {
       factors[*f] = core::expand_values(value);
       nodes.factors[*f] = value;
     } else {
-      key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, cells or a factor (" +
+      key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, adaptive, cells or a factor (" +
                factor_list() + ")");
     }
   }
   if (!named) node.fail("a grid needs a 'name'");
 
   sim::CellInput base = default_cell(scene);
+  if (nodes.cells && grid.adaptive)
+    nodes.adaptive->fail(fmt::format("grid '{}' lists its cells: adaptive needs a product grid (factors with "
+                                     "levels), whose neighbouring cells the search can compare",
+                                     grid.name));
   if (nodes.cells) {
     // Grid-level factors are the defaults of every listed cell, so they must be single values.
     sim::CellInput defaults = base;
@@ -146,6 +154,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
   if (count + static_cast<double>(cells_before) > static_cast<double>(kMaxCampaignCells))
     node.fail(campaign_too_large_message(count + static_cast<double>(cells_before)));
   grid.cells.reserve(static_cast<std::size_t>(count));
+  for (std::size_t f = 0; f < kFactors.size(); ++f) grid.levels[f] = factors[f];
   for (double speed : factors[0])
     for (double ttc : factors[1])
       for (double mu : factors[2])
@@ -273,7 +282,7 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
   std::vector<GridNodes> grid_nodes;
   std::size_t cells = 0;
   for (const auto& element : grids_node->elements()) {
-    GridNodes& nodes = grid_nodes.emplace_back(GridNodes{element, std::nullopt, {}});
+    GridNodes& nodes = grid_nodes.emplace_back(GridNodes{element, std::nullopt, std::nullopt, {}});
     campaign.grids.push_back(read_grid(element, campaign.scene, campaign.max_cells, force, cells, nodes));
     cells += campaign.grids.back().cells.size();
   }

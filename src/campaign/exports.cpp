@@ -33,7 +33,7 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   std::ostream& json = json_file.stream();
   regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible",
                              "region", "evidence", "mitigation_evidence", "p_mais3_reduction",
-                             "p_fatal_reduction"});
+                             "p_fatal_reduction", "method"});
   cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy",
                            "avoided", "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss",
                            "min_ttc_s", "road_departure", "departure_speed_kph", "evidence"});
@@ -47,8 +47,9 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     region.push_back(r.region);
     region.push_back(r.evidence);
     region.push_back(r.mitigation_evidence);
-    region.push_back(r.feasible ? number(r.p_mais3_reduction) : "");
-    region.push_back(r.feasible ? number(r.p_fatal_reduction) : "");
+    region.push_back(r.feasible && r.method == "simulated" ? number(r.p_mais3_reduction) : "");
+    region.push_back(r.feasible && r.method == "simulated" ? number(r.p_fatal_reduction) : "");
+    region.push_back(r.feasible ? r.method : "");
     regions << core::csv_line(region);
     nlohmann::ordered_json j{{"grid", r.grid},
                              {"index", r.index},
@@ -60,7 +61,11 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
                              {"seed", r.seed},
                              {"feasible", r.feasible},
                              {"region", r.region}};
-    if (r.feasible) {
+    if (r.feasible && r.method == "inferred") {
+      j["method"] = r.method;
+      j["inferred_from"] = r.inferred_from;
+    } else if (r.feasible) {
+      j["method"] = r.method;
       j["evidence"] = r.evidence;
       if (!r.mitigation_evidence.empty()) j["mitigation_evidence"] = r.mitigation_evidence;
       j["strengthened"] = r.strengthened;

@@ -34,6 +34,7 @@ CREATE TABLE cells(
   unmitigated_p_mais3 REAL NOT NULL, unmitigated_p_fatal REAL NOT NULL, unmitigated_loss_level INTEGER NOT NULL,
   evidence TEXT NOT NULL, mitigation_evidence TEXT NOT NULL, strengthened INTEGER NOT NULL, certificate TEXT NOT NULL,
   p_mais3_reduction REAL NOT NULL, p_fatal_reduction REAL NOT NULL,
+  method TEXT NOT NULL, inferred_from TEXT NOT NULL,
   PRIMARY KEY(grid, cell_index)) WITHOUT ROWID;
 CREATE TABLE outcomes(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL, strategy TEXT NOT NULL,
@@ -48,6 +49,7 @@ CREATE TABLE trajectories(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL,
   path TEXT NOT NULL, goal_tree TEXT NOT NULL, failsafe_tree TEXT NOT NULL,
   PRIMARY KEY(grid, cell_index, position)) WITHOUT ROWID;
+CREATE TABLE adaptive(grid TEXT PRIMARY KEY, summary TEXT NOT NULL) WITHOUT ROWID;
 )sql";
 
 // Polylines as text: points "t x y v" joined by ';', polylines joined by '|'.
@@ -377,7 +379,7 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
   if (batch.empty()) return;
   exec(db_, path_, "BEGIN IMMEDIATE");
   try {
-    Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     Statement outcome(db_, path_, "INSERT INTO outcomes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     Statement trajectory(db_, path_, "INSERT INTO trajectories VALUES(?,?,?,?,?,?)");
     for (const auto& r : batch) {
@@ -403,6 +405,10 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
       cell.bind(19, r.certificate);
       cell.bind(20, r.p_mais3_reduction);
       cell.bind(21, r.p_fatal_reduction);
+      cell.bind(22, r.method);
+      std::string from;
+      for (const std::int64_t i : r.inferred_from) from += (from.empty() ? "" : " ") + std::to_string(i);
+      cell.bind(23, from);
       cell.step();
       for (std::size_t i = 0; i < r.outcomes.size(); ++i) {
         const auto& o = r.outcomes[i];
@@ -454,8 +460,39 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
 }
 
 void ResultStore::for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const {
-  Statement q(db_, path_, "SELECT g.position, c.cell_index FROM cells c JOIN grids g ON g.name = c.grid");
+  Statement q(db_, path_,
+              "SELECT g.position, c.cell_index FROM cells c JOIN grids g ON g.name = c.grid WHERE c.method = 'simulated'");
   while (q.step()) visit(static_cast<std::size_t>(q.int64(0)), q.int64(1));
+}
+
+std::vector<std::pair<std::int64_t, std::string>> ResultStore::simulated_regions(const std::string& grid) const {
+  Statement q(db_, path_,
+              "SELECT cell_index, region FROM cells WHERE grid = ? AND method = 'simulated' ORDER BY cell_index");
+  q.bind(1, grid);
+  std::vector<std::pair<std::int64_t, std::string>> out;
+  while (q.step()) out.emplace_back(q.int64(0), q.text(1));
+  return out;
+}
+
+void ResultStore::delete_inferred(const std::string& grid) {
+  Statement q(db_, path_, "DELETE FROM cells WHERE grid = ? AND method = 'inferred'");
+  q.bind(1, grid);
+  q.step();
+}
+
+void ResultStore::set_adaptive_summary(const std::string& grid, const std::string& json) {
+  Statement q(db_, path_, "INSERT OR REPLACE INTO adaptive(grid, summary) VALUES(?, ?)");
+  q.bind(1, grid);
+  q.bind(2, json);
+  q.step();
+}
+
+std::vector<std::pair<std::string, std::string>> ResultStore::adaptive_summaries() const {
+  Statement q(db_, path_,
+              "SELECT a.grid, a.summary FROM adaptive a JOIN grids g ON g.name = a.grid ORDER BY g.position");
+  std::vector<std::pair<std::string, std::string>> out;
+  while (q.step()) out.emplace_back(q.text(0), q.text(1));
+  return out;
 }
 
 std::int64_t ResultStore::cell_count() const {
@@ -501,6 +538,14 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
     r.certificate = cells.text(18);
     r.p_mais3_reduction = cells.real(19);
     r.p_fatal_reduction = cells.real(20);
+    r.method = cells.text(21);
+    if (r.method != "simulated" && r.method != "inferred")
+      not_a_store(path_, fmt::format("the method of cell {}#{} is '{}', not simulated or inferred", r.grid, r.index,
+                                     r.method.substr(0, 40)));
+    r.inferred_from.clear();
+    for (const auto& word : split_words(cells.text(22)))
+      r.inferred_from.push_back(
+          whole_number<std::int64_t>(path_, fmt::format("inferred_from of cell {}#{}", r.grid, r.index), word));
     r.outcomes.clear();
     // Both queries run in the same order, so a cell's outcomes are the next rows that name it.
     while (have_outcome && outcomes.text(0) == r.grid && outcomes.int64(1) == r.index) {
@@ -546,6 +591,7 @@ void ResultStore::absorb(const std::filesystem::path& other_results_sqlite) {
          "INSERT OR IGNORE INTO cells SELECT * FROM src.cells;"
          "INSERT OR IGNORE INTO outcomes SELECT * FROM src.outcomes;"
          "INSERT OR IGNORE INTO trajectories SELECT * FROM src.trajectories;"
+         "INSERT OR IGNORE INTO adaptive SELECT * FROM src.adaptive;"
          "COMMIT;");
   } catch (...) {
     sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);

@@ -1,6 +1,7 @@
 #include "emrm/campaign/sweep.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -18,11 +19,13 @@
 #include <optional>
 #include <random>
 
+#include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/eta.hpp"
 #include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::campaign {
@@ -189,6 +192,185 @@ std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& wo
   return counts;  // cells per class
 }
 
+
+// Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
+struct SearchInterrupted {};
+
+sim::Region region_from(const std::string& name) {
+  for (const sim::Region r : {sim::Region::kG, sim::Region::kY, sim::Region::kO, sim::Region::kR})
+    if (sim::region_name(r) == name) return r;
+  return sim::Region::kInfeasible;
+}
+
+// The adaptive search's view of one grid: feasibility and the stop boundary from the scene;
+// simulations run as a full sweep runs them (the cell's own seed), stored through the committer,
+// or read from the store when an earlier run simulated them.
+class GridOracle final : public adaptive::Oracle {
+ public:
+  GridOracle(const Campaign& campaign, const GridSpec& grid, Committer& committer,
+             const std::vector<std::pair<std::int64_t, std::string>>& stored)
+      : campaign_(campaign), grid_(grid), committer_(committer), stored_(grid.cells.size(), sim::Region::kInfeasible) {
+    for (const auto& [index, region] : stored)
+      if (index >= 0 && static_cast<std::size_t>(index) < stored_.size())
+        stored_[static_cast<std::size_t>(index)] = region_from(region);
+    // The analytic stop boundary is the shipped emergency stop's; with another baseline only a
+    // simulation tells, and without one no cell is G.
+    const sim::StrategyTable strategies = sim::registered_strategies();
+    const sim::StrategyInfo* baseline = strategies.first_of(sim::StrategyRole::kBaseline);
+    const bool listed = baseline != nullptr && std::find(campaign.strategies.begin(), campaign.strategies.end(),
+                                                         baseline->name) != campaign.strategies.end();
+    stop_rule_ = !listed ? Rule::kNoBaseline : baseline->name == "emergency_stop" ? Rule::kAnalytic : Rule::kSimulate;
+  }
+
+  [[nodiscard]] bool feasible(std::size_t cell) const override {
+    return sim::Scene(campaign_.scene, grid_.cells[cell]).feasible();
+  }
+
+  [[nodiscard]] adaptive::StopCall stop(std::size_t cell) const override {
+    switch (stop_rule_) {
+      case Rule::kNoBaseline: return adaptive::StopCall::kCannotStop;
+      case Rule::kSimulate: return adaptive::StopCall::kUnknown;
+      case Rule::kAnalytic: break;
+    }
+    return adaptive::stop_call(campaign_.scene, grid_.cells[cell]);
+  }
+
+  [[nodiscard]] sim::Region simulate(std::size_t cell) override {
+    if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
+    if (core::interrupt_signal() != 0) throw SearchInterrupted{};
+    sim::CellOptions options;
+    options.strategies = campaign_.strategies;
+    options.seed = seed(cell);
+    options.keep_trees = grid_.keep_trees;
+    const auto start = Clock::now();
+    const sim::CellResult result = sim::simulate_cell(campaign_.scene, grid_.cells[cell], options);
+    committer_.add(to_record(grid_.name, static_cast<std::int64_t>(cell), options.seed, result, grid_.keep_trees), 1,
+                   std::chrono::duration<double>(Clock::now() - start).count());
+    return result.region;
+  }
+
+  [[nodiscard]] std::uint64_t seed(std::size_t cell) const {
+    return grid_.seeds.empty() ? cell_seed(campaign_, grid_.name, grid_.cells[cell]) : grid_.seeds[cell];
+  }
+  [[nodiscard]] bool stored(std::size_t cell) const { return stored_[cell] != sim::Region::kInfeasible; }
+
+ private:
+  enum class Rule { kAnalytic, kSimulate, kNoBaseline };
+  const Campaign& campaign_;
+  const GridSpec& grid_;
+  Committer& committer_;
+  std::vector<sim::Region> stored_;  ///< kInfeasible: not simulated yet
+  Rule stop_rule_ = Rule::kAnalytic;
+};
+
+// An inferred cell as the store keeps it: its region and grounds, no outcomes.
+CellRecord inferred_record(const GridSpec& grid, std::size_t index, std::uint64_t seed, const adaptive::Cell& cell) {
+  CellRecord r;
+  const sim::CellInput& in = grid.cells[index];
+  r.grid = grid.name;
+  r.index = static_cast<std::int64_t>(index);
+  r.speed_kph = in.speed_kph;
+  r.ttc_s = in.ttc_s;
+  r.mu = in.mu;
+  r.passage_m = in.passage_m;
+  r.truck_speed_kph = in.truck_speed_kph;
+  r.seed = seed;
+  r.feasible = true;
+  r.region = std::string(sim::region_name(cell.region));
+  r.evidence = "inferred";
+  r.method = "inferred";
+  r.inferred_from.assign(cell.from.begin(), cell.from.end());
+  return r;
+}
+
+AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, double confidence) {
+  AdaptiveSummary s;
+  s.grid = grid.name;
+  s.feasible = result.feasible;
+  s.simulated = result.simulated;
+  for (const adaptive::Cell& c : result.cells) {
+    s.inferred += c.method == adaptive::Method::kStop || c.method == adaptive::Method::kLine ||
+                  c.method == adaptive::Method::kBox;
+    s.inferred_stop += c.method == adaptive::Method::kStop;
+  }
+  s.rounds = result.rounds;
+  s.lines = result.lines;
+  s.lines_resolved = result.lines_resolved;
+  s.lines_inferred = result.lines_inferred;
+  s.lines_fully_resolved = result.lines_fully_resolved;
+  s.violations = result.violations.size();
+  s.verify_population = result.verify_population;
+  s.verify_sampled = result.verify_sampled;
+  s.verify_disagreements = result.verify_disagreements.size();
+  s.disagreement_low = result.disagreement.low;
+  s.disagreement_high = result.disagreement.high;
+  nlohmann::ordered_json violations = nlohmann::ordered_json::array();
+  for (const auto& v : result.violations)
+    violations.push_back({{"kind", v.what}, {"lower_cell", v.low_cell}, {"higher_cell", v.high_cell}});
+  const nlohmann::ordered_json j{
+      {"grid", s.grid},
+      {"feasible_cells", s.feasible},
+      {"simulated_cells", s.simulated},
+      {"simulated_fraction", s.feasible > 0 ? static_cast<double>(s.simulated) / static_cast<double>(s.feasible) : 0.0},
+      {"inferred_cells", s.inferred},
+      {"inferred_by_stop_boundary", s.inferred_stop},
+      {"rounds", s.rounds},
+      {"lines", {{"total", s.lines}, {"resolved", s.lines_resolved}, {"inferred", s.lines_inferred},
+                 {"fully_resolved", s.lines_fully_resolved}}},
+      {"violations", violations},
+      {"verification", {{"population", s.verify_population},
+                        {"sampled", s.verify_sampled},
+                        {"disagreements", s.verify_disagreements},
+                        {"disagreeing_cells", result.verify_disagreements},
+                        {"confidence", confidence},
+                        {"rate_low", s.disagreement_low},
+                        {"rate_high", s.disagreement_high}}}};
+  s.json = j.dump();
+  return s;
+}
+
+// One grid by the adaptive search: the cells it asks for are simulated (or read back), the
+// others stored as inferred in batches, then the summary.
+AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, ResultStore& store,
+                               Committer& committer, const SweepOptions& options) {
+  store.delete_inferred(grid.name);
+  GridOracle oracle(campaign, grid, committer, store.simulated_regions(grid.name));
+  adaptive::Lattice lattice{grid.levels};
+  adaptive::Options search_options;
+  search_options.initial_levels = options.initial_levels;
+  search_options.stride = options.stride;
+  search_options.verify_sample = options.verify_sample;
+  search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
+  adaptive::Result result;
+  try {
+    result = adaptive::search(lattice, oracle, search_options);
+  } catch (const SearchInterrupted&) {
+    return {};  // the caller reports the interrupt once the committer is flushed
+  }
+  committer.finish();
+  std::vector<CellRecord> batch;
+  const auto flush = [&] {
+    store.insert(batch);
+    batch.clear();
+  };
+  for (std::size_t i = 0; i < result.cells.size(); ++i) {
+    const adaptive::Cell& cell = result.cells[i];
+    if (cell.method == adaptive::Method::kSimulated || oracle.stored(i)) continue;
+    if (cell.method == adaptive::Method::kNone) {  // infeasible: a full sweep's row, no simulation
+      sim::CellResult infeasible;
+      infeasible.input = grid.cells[i];
+      batch.push_back(to_record(grid.name, static_cast<std::int64_t>(i), oracle.seed(i), infeasible));
+    } else {
+      batch.push_back(inferred_record(grid, i, oracle.seed(i), cell));
+    }
+    if (batch.size() >= 4096) flush();
+  }
+  flush();
+  AdaptiveSummary summary = summarize(grid, result, search_options.confidence);
+  store.set_adaptive_summary(grid.name, summary.json);
+  return summary;
+}
+
 }  // namespace
 
 void parse_shard(const std::string& text, int& index, int& count) {
@@ -214,6 +396,13 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     throw UsageError(
         fmt::format("shard {}/{}: expected K/N with 1 <= K <= N", options.shard_index, options.shard_count));
   if (options.threads < 0) throw UsageError(fmt::format("--threads must be >= 0, got {}", options.threads));
+  std::vector<char> adaptive(campaign.grids.size(), 0);
+  for (std::size_t g = 0; g < campaign.grids.size(); ++g)
+    adaptive[g] = (options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels[0].empty();
+  const bool any_adaptive = std::find(adaptive.begin(), adaptive.end(), 1) != adaptive.end();
+  if (any_adaptive && options.shard_count > 1)
+    throw UsageError("--shard cannot split an adaptive sweep: the search picks each cell from the ones simulated "
+                     "before; run it on one machine (every core: --threads 0)");
   const auto start = Clock::now();
   CampaignMeta meta = make_meta(campaign);
   meta.shard_index = options.shard_index;
@@ -233,7 +422,17 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
 
     std::vector<WorkItem> work;
     std::size_t position = 0;  // global position over all grids, for sharding
+    std::size_t adaptive_cells = 0;  // at most this many simulations (the progress bar's total)
     for (std::size_t g = 0; g < campaign.grids.size(); ++g) {
+      const GridSpec& grid = campaign.grids[g];
+      if (adaptive[g]) {
+        summary.cells_total += grid.cells.size();
+        for (std::size_t i = 0; i < grid.cells.size(); ++i) summary.cells_done_before += done[g][i];
+        adaptive_cells += grid.cells.size();
+        position += grid.cells.size();
+        continue;
+      }
+      store.delete_inferred(grid.name);  // simulated this time
       for (std::size_t i = 0; i < campaign.grids[g].cells.size(); ++i, ++position) {
         if (position % static_cast<std::size_t>(options.shard_count) !=
             static_cast<std::size_t>(options.shard_index - 1))
@@ -253,7 +452,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     if (options.threads > 0)
       limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
-    Committer committer(store, work.size(), options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
+    Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
                         log.get());
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
@@ -278,6 +477,12 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
         },
         tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
     committer.finish();
+    for (std::size_t g = 0; g < campaign.grids.size() && core::interrupt_signal() == 0; ++g) {
+      if (!adaptive[g]) continue;
+      AdaptiveSummary grid_summary = sweep_adaptive(campaign, campaign.grids[g], store, committer, options);
+      committer.finish();
+      if (core::interrupt_signal() == 0) summary.adaptive.push_back(std::move(grid_summary));
+    }
     summary.cells_simulated = committer.simulated();
   }
   if (const int signal = core::interrupt_signal(); signal != 0)

@@ -5,6 +5,7 @@
 // in a fixed order, so that a cell is named by (grid, index) everywhere: in the store, the
 // exports, the shards and the tables.
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -26,6 +27,11 @@ struct GridSpec {
   std::vector<std::uint64_t> seeds;  ///< one per cell (a planned scenario's own); empty: cell_seed()
   bool keep_trees = false;  ///< store paths and planner trees of every strategy (trajectory figure)
   SourceLocation where;  ///< the grid's mapping in the campaign file
+  /// A product grid's levels per factor (speed, TTC, mu, passage, truck speed), in expansion order;
+  /// all empty for a grid that lists its cells.
+  std::array<std::vector<double>, 5> levels;
+  /// `adaptive: true`: swept by the adaptive boundary search (docs/adaptive.md). Product grids only.
+  bool adaptive = false;
 };
 
 /// The most cells a campaign may hold over all its grids, --force or not: each cell's inputs,

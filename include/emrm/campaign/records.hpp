@@ -66,7 +66,13 @@ struct CellRecord {
   std::string certificate;          ///< the unavoidability certificate as JSON text, when there is one
   double p_mais3_reduction = 0.0;   ///< unmitigated P(MAIS3+) minus the best strategy's
   double p_fatal_reduction = 0.0;   ///< the same for P(fatal)
-  std::vector<OutcomeRecord> outcomes;  ///< in the campaign's strategy order
+  std::vector<OutcomeRecord> outcomes;  ///< in the campaign's strategy order; none for an inferred cell
+  /// "simulated", or "inferred" by an adaptive sweep (docs/adaptive.md): then only the region is
+  /// known (evidence "inferred", no outcomes, the unmitigated reference not computed).
+  std::string method = "simulated";
+  /// An inferred cell's grounds: the indices (in its grid) of the simulated cells that bound it;
+  /// empty when the analytic stop boundary alone makes it G.
+  std::vector<std::int64_t> inferred_from;
 };
 
 }  // namespace emrm::campaign

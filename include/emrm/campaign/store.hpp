@@ -19,7 +19,7 @@ struct sqlite3;
 namespace emrm::campaign {
 
 /// Version of the store's tables; a store of another version is refused.
-inline constexpr int kStoreSchemaVersion = 3;
+inline constexpr int kStoreSchemaVersion = 4;
 
 /// What a store says about the campaign that filled it.
 struct CampaignMeta {
@@ -58,8 +58,17 @@ class ResultStore {
   /// Inserts the cells and their outcomes in one transaction. Throws emrm::Error if a cell is
   /// already stored or the database cannot be written (nothing of the batch is then kept).
   void insert(const std::vector<CellRecord>& batch);
-  /// Calls `visit(grid_position, index)` for every stored cell (any order).
+  /// Calls `visit(grid_position, index)` for every simulated cell (any order): inferred cells are
+  /// not done for a sweep that simulates every cell.
   void for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const;
+  /// The simulated cells of a grid: (index, region), in index order.
+  [[nodiscard]] std::vector<std::pair<std::int64_t, std::string>> simulated_regions(const std::string& grid) const;
+  /// Deletes a grid's inferred cells (one transaction): a sweep is about to simulate or infer them anew.
+  void delete_inferred(const std::string& grid);
+  /// The summary of a grid's adaptive search (JSON text, docs/adaptive.md), replacing any before.
+  void set_adaptive_summary(const std::string& grid, const std::string& json);
+  /// Every grid's adaptive summary: (grid, JSON text), in grid order.
+  [[nodiscard]] std::vector<std::pair<std::string, std::string>> adaptive_summaries() const;
   /// Calls `visit(record)` for every stored cell with its outcomes, ordered by grid order, then
   /// index; outcomes in the campaign's strategy order. Streams: one record in memory at a time.
   void for_each_cell(const std::function<void(const CellRecord&)>& visit) const;

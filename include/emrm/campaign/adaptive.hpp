@@ -1,0 +1,116 @@
+#pragma once
+
+// Adaptive boundary search (docs/adaptive.md): the region of every cell of a product grid from
+// the simulations of a fraction of them. The search knows nothing of the simulator: it asks an
+// Oracle whether a cell is feasible, whether the analytic stop boundary settles it, and, for the
+// cells it chooses, what a simulation says. So it is tested on synthetic maps as well as real ones.
+//
+// The structure it uses: along the monotone axis (TTC, or friction when TTC has one level) the
+// stop (G) and avoidance (G or Y) are monotone — a cell that can be avoided stays avoidable with
+// more time or more grip — so each line of cells along it is settled by two thresholds and the
+// O/R labels below them; lines are inferred from the lines at the corners of boxes of the other
+// factors when those corners agree, and boxes whose corners disagree are split in two along
+// every factor. Whatever the simulations show against monotonicity is reported and resolved.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "emrm/scenario/statistics.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::campaign::adaptive {
+
+/// The levels of a product grid's five factors, in the order a grid expands them (speed, TTC,
+/// friction, passage, truck speed; the last varies fastest), as written (not necessarily sorted).
+struct Lattice {
+  std::array<std::vector<double>, 5> levels;
+
+  [[nodiscard]] std::size_t size() const noexcept;
+  /// The cell's index in the grid's expansion order from its level indices.
+  [[nodiscard]] std::size_t index(const std::array<std::size_t, 5>& level) const noexcept;
+};
+
+/// What physics says of a cell's emergency stop without simulating it: braking alone stops before
+/// the truck with a margin (so the cell is G); it cannot avoid (it does not stop in time and the
+/// truck stands in its way throughout); or only a simulation can tell (near the boundary, or a truck
+/// that may not have reached the car's lane yet when the car gets there).
+enum class StopCall { kStops, kCannotStop, kUnknown };
+
+/// The physics of the shipped emergency stop (straight braking through the scene's actuators):
+/// kStops when v·TTC exceeds the stopping distance by more than 0.1 m; kCannotStop when it falls
+/// short by more than 0.1 m and the truck stands in the car's lane from t = 0 until it comes to
+/// rest (so stopping short is the only way braking avoids it); kUnknown otherwise.
+[[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
+
+/// What the search asks about cells, named by their index in the grid's expansion order.
+/// simulate() is called from several threads at once, never twice for one cell.
+class Oracle {
+ public:
+  virtual ~Oracle() = default;
+  [[nodiscard]] virtual bool feasible(std::size_t cell) const = 0;
+  [[nodiscard]] virtual StopCall stop(std::size_t cell) const = 0;
+  /// The cell's region (G, Y, O or R) by simulation.
+  [[nodiscard]] virtual sim::Region simulate(std::size_t cell) = 0;
+};
+
+struct Options {
+  /// Lines simulated per factor across the domain before any refinement (at least 2).
+  std::size_t initial_levels = 5;
+  /// Along a line, the unavoidable cells are sampled every `stride` cells before the changes
+  /// between samples are bisected (at least 1; 1 simulates every unavoidable cell).
+  std::size_t stride = 4;
+  /// Inferred cells re-simulated at random at the end to measure the disagreement rate.
+  std::size_t verify_sample = 0;
+  std::uint64_t seed = 1;         ///< of the verification sample
+  double confidence = 0.95;       ///< of the disagreement rate's Wilson interval
+};
+
+/// How a cell's region was found.
+enum class Method : std::uint8_t {
+  kNone,       ///< infeasible: no region
+  kSimulated,  ///< simulated
+  kStop,       ///< inferred: G by the analytic stop boundary
+  kLine,       ///< inferred along its line between simulated cells (monotone avoidance, equal O/R labels)
+  kBox,        ///< inferred from the lines at the corners of a box whose corners agree
+};
+[[nodiscard]] std::string_view method_name(Method m) noexcept;  ///< "simulated" or "inferred"
+[[nodiscard]] std::string_view basis_name(Method m) noexcept;   ///< "", "simulated", "stop", "line", "box"
+
+struct Cell {
+  sim::Region region = sim::Region::kInfeasible;
+  Method method = Method::kNone;
+  /// Inferred cells: the simulated cells that bound the inference (at most 16, sorted).
+  std::vector<std::uint32_t> from;
+};
+
+/// A simulation that contradicted monotonicity along a line, resolved by simulating the line and
+/// its neighbours in full.
+struct Violation {
+  std::uint32_t low_cell = 0;   ///< the cell further down the monotone axis…
+  std::uint32_t high_cell = 0;  ///< …that did better than this one
+  std::string what;             ///< "stop" or "avoidance"
+};
+
+struct Result {
+  std::vector<Cell> cells;          ///< one per cell of the lattice
+  std::size_t feasible = 0;         ///< M
+  std::size_t simulated = 0;        ///< N: every cell simulated, the verification sample included
+  std::size_t rounds = 0;
+  std::size_t lines = 0, lines_resolved = 0, lines_inferred = 0;
+  std::size_t lines_fully_resolved = 0;  ///< after a violation
+  std::vector<Violation> violations;
+  /// Verification: inferred cells (not analytic) re-simulated, and how many disagreed.
+  std::size_t verify_population = 0;  ///< inferred cells the sample was drawn from
+  std::size_t verify_sampled = 0;
+  std::vector<std::uint32_t> verify_disagreements;  ///< cells whose simulation differed
+  scenario::Interval disagreement;                 ///< Wilson interval of the disagreement rate
+};
+
+/// Throws std::invalid_argument for an empty lattice level list or initial_levels < 2 or stride < 1.
+[[nodiscard]] Result search(const Lattice& lattice, Oracle& oracle, const Options& options);
+
+}  // namespace emrm::campaign::adaptive

@@ -1,0 +1,278 @@
+#include "emrm/campaign/adaptive.hpp"
+
+#include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+namespace emrm::campaign::adaptive {
+namespace {
+
+using sim::Region;
+
+// A synthetic map over (speed, TTC, mu, passage, truck speed) with the structure of the real one:
+// infeasible beyond a distance, G above an analytic stop threshold, Y above an avoidance threshold,
+// O or R below by a rule of its own; `exceptions` flips chosen cells against that structure.
+struct SyntheticMap {
+  Lattice lattice;
+  double max_distance_m = 24.5;
+  std::function<double(double v, double mu, double passage, double truck)> avoid_ttc;  ///< Y from this TTC
+  std::function<Region(double v, double ttc, double mu)> unavoidable = [](double v, double, double) {
+    return v > 60.0 ? Region::kO : Region::kR;
+  };
+  std::set<std::size_t> flipped;  ///< unavoidable cells turned into the other unavoidable region
+
+  [[nodiscard]] std::array<double, 5> factors(std::size_t cell) const {
+    std::array<double, 5> f{};
+    for (std::size_t k = 5; k-- > 0;) {
+      f[k] = lattice.levels[k][cell % lattice.levels[k].size()];
+      cell /= lattice.levels[k].size();
+    }
+    return f;
+  }
+  [[nodiscard]] static double stop_ttc(double v_kph, double mu) {
+    const double v = v_kph / 3.6;
+    return 0.35 + v / (2.0 * mu * 9.81);
+  }
+  [[nodiscard]] bool feasible(std::size_t cell) const {
+    const auto f = factors(cell);
+    return f[0] / 3.6 * f[1] <= max_distance_m;
+  }
+  [[nodiscard]] Region truth(std::size_t cell) const {
+    const auto f = factors(cell);
+    Region r;
+    if (f[1] >= stop_ttc(f[0], f[2]))
+      r = Region::kG;
+    else if (f[1] >= avoid_ttc(f[0], f[2], f[3], f[4]))
+      r = Region::kY;
+    else
+      r = unavoidable(f[0], f[1], f[2]);
+    if (flipped.count(cell) != 0 && (r == Region::kO || r == Region::kR)) r = r == Region::kR ? Region::kO : Region::kR;
+    return r;
+  }
+};
+
+class MapOracle final : public Oracle {
+ public:
+  explicit MapOracle(const SyntheticMap& map) : map_(map), calls_(map.lattice.size()) {}
+  [[nodiscard]] bool feasible(std::size_t cell) const override { return map_.feasible(cell); }
+  [[nodiscard]] StopCall stop(std::size_t cell) const override {
+    const auto f = map_.factors(cell);
+    const double margin = f[0] / 3.6 * (f[1] - SyntheticMap::stop_ttc(f[0], f[2]));
+    return margin > 0.1 ? StopCall::kStops : margin < -0.1 ? StopCall::kCannotStop : StopCall::kUnknown;
+  }
+  [[nodiscard]] Region simulate(std::size_t cell) override {
+    EXPECT_TRUE(map_.feasible(cell)) << "simulated an infeasible cell " << cell;
+    EXPECT_EQ(calls_[cell]++, 0) << "simulated cell " << cell << " twice";
+    ++total_;
+    return map_.truth(cell);
+  }
+  [[nodiscard]] std::size_t total() const { return total_.load(); }
+
+ private:
+  const SyntheticMap& map_;
+  std::vector<std::atomic<int>> calls_;
+  std::atomic<std::size_t> total_{0};
+};
+
+std::vector<double> range(double from, double to, double step) {
+  std::vector<double> v;
+  for (double x = from; x <= to + 1e-9; x += step) v.push_back(std::round(x * 1e9) / 1e9);
+  return v;
+}
+
+// The paper's fine grid shape: 43 speeds x 46 TTCs.
+SyntheticMap fine_map() {
+  SyntheticMap map;
+  map.lattice.levels = {range(30, 72, 1), range(0.25, 2.95, 0.06), {1.0}, {3.0}, {10.0}};
+  map.avoid_ttc = [](double v, double mu, double, double) { return 0.6 + 0.004 * v / mu; };
+  return map;
+}
+
+struct Comparison {
+  std::size_t differ = 0, g_wrong = 0, feasible = 0;
+};
+
+Comparison compare(const SyntheticMap& map, const Result& result) {
+  Comparison c;
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
+    if (!map.feasible(cell)) {
+      EXPECT_EQ(result.cells[cell].method, Method::kNone);
+      continue;
+    }
+    ++c.feasible;
+    const Region truth = map.truth(cell);
+    c.differ += result.cells[cell].region != truth;
+    c.g_wrong += (result.cells[cell].region == Region::kG) != (truth == Region::kG);
+  }
+  return c;
+}
+
+TEST(AdaptiveSearch, FindsASmoothMonotoneMapExactlyFromAFewSimulations) {
+  const SyntheticMap map = fine_map();
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  const Comparison c = compare(map, result);
+  EXPECT_EQ(c.differ, 0U);
+  EXPECT_EQ(result.feasible, c.feasible);
+  EXPECT_EQ(result.simulated, oracle.total());
+  EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(c.feasible));
+  EXPECT_TRUE(result.violations.empty());
+}
+
+TEST(AdaptiveSearch, EveryInferredCellNamesItsGrounds) {
+  const SyntheticMap map = fine_map();
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  for (std::size_t cell = 0; cell < result.cells.size(); ++cell) {
+    const Cell& c = result.cells[cell];
+    if (c.method == Method::kLine || c.method == Method::kBox) {
+      ASSERT_FALSE(c.from.empty()) << cell;
+      for (const auto from : c.from) EXPECT_EQ(result.cells[from].method, Method::kSimulated) << cell;
+    }
+    if (c.method == Method::kStop) {
+      EXPECT_EQ(c.region, Region::kG);
+    }
+  }
+}
+
+TEST(AdaptiveSearch, ThreeFactorsCostAFractionOfTheTwoFactorGrid) {
+  SyntheticMap map = fine_map();
+  map.lattice.levels[0] = range(30, 72, 2);
+  map.lattice.levels[2] = range(0.2, 1.0, 0.1);
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  const Comparison c = compare(map, result);
+  EXPECT_GE(map.lattice.size(), 9000U);
+  EXPECT_LE(static_cast<double>(c.differ), 0.01 * static_cast<double>(c.feasible));
+  EXPECT_EQ(c.g_wrong, 0U);
+  EXPECT_LT(static_cast<double>(result.simulated), 0.08 * static_cast<double>(c.feasible));
+}
+
+TEST(AdaptiveSearch, TheStopBoundaryIsExactInEveryDimensionCount) {
+  std::mt19937_64 random(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    SyntheticMap map;
+    std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+    const double slope = 0.002 + 0.002 * trial;
+    map.lattice.levels = {range(30, 72, 3), range(0.25, 2.95, 0.09), trial % 2 ? range(0.3, 1.0, 0.35) : std::vector{0.8},
+                          trial % 3 ? std::vector{2.0, 3.0} : std::vector{3.0}, trial > 3 ? std::vector{0.0, 10.0} : std::vector{10.0}};
+    std::map<std::size_t, double> noise;
+    map.avoid_ttc = [slope](double v, double mu, double passage, double) { return 0.5 + slope * v / mu + 0.1 / passage; };
+    std::uniform_int_distribution<std::size_t> pick(0, map.lattice.size() - 1);
+    for (int k = 0; k < 10; ++k) map.flipped.insert(pick(random));
+    MapOracle oracle(map);
+    const Result result = search(map.lattice, oracle, Options{});
+    EXPECT_EQ(compare(map, result).g_wrong, 0U) << "trial " << trial;
+  }
+}
+
+TEST(AdaptiveSearch, ResultsDoNotDependOnTheThreadCount) {
+  SyntheticMap map = fine_map();
+  map.flipped = {100, 400, 777, 1200};
+  std::vector<Region> regions[2];
+  for (int t = 0; t < 2; ++t) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t == 0 ? 1 : 4);
+    MapOracle oracle(map);
+    Options options;
+    options.verify_sample = 30;
+    const Result result = search(map.lattice, oracle, options);
+    for (const Cell& c : result.cells) regions[t].push_back(c.region);
+  }
+  EXPECT_EQ(regions[0], regions[1]);
+}
+
+TEST(AdaptiveSearch, AViolationOfMonotonicityIsReportedAndItsLineSimulatedInFull) {
+  SyntheticMap map = fine_map();
+  // At 50 km/h the car avoids at TTC 0.49 s though not above it: a reversal the search must catch
+  // when it lands on it, then resolve the line and its neighbours cell by cell.
+  const auto& speeds = map.lattice.levels[0];
+  const std::size_t s = static_cast<std::size_t>(std::find(speeds.begin(), speeds.end(), 52.0) - speeds.begin());
+  map.avoid_ttc = [](double v, double mu, double, double) { return 0.6 + 0.004 * v / mu; };
+  SyntheticMap broken = map;
+  const std::size_t n_ttc = map.lattice.levels[1].size();
+  std::set<std::size_t> y_cells;
+  for (std::size_t t = 0; t < 6; ++t) y_cells.insert(s * n_ttc + t);  // Y at the lowest TTCs
+  broken.unavoidable = [](double v, double ttc, double) { return v == 52.0 && ttc < 0.6 ? Region::kY : Region::kR; };
+  MapOracle oracle(broken);
+  Options options;
+  options.stride = 2;
+  const Result result = search(broken.lattice, oracle, options);
+  ASSERT_FALSE(result.violations.empty());
+  EXPECT_EQ(result.violations.front().what, "avoidance");
+  EXPECT_GE(result.lines_fully_resolved, 1U);
+  for (std::size_t cell : y_cells) EXPECT_EQ(result.cells[cell].region, Region::kY) << cell;
+  for (std::size_t cell : y_cells) EXPECT_EQ(result.cells[cell].method, Method::kSimulated) << cell;
+}
+
+TEST(AdaptiveSearch, TheVerificationSampleCountsAndBoundsTheDisagreements) {
+  SyntheticMap map = fine_map();
+  std::mt19937_64 random(3);
+  std::uniform_int_distribution<std::size_t> pick(0, map.lattice.size() - 1);
+  for (int k = 0; k < 60; ++k) map.flipped.insert(pick(random));
+  MapOracle oracle(map);
+  Options options;
+  options.verify_sample = 200;
+  const Result result = search(map.lattice, oracle, options);
+  EXPECT_EQ(result.verify_sampled, std::min<std::size_t>(200, result.verify_population));
+  EXPECT_EQ(result.simulated, oracle.total());
+  EXPECT_LE(result.disagreement.low, result.disagreement.high);
+  const double rate =
+      static_cast<double>(result.verify_disagreements.size()) / static_cast<double>(result.verify_sampled);
+  EXPECT_LE(result.disagreement.low, rate);
+  EXPECT_GE(result.disagreement.high, rate);
+  // A sampled cell is simulated now, so it holds the truth.
+  for (const auto cell : result.verify_disagreements) {
+    EXPECT_EQ(result.cells[cell].method, Method::kSimulated);
+    EXPECT_EQ(result.cells[cell].region, map.truth(cell));
+  }
+}
+
+TEST(AdaptiveSearch, DegenerateGridsSimplyWork) {
+  for (const auto& levels : std::vector<std::array<std::vector<double>, 5>>{
+           {std::vector{50.0}, std::vector{1.0}, std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},
+           {std::vector{50.0}, range(0.25, 2.95, 0.06), std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},
+           {range(30, 72, 1), std::vector{1.0}, std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},
+           {range(30, 72, 1), std::vector{0.6}, range(0.1, 1.0, 0.1), std::vector{3.0}, std::vector{10.0}},
+           {std::vector{200.0}, std::vector{2.9}, std::vector{1.0}, std::vector{3.0}, std::vector{10.0}}}) {
+    SyntheticMap map = fine_map();
+    map.lattice.levels = levels;
+    MapOracle oracle(map);
+    const Result result = search(map.lattice, oracle, Options{});
+    EXPECT_EQ(compare(map, result).differ, 0U);
+  }
+}
+
+TEST(AdaptiveSearch, UnsortedLevelsAreSearchedInOrderOfValue) {
+  SyntheticMap map = fine_map();
+  std::mt19937_64 random(11);
+  std::shuffle(map.lattice.levels[1].begin(), map.lattice.levels[1].end(), random);
+  std::shuffle(map.lattice.levels[0].begin(), map.lattice.levels[0].end(), random);
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  EXPECT_EQ(compare(map, result).differ, 0U);
+  EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(result.feasible));
+}
+
+TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
+  const SyntheticMap map = fine_map();
+  MapOracle oracle(map);
+  Options options;
+  options.initial_levels = 1;
+  EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
+  options = Options{};
+  options.stride = 0;
+  EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
+  Lattice empty = map.lattice;
+  empty.levels[2].clear();
+  EXPECT_THROW((void)search(empty, oracle, Options{}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace emrm::campaign::adaptive
