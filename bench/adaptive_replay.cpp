@@ -53,6 +53,7 @@ int main(int argc, char** argv) try {
   if (argc > 3) options.initial_levels = std::strtoul(argv[3], nullptr, 10);
   if (argc > 4) options.stride = std::strtoul(argv[4], nullptr, 10);
   if (argc > 5) options.verify_sample = std::strtoul(argv[5], nullptr, 10);
+  if (argc > 6) options.bracket = static_cast<std::uint32_t>(std::strtoul(argv[6], nullptr, 10));
   std::map<std::string, std::vector<sim::Region>> truth;
   for (const campaign::GridSpec& grid : c.grids) truth[grid.name].assign(grid.cells.size(), sim::Region::kInfeasible);
   campaign::ResultStore::open_for_reading(argv[2]).for_each_cell([&](const campaign::CellRecord& r) {
@@ -78,6 +79,20 @@ int main(int argc, char** argv) try {
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
                result.lines_fully_resolved, result.rounds);
+    if (argc > 7) {  // simulations per line of speed (columns) by friction (rows), TTC being the line
+      const auto& l = grid.levels;
+      for (std::size_t m = 0; m < l[2].size(); ++m) {
+        fmt::print("mu {:5.2f} ", l[2][m]);
+        for (std::size_t v = 0; v < l[0].size(); ++v) {
+          int n = 0;
+          for (std::size_t t = 0; t < l[1].size(); ++t)
+            n += result.cells[campaign::adaptive::Lattice{l}.index({v, t, m, 0, 0})].method ==
+                 campaign::adaptive::Method::kSimulated;
+          fmt::print("{:3d}", n);
+        }
+        fmt::print("\n");
+      }
+    }
   }
   return 0;
 } catch (const std::exception& e) {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <iostream>
 #include <memory>
 
@@ -25,8 +26,8 @@ struct SweepCommandOptions {
   std::string profile;
   std::string progress_log;
   bool adaptive = false;
-  std::size_t verify_sample = 100;
-  std::size_t initial_levels = 5;
+  std::string verify_sample = "auto";
+  std::size_t initial_levels = 0;
   std::size_t stride = 4;
 };
 
@@ -65,7 +66,7 @@ int run_sweep(const SweepCommandOptions& o) {
   options.threads = o.threads;
   options.progress_log = o.progress_log;
   options.adaptive = o.adaptive;
-  options.verify_sample = o.verify_sample;
+  if (o.verify_sample != "auto") options.verify_sample = std::stoul(o.verify_sample);  // checked by its validator
   options.initial_levels = o.initial_levels;
   options.stride = o.stride;
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
@@ -121,12 +122,22 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                   "Adaptive boundary search on every product grid: simulate only the cells near region "
                   "boundaries and infer the rest (docs/adaptive.md)");
   sweep->add_option("--verify-sample", s->verify_sample,
-                    "Adaptive: inferred cells re-simulated at random to measure the disagreement rate")
-      ->check(CLI::Range(std::size_t{0}, std::size_t{1000000}, "0 to 1000000"))
+                    "Adaptive: inferred cells re-simulated at random to measure the disagreement rate (0 to "
+                    "1000000, or auto: 0.5 % of the feasible cells, 20 to 500)")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            if (value == "auto") return {};
+            std::size_t n = 0;
+            const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+            if (ec != std::errc() || end != value.data() + value.size() || n > 1000000)
+              return fmt::format("expected auto or a whole number from 0 to 1000000, got '{}'", shortened(value));
+            return {};
+          },
+          "auto|0..1000000"))
       ->capture_default_str();
   sweep->add_option("--initial-levels", s->initial_levels,
-                    "Adaptive: lines sampled per factor before refining (2 to 1000)")
-      ->check(CLI::Range(std::size_t{2}, std::size_t{1000}, "2 to 1000"))
+                    "Adaptive: lines searched per factor before refining (2 to 1000; 0: automatic)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{1000}, "0 to 1000") & !CLI::IsMember({std::size_t{1}}))
       ->capture_default_str();
   sweep->add_option("--stride", s->stride,
                     "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")

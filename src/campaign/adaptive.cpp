@@ -11,7 +11,9 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 
 namespace emrm::campaign::adaptive {
 namespace {
@@ -27,19 +29,24 @@ constexpr std::size_t kMaxFrom = 16;
 bool avoidable(Region r) noexcept { return r == Region::kG || r == Region::kY; }
 
 // A line: the feasible cells that differ only in the monotone factor, in ascending order of it.
-// Once settled (resolved by simulation or inferred from a box), its cells hold their regions.
+// Two questions settle it, each answered by its own simulations or inferred from the lines at the
+// corners of a box: where avoidance starts (the thresholds), and the O/R labels below that.
 struct Line {
   std::vector<std::uint32_t> cells;
   std::vector<std::uint32_t> position;  ///< of each cell along the monotone axis (sorted level)
-  bool resolved = false;  ///< by its own simulations
-  bool inferred = false;  ///< from the corners of a box
+  bool thresholds_searched = false;  ///< by a search of its own (a corner of a threshold box)
+  bool thresholds_known = false;     ///< searched, or found within a uniform box's bracket
+  bool labels_sampled = false;       ///< O/R labels by samples of its own (a corner of a label box)
+  bool labels_known = false;         ///< sampled, or inferred from a uniform box's corners
   bool full = false;      ///< every cell that the stop boundary does not settle simulated
   bool violated = false;  ///< simulations contradicted monotonicity
   std::uint32_t hint = kNone;  ///< a guess of the avoidance threshold's position (from a parent box)
   std::size_t t_g = 0;  ///< first index of the G run at the top
   std::size_t t_a = 0;  ///< first index of the avoidable run (G or Y) at the top
+  std::vector<Region> labels;  ///< O/R of the cells below t_a (simulated or inferred)
+  std::vector<std::uint32_t> threshold_corners;  ///< the lines its bracket came from (when not searched)
+  std::vector<std::uint32_t> label_corners;      ///< the lines its labels came from (when not sampled)
 
-  [[nodiscard]] bool settled() const noexcept { return resolved || inferred; }
   /// Position of the avoidance threshold when the line has Y cells; kNone when avoidance starts with G.
   [[nodiscard]] std::uint32_t avoid_position() const noexcept { return t_a < t_g ? position[t_a] : kNone; }
 };
@@ -48,18 +55,17 @@ struct Line {
 struct Box {
   std::array<std::uint32_t, 4> lo{}, hi{};
   std::uint32_t hint = kNone;
+  bool operator<(const Box& o) const noexcept { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
 };
 
-// What a uniform box's corners say: the avoidance threshold's position and the O/R label at every
-// position below it that some corner has.
+// What agreeing corners say of the lines between them.
 struct Signature {
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
-  std::map<std::uint32_t, Region> labels;
+  std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
 };
 
-// Corners whose avoidance thresholds differ by at most this many levels still agree: the lines
-// between them search their own threshold within that bracket (a simulation or two each).
-constexpr std::uint32_t kBracket = 2;
+// The two refinements: of the avoidance thresholds, then of the O/R labels below them.
+enum class Question { kThresholds, kLabels };
 
 class Search {
  public:
@@ -80,14 +86,10 @@ class Search {
   }
 
   Result run() {
-    std::vector<Box> pending = initial_boxes();
-    while (!pending.empty() || !full_queue_.empty()) {
-      ++result_.rounds;
-      resolve_corners(pending);
-      pending = settle_boxes(pending);
-    }
-    for (std::size_t id = 0; id < lines_.size(); ++id)
-      if (!lines_[id].settled()) resolve(id);  // cannot happen; a line left out is resolved, not guessed
+    refine(Question::kThresholds);
+    refine(Question::kLabels);
+    resolve_violations();
+    for (std::size_t id = 0; id < lines_.size(); ++id) fill(id);
     verify();
     finish();
     return std::move(result_);
@@ -110,7 +112,6 @@ class Search {
     std::size_t count = 1;
     for (std::size_t a = 0; a < 4; ++a) count *= extent(a);
     lines_.resize(count);
-    scheduled_.assign(count, 0);
     result_.lines = count;
     std::array<std::uint32_t, 4> p{};
     for (std::size_t id = 0; id < count; ++id) {
@@ -141,14 +142,25 @@ class Search {
     return p;
   }
 
+  // Lines searched per factor before refining, unless the options say: for thresholds 4 when the
+  // lines vary in one factor, 3 when in more (the first lattice's share of the lines stays small);
+  // for labels 2, the domain's corners, since a label boundary is refined across the factor it
+  // crosses only.
+  [[nodiscard]] std::size_t initial_levels(Question q) const noexcept {
+    if (options_.initial_levels > 0) return options_.initial_levels;
+    if (q == Question::kLabels) return 2;
+    std::size_t varying = 0;
+    for (std::size_t a = 0; a < 4; ++a) varying += extent(a) > 1;
+    return varying <= 1 ? 4 : 3;
+  }
+
   // Each factor sampled at about `initial_levels` positions, always its first and last.
-  std::vector<Box> initial_boxes() const {
+  std::vector<Box> initial_boxes(std::size_t levels) const {
     std::array<std::vector<std::uint32_t>, 4> samples;
     for (std::size_t a = 0; a < 4; ++a) {
       const std::uint32_t n = extent(a);
       const std::uint32_t stride =
-          n <= 1 ? 1 : std::max<std::uint32_t>(1, static_cast<std::uint32_t>((n - 1 + options_.initial_levels - 2) /
-                                                                               (options_.initial_levels - 1)));
+          n <= 1 ? 1 : std::max<std::uint32_t>(1, static_cast<std::uint32_t>((n - 1 + levels - 2) / (levels - 1)));
       for (std::uint32_t p = 0; p + 1 < n; p += stride) samples[a].push_back(p);
       samples[a].push_back(n - 1);
     }
@@ -305,27 +317,35 @@ class Search {
     }
     return std::nullopt;
   }
-  // Resolves a line by simulation: the stop boundary, the avoidance threshold, then the O/R labels
-  // below it sampled every `stride` cells with every change bisected down to adjacent cells.
-  void resolve(std::size_t id) {
+  // A corner of a threshold box: its stop boundary and avoidance threshold by search.
+  void search_thresholds(std::size_t id) {
     Line& line = lines_[id];
-    line.resolved = true;
-    line.inferred = false;
+    line.thresholds_searched = line.thresholds_known = true;
     if (line.cells.empty()) return;
     stop_threshold(line);
     line.t_a = avoidance_threshold(line);
+  }
+
+  // A corner of a label box: the O/R labels below the avoidance threshold sampled every `stride`
+  // cells, with every change bisected down to adjacent cells, the cells between equal samples
+  // taking their label.
+  void sample_labels(std::size_t id) {
+    Line& line = lines_[id];
+    line.labels_sampled = line.labels_known = true;
     if (line.t_a > 0) {
-      std::vector<std::size_t> samples;
       for (std::size_t i = line.t_a; i > 0;) {
         i = i > options_.stride ? i - options_.stride : 0;
-        samples.push_back(i);
+        simulate(line.cells[i]);
       }
-      for (std::size_t i : samples) simulate(line.cells[i]);
       simulate(line.cells[line.t_a - 1]);
       bisect_changes(line, 0, line.t_a);
     }
-    if (const auto v = check(line)) return resolve_fully(id, v);
-    fill(line);
+    line.labels.assign(line.t_a, Region::kR);
+    std::size_t below = 0;
+    for (std::size_t i = 0; i < line.t_a; ++i) {
+      if (is_simulated(line.cells[i])) below = i;
+      line.labels[i] = result_.cells[line.cells[below]].region;
+    }
   }
 
   // Between two simulated cells of [begin, end) with different labels, simulations halve the gap
@@ -347,44 +367,12 @@ class Search {
     }
   }
 
-  // Gives every unsimulated cell of a resolved line its region: G above the stop boundary, Y up
-  // to it from the avoidance threshold, below it the label shared by the simulated cells around it.
-  void fill(const Line& line) {
-    std::size_t below = kNone;  // last simulated index seen
-    for (std::size_t i = 0; i < line.cells.size(); ++i) {
-      const std::uint32_t cell = line.cells[i];
-      if (is_simulated(cell)) {
-        below = i;
-        continue;
-      }
-      Cell& c = result_.cells[cell];
-      c.from.clear();
-      if (i >= line.t_g) {
-        c.region = Region::kG;
-        c.method = Method::kStop;
-        continue;
-      }
-      c.method = Method::kLine;
-      std::size_t above = i + 1;
-      while (above < line.cells.size() && !is_simulated(line.cells[above])) ++above;
-      if (below != kNone) c.from.push_back(line.cells[below]);
-      if (above < line.cells.size() && (i >= line.t_a ? above < line.t_g : above < line.t_a))
-        c.from.push_back(line.cells[above]);
-      c.region = i >= line.t_a ? Region::kY : result_.cells[line.cells[below]].region;
-    }
-  }
-
-  // After a contradiction: every cell the analytic stop run does not settle is simulated.
-  void resolve_fully(std::size_t id, std::optional<Violation> violation) {
+  // After a contradiction: every cell the analytic stop run does not settle is simulated, and the
+  // thresholds and labels are read off the simulations.
+  void resolve_fully(std::size_t id) {
     Line& line = lines_[id];
-    line.resolved = true;
-    line.inferred = false;
     line.full = true;
-    if (violation) {
-      line.violated = true;
-      std::lock_guard lock(violations_mutex_);
-      found_[id] = *violation;
-    }
+    line.thresholds_searched = line.thresholds_known = line.labels_sampled = line.labels_known = true;
     std::size_t top = line.cells.size();
     while (top > 0 && oracle_.stop(line.cells[top - 1]) == StopCall::kStops) --top;
     for (std::size_t i = 0; i < top; ++i) simulate(line.cells[i]);
@@ -392,216 +380,224 @@ class Search {
     while (line.t_g > 0 && result_.cells[line.cells[line.t_g - 1]].region == Region::kG) --line.t_g;
     line.t_a = line.t_g;
     while (line.t_a > 0 && avoidable(result_.cells[line.cells[line.t_a - 1]].region)) --line.t_a;
-    fill(line);
+    line.labels.assign(line.t_a, Region::kR);
+    for (std::size_t i = 0; i < line.t_a; ++i) line.labels[i] = result_.cells[line.cells[i]].region;
+  }
+
+  // Simulations against the thresholds and labels of every line; a line that breaks monotonicity
+  // is simulated in full with its neighbours (theirs too, if they break it), until none does.
+  void resolve_violations() {
+    std::vector<char> queued(lines_.size(), 0);
+    std::vector<std::size_t> todo;
+    const auto scan = [&](const std::vector<std::size_t>& ids) {
+      std::vector<std::size_t> next;
+      for (std::size_t id : ids) {
+        Line& line = lines_[id];
+        if (line.violated) continue;
+        const auto v = check(line);
+        if (!v) continue;
+        line.violated = true;
+        result_.violations.push_back(*v);
+        const auto p = line_position(id);
+        if (!queued[id]) next.push_back(id), queued[id] = 1;
+        for (std::size_t a = 0; a < 4; ++a)
+          for (int d : {-1, 1}) {
+            auto q = p;
+            if ((d < 0 && q[a] == 0) || (d > 0 && q[a] + 1 >= extent(a))) continue;
+            q[a] = static_cast<std::uint32_t>(static_cast<int>(q[a]) + d);
+            const std::size_t n = line_id(q);
+            if (!queued[n]) next.push_back(n), queued[n] = 1;
+          }
+      }
+      return next;
+    };
+    std::vector<std::size_t> all(lines_.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    todo = scan(all);
+    while (!todo.empty()) {
+      std::sort(todo.begin(), todo.end());
+      parallel(todo, [&](std::size_t id) { resolve_fully(id); });
+      todo = scan(todo);
+    }
   }
 
   // --- boxes --------------------------------------------------------------------------------
 
-  void resolve_corners(const std::vector<Box>& boxes) {
-    std::vector<std::size_t> todo;
-    std::vector<char> queued(lines_.size(), 0);
-    for (const Box& box : boxes)
-      for_each_corner(box, [&](std::size_t id) {
-        if (lines_[id].resolved || queued[id]) return;
-        queued[id] = 1;
-        lines_[id].hint = box.hint;
-        todo.push_back(id);
-      });
-    std::vector<std::size_t> full;
-    full.swap(full_queue_);
-    parallel(todo, [&](std::size_t id) { resolve(id); });
-    parallel(full, [&](std::size_t id) { resolve_fully(id, std::nullopt); });
-    // Around a contradiction, the neighbouring lines are resolved in full too (next round).
-    std::map<std::size_t, Violation> found;
-    found.swap(found_);
-    for (const auto& [id, violation] : found) {
-      result_.violations.push_back(violation);
-      const auto p = line_position(id);
-      for (std::size_t a = 0; a < 4; ++a)
-        for (int d : {-1, 1}) {
-          auto q = p;
-          if ((d < 0 && q[a] == 0) || (d > 0 && q[a] + 1 >= extent(a))) continue;
-          q[a] = static_cast<std::uint32_t>(static_cast<int>(q[a]) + d);
-          const std::size_t neighbour = line_id(q);
-          if (!lines_[neighbour].full && !scheduled_[neighbour]) {
-            scheduled_[neighbour] = 1;
-            full_queue_.push_back(neighbour);
-          }
-        }
-    }
+  [[nodiscard]] bool known(const Line& line, Question q) const noexcept {
+    return q == Question::kThresholds ? line.thresholds_known : line.labels_known;
   }
 
-  // Whether two settled lines tell the same story: both Y runs or neither, thresholds within the
-  // bracket, the same O/R label wherever both have one.
-  bool agree(const Line& a, const Line& b) const {
-    if (a.violated || b.violated || !a.resolved || !b.resolved) return false;
-    const std::uint32_t pa = a.avoid_position(), pb = b.avoid_position();
-    if ((pa == kNone) != (pb == kNone)) return false;
-    if (pa != kNone && (pa > pb ? pa - pb : pb - pa) > kBracket) return false;
+  // Whether two lines, settled by their own searches, answer `q` alike: both have a Y run or
+  // neither, with thresholds within the bracket; the same O/R label wherever both have one.
+  bool agree(const Line& a, const Line& b, Question q) const {
+    if (q == Question::kThresholds) {
+      const std::uint32_t pa = a.avoid_position(), pb = b.avoid_position();
+      if ((pa == kNone) != (pb == kNone)) return false;
+      return pa == kNone || (pa > pb ? pa - pb : pb - pa) <= options_.bracket;
+    }
     std::size_t j = 0;
     for (std::size_t i = 0; i < a.t_a; ++i) {
       while (j < b.t_a && b.position[j] < a.position[i]) ++j;
-      if (j < b.t_a && b.position[j] == a.position[i] &&
-          result_.cells[a.cells[i]].region != result_.cells[b.cells[j]].region)
-        return false;
+      if (j < b.t_a && b.position[j] == a.position[i] && a.labels[i] != b.labels[j]) return false;
     }
     return true;
   }
 
-  // The corners' common answer, or nothing when some two of them disagree.
-  std::optional<Signature> signature(const Box& box) const {
+  // The corners' common answer to `q`, or nothing when some two of them disagree.
+  std::optional<Signature> signature(const Box& box, Question q) const {
     std::vector<std::size_t> corners;
     for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
     Signature s;
     for (std::size_t id : corners) {
       const Line& line = lines_[id];
-      if (!line.resolved || line.violated) return std::nullopt;
-      const std::uint32_t p = line.avoid_position();
-      if (id == corners.front()) s.avoid_low = s.avoid_high = p;
-      if ((p == kNone) != (s.avoid_low == kNone)) return std::nullopt;
-      if (p != kNone) {
-        s.avoid_low = std::min(s.avoid_low, p);
-        s.avoid_high = std::max(s.avoid_high, p);
+      if (q == Question::kThresholds) {
+        const std::uint32_t p = line.avoid_position();
+        if (id == corners.front()) s.avoid_low = s.avoid_high = p;
+        if ((p == kNone) != (s.avoid_low == kNone)) return std::nullopt;
+        if (p != kNone) {
+          s.avoid_low = std::min(s.avoid_low, p);
+          s.avoid_high = std::max(s.avoid_high, p);
+        }
+        continue;
       }
       for (std::size_t i = 0; i < line.t_a; ++i) {
-        const Region r = result_.cells[line.cells[i]].region;
-        const auto [it, inserted] = s.labels.emplace(line.position[i], r);
-        if (!inserted && it->second != r) return std::nullopt;
+        const auto [it, inserted] = s.labels.emplace(line.position[i], line.labels[i]);
+        if (!inserted && it->second != line.labels[i]) return std::nullopt;
       }
     }
-    if (s.avoid_low != kNone && s.avoid_high - s.avoid_low > kBracket) return std::nullopt;
+    if (q == Question::kThresholds && s.avoid_low != kNone && s.avoid_high - s.avoid_low > options_.bracket)
+      return std::nullopt;
     return s;
   }
 
-  // An inferred line's avoidance threshold: the corners' when they agree exactly, else searched by
-  // simulation within their bracket (the line's own stop boundary caps it). Sets line.t_a.
-  void bracket_threshold(Line& line, const Signature& s) {
+  // A line between agreeing corners: its own stop boundary, and its avoidance threshold searched
+  // within the corners' bracket (no simulation when they agree exactly).
+  void bracket_thresholds(Line& line, const Signature& s) {
+    line.thresholds_known = true;
+    if (line.cells.empty()) return;
+    stop_threshold(line);
+    if (s.avoid_low == kNone) {
+      line.t_a = line.t_g;
+      return;
+    }
     const auto index_of = [&](std::uint32_t position) {
       return std::min<std::size_t>(line.t_g, static_cast<std::size_t>(std::lower_bound(line.position.begin(),
                                                                                      line.position.end(), position) -
                                                                     line.position.begin()));
     };
-    if (s.avoid_low == kNone) {
-      line.t_a = line.t_g;
-      return;
-    }
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
     line.t_a = lo == hi ? lo : threshold(lo, hi, hi, [&](std::size_t i) { return avoidable(simulate(line.cells[i])); });
   }
 
-  // A line's regions as a uniform box's corners imply them, in `out` (one per cell); false when
-  // they imply none (unavoidable cells the corners say nothing about) or a simulated cell of the
-  // line contradicts them.
-  bool infer(const Line& line, const Signature& s, std::vector<Region>& out) const {
-    out.assign(line.cells.size(), Region::kG);
-    const std::size_t t_a = line.t_a;
-    for (std::size_t i = 0; i < line.cells.size(); ++i) {
-      if (i >= line.t_g) continue;
-      if (i >= t_a) {
-        out[i] = Region::kY;
-        continue;
-      }
-      if (s.labels.empty()) return false;
-      auto it = s.labels.lower_bound(line.position[i]);  // the nearest position a corner labels
-      if (it == s.labels.end() || (it->first != line.position[i] && it != s.labels.begin() &&
-                                   line.position[i] - std::prev(it)->first <= it->first - line.position[i]))
-        it = std::prev(it);
-      out[i] = it->second;
+  // The label the corners give the level nearest `position` (the lower on a tie).
+  static std::optional<Region> nearest_label(const Signature& s, std::uint32_t position) {
+    if (s.labels.empty()) return std::nullopt;
+    auto it = s.labels.lower_bound(position);
+    if (it == s.labels.end() || (it->first != position && it != s.labels.begin() &&
+                                 position - std::prev(it)->first <= it->first - position))
+      it = std::prev(it);
+    return it->second;
+  }
+
+  // A line between agreeing corners takes their labels; false when they give none, or when a cell
+  // the line simulated for its thresholds says otherwise.
+  bool infer_labels(Line& line, const Signature& s, const Box& box) {
+    std::vector<Region> labels(line.t_a);
+    for (std::size_t i = 0; i < line.t_a; ++i) {
+      const auto label = nearest_label(s, line.position[i]);
+      if (!label) return false;
+      labels[i] = *label;
+      if (is_simulated(line.cells[i]) && result_.cells[line.cells[i]].region != labels[i]) return false;
     }
-    for (std::size_t i = 0; i < line.cells.size(); ++i)
-      if (is_simulated(line.cells[i]) && result_.cells[line.cells[i]].region != out[i]) return false;
+    line.labels = std::move(labels);
+    line.labels_known = true;
+    line.label_corners.clear();
+    for_each_corner(box, [&](std::size_t id) { line.label_corners.push_back(static_cast<std::uint32_t>(id)); });
     return true;
   }
 
-  void commit(std::size_t id, const Box& box, const std::vector<Region>& regions) {
-    Line& line = lines_[id];
-    line.inferred = true;
-    line.t_g = line.cells.size();
-    while (line.t_g > 0 && regions[line.t_g - 1] == Region::kG) --line.t_g;
-    line.t_a = line.t_g;
-    while (line.t_a > 0 && regions[line.t_a - 1] == Region::kY) --line.t_a;
-    for (std::size_t i = 0; i < line.cells.size(); ++i) {
-      Cell& c = result_.cells[line.cells[i]];
-      if (c.method == Method::kSimulated) continue;
-      c.region = regions[i];
-      c.from.clear();
-      if (i >= line.t_g) {
-        c.method = Method::kStop;
-        continue;
-      }
-      c.method = Method::kBox;
-      for_each_corner(box, [&](std::size_t corner) {  // the corner's cell at this level, or the nearest
-        const Line& other = lines_[corner];
-        if (other.cells.empty()) return;
-        auto at = static_cast<std::size_t>(std::lower_bound(other.position.begin(), other.position.end(),
-                                                            line.position[i]) - other.position.begin());
-        if (at == other.cells.size() ||
-            (at > 0 && line.position[i] - other.position[at - 1] < other.position[at] - line.position[i]))
-          --at;
-        const Cell& source = result_.cells[other.cells[at]];
-        if (source.method == Method::kSimulated)
-          c.from.push_back(other.cells[at]);
+  // Refines boxes of lines for one question: their corners answer it by their own simulations;
+  // boxes whose corners agree answer it for the lines between them, the others are split across
+  // the factors the corners disagree across.
+  void refine(Question q) {
+    std::vector<Box> pending = initial_boxes(initial_levels(q));
+    while (!pending.empty()) {
+      ++result_.rounds;
+      std::sort(pending.begin(), pending.end());
+      pending.erase(std::unique(pending.begin(), pending.end(),
+                                [](const Box& a, const Box& b) { return a.lo == b.lo && a.hi == b.hi; }),
+                    pending.end());
+      // 1. The corners, by their own search.
+      std::vector<std::size_t> corners;
+      std::vector<char> queued(lines_.size(), 0);
+      for (const Box& box : pending)
+        for_each_corner(box, [&](std::size_t id) {
+          Line& line = lines_[id];
+          const bool done = q == Question::kThresholds ? line.thresholds_searched : line.labels_sampled;
+          if (done || queued[id]) return;
+          queued[id] = 1;
+          if (q == Question::kThresholds) line.hint = box.hint;
+          corners.push_back(id);
+        });
+      parallel(corners, [&](std::size_t id) {
+        if (q == Question::kThresholds)
+          search_thresholds(id);
         else
-          c.from.insert(c.from.end(), source.from.begin(), source.from.end());
+          sample_labels(id);
       });
-      std::sort(c.from.begin(), c.from.end());
-      c.from.erase(std::unique(c.from.begin(), c.from.end()), c.from.end());
-      if (c.from.size() > kMaxFrom) c.from.resize(kMaxFrom);
-    }
-  }
-
-  // Boxes whose corners agree give their other lines the corners' answer (after simulating the
-  // cells of those lines that the stop boundary leaves unsure, which must agree too); the others
-  // are split in two along every factor that has lines between its corners.
-  std::vector<Box> settle_boxes(const std::vector<Box>& boxes) {
-    std::vector<std::optional<Signature>> signatures(boxes.size());
-    for (std::size_t b = 0; b < boxes.size(); ++b) signatures[b] = signature(boxes[b]);
-    // A line inside a box that will split is left to that box's children.
-    std::vector<char> blocked(lines_.size(), 0);
-    for (std::size_t b = 0; b < boxes.size(); ++b)
-      if (!signatures[b]) for_each_line(boxes[b], [&](std::size_t id) { blocked[id] = 1; });
-    std::vector<std::vector<std::size_t>> owned(boxes.size());
-    std::vector<std::size_t> candidates;
-    std::vector<char> taken(lines_.size(), 0);
-    for (std::size_t b = 0; b < boxes.size(); ++b) {
-      if (!signatures[b]) continue;
-      for_each_line(boxes[b], [&](std::size_t id) {
-        if (lines_[id].settled() || blocked[id] || taken[id] || scheduled_[id]) return;
-        taken[id] = 1;
-        owned[b].push_back(id);
-        candidates.push_back(id);
-      });
-    }
-    // Every candidate's own stop boundary, and its avoidance threshold within the corners' bracket,
-    // in parallel.
-    std::vector<const Signature*> signature_of(lines_.size(), nullptr);
-    for (std::size_t b = 0; b < boxes.size(); ++b)
-      for (std::size_t id : owned[b]) signature_of[id] = &*signatures[b];
-    parallel(candidates, [&](std::size_t id) {
-      stop_threshold(lines_[id]);
-      bracket_threshold(lines_[id], *signature_of[id]);
-    });
-    std::vector<Box> next;
-    std::vector<Region> regions;
-    for (std::size_t b = 0; b < boxes.size(); ++b) {
-      bool uniform = signatures[b].has_value();
-      std::vector<std::vector<Region>> implied(owned[b].size());
-      for (std::size_t k = 0; k < owned[b].size() && uniform; ++k)
-        uniform = infer(lines_[owned[b][k]], *signatures[b], implied[k]);
-      if (uniform) {
-        for (std::size_t k = 0; k < owned[b].size(); ++k) commit(owned[b][k], boxes[b], implied[k]);
-        continue;
+      // 2. Which boxes agree; the lines inside a box that disagrees are left to its parts.
+      std::vector<std::optional<Signature>> signatures(pending.size());
+      std::vector<char> blocked(lines_.size(), 0);
+      for (std::size_t b = 0; b < pending.size(); ++b) {
+        signatures[b] = signature(pending[b], q);
+        if (!signatures[b]) for_each_line(pending[b], [&](std::size_t id) { blocked[id] = 1; });
       }
-      split(boxes[b], next);
+      std::vector<std::vector<std::size_t>> owned(pending.size());
+      std::vector<char> taken(lines_.size(), 0);
+      for (std::size_t b = 0; b < pending.size(); ++b) {
+        if (!signatures[b]) continue;
+        for_each_line(pending[b], [&](std::size_t id) {
+          if (known(lines_[id], q) || blocked[id] || taken[id]) return;
+          taken[id] = 1;
+          owned[b].push_back(id);
+        });
+      }
+      // 3. Their lines answered from the corners: thresholds in parallel (they may simulate),
+      // labels in order (they do not).
+      std::vector<Box> next;
+      if (q == Question::kThresholds) {
+        std::vector<std::pair<std::size_t, const Signature*>> work;
+        for (std::size_t b = 0; b < pending.size(); ++b)
+          for (std::size_t id : owned[b]) work.emplace_back(id, &*signatures[b]);
+        parallel(work, [&](const std::pair<std::size_t, const Signature*>& w) {
+          bracket_thresholds(lines_[w.first], *w.second);
+        });
+        for (std::size_t b = 0; b < pending.size(); ++b)
+          for (std::size_t id : owned[b]) {
+            auto& sources = lines_[id].threshold_corners;
+            for_each_corner(pending[b], [&](std::size_t c) { sources.push_back(static_cast<std::uint32_t>(c)); });
+          }
+      } else {
+        for (std::size_t b = 0; b < pending.size(); ++b) {
+          if (!signatures[b]) continue;
+          bool ok = true;
+          for (std::size_t id : owned[b]) ok = ok && infer_labels(lines_[id], *signatures[b], pending[b]);
+          if (ok) continue;
+          for (std::size_t id : owned[b]) lines_[id].labels_known = false;
+          signatures[b].reset();
+        }
+      }
+      for (std::size_t b = 0; b < pending.size(); ++b)
+        if (!signatures[b]) split(pending[b], q, next);
+      pending.swap(next);
     }
-    return next;
   }
 
   // Splits a box whose corners disagree across the factors they disagree across: in two halves
   // when there are lines between the corners, into its two faces when there are none. Factors
   // along which every pair of corners agrees stay whole, so a boundary across one factor does not
   // refine the others. Corners that disagree only diagonally split every factor.
-  void split(const Box& box, std::vector<Box>& out) const {
+  void split(const Box& box, Question q, std::vector<Box>& out) const {
     std::array<bool, 4> across{};
     bool any = false;
     for (std::size_t a = 0; a < 4; ++a) {
@@ -610,7 +606,7 @@ class Search {
         auto p = line_position(id);
         if (across[a] || p[a] != box.lo[a]) return;
         p[a] = box.hi[a];
-        across[a] = !agree(lines_[id], lines_[line_id(p)]);
+        across[a] = !agree(lines_[id], lines_[line_id(p)], q);
       });
       any = any || across[a];
     }
@@ -630,7 +626,7 @@ class Search {
       }
     }
     if (!divides) return;
-    // The children's new lines start their search where the corners' thresholds are.
+    // The new corners start their threshold search where the corners' thresholds are.
     std::vector<std::uint32_t> thresholds;
     for_each_corner(box, [&](std::size_t id) {
       if (lines_[id].avoid_position() != kNone) thresholds.push_back(lines_[id].avoid_position());
@@ -648,6 +644,73 @@ class Search {
             out.push_back(Box{{h0.first, h1.first, h2.first, h3.first}, {h0.second, h1.second, h2.second, h3.second}, hint});
   }
 
+  // --- the map ---------------------------------------------------------------------------------
+
+  // Gives every cell of a line its region and method: G above the stop boundary (by physics), Y
+  // from the avoidance threshold, the labels below it; `from` names the simulated cells behind
+  // each inferred cell (in the line, or at the same level on the corners it was inferred from).
+  void fill(std::size_t id) {
+    Line& line = lines_[id];
+    std::vector<std::size_t> simulated;
+    for (std::size_t i = 0; i < line.cells.size(); ++i)
+      if (is_simulated(line.cells[i])) simulated.push_back(i);
+    for (std::size_t i = 0; i < line.cells.size(); ++i) {
+      Cell& c = result_.cells[line.cells[i]];
+      if (c.method == Method::kSimulated) continue;
+      c.from.clear();
+      if (i >= line.t_g) {
+        c.region = Region::kG;
+        c.method = Method::kStop;
+        continue;
+      }
+      const bool y = i >= line.t_a;
+      c.region = y ? Region::kY : line.labels[i];
+      const bool from_line = y ? line.thresholds_searched : line.labels_sampled;
+      c.method = from_line ? Method::kLine : Method::kBox;
+      if (from_line) {  // the simulated cells around it in its run
+        const std::size_t begin = y ? line.t_a : 0, end = y ? line.t_g : line.t_a;
+        const auto above = std::upper_bound(simulated.begin(), simulated.end(), i);
+        if (above != simulated.begin() && *std::prev(above) >= begin) c.from.push_back(line.cells[*std::prev(above)]);
+        if (above != simulated.end() && *above < end) c.from.push_back(line.cells[*above]);
+      }
+      if (c.from.empty()) corner_sources(line, y ? line.threshold_corners : line.label_corners, i, c.from);
+    }
+  }
+
+  // The simulated cells at the level of cell i (or the nearest) on the lines its labels came from,
+  // or on the lines beside it when it has none.
+  void corner_sources(const Line& line, const std::vector<std::uint32_t>& corners, std::size_t i,
+                      std::vector<std::uint32_t>& from) const {
+    for (std::uint32_t corner : corners) {
+      const Line& other = lines_[corner];
+      if (other.cells.empty()) continue;
+      auto at = static_cast<std::size_t>(std::lower_bound(other.position.begin(), other.position.end(),
+                                                          line.position[i]) - other.position.begin());
+      if (at == other.cells.size() ||
+          (at > 0 && line.position[i] - other.position[at - 1] < other.position[at] - line.position[i]))
+        --at;
+      const std::uint32_t cell = other.cells[at];
+      if (is_simulated(cell)) {
+        from.push_back(cell);
+        continue;
+      }
+      // The corner's own nearest simulations at that level's run.
+      for (std::size_t k = at; k-- > 0;)
+        if (is_simulated(other.cells[k])) {
+          from.push_back(other.cells[k]);
+          break;
+        }
+      for (std::size_t k = at + 1; k < other.cells.size(); ++k)
+        if (is_simulated(other.cells[k])) {
+          from.push_back(other.cells[k]);
+          break;
+        }
+    }
+    std::sort(from.begin(), from.end());
+    from.erase(std::unique(from.begin(), from.end()), from.end());
+    if (from.size() > kMaxFrom) from.resize(kMaxFrom);
+  }
+
   // --- verification and totals ------------------------------------------------------------------
 
   // A random sample of the cells inferred from other simulations (not the analytic stop cells, which
@@ -658,7 +721,8 @@ class Search {
       if (result_.cells[c].method == Method::kLine || result_.cells[c].method == Method::kBox)
         population.push_back(static_cast<std::uint32_t>(c));
     result_.verify_population = population.size();
-    const std::size_t k = std::min(options_.verify_sample, population.size());
+    const std::size_t automatic = std::clamp<std::size_t>(result_.feasible / 200, 20, 500);
+    const std::size_t k = std::min(options_.verify_sample.value_or(automatic), population.size());
     std::mt19937_64 random(options_.seed);
     for (std::size_t i = 0; i < k; ++i) {  // a partial Fisher-Yates shuffle: the same sample everywhere
       const std::size_t j = i + static_cast<std::size_t>(random() % (population.size() - i));
@@ -679,8 +743,8 @@ class Search {
   void finish() {
     result_.simulated = simulated_.load();
     for (const Line& line : lines_) {
-      result_.lines_resolved += line.resolved ? 1 : 0;
-      result_.lines_inferred += line.inferred ? 1 : 0;
+      result_.lines_resolved += line.thresholds_searched || line.labels_sampled ? 1 : 0;
+      result_.lines_inferred += line.thresholds_searched || line.labels_sampled ? 0 : 1;
       result_.lines_fully_resolved += line.full ? 1 : 0;
     }
   }
@@ -704,10 +768,6 @@ class Search {
   std::vector<Line> lines_;
   Result result_;
   std::atomic<std::size_t> simulated_{0};
-  std::mutex violations_mutex_;
-  std::map<std::size_t, Violation> found_;  ///< by line, so the order does not depend on threads
-  std::vector<std::size_t> full_queue_;
-  std::vector<char> scheduled_;  ///< per line: queued for full resolution
 };
 
 }  // namespace
@@ -766,7 +826,7 @@ StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
 Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
   for (const auto& l : lattice.levels)
     if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
-  if (options.initial_levels < 2) throw std::invalid_argument("adaptive search: initial_levels must be at least 2");
+  if (options.initial_levels == 1) throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");
   if (options.stride < 1) throw std::invalid_argument("adaptive search: stride must be at least 1");
   return Search(lattice, oracle, options).run();
 }

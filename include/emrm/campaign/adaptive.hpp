@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,13 +59,18 @@ class Oracle {
 };
 
 struct Options {
-  /// Lines simulated per factor across the domain before any refinement (at least 2).
-  std::size_t initial_levels = 5;
+  /// Lines searched per factor across the domain before any refinement (at least 2); 0: 4 for
+  /// the thresholds when the lines vary in one factor, 3 when in more, and 2 for the labels.
+  std::size_t initial_levels = 0;
   /// Along a line, the unavoidable cells are sampled every `stride` cells before the changes
   /// between samples are bisected (at least 1; 1 simulates every unavoidable cell).
   std::size_t stride = 4;
-  /// Inferred cells re-simulated at random at the end to measure the disagreement rate.
-  std::size_t verify_sample = 0;
+  /// Corners whose avoidance thresholds differ by at most this many levels still agree: the lines
+  /// between them search their own threshold within that bracket (log2 of it in simulations).
+  std::uint32_t bracket = 1;
+  /// Inferred cells re-simulated at random at the end to measure the disagreement rate; none: 0.5 %
+  /// of the feasible cells, at least 20 and at most 500 (never more than were inferred).
+  std::optional<std::size_t> verify_sample;
   std::uint64_t seed = 1;         ///< of the verification sample
   double confidence = 0.95;       ///< of the disagreement rate's Wilson interval
 };
@@ -110,7 +116,7 @@ struct Result {
   scenario::Interval disagreement;                 ///< Wilson interval of the disagreement rate
 };
 
-/// Throws std::invalid_argument for an empty lattice level list or initial_levels < 2 or stride < 1.
+/// Throws std::invalid_argument for a factor without levels, initial_levels 1, or stride 0.
 [[nodiscard]] Result search(const Lattice& lattice, Oracle& oracle, const Options& options);
 
 }  // namespace emrm::campaign::adaptive

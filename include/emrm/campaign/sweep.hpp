@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,9 +26,9 @@ struct SweepOptions {
   /// with `adaptive: true`. Not with shards.
   bool adaptive = false;
   /// The search's settings (adaptive.hpp): initial levels, stride, verification sample.
-  std::size_t initial_levels = 5;
+  std::size_t initial_levels = 0;
   std::size_t stride = 4;
-  std::size_t verify_sample = 100;
+  std::optional<std::size_t> verify_sample;  ///< none: automatic (adaptive.hpp)
 };
 
 /// What the adaptive search of one grid did (also stored, as JSON, in the store's adaptive table).
