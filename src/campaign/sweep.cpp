@@ -209,10 +209,16 @@ class GridOracle final : public adaptive::Oracle {
  public:
   GridOracle(const Campaign& campaign, const GridSpec& grid, Committer& committer,
              const std::vector<std::pair<std::int64_t, std::string>>& stored)
-      : campaign_(campaign), grid_(grid), committer_(committer), stored_(grid.cells.size(), sim::Region::kInfeasible) {
+      : campaign_(campaign),
+        grid_(grid),
+        committer_(committer),
+        stored_(grid.cells.size(), sim::Region::kInfeasible),
+        present_(grid.cells.size(), 0) {
     for (const auto& [index, region] : stored)
-      if (index >= 0 && static_cast<std::size_t>(index) < stored_.size())
+      if (index >= 0 && static_cast<std::size_t>(index) < stored_.size()) {
         stored_[static_cast<std::size_t>(index)] = region_from(region);
+        present_[static_cast<std::size_t>(index)] = 1;
+      }
     // The analytic stop boundary is the shipped emergency stop's; with another baseline only a
     // simulation tells, and without one no cell is G.
     const sim::StrategyTable strategies = sim::registered_strategies();
@@ -252,7 +258,8 @@ class GridOracle final : public adaptive::Oracle {
   [[nodiscard]] std::uint64_t seed(std::size_t cell) const {
     return grid_.seeds.empty() ? cell_seed(campaign_, grid_.name, grid_.cells[cell]) : grid_.seeds[cell];
   }
-  [[nodiscard]] bool stored(std::size_t cell) const { return stored_[cell] != sim::Region::kInfeasible; }
+  /// The store held the cell before this run (simulated, or infeasible).
+  [[nodiscard]] bool stored(std::size_t cell) const { return present_[cell] != 0; }
 
  private:
   enum class Rule { kAnalytic, kSimulate, kNoBaseline };
@@ -260,6 +267,7 @@ class GridOracle final : public adaptive::Oracle {
   const GridSpec& grid_;
   Committer& committer_;
   std::vector<sim::Region> stored_;  ///< kInfeasible: not simulated yet
+  std::vector<char> present_;        ///< in the store before this run
   Rule stop_rule_ = Rule::kAnalytic;
 };
 

@@ -35,6 +35,7 @@ struct VerifyReport {
   std::int64_t avoidances = 0;    ///< of which avoidances, re-checked every check_step_s
   std::int64_t certificates = 0;  ///< certificates re-derived
   std::int64_t undecided = 0;     ///< cells whose region rests on a search alone
+  std::int64_t inferred = 0;      ///< cells an adaptive sweep inferred (their grounds checked, nothing replayed)
   /// Feasible cells by region (G, Y, O, R) and the evidence behind it.
   std::map<std::string, std::map<std::string, std::int64_t>> by_region;
   /// The least distance kept to the truck by any avoidance (m), over the re-checked trajectories.

@@ -286,10 +286,10 @@ TEST(WriteExports, WritesSortedRowsWithTheDocumentedColumns) {
   write_exports(dir / "results.sqlite", dir);
   EXPECT_EQ(read_text(dir / "regions.csv"),
             "grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,feasible,region,evidence,mitigation_evidence,"
-            "p_mais3_reduction,p_fatal_reduction\n"
-            "first,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17\n"
-            "first,30.1,0.31,0.65,2.4,10,0,infeasible,,,,\n"
-            "second,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17\n");
+            "p_mais3_reduction,p_fatal_reduction,method\n"
+            "first,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17,simulated\n"
+            "first,30.1,0.31,0.65,2.4,10,0,infeasible,,,,,\n"
+            "second,30,0.31,0.65,2.4,10,1,Y,witness,,0.123457,1e-17,simulated\n");
   const std::string cells = read_text(dir / "cells.csv");
   EXPECT_THAT(cells, HasSubstr("grid,speed_kph,ttc_s,mu,passage_m,truck_speed_kph,strategy,avoided,"
                                "impact_speed_kph,delta_v_kph,loss_level,delta_loss,min_ttc_s,road_departure,"
