@@ -29,6 +29,8 @@ void register_report_command(CLI::App& app, int& exit_code);
 void register_verify_command(CLI::App& app, int& exit_code);
 /// `emrm diagnose DIR`: the campaign diagnostics on any results store.
 void register_diagnose_command(CLI::App& app, int& exit_code);
+/// `emrm boundary DIR`: the TTC boundaries of each region and strategy, as CSV and figures.
+void register_boundary_command(CLI::App& app, int& exit_code);
 /// `emrm calibrate`: fits the brakes' actuation to measured brake tests.
 void register_calibrate_command(CLI::App& app, int& exit_code);
 

@@ -4,6 +4,8 @@
 // share (a figure's files, a cell's value along an axis).
 
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/campaign/records.hpp"
@@ -27,6 +29,40 @@ enum class Axis { kSpeed, kTtc, kMu, kPassage, kTruckSpeed };
 
 /// The distinct values of `a` over `cells`, ascending (values within kSameValue are one).
 [[nodiscard]] std::vector<double> distinct_values(const std::vector<campaign::CellRecord>& cells, Axis a);
+
+/// A figure's file stem: letters, digits, '.', '-' and '_' kept, anything else '_'.
+[[nodiscard]] std::string file_stem(std::string_view text);
+
+/// A strategy's label in figure keys: the registry's ("emergency stop"), else its name with spaces.
+[[nodiscard]] std::string strategy_label(std::string_view strategy);
+/// A strategy's colour "#rrggbb": the registry's, else one of a few extra colours by its place
+/// among the unregistered ones of `strategies`.
+[[nodiscard]] std::string strategy_colour(std::string_view strategy, const std::vector<std::string>& strategies);
+
+/// A one-panel map of `cells` (one grid's, sharing every factor but speed and TTC) with curves
+/// drawn over it: the boundary figures (boundary_figures.cpp).
+struct OverlaidMap {
+  std::string grid;
+  std::vector<campaign::CellRecord> cells;
+  std::string held;                 ///< what the cells share, as the heading says it: "μ = 0.5, passage 3 m"
+  std::string title;                ///< the figure's heading (shown literally)
+  std::string data;                 ///< the curves' datablocks
+  std::vector<std::string> layers;  ///< their plot items, drawn over the cells in this order
+  std::vector<std::string> key;     ///< their key entries, after the regions'
+};
+
+/// What the caption of an overlaid map says of its cells.
+struct MapCaption {
+  std::string extent;    ///< "5 speeds × 6 TTCs, μ = 0.5"
+  std::string shares;    ///< "G a %, Y b %, O c %, R d % of N feasible[, k undecided]"
+  std::string evidence;  ///< a sentence on the undecided and certified O/R cells, or ""
+};
+
+/// Draws `map` into figure.png and figure.svg: speed × TTC, each cell in the mitigability map's
+/// region colour (undecided O/R cells crossed), then map.layers on top; no closed-form stop
+/// boundary of its own. Throws as render_png_and_svg, and emrm::Error for a feasible cell whose
+/// region is not G, Y, O or R.
+MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map);
 
 /// A feasible cell in region O or R.
 [[nodiscard]] bool is_o_or_r(const campaign::CellRecord& c);

@@ -23,19 +23,9 @@ using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
 using detail::kSameValue;
+using detail::strategy_colour;
+using detail::strategy_label;
 using detail::write_csv;
-
-// Colours for strategies the registry does not know (a store written with a strategy registered
-// then): the registered ones keep their record's colour in every figure.
-constexpr std::array<std::string_view, 5> kExtraColours{"#8c564b", "#e377c2", "#17becf", "#bcbd22", "#d62728"};
-
-std::string strategy_label(std::string_view strategy) {
-  const sim::StrategyTable registered = sim::registered_strategies();
-  if (const sim::StrategyInfo* info = registered.info(strategy)) return info->label;
-  std::string out(strategy);
-  std::replace(out.begin(), out.end(), '_', ' ');
-  return out;
-}
 
 /// The strategies of `records` in evaluation order, then any other in order of first appearance.
 std::vector<std::string> ordered_strategies(const std::vector<CellRecord>& records) {
@@ -46,17 +36,6 @@ std::vector<std::string> ordered_strategies(const std::vector<CellRecord>& recor
   for (const auto& name : seen)
     if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   return out;
-}
-
-std::string strategy_colour(std::string_view strategy, const std::vector<std::string>& strategies) {
-  const sim::StrategyTable registered = sim::registered_strategies();
-  if (const sim::StrategyInfo* info = registered.info(strategy)) return info->colour;
-  std::size_t extra = 0;
-  for (const auto& s : strategies) {
-    if (s == strategy) break;
-    if (registered.info(s) == nullptr) ++extra;
-  }
-  return std::string(kExtraColours[extra % kExtraColours.size()]);
 }
 
 // The baseline is dashed in the sweep curves: in print its grey is then still told apart.

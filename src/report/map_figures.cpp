@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -31,6 +30,7 @@ namespace fs = std::filesystem;
 using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
+using detail::file_stem;
 using detail::is_o_or_r;
 using detail::is_undecided;
 using detail::value_of;
@@ -287,9 +287,9 @@ std::string boundary_function(const MapPanel& p, double latency_s) {
 constexpr std::string_view kBoundaryStyle = "with lines dt 2 lw 2.5 lc rgb 'black'";
 
 /// One panel of the multiplot: its place, its heading with `subtitle` under it, its axes, then
-/// `layers` (plot items over its cells) and the stop boundary on top.
-std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
-                         const std::vector<std::string>& layers, double latency_s) {
+/// `layers` (plot items over its cells, in drawing order).
+std::string panel_plot(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
+                       const std::vector<std::string>& layers) {
   const std::string heading = fmt::format("{}: {} ({} cells)", panel_name(p), panel_extent(p), p.cells.size());
   std::string out =
       fmt::format("set origin {},{}\nset size {},{}\n", p.origin_x, p.origin_y, layout.panel_w, layout.cell_h);
@@ -300,10 +300,15 @@ std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string
   out += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(p.xs.front() - p.hx),
                      plot_number(p.xs.back() + p.hx), plot_number(p.ys.front() - p.hy),
                      plot_number(p.ys.back() + p.hy));
-  out += "plot " + core::join(layers, ", ");
+  return out + "plot " + core::join(layers, ", ") + "\n";
+}
+
+/// panel_plot with the closed-form stop boundary on top of `layers`.
+std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
+                         std::vector<std::string> layers, double latency_s) {
   const std::string boundary = boundary_function(p, latency_s);
-  if (!boundary.empty()) out += fmt::format(", {} {} notitle", boundary, kBoundaryStyle);
-  return out + "\n";
+  if (!boundary.empty()) layers.push_back(fmt::format("{} {} notitle", boundary, kBoundaryStyle));
+  return panel_plot(layout, p, subtitle, layers);
 }
 
 /// The key's entry for a dashed stop boundary titled `label`.
@@ -711,14 +716,6 @@ std::string held_text(const GridCut& cut, const GridSlice& slice, const std::vec
   return core::join(parts, ", ");
 }
 
-/// A figure's file stem: letters, digits, '.', '-' and '_' kept, anything else '_'.
-std::string file_stem(std::string_view text) {
-  std::string out(text);
-  for (char& c : out)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
-  return out;
-}
-
 /// "map_GRID", then "_FACTOR_VALUE" for each factor the slice is cut along.
 std::string slice_stem(const std::string& grid, const GridCut& cut, const GridSlice& slice) {
   std::string stem = "map_" + file_stem(grid);
@@ -815,5 +812,46 @@ std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const
   }
   return figures;
 }
+
+// --- a speed × TTC map with curves over it (boundary_figures.cpp) ----------------------------------
+
+namespace detail {
+
+namespace {
+constexpr int kOverlaidWidthPx = 1300, kOverlaidHeightPx = 900;
+constexpr std::size_t kOverlaidKeyColumns = 3;
+constexpr int kOverlaidKeyWidthAdjust = 0;
+}  // namespace
+
+MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
+  const EvidenceCounts evidence = count_evidence(map.cells);
+  std::vector<std::string> key = region_key("", evidence.undecided > 0);
+  key.insert(key.end(), map.key.begin(), map.key.end());
+  const std::size_t key_rows = (key.size() + kOverlaidKeyColumns - 1) / kOverlaidKeyColumns;
+  MapLayout layout = empty_layout(0.025 + 0.03 * static_cast<double>(key_rows));
+  layout.panel_w = 1.0;
+  layout.cell_h = kMapTop - layout.key_h;
+  layout.width_px = kOverlaidWidthPx;
+  layout.height_px = kOverlaidHeightPx;
+  layout.total_cells = map.cells.size();
+  const std::string panel_title = "Grid " + map.grid;  // the spec views it
+  MapPanel p;
+  p.spec = {'a', map.grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, panel_title};
+  p.lettered = false;
+  p.origin_y = layout.key_h;
+  fill_panel(p, map.cells);
+  p.held = map.held;
+
+  std::vector<core::Row> cell_rows;  // the cells are in the store's exports; the figure's CSV is the caller's
+  std::string data = map.data;
+  RegionPanel drawn = region_panel(layout, p, cell_rows, data);
+  drawn.layers.insert(drawn.layers.end(), map.layers.begin(), map.layers.end());
+  const std::string body = map_script(layout, enhanced_literal(map.title), panel_plot(layout, p, drawn.shares, drawn.layers),
+                                      key, static_cast<int>(key_rows), kOverlaidKeyWidthAdjust, layout.key_h);
+  render_png_and_svg(figure.png, figure.svg, data, body, kOverlaidWidthPx, kOverlaidHeightPx, kMapFontPt);
+  return {panel_extent(p), drawn.shares, evidence.caption()};
+}
+
+}  // namespace detail
 
 }  // namespace emrm::report
