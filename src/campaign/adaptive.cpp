@@ -212,12 +212,6 @@ class Search {
     }
   }
 
-  [[nodiscard]] static bool is_corner(const Box& box, const std::array<std::uint32_t, 4>& p) noexcept {
-    for (std::size_t a = 0; a < 4; ++a)
-      if (p[a] != box.lo[a] && p[a] != box.hi[a]) return false;
-    return true;
-  }
-
   // --- one line -----------------------------------------------------------------------------
 
   Region simulate(std::uint32_t cell) {

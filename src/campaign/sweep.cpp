@@ -83,6 +83,9 @@ class Committer {
 
   [[nodiscard]] std::size_t simulated() const noexcept { return simulated_.load(); }
 
+  /// An adaptive search decides as it goes how many cells it simulates: no estimate then.
+  void drop_estimate() { estimate_ = false; }
+
  private:
   static constexpr std::size_t kBatchCells = 64;
   static constexpr std::int64_t kBatchNs = 500'000'000;
@@ -104,6 +107,7 @@ class Committer {
   }
 
   [[nodiscard]] std::optional<double> remaining_s() {
+    if (!estimate_) return std::nullopt;
     const double seconds = static_cast<double>(now_ns()) * 1e-9;
     std::lock_guard lock(pending_mutex_);
     return eta_.remaining_seconds(seconds);
@@ -148,6 +152,7 @@ class Committer {
   std::atomic<std::size_t> simulated_{0};
   bool drew_ = false;
   EtaModel eta_;  // guarded by pending_mutex_
+  bool estimate_ = true;
   std::FILE* log_ = nullptr;
 };
 
@@ -462,6 +467,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
     Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
                         log.get());
+    if (any_adaptive) committer.drop_estimate();
     std::atomic<std::size_t> next{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
     tbb::parallel_for(

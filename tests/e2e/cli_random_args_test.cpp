@@ -25,12 +25,13 @@ TEST(CliRandomArguments, ExitCodesAreOnlyZeroOneOrTwo) {
   write_text(dir / "tiny.yaml", "scene: scene.yaml\nstrategies: [emergency_stop]\ngrids:\n  - name: g\n    speed_kph: 40\n    ttc_s: 2.0\n");
   const std::vector<std::string> commands{"analyze", "fsm",    "simulate", "sweep",  "merge",    "reproduce",
                                           "ca",      "plan",   "run",      "report", "verify",   "diagnose",
-                                          "calibrate", "nosuch", "--help", "--version"};
+                                          "calibrate", "boundary", "nosuch", "--help", "--version"};
   const std::vector<std::string> options{
       "--speed-kph", "--ttc-s",  "--mu",     "--passage-m", "--truck-speed-kph", "--seed",   "--threads",
       "--output",    "-o",       "--levels", "--strength",  "--effort",          "--sample", "--profile",
       "--format",    "--words",  "--json",   "--shard",     "--force",           "--scene",  "--strategy",
-      "--fit",       "--stops",  "--match",  "--examples",  "--no-certify",      "--check",  "--bogus"};
+      "--fit",       "--stops",  "--match",  "--examples",  "--no-certify",      "--check",  "--bogus",
+      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--max-figures", "--no-figures"};
   const std::string out = (dir.parent_path() / "out").string();
   const std::vector<std::string> values{
       "nan", "-nan", "inf", "-1", "0", "1", "3", "0.5", "1e300", "-1e300", "18446744073709551616",
