@@ -11,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -239,12 +238,7 @@ Figure undrawn_slices(const BoundaryReport& report, std::size_t drawn, const std
 std::vector<Figure> draw_boundary_figures(const BoundaryReport& report, const std::vector<CellRecord>& records,
                                           const fs::path& dir, const BoundaryFigureOptions& options) {
   std::vector<Figure> figures;
-  std::set<std::string> stems;
-  const auto unique_stem = [&stems](std::string stem) {
-    const std::string base = stem;
-    for (int n = 2; !stems.insert(stem).second; ++n) stem = fmt::format("{}_{}", base, n);
-    return stem;
-  };
+  detail::StemSet stems;
   const std::size_t drawn = std::min(report.slices.size(), options.max_figures);
   for (std::size_t i = 0; i < drawn; ++i) {
     const BoundarySlice& slice = report.slices[i];
@@ -253,9 +247,9 @@ std::vector<Figure> draw_boundary_figures(const BoundaryReport& report, const st
     for (const auto& c : grid_cells)
       if (slice.holds(c)) cells.push_back(c);
     if (cells.empty()) continue;  // a report of other records
-    figures.push_back(draw_slice(report, slice, std::move(cells), unique_stem(slice_stem(slice, grid_cells)), dir));
+    figures.push_back(draw_slice(report, slice, std::move(cells), stems.unique(slice_stem(slice, grid_cells)), dir));
   }
-  if (drawn < report.slices.size()) figures.push_back(undrawn_slices(report, drawn, unique_stem("boundary_more")));
+  if (drawn < report.slices.size()) figures.push_back(undrawn_slices(report, drawn, stems.unique("boundary_more")));
   return figures;
 }
 

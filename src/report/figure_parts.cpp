@@ -1,5 +1,7 @@
 #include "figure_parts.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -76,6 +78,12 @@ std::string file_stem(std::string_view text) {
   for (char& c : out)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
   return out;
+}
+
+std::string StemSet::unique(std::string stem) {
+  const std::string base = stem;
+  for (int n = 2; !taken_.insert(stem).second; ++n) stem = fmt::format("{}_{}", base, n);
+  return stem;
 }
 
 bool is_o_or_r(const CellRecord& c) { return c.feasible && (c.region == "O" || c.region == "R"); }

@@ -4,6 +4,7 @@
 // share (a figure's files, a cell's value along an axis).
 
 #include <filesystem>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,6 +33,16 @@ enum class Axis { kSpeed, kTtc, kMu, kPassage, kTruckSpeed };
 
 /// A figure's file stem: letters, digits, '.', '-' and '_' kept, anything else '_'.
 [[nodiscard]] std::string file_stem(std::string_view text);
+
+/// The stems of one set of figures: `unique(stem)` returns the stem, or stem_2, stem_3, … when
+/// it is taken (two slices whose names map to the same file).
+class StemSet {
+ public:
+  [[nodiscard]] std::string unique(std::string stem);
+
+ private:
+  std::set<std::string> taken_;
+};
 
 /// A strategy's label in figure keys: the registry's ("emergency stop"), else its name with spaces.
 [[nodiscard]] std::string strategy_label(std::string_view strategy);

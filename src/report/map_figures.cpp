@@ -10,7 +10,6 @@
 #include <cstddef>
 #include <limits>
 #include <map>
-#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -31,6 +30,7 @@ using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
 using detail::file_stem;
+using detail::StemSet;
 using detail::is_o_or_r;
 using detail::is_undecided;
 using detail::value_of;
@@ -792,12 +792,7 @@ Figure undrawn_slices(const std::string& grid, const std::string& name, const Gr
 std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const fs::path& dir,
                                    const GridMapOptions& options) {
   std::vector<Figure> figures;
-  std::set<std::string> stems;
-  const auto unique_stem = [&stems](std::string stem) {
-    const std::string base = stem;
-    for (int n = 2; !stems.insert(stem).second; ++n) stem = fmt::format("{}_{}", base, n);
-    return stem;
-  };
+  StemSet stems;
   for (const auto& grid : campaign::grid_names(records)) {
     if (std::find(options.skip.begin(), options.skip.end(), grid) != options.skip.end()) continue;
     const std::vector<CellRecord> cells = campaign::records_of_grid(records, grid);
@@ -806,9 +801,9 @@ std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const
     const std::size_t drawn = std::min(slices.size(), options.max_slices_per_grid);
     for (std::size_t i = 0; i < drawn; ++i)
       figures.push_back(
-          draw_slice_map(grid, cut, slices[i], unique_stem(slice_stem(grid, cut, slices[i])), dir, options.latency_s));
+          draw_slice_map(grid, cut, slices[i], stems.unique(slice_stem(grid, cut, slices[i])), dir, options.latency_s));
     if (drawn < slices.size())
-      figures.push_back(undrawn_slices(grid, unique_stem("map_" + file_stem(grid) + "_more"), cut, slices, drawn));
+      figures.push_back(undrawn_slices(grid, stems.unique("map_" + file_stem(grid) + "_more"), cut, slices, drawn));
   }
   return figures;
 }
