@@ -35,12 +35,6 @@ class StoredOracle final : public campaign::adaptive::Oracle {
   std::vector<sim::Region> truth_;
 };
 
-sim::Region region_of(const std::string& name) {
-  for (const sim::Region r : {sim::Region::kG, sim::Region::kY, sim::Region::kO, sim::Region::kR})
-    if (sim::region_name(r) == name) return r;
-  return sim::Region::kInfeasible;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -59,7 +53,7 @@ int main(int argc, char** argv) try {
   campaign::ResultStore::open_for_reading(argv[2]).for_each_cell([&](const campaign::CellRecord& r) {
     auto& regions = truth[r.grid];
     if (r.index >= 0 && static_cast<std::size_t>(r.index) < regions.size())
-      regions[static_cast<std::size_t>(r.index)] = region_of(r.region);
+      regions[static_cast<std::size_t>(r.index)] = campaign::adaptive::region_named(r.region);
   });
   for (const campaign::GridSpec& grid : c.grids) {
     if (grid.levels[0].empty()) continue;

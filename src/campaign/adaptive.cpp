@@ -797,6 +797,12 @@ std::string_view basis_name(Method m) noexcept {
   return "";
 }
 
+sim::Region region_named(std::string_view name) noexcept {
+  for (const Region r : {Region::kG, Region::kY, Region::kO, Region::kR})
+    if (sim::region_name(r) == name) return r;
+  return Region::kInfeasible;
+}
+
 StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   constexpr double kMargin_m = 0.1;  // the simulated stop matches the analytic one within 0.03 m (docs/adaptive.md)
   const double v = cell.speed_kph / 3.6;

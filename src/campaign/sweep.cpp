@@ -79,6 +79,7 @@ class Committer {
     std::lock_guard lock(commit_mutex_);
     flush_locked();
     if (progress_ && drew_) std::fputs("\n", stderr);
+    drew_ = false;  // called after every adaptive grid: one line break per bar
   }
 
   [[nodiscard]] std::size_t simulated() const noexcept { return simulated_.load(); }
@@ -201,12 +202,6 @@ std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& wo
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
 
-sim::Region region_from(const std::string& name) {
-  for (const sim::Region r : {sim::Region::kG, sim::Region::kY, sim::Region::kO, sim::Region::kR})
-    if (sim::region_name(r) == name) return r;
-  return sim::Region::kInfeasible;
-}
-
 // The adaptive search's view of one grid: feasibility and the stop boundary from the scene;
 // simulations run as a full sweep runs them (the cell's own seed), stored through the committer,
 // or read from the store when an earlier run simulated them.
@@ -221,7 +216,7 @@ class GridOracle final : public adaptive::Oracle {
         present_(grid.cells.size(), 0) {
     for (const auto& [index, region] : stored)
       if (index >= 0 && static_cast<std::size_t>(index) < stored_.size()) {
-        stored_[static_cast<std::size_t>(index)] = region_from(region);
+        stored_[static_cast<std::size_t>(index)] = adaptive::region_named(region);
         present_[static_cast<std::size_t>(index)] = 1;
       }
     // The analytic stop boundary is the shipped emergency stop's; with another baseline only a
@@ -358,9 +353,8 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
   try {
     result = adaptive::search(lattice, oracle, search_options);
   } catch (const SearchInterrupted&) {
-    return {};  // the caller reports the interrupt once the committer is flushed
+    return {};  // the caller flushes the committer and reports the interrupt
   }
-  committer.finish();
   std::vector<CellRecord> batch;
   const auto flush = [&] {
     store.insert(batch);

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/scenario/statistics.hpp"
@@ -46,6 +47,10 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 /// short by more than 0.1 m and the truck stands in the car's lane from t = 0 until it comes to
 /// rest (so stopping short is the only way braking avoids it); kUnknown otherwise.
 [[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
+
+/// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
+/// read back).
+[[nodiscard]] sim::Region region_named(std::string_view name) noexcept;
 
 /// What the search asks about cells, named by their index in the grid's expansion order.
 /// simulate() is called from several threads at once, never twice for one cell.
