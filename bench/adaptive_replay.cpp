@@ -73,6 +73,11 @@ int main(int argc, char** argv) try {
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
                result.lines_fully_resolved, result.rounds);
+    fmt::print("  simulated for:");
+    for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
+      fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)),
+                 result.simulated_for[p]);
+    fmt::print("\n");
     if (argc > 7) {  // simulations per line of speed (columns) by friction (rows), TTC being the line
       const auto& l = grid.levels;
       for (std::size_t m = 0; m < l[2].size(); ++m) {

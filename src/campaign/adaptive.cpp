@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <deque>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -214,13 +215,14 @@ class Search {
 
   // --- one line -----------------------------------------------------------------------------
 
-  Region simulate(std::uint32_t cell) {
+  Region simulate(std::uint32_t cell, Purpose purpose) {
     Cell& c = result_.cells[cell];
     if (c.method != Method::kSimulated) {
       c.region = oracle_.simulate(cell);
       c.method = Method::kSimulated;
       c.from.clear();
       ++simulated_;
+      ++simulated_for_[static_cast<std::size_t>(purpose)];
     }
     return c.region;
   }
@@ -231,14 +233,14 @@ class Search {
 
   // The stop boundary: the top run of cells physics says stop in time, extended downwards by
   // simulation (galloping, then bisecting) over the cells it cannot settle. Sets line.t_g.
-  void stop_threshold(Line& line) {
+  void stop_threshold(Line& line, Purpose purpose) {
     const auto g = [&](std::size_t i) {
       switch (oracle_.stop(line.cells[i])) {
         case StopCall::kStops: return true;
         case StopCall::kCannotStop: return false;
         case StopCall::kUnknown: break;
       }
-      return simulate(line.cells[i]) == Region::kG;
+      return simulate(line.cells[i], purpose) == Region::kG;
     };
     std::size_t hi = line.cells.size();
     while (hi > 0 && oracle_.stop(line.cells[hi - 1]) == StopCall::kStops) --hi;
@@ -293,7 +295,7 @@ class Search {
       guess = static_cast<std::size_t>(std::lower_bound(line.position.begin(), line.position.begin() + static_cast<long>(line.t_g),
                                                         line.hint) - line.position.begin());
     return threshold(0, line.t_g, guess,
-                     [&](std::size_t i) { return avoidable(simulate(line.cells[i])); });
+                     [&](std::size_t i) { return avoidable(simulate(line.cells[i], Purpose::kThresholdCorners)); });
   }
 
   // Every simulated cell against the thresholds; the first contradiction, if any.
@@ -316,7 +318,7 @@ class Search {
     Line& line = lines_[id];
     line.thresholds_searched = line.thresholds_known = true;
     if (line.cells.empty()) return;
-    stop_threshold(line);
+    stop_threshold(line, Purpose::kThresholdCorners);
     line.t_a = avoidance_threshold(line);
   }
 
@@ -327,12 +329,13 @@ class Search {
     Line& line = lines_[id];
     line.labels_sampled = line.labels_known = true;
     if (line.t_a > 0) {
+      std::vector<std::uint32_t> samples{line.cells[line.t_a - 1]};
       for (std::size_t i = line.t_a; i > 0;) {
         i = i > options_.stride ? i - options_.stride : 0;
-        simulate(line.cells[i]);
+        samples.push_back(line.cells[i]);
       }
-      simulate(line.cells[line.t_a - 1]);
-      bisect_changes(line, 0, line.t_a);
+      simulate_all(samples, Purpose::kLabels);
+      bisect_changes(line, 0, line.t_a, Purpose::kLabels);
     }
     line.labels.assign(line.t_a, Region::kR);
     std::size_t below = 0;
@@ -343,22 +346,28 @@ class Search {
   }
 
   // Between two simulated cells of [begin, end) with different labels, simulations halve the gap
-  // until the two are neighbours.
-  void bisect_changes(const Line& line, std::size_t begin, std::size_t end) {
-    bool changed = true;
-    while (changed) {
-      changed = false;
+  // until the two are neighbours; the midpoints of one pass are simulated together.
+  void bisect_changes(const Line& line, std::size_t begin, std::size_t end, Purpose purpose) {
+    std::vector<std::uint32_t> midpoints{0};
+    while (!midpoints.empty()) {
+      midpoints.clear();
       std::size_t previous = end;
       for (std::size_t i = begin; i < end; ++i) {
         if (!is_simulated(line.cells[i])) continue;
         if (previous != end && i - previous > 1 &&
-            result_.cells[line.cells[i]].region != result_.cells[line.cells[previous]].region) {
-          simulate(line.cells[previous + (i - previous) / 2]);
-          changed = true;
-        }
+            result_.cells[line.cells[i]].region != result_.cells[line.cells[previous]].region)
+          midpoints.push_back(line.cells[previous + (i - previous) / 2]);
         previous = i;
       }
+      simulate_all(midpoints, purpose);
     }
+  }
+
+  // Cells whose simulations do not depend on one another, side by side (each once).
+  void simulate_all(std::vector<std::uint32_t> cells, Purpose purpose) {
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    parallel(cells, [&](std::uint32_t cell) { simulate(cell, purpose); });
   }
 
   // After a contradiction: every cell the analytic stop run does not settle is simulated, and the
@@ -369,7 +378,7 @@ class Search {
     line.thresholds_searched = line.thresholds_known = line.labels_sampled = line.labels_known = true;
     std::size_t top = line.cells.size();
     while (top > 0 && oracle_.stop(line.cells[top - 1]) == StopCall::kStops) --top;
-    for (std::size_t i = 0; i < top; ++i) simulate(line.cells[i]);
+    simulate_all({line.cells.begin(), line.cells.begin() + static_cast<long>(top)}, Purpose::kViolations);
     line.t_g = top;
     while (line.t_g > 0 && result_.cells[line.cells[line.t_g - 1]].region == Region::kG) --line.t_g;
     line.t_a = line.t_g;
@@ -469,7 +478,7 @@ class Search {
   void bracket_thresholds(Line& line, const Signature& s) {
     line.thresholds_known = true;
     if (line.cells.empty()) return;
-    stop_threshold(line);
+    stop_threshold(line, Purpose::kThresholdBrackets);
     if (s.avoid_low == kNone) {
       line.t_a = line.t_g;
       return;
@@ -480,7 +489,9 @@ class Search {
                                                                     line.position.begin()));
     };
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
-    line.t_a = lo == hi ? lo : threshold(lo, hi, hi, [&](std::size_t i) { return avoidable(simulate(line.cells[i])); });
+    line.t_a = lo == hi ? lo : threshold(lo, hi, hi, [&](std::size_t i) {
+      return avoidable(simulate(line.cells[i], Purpose::kThresholdBrackets));
+    });
   }
 
   // The label the corners give the level nearest `position` (the lower on a tie).
@@ -515,14 +526,19 @@ class Search {
   // the factors the corners disagree across.
   void refine(Question q) {
     std::vector<Box> pending = initial_boxes(initial_levels(q));
+    // The lines between the agreeing corners of one round search their thresholds beside the next
+    // round's corners: the two sets of lines are disjoint (the next corners lie in boxes that
+    // disagreed), and nothing of the next round waits for them, so no worker idles between.
+    std::deque<Signature> signatures_kept;
+    std::vector<std::pair<std::size_t, const Signature*>> brackets;
     while (!pending.empty()) {
       ++result_.rounds;
       std::sort(pending.begin(), pending.end());
       pending.erase(std::unique(pending.begin(), pending.end(),
                                 [](const Box& a, const Box& b) { return a.lo == b.lo && a.hi == b.hi; }),
                     pending.end());
-      // 1. The corners, by their own search.
-      std::vector<std::size_t> corners;
+      // 1. The corners, by their own search (and the previous round's brackets).
+      std::vector<std::pair<std::size_t, const Signature*>> work;
       std::vector<char> queued(lines_.size(), 0);
       for (const Box& box : pending)
         for_each_corner(box, [&](std::size_t id) {
@@ -531,14 +547,11 @@ class Search {
           if (done || queued[id]) return;
           queued[id] = 1;
           if (q == Question::kThresholds) line.hint = box.hint;
-          corners.push_back(id);
+          work.emplace_back(id, nullptr);
         });
-      parallel(corners, [&](std::size_t id) {
-        if (q == Question::kThresholds)
-          search_thresholds(id);
-        else
-          sample_labels(id);
-      });
+      work.insert(work.end(), brackets.begin(), brackets.end());
+      brackets.clear();
+      run(work, q);
       // 2. Which boxes agree; the lines inside a box that disagrees are left to its parts.
       std::vector<std::optional<Signature>> signatures(pending.size());
       std::vector<char> blocked(lines_.size(), 0);
@@ -556,21 +569,20 @@ class Search {
           owned[b].push_back(id);
         });
       }
-      // 3. Their lines answered from the corners: thresholds in parallel (they may simulate),
-      // labels in order (they do not).
+      // 3. Their lines answered from the corners: thresholds with the next round (they may
+      // simulate), labels now and in order (they do not).
       std::vector<Box> next;
       if (q == Question::kThresholds) {
-        std::vector<std::pair<std::size_t, const Signature*>> work;
-        for (std::size_t b = 0; b < pending.size(); ++b)
-          for (std::size_t id : owned[b]) work.emplace_back(id, &*signatures[b]);
-        parallel(work, [&](const std::pair<std::size_t, const Signature*>& w) {
-          bracket_thresholds(lines_[w.first], *w.second);
-        });
-        for (std::size_t b = 0; b < pending.size(); ++b)
+        for (std::size_t b = 0; b < pending.size(); ++b) {
+          if (owned[b].empty()) continue;
+          const Signature* kept = &signatures_kept.emplace_back(*signatures[b]);
           for (std::size_t id : owned[b]) {
+            brackets.emplace_back(id, kept);
+            lines_[id].thresholds_known = true;  // by the time anything reads it
             auto& sources = lines_[id].threshold_corners;
             for_each_corner(pending[b], [&](std::size_t c) { sources.push_back(static_cast<std::uint32_t>(c)); });
           }
+        }
       } else {
         for (std::size_t b = 0; b < pending.size(); ++b) {
           if (!signatures[b]) continue;
@@ -585,6 +597,20 @@ class Search {
         if (!signatures[b]) split(pending[b], q, next);
       pending.swap(next);
     }
+    run(brackets, q);
+  }
+
+  // One stage's lines side by side: corners (no signature) search or sample their own, the
+  // others search their thresholds within their corners' bracket.
+  void run(const std::vector<std::pair<std::size_t, const Signature*>>& work, Question q) {
+    parallel(work, [&](const std::pair<std::size_t, const Signature*>& w) {
+      if (w.second != nullptr)
+        bracket_thresholds(lines_[w.first], *w.second);
+      else if (q == Question::kThresholds)
+        search_thresholds(w.first);
+      else
+        sample_labels(w.first);
+    });
   }
 
   // Splits a box whose corners disagree across the factors they disagree across: in two halves
@@ -726,7 +752,7 @@ class Search {
     std::sort(population.begin(), population.end());
     std::vector<Region> inferred(k);
     for (std::size_t i = 0; i < k; ++i) inferred[i] = result_.cells[population[i]].region;
-    parallel(population, [&](std::uint32_t cell) { simulate(cell); });
+    simulate_all(population, Purpose::kVerification);
     for (std::size_t i = 0; i < k; ++i)
       if (result_.cells[population[i]].region != inferred[i]) result_.verify_disagreements.push_back(population[i]);
     result_.verify_sampled = k;
@@ -736,6 +762,7 @@ class Search {
 
   void finish() {
     result_.simulated = simulated_.load();
+    for (std::size_t p = 0; p < kPurposes; ++p) result_.simulated_for[p] = simulated_for_[p].load();
     for (const Line& line : lines_) {
       result_.lines_resolved += line.thresholds_searched || line.labels_sampled ? 1 : 0;
       result_.lines_inferred += line.thresholds_searched || line.labels_sampled ? 0 : 1;
@@ -762,6 +789,7 @@ class Search {
   std::vector<Line> lines_;
   Result result_;
   std::atomic<std::size_t> simulated_{0};
+  std::array<std::atomic<std::size_t>, kPurposes> simulated_for_{};
 };
 
 }  // namespace
@@ -784,6 +812,17 @@ std::string_view method_name(Method m) noexcept {
     case Method::kSimulated: return "simulated";
     default: return "inferred";
   }
+}
+
+std::string_view purpose_name(Purpose p) noexcept {
+  switch (p) {
+    case Purpose::kThresholdCorners: return "threshold_corners";
+    case Purpose::kThresholdBrackets: return "threshold_brackets";
+    case Purpose::kLabels: return "labels";
+    case Purpose::kViolations: return "violations";
+    case Purpose::kVerification: return "verification";
+  }
+  return "";
 }
 
 std::string_view basis_name(Method m) noexcept {

@@ -315,11 +315,15 @@ AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, 
   nlohmann::ordered_json violations = nlohmann::ordered_json::array();
   for (const auto& v : result.violations)
     violations.push_back({{"kind", v.what}, {"lower_cell", v.low_cell}, {"higher_cell", v.high_cell}});
+  nlohmann::ordered_json simulated_for = nlohmann::ordered_json::object();
+  for (std::size_t p = 0; p < adaptive::kPurposes; ++p)
+    simulated_for[std::string(adaptive::purpose_name(static_cast<adaptive::Purpose>(p)))] = result.simulated_for[p];
   const nlohmann::ordered_json j{
       {"grid", s.grid},
       {"feasible_cells", s.feasible},
       {"simulated_cells", s.simulated},
       {"simulated_fraction", s.feasible > 0 ? static_cast<double>(s.simulated) / static_cast<double>(s.feasible) : 0.0},
+      {"simulated_for", simulated_for},
       {"inferred_cells", s.inferred},
       {"inferred_by_stop_boundary", s.inferred_stop},
       {"rounds", s.rounds},

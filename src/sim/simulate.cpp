@@ -1,11 +1,14 @@
 #include "emrm/sim/simulate.hpp"
 
 #include <fmt/format.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
@@ -149,9 +152,24 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
   const std::uint64_t cell_key = derive_seed(
       0x5eed5eed5eed5eedULL,
       fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
-  for (int k = 0; k < budget.restarts; ++k)
-    if (auto outcome = found(own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false})))
-      return outcome;
+  // The restarts are independent: they run side by side where a worker is free (a sweep's other
+  // cells keep the workers busy, a lone cell or the tail of a sweep does not), and the outcome is
+  // the first in order that avoids, counted as if they had run one after another: a restart after
+  // an avoiding one is skipped, or, if it ran, neither used nor counted.
+  const int restarts = std::max(0, budget.restarts);
+  std::vector<std::optional<PlanResult>> plans(static_cast<std::size_t>(restarts));
+  std::atomic<int> first_avoiding{restarts};
+  tbb::parallel_for(0, restarts, [&](int k) {
+    if (k > first_avoiding.load()) return;
+    auto& plan = plans[static_cast<std::size_t>(k)];
+    plan = own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false});
+    if (!plan->avoidance) return;
+    int current = first_avoiding.load();
+    while (k < current && !first_avoiding.compare_exchange_weak(current, k)) {
+    }
+  });
+  for (auto& plan : plans)  // every restart up to the first avoiding one has run
+    if (auto outcome = found(*plan)) return outcome;
   return std::nullopt;
 }
 

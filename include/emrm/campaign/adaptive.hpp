@@ -106,10 +106,22 @@ struct Violation {
   std::string what;             ///< "stop" or "avoidance"
 };
 
+/// What a simulation was for (the stages of the search, in order).
+enum class Purpose : std::uint8_t {
+  kThresholdCorners,  ///< a corner line's stop boundary and avoidance threshold
+  kThresholdBrackets, ///< a line between agreeing corners, within their bracket
+  kLabels,            ///< a corner line's O/R labels
+  kViolations,        ///< lines resolved in full after a contradiction
+  kVerification,      ///< the random sample of inferred cells
+};
+inline constexpr std::size_t kPurposes = 5;
+[[nodiscard]] std::string_view purpose_name(Purpose p) noexcept;  ///< "threshold_corners", …
+
 struct Result {
   std::vector<Cell> cells;          ///< one per cell of the lattice
   std::size_t feasible = 0;         ///< M
   std::size_t simulated = 0;        ///< N: every cell simulated, the verification sample included
+  std::array<std::size_t, kPurposes> simulated_for{};  ///< N by Purpose (they sum to N)
   std::size_t rounds = 0;
   std::size_t lines = 0, lines_resolved = 0, lines_inferred = 0;
   std::size_t lines_fully_resolved = 0;  ///< after a violation
