@@ -24,6 +24,10 @@ constexpr double kTouch_m = 0.5e-3;
 // Between samples, the pose is probed at steps of at most this much relative motion.
 constexpr double kProbeStep_m = 0.01;
 constexpr double kStoppedSpeed_mps = 0.05;  // sim's StoppedTest
+// A recording that ends moving within this of the truck (or the road's edge) ended at a contact
+// (a departure): the reach of sim::truck_impact's nudge, within which the simulator itself assesses
+// the state it integrated to the first touch as a contact.
+constexpr double kEndTouch_m = 0.01;
 
 std::string trimmed(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -310,12 +314,19 @@ class Judge {
   }
   [[nodiscard]] double edge_gap(std::size_t i, double t) const { return scene_.edge_gap_m(scene_.ego_box(pose(i, t))); }
 
-  // The first time in segment i at which `gap` is within kTouch_m, or nothing. The segment is
-  // skipped when the motion within it (translation, the car's reach swept by its turn, the
-  // truck's travel) cannot close the gap at its start; else probed at steps of kProbeStep_m of
-  // motion and the first touch timed by bisection.
+  // The first time in segment i at which `gap` closes, or nothing. The segment is skipped when
+  // the motion within it (translation, the car's reach swept by its turn, the truck's travel)
+  // cannot close the gap at its start; else probed at steps of kProbeStep_m of motion. The first
+  // overlap is timed by bisection; a probe that comes within kTouch_m without overlapping (a run
+  // recorded up to the moment of contact) counts at the segment's closest approach.
+  struct Touch {
+    std::size_t segment = 0;
+    double t_s = 0.0;
+    double gap_m = 0.0;  // <= 0: an overlap
+  };
+
   template <class Gap>
-  [[nodiscard]] std::optional<double> first_touch(std::size_t i, double gap_at_start, bool with_truck, Gap&& gap) const {
+  [[nodiscard]] std::optional<Touch> first_touch(std::size_t i, double gap_at_start, bool with_truck, Gap&& gap) const {
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     double motion = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + std::abs(b.yaw_rad - a.yaw_rad) * reach_m_;
@@ -326,21 +337,41 @@ class Judge {
     }
     if (gap_at_start - kTouch_m > motion) return std::nullopt;
     const int probes = std::clamp(static_cast<int>(std::ceil(motion / kProbeStep_m)), 1, 4096);
+    const auto probe = [&](int k) { return k == probes ? b.t_s : a.t_s + (b.t_s - a.t_s) * k / probes; };
+    const auto first_overlap = [&](double lo, double hi) {
+      while (hi - lo > 1e-7) {  // as the simulator times a touch: depths of micrometres
+        const double mid = 0.5 * (lo + hi);
+        (gap(mid) <= 0.0 ? hi : lo) = mid;
+      }
+      return hi;
+    };
+    std::optional<double> closest;
+    double closest_gap = kTouch_m;
     double previous = a.t_s;
     for (int k = 1; k <= probes; ++k) {
-      const double t = k == probes ? b.t_s : a.t_s + (b.t_s - a.t_s) * k / probes;
-      if (gap(t) <= kTouch_m) {
-        double lo = previous;
-        double hi = t;
-        while (hi - lo > 1e-7) {
-          const double mid = 0.5 * (lo + hi);
-          (gap(mid) <= kTouch_m ? hi : lo) = mid;
-        }
-        return hi;
+      const double t = probe(k);
+      const double g = gap(t);
+      if (g <= 0.0) return Touch{i, first_overlap(previous, t), 0.0};
+      if (g <= closest_gap) {
+        closest = t;
+        closest_gap = g;
       }
       previous = t;
     }
-    return std::nullopt;
+    if (!closest) return std::nullopt;
+    return Touch{i, *closest, closest_gap};
+  }
+
+  // A near touch (within kTouch_m, no overlap) followed on while the approach continues into the
+  // next segments: their first overlap, else the closest approach.
+  template <class GapIn>
+  [[nodiscard]] Touch follow(Touch touch, bool with_truck, GapIn&& gap_in) const {
+    for (std::size_t j = touch.segment + 1; touch.gap_m > 0.0 && j + 1 < samples_.size(); ++j) {
+      const auto next = first_touch(j, gap_in(j, samples_[j].t_s), with_truck, [&](double t) { return gap_in(j, t); });
+      if (!next || next->gap_m >= touch.gap_m) break;
+      touch = *next;
+    }
+    return touch;
   }
 
   // Far apart by the centres alone: the truck cannot be reached within the segment.
@@ -365,19 +396,26 @@ class Judge {
       if (truck_gap(0, t0) <= kTouch_m) return at_contact(out, 0, t0);
       if (edge_gap(0, t0) <= kTouch_m) return at_departure(out, 0, t0);
     }
+    const auto truck_gap_in = [&](std::size_t j, double t) { return truck_gap(j, t); };
+    const auto edge_gap_in = [&](std::size_t j, double t) { return edge_gap(j, t); };
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double ta = samples_[i].t_s;
-      std::optional<double> contact;
+      std::optional<Touch> contact;
       if (!truck_far(i))
         contact = first_touch(i, truck_gap(i, ta), true, [&](double t) { return truck_gap(i, t); });
-      const std::optional<double> departure =
-          first_touch(i, edge_gap(i, ta), false, [&](double t) { return edge_gap(i, t); });
-      if (contact && (!departure || *contact <= *departure)) return at_contact(out, i, *contact);
-      if (departure) return at_departure(out, i, *departure);
+      std::optional<Touch> departure = first_touch(i, edge_gap(i, ta), false, [&](double t) { return edge_gap(i, t); });
+      if (contact) contact = follow(*contact, true, truck_gap_in);
+      if (departure) departure = follow(*departure, false, edge_gap_in);
+      if (contact && (!departure || contact->t_s <= departure->t_s)) return at_contact(out, contact->segment, contact->t_s);
+      if (departure) return at_departure(out, departure->segment, departure->t_s);
     }
-    // No event: a safe state at the end?
     const std::size_t last = n - 2;
     const double t_end = samples_.back().t_s;
+    if (samples_.back().speed_mps >= kStoppedSpeed_mps) {
+      if (truck_gap(last, t_end) <= kEndTouch_m) return at_contact(out, last, t_end);
+      if (edge_gap(last, t_end) <= kEndTouch_m) return at_departure(out, last, t_end);
+    }
+    // No event: a safe state at the end?
     const sim::VehicleState end = state(last, t_end);
     out.end_time_s = t_end;
     out.samples_judged = n;

@@ -79,7 +79,7 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
     const sim::Scene scene(config, cell);
     for (const auto& o : result.strategies) {
       if (o.path.size() < 2) continue;
-      const std::string what = fmt::format("cell {} km/h {} s mu {} passage {} truck {}: {}", cell.speed_kph,
+      const std::string what = fmt::format("seed {} cell {} km/h {} s mu {} passage {} truck {}: {}", options.seed, cell.speed_kph,
                                            cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph, o.strategy);
       const auto recorded = parse_trajectory_csv(emrm_csv(o.path), "emrm.csv", TrajectoryFormat::kEmrm, config);
       const Assessment a = assess(config, cell, recorded);
@@ -88,7 +88,8 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
       EXPECT_TRUE(esmini.has_truck);
       EXPECT_TRUE(esmini.has_steer);
       EXPECT_EQ(esmini.samples.size(), o.path.size());
-      expect_same_outcome(o, assess(config, cell, esmini), what + " (esmini CSV)");
+      const Assessment ae = assess(config, cell, esmini);
+      expect_same_outcome(o, ae, what + " (esmini CSV)");
       contacts += a.contact ? 1 : 0;
       avoided += a.avoided ? 1 : 0;
     }
@@ -126,7 +127,9 @@ void expect_error_at(const std::string& text, int line, int column, const std::s
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "rec.csv") << e.what();
     EXPECT_EQ(e.where().line, line) << e.what();
-    if (column > 0) EXPECT_EQ(e.where().column, column) << e.what();
+    if (column > 0) {
+      EXPECT_EQ(e.where().column, column) << e.what();
+    }
     EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
   }
 }
