@@ -7,7 +7,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "emrm/exchange/assess.hpp"
 #include "emrm/exchange/openscenario.hpp"
@@ -28,7 +32,7 @@ std::string recording(std::size_t samples) {
   for (std::size_t k = 0; k < samples; ++k) {
     const double t = static_cast<double>(k) * dt;
     const double y = -3.6 + 0.2 * std::sin(0.5 * t);
-    const double psi = std::atan2(0.2 * 0.5 * std::cos(0.5 * t), v);
+    const double psi = std::atan2(0.2 * 0.5 * std::cos(0.5 * t), 12.0);  // the weave's slope at the cruising speed
     csv += fmt::format("{},{},{},{},{}\n", t, x, y, psi, v);
     x += v * dt;
     if (k + 200 >= samples) v = std::max(0.0, v - 0.06);

@@ -84,10 +84,15 @@ int run_export(const ExportOptions& options) {
       trajectory = std::make_unique<exchange::EgoTrajectory>(exchange::EgoTrajectory{it->strategy, it->path});
   }
   const auto files = exchange::export_cell(options.output, config, cell, trajectory.get(), export_options);
-  fmt::print("Wrote {}{}\n", written(files),
-             trajectory ? fmt::format(" (the ego follows its {} trajectory, {} points)", trajectory->strategy,
-                                      exchange::thin_path(exchange::with_final_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m).size())
-                        : "");
+  std::string note;
+  if (trajectory)
+    note = fmt::format(" (the ego follows its {} trajectory, {} points)", trajectory->strategy,
+                       exchange::thin_path(exchange::with_final_stop(trajectory->path, config.simulation.dt_s),
+                                           options.tolerance_m)
+                           .size());
+  else if (!options.strategy.empty())
+    note = fmt::format(" ({} executed no trajectory in this cell: the ego keeps its speed)", options.strategy);
+  fmt::print("Wrote {}{}\n", written(files), note);
   return static_cast<int>(ExitCode::kSuccess);
 }
 

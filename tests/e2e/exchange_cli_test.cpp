@@ -25,6 +25,12 @@ void expect_bad_input(const RunResult& r, const std::string& what) {
   EXPECT_THAT(r.err, HasSubstr(what));
 }
 
+// An argument CLI11 rejects: its message, then "Run with --help for more information."
+void expect_usage_error(const RunResult& r, const std::string& what) {
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr(what));
+}
+
 std::size_t files_in(const fs::path& dir) {
   std::size_t n = 0;
   for (const auto& e : fs::recursive_directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
@@ -61,13 +67,14 @@ TEST(ExportCli, ExportsTheShippedPlan) {
 TEST(ExportCli, BadArgumentsAreExitTwo) {
   const auto dir = scratch_dir("export-bad");
   expect_bad_input(run_emrm("export -o " + quoted(dir / "a")), "give a cell (--speed-kph and --ttc-s) or a plan");
-  expect_bad_input(run_emrm("export -o " + quoted(dir / "b") + " --plan " + quoted(dir) + " --speed-kph 50"),
-                   "excludes");
+  expect_usage_error(run_emrm("export -o " + quoted(dir / "b") + " --plan " + quoted(dir) + " --speed-kph 50"),
+                     "excludes");
   expect_bad_input(run_emrm("export -o " + quoted(dir / "c") + " --plan " + quoted(dir)), "no scenarios.csv");
   expect_bad_input(run_emrm("export -o " + quoted(dir / "d") + " --speed-kph 70 --ttc-s 3"), "infeasible");
   expect_bad_input(run_emrm("export -o " + quoted(dir / "e") + " --speed-kph 50 --ttc-s 1 --strategy nosuch"),
                    "nosuch");
-  expect_bad_input(run_emrm("export --format sumo -o " + quoted(dir / "f") + " --speed-kph 50 --ttc-s 1"), "--format");
+  expect_usage_error(run_emrm("export --format sumo -o " + quoted(dir / "f") + " --speed-kph 50 --ttc-s 1"),
+                     "--format");
   for (const char* name : {"a", "b", "c", "d", "e", "f"}) EXPECT_FALSE(fs::exists(dir / name)) << name;
 }
 
@@ -116,7 +123,7 @@ TEST(AssessCli, BadInputNamesFileLineAndColumn) {
   write_text(dir / "good.csv", "t,x,y,psi,v\n0,-2.12,-1.75,0,10\n0.01,-2.02,-1.75,0,10\n");
   expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + cell + " --strategy nosuch"), "nosuch");
   expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + " --speed-kph 70 --ttc-s 3"), "infeasible");
-  expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + cell + " --format carla"), "--format");
+  expect_usage_error(run_emrm("assess " + quoted(dir / "good.csv") + cell + " --format carla"), "--format");
   expect_bad_input(run_emrm("assess " + quoted(dir / "nosuch.csv") + cell), "nosuch.csv");
   EXPECT_EQ(run_emrm("assess " + quoted(dir / "good.csv") + cell).exit_code, 0);
 }
