@@ -667,7 +667,7 @@ PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, cons
     std::string road_file;
   };
   std::vector<Concrete> concrete;
-  std::map<std::string, sim::CellInput> roads;  // file -> a cell with that junction
+  std::map<std::string, sim::CellInput> roads;  // file -> the cell whose road network it is
   for (const auto& row : scenarios.rows) {
     sim::CellInput cell;
     cell.truck_speed_kph = config.truck.speed_kph;
@@ -678,8 +678,12 @@ PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, cons
     } catch (const UsageError& e) {
       throw InputError(row.where, fmt::format("scenario {}: {}", row.id, e.what()));
     }
-    const std::string road = road_file_of(junction_layout(config, cell));
-    roads.emplace(road, cell);
+    const JunctionLayout layout = junction_layout(config, cell);
+    const std::string road = road_file_of(layout);
+    // Scenarios sharing a junction share its road network: the one whose side road reaches furthest
+    // (its truck starts highest), so that every truck of the group starts on it.
+    const auto [it, added] = roads.emplace(road, cell);
+    if (!added && junction_layout(config, it->second).side_road_length_m < layout.side_road_length_m) it->second = cell;
     concrete.push_back({row.id, cell, road});
   }
 

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -14,6 +17,8 @@
 #include <random>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/expression.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/exchange/openscenario.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "exchange/xml_support.hpp"
@@ -217,6 +222,82 @@ TEST(OpenScenario, PlanIsOneLogicalScenarioWithEveryConcreteOne) {
     EXPECT_NE(std::string(e.what()).find("S2"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::filesystem::remove_all(dir);
+}
+
+// The logical scenario's value of an attribute for one parameter set: a number, a parameter
+// reference ($mu) or an expression (${$speed_kph / 3.6}), evaluated by muparser, whose syntax
+// covers the arithmetic the export writes.
+std::string evaluated(const std::string& text, const std::vector<std::string>& names, const std::vector<double>& values) {
+  if (text.empty() || text[0] != '$') return text;
+  std::string body = text.rfind("${", 0) == 0 ? text.substr(2, text.size() - 3) : text.substr(1);
+  body.erase(std::remove(body.begin(), body.end(), '$'), body.end());
+  const core::Expression e(body, names, {"tjunction.xosc", 1, 1});
+  return fmt::format("{}", e.evaluate(values));
+}
+
+// Every scenario of the distribution, substituted into the logical scenario, is the single-cell
+// export of its cell: the same Init (positions, speeds, friction) to rounding.
+TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
+  const sim::SceneConfig config = odd_scene();
+  scenario::ScenarioFile plan;
+  plan.file = "scenarios.csv";
+  plan.factors = {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 12; ++k) {
+    const double v = std::uniform_real_distribution<double>(20, 80)(rng);
+    const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
+    plan.rows.push_back({fmt::format("S{}", k), "pairs",
+                         {v, ttc, std::uniform_real_distribution<double>(0.2, 1.5)(rng),
+                          std::uniform_real_distribution<double>(1.0, 4.0)(rng),
+                          std::uniform_real_distribution<double>(0.0, 25.0)(rng)},
+                         "c", {}, {}, 1.0, 1, {"scenarios.csv", k + 2, 1}});
+  }
+  // One more at the first one's junction (same v·TTC), its truck starting higher on the side road.
+  auto shared = plan.rows.front();
+  shared.id = "S_shared";
+  shared.values[3] = 4.5;
+  shared.values[4] = 30.0;
+  plan.rows.push_back(shared);
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-osc-logical-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(export_plan(dir, config, plan, {}).road_networks, plan.rows.size() - 1);
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const Document logical(read(dir / kScenarioFile));
+  const Document distribution(read(dir / kDistributionFile));
+  const std::vector<std::string> names{"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
+  const auto attributes = logical.all("/OpenSCENARIO/Storyboard/Init//@*");
+  ASSERT_GT(attributes.size(), 10u);
+  for (std::size_t k = 0; k < plan.rows.size(); ++k) {
+    const auto& row = plan.rows[k];
+    const sim::CellInput cell{row.values[0], row.values[1], row.values[2], row.values[3], row.values[4]};
+    const auto assigned =
+        distribution.all(fmt::format("//ParameterValueSet[{}]/ParameterAssignment/@value", k + 1));
+    ASSERT_EQ(assigned.size(), plan_parameter_names().size());
+    std::vector<double> values;
+    for (std::size_t i = 0; i < names.size(); ++i) values.push_back(std::stod(assigned[i]));
+    const Document concrete(openscenario_xml(config, cell, nullptr, {}));
+    const auto expected = concrete.all("/OpenSCENARIO/Storyboard/Init//@*");
+    ASSERT_EQ(expected.size(), attributes.size());
+    for (std::size_t a = 0; a < attributes.size(); ++a) {
+      const std::string got = evaluated(attributes[a], names, values);
+      const auto x = core::parse_finite_number(got);
+      const auto y = core::parse_finite_number(expected[a]);
+      if (x && y) {
+        EXPECT_NEAR(*x, *y, 1e-9 * std::max(1.0, std::abs(*y))) << row.id << ": " << attributes[a];
+      } else {
+        EXPECT_EQ(got, expected[a]) << row.id;
+      }
+    }
+    // Its road network has the cell's junction, and a side road long enough for its truck.
+    const Document road(read(dir / assigned[5]));
+    const JunctionLayout layout = junction_layout(config, cell);
+    EXPECT_NEAR(road.number("/OpenDRIVE/road[@id='3']/planView/geometry/@x"), layout.side_road_x_m, 1e-3) << row.id;
+    EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m) << row.id;
+  }
   std::filesystem::remove_all(dir);
 }
 
