@@ -336,7 +336,9 @@ class Judge {
       motion += (tb - ta).norm();
     }
     if (gap_at_start - kTouch_m > motion) return std::nullopt;
-    const int probes = std::clamp(static_cast<int>(std::ceil(motion / kProbeStep_m)), 1, 4096);
+    // At most 4096 probes a segment (a jump of tens of metres, or numbers out of any range).
+    const double wanted = std::ceil(motion / kProbeStep_m);
+    const int probes = std::isfinite(wanted) ? static_cast<int>(std::clamp(wanted, 1.0, 4096.0)) : 4096;
     const auto probe = [&](int k) { return k == probes ? b.t_s : a.t_s + (b.t_s - a.t_s) * k / probes; };
     const auto first_overlap = [&](double lo, double hi) {
       while (hi - lo > 1e-7) {  // as the simulator times a touch: depths of micrometres
