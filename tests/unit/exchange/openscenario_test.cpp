@@ -174,7 +174,19 @@ TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
       ASSERT_GE(times.size(), 2u);
       EXPECT_EQ(std::stod(times.back()), o.path.back().t_s);
       if (tolerance == 0.0) {
-        EXPECT_EQ(times.size(), with_final_stop(o.path, config.simulation.dt_s).size());
+        // Every vertex is the rear axle of a path point: back to the CG along the heading.
+        const auto points = with_final_stop(o.path, config.simulation.dt_s);
+        ASSERT_EQ(times.size(), points.size());
+        const auto xs = doc.all("//Polyline/Vertex/Position/WorldPosition/@x");
+        const auto ys = doc.all("//Polyline/Vertex/Position/WorldPosition/@y");
+        const auto hs = doc.all("//Polyline/Vertex/Position/WorldPosition/@h");
+        const double l_r = config.ego.cg_to_rear_axle_m;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const double h = std::stod(hs[k]);
+          EXPECT_EQ(std::stod(times[k]), points[k].t_s);
+          EXPECT_NEAR(std::stod(xs[k]) + l_r * std::cos(h), points[k].state.x_m, 1e-9) << o.strategy << " " << k;
+          EXPECT_NEAR(std::stod(ys[k]) + l_r * std::sin(h), points[k].state.y_m, 1e-9) << o.strategy << " " << k;
+        }
       }
       EXPECT_EQ(doc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value"), o.path.back().t_s);
     }
@@ -299,6 +311,38 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
     EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m) << row.id;
   }
   std::filesystem::remove_all(dir);
+}
+
+// A stop the simulator finishes in closed form (one jump to the rest point) is filled in at the
+// step: the vertices brake at one deceleration and arrive at the rest point at its time.
+TEST(OpenScenario, FinalStopIsFilledInAtConstantDeceleration) {
+  const sim::SceneConfig config;
+  sim::CellOptions options;
+  options.strategies = {"emergency_stop"};
+  const sim::CellResult result = sim::simulate_cell(config, cell_of(50, 1.5, 1.0, 3.0, 10), options);
+  const auto& path = result.strategies.front().path;
+  ASSERT_TRUE(result.strategies.front().avoided);
+  const double dt = config.simulation.dt_s;
+  ASSERT_GT(path.back().t_s - path[path.size() - 2].t_s, 2 * dt) << "expected a closed-form stop";
+  const auto filled = with_final_stop(path, dt);
+  ASSERT_GT(filled.size(), path.size());
+  EXPECT_EQ(filled.back().t_s, path.back().t_s);
+  EXPECT_EQ(filled.back().state.x_m, path.back().state.x_m);
+  const std::size_t from = path.size() - 2;
+  const double v0 = path[from].state.speed_mps();
+  const double decel = v0 / (path.back().t_s - path[from].t_s);
+  for (std::size_t k = from + 1; k < filled.size(); ++k) {
+    EXPECT_NEAR(filled[k].t_s - filled[k - 1].t_s, dt, dt * 0.51 + 1e-12);  // the last step may be shorter
+    EXPECT_LT(filled[k].state.speed_mps(), filled[k - 1].state.speed_mps());
+    EXPECT_GT(filled[k].state.x_m, filled[k - 1].state.x_m);
+    const double tau = filled[k].t_s - path[from].t_s;
+    if (k + 1 < filled.size()) {
+      EXPECT_NEAR(filled[k].state.speed_mps(), v0 - decel * tau, 1e-9);
+    }
+  }
+  // Unchanged: a path that does not end in such a stop.
+  const auto short_path = std::vector<sim::PathPoint>(path.begin(), path.end() - 1);
+  EXPECT_EQ(with_final_stop(short_path, dt).size(), short_path.size());
 }
 
 TEST(OpenScenario, ThinningKeepsEveryDroppedPointWithinTheTolerance) {
