@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -76,5 +77,28 @@ void BM_ExportCellWithTrajectory(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ExportCellWithTrajectory)->Unit(benchmark::kMicrosecond);
+
+// A plan of 400 scenarios (the shipped plan has 378) exported as one logical scenario, its
+// distribution and every road network, written to a temporary folder (target: ≤ 2 s).
+void BM_ExportPlan(benchmark::State& state) {
+  const sim::SceneConfig config;
+  emrm::scenario::ScenarioFile plan;
+  plan.file = "scenarios.csv";
+  plan.factors = {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
+  for (int k = 0; k < 400; ++k) {
+    const double v = 20.0 + (k % 11) * 5.0;
+    const double ttc = std::min(0.2 + (k % 13) * 0.15, 0.99 * config.max_initial_distance_m / (v / 3.6));
+    plan.rows.push_back({fmt::format("S{:03}", k), "pairs", {v, ttc, 0.3 + (k % 7) * 0.1, 1.5 + (k % 5) * 0.5, 5.0 + (k % 3) * 5.0},
+                         "c", {}, {}, 1.0, 1, {"scenarios.csv", k + 2, 1}});
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "emrm-bench-export-plan";
+  for (auto _ : state) {
+    const auto out = exchange::export_plan(dir, config, plan, {});
+    benchmark::DoNotOptimize(out);
+  }
+  std::filesystem::remove_all(dir);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(plan.rows.size()));
+}
+BENCHMARK(BM_ExportPlan)->Unit(benchmark::kMillisecond);
 
 }  // namespace
