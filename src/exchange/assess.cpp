@@ -21,8 +21,6 @@ constexpr double kKphPerMps = 3.6;
 // simulator's own continuous collision check (docs/physics.md), so that a trajectory emrm executed
 // up to the moment of contact is judged a contact.
 constexpr double kTouch_m = 0.5e-3;
-// Between samples, the pose is probed at steps of at most this much relative motion.
-constexpr double kProbeStep_m = 0.01;
 constexpr double kStoppedSpeed_mps = 0.05;  // sim's StoppedTest
 // A recording that ends moving within this of the truck (or the road's edge) ended at a contact
 // (a departure): the reach of sim::truck_impact's nudge, within which the simulator itself assesses
@@ -247,6 +245,7 @@ class Judge {
     circumradii_m_ = 0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) +
                      0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
     reach_m_ = std::hypot(std::max(cfg.ego.cg_to_front_m(), cfg.ego.cg_to_rear_m()), 0.5 * cfg.ego.width_m);
+    truck_reach_m_ = 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
   }
 
   // The pose at time t in segment [i, i+1]: position and heading interpolated linearly.
@@ -314,32 +313,31 @@ class Judge {
   }
   [[nodiscard]] double edge_gap(std::size_t i, double t) const { return scene_.edge_gap_m(scene_.ego_box(pose(i, t))); }
 
-  // The first time in segment i at which `gap` closes, or nothing. The segment is skipped when
-  // the motion within it (translation, the car's reach swept by its turn, the truck's travel)
-  // cannot close the gap at its start; else probed at steps of kProbeStep_m of motion. The first
-  // overlap is timed by bisection; a probe that comes within kTouch_m without overlapping (a run
-  // recorded up to the moment of contact) counts at the segment's closest approach.
   struct Touch {
     std::size_t segment = 0;
     double t_s = 0.0;
     double gap_m = 0.0;  // <= 0: an overlap
   };
 
+  // The first time in segment i at which `gap` closes, or nothing, by conservative advancement as
+  // the simulator's own check does it: between samples every point of the ego moves (relative to
+  // the truck) at most `motion` (translation, the car's reach swept by its turn, the truck's travel
+  // and turn) spread evenly over the segment, so the gap cannot close faster than motion/Δt; steps
+  // of (gap + kTouch_m) at that rate miss no touch deeper than kTouch_m. The first overlap is timed
+  // by bisection; a probe within kTouch_m without an overlap (a run recorded up to its moment of
+  // contact) counts at the segment's closest approach.
   template <class Gap>
   [[nodiscard]] std::optional<Touch> first_touch(std::size_t i, double gap_at_start, bool with_truck, Gap&& gap) const {
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     double motion = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + std::abs(b.yaw_rad - a.yaw_rad) * reach_m_;
     if (with_truck) {
-      const auto ta = truck(i, a.t_s).box.center;
-      const auto tb = truck(i, b.t_s).box.center;
-      motion += (tb - ta).norm();
+      const auto ta = truck(i, a.t_s).box;
+      const auto tb = truck(i, b.t_s).box;
+      motion += (tb.center - ta.center).norm() + std::abs(tb.heading_rad - ta.heading_rad) * truck_reach_m_;
     }
     if (gap_at_start - kTouch_m > motion) return std::nullopt;
-    // At most 4096 probes a segment (a jump of tens of metres, or numbers out of any range).
-    const double wanted = std::ceil(motion / kProbeStep_m);
-    const int probes = std::isfinite(wanted) ? static_cast<int>(std::clamp(wanted, 1.0, 4096.0)) : 4096;
-    const auto probe = [&](int k) { return k == probes ? b.t_s : a.t_s + (b.t_s - a.t_s) * k / probes; };
+    const double rate_mps = motion / (b.t_s - a.t_s);
     const auto first_overlap = [&](double lo, double hi) {
       while (hi - lo > 1e-7) {  // as the simulator times a touch: depths of micrometres
         const double mid = 0.5 * (lo + hi);
@@ -350,15 +348,20 @@ class Judge {
     std::optional<double> closest;
     double closest_gap = kTouch_m;
     double previous = a.t_s;
-    for (int k = 1; k <= probes; ++k) {
-      const double t = probe(k);
-      const double g = gap(t);
+    double t = a.t_s;
+    double g = gap_at_start;
+    // At most 4096 probes a segment (numbers out of any range make no progress otherwise).
+    for (int k = 0; k < 4096; ++k) {
+      const double step_s = (std::max(g, 0.0) + kTouch_m) / rate_mps;
+      previous = t;
+      t = std::isfinite(step_s) && step_s > 0.0 ? std::min(b.t_s, t + step_s) : b.t_s;
+      g = gap(t);
       if (g <= 0.0) return Touch{i, first_overlap(previous, t), 0.0};
       if (g <= closest_gap) {
         closest = t;
         closest_gap = g;
       }
-      previous = t;
+      if (!(t < b.t_s)) break;
     }
     if (!closest) return std::nullopt;
     return Touch{i, *closest, closest_gap};
@@ -461,6 +464,7 @@ class Judge {
   bool has_truck_;
   double circumradii_m_ = 0.0;
   double reach_m_ = 0.0;
+  double truck_reach_m_ = 0.0;
 };
 
 nlohmann::ordered_json impact_json(const sim::ImpactAssessment& a) {
