@@ -15,6 +15,7 @@
 #include "emrm/campaign/run.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/exchange/assess.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/report.hpp"
@@ -128,6 +129,17 @@ void measurements(std::string_view data) {
   refused_or_read([&] { (void)campaign::parse_paper_reference(std::string(data), "paper_reference.yaml"); });
 }
 
+// `emrm assess`'s recorded trajectories, in both formats, judged in one cell of the default scene.
+void trajectory_csv(std::string_view data) {
+  const sim::SceneConfig config;
+  const sim::CellInput cell{50.0, 1.0, 0.8, 3.0, 10.0};
+  for (const auto format : {exchange::TrajectoryFormat::kEmrm, exchange::TrajectoryFormat::kEsmini})
+    refused_or_read([&] {
+      const auto trajectory = exchange::parse_trajectory_csv(data, "trajectory.csv", format, config);
+      (void)exchange::assess(config, cell, trajectory);
+    });
+}
+
 // The command line: the input is the arguments, separated by NUL bytes. Every check of the
 // arguments runs, no command does (cli::Mode::kParseOnly); an exit code other than 0, 1 or 2 is a
 // bug like a crash.
@@ -161,6 +173,7 @@ const std::vector<Target>& targets() {
       {"results_store", results_store},
       {"report_side_files", report_side_files},
       {"measurements", measurements},
+      {"trajectory_csv", trajectory_csv},
       {"cli", command_line},
   };
   return all;

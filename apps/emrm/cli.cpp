@@ -92,6 +92,8 @@ int run_cli(int argc, char** argv, Mode mode) {
   emrm::cli::register_diagnose_command(app, exit_code);
   emrm::cli::register_boundary_command(app, exit_code);
   emrm::cli::register_calibrate_command(app, exit_code);
+  emrm::cli::register_export_command(app, exit_code);
+  emrm::cli::register_assess_command(app, exit_code);
   // Every check of the arguments, none of the work: CLI11 calls this once they all passed, before
   // the command's callback (which owns the command's options, so it must stay).
   struct Parsed {};

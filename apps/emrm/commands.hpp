@@ -31,6 +31,10 @@ void register_verify_command(CLI::App& app, int& exit_code);
 void register_diagnose_command(CLI::App& app, int& exit_code);
 /// `emrm boundary DIR`: the TTC boundaries of each region and strategy, as CSV and figures.
 void register_boundary_command(CLI::App& app, int& exit_code);
+/// `emrm export`: a cell or a plan as OpenSCENARIO XML and OpenDRIVE.
+void register_export_command(CLI::App& app, int& exit_code);
+/// `emrm assess TRAJECTORIES.csv`: a recorded trajectory judged by emrm's models.
+void register_assess_command(CLI::App& app, int& exit_code);
 /// `emrm calibrate`: fits the brakes' actuation to measured brake tests.
 void register_calibrate_command(CLI::App& app, int& exit_code);
 

@@ -85,6 +85,8 @@ std::string text(const nlohmann::json& j, const char* key, const std::string& wh
 
 }  // namespace
 
+nlohmann::json to_json(const ImpactAssessment& impact) { return impact_json(impact); }
+
 nlohmann::json to_json(const Certificate& c) {
   return {{"method", c.method},
           {"margin_m", c.margin_m},

@@ -170,32 +170,11 @@ class TruckContactCheck {
     step.state = model_.step(step.before, step.applied, mu, *touch);
     step.t_s = start + *touch;
     step.ego = scene_.ego_box(step.state);
-    result.impact = impact_with(step.state, step.ego, scene_.truck_at(step.t_s));
+    result.impact = truck_impact(scene_, step.state, scene_.truck_at(step.t_s));
     return end(why, Termination::kContact);
   }
 
  private:
-  ImpactAssessment impact_with(const VehicleState& s, const core::OrientedBox& ego_box,
-                               const TruckState& truck) const {
-    const auto& cfg = scene_.config();
-    // The boxes touch at the first touch; the contact test wants an overlap, which the state
-    // integrated to that moment has to within micrometres of the probes' path: if it falls short,
-    // nudge the ego on along its motion relative to the truck until they meet.
-    core::Contact c = core::contact(ego_box, truck.box);
-    const core::Vec2 closing = world_velocity(s) - truck.velocity_mps;
-    const double closing_speed = closing.norm();
-    for (double nudge_m = 1e-6; !c.touching && closing_speed > 0.0 && nudge_m <= 1e-2; nudge_m *= 10.0) {
-      core::OrientedBox nudged = ego_box;
-      nudged.center = nudged.center + closing * (nudge_m / closing_speed);
-      c = core::contact(nudged, truck.box);
-    }
-    const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
-                         s.yaw_rate_radps};
-    const ImpactBody other{cfg.truck.mass_kg, cfg.truck.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps,
-                           0.0};
-    return assess_impact(ego, other, c, cfg.severity);
-  }
-
   const Scene& scene_;
   const VehicleModel& model_;
   MotionBound motion_;
@@ -227,34 +206,11 @@ class RoadDepartureCheck {
     step.state = model_.step(step.before, step.applied, mu, *touch);
     step.t_s = step.t_s - step.dt_s + *touch;
     step.ego = scene_.ego_box(step.state);
-    result.impact = assess(step.state, step.ego);
+    result.impact = roadside_impact(scene_, step.state);
     return end(why, Termination::kRoadDeparture);
   }
 
  private:
-  ImpactAssessment assess(const VehicleState& s, const core::OrientedBox& ego_box) const {
-    const auto& cfg = scene_.config();
-    if (!cfg.roadside.barrier()) {
-      ImpactAssessment open;
-      open.impact_speed_mps = s.speed_mps();
-      open.loss_level = loss_level(false, true, 0.0, 0.0, cfg.severity);
-      return open;
-    }
-    // The corner nearest to (or across) the edge it meets; the barrier's normal points out of the road.
-    const bool right = ego_box.center.y - min_y_m_ < max_y_m_ - ego_box.center.y;
-    core::Vec2 corner = ego_box.corners()[0];
-    for (const auto& c : ego_box.corners())
-      if (right ? c.y < corner.y : c.y > corner.y) corner = c;
-    core::Contact contact;
-    contact.touching = true;
-    contact.normal = right ? core::Vec2{0.0, -1.0} : core::Vec2{0.0, 1.0};
-    contact.point = corner;
-    const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
-                         s.yaw_rate_radps};
-    const ImpactBody barrier{0.0, 0.0, corner, {0.0, 0.0}, 0.0};  // immovable
-    return assess_impact(ego, barrier, contact, cfg.severity);
-  }
-
   const Scene& scene_;
   const VehicleModel& model_;
   MotionBound motion_;
@@ -263,6 +219,69 @@ class RoadDepartureCheck {
 };
 
 }  // namespace
+
+ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const TruckState& truck,
+                              core::Contact* contact_out) noexcept {
+  const auto& cfg = scene.config();
+  const core::OrientedBox ego_box = scene.ego_box(s);
+  // The boxes touch at the first touch; the contact test wants an overlap, which the state
+  // integrated to that moment has to within micrometres of the probes' path: if it falls short,
+  // nudge the ego on along its motion relative to the truck until they meet.
+  core::Contact c = core::contact(ego_box, truck.box);
+  const core::Vec2 closing = world_velocity(s) - truck.velocity_mps;
+  const double closing_speed = closing.norm();
+  for (double nudge_m = 1e-6; !c.touching && closing_speed > 0.0 && nudge_m <= 1e-2; nudge_m *= 10.0) {
+    core::OrientedBox nudged = ego_box;
+    nudged.center = nudged.center + closing * (nudge_m / closing_speed);
+    c = core::contact(nudged, truck.box);
+  }
+  if (contact_out != nullptr) *contact_out = c;
+  const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
+                       s.yaw_rate_radps};
+  const ImpactBody other{cfg.truck.mass_kg, cfg.truck.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps, 0.0};
+  return assess_impact(ego, other, c, cfg.severity);
+}
+
+ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s, core::Vec2* point_out) noexcept {
+  const auto& cfg = scene.config();
+  const core::OrientedBox ego_box = scene.ego_box(s);
+  const double min_y = cfg.road.drivable_min_y_m();
+  const double max_y = cfg.road.drivable_max_y_m();
+  // The corner nearest to (or across) the edge it meets; the barrier's normal points out of the road.
+  const bool right = ego_box.center.y - min_y < max_y - ego_box.center.y;
+  core::Vec2 corner = ego_box.corners()[0];
+  for (const auto& c : ego_box.corners())
+    if (right ? c.y < corner.y : c.y > corner.y) corner = c;
+  if (point_out != nullptr) *point_out = corner;
+  if (!cfg.roadside.barrier()) {
+    ImpactAssessment open;
+    open.impact_speed_mps = s.speed_mps();
+    open.loss_level = loss_level(false, true, 0.0, 0.0, cfg.severity);
+    return open;
+  }
+  core::Contact contact;
+  contact.touching = true;
+  contact.normal = right ? core::Vec2{0.0, -1.0} : core::Vec2{0.0, 1.0};
+  contact.point = corner;
+  const ImpactBody ego{cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, world_velocity(s),
+                       s.yaw_rate_radps};
+  const ImpactBody barrier{0.0, 0.0, corner, {0.0, 0.0}, 0.0};  // immovable
+  return assess_impact(ego, barrier, contact, cfg.severity);
+}
+
+bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept {
+  const SafeStateConfig& bounds = scene.config().safe_state;
+  if (!(std::abs(s.yaw_rate_radps) <= bounds.max_yaw_rate_radps &&
+        std::abs(s.slip_angle_rad()) <= bounds.max_slip_angle_rad &&
+        std::abs(core::wrap_angle(s.yaw_rad)) <= bounds.max_heading_error_rad &&
+        std::abs(s.steer_rad) <= bounds.max_steer_rad))
+    return false;
+  // A stop from here, through the brakes' dead time and ramp.
+  const double stop_distance = scene.config().actuation.stopping_distance_m(s.speed_mps(), scene.cell().mu, false);
+  core::OrientedBox at_rest = scene.ego_box(s);
+  at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
+  return scene.on_drivable_area(at_rest);
+}
 
 Extent extent_of(const core::OrientedBox& box) noexcept {
   Extent e{kInfinity, -kInfinity, kInfinity, -kInfinity};

@@ -89,29 +89,14 @@ class HorizonTest {
 // safe_state bounds) with room to stop, i.e. a straight full stop from here stays on the road.
 class StabilisedTest {
  public:
-  explicit StabilisedTest(const Scene& scene)
-      : scene_(scene), bounds_(scene.config().safe_state), actuation_(scene.config().actuation), mu_(scene.cell().mu) {}
+  explicit StabilisedTest(const Scene& scene) : scene_(scene) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    const VehicleState& s = step.state;
-    if (!(std::abs(s.yaw_rate_radps) <= bounds_.max_yaw_rate_radps &&
-          std::abs(s.slip_angle_rad()) <= bounds_.max_slip_angle_rad &&
-          std::abs(core::wrap_angle(s.yaw_rad)) <= bounds_.max_heading_error_rad &&
-          std::abs(s.steer_rad) <= bounds_.max_steer_rad))
-      return false;
-    const double speed = s.speed_mps();
-    // A stop from here, through the brakes' dead time and ramp.
-    const double stop_distance = actuation_.stopping_distance_m(speed, mu_, false);
-    core::OrientedBox at_rest = step.ego;
-    at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
-    if (!scene_.on_drivable_area(at_rest)) return false;
+    if (!stable_with_room_to_stop(scene_, step.state)) return false;
     return end(why, Termination::kStabilised);
   }
 
  private:
   const Scene& scene_;
-  SafeStateConfig bounds_;
-  ActuationConfig actuation_;
-  double mu_;
 };
 
 }  // namespace emrm::sim::termination

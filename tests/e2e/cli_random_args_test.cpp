@@ -25,17 +25,19 @@ TEST(CliRandomArguments, ExitCodesAreOnlyZeroOneOrTwo) {
   write_text(dir / "tiny.yaml", "scene: scene.yaml\nstrategies: [emergency_stop]\ngrids:\n  - name: g\n    speed_kph: 40\n    ttc_s: 2.0\n");
   const std::vector<std::string> commands{"analyze", "fsm",    "simulate", "sweep",  "merge",    "reproduce",
                                           "ca",      "plan",   "run",      "report", "verify",   "diagnose",
-                                          "calibrate", "boundary", "nosuch", "--help", "--version"};
+                                          "calibrate", "boundary", "export", "assess", "nosuch", "--help",
+                                          "--version"};
   const std::vector<std::string> options{
       "--speed-kph", "--ttc-s",  "--mu",     "--passage-m", "--truck-speed-kph", "--seed",   "--threads",
       "--output",    "-o",       "--levels", "--strength",  "--effort",          "--sample", "--profile",
       "--format",    "--words",  "--json",   "--shard",     "--force",           "--scene",  "--strategy",
       "--fit",       "--stops",  "--match",  "--examples",  "--no-certify",      "--check",  "--bogus",
-      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--max-figures", "--no-figures"};
+      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--max-figures", "--no-figures",
+      "--plan",      "--tolerance-m"};
   const std::string out = (dir.parent_path() / "out").string();
   const std::vector<std::string> values{
       "nan", "-nan", "inf", "-1", "0", "1", "3", "0.5", "1e300", "-1e300", "18446744073709551616",
-      std::string(10000, '9'), "3,3", "2/1", "0/0", "1/2", "\xff\xfe", "", "x", "ideal", "emrm", "all",
+      std::string(10000, '9'), "3,3", "2/1", "0/0", "1/2", "\xff\xfe", "", "x", "ideal", "emrm", "all", "openscenario", "esmini",
       (dir / "safety.yaml").string(), (dir / "emrm_fsm.yaml").string(), (dir / "odd.yaml").string(),
       (dir / "tiny.yaml").string(), (dir / "scene.yaml").string(), (dir / "nosuch.yaml").string(),
       dir.string(), "/dev/zero", out};

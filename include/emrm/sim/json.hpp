@@ -18,6 +18,10 @@ struct JsonOptions {
 [[nodiscard]] nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed,
                                      const JsonOptions& options = {});
 
+/// {"impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level"}: an impact as each
+/// strategy's outcome shows it.
+[[nodiscard]] nlohmann::json to_json(const ImpactAssessment& impact);
+
 /// An actuation as JSON: its six keys, every number to full precision.
 [[nodiscard]] nlohmann::json to_json(const ActuationConfig& actuation);
 /// The actuation back from that JSON. Throws InputError naming `where` and the key when a member is

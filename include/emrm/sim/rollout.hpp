@@ -291,6 +291,22 @@ class Roller {
   bool recovery_ = true;
 };
 
+/// The impact of the ego at state `s` on the truck, as a rollout's contact check assesses it when
+/// the two first touch: the contact test (nudging the ego on by up to 1 cm along the closing motion
+/// when the boxes only touch), then assess_impact with the truck's mass and inertia. The contact
+/// found goes to `contact_out` when given. Used by recorded trajectories too (exchange::assess).
+[[nodiscard]] ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const TruckState& truck,
+                                            core::Contact* contact_out = nullptr) noexcept;
+/// The ego leaving the drivable area at state `s`, assessed against the scene's roadside: a barrier
+/// is an immovable body met by the corner nearest the edge (written to `point_out` when given);
+/// open ground scores L4 with no impact.
+[[nodiscard]] ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s,
+                                               core::Vec2* point_out = nullptr) noexcept;
+/// The safe state after passing the truck (docs/physics.md, "Safe state"): yaw rate, body slip,
+/// heading and wheel angle within the scene's safe_state bounds, and a straight stop from here
+/// (through the brakes' dead time and ramp) ends on the drivable area.
+[[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept;
+
 /// Replays a maneuver from the cell's initial state at t = 0, recording every step: the executed
 /// trajectory at the integration step.
 [[nodiscard]] RolloutResult replay(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,

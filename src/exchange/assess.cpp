@@ -1,0 +1,593 @@
+#include "emrm/exchange/assess.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/core/trig.hpp"
+#include "emrm/sim/json.hpp"
+#include "emrm/sim/rollout.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::exchange {
+namespace {
+
+constexpr double kKphPerMps = 3.6;
+// A sample within this of the truck or of the road's edge touches it: the tolerance of the
+// simulator's own continuous collision check (docs/physics.md), so that a trajectory emrm executed
+// up to the moment of contact is judged a contact.
+constexpr double kTouch_m = 0.5e-3;
+constexpr double kStoppedSpeed_mps = 0.05;  // sim's StoppedTest
+// A recording that ends moving within this of the truck (or the road's edge) ended at a contact
+// (a departure): the reach of sim::truck_impact's nudge, within which the simulator itself assesses
+// the state it integrated to the first touch as a contact.
+constexpr double kEndTouch_m = 0.01;
+
+std::string trimmed(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+// ---- reading ------------------------------------------------------------------------------------
+
+struct Columns {
+  std::map<std::string, std::size_t> index;
+  [[nodiscard]] std::optional<std::size_t> find(const std::string& name) const {
+    const auto it = index.find(name);
+    return it == index.end() ? std::nullopt : std::optional<std::size_t>(it->second);
+  }
+};
+
+class RowReader {
+ public:
+  RowReader(const core::CsvRecord& record, const std::string& file) : record_(record), file_(file) {}
+  [[nodiscard]] double number(std::size_t column, std::string_view name) const {
+    const std::string text = trimmed(record_.fields[column]);
+    const auto value = core::parse_finite_number(text);
+    if (!value)
+      throw InputError(where(column), fmt::format("expected a finite number for '{}', got '{}'", name,
+                                                  text.size() > 40 ? text.substr(0, 40) + "…" : text));
+    return *value;
+  }
+  [[nodiscard]] std::string text(std::size_t column) const { return trimmed(record_.fields[column]); }
+  [[nodiscard]] SourceLocation where(std::size_t column) const {
+    return {file_, record_.lines[column], record_.columns[column]};
+  }
+
+ private:
+  const core::CsvRecord& record_;
+  const std::string& file_;
+};
+
+Columns header_of(const core::CsvRecord& header) {
+  Columns c;
+  for (std::size_t i = 0; i < header.fields.size(); ++i) c.index.emplace(trimmed(header.fields[i]), i);
+  return c;
+}
+
+std::size_t require_column(const Columns& c, const std::string& name, const core::CsvRecord& header,
+                           const std::string& file, std::string_view expected) {
+  if (auto i = c.find(name)) return *i;
+  throw InputError({file, header.lines.front(), 1},
+                   fmt::format("expected a column '{}' in the header (columns: {})", name, expected));
+}
+
+void check_length(const core::CsvRecord& row, std::size_t expected, const std::string& file) {
+  if (row.fields.size() == expected) return;
+  const int column = row.columns.back() + static_cast<int>(row.fields.back().size());
+  throw InputError({file, row.lines.back(), column},
+                   fmt::format("expected {} fields as in the header, got {} (a truncated or malformed row)", expected,
+                               row.fields.size()));
+}
+
+void check_time(const RecordedTrajectory& out, double t, const RowReader& r, std::size_t column) {
+  if (!out.samples.empty() && !(t > out.samples.back().t_s))
+    throw InputError(r.where(column), fmt::format("expected a time after the previous sample's {} s, got {} s",
+                                                  out.samples.back().t_s, t));
+}
+
+void check_speed(double v, const RowReader& r, std::size_t column) {
+  if (v < 0.0) throw InputError(r.where(column), fmt::format("expected a speed >= 0 m/s, got {}", v));
+}
+
+// Headings continuous from sample to sample, so that interpolation turns the short way.
+void unwrap(RecordedTrajectory& t) {
+  for (std::size_t k = 1; k < t.samples.size(); ++k) {
+    auto& s = t.samples[k];
+    const auto& p = t.samples[k - 1];
+    s.yaw_rad = p.yaw_rad + std::remainder(s.yaw_rad - p.yaw_rad, 2.0 * std::numbers::pi);
+    s.truck_yaw_rad = p.truck_yaw_rad + std::remainder(s.truck_yaw_rad - p.truck_yaw_rad, 2.0 * std::numbers::pi);
+  }
+}
+
+RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const std::string& file) {
+  constexpr std::string_view kExpected = "t, x, y, psi, v; optional truck_x, truck_y, truck_psi, steer";
+  const core::CsvRecord& header = records.front();
+  const Columns c = header_of(header);
+  const std::size_t t = require_column(c, "t", header, file, kExpected);
+  const std::size_t x = require_column(c, "x", header, file, kExpected);
+  const std::size_t y = require_column(c, "y", header, file, kExpected);
+  const std::size_t psi = require_column(c, "psi", header, file, kExpected);
+  const std::size_t v = require_column(c, "v", header, file, kExpected);
+  const auto tx = c.find("truck_x");
+  const auto ty = c.find("truck_y");
+  const auto tpsi = c.find("truck_psi");
+  const auto steer = c.find("steer");
+  RecordedTrajectory out;
+  out.file = file;
+  out.has_truck = tx || ty || tpsi;
+  if (out.has_truck) {
+    for (const char* name : {"truck_x", "truck_y", "truck_psi"})
+      (void)require_column(c, name, header, file, "truck_x, truck_y and truck_psi together");
+  }
+  out.has_steer = steer.has_value();
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    const core::CsvRecord& row = records[k];
+    check_length(row, header.fields.size(), file);
+    const RowReader r(row, file);
+    TrajectorySample s;
+    s.t_s = r.number(t, "t");
+    s.x_m = r.number(x, "x");
+    s.y_m = r.number(y, "y");
+    s.yaw_rad = r.number(psi, "psi");
+    s.speed_mps = r.number(v, "v");
+    check_speed(s.speed_mps, r, v);
+    if (steer) s.steer_rad = r.number(*steer, "steer");
+    if (out.has_truck) {
+      s.truck_x_m = r.number(*tx, "truck_x");
+      s.truck_y_m = r.number(*ty, "truck_y");
+      s.truck_yaw_rad = r.number(*tpsi, "truck_psi");
+    }
+    check_time(out, s.t_s, r, t);
+    out.samples.push_back(s);
+  }
+  return out;
+}
+
+RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, const std::string& file,
+                                const sim::SceneConfig& config, const ExportOptions& options) {
+  constexpr std::string_view kExpected = "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot";
+  std::size_t first = 0;
+  // dat2csv may begin with "Version: 2, OpenDRIVE: …, 3DModel: …".
+  if (!records.empty() && trimmed(records.front().fields.front()).rfind("Version:", 0) == 0) first = 1;
+  if (first >= records.size()) throw InputError({file, 1, 1}, fmt::format("expected a header ({})", kExpected));
+  const core::CsvRecord& header = records[first];
+  const Columns c = header_of(header);
+  const std::size_t time = require_column(c, "time", header, file, kExpected);
+  const std::size_t name = require_column(c, "name", header, file, kExpected);
+  const std::size_t x = require_column(c, "x", header, file, kExpected);
+  const std::size_t y = require_column(c, "y", header, file, kExpected);
+  const std::size_t h = require_column(c, "h", header, file, kExpected);
+  const std::size_t speed = require_column(c, "speed", header, file, kExpected);
+  const auto wheel = c.find("wheel_angle");
+  const double ego_back = ego_reference_offset_m(config.ego);
+  const double truck_back = truck_reference_offset_m(config.truck, options);
+
+  RecordedTrajectory out;
+  out.file = file;
+  out.has_steer = wheel.has_value();
+  std::map<std::string, TrajectorySample> truck_at;  // by the time field's text
+  std::vector<std::string> ego_times;
+  bool any_truck = false;
+  for (std::size_t k = first + 1; k < records.size(); ++k) {
+    const core::CsvRecord& row = records[k];
+    check_length(row, header.fields.size(), file);
+    const RowReader r(row, file);
+    const std::string entity = r.text(name);
+    if (entity != kEgoEntity && entity != kTruckEntity) continue;
+    const double t = r.number(time, "time");
+    const double px = r.number(x, "x");
+    const double py = r.number(y, "y");
+    const double heading = r.number(h, "h");
+    const double v = r.number(speed, "speed");
+    check_speed(v, r, speed);
+    if (entity == kTruckEntity) {
+      any_truck = true;
+      TrajectorySample s;
+      s.truck_x_m = px + truck_back * std::cos(heading);
+      s.truck_y_m = py + truck_back * std::sin(heading);
+      s.truck_yaw_rad = heading;
+      truck_at[r.text(time)] = s;
+      continue;
+    }
+    // A frame esmini logs twice (the first, at t = 0) is one sample.
+    if (!out.samples.empty() && t == out.samples.back().t_s) continue;
+    TrajectorySample s;
+    s.t_s = t;
+    s.x_m = px + ego_back * std::cos(heading);
+    s.y_m = py + ego_back * std::sin(heading);
+    s.yaw_rad = heading;
+    s.speed_mps = v;
+    if (wheel) s.steer_rad = r.number(*wheel, "wheel_angle");
+    check_time(out, t, r, time);
+    out.samples.push_back(s);
+    ego_times.push_back(r.text(time));
+  }
+  if (out.samples.empty())
+    throw InputError({file, header.lines.front(), 1},
+                     fmt::format("expected rows of the entity '{}' (the ego as emrm export names it)", kEgoEntity));
+  // The truck as recorded when it is there at every ego sample; else the scene's motion.
+  out.has_truck = any_truck && std::all_of(ego_times.begin(), ego_times.end(),
+                                           [&](const std::string& t) { return truck_at.count(t) > 0; });
+  if (out.has_truck) {
+    for (std::size_t k = 0; k < out.samples.size(); ++k) {
+      const TrajectorySample& truck = truck_at.at(ego_times[k]);
+      out.samples[k].truck_x_m = truck.truck_x_m;
+      out.samples[k].truck_y_m = truck.truck_y_m;
+      out.samples[k].truck_yaw_rad = truck.truck_yaw_rad;
+    }
+  }
+  return out;
+}
+
+// ---- judging ------------------------------------------------------------------------------------
+
+// The slope at t of the parabola through three samples (Lagrange), or of the chord through two.
+double slope(const double* t, const double* f, int n, double at) {
+  if (n == 2) return (f[1] - f[0]) / (t[1] - t[0]);
+  const double d0 = ((at - t[1]) + (at - t[2])) / ((t[0] - t[1]) * (t[0] - t[2]));
+  const double d1 = ((at - t[0]) + (at - t[2])) / ((t[1] - t[0]) * (t[1] - t[2]));
+  const double d2 = ((at - t[0]) + (at - t[1])) / ((t[2] - t[0]) * (t[2] - t[1]));
+  return f[0] * d0 + f[1] * d1 + f[2] * d2;
+}
+
+class Judge {
+ public:
+  Judge(const sim::Scene& scene, const RecordedTrajectory& trajectory)
+      : scene_(scene), samples_(trajectory.samples), has_truck_(trajectory.has_truck) {
+    const auto& cfg = scene.config();
+    circumradii_m_ = 0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) +
+                     0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
+    reach_m_ = std::hypot(std::max(cfg.ego.cg_to_front_m(), cfg.ego.cg_to_rear_m()), 0.5 * cfg.ego.width_m);
+    truck_reach_m_ = 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
+  }
+
+  // The pose at time t in segment [i, i+1]: position and heading interpolated linearly.
+  [[nodiscard]] sim::VehicleState pose(std::size_t i, double t) const {
+    const auto& a = samples_[i];
+    const auto& b = samples_[i + 1];
+    const double u = (t - a.t_s) / (b.t_s - a.t_s);
+    sim::VehicleState s;
+    s.x_m = a.x_m + u * (b.x_m - a.x_m);
+    s.y_m = a.y_m + u * (b.y_m - a.y_m);
+    s.yaw_rad = a.yaw_rad + u * (b.yaw_rad - a.yaw_rad);
+    return s;
+  }
+
+  // The full state at time t in segment [i, i+1]: the pose, the speed interpolated, the direction
+  // of motion and the yaw rate from the parabola through three neighbouring samples.
+  [[nodiscard]] sim::VehicleState state(std::size_t i, double t) const {
+    sim::VehicleState s = pose(i, t);
+    const auto& a = samples_[i];
+    const auto& b = samples_[i + 1];
+    const double u = (t - a.t_s) / (b.t_s - a.t_s);
+    const double speed = a.speed_mps + u * (b.speed_mps - a.speed_mps);
+    s.steer_rad = a.steer_rad + u * (b.steer_rad - a.steer_rad);
+    const std::size_t n = samples_.size();
+    const int points = n >= 3 ? 3 : 2;
+    std::size_t first = i;
+    if (points == 3) first = i >= 1 ? i - 1 : 0;
+    if (first + points > n) first = n - points;
+    double ts[3], xs[3], ys[3], yaws[3];
+    for (int k = 0; k < points; ++k) {
+      const auto& p = samples_[first + k];
+      ts[k] = p.t_s;
+      xs[k] = p.x_m;
+      ys[k] = p.y_m;
+      yaws[k] = p.yaw_rad;
+    }
+    const double vx = slope(ts, xs, points, t);
+    const double vy = slope(ts, ys, points, t);
+    const double direction = std::hypot(vx, vy) > 1e-9 ? std::atan2(vy, vx) : s.yaw_rad;
+    const auto [c, sn] = core::cos_sin(direction - s.yaw_rad);
+    s.vx_mps = speed * c;
+    s.vy_mps = speed * sn;
+    s.yaw_rate_radps = slope(ts, yaws, points, t);
+    return s;
+  }
+
+  [[nodiscard]] sim::TruckState truck(std::size_t i, double t) const {
+    if (!has_truck_) return scene_.truck_at(t);
+    const auto& a = samples_[i];
+    const auto& b = samples_[i + 1];
+    const double dt = b.t_s - a.t_s;
+    const double u = (t - a.t_s) / dt;
+    const auto& cfg = scene_.config().truck;
+    sim::TruckState out;
+    out.box.center = {a.truck_x_m + u * (b.truck_x_m - a.truck_x_m), a.truck_y_m + u * (b.truck_y_m - a.truck_y_m)};
+    out.box.heading_rad = a.truck_yaw_rad + u * (b.truck_yaw_rad - a.truck_yaw_rad);
+    out.box.length_m = cfg.length_m;
+    out.box.width_m = cfg.width_m;
+    out.velocity_mps = {(b.truck_x_m - a.truck_x_m) / dt, (b.truck_y_m - a.truck_y_m) / dt};
+    return out;
+  }
+
+  [[nodiscard]] double truck_gap(std::size_t i, double t) const {
+    return core::separation_lower_bound(scene_.ego_box(pose(i, t)), truck(i, t).box);
+  }
+  [[nodiscard]] double edge_gap(std::size_t i, double t) const { return scene_.edge_gap_m(scene_.ego_box(pose(i, t))); }
+
+  struct Touch {
+    std::size_t segment = 0;
+    double t_s = 0.0;
+    double gap_m = 0.0;  // <= 0: an overlap
+  };
+
+  // The first time in segment i at which `gap` closes, or nothing, by conservative advancement as
+  // the simulator's own check does it: between samples every point of the ego moves (relative to
+  // the truck) at most `motion` (translation, the car's reach swept by its turn, the truck's travel
+  // and turn) spread evenly over the segment, so the gap cannot close faster than motion/Δt; steps
+  // of (gap + kTouch_m) at that rate miss no touch deeper than kTouch_m. The first overlap is timed
+  // by bisection; a probe within kTouch_m without an overlap (a run recorded up to its moment of
+  // contact) counts at the segment's closest approach.
+  template <class Gap>
+  [[nodiscard]] std::optional<Touch> first_touch(std::size_t i, double gap_at_start, bool with_truck, Gap&& gap) const {
+    const auto& a = samples_[i];
+    const auto& b = samples_[i + 1];
+    double motion = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + std::abs(b.yaw_rad - a.yaw_rad) * reach_m_;
+    if (with_truck) {
+      const auto ta = truck(i, a.t_s).box;
+      const auto tb = truck(i, b.t_s).box;
+      motion += (tb.center - ta.center).norm() + std::abs(tb.heading_rad - ta.heading_rad) * truck_reach_m_;
+    }
+    if (gap_at_start - kTouch_m > motion) return std::nullopt;
+    const double rate_mps = motion / (b.t_s - a.t_s);
+    const auto first_overlap = [&](double lo, double hi) {
+      while (hi - lo > 1e-7) {  // as the simulator times a touch: depths of micrometres
+        const double mid = 0.5 * (lo + hi);
+        (gap(mid) <= 0.0 ? hi : lo) = mid;
+      }
+      return hi;
+    };
+    std::optional<double> closest;
+    double closest_gap = kTouch_m;
+    double previous = a.t_s;
+    double t = a.t_s;
+    double g = gap_at_start;
+    // At most 4096 probes a segment (numbers out of any range make no progress otherwise).
+    for (int k = 0; k < 4096; ++k) {
+      const double step_s = (std::max(g, 0.0) + kTouch_m) / rate_mps;
+      previous = t;
+      t = std::isfinite(step_s) && step_s > 0.0 ? std::min(b.t_s, t + step_s) : b.t_s;
+      g = gap(t);
+      if (g <= 0.0) return Touch{i, first_overlap(previous, t), 0.0};
+      if (g <= closest_gap) {
+        closest = t;
+        closest_gap = g;
+      }
+      if (!(t < b.t_s)) break;
+    }
+    if (!closest) return std::nullopt;
+    return Touch{i, *closest, closest_gap};
+  }
+
+  // A near touch (within kTouch_m, no overlap) followed on while the approach continues into the
+  // next segments: their first overlap, else the closest approach.
+  template <class GapIn>
+  [[nodiscard]] Touch follow(Touch touch, bool with_truck, GapIn&& gap_in) const {
+    for (std::size_t j = touch.segment + 1; touch.gap_m > 0.0 && j + 1 < samples_.size(); ++j) {
+      const auto next = first_touch(j, gap_in(j, samples_[j].t_s), with_truck, [&](double t) { return gap_in(j, t); });
+      if (!next || next->gap_m >= touch.gap_m) break;
+      touch = *next;
+    }
+    return touch;
+  }
+
+  // Far apart by the centres alone: the truck cannot be reached within the segment.
+  [[nodiscard]] bool truck_far(std::size_t i) const {
+    const auto& a = samples_[i];
+    const auto& b = samples_[i + 1];
+    const core::Vec2 ego_a{a.x_m, a.y_m};
+    const core::Vec2 truck_a = truck(i, a.t_s).box.center;
+    const core::Vec2 truck_b = truck(i, b.t_s).box.center;
+    const double move = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + (truck_b - truck_a).norm();
+    const core::Vec2 d = ego_a - truck_a;
+    const double reach = circumradii_m_ + move + 1.0;
+    return d.dot(d) > reach * reach;
+  }
+
+  [[nodiscard]] Assessment run() const {
+    Assessment out;
+    const std::size_t n = samples_.size();
+    // The first sample itself.
+    {
+      const double t0 = samples_[0].t_s;
+      if (truck_gap(0, t0) <= kTouch_m) return at_contact(out, 0, t0);
+      if (edge_gap(0, t0) <= kTouch_m) return at_departure(out, 0, t0);
+    }
+    const auto truck_gap_in = [&](std::size_t j, double t) { return truck_gap(j, t); };
+    const auto edge_gap_in = [&](std::size_t j, double t) { return edge_gap(j, t); };
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const double ta = samples_[i].t_s;
+      std::optional<Touch> contact;
+      if (!truck_far(i))
+        contact = first_touch(i, truck_gap(i, ta), true, [&](double t) { return truck_gap(i, t); });
+      std::optional<Touch> departure = first_touch(i, edge_gap(i, ta), false, [&](double t) { return edge_gap(i, t); });
+      if (contact) contact = follow(*contact, true, truck_gap_in);
+      if (departure) departure = follow(*departure, false, edge_gap_in);
+      if (contact && (!departure || contact->t_s <= departure->t_s)) return at_contact(out, contact->segment, contact->t_s);
+      if (departure) return at_departure(out, departure->segment, departure->t_s);
+    }
+    const std::size_t last = n - 2;
+    const double t_end = samples_.back().t_s;
+    if (samples_.back().speed_mps >= kStoppedSpeed_mps) {
+      if (truck_gap(last, t_end) <= kEndTouch_m) return at_contact(out, last, t_end);
+      if (edge_gap(last, t_end) <= kEndTouch_m) return at_departure(out, last, t_end);
+    }
+    // No event: a safe state at the end?
+    const sim::VehicleState end = state(last, t_end);
+    out.end_time_s = t_end;
+    out.samples_judged = n;
+    if (samples_.back().speed_mps < kStoppedSpeed_mps) {
+      out.safe_state = SafeState::kStopped;
+    } else {
+      const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;
+      const double truck_far_x = has_truck_ ? sim::extent_of(truck(last, t_end).box).max_x : scene_.truck_far_x_m();
+      if (ego_min_x > truck_far_x && sim::stable_with_room_to_stop(scene_, end)) out.safe_state = SafeState::kStabilised;
+    }
+    out.avoided = out.safe_state != SafeState::kNone;
+    return out;
+  }
+
+ private:
+  Assessment at_contact(Assessment out, std::size_t segment, double t) const {
+    const std::size_t i = std::min(segment, samples_.size() - 2);
+    const sim::VehicleState s = state(i, t);
+    core::Contact c;
+    out.contact = true;
+    out.impact = sim::truck_impact(scene_, s, truck(i, t), &c);
+    out.event_time_s = t;
+    out.event_point_m = c.point;
+    out.end_time_s = t;
+    out.samples_judged = i + 2;
+    return out;
+  }
+  Assessment at_departure(Assessment out, std::size_t segment, double t) const {
+    const std::size_t i = std::min(segment, samples_.size() - 2);
+    const sim::VehicleState s = state(i, t);
+    out.road_departure = true;
+    out.impact = sim::roadside_impact(scene_, s, &out.event_point_m);
+    out.event_time_s = t;
+    out.end_time_s = t;
+    out.samples_judged = i + 2;
+    return out;
+  }
+
+  const sim::Scene& scene_;
+  const std::vector<TrajectorySample>& samples_;
+  bool has_truck_;
+  double circumradii_m_ = 0.0;
+  double reach_m_ = 0.0;
+  double truck_reach_m_ = 0.0;
+};
+
+nlohmann::ordered_json impact_json(const sim::ImpactAssessment& a) {
+  nlohmann::ordered_json j;
+  const nlohmann::json impact = sim::to_json(a);
+  for (const auto& [k, v] : impact.items()) j[k] = v;
+  return j;
+}
+
+}  // namespace
+
+std::string_view format_name(TrajectoryFormat format) noexcept {
+  return format == TrajectoryFormat::kEsmini ? "esmini" : "emrm";
+}
+
+std::string_view safe_state_name(SafeState s) noexcept {
+  switch (s) {
+    case SafeState::kStopped: return "stopped";
+    case SafeState::kStabilised: return "stabilised";
+    case SafeState::kNone: break;
+  }
+  return "none";
+}
+
+RecordedTrajectory parse_trajectory_csv(std::string_view text, const std::string& file_name, TrajectoryFormat format,
+                                        const sim::SceneConfig& config, const ExportOptions& options) {
+  const std::vector<core::CsvRecord> records = core::parse_csv(text, file_name);
+  if (records.empty()) throw InputError({file_name, 1, 1}, "expected a header and at least two samples, got an empty file");
+  RecordedTrajectory out = format == TrajectoryFormat::kEsmini ? parse_esmini(records, file_name, config, options)
+                                                                : parse_emrm(records, file_name);
+  if (out.samples.size() < 2) {
+    const int line = records.back().lines.front();
+    throw InputError({file_name, line, 1},
+                     fmt::format("expected at least two samples, got {}", out.samples.size()));
+  }
+  unwrap(out);
+  return out;
+}
+
+RecordedTrajectory read_trajectory_csv(const std::filesystem::path& path, TrajectoryFormat format,
+                                       const sim::SceneConfig& config, const ExportOptions& options) {
+  return parse_trajectory_csv(core::read_input_file(path), path.string(), format, config, options);
+}
+
+Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, const RecordedTrajectory& trajectory) {
+  sim::validate(config);
+  sim::validate_cell(config, cell);
+  const sim::Scene scene(config, cell);
+  if (!scene.feasible())
+    throw UsageError(fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
+                                 "scene's max_initial_distance_m = {} m",
+                                 scene.initial_distance_m(), config.max_initial_distance_m));
+  Assessment out = Judge(scene, trajectory).run();
+  if (out.avoided) out.impact = {};
+  const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
+  out.unmitigated = sim::no_action_rollout(scene, *model).impact;
+  out.delta_loss = out.unmitigated.loss_level - out.impact.loss_level;
+  if (out.contact) {
+    out.min_ttc_s = 0.0;
+  } else if (!trajectory.has_truck) {
+    std::vector<sim::PathPoint> path;
+    path.reserve(trajectory.samples.size());
+    const Judge judge(scene, trajectory);
+    for (std::size_t k = 0; k + 1 < trajectory.samples.size(); ++k)
+      path.push_back({trajectory.samples[k].t_s, judge.state(k, trajectory.samples[k].t_s), {}});
+    out.min_ttc_s = sim::min_ttc_along(scene, path);
+  }
+  return out;
+}
+
+nlohmann::ordered_json to_json(const Assessment& a, const RecordedTrajectory& trajectory, TrajectoryFormat format,
+                               const sim::CellInput& cell, const std::string& strategy) {
+  nlohmann::ordered_json j;
+  j["file"] = trajectory.file;
+  j["format"] = std::string(format_name(format));
+  j["input"] = {{"speed_kph", cell.speed_kph},
+                {"ttc_s", cell.ttc_s},
+                {"mu", cell.mu},
+                {"passage_m", cell.passage_m},
+                {"truck_speed_kph", cell.truck_speed_kph}};
+  j["truck"] = trajectory.has_truck ? "recorded" : "scene";
+  j["samples"] = trajectory.samples.size();
+  if (!strategy.empty()) j["strategy"] = strategy;
+  j["unmitigated"] = impact_json(a.unmitigated);
+  nlohmann::ordered_json o = impact_json(a.impact);
+  o["avoided"] = a.avoided;
+  o["contact"] = a.contact;
+  o["road_departure"] = a.road_departure;
+  o["departure_speed_kph"] = a.road_departure ? a.impact.impact_speed_mps * kKphPerMps : 0.0;
+  o["delta_loss"] = a.delta_loss;
+  o["min_ttc_s"] = a.min_ttc_s && std::isfinite(*a.min_ttc_s) ? nlohmann::ordered_json(*a.min_ttc_s)
+                                                               : nlohmann::ordered_json(nullptr);
+  o["event_time_s"] = a.event_time_s ? nlohmann::ordered_json(*a.event_time_s) : nlohmann::ordered_json(nullptr);
+  o["event_point"] = a.event_time_s ? nlohmann::ordered_json::array({a.event_point_m.x, a.event_point_m.y})
+                                    : nlohmann::ordered_json(nullptr);
+  o["safe_state"] = std::string(safe_state_name(a.safe_state));
+  o["end_time_s"] = a.end_time_s;
+  o["samples_judged"] = a.samples_judged;
+  j["outcome"] = std::move(o);
+  return j;
+}
+
+std::string to_text(const Assessment& a, const RecordedTrajectory& trajectory, const std::string& strategy) {
+  std::string out = fmt::format("{}: {} samples from {:.3f} s to {:.3f} s{}; truck: {}\n", trajectory.file,
+                                trajectory.samples.size(), trajectory.samples.front().t_s,
+                                trajectory.samples.back().t_s, strategy.empty() ? "" : " (" + strategy + ")",
+                                trajectory.has_truck ? "recorded" : "the scene's nominal motion");
+  if (a.avoided) {
+    out += fmt::format("Avoided: no contact, no road departure; safe state: {} at {:.3f} s\n",
+                       safe_state_name(a.safe_state), a.end_time_s);
+  } else if (a.contact || a.road_departure) {
+    out += fmt::format("{} at {:.4f} s at ({:.3f}, {:.3f}) m: impact speed {:.2f} km/h, Δv {:.2f} km/h, "
+                       "P(MAIS3+) {:.4f}, P(fatal) {:.4f}, loss level L{}\n",
+                       a.contact ? "Contact with the truck" : "Road departure", *a.event_time_s, a.event_point_m.x,
+                       a.event_point_m.y, a.impact.impact_speed_mps * kKphPerMps, a.impact.delta_v_mps * kKphPerMps,
+                       a.impact.p_mais3, a.impact.p_fatal, a.impact.loss_level);
+  } else {
+    out += fmt::format("Not avoided: no contact or departure, but no safe state at the last sample ({:.3f} s)\n",
+                       a.end_time_s);
+  }
+  out += fmt::format("Unmitigated reference: loss level L{} (Δv {:.2f} km/h); Δloss {}\n", a.unmitigated.loss_level,
+                     a.unmitigated.delta_v_mps * kKphPerMps, a.delta_loss);
+  return out;
+}
+
+}  // namespace emrm::exchange

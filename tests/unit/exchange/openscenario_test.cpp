@@ -1,0 +1,375 @@
+// The OpenSCENARIO/OpenDRIVE export (docs/openscenario.md): every file validates against the
+// official XSDs (tests/schemas), and the geometry read back with libxml2 is the scene's: the main
+// road's lane borders, the truck's stopped position and the passage beside it, the vehicles'
+// reference points.
+
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+#include <random>
+
+#include "emrm/core/error.hpp"
+#include "emrm/core/expression.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/exchange/openscenario.hpp"
+#include "emrm/sim/simulate.hpp"
+#include "exchange/xml_support.hpp"
+
+namespace emrm::exchange {
+namespace {
+
+using testing::Document;
+
+constexpr double kCm = 0.01;
+
+sim::CellInput cell_of(double speed_kph, double ttc_s, double mu, double passage_m, double truck_kph) {
+  return {speed_kph, ttc_s, mu, passage_m, truck_kph};
+}
+
+// A scene unlike the default: three lanes, a wider shoulder, another truck.
+sim::SceneConfig odd_scene() {
+  sim::SceneConfig c;
+  c.road.lanes = 3;
+  c.road.lane_width_m = 3.25;
+  c.road.shoulder_m = 2.0;
+  c.road.ego_lane_center_m = -3.25;
+  c.truck.length_m = 12.0;
+  c.truck.width_m = 2.55;
+  c.truck.decel_mps2 = 3.0;
+  return c;
+}
+
+// The main road's borders from road 1: the reference line's y, then the lanes' widths outwards.
+struct Borders {
+  double left_m = 0.0;              // top of the leftmost lane
+  double right_driving_m = 0.0;     // bottom of the rightmost driving lane
+  double right_paved_m = 0.0;       // bottom of the shoulder
+  std::vector<double> lane_borders;  // every border from left to right
+};
+
+Borders borders_of(const Document& xodr) {
+  const std::string road = "/OpenDRIVE/road[@id='1']";
+  const double ref = xodr.number(road + "/planView/geometry/@y");
+  EXPECT_NEAR(xodr.number(road + "/planView/geometry/@hdg"), 0.0, 1e-12);
+  Borders b;
+  double top = ref;
+  for (const auto& w : xodr.all(road + "/lanes/laneSection/left/lane/width/@a")) top += std::stod(w);
+  b.left_m = top;
+  b.lane_borders.push_back(top);
+  for (const auto& w : xodr.all(road + "/lanes/laneSection/left/lane/width/@a")) {
+    top -= std::stod(w);
+    b.lane_borders.push_back(top);
+  }
+  double bottom = ref;
+  const auto types = xodr.all(road + "/lanes/laneSection/right/lane/@type");
+  const auto widths = xodr.all(road + "/lanes/laneSection/right/lane/width/@a");
+  EXPECT_EQ(types.size(), widths.size());
+  b.right_driving_m = ref;
+  for (std::size_t i = 0; i < widths.size(); ++i) {
+    bottom -= std::stod(widths[i]);
+    b.lane_borders.push_back(bottom);
+    if (types[i] == "driving") b.right_driving_m = bottom;
+  }
+  b.right_paved_m = bottom;
+  return b;
+}
+
+TEST(OpenDrive, LaneBordersAreTheScenesRoad) {
+  for (const sim::SceneConfig& config : {sim::SceneConfig{}, odd_scene()}) {
+    const Document xodr(opendrive_xml(config, cell_of(50, 1.2, 0.8, 3.0, 10)));
+    const Borders b = borders_of(xodr);
+    const auto& road = config.road;
+    EXPECT_NEAR(b.left_m, road.drivable_max_y_m(), kCm);
+    EXPECT_NEAR(b.right_driving_m, road.drivable_max_y_m() - road.lanes * road.lane_width_m, kCm);
+    EXPECT_NEAR(b.right_paved_m, road.drivable_min_y_m(), kCm);
+    // The ego's lane centre lies midway between two lane borders.
+    bool found = false;
+    for (std::size_t i = 0; i + 1 < b.lane_borders.size(); ++i)
+      found |= std::abs(0.5 * (b.lane_borders[i] + b.lane_borders[i + 1]) - road.ego_lane_center_m) < kCm;
+    EXPECT_TRUE(found) << "no lane centred on the ego's lane centre y = " << road.ego_lane_center_m;
+    EXPECT_EQ(xodr.all("/OpenDRIVE/road[@id='1']/lanes/laneSection/right/lane[@type='shoulder']").size(), 1u);
+    // The side road joins from the left at the truck's lane.
+    EXPECT_NEAR(xodr.number("/OpenDRIVE/road[@id='3']/planView/geometry/@y"), road.drivable_max_y_m(), kCm);
+    EXPECT_EQ(xodr.all("/OpenDRIVE/junction/connection").size(), 2u);
+    EXPECT_EQ(xodr.all("/OpenDRIVE/road[@junction='100']").size(), 2u);
+  }
+}
+
+// The truck at rest, from the scenario: its initial reference point, speed and braking, and its
+// bounding box around the reference point.
+TEST(OpenScenario, TruckStopsWherePassageIsTheCells) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> speed(20, 70), passage(1.0, 4.0), truck(3, 20), mu(0.3, 1.2);
+  for (const sim::SceneConfig& config : {sim::SceneConfig{}, odd_scene()}) {
+    for (int k = 0; k < 10; ++k) {
+      const double v = speed(rng);
+      const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
+      const sim::CellInput cell = cell_of(v, ttc, mu(rng), passage(rng), truck(rng));
+      const Document xosc(openscenario_xml(config, cell, nullptr, ExportOptions{}));
+      const Document xodr(opendrive_xml(config, cell));
+      const std::string init = "/OpenSCENARIO/Storyboard/Init/Actions/Private[@entityRef='Truck']/PrivateAction";
+      const double x0 = xosc.number(init + "/TeleportAction/Position/WorldPosition/@x");
+      const double y0 = xosc.number(init + "/TeleportAction/Position/WorldPosition/@y");
+      const double h = xosc.number(init + "/TeleportAction/Position/WorldPosition/@h");
+      const double v0 = xosc.number(init + "/LongitudinalAction/SpeedAction/SpeedActionTarget/AbsoluteTargetSpeed/@value");
+      const double a = xosc.number(
+          "//ManeuverGroup[Actors/EntityRef/@entityRef='Truck']//SpeedAction/SpeedActionDynamics[@dynamicsDimension='rate']/@value");
+      const std::string box = "/OpenSCENARIO/Entities/ScenarioObject[@name='Truck']/Vehicle/BoundingBox";
+      const double center_ahead = xosc.number(box + "/Center/@x");
+      const double length = xosc.number(box + "/Dimensions/@length");
+      const double width = xosc.number(box + "/Dimensions/@width");
+      const double stop_travel = v0 * v0 / (2.0 * a);
+      // Heading h: the box's centre is center_ahead along it, the front half a length further.
+      const double front_y_at_rest = y0 + std::sin(h) * (stop_travel + center_ahead + length / 2.0);
+      const double near_x = x0 + std::cos(h) * center_ahead - width / 2.0;
+      const Borders b = borders_of(xodr);
+      EXPECT_NEAR(front_y_at_rest - b.right_paved_m, cell.passage_m, kCm);
+      EXPECT_NEAR(near_x, cell.speed_kph / 3.6 * cell.ttc_s, kCm);
+      EXPECT_NEAR(xosc.number("//RoadCondition/@frictionScaleFactor"), cell.mu, 1e-12);
+      // The ego: its rear axle, with the box placed so that the front bumper is at x = 0.
+      const std::string ego = "/OpenSCENARIO/Storyboard/Init/Actions/Private[@entityRef='Ego']/PrivateAction";
+      const std::string ego_box = "/OpenSCENARIO/Entities/ScenarioObject[@name='Ego']/Vehicle/BoundingBox";
+      const double ego_front = xosc.number(ego + "/TeleportAction/Position/WorldPosition/@x") +
+                               xosc.number(ego_box + "/Center/@x") + xosc.number(ego_box + "/Dimensions/@length") / 2.0;
+      EXPECT_NEAR(ego_front, 0.0, kCm);
+      EXPECT_NEAR(xosc.number(ego + "/TeleportAction/Position/WorldPosition/@y"), config.road.ego_lane_center_m, kCm);
+    }
+  }
+}
+
+TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
+  const sim::SceneConfig config;
+  const sim::CellInput cell = cell_of(50, 1.0, 0.7, 2.5, 10);
+  EXPECT_EQ(testing::opendrive().errors_of(opendrive_xml(config, cell)), "");
+  EXPECT_EQ(testing::opendrive().errors_of(opendrive_xml(odd_scene(), cell)), "");
+  sim::SceneConfig one_lane;
+  one_lane.road.lanes = 1;
+  one_lane.road.ego_lane_center_m = 0.0;
+  EXPECT_EQ(testing::opendrive().errors_of(opendrive_xml(one_lane, cell)), "");
+  EXPECT_EQ(testing::openscenario().errors_of(openscenario_xml(config, cell, nullptr, {})), "");
+  sim::SceneConfig no_braking;
+  no_braking.truck.decel_mps2 = 0.0;
+  EXPECT_EQ(testing::openscenario().errors_of(openscenario_xml(no_braking, cell, nullptr, {})), "");
+  // With every strategy's executed trajectory, at the step and thinned.
+  sim::CellOptions options;
+  options.seed = 3;
+  const sim::CellResult result = sim::simulate_cell(config, cell, options);
+  for (const auto& o : result.strategies) {
+    const EgoTrajectory trajectory{o.strategy, o.path};
+    for (const double tolerance : {0.0, 0.02}) {
+      ExportOptions export_options;
+      export_options.tolerance_m = tolerance;
+      const std::string xosc = openscenario_xml(config, cell, &trajectory, export_options);
+      EXPECT_EQ(testing::openscenario().errors_of(xosc), "") << o.strategy;
+      const Document doc(xosc);
+      const auto times = doc.all("//Polyline/Vertex/@time");
+      ASSERT_GE(times.size(), 2u);
+      EXPECT_EQ(std::stod(times.back()), o.path.back().t_s);
+      if (tolerance == 0.0) {
+        // Every vertex is the rear axle of a path point: back to the CG along the heading.
+        const auto points = with_final_stop(o.path, config.simulation.dt_s);
+        ASSERT_EQ(times.size(), points.size());
+        const auto xs = doc.all("//Polyline/Vertex/Position/WorldPosition/@x");
+        const auto ys = doc.all("//Polyline/Vertex/Position/WorldPosition/@y");
+        const auto hs = doc.all("//Polyline/Vertex/Position/WorldPosition/@h");
+        const double l_r = config.ego.cg_to_rear_axle_m;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const double h = std::stod(hs[k]);
+          EXPECT_EQ(std::stod(times[k]), points[k].t_s);
+          EXPECT_NEAR(std::stod(xs[k]) + l_r * std::cos(h), points[k].state.x_m, 1e-9) << o.strategy << " " << k;
+          EXPECT_NEAR(std::stod(ys[k]) + l_r * std::sin(h), points[k].state.y_m, 1e-9) << o.strategy << " " << k;
+        }
+      }
+      EXPECT_EQ(doc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value"), o.path.back().t_s);
+    }
+  }
+}
+
+TEST(OpenScenario, PlanIsOneLogicalScenarioWithEveryConcreteOne) {
+  const sim::SceneConfig config;
+  scenario::ScenarioFile plan;
+  plan.file = "scenarios.csv";
+  plan.factors = {"speed_kph", "ttc_s", "mu", "passage_m"};
+  plan.rows = {{"S1", "boundary", {30, 1.0, 0.6, 2.0}, "c", {}, {}, 1.0, 1, {"scenarios.csv", 2, 1}},
+               {"S2", "pairs", {50, 1.0, 1.0, 3.0}, "c", {}, {}, 1.0, 2, {"scenarios.csv", 3, 1}},
+               {"S3", "pairs", {50, 1.0, 0.3, 2.5}, "c", {}, {}, 1.0, 3, {"scenarios.csv", 4, 1}}};
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-osc-plan-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const PlanExport out = export_plan(dir, config, plan, {});
+  EXPECT_EQ(out.scenarios, 3u);
+  EXPECT_EQ(out.road_networks, 2u);  // S2 and S3 share v·TTC
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string logical = read(dir / kScenarioFile);
+  const std::string distribution = read(dir / kDistributionFile);
+  EXPECT_EQ(testing::openscenario().errors_of(logical), "");
+  EXPECT_EQ(testing::openscenario().errors_of(distribution), "");
+  const Document d(distribution);
+  EXPECT_EQ(d.all("//ParameterValueSet").size(), 3u);
+  EXPECT_EQ(d.all("//ParameterValueSet[1]/ParameterAssignment/@parameterRef"), plan_parameter_names());
+  const Document l(logical);
+  EXPECT_EQ(l.all("/OpenSCENARIO/ParameterDeclarations/ParameterDeclaration/@name"), plan_parameter_names());
+  // Every road network named in the distribution was written and validates.
+  for (const auto& file : d.all("//ParameterAssignment[@parameterRef='road_network']/@value")) {
+    ASSERT_TRUE(std::filesystem::is_regular_file(dir / file)) << file;
+    EXPECT_EQ(testing::opendrive().errors_of(read(dir / file)), "");
+  }
+  // An infeasible scenario names its row.
+  plan.rows[1].values = {70, 3.0, 1.0, 3.0};
+  try {
+    (void)export_plan(dir / "bad", config, plan, {});
+    FAIL() << "an infeasible scenario was exported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_NE(std::string(e.what()).find("S2"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+  std::filesystem::remove_all(dir);
+}
+
+// The logical scenario's value of an attribute for one parameter set: a number, a parameter
+// reference ($mu) or an expression (${$speed_kph / 3.6}), evaluated by muparser, whose syntax
+// covers the arithmetic the export writes.
+std::string evaluated(const std::string& text, const std::vector<std::string>& names, const std::vector<double>& values) {
+  if (text.empty() || text[0] != '$') return text;
+  std::string body = text.rfind("${", 0) == 0 ? text.substr(2, text.size() - 3) : text.substr(1);
+  body.erase(std::remove(body.begin(), body.end(), '$'), body.end());
+  const core::Expression e(body, names, {"tjunction.xosc", 1, 1});
+  return fmt::format("{}", e.evaluate(values));
+}
+
+// Every scenario of the distribution, substituted into the logical scenario, is the single-cell
+// export of its cell: the same Init (positions, speeds, friction) to rounding.
+TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
+  const sim::SceneConfig config = odd_scene();
+  scenario::ScenarioFile plan;
+  plan.file = "scenarios.csv";
+  plan.factors = {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 12; ++k) {
+    const double v = std::uniform_real_distribution<double>(20, 80)(rng);
+    const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
+    plan.rows.push_back({fmt::format("S{}", k), "pairs",
+                         {v, ttc, std::uniform_real_distribution<double>(0.2, 1.5)(rng),
+                          std::uniform_real_distribution<double>(1.0, 4.0)(rng),
+                          std::uniform_real_distribution<double>(0.0, 25.0)(rng)},
+                         "c", {}, {}, 1.0, 1, {"scenarios.csv", k + 2, 1}});
+  }
+  // One more at the first one's junction (same v·TTC), its truck starting higher on the side road.
+  auto shared = plan.rows.front();
+  shared.id = "S_shared";
+  shared.values[3] = 4.5;
+  shared.values[4] = 30.0;
+  plan.rows.push_back(shared);
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-osc-logical-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(export_plan(dir, config, plan, {}).road_networks, plan.rows.size() - 1);
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const Document logical(read(dir / kScenarioFile));
+  const Document distribution(read(dir / kDistributionFile));
+  const std::vector<std::string> names{"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
+  const auto attributes = logical.all("/OpenSCENARIO/Storyboard/Init//@*");
+  ASSERT_GT(attributes.size(), 10u);
+  for (std::size_t k = 0; k < plan.rows.size(); ++k) {
+    const auto& row = plan.rows[k];
+    const sim::CellInput cell{row.values[0], row.values[1], row.values[2], row.values[3], row.values[4]};
+    const auto assigned =
+        distribution.all(fmt::format("//ParameterValueSet[{}]/ParameterAssignment/@value", k + 1));
+    ASSERT_EQ(assigned.size(), plan_parameter_names().size());
+    std::vector<double> values;
+    for (std::size_t i = 0; i < names.size(); ++i) values.push_back(std::stod(assigned[i]));
+    const Document concrete(openscenario_xml(config, cell, nullptr, {}));
+    const auto expected = concrete.all("/OpenSCENARIO/Storyboard/Init//@*");
+    ASSERT_EQ(expected.size(), attributes.size());
+    for (std::size_t a = 0; a < attributes.size(); ++a) {
+      const std::string got = evaluated(attributes[a], names, values);
+      const auto x = core::parse_finite_number(got);
+      const auto y = core::parse_finite_number(expected[a]);
+      if (x && y) {
+        EXPECT_NEAR(*x, *y, 1e-9 * std::max(1.0, std::abs(*y))) << row.id << ": " << attributes[a];
+      } else {
+        EXPECT_EQ(got, expected[a]) << row.id;
+      }
+    }
+    // Its road network has the cell's junction, and a side road long enough for its truck.
+    const Document road(read(dir / assigned[5]));
+    const JunctionLayout layout = junction_layout(config, cell);
+    EXPECT_NEAR(road.number("/OpenDRIVE/road[@id='3']/planView/geometry/@x"), layout.side_road_x_m, 1e-3) << row.id;
+    EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m) << row.id;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A stop the simulator finishes in closed form (one jump to the rest point) is filled in at the
+// step: the vertices brake at one deceleration and arrive at the rest point at its time.
+TEST(OpenScenario, FinalStopIsFilledInAtConstantDeceleration) {
+  const sim::SceneConfig config;
+  sim::CellOptions options;
+  options.strategies = {"emergency_stop"};
+  const sim::CellResult result = sim::simulate_cell(config, cell_of(50, 1.5, 1.0, 3.0, 10), options);
+  const auto& path = result.strategies.front().path;
+  ASSERT_TRUE(result.strategies.front().avoided);
+  const double dt = config.simulation.dt_s;
+  ASSERT_GT(path.back().t_s - path[path.size() - 2].t_s, 2 * dt) << "expected a closed-form stop";
+  const auto filled = with_final_stop(path, dt);
+  ASSERT_GT(filled.size(), path.size());
+  EXPECT_EQ(filled.back().t_s, path.back().t_s);
+  EXPECT_EQ(filled.back().state.x_m, path.back().state.x_m);
+  const std::size_t from = path.size() - 2;
+  const double v0 = path[from].state.speed_mps();
+  const double decel = v0 / (path.back().t_s - path[from].t_s);
+  for (std::size_t k = from + 1; k < filled.size(); ++k) {
+    EXPECT_NEAR(filled[k].t_s - filled[k - 1].t_s, dt, dt * 0.51 + 1e-12);  // the last step may be shorter
+    EXPECT_LT(filled[k].state.speed_mps(), filled[k - 1].state.speed_mps());
+    EXPECT_GT(filled[k].state.x_m, filled[k - 1].state.x_m);
+    const double tau = filled[k].t_s - path[from].t_s;
+    if (k + 1 < filled.size()) {
+      EXPECT_NEAR(filled[k].state.speed_mps(), v0 - decel * tau, 1e-9);
+    }
+  }
+  // Unchanged: a path that does not end in such a stop.
+  const auto short_path = std::vector<sim::PathPoint>(path.begin(), path.end() - 1);
+  EXPECT_EQ(with_final_stop(short_path, dt).size(), short_path.size());
+}
+
+TEST(OpenScenario, ThinningKeepsEveryDroppedPointWithinTheTolerance) {
+  const sim::SceneConfig config;
+  sim::CellOptions options;
+  options.strategies = {"emergency_stop", "dodge"};
+  const sim::CellResult result = sim::simulate_cell(config, cell_of(60, 1.2, 1.0, 3.0, 10), options);
+  for (const auto& o : result.strategies) {
+    for (const double tolerance : {0.001, 0.05}) {
+      const auto kept = thin_path(o.path, tolerance);
+      ASSERT_GE(kept.size(), 2u);
+      EXPECT_LE(kept.size(), o.path.size());
+      EXPECT_EQ(kept.front().t_s, o.path.front().t_s);
+      EXPECT_EQ(kept.back().t_s, o.path.back().t_s);
+      std::size_t j = 0;
+      for (const auto& p : o.path) {
+        while (j + 1 < kept.size() && kept[j + 1].t_s < p.t_s) ++j;
+        const auto& a = kept[j];
+        const auto& b = kept[std::min(j + 1, kept.size() - 1)];
+        const double u = b.t_s > a.t_s ? (p.t_s - a.t_s) / (b.t_s - a.t_s) : 0.0;
+        EXPECT_LE(std::hypot(a.state.x_m + u * (b.state.x_m - a.state.x_m) - p.state.x_m,
+                             a.state.y_m + u * (b.state.y_m - a.state.y_m) - p.state.y_m),
+                  tolerance + 1e-12);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace emrm::exchange
