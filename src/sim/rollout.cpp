@@ -270,6 +270,10 @@ ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s, core
 }
 
 bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept {
+  return stable_with_room_to_stop(scene, s, scene.ego_box(s));
+}
+
+bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s, const core::OrientedBox& ego_box) noexcept {
   const SafeStateConfig& bounds = scene.config().safe_state;
   if (!(std::abs(s.yaw_rate_radps) <= bounds.max_yaw_rate_radps &&
         std::abs(s.slip_angle_rad()) <= bounds.max_slip_angle_rad &&
@@ -278,7 +282,7 @@ bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcep
     return false;
   // A stop from here, through the brakes' dead time and ramp.
   const double stop_distance = scene.config().actuation.stopping_distance_m(s.speed_mps(), scene.cell().mu, false);
-  core::OrientedBox at_rest = scene.ego_box(s);
+  core::OrientedBox at_rest = ego_box;
   at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
   return scene.on_drivable_area(at_rest);
 }

@@ -91,7 +91,7 @@ class StabilisedTest {
  public:
   explicit StabilisedTest(const Scene& scene) : scene_(scene) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    if (!stable_with_room_to_stop(scene_, step.state)) return false;
+    if (!stable_with_room_to_stop(scene_, step.state, step.ego)) return false;
     return end(why, Termination::kStabilised);
   }
 

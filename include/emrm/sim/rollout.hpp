@@ -306,6 +306,9 @@ class Roller {
 /// heading and wheel angle within the scene's safe_state bounds, and a straight stop from here
 /// (through the brakes' dead time and ramp) ends on the drivable area.
 [[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept;
+/// The same with the ego's box at `s` already computed (the rollout's hot path has it).
+[[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s,
+                                            const core::OrientedBox& ego_box) noexcept;
 
 /// Replays a maneuver from the cell's initial state at t = 0, recording every step: the executed
 /// trajectory at the integration step.
