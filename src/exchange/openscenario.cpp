@@ -489,30 +489,19 @@ std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& 
                     {"west", num(l.main_start_x_m)},
                     {"vendor", "emrm"}});
   const Link junction{"junction", kJunctionId, nullptr};
-  // Road 1: the main road up to the junction, where the ego comes from.
-  x.open("road", {{"name", "main_road_approach"},
-                  {"length", num(l.junction_min_x_m - l.main_start_x_m)},
-                  {"id", "1"},
-                  {"junction", "-1"},
-                  {"rule", "RHT"}});
-  links(x, nullptr, &junction);
-  x.open("planView");
-  straight(x, 0.0, l.main_start_x_m, l.reference_line_y_m, 0.0, l.junction_min_x_m - l.main_start_x_m);
-  x.close();
-  main_road_lanes(x, config.road, l);
-  x.close();
-  // Road 2: the main road beyond the junction.
-  x.open("road", {{"name", "main_road_exit"},
-                  {"length", num(l.main_end_x_m - l.junction_max_x_m)},
-                  {"id", "2"},
-                  {"junction", "-1"},
-                  {"rule", "RHT"}});
-  links(x, &junction, nullptr);
-  x.open("planView");
-  straight(x, 0.0, l.junction_max_x_m, l.reference_line_y_m, 0.0, l.main_end_x_m - l.junction_max_x_m);
-  x.close();
-  main_road_lanes(x, config.road, l);
-  x.close();
+  // Roads 1 and 2: the main road up to the junction (where the ego comes from) and beyond it.
+  const auto main_road = [&](const char* name, const char* id, double from_x, double to_x, const Link* predecessor,
+                             const Link* successor) {
+    x.open("road", {{"name", name}, {"length", num(to_x - from_x)}, {"id", id}, {"junction", "-1"}, {"rule", "RHT"}});
+    links(x, predecessor, successor);
+    x.open("planView");
+    straight(x, 0.0, from_x, l.reference_line_y_m, 0.0, to_x - from_x);
+    x.close();
+    main_road_lanes(x, config.road, l);
+    x.close();
+  };
+  main_road("main_road_approach", "1", l.main_start_x_m, l.junction_min_x_m, nullptr, &junction);
+  main_road("main_road_exit", "2", l.junction_max_x_m, l.main_end_x_m, &junction, nullptr);
   // Road 3: the side road on the left, heading away from the junction (+y); the truck comes down
   // its left lane.
   x.open("road", {{"name", "side_road"},
