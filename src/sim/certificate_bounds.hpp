@@ -74,6 +74,7 @@ struct Slip {  // comparison state: nondecreasing upper bounds
 struct Rates {
   Slip d;
   Bound b;
+  double yaw_spin = 0.0;  // (C8a) the yaw acceleration bound once |r| ≥ spin_rate(s)
   bool valid = true;
 };
 
@@ -146,17 +147,29 @@ inline Setup make_setup(const Scene& scene) {
 
 // (C1a) Bounds on the road-wheel angle and its rate at time s after the perception latency: the
 // commanded angle moves at most at rho from zero; the wheels follow it after the dead time through
-// a first-order lag, whose response to that ramp is rho·(t − T(1 − e^(−t/T))) at rate
+// a first-order lag, whose response to that ramp is R(t) = rho·(t − T(1 − e^(−t/T))) at rate
 // rho·(1 − e^(−t/T)) (the lag's kernel is positive and integrates to one, so it keeps both bounds).
+// (C1b) The simulator puts the wheels on the lagged response at its step ends and moves them
+// linearly between: their angle is at most the chord of R, which is at most R one step ahead (R
+// nondecreasing) and at most R + h²·rho/(8T) (R is convex and C¹, R'' ≤ rho/T: the chord of a
+// convex function exceeds it by at most h²·max R''/8), or R + h·rho/4 without a lag (the chord
+// across the kink at t = 0). The rate keeps the step's lead.
 struct Wheel {
   double angle, rate;
 };
+inline double ramp_response(const Setup& c, double t) {
+  if (t <= 0.0) return 0.0;
+  if (c.steer_lag == 0.0) return c.rho * t;
+  return c.rho * (t - c.steer_lag * (1.0 - std::exp(-t / c.steer_lag)));
+}
 inline Wheel wheel_bound(const Setup& c, double s) {
   const double t = s - c.steer_dead + c.steer_lead;
   if (t <= 0.0) return {0.0, 0.0};
-  if (c.steer_lag == 0.0) return {std::min(c.rho * t, c.delta_max), c.rho};
-  const double settle = 1.0 - std::exp(-t / c.steer_lag);
-  return {std::min(c.delta_max, c.rho * (t - c.steer_lag * settle)), c.rho * settle};
+  const double h = c.steer_lead;
+  const double chord_excess = c.steer_lag > 0.0 ? h * h * c.rho / (8.0 * c.steer_lag) : 0.25 * h * c.rho;
+  const double angle = std::min({c.delta_max, ramp_response(c, t), ramp_response(c, t - h) + chord_excess});
+  const double rate = c.steer_lag == 0.0 ? c.rho : c.rho * (1.0 - std::exp(-t / c.steer_lag));
+  return {angle, rate};
 }
 
 // (C2b) The applied brake level at s after the latency is at most (s − t_b + h)/t_r (a step's mean
@@ -222,10 +235,16 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
   const double grip_f = front_grip(c, s);
   const double grip_r = c.grip_r_fwd;
   // (C6) |q_f| = |Fx sin δ + Fy cos δ| with Fx² + Fy² ≤ grip², |Fy| ≤ Fiala(|w_f| / u_f).
+  // (C6a) and |Fx| ≤ ℓ·grip (C2b: at most the commanded braking, none before the brakes act): the
+  // most of a linear function over the disc cut to that box is the radius if the disc's own
+  // maximiser (grip sin δ, grip cos δ) lies in the box, else it lies on the edge it violates.
+  const double push_cap = std::min(1.0, brake_level(c, s)) * grip_f;
   const auto front_component = [&](double lateral_cap) {
-    return lateral_cap >= grip_f * cos_d
-               ? grip_f
-               : lateral_cap * cos_d + std::sqrt(std::max(0.0, grip_f * grip_f - lateral_cap * lateral_cap)) * sin_d;
+    if (lateral_cap >= grip_f * cos_d && push_cap >= grip_f * sin_d) return grip_f;
+    const auto rest = [&](double f) { return std::sqrt(std::max(0.0, grip_f * grip_f - f * f)); };
+    const double fy = std::min(lateral_cap, grip_f);
+    const double fx = std::min(push_cap, grip_f);
+    return std::max(std::min(push_cap, rest(fy)) * sin_d + fy * cos_d, fx * sin_d + std::min(lateral_cap, rest(fx)) * cos_d);
   };
   out.b.grip_f = grip_f;
   out.b.grip_r = grip_r;
@@ -238,18 +257,30 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
   // (C7) d|v_r|/dt: the rear force always pulls v_r towards zero.
   out.d.gr = c.kappa * out.b.cap_f + c.v0 * z.r;
   // (C7) d|w_f|/dt, w_f = v_f cos δ − u sin δ; the lateral force always pulls w_f towards zero.
-  out.d.gw = c.a_f * grip_f * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
+  out.d.gw = c.a_f * push_cap * sin_d + c.kappa * out.b.cap_r + c.v0 * z.r + wheel.rate * (z.gf * sin_d + c.v0) +
              (c.mu * c.g + z.r * v_cg) * sin_d;
   if (start != nullptr) {
     // (C7a) F_yf opposes w_f with at least the ABS floor min(mu F_zf, C_f |tan α_f| / 3) (rolling or
     // braked; the front never locks), |tan α_f| ≥ |w_f| / (v0 + G_f sin Δ); it enters ẇ_f through
     // v̇_f cos δ as a_f cos²δ F_yf. Kept nonnegative so every bound stays nondecreasing.
+    // (C7d) Below the ABS cap the front is Fiala's tire under the limit √(N² − (ℓN)²) that the
+    // commanded braking ℓN leaves (ℓ at most the brake level of (C2b)); at the cap it slides at the
+    // floor, which then exceeds that limit. Fiala's force grows with its limit, so the restoring
+    // force is also at least Fiala's under N_min·√(1 − ℓ²), N_min = mu m g lr / L: the full
+    // cornering stiffness until the brakes act, and most of it along the ramp.
     const double uf_hi = c.v0 + z.gf * sin_d;
-    const double floor = std::min(c.grip_f_min, c.stiffness_f * start->gw / (3.0 * uf_hi));
+    const double tan_lo = start->gw / uf_hi;
+    const double level = std::min(1.0, brake_level(c, s));
+    const double limit = c.grip_f_min * std::sqrt(std::max(0.0, 1.0 - level * level));
+    const double floor =
+        std::max(std::min(c.grip_f_min, c.stiffness_f * tan_lo / 3.0), fiala_cap(limit, c.stiffness_f, tan_lo));
     out.d.gw = std::max(0.0, out.d.gw - c.a_f * cos_d * cos_d * floor);
   }
   // (C8) Iz ṙ = lf q_f − lr q_r; ψ̇ = r.
   out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
+  // (C8a) Once |r| ≥ spin_rate(s) the axles cannot both turn the car further: one of them alone,
+  // or the front's braking force through the wheel angle with the rear.
+  out.yaw_spin = std::max(c.lf * out.b.cap_f, c.lf * push_cap * sin_d + c.lr * out.b.cap_r) / c.iz;
   out.d.psi = z.r;
   return out;
 }
@@ -259,17 +290,26 @@ inline Slip advance(const Slip& z, const Slip& d, double step) {
           z.r + step * d.r,   z.psi + step * d.psi, z.dv + step * d.dv};
 }
 
-inline bool at_most(const Slip& a, const Slip& b) {
-  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi && a.dv <= b.dv;
+// (C8a) The yaw rate from which the two axles cannot turn the car the same way at s after the
+// latency. Say r > 0. The yaw moment lf q_f − lr q_r has both parts positive only if q_r < 0, so
+// v_r > 0 (the rear's force opposes its slip), v > lr r and v_f = v + lf r > L r; then
+// w_f = v_f cos δ − u sin δ > L r cos δ − u sin δ ≥ 0 once r ≥ u tan δ / L, so F_yf ≤ 0 and
+// q_f = F_xf sin δ + F_yf cos δ ≤ |F_xf| sin Δ. With u ≤ v0 and |δ| ≤ Δ: from |r| ≥ v0 tan Δ / L on
+// the yaw moment is at most max(lf Q_f, lf |F_xf| sin Δ + lr Q_r) (likewise for r < 0).
+inline double spin_rate(const Setup& c, double s) { return c.v0 * std::tan(wheel_bound(c, s).angle) / c.wheelbase; }
+
+// One implicit step from z over `step` to s1 with the rates `r` taken at its end (C8): |r| grows
+// at most at d.r, and past spin_rate(s1) (≥ spin_rate on the whole step: Δ is nondecreasing) at
+// most at yaw_spin, so after the last moment it was at most max(z.r, spin_rate(s1)) it grew at
+// most at that (C8a). The map from the rates' state to the step's end stays nondecreasing.
+inline Slip step_to(const Setup& c, double s1, const Slip& z, const Rates& r, double step) {
+  Slip next = advance(z, r.d, step);
+  next.r = std::min(next.r, std::max(z.r, spin_rate(c, s1)) + step * r.yaw_spin);
+  return next;
 }
 
-// The time grid after the latency: fine where the forces build up, coarser later. Cell k spans
-// [s_{k-1}, s_k]; every value used for a cell is the one at its right end (all bounds are
-// nondecreasing in time), so a finer grid can only tighten the bound.
-inline double cell_width(double base_step, double s_start) {
-  if (s_start < 0.4 - 1e-12) return base_step;
-  if (s_start < 1.2 - 1e-12) return 2.0 * base_step;
-  return 4.0 * base_step;
+inline bool at_most(const Slip& a, const Slip& b) {
+  return a.gf <= b.gf && a.gr <= b.gr && a.gw <= b.gw && a.r <= b.r && a.psi <= b.psi && a.dv <= b.dv;
 }
 
 // The functionals bounded by duality (C9): per unit of |q| on each axle, per unit of |p|, and an
@@ -290,9 +330,12 @@ class Bounder {
     valid_ = first.valid;
     times_.push_back(0.0);
     bounds_.push_back(first.b);
+    headings_.push_back(0.0);
   }
 
   [[nodiscard]] double time(int k) const { return times_[static_cast<std::size_t>(k)]; }
+  /// |ψ| ≤ this at every s ≤ s_k: the comparison system's heading bound (C8, C8a).
+  [[nodiscard]] double heading(int k) const { return headings_[static_cast<std::size_t>(k)]; }
   [[nodiscard]] const Bound& at(int k) const { return bounds_[static_cast<std::size_t>(k)]; }
 
   // The least grid index k with s_k ≥ s (extending the grid), or -1 beyond the horizon.
@@ -330,7 +373,7 @@ class Bounder {
   // monotonicity every iterate stays an upper solution).
   void extend() {
     const double s0 = times_.back();
-    const double w = cell_width(base_step_, s0);
+    const double w = base_step_;  // one width: a finer grid only tightens (every cell takes its right end)
     const double s1 = s0 + w;
     Slip end = z_;
     if (valid_) {
@@ -339,14 +382,14 @@ class Bounder {
       for (int tries = 0; tries < 60 && !found; ++tries) {
         const Rates r = rates_at(c_, s1, guess, true, &z_);
         if (!r.valid) break;
-        const Slip next = advance(z_, r.d, w);
+        const Slip next = step_to(c_, s1, z_, r, w);
         if (at_most(next, guess)) {
           found = true;
           guess = next;
           for (int down = 0; down < 2; ++down) {
             const Rates rd = rates_at(c_, s1, guess, true, &z_);
             if (!rd.valid) break;
-            const Slip lower = advance(z_, rd.d, w);
+            const Slip lower = step_to(c_, s1, z_, rd, w);
             if (!at_most(lower, guess)) break;
             guess = lower;
           }
@@ -367,6 +410,7 @@ class Bounder {
     z_ = end;
     times_.push_back(s1);
     bounds_.push_back(rates_at(c_, s1, end, valid_).b);
+    headings_.push_back(end.psi);
   }
 
   std::vector<Table>& tables_for(Functional f, int k) {
@@ -453,6 +497,7 @@ class Bounder {
   std::vector<double> lambdas_;
   std::vector<double> times_;
   std::vector<Bound> bounds_;
+  std::vector<double> headings_;
   Slip z_;
   bool valid_ = true;
   std::array<std::vector<Table>, 4> tables_;
