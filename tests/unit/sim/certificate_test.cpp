@@ -113,14 +113,16 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
 }
 
 // Under actuators (docs/actuation.md): the bound uses the steering's dead time and lag, the
-// brakes' dead time and ramp and the cap (C1a, C2a, C2b, C4a). 300 cells, each with its own random
-// actuation.
-TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
-  std::mt19937_64 rng(20261124);
+// brakes' dead time and ramp and the cap (C1a, C1b, C2a, C2b, C4a, C6a, C7d). `cells` cells, each
+// with its own random actuation; every certificate checks and no strategy (at the planner budget
+// `max_nodes`, 0 for the default) nor the reference planner avoids a certified cell.
+SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, int max_nodes) {
+  SoundnessRun run;
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  int tried = 0, certified = 0;
-  while (tried < 300) {
+  while (run.tried < cells) {
     SceneConfig config;
+    if (max_nodes > 0) config.planner.max_nodes = max_nodes;
     config.actuation = {0.4 * unit(rng), 0.3 * unit(rng), 0.5 * unit(rng),
                         unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0, 0.15 * unit(rng), 0.25 * unit(rng)};
     const CellInput cell = random_cell(rng);
@@ -129,19 +131,41 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
     } catch (const UsageError&) {
       continue;
     }
-    ++tried;
+    ++run.tried;
     const auto cert = certify_unavoidable(Scene(config, cell));
     if (!cert) continue;
-    ++certified;
+    ++run.certified;
     EXPECT_TRUE(check_certificate(Scene(config, cell), *cert)) << describe(cell);
     const Avoidance a = find_avoidance(config, cell, true);
+    if (a.any) ++run.violations;
     EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(cell) << ", actuation "
                         << config.actuation.perception_latency_s << "/" << config.actuation.brake_dead_time_s << "/"
                         << config.actuation.brake_ramp_s << "/" << config.actuation.max_decel_mps2 << "/"
                         << config.actuation.steer_dead_time_s << "/" << config.actuation.steer_time_constant_s;
   }
-  EXPECT_GT(certified, 20) << "too few certified cells to test anything";
-  std::printf("actuators: %d cells tried, %d certified\n", tried, certified);
+  return run;
+}
+
+TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
+  const SoundnessRun run = run_soundness_under_actuators(300, 20261124, 0);
+  EXPECT_GT(run.certified, 20) << "too few certified cells to test anything";
+  std::printf("actuators: %d cells tried, %d certified\n", run.tried, run.certified);
+}
+
+// Its long version (docs/physics.md reports its result): EMRM_CERT_CELLS cells (20 000 by default)
+// from the seed EMRM_CERT_SEED (21), the strategies at planner.max_nodes = EMRM_CERT_NODES (the
+// scene's default when unset). Run with
+//   emrm_unit_tests --gtest_also_run_disabled_tests --gtest_filter='*DISABLED_LongSoundnessRunUnderActuators'
+TEST(Certificate, DISABLED_LongSoundnessRunUnderActuators) {
+  const char* cells_env = std::getenv("EMRM_CERT_CELLS");
+  const char* seed_env = std::getenv("EMRM_CERT_SEED");
+  const char* nodes_env = std::getenv("EMRM_CERT_NODES");
+  const SoundnessRun run = run_soundness_under_actuators(cells_env != nullptr ? std::atoi(cells_env) : 20000,
+                                                         seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 21,
+                                                         nodes_env != nullptr ? std::atoi(nodes_env) : 0);
+  std::printf("long soundness run under actuators: %d cells tried, %d certified, %d violations\n", run.tried,
+              run.certified, run.violations);
+  EXPECT_EQ(run.violations, 0);
 }
 
 // The long version (docs/physics.md reports its result): EMRM_CERT_CELLS cells (20 000 by
@@ -298,6 +322,36 @@ TEST(Certificate, TightenedBoundCertifiesCellsTheLooserOneCouldNot) {
   for (const Case& c : cases) {
     SceneConfig config;
     config.actuation = c.actuation;
+    const Scene scene(config, c.cell);
+    const auto cert = certify_unavoidable(scene);
+    ASSERT_TRUE(cert.has_value()) << describe(c.cell) << " needs " << c.needs;
+    EXPECT_TRUE(check_certificate(scene, *cert)) << describe(c.cell);
+    const Avoidance a = find_avoidance(config, c.cell, true);
+    EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(c.cell);
+  }
+}
+
+// The second tightening (docs/physics.md, C1b, C6a, C7d, C8a, the uniform 1.25 ms grid and heading
+// caps 0.02 rad apart): cells of the fine grid under `production` that the bound without them left
+// undecided, each named with what it needs (switching any of those off loses it; measured by
+// switching each off), are certified, check, and neither any strategy nor the reference planner
+// (drift and dodge limits) avoids the truck there.
+TEST(Certificate, SecondTighteningCertifiesCellsUnderProductionActuation) {
+  struct Case {
+    CellInput cell;
+    const char* needs;
+  };
+  const std::vector<Case> cases{
+      {{34.0, 0.67, 1.0, 3.0, 10.0}, "C1b, C6a, C7d, C8a, the fine grid, the denser caps"},
+      {{35.0, 0.67, 1.0, 3.0, 10.0}, "C6a, C7d, C8a, the fine grid"},
+      {{36.0, 0.67, 1.0, 3.0, 10.0}, "C7d, C8a, the fine grid"},
+      {{37.0, 0.67, 1.0, 3.0, 10.0}, "C7d, C8a"},
+      {{57.0, 0.73, 1.0, 3.0, 10.0}, "C6a, C7d, the fine grid"},
+      {{58.0, 0.73, 1.0, 3.0, 10.0}, "C7d"},
+  };
+  SceneConfig config;
+  config.actuation = kProductionActuation;
+  for (const Case& c : cases) {
     const Scene scene(config, c.cell);
     const auto cert = certify_unavoidable(scene);
     ASSERT_TRUE(cert.has_value()) << describe(c.cell) << " needs " << c.needs;
