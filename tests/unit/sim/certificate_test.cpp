@@ -299,6 +299,17 @@ TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
   }
 }
 
+// A cell a tightening of the bound newly certifies (`needs` names what it takes): certified, the
+// certificate checks, and no strategy nor the reference planner (drift, dodge) avoids the truck.
+void expect_certified_and_unavoidable(const SceneConfig& config, const CellInput& cell, const char* needs) {
+  const Scene scene(config, cell);
+  const auto cert = certify_unavoidable(scene);
+  ASSERT_TRUE(cert.has_value()) << describe(cell) << " needs " << needs;
+  EXPECT_TRUE(check_certificate(scene, *cert)) << describe(cell);
+  const Avoidance a = find_avoidance(config, cell, true);
+  EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(cell);
+}
+
 // The tightenings of docs/physics.md (C2b, C4a, C7a, C7b, C10a): cells of the fine grid that the
 // bound without them left undecided, and that each of them is needed for (dropping or mis-signing
 // one loses the cells named with it), are certified, the certificates check, and neither any
@@ -322,12 +333,7 @@ TEST(Certificate, TightenedBoundCertifiesCellsTheLooserOneCouldNot) {
   for (const Case& c : cases) {
     SceneConfig config;
     config.actuation = c.actuation;
-    const Scene scene(config, c.cell);
-    const auto cert = certify_unavoidable(scene);
-    ASSERT_TRUE(cert.has_value()) << describe(c.cell) << " needs " << c.needs;
-    EXPECT_TRUE(check_certificate(scene, *cert)) << describe(c.cell);
-    const Avoidance a = find_avoidance(config, c.cell, true);
-    EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(c.cell);
+    expect_certified_and_unavoidable(config, c.cell, c.needs);
   }
 }
 
@@ -351,14 +357,7 @@ TEST(Certificate, SecondTighteningCertifiesCellsUnderProductionActuation) {
   };
   SceneConfig config;
   config.actuation = kProductionActuation;
-  for (const Case& c : cases) {
-    const Scene scene(config, c.cell);
-    const auto cert = certify_unavoidable(scene);
-    ASSERT_TRUE(cert.has_value()) << describe(c.cell) << " needs " << c.needs;
-    EXPECT_TRUE(check_certificate(scene, *cert)) << describe(c.cell);
-    const Avoidance a = find_avoidance(config, c.cell, true);
-    EXPECT_FALSE(a.any) << "certified but avoided by " << a.by << ": " << describe(c.cell);
-  }
+  for (const Case& c : cases) expect_certified_and_unavoidable(config, c.cell, c.needs);
 }
 
 // (d) Monotonicity on lines of the default scene (the truck in the lane from the start): certified
