@@ -41,8 +41,9 @@ std::string describe(const CellInput& c) {
          std::to_string(c.truck_speed_kph) + " km/h";
 }
 
-// Every way the simulator knows to avoid: the strategies (with the given planner budget) and the
-// reference planner's dense family under the drift and the dodge limits.
+// Every way the simulator knows to avoid: the strategies (with the given planner budget, searching
+// even where the cell is certified) and the reference planner's dense family under the drift and
+// the dodge limits.
 struct Avoidance {
   bool any = false;
   std::string by;
@@ -50,7 +51,9 @@ struct Avoidance {
 
 Avoidance find_avoidance(const SceneConfig& config, const CellInput& cell, bool with_strategies) {
   if (with_strategies) {
-    const CellResult result = simulate_cell(config, cell, {});
+    CellOptions searched;
+    searched.certify = false;  // a certified cell would skip the searches this is to run
+    const CellResult result = simulate_cell(config, cell, searched);
     for (const auto& o : result.strategies)
       if (o.avoided) return {true, o.strategy};
   }
@@ -92,11 +95,21 @@ SoundnessRun run_soundness(const SceneConfig& config, int cells, std::uint64_t s
   return run;
 }
 
-// (a) Soundness: no certified cell is avoided by any strategy at the full planner budget, nor by
-// the reference planner (drift and dodge limits). 1200 cells at latency 0 and 400 at 0.25 (about
-// one in fourteen is certified: most random cells leave room to brake).
+// The searches of the in-suite soundness tests: every strategy's RRT at 300 extension attempts and
+// two restarts of the strengthened search (the suite runs three times, twice under sanitizers);
+// the long runs below search at the scene's full budget.
+SceneConfig searched_briefly() {
+  SceneConfig config;
+  config.planner.max_nodes = 300;
+  config.planner.restarts = 2;
+  return config;
+}
+
+// (a) Soundness: no certified cell is avoided by any strategy (searching with certification off),
+// nor by the reference planner (drift and dodge limits). 1200 cells at latency 0 and 400 at 0.25
+// (about one in fourteen is certified: most random cells leave room to brake).
 TEST(Certificate, NoStrategyAvoidsACertifiedCell) {
-  const SoundnessRun run = run_soundness(SceneConfig{}, 1200, 20240611, true);
+  const SoundnessRun run = run_soundness(searched_briefly(), 1200, 20240611, true);
   EXPECT_EQ(run.tried, 1200);
   EXPECT_GT(run.certified, 60) << "too few certified cells to test anything";
   EXPECT_EQ(run.violations, 0);
@@ -104,7 +117,7 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCell) {
 }
 
 TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
-  SceneConfig config;
+  SceneConfig config = searched_briefly();
   config.actuation.perception_latency_s = 0.25;
   const SoundnessRun run = run_soundness(config, 400, 77, true);
   EXPECT_GT(run.certified, 20);
@@ -114,15 +127,14 @@ TEST(Certificate, NoStrategyAvoidsACertifiedCellWithLatency) {
 
 // Under actuators (docs/actuation.md): the bound uses the steering's dead time and lag, the
 // brakes' dead time and ramp and the cap (C1a, C1b, C2a, C2b, C4a, C6a, C7d). `cells` cells, each
-// with its own random actuation; every certificate checks and no strategy (at the planner budget
-// `max_nodes`, 0 for the default) nor the reference planner avoids a certified cell.
-SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, int max_nodes) {
+// with its own random actuation; every certificate checks and no strategy (searching with the
+// planner budget of `searches`) nor the reference planner avoids a certified cell.
+SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, const SceneConfig& searches) {
   SoundnessRun run;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   while (run.tried < cells) {
-    SceneConfig config;
-    if (max_nodes > 0) config.planner.max_nodes = max_nodes;
+    SceneConfig config = searches;
     config.actuation = {0.4 * unit(rng), 0.3 * unit(rng), 0.5 * unit(rng),
                         unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0, 0.15 * unit(rng), 0.25 * unit(rng)};
     const CellInput cell = random_cell(rng);
@@ -147,7 +159,7 @@ SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, int ma
 }
 
 TEST(Certificate, NoStrategyAvoidsACertifiedCellUnderActuators) {
-  const SoundnessRun run = run_soundness_under_actuators(300, 20261124, 0);
+  const SoundnessRun run = run_soundness_under_actuators(300, 20261124, searched_briefly());
   EXPECT_GT(run.certified, 20) << "too few certified cells to test anything";
   std::printf("actuators: %d cells tried, %d certified\n", run.tried, run.certified);
 }
@@ -160,9 +172,11 @@ TEST(Certificate, DISABLED_LongSoundnessRunUnderActuators) {
   const char* cells_env = std::getenv("EMRM_CERT_CELLS");
   const char* seed_env = std::getenv("EMRM_CERT_SEED");
   const char* nodes_env = std::getenv("EMRM_CERT_NODES");
+  SceneConfig searches;
+  if (nodes_env != nullptr) searches.planner.max_nodes = std::atoi(nodes_env);
   const SoundnessRun run = run_soundness_under_actuators(cells_env != nullptr ? std::atoi(cells_env) : 20000,
                                                          seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 21,
-                                                         nodes_env != nullptr ? std::atoi(nodes_env) : 0);
+                                                         searches);
   std::printf("long soundness run under actuators: %d cells tried, %d certified, %d violations\n", run.tried,
               run.certified, run.violations);
   EXPECT_EQ(run.violations, 0);
