@@ -74,7 +74,8 @@ struct Slip {  // comparison state: nondecreasing upper bounds
 struct Rates {
   Slip d;
   Bound b;
-  double yaw_spin = 0.0;  // (C8a) the yaw acceleration bound once |r| ≥ spin_rate(s)
+  double spin_rate = 0.0;  // (C8a) v0 tan Δ / L: from this |r| on the axles cannot both turn the car
+  double yaw_spin = 0.0;   // (C8a) the yaw acceleration bound once |r| ≥ spin_rate
   bool valid = true;
 };
 
@@ -238,7 +239,8 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
   // (C6a) and |Fx| ≤ ℓ·grip (C2b: at most the commanded braking, none before the brakes act): the
   // most of a linear function over the disc cut to that box is the radius if the disc's own
   // maximiser (grip sin δ, grip cos δ) lies in the box, else it lies on the edge it violates.
-  const double push_cap = std::min(1.0, brake_level(c, s)) * grip_f;
+  const double level = std::min(1.0, brake_level(c, s));
+  const double push_cap = level * grip_f;
   const auto front_component = [&](double lateral_cap) {
     if (lateral_cap >= grip_f * cos_d && push_cap >= grip_f * sin_d) return grip_f;
     const auto rest = [&](double f) { return std::sqrt(std::max(0.0, grip_f * grip_f - f * f)); };
@@ -270,7 +272,6 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
     // cornering stiffness until the brakes act, and most of it along the ramp.
     const double uf_hi = c.v0 + z.gf * sin_d;
     const double tan_lo = start->gw / uf_hi;
-    const double level = std::min(1.0, brake_level(c, s));
     const double limit = c.grip_f_min * std::sqrt(std::max(0.0, 1.0 - level * level));
     const double floor =
         std::max(std::min(c.grip_f_min, c.stiffness_f * tan_lo / 3.0), fiala_cap(limit, c.stiffness_f, tan_lo));
@@ -280,6 +281,7 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
   out.d.r = (c.lf * out.b.cap_f + c.lr * out.b.cap_r) / c.iz;
   // (C8a) Once |r| ≥ spin_rate(s) the axles cannot both turn the car further: one of them alone,
   // or the front's braking force through the wheel angle with the rear.
+  out.spin_rate = c.v0 * std::tan(delta) / c.wheelbase;
   out.yaw_spin = std::max(c.lf * out.b.cap_f, c.lf * push_cap * sin_d + c.lr * out.b.cap_r) / c.iz;
   out.d.psi = z.r;
   return out;
@@ -290,21 +292,20 @@ inline Slip advance(const Slip& z, const Slip& d, double step) {
           z.r + step * d.r,   z.psi + step * d.psi, z.dv + step * d.dv};
 }
 
-// (C8a) The yaw rate from which the two axles cannot turn the car the same way at s after the
-// latency. Say r > 0. The yaw moment lf q_f − lr q_r has both parts positive only if q_r < 0, so
+// (C8a) The spin rate: from it on the two axles cannot turn the car the same way. Say r > 0. The yaw moment lf q_f − lr q_r has both parts positive only if q_r < 0, so
 // v_r > 0 (the rear's force opposes its slip), v > lr r and v_f = v + lf r > L r; then
 // w_f = v_f cos δ − u sin δ > L r cos δ − u sin δ ≥ 0 once r ≥ u tan δ / L, so F_yf ≤ 0 and
 // q_f = F_xf sin δ + F_yf cos δ ≤ |F_xf| sin Δ. With u ≤ v0 and |δ| ≤ Δ: from |r| ≥ v0 tan Δ / L on
 // the yaw moment is at most max(lf Q_f, lf |F_xf| sin Δ + lr Q_r) (likewise for r < 0).
-inline double spin_rate(const Setup& c, double s) { return c.v0 * std::tan(wheel_bound(c, s).angle) / c.wheelbase; }
 
-// One implicit step from z over `step` to s1 with the rates `r` taken at its end (C8): |r| grows
-// at most at d.r, and past spin_rate(s1) (≥ spin_rate on the whole step: Δ is nondecreasing) at
-// most at yaw_spin, so after the last moment it was at most max(z.r, spin_rate(s1)) it grew at
-// most at that (C8a). The map from the rates' state to the step's end stays nondecreasing.
-inline Slip step_to(const Setup& c, double s1, const Slip& z, const Rates& r, double step) {
+// One implicit step from z over `step` with the rates `r` taken at its end (C8): |r| grows at most
+// at d.r, and past the spin rate at the step's end (≥ the spin rate on the whole step: Δ is
+// nondecreasing) at most at yaw_spin, so after the last moment it was at most
+// max(z.r, spin rate) it grew at most at that (C8a). The map from the rates' state to the step's
+// end stays nondecreasing.
+inline Slip step_to(const Slip& z, const Rates& r, double step) {
   Slip next = advance(z, r.d, step);
-  next.r = std::min(next.r, std::max(z.r, spin_rate(c, s1)) + step * r.yaw_spin);
+  next.r = std::min(next.r, std::max(z.r, r.spin_rate) + step * r.yaw_spin);
   return next;
 }
 
@@ -382,14 +383,14 @@ class Bounder {
       for (int tries = 0; tries < 60 && !found; ++tries) {
         const Rates r = rates_at(c_, s1, guess, true, &z_);
         if (!r.valid) break;
-        const Slip next = step_to(c_, s1, z_, r, w);
+        const Slip next = step_to(z_, r, w);
         if (at_most(next, guess)) {
           found = true;
           guess = next;
           for (int down = 0; down < 2; ++down) {
             const Rates rd = rates_at(c_, s1, guess, true, &z_);
             if (!rd.valid) break;
-            const Slip lower = step_to(c_, s1, z_, rd, w);
+            const Slip lower = step_to(z_, rd, w);
             if (!at_most(lower, guess)) break;
             guess = lower;
           }
