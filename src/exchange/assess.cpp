@@ -16,7 +16,7 @@
 namespace emrm::exchange {
 namespace {
 
-constexpr double kKphPerMps = 3.6;
+using sim::kKphPerMps;
 // A sample within this of the truck or of the road's edge touches it: the tolerance of the
 // simulator's own continuous collision check (docs/physics.md), so that a trajectory emrm executed
 // up to the moment of contact is judged a contact.

@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using Attributes = XmlWriter::Attributes;
 
-constexpr double kKphPerMps = 3.6;
+using sim::kKphPerMps;
 constexpr int kJunctionId = 100;
 constexpr double kApproach_m = 100.0;   // main road before the ego's start
 constexpr double kRunOut_m = 300.0;     // main road after the junction: the recovery's room

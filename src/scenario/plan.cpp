@@ -102,9 +102,9 @@ bool in_region(const Malfunction& m, const std::vector<double>& values) {
 }
 
 // The builder's state: the scenarios so far, their count per relevant cell, a random stream.
-class Builder {
+class PlanBuilder {
  public:
-  explicit Builder(const Odd& odd)
+  explicit PlanBuilder(const Odd& odd)
       : odd_(odd), cells_(detail::validated_relevant_cells(odd)), rng_(core::derive_seed(odd.seed, "plan")) {
     for (std::size_t c = 0; c < cells_.size(); ++c) index_.emplace(cells_[c].levels, c);
     counts_.assign(cells_.size(), 0);
@@ -203,7 +203,7 @@ bool hits(const std::vector<Scenario>& scenarios, const BoundaryTarget& t) {
 
 // Step 1 (C2): every bin edge, kink and class in some test; a test takes as many pending
 // targets of other factors as stay admissible.
-std::size_t boundary_seed(const Odd& odd, Builder& b, Plan& plan) {
+std::size_t boundary_seed(const Odd& odd, PlanBuilder& b, Plan& plan) {
   const auto targets = boundary_targets(odd);
   std::vector<const BoundaryTarget*> unreachable;
   std::size_t added = 0;
@@ -240,7 +240,7 @@ std::size_t boundary_seed(const Odd& odd, Builder& b, Plan& plan) {
 
 // Step 2 (C3): a covering array of strength t over the influential factors, seeded with the
 // tests so far; level combinations no relevant cell has are constraints.
-std::size_t combinatorial_core(const Odd& odd, Builder& b) {
+std::size_t combinatorial_core(const Odd& odd, PlanBuilder& b) {
   const auto q = odd.influential();
   if (q.size() < static_cast<std::size_t>(odd.strength)) return 0;
   std::vector<int> levels;
@@ -366,7 +366,7 @@ Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_
 }
 
 // Step 3 (C4): n_m tests inside each malfunction's hazard region, in the least-tested cells.
-std::size_t malfunction_allocation(const Odd& odd, Builder& b, Plan& plan) {
+std::size_t malfunction_allocation(const Odd& odd, PlanBuilder& b, Plan& plan) {
   std::size_t added = 0;
   for (const auto& m : odd.malfunctions) {
     const auto in_m = [&m](const std::vector<double>& p) { return in_region(m, p); };
@@ -397,7 +397,7 @@ std::size_t malfunction_allocation(const Odd& odd, Builder& b, Plan& plan) {
 }
 
 // Step 4a (C1): n_c tests in every relevant cell.
-std::size_t cell_fill(const Odd& odd, Builder& b, Plan& plan) {
+std::size_t cell_fill(const Odd& odd, PlanBuilder& b, Plan& plan) {
   std::size_t added = 0;
   for (std::size_t c = 0; c < b.cells().size(); ++c) {
     while (b.counts()[c] < static_cast<std::size_t>(odd.n_c)) {
@@ -417,7 +417,7 @@ std::size_t cell_fill(const Odd& odd, Builder& b, Plan& plan) {
 
 // Step 4b: tracked cells drawn with probability ∝ √π until each has `target` tests or the budget
 // is spent. Returns the number of tracked cells still short.
-std::size_t top_up(const Odd& odd, Builder& b, std::size_t target, std::size_t& added) {
+std::size_t top_up(const Odd& odd, PlanBuilder& b, std::size_t target, std::size_t& added) {
   std::set<std::size_t> exhausted;
   const auto short_cells = [&] {
     std::vector<std::size_t> out;
@@ -515,7 +515,7 @@ void classify(const Odd& odd, const std::vector<double>& values, std::vector<std
 
 Plan build_plan(const Odd& odd) {
   Plan plan;
-  Builder b(odd);
+  PlanBuilder b(odd);
   plan.relevant_cells = b.cells().size();
   plan.tracked_cells = static_cast<std::size_t>(
       std::count_if(b.cells().begin(), b.cells().end(), [](const RelevantCell& c) { return c.tracked; }));

@@ -9,8 +9,6 @@
 namespace emrm::sim {
 namespace {
 
-constexpr double kKphPerMps = 3.6;
-
 nlohmann::json impact_json(const ImpactAssessment& a) {
   return {{"impact_speed_kph", a.impact_speed_mps * kKphPerMps},
           {"delta_v_kph", a.delta_v_mps * kKphPerMps},

@@ -11,8 +11,6 @@
 namespace emrm::sim {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
 struct Node {
   VehicleState state;
   ActuatorState actuators;  // where the actuators are at `state` (commands still in flight)
@@ -141,7 +139,7 @@ class Rrt {
   // The node nearest to the target in the plane, among nodes still moving and behind it.
   int nearest(const core::Vec2& target) const {
     int best = -1;
-    double best_d2 = kInfinity;
+    double best_d2 = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < summaries_.size(); ++i) {
       const NodeSummary& n = summaries_[i];
       if (!n.moving) continue;
@@ -176,7 +174,7 @@ class Rrt {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const Node& base = nodes_[static_cast<std::size_t>(from)];
     std::optional<RolloutResult> best;
-    double best_d2 = kInfinity;
+    double best_d2 = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 4; ++k) {
       const Control u = sample_control(k == 2);
       const double duration = pc.min_duration_s + unit(rng_) * (pc.max_duration_s - pc.min_duration_s);

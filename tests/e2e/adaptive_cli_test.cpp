@@ -14,7 +14,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace adaptive_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -161,5 +161,5 @@ TEST(AdaptiveCli, BadInputIsRefusedWithOneLine) {
   EXPECT_FALSE(fs::exists(out / "regions.csv"));
 }
 
-}  // namespace
+}  // namespace adaptive_cli_test
 }  // namespace emrm::e2e

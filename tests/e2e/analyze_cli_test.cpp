@@ -7,7 +7,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace analyze_cli_test {
 
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
@@ -154,5 +154,5 @@ TEST(AnalyzeCli, UnwritableOutputFolderExitsTwo) {
   EXPECT_THAT(r.err, HasSubstr("/proc/emrm-no-such-dir"));
 }
 
-}  // namespace
+}  // namespace analyze_cli_test
 }  // namespace emrm::e2e

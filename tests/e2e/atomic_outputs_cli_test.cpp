@@ -14,7 +14,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace atomic_outputs_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -157,5 +157,5 @@ TEST_F(AtomicOutputs, SweepExportsAllThreeOrNone) {
   EXPECT_EQ(temporaries_under(merged), Names{});
 }
 
-}  // namespace
+}  // namespace atomic_outputs_cli_test
 }  // namespace emrm::e2e

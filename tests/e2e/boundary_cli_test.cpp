@@ -16,7 +16,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace boundary_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -182,5 +182,5 @@ TEST_F(BoundaryCli, AStoreWithAFeasibleCellOutsideTheRegionsIsBadInput) {
   EXPECT_FALSE(fs::exists(dir / "boundary")) << "bad input writes nothing";
 }
 
-}  // namespace
+}  // namespace boundary_cli_test
 }  // namespace emrm::e2e

@@ -9,7 +9,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace ca_cli_test {
 
 using ::testing::HasSubstr;
 
@@ -122,5 +122,5 @@ TEST(CaCli, MaxSearchStepsMustBeAPositiveInteger) {
   EXPECT_EQ(run_emrm("ca --levels 3,3 --max-search-steps 1").exit_code, 0);
 }
 
-}  // namespace
+}  // namespace ca_cli_test
 }  // namespace emrm::e2e

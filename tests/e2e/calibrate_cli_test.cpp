@@ -12,7 +12,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace calibrate_cli_test {
 
 using ::testing::HasSubstr;
 
@@ -131,5 +131,5 @@ TEST(CalibrateCli, RegionTargetsAndTheirCampaignAreChecked) {
   EXPECT_FALSE(std::filesystem::exists(dir / "p.yaml"));
 }
 
-}  // namespace
+}  // namespace calibrate_cli_test
 }  // namespace emrm::e2e

@@ -11,7 +11,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace diagnose_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -77,5 +77,5 @@ TEST_F(DiagnoseCli, AFolderWithoutAStoreIsBadInput) {
   EXPECT_THAT(missing.err, HasSubstr("does not exist"));
 }
 
-}  // namespace
+}  // namespace diagnose_cli_test
 }  // namespace emrm::e2e

@@ -14,7 +14,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace exchange_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -128,5 +128,5 @@ TEST(AssessCli, BadInputNamesFileLineAndColumn) {
   EXPECT_EQ(run_emrm("assess " + quoted(dir / "good.csv") + cell).exit_code, 0);
 }
 
-}  // namespace
+}  // namespace exchange_cli_test
 }  // namespace emrm::e2e

@@ -13,7 +13,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace fsm_check_file_test {
 
 namespace fs = std::filesystem;
 
@@ -63,5 +63,5 @@ TEST(FsmCheckFile, ReproduceListsTheChoicesOfANonDeterministicCopyAsEmrmFsmDoes)
   EXPECT_EQ(deterministic["choices"][0]["transitions"][1]["to"], "S5");
 }
 
-}  // namespace
+}  // namespace fsm_check_file_test
 }  // namespace emrm::e2e

@@ -10,7 +10,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace fsm_cli_test {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -248,5 +248,5 @@ TEST(FsmCli, ComposingTwoLargeMachinesStopsAtTheStateLimit) {
   EXPECT_EQ(run_emrm("fsm " + emrm_fsm() + " --compose " + emrm_fsm()).exit_code, 0);
 }
 
-}  // namespace
+}  // namespace fsm_cli_test
 }  // namespace emrm::e2e

@@ -6,7 +6,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace general_cli_test {
 
 using ::testing::HasSubstr;
 
@@ -110,5 +110,5 @@ TEST(Cli, SmallInputsThatAskForUnboundedWorkAreRefusedNamingTheLimit) {
   EXPECT_THAT(simulate.err, HasSubstr("simulation.dt_s: expected a value in [0.0001, 0.1], got 1e-09"));
 }
 
-}  // namespace
+}  // namespace general_cli_test
 }  // namespace emrm::e2e

@@ -16,7 +16,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace own_case_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -167,5 +167,5 @@ TEST_F(OwnCase, APlanFromTheEditedCaseRunsAndItsReportShowsMapsBinsEstimatesAndT
   expect_clean_in_chromium(out / "report.html", "own_case_run");
 }
 
-}  // namespace
+}  // namespace own_case_cli_test
 }  // namespace emrm::e2e

@@ -14,7 +14,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace plan_cli_test {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -290,5 +290,5 @@ TEST(PlanCli, WarnsWhereTheOddReachesBeyondTheSafetyCasesRange) {
       << r.out;
 }
 
-}  // namespace
+}  // namespace plan_cli_test
 }  // namespace emrm::e2e

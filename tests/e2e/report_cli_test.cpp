@@ -15,7 +15,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace report_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -235,5 +235,5 @@ TEST_F(ReportCli, AStoreOfAnotherSchemaVersionIsBadInput) {
   EXPECT_THAT(r.err, HasSubstr("schema version 1"));
 }
 
-}  // namespace
+}  // namespace report_cli_test
 }  // namespace emrm::e2e

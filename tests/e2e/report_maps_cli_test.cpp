@@ -15,7 +15,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace report_maps_cli_test {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -216,5 +216,5 @@ TEST_F(ReportOfAPlannedRun, AMalformedOutcomesFileIsBadInputNamingIt) {
   EXPECT_THAT(r.err, HasSubstr("is not a key of the plan's 5 factors"));
 }
 
-}  // namespace
+}  // namespace report_maps_cli_test
 }  // namespace emrm::e2e

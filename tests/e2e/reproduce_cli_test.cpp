@@ -13,7 +13,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace reproduce_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -139,5 +139,5 @@ TEST(ReproduceCli, BadPaperReferenceIsBadInputWithLocation) {
   EXPECT_THAT(r.err, HasSubstr("paper_reference.yaml:1:10"));
 }
 
-}  // namespace
+}  // namespace reproduce_cli_test
 }  // namespace emrm::e2e

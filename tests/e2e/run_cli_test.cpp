@@ -15,7 +15,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace run_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -235,5 +235,5 @@ TEST_F(RunCli, BadScenarioFilesAreBadInputWithLocation) {
   EXPECT_THAT(r.err, HasSubstr("scenarios.csv:2:"));
 }
 
-}  // namespace
+}  // namespace run_cli_test
 }  // namespace emrm::e2e

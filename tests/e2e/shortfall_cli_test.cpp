@@ -14,7 +14,7 @@
 #include "small_example.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace shortfall_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -113,5 +113,5 @@ TEST_F(ShortfallCli, ReportShowsTheShortfallFirstAndFindsThePlansCoverage) {
   EXPECT_LT(shortfall, html.find("Actuation:"));  // at the top, before the figures and tables
 }
 
-}  // namespace
+}  // namespace shortfall_cli_test
 }  // namespace emrm::e2e

@@ -10,7 +10,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace simulate_cli_test {
 
 using ::testing::HasSubstr;
 
@@ -125,11 +125,11 @@ TEST(SimulateCli, MalformedSceneFileExitsTwoNamingLineAndColumn) {
                    "malformed YAML");
 }
 
-}  // namespace
+}  // namespace simulate_cli_test
 }  // namespace emrm::e2e
 
 namespace emrm::e2e {
-namespace {
+namespace simulate_cli_test {
 
 // Profiles (docs/actuation.md): a NAME from the scene's profiles/ folder, or a FILE.
 TEST(SimulateCli, ProductionProfileMovesTheStopBoundary) {
@@ -177,11 +177,11 @@ TEST(SimulateCli, BadProfilesAreBadInput) {
                    "actuation");
 }
 
-}  // namespace
+}  // namespace simulate_cli_test
 }  // namespace emrm::e2e
 
 namespace emrm::e2e {
-namespace {
+namespace simulate_cli_test {
 
 // Messages a new user met (issue "your own case"): a misspelt option or key names the one meant,
 // an infeasible cell says why with its units.
@@ -203,5 +203,5 @@ TEST(SimulateCli, MisspellingsNameWhatWasMeant) {
   EXPECT_THAT(far.out, HasSubstr("TTC in seconds"));
 }
 
-}  // namespace
+}  // namespace simulate_cli_test
 }  // namespace emrm::e2e

@@ -15,7 +15,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace sweep_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -219,5 +219,5 @@ TEST(SweepCli, BadShardsExit2) {
                      "--shard");
 }
 
-}  // namespace
+}  // namespace sweep_cli_test
 }  // namespace emrm::e2e

@@ -10,7 +10,7 @@
 #include "run_emrm.hpp"
 
 namespace emrm::e2e {
-namespace {
+namespace verify_cli_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -140,5 +140,5 @@ TEST(VerifyCliInput, ANonStoreIsBadInput) {
   EXPECT_THAT(r.err, HasSubstr("no results store here"));
 }
 
-}  // namespace
+}  // namespace verify_cli_test
 }  // namespace emrm::e2e

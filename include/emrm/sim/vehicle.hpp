@@ -18,6 +18,7 @@
 namespace emrm::sim {
 
 inline constexpr double kGravity_mps2 = 9.81;
+inline constexpr double kKphPerMps = 3.6;
 
 /// Ego vehicle parameters; defaults are CommonRoad vehicle 2 (BMW 320i), except the front cornering
 /// stiffness, softened for an understeer gradient of 2.2 deg/g (docs/physics.md).

@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 namespace emrm::campaign::adaptive {
-namespace {
+namespace adaptive_test {
 
 using sim::Region;
 
@@ -276,5 +276,5 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   EXPECT_THROW((void)search(empty, oracle, Options{}), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace adaptive_test
 }  // namespace emrm::campaign::adaptive

@@ -6,7 +6,7 @@
 #include <limits>
 
 namespace emrm::campaign {
-namespace {
+namespace aggregate_test {
 
 OutcomeRecord outcome(std::string strategy, bool avoided, double impact_kph, int level, int unmitigated,
                       double min_ttc = 1.0) {
@@ -187,5 +187,5 @@ TEST(StopBoundary, AnalyticHyperbola) {
   EXPECT_FALSE(analytically_stoppable(36, 1.0, 0.5));  // 10 / 9.81 = 1.019 s
 }
 
-}  // namespace
+}  // namespace aggregate_test
 }  // namespace emrm::campaign

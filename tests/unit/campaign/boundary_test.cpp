@@ -14,7 +14,7 @@
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace boundary_test {
 
 // A feasible cell of grid `grid` in `region`; the emergency stop avoids exactly in G, dodge in G
 // and Y (a cell stored without outcomes has none: an adaptive sweep's inferred cell).
@@ -290,5 +290,5 @@ TEST(WriteBoundaryFiles, WritesBothCsvFiles) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace boundary_test
 }  // namespace emrm::campaign

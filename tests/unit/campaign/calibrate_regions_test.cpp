@@ -14,7 +14,7 @@
 #include "emrm/sim/simulate.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace calibrate_regions_test {
 
 using ::testing::HasSubstr;
 
@@ -121,5 +121,5 @@ TEST(CalibrateRegions, BadRequestsAreSaid) {
   EXPECT_THROW((void)calibrate_regions(c, g, {}, request), UsageError);
 }
 
-}  // namespace
+}  // namespace calibrate_regions_test
 }  // namespace emrm::campaign

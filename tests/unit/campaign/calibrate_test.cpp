@@ -13,9 +13,10 @@
 #include "emrm/core/error.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
+#include "test_scale.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace calibrate_test {
 
 using ::testing::HasSubstr;
 
@@ -71,7 +72,7 @@ TEST(Calibrate, StopsRecoverTheDeadTimeAndTheCap) {
 TEST(Calibrate, ATraceRecoversDeadTimeRampAndCapSeparately) {
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (int trial = 0; trial < 2; ++trial) {
+  for (int trial = 0; trial < test::sample(2, 1); ++trial) {
     sim::ActuationConfig hidden;
     hidden.brake_dead_time_s = 0.05 + 0.3 * unit(rng);
     hidden.brake_ramp_s = 0.1 + 0.5 * unit(rng);
@@ -208,5 +209,5 @@ TEST_F(CalibrateFiles, RegionTargetFieldsAreCheckedWithLineAndColumn) {
   EXPECT_THAT(error_of([&] { (void)read_region_target(write("y.yaml", "grid: [\n")); }), HasSubstr("y.yaml:"));
 }
 
-}  // namespace
+}  // namespace calibrate_test
 }  // namespace emrm::campaign

@@ -12,7 +12,7 @@
 #include "emrm/core/yaml.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace campaign_test {
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
@@ -309,5 +309,5 @@ TEST(ToRecord, ConvertsSpeedsToKilometresPerHour) {
   }
 }
 
-}  // namespace
+}  // namespace campaign_test
 }  // namespace emrm::campaign

@@ -8,7 +8,7 @@
 #include "emrm/sim/simulate.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace diagnostics_test {
 
 CellRecord cell(double speed, double ttc, double mu, std::string region, std::vector<bool> avoided = {}) {
   CellRecord c;
@@ -173,5 +173,5 @@ TEST(Diagnostics, WritesJsonAndColouredDiagrams) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace diagnostics_test
 }  // namespace emrm::campaign

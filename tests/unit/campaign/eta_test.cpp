@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 namespace emrm::campaign {
-namespace {
+namespace eta_test {
 
 TEST(EtaModel, NothingDoneGivesNoEstimate) {
   const EtaModel eta({1, 2, 3});
@@ -42,5 +42,5 @@ TEST(EtaModel, MoreCellsThanCountedNeverGoNegative) {
   EXPECT_NEAR(*eta.remaining_seconds(3.0), 0.0, 1e-12);
 }
 
-}  // namespace
+}  // namespace eta_test
 }  // namespace emrm::campaign

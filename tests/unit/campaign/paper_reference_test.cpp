@@ -9,7 +9,7 @@
 #include <vector>
 
 namespace emrm::campaign {
-namespace {
+namespace paper_reference_test {
 
 using ::testing::HasSubstr;
 
@@ -79,5 +79,5 @@ TEST(PaperReference, BadValuesFailWithLocation) {
   fails("delta_loss: 3.29", "delta_loss: lots", "");
 }
 
-}  // namespace
+}  // namespace paper_reference_test
 }  // namespace emrm::campaign

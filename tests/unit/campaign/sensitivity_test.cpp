@@ -8,7 +8,7 @@
 #include "emrm/campaign/sensitivity.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace sensitivity_test {
 
 std::vector<CellRecord> fine_grid() {
   std::vector<CellRecord> out;
@@ -51,5 +51,5 @@ TEST(BrakeSensitivity, GFallsWithEveryDeadTimeStepAndEveryLowerCap) {
   EXPECT_NEAR(g_of(t.rows[0]), 100.0 * static_cast<double>(green) / static_cast<double>(feasible), 0.05);
 }
 
-}  // namespace
+}  // namespace sensitivity_test
 }  // namespace emrm::campaign

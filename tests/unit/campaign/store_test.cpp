@@ -14,7 +14,7 @@
 #include "emrm/campaign/exports.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace store_test {
 
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
@@ -322,5 +322,5 @@ TEST(Merge, JoinsStoresOfOneConfigurationAndRefusesOthers) {
   EXPECT_THROW(merge({a, c}, scratch("merge_bad")), UsageError);
 }
 
-}  // namespace
+}  // namespace store_test
 }  // namespace emrm::campaign

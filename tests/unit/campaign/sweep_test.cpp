@@ -12,7 +12,7 @@
 #include "emrm/campaign/store.hpp"
 
 namespace emrm::campaign {
-namespace {
+namespace sweep_test {
 
 namespace fs = std::filesystem;
 
@@ -115,5 +115,5 @@ TEST(Sweep, RefusesAChangedConfiguration) {
   EXPECT_THROW((void)sweep(changed, options), UsageError);
 }
 
-}  // namespace
+}  // namespace sweep_test
 }  // namespace emrm::campaign

@@ -7,7 +7,7 @@
 #include <fstream>
 
 namespace emrm::campaign {
-namespace {
+namespace tables_test {
 
 using ::testing::HasSubstr;
 
@@ -96,5 +96,5 @@ TEST(Tables, WritesEveryFile) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace tables_test
 }  // namespace emrm::campaign

@@ -11,7 +11,7 @@
 #include "input_error.hpp"
 
 namespace emrm::core {
-namespace {
+namespace config_test {
 
 using ::testing::HasSubstr;
 
@@ -180,5 +180,5 @@ TEST(FailAt, ReportsTheDetailAtTheFieldWithOrWithoutThePath) {
   }
 }
 
-}  // namespace
+}  // namespace config_test
 }  // namespace emrm::core

@@ -6,7 +6,7 @@
 #include <cmath>
 
 namespace emrm::core {
-namespace {
+namespace expression_test {
 
 using ::testing::HasSubstr;
 
@@ -71,5 +71,5 @@ TEST(Expression, CopiesEvaluateIndependently) {
   EXPECT_DOUBLE_EQ(a.evaluate(std::vector<double>{0, 0, 0.2}), 2.0);
 }
 
-}  // namespace
+}  // namespace expression_test
 }  // namespace emrm::core

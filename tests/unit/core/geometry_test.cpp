@@ -10,7 +10,7 @@
 #include <vector>
 
 namespace emrm::core {
-namespace {
+namespace geometry_test {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -330,11 +330,11 @@ TEST(Contact, AgreesWithOverlapsAndIsTheMinimumTranslation) {
   EXPECT_GT(touching, 3000);
 }
 
-}  // namespace
+}  // namespace geometry_test
 }  // namespace emrm::core
 
 namespace emrm::core {
-namespace {
+namespace geometry_test {
 
 TEST(TimeToOverlap, HeadOnClosingGivesGapOverClosingSpeed) {
   const OrientedBox a{{0.0, 0.0}, 0.0, 2.0, 1.0};
@@ -401,5 +401,5 @@ TEST(WrapAngle, IsTheLibraryRemainderBitForBit) {
   }
 }
 
-}  // namespace
+}  // namespace geometry_test
 }  // namespace emrm::core

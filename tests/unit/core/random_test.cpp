@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace emrm::core {
-namespace {
+namespace random_test {
 
 // splitmix64 as published (Vigna, https://prng.di.unimi.it/splitmix64.c), written here
 // independently of the library so that the tests pin the library's stream to the algorithm.
@@ -108,5 +108,5 @@ TEST(DeriveSeed, IsSplitMixOfTheSeedXorTheKeysFnv1a) {
   EXPECT_NE(derive_seed(1, "a"), derive_seed(2, "a"));
 }
 
-}  // namespace
+}  // namespace random_test
 }  // namespace emrm::core

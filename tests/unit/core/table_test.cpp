@@ -10,7 +10,7 @@
 #include "emrm/core/text.hpp"
 
 namespace emrm::core {
-namespace {
+namespace table_test {
 
 using ::testing::HasSubstr;
 
@@ -52,5 +52,5 @@ TEST(Table, WritesMarkdownCsvAndLatexBesideEachOther) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace table_test
 }  // namespace emrm::core

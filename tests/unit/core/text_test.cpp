@@ -14,7 +14,7 @@
 #include <vector>
 
 namespace emrm::core {
-namespace {
+namespace text_test {
 
 TEST(Csv, QuotesOnlyFieldsThatNeedIt) {
   EXPECT_EQ(csv_line({"a", "b c", "x,y", "say \"hi\"", "two\nlines"}),
@@ -146,7 +146,7 @@ TEST(OutputFile, TwoWritersOfOneFileDoNotShareATemporary) {
   EXPECT_EQ(names_in(dir), std::vector<std::string>{"shared.txt"});
 }
 
-}  // namespace
+}  // namespace text_test
 TEST(DidYouMean, SuggestsTheNearestNameOrAPrefixAndNothingFar) {
   const std::vector<std::string> keys{"severity", "simulation", "safe_state"};
   EXPECT_EQ(did_you_mean("severty", keys), " (did you mean 'severity'?)");

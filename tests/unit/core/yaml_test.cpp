@@ -6,7 +6,7 @@
 #include "input_error.hpp"
 
 namespace emrm::core {
-namespace {
+namespace yaml_test {
 
 using ::testing::HasSubstr;
 
@@ -47,15 +47,15 @@ InputError read_error(const std::string& text) {
       text);
 }
 
-}  // namespace
+}  // namespace yaml_test
 
 template <>
-struct EnumNames<Colour> {
-  static constexpr std::array kNames{std::pair{Colour::kRed, std::string_view("red")},
-                                     std::pair{Colour::kGreen, std::string_view("green")}};
+struct EnumNames<yaml_test::Colour> {
+  static constexpr std::array kNames{std::pair{yaml_test::Colour::kRed, std::string_view("red")},
+                                     std::pair{yaml_test::Colour::kGreen, std::string_view("green")}};
 };
 
-namespace {
+namespace yaml_test {
 
 TEST(YamlReader, FillsFieldsAndKeepsDefaults) {
   Outer o;
@@ -156,5 +156,5 @@ TEST(YamlNode, UnreadableFileIsAnInputErrorNamingIt) {
   }
 }
 
-}  // namespace
+}  // namespace yaml_test
 }  // namespace emrm::core

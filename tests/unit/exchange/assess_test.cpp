@@ -16,7 +16,7 @@
 #include "emrm/sim/simulate.hpp"
 
 namespace emrm::exchange {
-namespace {
+namespace assess_test {
 
 constexpr double kKphPerMps = 3.6;
 
@@ -155,5 +155,5 @@ TEST(Assess, InfeasibleCellIsRejected) {
   EXPECT_THROW((void)assess(config, {70, 5.0, 1.0, 3.0, 10}, recorded), UsageError);
 }
 
-}  // namespace
+}  // namespace assess_test
 }  // namespace emrm::exchange

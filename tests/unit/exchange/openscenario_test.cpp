@@ -24,7 +24,7 @@
 #include "exchange/xml_support.hpp"
 
 namespace emrm::exchange {
-namespace {
+namespace openscenario_test {
 
 using testing::Document;
 
@@ -371,5 +371,5 @@ TEST(OpenScenario, ThinningKeepsEveryDroppedPointWithinTheTolerance) {
   }
 }
 
-}  // namespace
+}  // namespace openscenario_test
 }  // namespace emrm::exchange

@@ -20,7 +20,7 @@
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm {
-namespace {
+namespace toy_strategy_test {
 
 // Brakes straight at half the friction limit after the latency; never steers.
 class HalfBrake final : public sim::Strategy {
@@ -202,5 +202,5 @@ TEST(ToyStrategy, RegistrationChecksItsRecord) {
   EXPECT_THROW(sim::StrategyRegistration(half_brake_info(), nullptr), UsageError);
 }
 
-}  // namespace
+}  // namespace toy_strategy_test
 }  // namespace emrm

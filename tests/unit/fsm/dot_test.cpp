@@ -8,7 +8,7 @@
 #include "emrm/fsm/load.hpp"
 
 namespace emrm::fsm {
-namespace {
+namespace dot_test {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -101,5 +101,5 @@ TEST(Dot, GraphvizFailureReportsItsMessage) {
   }
 }
 
-}  // namespace
+}  // namespace dot_test
 }  // namespace emrm::fsm

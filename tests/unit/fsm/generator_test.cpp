@@ -8,7 +8,7 @@
 #include "emrm/fsm/load.hpp"
 
 namespace emrm::fsm {
-namespace {
+namespace generator_test {
 
 using Word = std::vector<std::string>;
 
@@ -180,5 +180,5 @@ TEST(Generator, BuildingRejectsDuplicatesAndUnknownNames) {
   EXPECT_THROW(g.mark("t"), Error);
 }
 
-}  // namespace
+}  // namespace generator_test
 }  // namespace emrm::fsm

@@ -6,7 +6,7 @@
 #include <string>
 
 namespace emrm::fsm {
-namespace {
+namespace load_test {
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
@@ -200,5 +200,5 @@ TEST(Load, TracesSkipCommentsAndBlankLines) {
   EXPECT_THROW((void)load_traces("/no/such/traces.txt"), InputError);
 }
 
-}  // namespace
+}  // namespace load_test
 }  // namespace emrm::fsm

@@ -14,7 +14,7 @@
 #include "emrm/fsm/load.hpp"
 
 namespace emrm::fsm {
-namespace {
+namespace operations_test {
 
 using ::testing::ElementsAre;
 using ::testing::IsEmpty;
@@ -466,5 +466,5 @@ TEST(Operations, LossEvaluationIsMinimalWithTheStrategyAsOutput) {
   EXPECT_EQ(g.states().size(), 13U);
 }
 
-}  // namespace
+}  // namespace operations_test
 }  // namespace emrm::fsm

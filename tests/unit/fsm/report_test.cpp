@@ -13,7 +13,7 @@
 #include "emrm/fsm/dot.hpp"
 
 namespace emrm::fsm {
-namespace {
+namespace report_test {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -100,5 +100,5 @@ TEST(FsmReport, CheckFilesHoldTheJsonOfACheckReportAndThePlainDiagram) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace report_test
 }  // namespace emrm::fsm

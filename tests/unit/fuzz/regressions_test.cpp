@@ -15,7 +15,7 @@
 #include "harness.hpp"
 
 namespace emrm::fuzz {
-namespace {
+namespace regressions_test {
 
 namespace fs = std::filesystem;
 
@@ -75,5 +75,5 @@ TEST(FuzzRegressions, EverySeedIsReadOrRefused) {
     }
 }
 
-}  // namespace
+}  // namespace regressions_test
 }  // namespace emrm::fuzz

@@ -19,7 +19,7 @@
 #include "emrm/scenario/plan_io.hpp"
 
 namespace emrm::report {
-namespace {
+namespace figures_test {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
@@ -778,11 +778,11 @@ TEST_F(FigureCampaign, DrawsAllSixFiguresOfAShippedSizeCampaign) {
     fs::copy(out(), keep, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
 }
 
-}  // namespace
+}  // namespace figures_test
 }  // namespace emrm::report
 
 namespace emrm::report {
-namespace {
+namespace figures_test {
 
 // --- the brakes' sensitivity ---------------------------------------------------------------------
 
@@ -803,5 +803,5 @@ TEST_F(FigureBrakes, AGridWithoutCellsIsANoteNotAFigure) {
   EXPECT_NE(f.note.find("no_such_grid"), std::string::npos) << f.note;
 }
 
-}  // namespace
+}  // namespace figures_test
 }  // namespace emrm::report

@@ -12,7 +12,7 @@
 #include "example_case.hpp"
 
 namespace emrm::safety {
-namespace {
+namespace analysis_test {
 
 namespace fs = std::filesystem;
 
@@ -75,5 +75,5 @@ TEST(Analysis, WritesTheFourFilesFromTheOneProducerOfEach) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace analysis_test
 }  // namespace emrm::safety

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 namespace emrm::safety {
-namespace {
+namespace asil_test {
 
 // ISO 26262-3:2018 Table 4, transcribed row by row (S1..S3 × E1..E4 × C1..C3), independent of
 // the sum rule the implementation uses.
@@ -102,5 +102,5 @@ TEST(SmilTable, RuleOnAsilUsesTheComputedAsil) {
   EXPECT_EQ(find_smil_rule(table, h), nullptr);
 }
 
-}  // namespace
+}  // namespace asil_test
 }  // namespace emrm::safety

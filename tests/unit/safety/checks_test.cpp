@@ -9,7 +9,7 @@
 #include "example_case.hpp"
 
 namespace emrm::safety {
-namespace {
+namespace checks_test {
 
 using ::testing::HasSubstr;
 using testing::example_text;
@@ -141,5 +141,5 @@ TEST(SafetyChecks, FindingsComeInFileOrder) {
   for (std::size_t i = 1; i < findings.size(); ++i) EXPECT_LE(findings[i - 1].where.line, findings[i].where.line);
 }
 
-}  // namespace
+}  // namespace checks_test
 }  // namespace emrm::safety

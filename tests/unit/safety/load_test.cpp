@@ -7,7 +7,7 @@
 #include "input_error.hpp"
 
 namespace emrm::safety {
-namespace {
+namespace load_test {
 
 using ::testing::HasSubstr;
 using testing::example_text;
@@ -174,5 +174,5 @@ TEST(SafetyLoad, MissingFileIsAnInputError) {
   EXPECT_THROW((void)load_safety_case("/nonexistent/safety.yaml"), InputError);
 }
 
-}  // namespace
+}  // namespace load_test
 }  // namespace emrm::safety

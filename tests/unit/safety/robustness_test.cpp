@@ -11,7 +11,7 @@
 #include "example_case.hpp"
 
 namespace emrm::safety {
-namespace {
+namespace robustness_test {
 
 std::string mutate(std::string text, std::mt19937& rng) {
   static const std::string kAlphabet = " \n\t:-[]{},#'\"&*!|>%@`0123456789.eE+xyzSCHLUA_";
@@ -56,5 +56,5 @@ TEST(SafetyRobustness, MutatedCasesLoadOrFailWithALocatedInputError) {
   EXPECT_GT(rejected, 0);
 }
 
-}  // namespace
+}  // namespace robustness_test
 }  // namespace emrm::safety

@@ -8,7 +8,7 @@
 #include "example_case.hpp"
 
 namespace emrm::safety {
-namespace {
+namespace traceability_test {
 
 SafetyCase example() { return parse_safety_case(testing::example_text(), "safety.yaml"); }
 
@@ -86,5 +86,5 @@ TEST(AnalysisJson, CountsMatchTheCase) {
   EXPECT_EQ(j["traceability"].size(), traceability_matrix(sc).size());
 }
 
-}  // namespace
+}  // namespace traceability_test
 }  // namespace emrm::safety

@@ -17,7 +17,7 @@
 #include "emrm/scenario/plan.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace coverage_test {
 
 using Points = std::vector<std::vector<double>>;
 
@@ -481,5 +481,5 @@ TEST(CoverageJson, ListsEveryCountAndConstraintInOrder) {
   EXPECT_EQ(j["all"], r.all());
 }
 
-}  // namespace
+}  // namespace coverage_test
 }  // namespace emrm::scenario

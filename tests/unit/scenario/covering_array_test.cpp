@@ -18,7 +18,7 @@
 #include "emrm/core/error.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace covering_array_test {
 
 using Rows = std::vector<std::vector<int>>;
 
@@ -368,5 +368,5 @@ TEST(CoveringArray, CheckerReportsAMissingPair) {
   EXPECT_EQ(report.required_tuples, 4U);
 }
 
-}  // namespace
+}  // namespace covering_array_test
 }  // namespace emrm::scenario

@@ -5,7 +5,7 @@
 #include "odd_support.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace odd_errors_test {
 
 using namespace test_support;  // NOLINT(google-build-using-namespace)
 using ::testing::HasSubstr;
@@ -268,5 +268,5 @@ TEST(OddErrors, IntegerNominalMustBeAWholeNumber) {
       (void)parse(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 4\n")));
 }
 
-}  // namespace
+}  // namespace odd_errors_test
 }  // namespace emrm::scenario

@@ -6,7 +6,7 @@
 #include "odd_support.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace odd_test {
 
 using namespace test_support;  // NOLINT(google-build-using-namespace)
 using ::testing::HasSubstr;
@@ -424,5 +424,5 @@ TEST(OddValidate, PlanBuildingAndTheCoverageCheckRejectABadOdd) {
   EXPECT_NO_THROW((void)build_plan(parse(kGood)));
 }
 
-}  // namespace
+}  // namespace odd_test
 }  // namespace emrm::scenario

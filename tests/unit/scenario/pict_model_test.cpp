@@ -7,7 +7,7 @@
 #include <string>
 
 namespace emrm::scenario {
-namespace {
+namespace pict_model_test {
 
 constexpr const char* kSample = R"(# Vehicle scenarios
 Speed: 30, 50, 70
@@ -138,5 +138,5 @@ TEST(PictModel, DeepNestingIsRefusedAndLongChainsStayFlat) {
     EXPECT_EQ(chain.violates(row), shortest.violates(row)) << row[0] << row[1];
 }
 
-}  // namespace
+}  // namespace pict_model_test
 }  // namespace emrm::scenario

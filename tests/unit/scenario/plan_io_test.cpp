@@ -18,7 +18,7 @@
 #include "input_error.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace plan_io_test {
 
 namespace fs = std::filesystem;
 using ::testing::ElementsAre;
@@ -392,5 +392,5 @@ TEST(ParseCsv, TextAfterAClosingQuoteIsAnError) {
   }
 }
 
-}  // namespace
+}  // namespace plan_io_test
 }  // namespace emrm::scenario

@@ -5,7 +5,7 @@
 #include "plan_support.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace plan_random_test {
 
 using namespace test_support;  // NOLINT(google-build-using-namespace)
 using ::testing::HasSubstr;
@@ -118,5 +118,5 @@ TEST(PlanSliver, ReachableBoundaryIsNotDeclaredInfeasible) {
   EXPECT_TRUE(report.c2) << describe(report) << "\n" << describe(plan);
 }
 
-}  // namespace
+}  // namespace plan_random_test
 }  // namespace emrm::scenario

@@ -22,13 +22,12 @@
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/statistics.hpp"
+#include "odd_support.hpp"
 
 namespace emrm::scenario::test_support {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-inline fs::path examples_dir() { return fs::path(EMRM_SOURCE_DIR) / "examples" / "tjunction"; }
 
 inline const Odd& shipped_odd() {
   static const Odd odd = load_odd(examples_dir() / "odd.yaml");

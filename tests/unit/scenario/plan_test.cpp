@@ -6,7 +6,7 @@
 #include "plan_support.hpp"
 
 namespace emrm::scenario {
-namespace {
+namespace plan_test {
 
 using namespace test_support;  // NOLINT(google-build-using-namespace)
 using ::testing::HasSubstr;
@@ -181,5 +181,5 @@ TEST(PlanShortfalls, AnEmptyRegionSaysSoAndWhy) {
   EXPECT_FALSE(measure_coverage(odd, points_of(plan), "plan").c4);  // C4 still fails: the checker is not told
 }
 
-}  // namespace
+}  // namespace plan_test
 }  // namespace emrm::scenario

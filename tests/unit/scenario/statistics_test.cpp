@@ -10,7 +10,7 @@
 #include <vector>
 
 namespace emrm::scenario {
-namespace {
+namespace statistics_test {
 
 // Wilson half-width written out from the score-interval formula, independently of the library.
 double wilson_half_width_by_formula(double k, double n, double z) {
@@ -277,5 +277,5 @@ TEST(StatisticsEffectiveSampleSize, IsKishsFormula) {
   EXPECT_NEAR(effective_sample_size(one_dominant), 1.0, 1e-6);
 }
 
-}  // namespace
+}  // namespace statistics_test
 }  // namespace emrm::scenario

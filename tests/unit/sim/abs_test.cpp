@@ -12,7 +12,7 @@
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace abs_test {
 
 constexpr double kDt = 0.01;
 constexpr double kG = kGravity_mps2;
@@ -225,5 +225,5 @@ TEST(Abs, LateralForceIsContinuousAsTheBrakeGoesToFull) {
   EXPECT_GT(std::abs(before.rear.lateral_n), 0.1 * mu * before.rear.normal_load_n);
 }
 
-}  // namespace
+}  // namespace abs_test
 }  // namespace emrm::sim

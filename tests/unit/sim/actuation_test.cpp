@@ -18,7 +18,7 @@
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace actuation_test {
 
 // The emergency stop as the strategy runs it: nothing during the perception latency, then full
 // braking with the wheels held straight.
@@ -273,5 +273,5 @@ TEST(Actuation, CertificatesUnderActuatorsAreMadeForThemAndCheckOnlyForThem) {
   EXPECT_TRUE(check_certificate(Scene(slow, back.cell), back));
 }
 
-}  // namespace
+}  // namespace actuation_test
 }  // namespace emrm::sim

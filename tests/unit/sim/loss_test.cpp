@@ -8,7 +8,7 @@
 #include <numbers>
 
 namespace emrm::sim {
-namespace {
+namespace loss_test {
 
 constexpr double kEgoMass = 1093.0;
 constexpr double kEgoInertia = 1792.0;
@@ -336,5 +336,5 @@ TEST(Loss, ImpactFromTheSceneGeometry) {
   EXPECT_EQ(impact.impact_speed_mps, scene.initial_speed_mps());
 }
 
-}  // namespace
+}  // namespace loss_test
 }  // namespace emrm::sim

@@ -20,7 +20,7 @@
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace outcome_model_test {
 
 const StrategyOutcome& outcome(const CellResult& r, const std::string& name) {
   for (const auto& o : r.strategies)
@@ -254,11 +254,11 @@ TEST(EmrmChoice, ALaterStrategysAvoidanceIsSharedWithAnEarlierOneWhoseLimitsItOb
   EXPECT_FALSE(avoidance_admissible(accident, dodge));
 }
 
-}  // namespace
+}  // namespace outcome_model_test
 }  // namespace emrm::sim
 
 namespace emrm::sim {
-namespace {
+namespace outcome_model_test {
 
 TEST(Witness, TheStitchedManeuverOfAPlannerReplaysItsRunStepForStep) {
   // The RRT builds its answer from tree edges rolled out from nodes at various times, recorded every
@@ -297,11 +297,11 @@ TEST(Witness, TheStitchedManeuverOfAPlannerReplaysItsRunStepForStep) {
   EXPECT_GT(compared, 10);
 }
 
-}  // namespace
+}  // namespace outcome_model_test
 }  // namespace emrm::sim
 
 namespace emrm::sim {
-namespace {
+namespace outcome_model_test {
 
 // The region of a cell for several seeds: the same for every seed, or undecided for every seed.
 ::testing::AssertionResult seed_stable(const SceneConfig& config, const CellInput& cell, int seeds) {
@@ -357,11 +357,11 @@ TEST(SeedStability, DISABLED_HundredCellsNearTheBoundariesFiveSeeds) {
   std::printf("seed stability: %d of %d cells stable over 5 seeds\n", stable, tried);
 }
 
-}  // namespace
+}  // namespace outcome_model_test
 }  // namespace emrm::sim
 
 namespace emrm::sim {
-namespace {
+namespace outcome_model_test {
 
 TEST(Evidence, ACertifiedCellSkipsTheAvoidanceSearchesAndSaysWhy) {
   // 70 km/h, 4.9 m to the truck: no car gets past it. The certificate settles the region, and
@@ -403,5 +403,5 @@ TEST(Evidence, GreenAndYellowCellsCarryWitnessesOrangeAndRedNeverDo) {
   }
 }
 
-}  // namespace
+}  // namespace outcome_model_test
 }  // namespace emrm::sim

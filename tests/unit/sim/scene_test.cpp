@@ -17,7 +17,7 @@
 #include "input_error.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace scene_test {
 
 using ::testing::HasSubstr;
 
@@ -540,5 +540,5 @@ TEST(ValidateCell, RejectsEachFactorOutOfRangeByName) {
   }
 }
 
-}  // namespace
+}  // namespace scene_test
 }  // namespace emrm::sim

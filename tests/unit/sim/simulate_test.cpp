@@ -8,9 +8,10 @@
 #include <cmath>
 
 #include "emrm/sim/json.hpp"
+#include "test_scale.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace simulate_test {
 
 // A scene in which every physically possible cell is feasible and long enough to stop in. The
 // emergency stop needs no search, so the planners get a token budget to keep these tests quick.
@@ -77,7 +78,7 @@ TEST(EmergencyStop, ImpactSpeedMatchesTheClosedForm) {
 
 TEST(EmergencyStop, MoreTimeOrMoreFrictionNeverTurnsAvoidanceIntoCollision) {
   const SceneConfig config = stop_only_scene();
-  for (double speed_kph = 30; speed_kph <= 72; speed_kph += 3) {
+  for (double speed_kph = 30; speed_kph <= 72; speed_kph += test::sample(3.0, 9.0)) {
     bool avoided_before = false;
     for (int k = 0; k < 46; ++k) {
       const CellInput cell{speed_kph, 0.25 + 0.06 * k, 1.0, 3.0, 10.0};
@@ -98,12 +99,14 @@ TEST(EmergencyStop, MoreTimeOrMoreFrictionNeverTurnsAvoidanceIntoCollision) {
 }
 
 // RRT strategies are sampled: their outcome may (rarely) get worse with more time or grip.
-// Such reversals are counted and must stay at or below 1 % of the cells.
+// Such reversals are counted and must stay at or below 1 % of the cells (every other speed under
+// the sanitizers).
 TEST(RrtStrategies, ReversalsWithMoreTimeOrGripAreAtMostOnePercent) {
   const SceneConfig config;
   int cells = 0;
   int reversals = 0;
-  for (double speed_kph = 30; speed_kph <= 72; speed_kph += 6) {
+  const double speed_step = test::sample(6.0, 12.0);
+  for (double speed_kph = 30; speed_kph <= 72; speed_kph += speed_step) {
     std::map<std::string, bool> before;
     for (int k = 0; k < 46; k += 3) {
       const auto r = simulate_cell(config, {speed_kph, 0.25 + 0.06 * k, 1.0, 3.0, 10.0}, {});
@@ -115,7 +118,7 @@ TEST(RrtStrategies, ReversalsWithMoreTimeOrGripAreAtMostOnePercent) {
       }
     }
   }
-  for (double speed_kph = 30; speed_kph <= 72; speed_kph += 6) {
+  for (double speed_kph = 30; speed_kph <= 72; speed_kph += speed_step) {
     std::map<std::string, bool> before;
     for (int m = 1; m <= 10; ++m) {
       const auto r = simulate_cell(config, {speed_kph, 1.0, 0.1 * m, 3.0, 10.0}, {});
@@ -243,5 +246,5 @@ TEST(Inputs, BadCellsAndStrategiesAreUsageErrors) {
   EXPECT_THROW((void)simulate_cell(config, {50.0, 1.0, 1.0, 3.0, 10.0}, only({"teleport"})), UsageError);
 }
 
-}  // namespace
+}  // namespace simulate_test
 }  // namespace emrm::sim

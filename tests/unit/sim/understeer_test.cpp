@@ -10,7 +10,7 @@
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace understeer_test {
 
 constexpr double kDt = 0.01;
 constexpr double kG = kGravity_mps2;
@@ -99,5 +99,5 @@ TEST(Understeer, SteadyStateSteerTestGivesAPassengerCarUndersteerGradient) {
   EXPECT_LE(slope_deg_per_g, 4.0);
 }
 
-}  // namespace
+}  // namespace understeer_test
 }  // namespace emrm::sim

@@ -13,7 +13,7 @@
 #include "emrm/core/error.hpp"
 
 namespace emrm::sim {
-namespace {
+namespace vehicle_test {
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
@@ -474,5 +474,5 @@ TEST(KinematicBicycle, HasNoTireForces) {
   EXPECT_FALSE(f.rear.saturated);
 }
 
-}  // namespace
+}  // namespace vehicle_test
 }  // namespace emrm::sim
