@@ -292,11 +292,12 @@ inline Slip advance(const Slip& z, const Slip& d, double step) {
           z.r + step * d.r,   z.psi + step * d.psi, z.dv + step * d.dv};
 }
 
-// (C8a) The spin rate: from it on the two axles cannot turn the car the same way. Say r > 0. The yaw moment lf q_f − lr q_r has both parts positive only if q_r < 0, so
-// v_r > 0 (the rear's force opposes its slip), v > lr r and v_f = v + lf r > L r; then
-// w_f = v_f cos δ − u sin δ > L r cos δ − u sin δ ≥ 0 once r ≥ u tan δ / L, so F_yf ≤ 0 and
-// q_f = F_xf sin δ + F_yf cos δ ≤ |F_xf| sin Δ. With u ≤ v0 and |δ| ≤ Δ: from |r| ≥ v0 tan Δ / L on
-// the yaw moment is at most max(lf Q_f, lf |F_xf| sin Δ + lr Q_r) (likewise for r < 0).
+// (C8a) The spin rate: from it on the two axles cannot turn the car the same way. Say r > 0. The
+// yaw moment lf q_f − lr q_r has both parts positive only if q_r < 0, so v_r > 0 (the rear's force
+// opposes its slip), v > lr r and v_f = v + lf r > L r; then w_f = v_f cos δ − u sin δ > L r cos δ
+// − u sin δ ≥ 0 once r ≥ u tan δ / L, so F_yf ≤ 0 and q_f = F_xf sin δ + F_yf cos δ ≤ |F_xf| sin Δ.
+// With u ≤ v0 and |δ| ≤ Δ: from |r| ≥ v0 tan Δ / L on the yaw moment is at most
+// max(lf Q_f, lf |F_xf| sin Δ + lr Q_r) (likewise for r < 0).
 
 // One implicit step from z over `step` with the rates `r` taken at its end (C8): |r| grows at most
 // at d.r, and past the spin rate at the step's end (≥ the spin rate on the whole step: Δ is

@@ -56,17 +56,10 @@ RunResult interrupted_emrm(const std::vector<std::string>& args, const fs::path&
 }
 
 // 240 cells; 64 under the sanitizers, which run every cell five to ten times slower.
-constexpr const char* kCampaign = test::sample(R"(seed: 5
-grids:
-  - name: map
-    speed_kph: {from: 30, to: 72, step: 3}
-    ttc_s: {from: 0.25, to: 1.45, step: 0.08}
-)", R"(seed: 5
-grids:
-  - name: map
-    speed_kph: {from: 30, to: 72, step: 6}
-    ttc_s: {from: 0.25, to: 1.45, step: 0.16}
-)");
+const std::string kCampaign = std::string("seed: 5\ngrids:\n  - name: map\n") +
+                              "    speed_kph: {from: 30, to: 72, step: " + test::sample("3", "6") + "}\n" +
+                              "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.08", "0.16") +
+                              "}\n";
 
 TEST(InterruptCli, SigintDuringSweepKeepsWhatIsDoneAndTheRerunCompletesIt) {
   const auto dir = scratch_dir("interrupt-sweep");
