@@ -53,12 +53,12 @@ struct Polygon {
   std::size_t count = 0;
 };
 
-// b's rectangle clipped to a's (Sutherland–Hodgman), with a's edges moved out by `tolerance_m`.
-Polygon overlap_polygon(const Frame& a, const Frame& b, double tolerance_m) noexcept {
+// b's rectangle clipped to a's (Sutherland–Hodgman).
+Polygon overlap_polygon(const Frame& a, const Frame& b) noexcept {
   Polygon current;
   for (const Vec2& c : corners_of(b)) current.vertices[current.count++] = c;
   for (const Vec2& n : face_normals_of(a)) {
-    const double limit = a.center.dot(n) + radius_along(a, n) + tolerance_m;
+    const double limit = a.center.dot(n) + radius_along(a, n);
     Polygon next;
     for (std::size_t i = 0; i < current.count; ++i) {
       const Vec2 p = current.vertices[i];
@@ -77,7 +77,14 @@ Polygon overlap_polygon(const Frame& a, const Frame& b, double tolerance_m) noex
   return current;
 }
 
-// Area centroid, or the mean of the vertices when the region has no area (boxes that touch).
+// The box with every side moved out by `margin_m`.
+Frame grown(Frame f, double margin_m) noexcept {
+  f.half_length += margin_m;
+  f.half_width += margin_m;
+  return f;
+}
+
+// Area centroid, or the mean of the vertices when the region has no area.
 Vec2 centroid(const Polygon& poly) noexcept {
   Vec2 mean;
   for (std::size_t i = 0; i < poly.count; ++i) mean = mean + poly.vertices[i];
@@ -96,7 +103,7 @@ Vec2 centroid(const Polygon& poly) noexcept {
   return mean + weighted * (1.0 / (3.0 * twice_area));
 }
 
-// Only reached through rounding when the boxes barely touch: b's corner furthest into a.
+// Only reached if rounding lost a region a millimetre thick: b's corner furthest into a.
 Vec2 deepest_corner(const Frame& b, Vec2 normal) noexcept {
   const auto corners = corners_of(b);
   std::size_t deepest = 0;
@@ -183,16 +190,15 @@ Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept {
   const Vec2 axis = axes[static_cast<std::size_t>(best)];
   out.normal = d.dot(axis) >= 0.0 ? axis : -axis;
 
-  // The point is the centroid of the overlap region: inside both boxes however deep the
-  // penetration, the same for contact(a, b) and contact(b, a), on the struck face for a corner hit
-  // and in the middle of the overlap for a face-to-face one.
-  Polygon region = overlap_polygon(fa, fb, 0.0);
-  if (region.count == 0) {
-    // Boxes that only touch can lose their common edge or corner to rounding: widen a by a
-    // nanometre-scale hair (only here, so that it never biases a real overlap).
-    const double hair_m = 1e-9 * (1.0 + std::abs(fa.center.x) + std::abs(fa.center.y) + fa.half_length);
-    region = overlap_polygon(fa, fb, hair_m);
-  }
+  // The point is the centroid of the region within kContactSlop_m of both boxes (their overlap,
+  // each grown by the slop): inside both to the slop however deep the penetration, the same for
+  // contact(a, b) and contact(b, a), in the middle of the overlap for a face-to-face contact and on
+  // the struck face for a corner hit. The slop keeps it well-conditioned: the overlap's own centroid
+  // jumps from the middle of two faces to a corner at the slightest tilt between them (a shallow
+  // overlap of tilted faces is a triangle at one end), and a recorded heading is never exact; the
+  // region is never thinner than twice the slop, so its centroid moves continuously with the tilt.
+  // Parallel faces give the overlap's own centroid (the region grows equally on every side).
+  const Polygon region = overlap_polygon(grown(fa, kContactSlop_m), grown(fb, kContactSlop_m));
   out.point = region.count > 0 ? centroid(region) : deepest_corner(fb, out.normal);
   return out;
 }

@@ -47,12 +47,21 @@ struct OrientedBox {
 /// advancement needs. Zero or negative when they overlap or touch.
 [[nodiscard]] double separation_lower_bound(const OrientedBox& a, const OrientedBox& b) noexcept;
 
+/// Two boxes' parts within this of each other count as the contact's region: the contact point is
+/// the centroid of their overlap with each grown by it (docs/physics.md, "Impacts and losses").
+inline constexpr double kContactSlop_m = 1e-3;
+
 /// Contact between two rectangles found by the separating-axis test.
 struct Contact {
   bool touching = false;
   Vec2 normal;         ///< unit, pointing from a towards b, along the axis of least penetration
   double depth_m = 0;  ///< penetration along `normal` (0 when not touching)
-  Vec2 point;          ///< a representative contact point: the centroid of the overlap (inside both)
+  /// A representative contact point: the centroid of the overlap of the two boxes each grown by
+  /// kContactSlop_m (inside both to the slop). Continuous in the boxes' poses at any depth: faces
+  /// that touch give the middle of their common stretch (exactly the overlap's centroid when they are
+  /// parallel), and a tilt between them moves it by at most width²/(12·slop) per radian, where the
+  /// bare overlap's centroid jumped to a corner at a tilt of depth/width.
+  Vec2 point;
 };
 
 /// The contact of a with b; `touching` is exactly overlaps(a, b), and the rest is zero when false.

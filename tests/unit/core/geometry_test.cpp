@@ -268,15 +268,16 @@ TEST(Contact, CornerOfADiamondIsTheContactPoint) {
   ASSERT_TRUE(c.touching);
   EXPECT_NEAR(c.depth_m, 0.1, 1e-12);
   EXPECT_NEAR(c.normal.x, 1.0, 1e-12);
-  // The overlap is the diamond's tip, a triangle (0.9, 0), (1, ±0.1): the point is its centroid.
-  EXPECT_NEAR(c.point.x, 1.0 - 0.1 / 3.0, 1e-12);
+  // The overlap is the diamond's tip, a triangle (0.9, 0), (1, ±0.1): the point is its centroid (to
+  // the slop, by which both boxes grow for it).
+  EXPECT_NEAR(c.point.x, 1.0 - 0.1 / 3.0, kContactSlop_m);
   EXPECT_NEAR(c.point.y, 0.0, 1e-12);
 
   // The other way round the normal flips and the point stays.
   const auto r = contact(diamond, square);
   EXPECT_NEAR(r.normal.x, -1.0, 1e-12);
   EXPECT_NEAR(r.depth_m, 0.1, 1e-12);
-  EXPECT_NEAR(r.point.x, 1.0 - 0.1 / 3.0, 1e-12);
+  EXPECT_NEAR(r.point.x, c.point.x, 1e-12);
 }
 
 TEST(Contact, CarFrontIntoTruckSideIsCentralOnTheBumper) {
@@ -288,6 +289,50 @@ TEST(Contact, CarFrontIntoTruckSideIsCentralOnTheBumper) {
   EXPECT_NEAR(c.depth_m, 0.3, 1e-12);
   EXPECT_NEAR(c.point.x, 0.15, 1e-12);   // the middle of the 0.3 m deep overlap
   EXPECT_NEAR(c.point.y, -1.75, 1e-12);  // on the line of the ego's CG: r × n = 0
+}
+
+// A car's front against a truck's side, the car turned by `tilt` and placed so that its deepest
+// corner is `depth` into the truck (the moment a contact is timed, by bisection, to micrometres).
+OrientedBox car_into_side(double tilt_rad, double depth_m) {
+  const double length = 4.508, width = 1.61;
+  const double reach = length / 2 * std::cos(tilt_rad) + width / 2 * std::abs(std::sin(tilt_rad));
+  return box(depth_m - reach, -1.75, tilt_rad, length, width);
+}
+const OrientedBox kTruckSide = box(1.25, 0.0, -kPi / 2, 10.0, 2.5);  // near side at x = 0
+
+// The point is well-conditioned in the heading: faces parallel to rounding (a recorded heading is
+// never exact) give the point exactly parallel faces give, the middle of the bumper, and a larger
+// tilt moves it towards the leading corner at a bounded rate whatever the depth. (The overlap's own
+// centroid moved W²/(12·depth) per radian of tilt: without bound at the moment of first touch,
+// where the depth is micrometres and a tilt of 1e-7 rad put it at the corner.)
+TEST(Contact, PointIsContinuousAsTheFacesTurnParallel) {
+  for (const double depth : {1e-9, 1e-6, 1e-4}) {
+    const Contact parallel = contact(car_into_side(0.0, depth), kTruckSide);
+    ASSERT_TRUE(parallel.touching);
+    EXPECT_NEAR(parallel.point.x, depth / 2, 1e-12);
+    EXPECT_NEAR(parallel.point.y, -1.75, 1e-12);  // the middle of the bumper
+    for (const double sign : {1.0, -1.0}) {
+      for (double tilt = 1e-12; tilt <= 1e-7; tilt *= 10) {
+        const Contact c = contact(car_into_side(sign * tilt, depth), kTruckSide);
+        ASSERT_TRUE(c.touching);
+        EXPECT_LT((c.point - parallel.point).norm(), 2e-5) << "tilt " << sign * tilt << " depth " << depth;
+      }
+      Vec2 previous = parallel.point;
+      const double step = 1e-7;
+      for (int k = 1; k * step <= 0.01; ++k) {
+        const Contact c = contact(car_into_side(sign * k * step, depth), kTruckSide);
+        ASSERT_TRUE(c.touching);
+        ASSERT_LT((c.point - previous).norm(), 1000.0 * step) << "tilt " << sign * k * step << " depth " << depth;
+        previous = c.point;
+      }
+      // At 0.1 rad, by the leading corner.
+      const OrientedBox car = car_into_side(sign * 0.1, depth);
+      Vec2 corner = car.corners()[0];
+      for (const Vec2& k : car.corners())
+        if (k.x > corner.x) corner = k;
+      EXPECT_LT((contact(car, kTruckSide).point - corner).norm(), 0.02) << depth;
+    }
+  }
 }
 
 TEST(Contact, TouchingBoxesHaveZeroDepth) {
@@ -318,9 +363,9 @@ TEST(Contact, AgreesWithOverlapsAndIsTheMinimumTranslation) {
       pushed.center = b.center + c.normal * (c.depth_m - 1e-5);
       ASSERT_TRUE(overlaps(a, pushed)) << "case " << i;
     }
-    // The point lies in both boxes, and swapping them flips the normal only.
-    ASSERT_TRUE(inside_or_on(a, c.point, 1e-9)) << "case " << i;
-    ASSERT_TRUE(inside_or_on(b, c.point, 1e-9)) << "case " << i;
+    // The point lies in both boxes (to the slop), and swapping them flips the normal only.
+    ASSERT_TRUE(inside_or_on(a, c.point, kContactSlop_m + 1e-9)) << "case " << i;
+    ASSERT_TRUE(inside_or_on(b, c.point, kContactSlop_m + 1e-9)) << "case " << i;
     const auto swapped = contact(b, a);
     ASSERT_TRUE(swapped.touching);
     ASSERT_NEAR(swapped.depth_m, c.depth_m, 1e-9) << "case " << i;
