@@ -21,7 +21,6 @@ using sim::kKphPerMps;
 // simulator's own continuous collision check (docs/physics.md), so that a trajectory emrm executed
 // up to the moment of contact is judged a contact.
 constexpr double kTouch_m = 0.5e-3;
-constexpr double kStoppedSpeed_mps = 0.05;  // sim's StoppedTest
 // A recording that ends moving within this of the truck (or the road's edge) ended at a contact
 // (a departure): the reach of sim::truck_impact's nudge, within which the simulator itself assesses
 // the state it integrated to the first touch as a contact.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -232,6 +233,12 @@ void axles(XmlWriter& x, double wheelbase, double max_steer, double track, doubl
   x.close();
 }
 
+// esmini's own switch (an entity property, which other engines ignore): the heading interpolated
+// linearly over each segment of a trajectory, so that it is the vertices' at their times. Without
+// it, followingMode "position" makes esmini blend the headings of neighbouring vertices, half a
+// step late, and snap to the last one at the end (docs/openscenario.md, "esmini").
+void pline_interpolation(XmlWriter& x) { x.leaf("Property", {{"name", "plineInterpolation"}, {"value", "segment"}}); }
+
 void entities(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions& options) {
   const sim::VehicleParams& ego = config.ego;
   const sim::TruckConfig& truck = config.truck;
@@ -248,6 +255,7 @@ void entities(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions&
   x.open("Properties");
   x.leaf("Property", {{"name", "yaw_inertia_kgm2"}, {"value", num(ego.yaw_inertia_kgm2)}});
   x.leaf("Property", {{"name", "cg_to_rear_axle_m"}, {"value", num(ego.cg_to_rear_axle_m)}});
+  pline_interpolation(x);
   x.close();
   x.close();
   x.close();
@@ -262,6 +270,7 @@ void entities(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions&
   axles(x, truck.length_m - 2.0 * overhang, 0.6, std::max(truck.width_m - 0.3, 0.1), options.truck_wheel_diameter_m);
   x.open("Properties");
   x.leaf("Property", {{"name", "yaw_inertia_kgm2"}, {"value", num(truck.yaw_inertia_kgm2)}});
+  pline_interpolation(x);
   x.close();
   x.close();
   x.close();
@@ -322,46 +331,27 @@ void maneuver_group(XmlWriter& x, const std::string& name, const char* entity) {
   x.close();
 }
 
-// The truck: its driver brakes from t = 0 at the scene's deceleration to a standstill (or, without
-// braking, keeps its speed).
-void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const Initial& i, bool parametric) {
-  maneuver_group(x, "TruckManeuverGroup", kTruckEntity);
-  x.open("Maneuver", {{"name", "TruckCrossing"}});
-  x.open("Event", {{"name", "TruckBrakes"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
-  x.open("Action", {{"name", "TruckBrakeToStop"}});
-  x.open("PrivateAction");
-  if (config.truck.decel_mps2 > 0.0)
-    speed_action(x, "linear", "rate", num(config.truck.decel_mps2), "0");
-  else
-    speed_action(x, "step", "time", "0", i.truck_speed.text(parametric));
-  x.close();
-  x.close();
-  start_at_zero(x, "TruckBrakesAtHazard");
+void maneuver_group_end(XmlWriter& x, const std::string& trigger) {
+  start_at_zero(x, trigger);
   x.close();
   x.close();
   x.close();
 }
 
-// The ego follows its executed trajectory, reference point (rear axle) at each vertex's time.
-void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory& trajectory,
-                  const ExportOptions& options) {
-  const double back = ego_reference_offset_m(config.ego);
-  maneuver_group(x, "EgoManeuverGroup", kEgoEntity);
-  x.open("Maneuver", {{"name", "EgoExecutedTrajectory"}});
-  x.open("Event", {{"name", "EgoFollowsTrajectory"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
-  x.open("Action", {{"name", "EgoFollowTrajectory"}});
+// A FollowTrajectoryAction along a timed polyline (absolute times from the hazard); `vertex`
+// writes the position of the k-th of `times`.
+template <class Vertex>
+void follow_trajectory(XmlWriter& x, const std::string& name, const std::vector<double>& times, Vertex&& vertex) {
   x.open("PrivateAction");
   x.open("RoutingAction");
   x.open("FollowTrajectoryAction");
   x.open("TrajectoryRef");
-  x.open("Trajectory", {{"name", "emrm_" + trajectory.strategy}, {"closed", "false"}});
+  x.open("Trajectory", {{"name", name}, {"closed", "false"}});
   x.open("Shape");
   x.open("Polyline");
-  for (const auto& p : thin_path(with_final_stop(trajectory.path, config.simulation.dt_s), options.tolerance_m)) {
-    const auto& s = p.state;
-    x.open("Vertex", {{"time", num(p.t_s)}});
-    world_position(x, num(s.x_m - back * std::cos(s.yaw_rad)), num(s.y_m - back * std::sin(s.yaw_rad)),
-                   num(s.yaw_rad));
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    x.open("Vertex", {{"time", num(times[k])}});
+    vertex(k);
     x.close();
   }
   x.close();
@@ -375,11 +365,79 @@ void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTraject
   x.close();
   x.close();
   x.close();
+}
+
+// The times of the truck's polyline: every frame while it moves, the moment it comes to rest (the
+// latest of the scenarios the file stands for), and the end of the run; a truck that does not brake
+// moves on a straight line at one speed, which its two ends give exactly.
+std::vector<double> truck_vertex_times(const sim::SceneConfig& config, double rest_s, double end_s) {
+  if (!(config.truck.decel_mps2 > 0.0)) return {0.0, end_s};
+  const double dt = config.simulation.dt_s;
+  const double moving_s = std::min(rest_s, end_s);
+  std::vector<double> times;
+  for (int k = 0; static_cast<double>(k) * dt < moving_s - 1e-9; ++k) times.push_back(static_cast<double>(k) * dt);
+  times.push_back(moving_s);
+  if (end_s > moving_s + 1e-9) times.push_back(end_s);
+  return times;
+}
+
+// The truck's rear axle on the side road at time t: where the scene's truck is (Scene::truck_at),
+// and for the logical scenario the expression of the parameters that gives it: the passage plus
+// the travel still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's
+// operators as (w + sqrt(w·w)) / 2.
+Quantity truck_y_at(const sim::SceneConfig& config, const sim::CellInput& cell, const ExportOptions& options,
+                    double t_s) {
+  const sim::Scene scene(config, cell);
+  const double back = truck_reference_offset_m(config.truck, options);
+  const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
+  const double a = config.truck.decel_mps2;
+  std::string ahead;
+  if (a > 0.0) {
+    const std::string w = "($truck_speed_kph / 3.6" + plus(-a * t_s) + ")";
+    const std::string moving = "((" + w + " + sqrt(" + w + " * " + w + ")) / 2)";
+    ahead = moving + " * " + moving + " / " + num(2.0 * a);
+  } else {
+    ahead = "$truck_speed_kph / 3.6 * ($ttc_s" + plus(-t_s) + ")";
+  }
+  return {scene.truck_at(t_s).box.center.y + back, "${$passage_m + " + ahead + plus(y_constant) + "}"};
+}
+
+// The truck: its driver brakes from t = 0 at the scene's deceleration to a standstill (or, without
+// braking, keeps its speed), as a timed trajectory of the scene's motion: a simulator then has the
+// truck where the cell has it at every frame, instead of integrating a SpeedAction its own way
+// (esmini's semi-implicit step leaves it v·dt/2 short of the cell's passage).
+void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::CellInput& cell, const Initial& i,
+                    const ExportOptions& options, bool parametric, double rest_s, double end_s) {
+  maneuver_group(x, "TruckManeuverGroup", kTruckEntity);
+  x.open("Maneuver", {{"name", "TruckCrossing"}});
+  x.open("Event", {{"name", "TruckBrakes"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
+  x.open("Action", {{"name", "TruckBrakeToStop"}});
+  const std::vector<double> times = truck_vertex_times(config, rest_s, end_s);
+  const std::string heading = num(-std::numbers::pi / 2.0);
+  follow_trajectory(x, "emrm_truck", times, [&](std::size_t k) {
+    world_position(x, i.truck_x.text(parametric), truck_y_at(config, cell, options, times[k]).text(parametric), heading);
+  });
   x.close();
-  start_at_zero(x, "EgoStartsAtHazard");
+  maneuver_group_end(x, "TruckBrakesAtHazard");
+}
+
+// The ego follows its executed trajectory, reference point (rear axle) at each vertex's time.
+void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory& trajectory,
+                  const std::vector<sim::PathPoint>& vertices) {
+  const double back = ego_reference_offset_m(config.ego);
+  maneuver_group(x, "EgoManeuverGroup", kEgoEntity);
+  x.open("Maneuver", {{"name", "EgoExecutedTrajectory"}});
+  x.open("Event", {{"name", "EgoFollowsTrajectory"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
+  x.open("Action", {{"name", "EgoFollowTrajectory"}});
+  std::vector<double> times;
+  for (const auto& p : vertices) times.push_back(p.t_s);
+  follow_trajectory(x, "emrm_" + trajectory.strategy, times, [&](std::size_t k) {
+    const auto& s = vertices[k].state;
+    world_position(x, num(s.x_m - back * std::cos(s.yaw_rad)), num(s.y_m - back * std::sin(s.yaw_rad)),
+                   num(s.yaw_rad));
+  });
   x.close();
-  x.close();
-  x.close();
+  maneuver_group_end(x, "EgoStartsAtHazard");
 }
 
 void parameter_declarations(XmlWriter& x, const sim::CellInput& cell, const std::string& road_file,
@@ -394,10 +452,19 @@ void parameter_declarations(XmlWriter& x, const sim::CellInput& cell, const std:
   x.close();
 }
 
+// `truck_rest_s`: when the truck comes to rest (the latest over the scenarios a logical scenario
+// stands for), infinite when it does not brake.
 std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell, const EgoTrajectory* trajectory,
                          const ExportOptions& options, const std::string& road_file, bool parametric,
-                         const std::string& scenario_id) {
+                         const std::string& scenario_id, double truck_rest_s) {
   const Initial i = initial_of(config, cell, options);
+  std::vector<sim::PathPoint> vertices;
+  if (trajectory != nullptr)
+    vertices = ended_on_frame_grid(thin_path(with_final_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m),
+                                   config.simulation.dt_s);
+  // The storyboard ends with the trajectory (the ego's final state), else after the longest run
+  // the simulator would make: the horizon, then the recovery after the truck.
+  const double end_s = !vertices.empty() ? vertices.back().t_s : config.simulation.horizon_s + config.safe_state.horizon_s;
   XmlWriter x;
   x.open("OpenSCENARIO");
   file_header(x, parametric ? fmt::format("{}: logical scenario of an emrm plan", config.name)
@@ -415,22 +482,23 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
   init(x, i, parametric);
   x.open("Story", {{"name", "EmrmStory"}});
   x.open("Act", {{"name", "EmrmAct"}});
-  truck_maneuver(x, config, i, parametric);
-  if (trajectory != nullptr) ego_maneuver(x, config, *trajectory, options);
+  truck_maneuver(x, config, cell, i, options, parametric, truck_rest_s, end_s);
+  if (!vertices.empty()) ego_maneuver(x, config, *trajectory, vertices);
   start_at_zero(x, "ActStartsAtHazard");
   x.close();
   x.close();
-  // The storyboard ends with the trajectory (the ego's final state), else after the longest run
-  // the simulator would make: the horizon, then the recovery after the truck.
-  const double end_s = trajectory != nullptr && !trajectory->path.empty()
-                           ? trajectory->path.back().t_s
-                           : config.simulation.horizon_s + config.safe_state.horizon_s;
   x.open("StopTrigger");
   time_condition(x, "EndOfRun", "greaterOrEqual", end_s);
   x.close();
   x.close();
   x.close();
   return std::move(x).str();
+}
+
+// When the cell's truck comes to rest (infinite when it does not brake).
+double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell) {
+  return config.truck.decel_mps2 > 0.0 ? cell.truck_speed_kph / kKphPerMps / config.truck.decel_mps2
+                                       : std::numeric_limits<double>::infinity();
 }
 
 void require_feasible(const sim::SceneConfig& config, const sim::CellInput& cell) {
@@ -626,10 +694,36 @@ std::vector<sim::PathPoint> thin_path(const std::vector<sim::PathPoint>& path, d
   return kept;
 }
 
+std::vector<sim::PathPoint> ended_on_frame_grid(const std::vector<sim::PathPoint>& path, double dt_s) {
+  if (path.empty()) return path;
+  const sim::PathPoint& last = path.back();
+  // The first frame at or after the end (the path's times are sums of steps: a hair of slack).
+  const double frame_s = std::ceil(last.t_s / dt_s - 1e-6) * dt_s;
+  std::vector<sim::PathPoint> out = path;
+  sim::PathPoint held = last;
+  if (last.state.speed_mps() < kStoppedSpeed_mps) {
+    // At rest: the pose held to one frame after that one, a frame that does not move.
+    held.t_s = std::max(frame_s, last.t_s) + dt_s;
+    held.state.vx_mps = held.state.vy_mps = held.state.yaw_rate_radps = 0.0;
+    out.push_back(held);
+  } else if (frame_s > last.t_s + 1e-9 * dt_s) {
+    // Moving (a contact, a departure): on at the final velocity and yaw rate to that frame.
+    const double tau = frame_s - last.t_s;
+    const auto& s = last.state;
+    const auto [c, sn] = core::cos_sin(s.yaw_rad);
+    held.t_s = frame_s;
+    held.state.x_m += (s.vx_mps * c - s.vy_mps * sn) * tau;
+    held.state.y_m += (s.vx_mps * sn + s.vy_mps * c) * tau;
+    held.state.yaw_rad += last.state.yaw_rate_radps * tau;
+    out.push_back(held);
+  }
+  return out;
+}
+
 std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                              const EgoTrajectory* trajectory, const ExportOptions& options,
                              const std::string& road_file) {
-  return scenario_xml(config, cell, trajectory, options, road_file, false, "cell");
+  return scenario_xml(config, cell, trajectory, options, road_file, false, "cell", truck_rest_s(config, cell));
 }
 
 std::vector<fs::path> export_cell(const fs::path& dir, const sim::SceneConfig& config, const sim::CellInput& cell,
@@ -677,8 +771,10 @@ PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, cons
   }
 
   std::vector<core::FileContent> files;
+  double rest_s = 0.0;
+  for (const auto& c : concrete) rest_s = std::max(rest_s, truck_rest_s(config, c.cell));
   files.push_back({dir / kScenarioFile, scenario_xml(config, concrete.front().cell, nullptr, options,
-                                                     concrete.front().road_file, true, concrete.front().id)});
+                                                     concrete.front().road_file, true, concrete.front().id, rest_s)});
   XmlWriter x;
   x.open("OpenSCENARIO");
   file_header(x, fmt::format("{}: the {} concrete scenarios of an emrm plan ({})", config.name, concrete.size(),

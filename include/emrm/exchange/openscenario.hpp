@@ -25,6 +25,9 @@ inline constexpr const char* kScenarioFile = "tjunction.xosc";
 inline constexpr const char* kDistributionFile = "tjunction_distribution.xosc";
 inline constexpr const char* kRoadsFolder = "roads";
 
+/// Below this speed a car is at rest (sim's stopped test).
+inline constexpr double kStoppedSpeed_mps = 0.05;
+
 /// What the export assumes beyond the scene, which models the vehicles as boxes on the road plane.
 struct ExportOptions {
   double ego_height_m = 1.4;
@@ -82,8 +85,17 @@ struct EgoTrajectory {
 /// needs; the first and last always. tolerance 0: all of them.
 [[nodiscard]] std::vector<sim::PathPoint> thin_path(const std::vector<sim::PathPoint>& path, double tolerance_m);
 
-/// One cell as an OpenSCENARIO 1.2 scenario referencing `road_file`; with `trajectory`, the ego
-/// follows it and the storyboard stops at its last vertex.
+/// A path ended on the frames of a simulator that steps at `dt_s` from t = 0 (esmini with
+/// `--fixed_timestep`), which records the first frame at or after a trajectory's end with the speed
+/// of the step before: a path that ends at rest (below kStoppedSpeed_mps) holds its last pose to one
+/// frame after that one, a frame that does not move; a path that ends moving (at a contact or a
+/// departure) goes on at its final velocity and yaw rate to that frame. A path that ends moving on
+/// a frame is returned unchanged.
+[[nodiscard]] std::vector<sim::PathPoint> ended_on_frame_grid(const std::vector<sim::PathPoint>& path, double dt_s);
+
+/// One cell as an OpenSCENARIO 1.2 scenario referencing `road_file`; the truck follows its motion in
+/// the cell as a timed trajectory; with `trajectory`, the ego follows it (ended on the frame grid,
+/// ended_on_frame_grid) and the storyboard stops at its last vertex.
 [[nodiscard]] std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                                            const EgoTrajectory* trajectory, const ExportOptions& options,
                                            const std::string& road_file = kRoadFile);

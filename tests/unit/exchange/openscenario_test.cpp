@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <numbers>
 #include <random>
@@ -103,6 +104,73 @@ TEST(OpenDrive, LaneBordersAreTheScenesRoad) {
   }
 }
 
+// The truck's polyline, read back: the truck's centre at time t (its rear axle moved forward along
+// its heading), linear between vertices as an engine interpolates it.
+struct TruckPath {
+  std::vector<double> t, x, y, h;
+  [[nodiscard]] core::Vec2 center_at(double time, double back_m) const {
+    std::size_t i = 0;
+    while (i + 2 < t.size() && time > t[i + 1]) ++i;
+    const double u = std::clamp((time - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0);
+    const double heading = h[i] + u * (h[i + 1] - h[i]);
+    return {x[i] + u * (x[i + 1] - x[i]) + back_m * std::cos(heading),
+            y[i] + u * (y[i + 1] - y[i]) + back_m * std::sin(heading)};
+  }
+};
+
+TruckPath truck_path_of(const Document& xosc, const std::function<double(const std::string&)>& value) {
+  const std::string v = "//ManeuverGroup[Actors/EntityRef/@entityRef='Truck']//Polyline/Vertex";
+  TruckPath p;
+  for (const auto& [out, attribute] : {std::pair{&p.t, "/@time"}, std::pair{&p.x, "/Position/WorldPosition/@x"},
+                                       std::pair{&p.y, "/Position/WorldPosition/@y"},
+                                       std::pair{&p.h, "/Position/WorldPosition/@h"}})
+    for (const auto& text : xosc.all(v + attribute)) out->push_back(value(text));
+  return p;
+}
+
+// The truck follows a timed trajectory of the scene's motion: at every vertex, and at every frame
+// of a simulator stepping at the scene's dt in between, it is where the cell has it (a simulator
+// integrating a SpeedAction its own way leaves it elsewhere: esmini v·dt/2 short).
+TEST(OpenScenario, TruckTrajectoryIsTheScenesTruckAtEveryFrame) {
+  sim::SceneConfig no_braking;
+  no_braking.truck.decel_mps2 = 0.0;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> speed(20, 70), passage(1.0, 4.0), truck(3, 25);
+  for (const sim::SceneConfig& config : {sim::SceneConfig{}, odd_scene(), no_braking}) {
+    const double back = truck_reference_offset_m(config.truck, {});
+    const double dt = config.simulation.dt_s;
+    for (int k = 0; k < 6; ++k) {
+      const double v = speed(rng);
+      const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
+      const sim::CellInput cell = cell_of(v, ttc, 0.8, passage(rng), truck(rng));
+      const sim::Scene scene(config, cell);
+      sim::CellOptions options;
+      options.strategies = {"emergency_stop"};
+      const sim::CellResult result = sim::simulate_cell(config, cell, options);
+      const EgoTrajectory trajectory{result.strategies.front().strategy, result.strategies.front().path};
+      for (const EgoTrajectory* with : {static_cast<const EgoTrajectory*>(nullptr), &trajectory}) {
+        const Document xosc(openscenario_xml(config, cell, with, {}));
+        const TruckPath p = truck_path_of(xosc, [](const std::string& text) { return std::stod(text); });
+        ASSERT_GE(p.t.size(), 2u);
+        EXPECT_EQ(p.t.front(), 0.0);
+        const double end = xosc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value");
+        EXPECT_GE(p.t.back(), end);
+        for (std::size_t i = 0; i < p.t.size(); ++i) {
+          const core::Vec2 c = p.center_at(p.t[i], back);
+          const core::Vec2 expected = scene.truck_at(p.t[i]).box.center;
+          EXPECT_NEAR(c.x, expected.x, 1e-3) << "vertex " << i << " at " << p.t[i] << " s";
+          EXPECT_NEAR(c.y, expected.y, 1e-3) << "vertex " << i << " at " << p.t[i] << " s";
+          EXPECT_NEAR(p.h[i], -std::numbers::pi / 2.0, 1e-12);
+        }
+        for (int f = 0; f * dt <= end; ++f) {
+          const double t = f * dt;
+          EXPECT_NEAR(p.center_at(t, back).y, scene.truck_at(t).box.center.y, 1e-3) << "frame at " << t << " s";
+        }
+      }
+    }
+  }
+}
+
 // The truck at rest, from the scenario: its initial reference point, speed and braking, and its
 // bounding box around the reference point.
 TEST(OpenScenario, TruckStopsWherePassageIsTheCells) {
@@ -119,16 +187,18 @@ TEST(OpenScenario, TruckStopsWherePassageIsTheCells) {
       const double x0 = xosc.number(init + "/TeleportAction/Position/WorldPosition/@x");
       const double y0 = xosc.number(init + "/TeleportAction/Position/WorldPosition/@y");
       const double h = xosc.number(init + "/TeleportAction/Position/WorldPosition/@h");
-      const double v0 = xosc.number(init + "/LongitudinalAction/SpeedAction/SpeedActionTarget/AbsoluteTargetSpeed/@value");
-      const double a = xosc.number(
-          "//ManeuverGroup[Actors/EntityRef/@entityRef='Truck']//SpeedAction/SpeedActionDynamics[@dynamicsDimension='rate']/@value");
+      // At rest: the last vertex of the truck's trajectory.
+      const std::string truck_path = "//ManeuverGroup[Actors/EntityRef/@entityRef='Truck']//Polyline/Vertex";
+      const auto rest_y = xosc.all(truck_path + "/Position/WorldPosition/@y");
+      ASSERT_GE(rest_y.size(), 2u);
+      EXPECT_EQ(xosc.all(truck_path + "/@time").front(), "0");
+      EXPECT_NEAR(std::stod(rest_y.front()), y0, 1e-9);
       const std::string box = "/OpenSCENARIO/Entities/ScenarioObject[@name='Truck']/Vehicle/BoundingBox";
       const double center_ahead = xosc.number(box + "/Center/@x");
       const double length = xosc.number(box + "/Dimensions/@length");
       const double width = xosc.number(box + "/Dimensions/@width");
-      const double stop_travel = v0 * v0 / (2.0 * a);
       // Heading h: the box's centre is center_ahead along it, the front half a length further.
-      const double front_y_at_rest = y0 + std::sin(h) * (stop_travel + center_ahead + length / 2.0);
+      const double front_y_at_rest = std::stod(rest_y.back()) + std::sin(h) * (center_ahead + length / 2.0);
       const double near_x = x0 + std::cos(h) * center_ahead - width / 2.0;
       const Borders b = borders_of(xodr);
       EXPECT_NEAR(front_y_at_rest - b.right_paved_m, cell.passage_m, kCm);
@@ -170,16 +240,18 @@ TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
       const std::string xosc = openscenario_xml(config, cell, &trajectory, export_options);
       EXPECT_EQ(testing::openscenario().errors_of(xosc), "") << o.strategy;
       const Document doc(xosc);
-      const auto times = doc.all("//Polyline/Vertex/@time");
+      const std::string ego = "//ManeuverGroup[Actors/EntityRef/@entityRef='Ego']//Polyline/Vertex";
+      const auto times = doc.all(ego + "/@time");
       ASSERT_GE(times.size(), 2u);
-      EXPECT_EQ(std::stod(times.back()), o.path.back().t_s);
+      const double dt = config.simulation.dt_s;
+      EXPECT_EQ(std::stod(times.back()), ended_on_frame_grid(o.path, dt).back().t_s);
       if (tolerance == 0.0) {
         // Every vertex is the rear axle of a path point: back to the CG along the heading.
-        const auto points = with_final_stop(o.path, config.simulation.dt_s);
+        const auto points = ended_on_frame_grid(with_final_stop(o.path, dt), dt);
         ASSERT_EQ(times.size(), points.size());
-        const auto xs = doc.all("//Polyline/Vertex/Position/WorldPosition/@x");
-        const auto ys = doc.all("//Polyline/Vertex/Position/WorldPosition/@y");
-        const auto hs = doc.all("//Polyline/Vertex/Position/WorldPosition/@h");
+        const auto xs = doc.all(ego + "/Position/WorldPosition/@x");
+        const auto ys = doc.all(ego + "/Position/WorldPosition/@y");
+        const auto hs = doc.all(ego + "/Position/WorldPosition/@h");
         const double l_r = config.ego.cg_to_rear_axle_m;
         for (std::size_t k = 0; k < points.size(); ++k) {
           const double h = std::stod(hs[k]);
@@ -188,7 +260,8 @@ TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
           EXPECT_NEAR(std::stod(ys[k]) + l_r * std::sin(h), points[k].state.y_m, 1e-9) << o.strategy << " " << k;
         }
       }
-      EXPECT_EQ(doc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value"), o.path.back().t_s);
+      EXPECT_EQ(doc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value"),
+                std::stod(times.back()));
     }
   }
 }
@@ -304,6 +377,18 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
         EXPECT_EQ(got, expected[a]) << row.id;
       }
     }
+    // Its truck's trajectory is the cell's truck at every vertex (the expressions clamp each
+    // scenario's braking at its own standstill).
+    const sim::Scene scene(config, cell);
+    const double back = truck_reference_offset_m(config.truck, {});
+    const TruckPath path =
+        truck_path_of(logical, [&](const std::string& text) { return std::stod(evaluated(text, names, values)); });
+    ASSERT_GE(path.t.size(), 2u);
+    for (std::size_t i = 0; i < path.t.size(); ++i) {
+      const core::Vec2 c = path.center_at(path.t[i], back);
+      EXPECT_NEAR(c.x, scene.truck_at(path.t[i]).box.center.x, 1e-6) << row.id << " vertex " << i;
+      EXPECT_NEAR(c.y, scene.truck_at(path.t[i]).box.center.y, 1e-6) << row.id << " vertex " << i;
+    }
     // Its road network has the cell's junction, and a side road long enough for its truck.
     const Document road(read(dir / assigned[5]));
     const JunctionLayout layout = junction_layout(config, cell);
@@ -343,6 +428,48 @@ TEST(OpenScenario, FinalStopIsFilledInAtConstantDeceleration) {
   // Unchanged: a path that does not end in such a stop.
   const auto short_path = std::vector<sim::PathPoint>(path.begin(), path.end() - 1);
   EXPECT_EQ(with_final_stop(short_path, dt).size(), short_path.size());
+}
+
+// A simulator stepping at dt records the first frame at or after a trajectory's end with the speed
+// of the step before (esmini): the export ends every trajectory on a frame. A run that ends at rest
+// holds its pose one frame past that one (a frame that does not move); one that ends moving goes
+// on at its final velocity and yaw rate to that frame; the path before is unchanged.
+TEST(OpenScenario, TrajectoryEndsOnTheFrameGrid) {
+  const sim::SceneConfig config;
+  const double dt = config.simulation.dt_s;
+  int at_rest = 0, moving = 0;
+  for (const auto& cell : {cell_of(30, 2.0, 1.0, 3.5, 20), cell_of(50, 0.8, 0.6, 2.0, 0), cell_of(65, 1.0, 0.5, 2.0, 20),
+                           cell_of(40, 0.8, 0.3, 3.5, 20)}) {
+    for (const auto& o : sim::simulate_cell(config, cell, {}).strategies) {
+      const auto path = with_final_stop(o.path, dt);
+      const auto ended = ended_on_frame_grid(path, dt);
+      ASSERT_GE(ended.size(), path.size());
+      ASSERT_LE(ended.size(), path.size() + 1);
+      for (std::size_t k = 0; k < path.size(); ++k) EXPECT_EQ(ended[k].t_s, path[k].t_s);
+      const auto& last = path.back();
+      const auto& end = ended.back();
+      const double frames = end.t_s / dt;
+      EXPECT_NEAR(frames, std::round(frames), 1e-6) << o.strategy << " ends at " << end.t_s << " s";
+      const double first_frame = std::ceil(last.t_s / dt - 1e-6) * dt;
+      if (last.state.speed_mps() < kStoppedSpeed_mps) {
+        ++at_rest;
+        EXPECT_NEAR(end.t_s, std::max(first_frame, last.t_s) + dt, 1e-9) << o.strategy;
+        EXPECT_EQ(end.state.x_m, last.state.x_m);
+        EXPECT_EQ(end.state.y_m, last.state.y_m);
+        EXPECT_EQ(end.state.yaw_rad, last.state.yaw_rad);
+      } else if (ended.size() > path.size()) {
+        ++moving;
+        const double tau = end.t_s - last.t_s;
+        EXPECT_GT(tau, 0.0);
+        EXPECT_LT(tau, dt);
+        EXPECT_NEAR(std::hypot(end.state.x_m - last.state.x_m, end.state.y_m - last.state.y_m),
+                    last.state.speed_mps() * tau, 1e-9);
+        EXPECT_NEAR(end.state.yaw_rad - last.state.yaw_rad, last.state.yaw_rate_radps * tau, 1e-12);
+      }
+    }
+  }
+  EXPECT_GT(at_rest, 0);
+  EXPECT_GT(moving, 0);
 }
 
 TEST(OpenScenario, ThinningKeepsEveryDroppedPointWithinTheTolerance) {
