@@ -35,6 +35,24 @@ std::string trimmed(const std::string& s) {
 
 // ---- reading ------------------------------------------------------------------------------------
 
+// The slope at t of the parabola through three samples (Lagrange), or of the chord through two.
+double slope(const double* t, const double* f, int n, double at) {
+  if (n == 2) return (f[1] - f[0]) / (t[1] - t[0]);
+  const double d0 = ((at - t[1]) + (at - t[2])) / ((t[0] - t[1]) * (t[0] - t[2]));
+  const double d1 = ((at - t[0]) + (at - t[2])) / ((t[1] - t[0]) * (t[1] - t[2]));
+  const double d2 = ((at - t[0]) + (at - t[1])) / ((t[2] - t[0]) * (t[2] - t[1]));
+  return f[0] * d0 + f[1] * d1 + f[2] * d2;
+}
+
+// The first of the (up to) three samples around sample k whose parabola gives the slopes at k, and
+// how many: the neighbours on both sides inside the recording, else the nearest three.
+std::pair<std::size_t, int> stencil(std::size_t k, std::size_t n) {
+  const int points = n >= 3 ? 3 : 2;
+  std::size_t first = k >= 1 ? k - 1 : 0;
+  if (first + static_cast<std::size_t>(points) > n) first = n - static_cast<std::size_t>(points);
+  return {first, points};
+}
+
 struct Columns {
   std::map<std::string, std::size_t> index;
   [[nodiscard]] std::optional<std::size_t> find(const std::string& name) const {
@@ -149,6 +167,29 @@ RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const
   return out;
 }
 
+// esmini's `speed` is the reference point's (the rear axle's) distance along the trajectory over
+// the last frame, a backward difference that its last frame does not update; the CG's speed comes
+// instead from the CG's recorded positions, as the slope of the parabola through each sample and
+// its neighbours (a central difference on esmini's even frames), as the yaw rate does. A last
+// sample where the car did not move from the one before is at rest.
+void speeds_from_positions(std::vector<TrajectorySample>& samples) {
+  const std::size_t n = samples.size();
+  if (n < 2) return;  // too short to judge: parse_trajectory_csv says so
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [first, points] = stencil(k, n);
+    double ts[3], xs[3], ys[3];
+    for (int j = 0; j < points; ++j) {
+      const auto& p = samples[first + static_cast<std::size_t>(j)];
+      ts[j] = p.t_s;
+      xs[j] = p.x_m;
+      ys[j] = p.y_m;
+    }
+    samples[k].speed_mps = std::hypot(slope(ts, xs, points, samples[k].t_s), slope(ts, ys, points, samples[k].t_s));
+  }
+  if (samples[n - 1].x_m == samples[n - 2].x_m && samples[n - 1].y_m == samples[n - 2].y_m)
+    samples[n - 1].speed_mps = 0.0;
+}
+
 RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, const std::string& file,
                                 const sim::SceneConfig& config, const ExportOptions& options) {
   constexpr std::string_view kExpected = "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot";
@@ -163,14 +204,11 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   const std::size_t x = require_column(c, "x", header, file, kExpected);
   const std::size_t y = require_column(c, "y", header, file, kExpected);
   const std::size_t h = require_column(c, "h", header, file, kExpected);
-  const std::size_t speed = require_column(c, "speed", header, file, kExpected);
-  const auto wheel = c.find("wheel_angle");
   const double ego_back = ego_reference_offset_m(config.ego);
   const double truck_back = truck_reference_offset_m(config.truck, options);
 
   RecordedTrajectory out;
   out.file = file;
-  out.has_steer = wheel.has_value();
   std::map<std::string, TrajectorySample> truck_at;  // by the time field's text
   std::vector<std::string> ego_times;
   bool any_truck = false;
@@ -184,8 +222,6 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
     const double px = r.number(x, "x");
     const double py = r.number(y, "y");
     const double heading = r.number(h, "h");
-    const double v = r.number(speed, "speed");
-    check_speed(v, r, speed);
     if (entity == kTruckEntity) {
       any_truck = true;
       TrajectorySample s;
@@ -202,8 +238,6 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
     s.x_m = px + ego_back * std::cos(heading);
     s.y_m = py + ego_back * std::sin(heading);
     s.yaw_rad = heading;
-    s.speed_mps = v;
-    if (wheel) s.steer_rad = r.number(*wheel, "wheel_angle");
     check_time(out, t, r, time);
     out.samples.push_back(s);
     ego_times.push_back(r.text(time));
@@ -211,6 +245,7 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   if (out.samples.empty())
     throw InputError({file, header.lines.front(), 1},
                      fmt::format("expected rows of the entity '{}' (the ego as emrm export names it)", kEgoEntity));
+  speeds_from_positions(out.samples);
   // The truck as recorded when it is there at every ego sample; else the scene's motion.
   out.has_truck = any_truck && std::all_of(ego_times.begin(), ego_times.end(),
                                            [&](const std::string& t) { return truck_at.count(t) > 0; });
@@ -226,15 +261,6 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
 }
 
 // ---- judging ------------------------------------------------------------------------------------
-
-// The slope at t of the parabola through three samples (Lagrange), or of the chord through two.
-double slope(const double* t, const double* f, int n, double at) {
-  if (n == 2) return (f[1] - f[0]) / (t[1] - t[0]);
-  const double d0 = ((at - t[1]) + (at - t[2])) / ((t[0] - t[1]) * (t[0] - t[2]));
-  const double d1 = ((at - t[0]) + (at - t[2])) / ((t[1] - t[0]) * (t[1] - t[2]));
-  const double d2 = ((at - t[0]) + (at - t[1])) / ((t[2] - t[0]) * (t[2] - t[1]));
-  return f[0] * d0 + f[1] * d1 + f[2] * d2;
-}
 
 class Judge {
  public:
@@ -268,11 +294,7 @@ class Judge {
     const double u = (t - a.t_s) / (b.t_s - a.t_s);
     const double speed = a.speed_mps + u * (b.speed_mps - a.speed_mps);
     s.steer_rad = a.steer_rad + u * (b.steer_rad - a.steer_rad);
-    const std::size_t n = samples_.size();
-    const int points = n >= 3 ? 3 : 2;
-    std::size_t first = i;
-    if (points == 3) first = i >= 1 ? i - 1 : 0;
-    if (first + points > n) first = n - points;
+    const auto [first, points] = stencil(i, samples_.size());
     double ts[3], xs[3], ys[3], yaws[3];
     for (int k = 0; k < points; ++k) {
       const auto& p = samples_[first + k];

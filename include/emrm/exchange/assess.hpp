@@ -24,7 +24,9 @@ namespace emrm::exchange {
 
 /// emrm: columns t, x, y, psi, v (the ego's CG), optional truck_x, truck_y, truck_psi (the truck's
 /// centre) and steer (road-wheel angle). esmini: the CSV esmini's dat2csv writes, entities named
-/// as the export names them, reference points (rear axles) converted back to the CG and centre.
+/// as the export names them, reference points (rear axles) converted back to the CG and centre;
+/// the CG's speed from its positions (esmini's `speed` is the rear axle's, a frame late), and no
+/// wheel angle (esmini's `wheel_angle` is its own kinematic estimate, not the road-wheel angle).
 enum class TrajectoryFormat { kEmrm, kEsmini };
 [[nodiscard]] std::string_view format_name(TrajectoryFormat format) noexcept;
 

@@ -1,12 +1,15 @@
 // `emrm assess` (docs/openscenario.md): the trajectory a strategy executed, written as a recorded
-// trajectory and judged again, gives the simulator's own outcome (avoided or not, loss level, Δv),
-// in emrm's CSV form and in esmini's (reference points at the rear axles); bad files name the
-// line and column.
+// trajectory and judged again, gives the simulator's own outcome (avoided or not, loss level, Δv);
+// esmini's CSV is read for positions and headings only (the CG's speed from its positions, no wheel
+// angle); bad files name the line and column. The export replayed as esmini replays it:
+// esmini_replay_test.cpp.
 
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 
@@ -24,32 +27,6 @@ std::string emrm_csv(const std::vector<sim::PathPoint>& path) {
   std::string out = "t,x,y,psi,v\n";
   for (const auto& p : path)
     out += fmt::format("{},{},{},{},{}\n", p.t_s, p.state.x_m, p.state.y_m, p.state.yaw_rad, p.state.speed_mps());
-  return out;
-}
-
-// As esmini's dat2csv writes a replay of the export: the rear axle for the ego, the truck's rear
-// axle, heading in [0, 2π), a second frame at t = 0.
-std::string esmini_csv(const std::vector<sim::PathPoint>& path, const sim::Scene& scene) {
-  const auto& config = scene.config();
-  const double ego_back = ego_reference_offset_m(config.ego);
-  const double truck_back = truck_reference_offset_m(config.truck, {});
-  std::string out = "Version: 3, OpenDRIVE: tjunction.xodr, 3DModel: \ntime, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n";
-  const auto row = [&](double t, int id, const char* name, double x, double y, double h, double v, double steer) {
-    h = std::fmod(h + 2.0 * std::numbers::pi, 2.0 * std::numbers::pi);
-    out += fmt::format("{:.9f}, {}, {}, {:.9f}, {:.9f}, 0.000, {:.9f}, 0.000, 0.000, {:.9f}, {:.9f}, 0.000\n", t, id,
-                       name, x, y, h, v, steer);
-  };
-  for (std::size_t k = 0; k < path.size(); ++k) {
-    const auto& p = path[k];
-    const auto& s = p.state;
-    for (int copy = 0; copy < (k == 0 ? 2 : 1); ++copy) {
-      row(p.t_s, 0, kEgoEntity, s.x_m - ego_back * std::cos(s.yaw_rad), s.y_m - ego_back * std::sin(s.yaw_rad),
-          s.yaw_rad, s.speed_mps(), s.steer_rad);
-      const sim::TruckState truck = scene.truck_at(p.t_s);
-      row(p.t_s, 1, kTruckEntity, truck.box.center.x, truck.box.center.y + truck_back, truck.box.heading_rad,
-          -truck.velocity_mps.y, 0.0);
-    }
-  }
   return out;
 }
 
@@ -76,7 +53,6 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
     sim::CellOptions options;
     options.seed = 11 + static_cast<std::uint64_t>(k);
     const sim::CellResult result = sim::simulate_cell(config, cell, options);
-    const sim::Scene scene(config, cell);
     for (const auto& o : result.strategies) {
       if (o.path.size() < 2) continue;
       const std::string what = fmt::format("seed {} cell {} km/h {} s mu {} passage {} truck {}: {}", options.seed, cell.speed_kph,
@@ -84,12 +60,6 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
       const auto recorded = parse_trajectory_csv(emrm_csv(o.path), "emrm.csv", TrajectoryFormat::kEmrm, config);
       const Assessment a = assess(config, cell, recorded);
       expect_same_outcome(o, a, what + " (emrm CSV)");
-      const auto esmini = parse_trajectory_csv(esmini_csv(o.path, scene), "esmini.csv", TrajectoryFormat::kEsmini, config);
-      EXPECT_TRUE(esmini.has_truck);
-      EXPECT_TRUE(esmini.has_steer);
-      EXPECT_EQ(esmini.samples.size(), o.path.size());
-      const Assessment ae = assess(config, cell, esmini);
-      expect_same_outcome(o, ae, what + " (esmini CSV)");
       contacts += a.contact ? 1 : 0;
       avoided += a.avoided ? 1 : 0;
     }
@@ -117,6 +87,68 @@ TEST(Assess, FindsContactBetweenSamples) {
   ASSERT_TRUE(a.contact);
   EXPECT_NEAR(*a.event_time_s, coast.end_time_s, 1e-3);
   EXPECT_EQ(a.impact.loss_level, coast.impact.loss_level);
+}
+
+// Rows as esmini's dat2csv writes them for the ego (its rear axle) at `times`, from the CG's pose;
+// `speed` and `wheel_angle` whatever esmini put there.
+struct EsminiRow {
+  double t_s, x_m, y_m, yaw_rad, speed_mps, wheel_rad;
+};
+std::string esmini_rows(const std::vector<EsminiRow>& rows, const sim::SceneConfig& config) {
+  const double back = ego_reference_offset_m(config.ego);
+  std::string out = "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n";
+  for (const auto& r : rows)
+    out += fmt::format("{:.6f}, 0, Ego, {:.6f}, {:.6f}, 0, {:.6f}, 0, 0, {:.6f}, {:.6f}, 0\n", r.t_s,
+                       r.x_m - back * std::cos(r.yaw_rad), r.y_m - back * std::sin(r.yaw_rad),
+                       std::fmod(r.yaw_rad + 2.0 * std::numbers::pi, 2.0 * std::numbers::pi), r.speed_mps, r.wheel_rad);
+  return out;
+}
+
+// esmini's speed is its rear axle's over the last frame: on a circle the CG moves faster than the
+// rear axle (it is further out). assess takes the CG's speed from the CG's positions, and ignores
+// esmini's wheel angle (its own kinematic estimate, not the road-wheel angle).
+TEST(Assess, EsminiSpeedIsTheCGsFromItsPositionsAndTheWheelAngleIsNotRead) {
+  const sim::SceneConfig config;
+  const double radius = 30.0, omega = 0.5, dt = 0.01, l_r = config.ego.cg_to_rear_axle_m;
+  std::vector<EsminiRow> rows;
+  for (int k = 0; k <= 50; ++k) {
+    const double t = k * dt;
+    const double a = omega * t;
+    // The rear axle's speed on its own circle (radius hypot(R, l_r)), as esmini's backward difference.
+    const double rear = 2.0 * std::hypot(radius, l_r) * std::sin(omega * dt / 2.0) / dt;
+    rows.push_back({t, radius * std::sin(a), radius * (1.0 - std::cos(a)), a, rear, 0.3});
+  }
+  const auto recorded = parse_trajectory_csv(esmini_rows(rows, config), "sim.csv", TrajectoryFormat::kEsmini, config);
+  EXPECT_FALSE(recorded.has_steer);
+  ASSERT_EQ(recorded.samples.size(), rows.size());
+  for (const auto& s : recorded.samples) {
+    EXPECT_NEAR(s.speed_mps, omega * radius, 1e-3) << s.t_s;
+    EXPECT_EQ(s.steer_rad, 0.0);
+  }
+  EXPECT_GT(rows.front().speed_mps - omega * radius, 0.01);  // the column would be wrong
+}
+
+// esmini keeps the previous step's speed on the frame that passes a trajectory's end: a car that
+// braked to rest and whose last frame did not move is stopped, whatever that frame's speed says.
+TEST(Assess, EsminiLastFrameThatDidNotMoveIsAtRest) {
+  const sim::SceneConfig config;
+  const sim::CellInput cell{36, 2.0, 1.0, 3.0, 10};  // 10 m/s, the truck 20 m ahead
+  const double v0 = 10.0, decel = 8.0, dt = 0.01, rest_s = v0 / decel;
+  std::vector<EsminiRow> rows;
+  double previous_x = 0.0;
+  for (int k = 0; k * dt <= rest_s + 1.5 * dt; ++k) {
+    const double t = std::min(k * dt, rest_s);
+    const double x = v0 * t - 0.5 * decel * t * t - 3.0;
+    const double speed = k == 0 ? v0 : (t < rest_s ? (x - previous_x) / dt : rows.back().speed_mps + 0.14);
+    rows.push_back({k * dt, x, config.road.ego_lane_center_m, 0.0, speed, 0.0});
+    previous_x = x;
+  }
+  const auto recorded = parse_trajectory_csv(esmini_rows(rows, config), "sim.csv", TrajectoryFormat::kEsmini, config);
+  EXPECT_EQ(recorded.samples.back().speed_mps, 0.0);
+  EXPECT_GT(recorded.samples[recorded.samples.size() - 3].speed_mps, 0.05);
+  const Assessment a = assess(config, cell, recorded);
+  EXPECT_TRUE(a.avoided);
+  EXPECT_EQ(a.safe_state, SafeState::kStopped);
 }
 
 void expect_error_at(const std::string& text, int line, int column, const std::string& what,
