@@ -82,8 +82,22 @@ void road_mark(XmlWriter& x, const char* type) {
   x.leaf("roadMark", {{"sOffset", "0"}, {"type", type}, {"color", "standard"}, {"width", "0.12"}});
 }
 
-void lane(XmlWriter& x, int id, const char* type, double w, const char* mark) {
+// A lane of a junction's connecting road names the lanes it joins (its predecessor on the incoming
+// road, its successor on the outgoing one), so that an engine moving along the lanes finds its way
+// through the junction; other lanes end at the junction, whose laneLinks say the rest.
+struct LaneLink {
+  int predecessor = 0;  // 0: none
+  int successor = 0;
+};
+
+void lane(XmlWriter& x, int id, const char* type, double w, const char* mark, LaneLink link = {}) {
   x.open("lane", {{"id", std::to_string(id)}, {"type", type}, {"level", "false"}});
+  if (link.predecessor != 0 || link.successor != 0) {
+    x.open("link");
+    if (link.predecessor != 0) x.leaf("predecessor", {{"id", std::to_string(link.predecessor)}});
+    if (link.successor != 0) x.leaf("successor", {{"id", std::to_string(link.successor)}});
+    x.close();
+  }
   width(x, w);
   road_mark(x, mark);
   x.close();
@@ -98,20 +112,23 @@ void center_lane(XmlWriter& x) {
 }
 
 // The main road's cross-section: left driving lanes, the centre lane, right driving lanes, then
-// the paved shoulder.
-void main_road_lanes(XmlWriter& x, const sim::RoadConfig& road, const JunctionLayout& l) {
+// the paved shoulder. `linked`: inside the junction, each lane joins the same lane before and after.
+void main_road_lanes(XmlWriter& x, const sim::RoadConfig& road, const JunctionLayout& l, bool linked = false) {
+  const auto same = [&](int id) { return linked ? LaneLink{id, id} : LaneLink{}; };
   x.open("lanes");
   x.open("laneSection", {{"s", "0"}});
   if (l.left_lanes > 0) {
     x.open("left");
-    for (int id = l.left_lanes; id >= 1; --id) lane(x, id, "driving", road.lane_width_m, id == l.left_lanes ? "solid" : "broken");
+    for (int id = l.left_lanes; id >= 1; --id)
+      lane(x, id, "driving", road.lane_width_m, id == l.left_lanes ? "solid" : "broken", same(id));
     x.close();
   }
   center_lane(x);
   x.open("right");
   for (int id = 1; id <= l.right_lanes; ++id)
-    lane(x, -id, "driving", road.lane_width_m, id == l.right_lanes ? "solid" : "broken");
-  if (road.shoulder_m > 0.0) lane(x, -(l.right_lanes + 1), "shoulder", road.shoulder_m, "none");
+    lane(x, -id, "driving", road.lane_width_m, id == l.right_lanes ? "solid" : "broken", same(-id));
+  if (road.shoulder_m > 0.0)
+    lane(x, -(l.right_lanes + 1), "shoulder", road.shoulder_m, "none", same(-(l.right_lanes + 1)));
   x.close();
   x.close();
   x.close();
@@ -174,12 +191,12 @@ double turn_length(const JunctionLayout& l, double lane_width_m) {
   return (drop_m - radius) + std::numbers::pi / 2.0 * radius + (lane_width_m - radius);
 }
 
-void one_lane_road_lanes(XmlWriter& x, double lane_width_m) {
+void one_lane_road_lanes(XmlWriter& x, double lane_width_m, LaneLink link) {
   x.open("lanes");
   x.open("laneSection", {{"s", "0"}});
   center_lane(x);
   x.open("right");
-  lane(x, -1, "driving", lane_width_m, "none");
+  lane(x, -1, "driving", lane_width_m, "none", link);
   x.close();
   x.close();
   x.close();
@@ -605,7 +622,7 @@ std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& 
   x.open("planView");
   straight(x, 0.0, l.junction_min_x_m, l.reference_line_y_m, 0.0, l.junction_max_x_m - l.junction_min_x_m);
   x.close();
-  main_road_lanes(x, config.road, l);
+  main_road_lanes(x, config.road, l, true);
   x.close();
   // Road 5: from the side road's left lane, turning right into the approach's left lane (when the
   // main road has lanes left of its reference line).
@@ -622,7 +639,8 @@ std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& 
     x.open("planView");
     turn_geometry(x, l, w);
     x.close();
-    one_lane_road_lanes(x, w);
+    // From the side road's left lane into the approach's innermost left lane.
+    one_lane_road_lanes(x, w, {1, 1});
     x.close();
   }
   x.open("junction", {{"name", "tjunction"}, {"id", std::to_string(kJunctionId)}});

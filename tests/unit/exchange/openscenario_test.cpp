@@ -104,6 +104,33 @@ TEST(OpenDrive, LaneBordersAreTheScenesRoad) {
   }
 }
 
+// The connecting roads inside the junction name the lanes they join, so that an engine moving an
+// entity along the lanes (esmini's default controller) finds the next road: road 4 each main-road
+// lane to the same lane of roads 1 and 2, road 5 the side road's left lane to road 1's innermost
+// left lane.
+TEST(OpenDrive, ConnectingRoadsLinkTheirLanes) {
+  for (const sim::SceneConfig& config : {sim::SceneConfig{}, odd_scene()}) {
+    const Document xodr(opendrive_xml(config, cell_of(50, 1.2, 0.8, 3.0, 10)));
+    const auto lanes_of = [&](int road) {
+      return xodr.all(fmt::format("/OpenDRIVE/road[@id='{}']/lanes/laneSection/*/lane[@id!='0']/@id", road));
+    };
+    const auto through = lanes_of(4);
+    ASSERT_EQ(through, lanes_of(1));
+    ASSERT_EQ(through, lanes_of(2));
+    for (const auto& id : through) {
+      const std::string lane = fmt::format("/OpenDRIVE/road[@id='4']/lanes/laneSection/*/lane[@id='{}']/link", id);
+      EXPECT_EQ(xodr.all(lane + "/predecessor/@id"), std::vector<std::string>{id});
+      EXPECT_EQ(xodr.all(lane + "/successor/@id"), std::vector<std::string>{id});
+    }
+    const std::string turn = "/OpenDRIVE/road[@id='5']/lanes/laneSection/right/lane[@id='-1']/link";
+    EXPECT_EQ(xodr.all(turn + "/predecessor/@id"), std::vector<std::string>{"1"});
+    EXPECT_EQ(xodr.all(turn + "/successor/@id"), std::vector<std::string>{"1"});
+    EXPECT_EQ(xodr.all("/OpenDRIVE/road[@id='3']/lanes/laneSection/left/lane/@id"), std::vector<std::string>{"1"});
+    EXPECT_EQ(xodr.all("/OpenDRIVE/road[@id='1']/lanes/laneSection/left/lane[@id='1']/@type"),
+              std::vector<std::string>{"driving"});
+  }
+}
+
 // The truck's polyline, read back: the truck's centre at time t (its rear axle moved forward along
 // its heading), linear between vertices as an engine interpolates it.
 struct TruckPath {
