@@ -402,9 +402,8 @@ std::vector<double> truck_vertex_times(const sim::SceneConfig& config, double re
 // and for the logical scenario the expression of the parameters that gives it: the passage plus
 // the travel still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's
 // operators as (w + sqrt(w·w)) / 2.
-Quantity truck_y_at(const sim::SceneConfig& config, const sim::CellInput& cell, const ExportOptions& options,
-                    double t_s) {
-  const sim::Scene scene(config, cell);
+Quantity truck_y_at(const sim::Scene& scene, const ExportOptions& options, double t_s) {
+  const sim::SceneConfig& config = scene.config();
   const double back = truck_reference_offset_m(config.truck, options);
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
   const double a = config.truck.decel_mps2;
@@ -429,10 +428,11 @@ void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::Cel
   x.open("Maneuver", {{"name", "TruckCrossing"}});
   x.open("Event", {{"name", "TruckBrakes"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
   x.open("Action", {{"name", "TruckBrakeToStop"}});
+  const sim::Scene scene(config, cell);
   const std::vector<double> times = truck_vertex_times(config, rest_s, end_s);
   const std::string heading = num(-std::numbers::pi / 2.0);
   follow_trajectory(x, "emrm_truck", times, [&](std::size_t k) {
-    world_position(x, i.truck_x.text(parametric), truck_y_at(config, cell, options, times[k]).text(parametric), heading);
+    world_position(x, i.truck_x.text(parametric), truck_y_at(scene, options, times[k]).text(parametric), heading);
   });
   x.close();
   maneuver_group_end(x, "TruckBrakesAtHazard");
