@@ -398,13 +398,14 @@ std::vector<double> truck_vertex_times(const sim::SceneConfig& config, double re
   return times;
 }
 
-// The truck's rear axle on the side road at time t: where the scene's truck is (Scene::truck_at),
-// and for the logical scenario the expression of the parameters that gives it: the passage plus
-// the travel still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's
-// operators as (w + sqrt(w·w)) / 2.
-Quantity truck_y_at(const sim::Scene& scene, const ExportOptions& options, double t_s) {
+// The y of the truck's rear axle at time t: where the scene's truck is (Scene::truck_at), or for
+// the logical scenario the expression of the parameters that gives it: the passage plus the travel
+// still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's operators as
+// (w + sqrt(w·w)) / 2.
+std::string truck_y_at(const sim::Scene& scene, const ExportOptions& options, double t_s, bool parametric) {
   const sim::SceneConfig& config = scene.config();
   const double back = truck_reference_offset_m(config.truck, options);
+  if (!parametric) return num(scene.truck_at(t_s).box.center.y + back);
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
   const double a = config.truck.decel_mps2;
   std::string ahead;
@@ -415,7 +416,7 @@ Quantity truck_y_at(const sim::Scene& scene, const ExportOptions& options, doubl
   } else {
     ahead = "$truck_speed_kph / 3.6 * ($ttc_s" + plus(-t_s) + ")";
   }
-  return {scene.truck_at(t_s).box.center.y + back, "${$passage_m + " + ahead + plus(y_constant) + "}"};
+  return "${$passage_m + " + ahead + plus(y_constant) + "}";
 }
 
 // The truck: its driver brakes from t = 0 at the scene's deceleration to a standstill (or, without
@@ -430,9 +431,10 @@ void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::Cel
   x.open("Action", {{"name", "TruckBrakeToStop"}});
   const sim::Scene scene(config, cell);
   const std::vector<double> times = truck_vertex_times(config, rest_s, end_s);
+  const std::string truck_x = i.truck_x.text(parametric);
   const std::string heading = num(-std::numbers::pi / 2.0);
   follow_trajectory(x, "emrm_truck", times, [&](std::size_t k) {
-    world_position(x, i.truck_x.text(parametric), truck_y_at(scene, options, times[k]).text(parametric), heading);
+    world_position(x, truck_x, truck_y_at(scene, options, times[k], parametric), heading);
   });
   x.close();
   maneuver_group_end(x, "TruckBrakesAtHazard");
