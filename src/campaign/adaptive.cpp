@@ -232,19 +232,17 @@ class Search {
   }
 
   // The stop boundary: the top run of cells physics says stop in time, extended downwards by
-  // simulation (galloping, then bisecting) over the cells it cannot settle. Sets line.t_g.
+  // simulation (galloping, then bisecting) over the cells it cannot settle, down to the highest
+  // cell below them that physics says cannot stop (no G run reaches below it). Sets line.t_g.
   void stop_threshold(Line& line, Purpose purpose) {
     const auto g = [&](std::size_t i) {
-      switch (oracle_.stop(line.cells[i])) {
-        case StopCall::kStops: return true;
-        case StopCall::kCannotStop: return false;
-        case StopCall::kUnknown: break;
-      }
-      return simulate(line.cells[i], purpose) == Region::kG;
+      return oracle_.stop(line.cells[i]) == StopCall::kUnknown && simulate(line.cells[i], purpose) == Region::kG;
     };
     std::size_t hi = line.cells.size();
     while (hi > 0 && oracle_.stop(line.cells[hi - 1]) == StopCall::kStops) --hi;
-    line.t_g = threshold(0, hi, hi, g);
+    std::size_t lo = hi;
+    while (lo > 0 && oracle_.stop(line.cells[lo - 1]) == StopCall::kUnknown) --lo;
+    line.t_g = threshold(lo, hi, hi, g);
   }
 
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi) (test monotone: false then
@@ -848,9 +846,13 @@ StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   const double margin = v * cell.ttc_s - scene.actuation.stopping_distance_m(v, cell.mu, true);
   if (margin > kMargin_m) return StopCall::kStops;
   if (!(margin < -kMargin_m)) return StopCall::kUnknown;
-  // The truck must overlap the car's straight path across the lane from the start (its front,
-  // moving down the road, below the car's left side) to the end (its rear, at rest, above the car's
-  // right side); a truck that keeps going clears the lane in the end.
+  // Braking straight, the car's front reaches the truck's near side no earlier than at t = TTC (at
+  // its initial speed throughout; v·TTC is the gap) and, short of the stop by more than the margin,
+  // it does reach it. The truck only moves down the road until it rests. So if the truck overlaps
+  // the car's straight path across the lane at t = TTC (its front below the car's left side) and
+  // still when it rests (its rear above the car's right side), it is in the way whenever the car
+  // gets there: braking cannot avoid it, neither by stopping short nor by passing in front of it
+  // before it arrives. A truck that keeps going clears the lane in the end.
   const sim::Scene s(scene, cell);
   const double top = scene.road.ego_lane_center_m + scene.ego.width_m / 2.0;
   const double bottom = scene.road.ego_lane_center_m - scene.ego.width_m / 2.0;
@@ -858,8 +860,9 @@ StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   const double rest_s = scene.truck.decel_mps2 > 0.0 ? cell.truck_speed_kph / 3.6 / scene.truck.decel_mps2 : 0.0;
   const double rear_at_rest = s.truck_front_y_at(rest_s) + scene.truck.length_m;
   constexpr double kOverlap_m = 0.01;  // of the truck and the car's path, for certain
-  return s.truck_front_y_at(0.0) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m ? StopCall::kCannotStop
-                                                                                          : StopCall::kUnknown;
+  return s.truck_front_y_at(cell.ttc_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m
+             ? StopCall::kCannotStop
+             : StopCall::kUnknown;
 }
 
 Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {

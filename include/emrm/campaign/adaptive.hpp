@@ -44,8 +44,9 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 
 /// The physics of the shipped emergency stop (straight braking through the scene's actuators):
 /// kStops when v·TTC exceeds the stopping distance by more than 0.1 m; kCannotStop when it falls
-/// short by more than 0.1 m and the truck stands in the car's lane from t = 0 until it comes to
-/// rest (so stopping short is the only way braking avoids it); kUnknown otherwise.
+/// short by more than 0.1 m and the truck stands in the car's lane from t = TTC (the earliest the
+/// braking car can reach it) until it comes to rest, so that braking can neither stop short of it
+/// nor pass in front of it before it arrives; kUnknown otherwise.
 [[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -10,6 +11,9 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+
+#include "emrm/sim/simulate.hpp"
+#include "test_scale.hpp"
 
 namespace emrm::campaign::adaptive {
 namespace adaptive_test {
@@ -274,6 +278,44 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   Lattice empty = map.lattice;
   empty.levels[2].clear();
   EXPECT_THROW((void)search(empty, oracle, Options{}), std::invalid_argument);
+}
+
+// The analytic calls against the simulated emergency stop, on cells drawn across the 5-D domain
+// with a production car's actuators and trucks up to 30 km/h: a cell called kStops is avoided by
+// braking, one called kCannotStop is not, whether the truck stood in the car's lane from the start
+// or only got there by the time the car could (t = TTC).
+TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
+  sim::SceneConfig config;
+  config.actuation.perception_latency_s = 0.25;
+  config.actuation.brake_dead_time_s = 0.1;
+  config.actuation.brake_ramp_s = 0.25;
+  config.planner.max_nodes = 1;
+  sim::CellOptions only_stop;
+  only_stop.strategies = {"emergency_stop"};
+  only_stop.certify = false;
+  only_stop.strengthen = false;
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> speed(30, 72), ttc(0.25, 2.95), mu(0.1, 1.0), passage(1.0, 4.0);
+  const std::array<double, 4> truck_speeds{0.0, 10.0, 20.0, 30.0};
+  std::size_t stops = 0, cannot = 0, cannot_only_later = 0;
+  const std::size_t cells = test::sample(4000, 800);
+  for (std::size_t k = 0; k < cells; ++k) {
+    const sim::CellInput cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 4]};
+    if (!sim::Scene(config, cell).feasible()) continue;
+    const StopCall call = stop_call(config, cell);
+    if (call == StopCall::kUnknown) continue;
+    const bool avoided = sim::simulate_cell(config, cell, only_stop).strategies.front().avoided;
+    EXPECT_EQ(avoided, call == StopCall::kStops)
+        << cell.speed_kph << " km/h, TTC " << cell.ttc_s << " s, mu " << cell.mu << ", passage " << cell.passage_m
+        << " m, truck " << cell.truck_speed_kph << " km/h";
+    (call == StopCall::kStops ? stops : cannot) += 1;
+    const sim::Scene scene(config, cell);
+    const double top = config.road.ego_lane_center_m + config.ego.width_m / 2.0;
+    if (call == StopCall::kCannotStop && scene.truck_front_y_at(0.0) >= top - 0.01) ++cannot_only_later;
+  }
+  EXPECT_GT(stops, cells / 20);
+  EXPECT_GT(cannot, cells / 10);
+  EXPECT_GT(cannot_only_later, cells / 20);  // the truck came down into the lane after t = 0
 }
 
 }  // namespace adaptive_test
