@@ -29,6 +29,12 @@ constexpr std::size_t kMaxFrom = 16;
 
 bool avoidable(Region r) noexcept { return r == Region::kG || r == Region::kY; }
 
+// A guess of where a line's early run ends and where its G part ends (positions; kNone: no guess,
+// or no early run on the lines it came from).
+struct EarlyHint {
+  std::uint32_t end = kNone, g_end = kNone;
+};
+
 // A line: the feasible cells that differ only in the monotone factor, in ascending order of it.
 // Two questions settle it, each answered by its own simulations or inferred from the lines at the
 // corners of a box: where avoidance starts (the thresholds), and the O/R labels below that.
@@ -41,27 +47,43 @@ struct Line {
   bool labels_known = false;         ///< sampled, or inferred from a uniform box's corners
   bool full = false;      ///< every cell that the stop boundary does not settle simulated
   bool violated = false;  ///< simulations contradicted monotonicity
+  bool early_searched = false;  ///< its early run by simulations of its own (else from its corners)
   std::uint32_t hint = kNone;  ///< a guess of the avoidance threshold's position (from a parent box)
+  EarlyHint early_hint;  ///< from a parent box
+  // The line in runs, bottom to top: [0, t_eg) G and [t_eg, t_e) Y passing in front of a truck
+  // still on its way (the early run; empty unless the oracle says arriving sooner can help),
+  // [t_e, t_a) O or R, [t_a, t_g) Y, [t_g, size) G.
+  std::size_t t_eg = 0;  ///< end of the early G run
+  std::size_t t_e = 0;   ///< end of the early avoidable run
   std::size_t t_g = 0;  ///< first index of the G run at the top
   std::size_t t_a = 0;  ///< first index of the avoidable run (G or Y) at the top
-  std::vector<Region> labels;  ///< O/R of the cells below t_a (simulated or inferred)
+  std::vector<Region> labels;  ///< O/R of the cells in [t_e, t_a) (by index; simulated or inferred)
   std::vector<std::uint32_t> threshold_corners;  ///< the lines its bracket came from (when not searched)
   std::vector<std::uint32_t> label_corners;      ///< the lines its labels came from (when not sampled)
 
   /// Position of the avoidance threshold when the line has Y cells; kNone when avoidance starts with G.
   [[nodiscard]] std::uint32_t avoid_position() const noexcept { return t_a < t_g ? position[t_a] : kNone; }
+  /// Position of the first cell above the early run; kNone without an early run.
+  [[nodiscard]] std::uint32_t early_position() const noexcept { return t_e == 0 ? kNone : position_of(t_e); }
+  /// Position of the first cell above the early run's G part; kNone without one.
+  [[nodiscard]] std::uint32_t early_g_position() const noexcept { return t_eg == 0 ? kNone : position_of(t_eg); }
+  [[nodiscard]] std::uint32_t position_of(std::size_t i) const noexcept {
+    return i < position.size() ? position[i] : position.back() + 1;
+  }
 };
 
 // A box of lines: per line axis, a range of sorted positions [lo, hi].
 struct Box {
   std::array<std::uint32_t, 4> lo{}, hi{};
   std::uint32_t hint = kNone;
+  EarlyHint early_hint;
   bool operator<(const Box& o) const noexcept { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
 };
 
 // What agreeing corners say of the lines between them.
 struct Signature {
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
+  EarlyHint early_hint;  ///< the median ends of the corners' early runs
   std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
 };
 
@@ -231,18 +253,93 @@ class Search {
     return result_.cells[cell].method == Method::kSimulated;
   }
 
+  // The first index of the top run of cells that physics says stop in time.
+  [[nodiscard]] std::size_t analytic_top(const Line& line) const {
+    std::size_t hi = line.cells.size();
+    while (hi > 0 && oracle_.stop(line.cells[hi - 1]) == StopCall::kStops) --hi;
+    return hi;
+  }
+
+  // The index of the first cell at or above a position (the line's size when none is).
+  [[nodiscard]] static std::size_t index_at(const Line& line, std::uint32_t position) {
+    return static_cast<std::size_t>(std::lower_bound(line.position.begin(), line.position.end(), position) -
+                                    line.position.begin());
+  }
+
   // The stop boundary: the top run of cells physics says stop in time, extended downwards by
   // simulation (galloping, then bisecting) over the cells it cannot settle, down to the highest
-  // cell below them that physics says cannot stop (no G run reaches below it). Sets line.t_g.
+  // cell below them that physics says cannot stop, and above the early run's first cell that
+  // cannot avoid (no G run of the stop reaches below either). Sets line.t_g.
   void stop_threshold(Line& line, Purpose purpose) {
     const auto g = [&](std::size_t i) {
       return oracle_.stop(line.cells[i]) == StopCall::kUnknown && simulate(line.cells[i], purpose) == Region::kG;
     };
-    std::size_t hi = line.cells.size();
-    while (hi > 0 && oracle_.stop(line.cells[hi - 1]) == StopCall::kStops) --hi;
+    const std::size_t hi = analytic_top(line);
     std::size_t lo = hi;
     while (lo > 0 && oracle_.stop(line.cells[lo - 1]) == StopCall::kUnknown) --lo;
+    if (line.t_e > 0) lo = std::max(lo, std::min(hi, line.t_e < hi ? line.t_e + 1 : line.t_eg + 1));
     line.t_g = threshold(lo, hi, hi, g);
+    if (line.t_e >= line.t_g) {  // no cell below the stop's run cannot avoid: the early run meets it
+      line.t_e = line.t_g;
+      line.t_eg = std::min(line.t_eg, line.t_g);
+    }
+  }
+
+  // The end of a run that holds on [.., lo): the first index in [lo, hi) where test fails, or hi.
+  // From a guess (tested with the cell below it), then walking up in steps that double up to
+  // max_step, then bisecting: a gap in the run narrower than max_step may go unseen.
+  template <typename Test>
+  static std::size_t end_of_run(std::size_t lo, std::size_t hi, std::size_t guess, std::size_t max_step, Test&& test) {
+    if (guess > lo && guess < hi) {
+      if (!test(guess - 1)) {
+        hi = guess - 1;
+      } else {
+        lo = guess;
+        if (!test(guess)) return guess;
+        lo = guess + 1;
+      }
+    }
+    for (std::size_t step = 1; lo < hi; step = std::min(2 * step, max_step)) {
+      const std::size_t i = std::min(lo + step - 1, hi - 1);
+      if (!test(i)) {
+        hi = i;
+        break;
+      }
+      lo = i + 1;
+    }
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (test(mid))
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return lo;
+  }
+
+  // Whether the line may start with an early run: along TTC, where arriving sooner can help.
+  [[nodiscard]] bool may_pass_early(const Line& line) const {
+    return monotone_ == kTtc && !line.cells.empty() && oracle_.passes_early(line.cells.front());
+  }
+
+  // The early run (docs/adaptive.md): from the line's lowest cell, where the car passes in front of
+  // a truck still on its way, up to its first cell that cannot avoid (walking from the hint, in
+  // steps of at most `stride`), and the G run within it, which ends at the latest below the first
+  // cell that physics says cannot stop. A hint that is right costs two simulations for each end.
+  // Sets t_eg and t_e (both 0 without an early run).
+  void early_run(Line& line, Purpose purpose, EarlyHint hint) {
+    line.t_eg = line.t_e = 0;
+    line.early_searched = true;
+    if (!may_pass_early(line)) return;
+    const std::size_t top = analytic_top(line);
+    const auto region = [&](std::size_t i) { return simulate(line.cells[i], purpose); };
+    const auto guess = [&](std::uint32_t position, std::size_t hi) {
+      return position == kNone ? 0 : std::min(index_at(line, position), hi);
+    };
+    line.t_e = end_of_run(0, top, guess(hint.end, top), options_.stride, [&](std::size_t i) { return avoidable(region(i)); });
+    std::size_t g_end = 0;
+    while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
+    line.t_eg = end_of_run(0, g_end, guess(hint.g_end, g_end), g_end, [&](std::size_t i) { return region(i) == Region::kG; });
   }
 
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi) (test monotone: false then
@@ -286,13 +383,11 @@ class Search {
     return hi;
   }
 
-  // The avoidance threshold below the stop boundary, from the line's hint when it has one.
+  // The avoidance threshold between the early run and the stop boundary, from the line's hint
+  // when it has one.
   std::size_t avoidance_threshold(const Line& line) {
-    std::size_t guess = line.t_g;
-    if (line.hint != kNone)
-      guess = static_cast<std::size_t>(std::lower_bound(line.position.begin(), line.position.begin() + static_cast<long>(line.t_g),
-                                                        line.hint) - line.position.begin());
-    return threshold(0, line.t_g, guess,
+    const std::size_t guess = line.hint == kNone ? line.t_g : std::clamp(index_at(line, line.hint), line.t_e, line.t_g);
+    return threshold(line.t_e, line.t_g, guess,
                      [&](std::size_t i) { return avoidable(simulate(line.cells[i], Purpose::kThresholdCorners)); });
   }
 
@@ -303,11 +398,12 @@ class Search {
       const bool stops = oracle_.stop(cell) == StopCall::kStops;
       if (!is_simulated(cell) && !stops) continue;
       const Region r = stops && !is_simulated(cell) ? Region::kG : result_.cells[cell].region;
-      if (i < line.t_g && r == Region::kG)
-        return Violation{cell, line.cells[std::min(line.t_g, line.cells.size() - 1)], "stop"};
-      if (i >= line.t_g && r != Region::kG) return Violation{line.cells[line.t_g], cell, "stop"};
-      if (i < line.t_a && avoidable(r)) return Violation{cell, line.cells[line.t_a > 0 ? line.t_a - 1 : 0], "avoidance"};
-      if (i >= line.t_a && !avoidable(r)) return Violation{line.cells[line.t_a], cell, "avoidance"};
+      const bool g = i < line.t_eg || i >= line.t_g;
+      const bool a = i < line.t_e || i >= line.t_a;
+      if (r == Region::kG && !g) return Violation{cell, line.cells[std::min(line.t_g, line.cells.size() - 1)], "stop"};
+      if (r != Region::kG && g) return Violation{line.cells[i < line.t_eg ? 0 : line.t_g], cell, "stop"};
+      if (avoidable(r) && !a) return Violation{cell, line.cells[line.t_a > 0 ? line.t_a - 1 : 0], "avoidance"};
+      if (!avoidable(r) && a) return Violation{line.cells[i < line.t_e ? 0 : line.t_a], cell, "avoidance"};
     }
     return std::nullopt;
   }
@@ -316,6 +412,7 @@ class Search {
     Line& line = lines_[id];
     line.thresholds_searched = line.thresholds_known = true;
     if (line.cells.empty()) return;
+    early_run(line, Purpose::kThresholdCorners, line.early_hint);
     stop_threshold(line, Purpose::kThresholdCorners);
     line.t_a = avoidance_threshold(line);
   }
@@ -326,18 +423,18 @@ class Search {
   void sample_labels(std::size_t id) {
     Line& line = lines_[id];
     line.labels_sampled = line.labels_known = true;
-    if (line.t_a > 0) {
+    if (line.t_a > line.t_e) {
       std::vector<std::uint32_t> samples{line.cells[line.t_a - 1]};
-      for (std::size_t i = line.t_a; i > 0;) {
-        i = i > options_.stride ? i - options_.stride : 0;
+      for (std::size_t i = line.t_a; i > line.t_e;) {
+        i = i > line.t_e + options_.stride ? i - options_.stride : line.t_e;
         samples.push_back(line.cells[i]);
       }
       simulate_all(samples, Purpose::kLabels);
-      bisect_changes(line, 0, line.t_a, Purpose::kLabels);
+      bisect_changes(line, line.t_e, line.t_a, Purpose::kLabels);
     }
     line.labels.assign(line.t_a, Region::kR);
-    std::size_t below = 0;
-    for (std::size_t i = 0; i < line.t_a; ++i) {
+    std::size_t below = line.t_e;
+    for (std::size_t i = line.t_e; i < line.t_a; ++i) {
       if (is_simulated(line.cells[i])) below = i;
       line.labels[i] = result_.cells[line.cells[below]].region;
     }
@@ -381,8 +478,14 @@ class Search {
     while (line.t_g > 0 && result_.cells[line.cells[line.t_g - 1]].region == Region::kG) --line.t_g;
     line.t_a = line.t_g;
     while (line.t_a > 0 && avoidable(result_.cells[line.cells[line.t_a - 1]].region)) --line.t_a;
+    line.early_searched = true;
+    line.t_e = line.t_eg = 0;
+    if (may_pass_early(line)) {
+      while (line.t_e < line.t_a && avoidable(result_.cells[line.cells[line.t_e]].region)) ++line.t_e;
+      while (line.t_eg < line.t_e && result_.cells[line.cells[line.t_eg]].region == Region::kG) ++line.t_eg;
+    }
     line.labels.assign(line.t_a, Region::kR);
-    for (std::size_t i = 0; i < line.t_a; ++i) line.labels[i] = result_.cells[line.cells[i]].region;
+    for (std::size_t i = line.t_e; i < line.t_a; ++i) line.labels[i] = result_.cells[line.cells[i]].region;
   }
 
   // Simulations against the thresholds and labels of every line; a line that breaks monotonicity
@@ -436,12 +539,25 @@ class Search {
       if ((pa == kNone) != (pb == kNone)) return false;
       return pa == kNone || (pa > pb ? pa - pb : pb - pa) <= options_.bracket;
     }
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < a.t_a; ++i) {
+    std::size_t j = b.t_e;
+    for (std::size_t i = a.t_e; i < a.t_a; ++i) {
       while (j < b.t_a && b.position[j] < a.position[i]) ++j;
       if (j < b.t_a && b.position[j] == a.position[i] && a.labels[i] != b.labels[j]) return false;
     }
     return true;
+  }
+
+  // The median end of the lines' early runs (a position), or kNone when none has one.
+  [[nodiscard]] EarlyHint median_early(const std::vector<std::size_t>& ids) const {
+    const auto median = [&](auto&& position) {
+      std::vector<std::uint32_t> ends;
+      for (std::size_t id : ids)
+        if (position(lines_[id]) != kNone) ends.push_back(position(lines_[id]));
+      if (ends.empty()) return kNone;
+      std::nth_element(ends.begin(), ends.begin() + static_cast<long>(ends.size() / 2), ends.end());
+      return ends[ends.size() / 2];
+    };
+    return {median([](const Line& l) { return l.early_position(); }), median([](const Line& l) { return l.early_g_position(); })};
   }
 
   // The corners' common answer to `q`, or nothing when some two of them disagree.
@@ -449,6 +565,7 @@ class Search {
     std::vector<std::size_t> corners;
     for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
     Signature s;
+    if (q == Question::kThresholds) s.early_hint = median_early(corners);
     for (std::size_t id : corners) {
       const Line& line = lines_[id];
       if (q == Question::kThresholds) {
@@ -461,7 +578,7 @@ class Search {
         }
         continue;
       }
-      for (std::size_t i = 0; i < line.t_a; ++i) {
+      for (std::size_t i = line.t_e; i < line.t_a; ++i) {
         const auto [it, inserted] = s.labels.emplace(line.position[i], line.labels[i]);
         if (!inserted && it->second != line.labels[i]) return std::nullopt;
       }
@@ -471,21 +588,20 @@ class Search {
     return s;
   }
 
-  // A line between agreeing corners: its own stop boundary, and its avoidance threshold searched
-  // within the corners' bracket (no simulation when they agree exactly).
+  // A line between agreeing corners: its own early run (none, without a simulation, when no corner
+  // has one and physics says its lowest cell cannot stop) and stop boundary, and its avoidance
+  // threshold searched within the corners' bracket (no simulation when they agree exactly).
   void bracket_thresholds(Line& line, const Signature& s) {
     line.thresholds_known = true;
     if (line.cells.empty()) return;
+    if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop)
+      early_run(line, Purpose::kThresholdBrackets, s.early_hint);
     stop_threshold(line, Purpose::kThresholdBrackets);
     if (s.avoid_low == kNone) {
       line.t_a = line.t_g;
       return;
     }
-    const auto index_of = [&](std::uint32_t position) {
-      return std::min<std::size_t>(line.t_g, static_cast<std::size_t>(std::lower_bound(line.position.begin(),
-                                                                                     line.position.end(), position) -
-                                                                    line.position.begin()));
-    };
+    const auto index_of = [&](std::uint32_t position) { return std::clamp(index_at(line, position), line.t_e, line.t_g); };
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
     line.t_a = lo == hi ? lo : threshold(lo, hi, hi, [&](std::size_t i) {
       return avoidable(simulate(line.cells[i], Purpose::kThresholdBrackets));
@@ -505,8 +621,8 @@ class Search {
   // A line between agreeing corners takes their labels; false when they give none, or when a cell
   // the line simulated for its thresholds says otherwise.
   bool infer_labels(Line& line, const Signature& s, const Box& box) {
-    std::vector<Region> labels(line.t_a);
-    for (std::size_t i = 0; i < line.t_a; ++i) {
+    std::vector<Region> labels(line.t_a, Region::kR);
+    for (std::size_t i = line.t_e; i < line.t_a; ++i) {
       const auto label = nearest_label(s, line.position[i]);
       if (!label) return false;
       labels[i] = *label;
@@ -544,7 +660,10 @@ class Search {
           const bool done = q == Question::kThresholds ? line.thresholds_searched : line.labels_sampled;
           if (done || queued[id]) return;
           queued[id] = 1;
-          if (q == Question::kThresholds) line.hint = box.hint;
+          if (q == Question::kThresholds) {
+            line.hint = box.hint;
+            line.early_hint = box.early_hint;
+          }
           work.emplace_back(id, nullptr);
         });
       work.insert(work.end(), brackets.begin(), brackets.end());
@@ -655,11 +774,17 @@ class Search {
                        thresholds.end());
       hint = thresholds[thresholds.size() / 2];
     }
+    std::vector<std::size_t> corners;
+    for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
+    const EarlyHint early_hint = median_early(corners);
     for (const auto& h0 : parts[0])
       for (const auto& h1 : parts[1])
         for (const auto& h2 : parts[2])
           for (const auto& h3 : parts[3])
-            out.push_back(Box{{h0.first, h1.first, h2.first, h3.first}, {h0.second, h1.second, h2.second, h3.second}, hint});
+            out.push_back(Box{{h0.first, h1.first, h2.first, h3.first},
+                              {h0.second, h1.second, h2.second, h3.second},
+                              hint,
+                              early_hint});
   }
 
   // --- the map ---------------------------------------------------------------------------------
@@ -681,12 +806,26 @@ class Search {
         c.method = Method::kStop;
         continue;
       }
+      // Its run [begin, end), and whether the line's own simulations settled it.
+      std::size_t begin = line.t_e, end = line.t_a;
+      bool from_line = line.labels_sampled;
       const bool y = i >= line.t_a;
-      c.region = y ? Region::kY : line.labels[i];
-      const bool from_line = y ? line.thresholds_searched : line.labels_sampled;
+      if (i < line.t_e) {
+        const bool g = i < line.t_eg;
+        c.region = g ? Region::kG : Region::kY;
+        begin = g ? 0 : line.t_eg;
+        end = g ? line.t_eg : line.t_e;
+        from_line = true;  // an early run is always the line's own
+      } else if (y) {
+        c.region = Region::kY;
+        begin = line.t_a;
+        end = line.t_g;
+        from_line = line.thresholds_searched;
+      } else {
+        c.region = line.labels[i];
+      }
       c.method = from_line ? Method::kLine : Method::kBox;
       if (from_line) {  // the simulated cells around it in its run
-        const std::size_t begin = y ? line.t_a : 0, end = y ? line.t_g : line.t_a;
         const auto above = std::upper_bound(simulated.begin(), simulated.end(), i);
         if (above != simulated.begin() && *std::prev(above) >= begin) c.from.push_back(line.cells[*std::prev(above)]);
         if (above != simulated.end() && *above < end) c.from.push_back(line.cells[*above]);
@@ -839,6 +978,8 @@ sim::Region region_named(std::string_view name) noexcept {
     if (sim::region_name(r) == name) return r;
   return Region::kInfeasible;
 }
+
+bool truck_on_its_way(const sim::CellInput& cell) noexcept { return cell.truck_speed_kph > 0.0; }
 
 StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   constexpr double kMargin_m = 0.1;  // the simulated stop matches the analytic one within 0.03 m (docs/adaptive.md)

@@ -241,6 +241,9 @@ class GridOracle final : public adaptive::Oracle {
     return adaptive::stop_call(campaign_.scene, grid_.cells[cell]);
   }
 
+  [[nodiscard]] bool passes_early(std::size_t cell) const override {
+    return adaptive::truck_on_its_way(grid_.cells[cell]);
+  }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
     if (core::interrupt_signal() != 0) throw SearchInterrupted{};

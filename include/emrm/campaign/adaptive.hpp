@@ -8,7 +8,9 @@
 // The structure it uses: along the monotone axis (TTC, or friction when TTC has one level) the
 // stop (G) and avoidance (G or Y) are monotone — a cell that can be avoided stays avoidable with
 // more time or more grip — so each line of cells along it is settled by two thresholds and the
-// O/R labels below them; lines are inferred from the lines at the corners of boxes of the other
+// O/R labels below them; where the truck is still moving, a line may also start with an early run
+// (the car passing in front of the truck at the lowest TTCs: sooner is better there), settled by
+// two more thresholds, where G and avoidance end; lines are inferred from the lines at the corners of boxes of the other
 // factors when those corners agree, and boxes whose corners disagree are split in two along
 // every factor. Whatever the simulations show against monotonicity is reported and resolved.
 
@@ -49,6 +51,10 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 /// nor pass in front of it before it arrives; kUnknown otherwise.
 [[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
+/// Whether arriving sooner can help at this cell (Oracle::passes_early for the shipped physics): the
+/// truck moves, so the gap it leaves narrows over time and the car may pass in front of it first.
+[[nodiscard]] bool truck_on_its_way(const sim::CellInput& cell) noexcept;
+
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
 /// read back).
 [[nodiscard]] sim::Region region_named(std::string_view name) noexcept;
@@ -62,6 +68,10 @@ class Oracle {
   [[nodiscard]] virtual StopCall stop(std::size_t cell) const = 0;
   /// The cell's region (G, Y, O or R) by simulation.
   [[nodiscard]] virtual sim::Region simulate(std::size_t cell) = 0;
+  /// Whether arriving sooner can help at this cell: a truck still on its way when the car gets
+  /// there, which the car may pass in front of at the lowest TTCs (a moving truck). Then a line
+  /// along TTC may start with a run of its own that avoids, below the cells that cannot.
+  [[nodiscard]] virtual bool passes_early(std::size_t /*cell*/) const { return false; }
 };
 
 struct Options {
@@ -109,7 +119,7 @@ struct Violation {
 
 /// What a simulation was for (the stages of the search, in order).
 enum class Purpose : std::uint8_t {
-  kThresholdCorners,  ///< a corner line's stop boundary and avoidance threshold
+  kThresholdCorners,  ///< a corner line's stop boundary, avoidance threshold and early run
   kThresholdBrackets, ///< a line between agreeing corners, within their bracket
   kLabels,            ///< a corner line's O/R labels
   kViolations,        ///< lines resolved in full after a contradiction

@@ -31,6 +31,9 @@ struct SyntheticMap {
     return v > 60.0 ? Region::kO : Region::kR;
   };
   std::set<std::size_t> flipped;  ///< unavoidable cells turned into the other unavoidable region
+  /// A truck still on its way (truck speed above 0): below these TTCs the car passes in front of it,
+  /// G below the first, Y below the second. None when unset.
+  std::function<double(double v, double mu)> early_g_ttc, early_ttc;
 
   [[nodiscard]] std::array<double, 5> factors(std::size_t cell) const {
     std::array<double, 5> f{};
@@ -44,6 +47,7 @@ struct SyntheticMap {
     const double v = v_kph / 3.6;
     return 0.35 + v / (2.0 * mu * 9.81);
   }
+  [[nodiscard]] bool passes_early(std::size_t cell) const { return early_ttc && factors(cell)[4] > 0.0; }
   [[nodiscard]] bool feasible(std::size_t cell) const {
     const auto f = factors(cell);
     return f[0] / 3.6 * f[1] <= max_distance_m;
@@ -51,7 +55,11 @@ struct SyntheticMap {
   [[nodiscard]] Region truth(std::size_t cell) const {
     const auto f = factors(cell);
     Region r;
-    if (f[1] >= stop_ttc(f[0], f[2]))
+    if (passes_early(cell) && f[1] < early_g_ttc(f[0], f[2]))
+      r = Region::kG;
+    else if (passes_early(cell) && f[1] < early_ttc(f[0], f[2]))
+      r = Region::kY;
+    else if (f[1] >= stop_ttc(f[0], f[2]))
       r = Region::kG;
     else if (f[1] >= avoid_ttc(f[0], f[2], f[3], f[4]))
       r = Region::kY;
@@ -69,8 +77,12 @@ class MapOracle final : public Oracle {
   [[nodiscard]] StopCall stop(std::size_t cell) const override {
     const auto f = map_.factors(cell);
     const double margin = f[0] / 3.6 * (f[1] - SyntheticMap::stop_ttc(f[0], f[2]));
-    return margin > 0.1 ? StopCall::kStops : margin < -0.1 ? StopCall::kCannotStop : StopCall::kUnknown;
+    if (margin > 0.1) return StopCall::kStops;
+    // As physics knows it: braking cannot avoid once the truck is in the way when the car gets there.
+    const bool arrived = !map_.passes_early(cell) || f[1] >= map_.early_g_ttc(f[0], f[2]) + 0.05;
+    return margin < -0.1 && arrived ? StopCall::kCannotStop : StopCall::kUnknown;
   }
+  [[nodiscard]] bool passes_early(std::size_t cell) const override { return map_.passes_early(cell); }
   [[nodiscard]] Region simulate(std::size_t cell) override {
     EXPECT_TRUE(map_.feasible(cell)) << "simulated an infeasible cell " << cell;
     EXPECT_EQ(calls_[cell]++, 0) << "simulated cell " << cell << " twice";
@@ -264,6 +276,44 @@ TEST(AdaptiveSearch, UnsortedLevelsAreSearchedInOrderOfValue) {
   const Result result = search(map.lattice, oracle, Options{});
   EXPECT_EQ(compare(map, result).differ, 0U);
   EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(result.feasible));
+}
+
+// Where the truck is still on its way, the car passes in front of it at the lowest TTCs (G, then
+// Y), below the cells that cannot avoid: each line's early run is found by its own few simulations,
+// exactly, without resolving lines in full, and a static truck's lines spend nothing on it.
+TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
+  SyntheticMap map;
+  map.lattice.levels = {range(30, 72, 2), range(0.25, 2.95, 0.06), range(0.3, 1.0, 0.1), {2.2}, {0.0, 20.0}};
+  map.avoid_ttc = [](double v, double mu, double, double) { return 0.6 + 0.004 * v / mu; };
+  map.early_g_ttc = [](double v, double mu) { return 0.2 + 4.0 / v + 0.05 * mu; };
+  map.early_ttc = [](double v, double mu) { return 0.35 + 4.0 / v + 0.1 * mu; };
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  const Comparison c = compare(map, result);
+  std::size_t early_g = 0, early_y = 0;
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
+    if (!map.feasible(cell) || !map.passes_early(cell)) continue;
+    const double ttc = map.factors(cell)[1], v = map.factors(cell)[0], mu = map.factors(cell)[2];
+    early_g += ttc < map.early_g_ttc(v, mu);
+    early_y += ttc >= map.early_g_ttc(v, mu) && ttc < map.early_ttc(v, mu);
+  }
+  EXPECT_GT(early_g, 100U);
+  EXPECT_GT(early_y, 100U);
+  EXPECT_EQ(c.differ, 0U);
+  EXPECT_EQ(c.g_wrong, 0U);
+  EXPECT_TRUE(result.violations.empty());
+  EXPECT_EQ(result.lines_fully_resolved, 0U);
+  EXPECT_EQ(result.simulated, oracle.total());
+  EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(c.feasible));
+
+  // The static truck's lines alone: no early run, and none looked for (its lowest cells are
+  // simulated only where the labels need them).
+  SyntheticMap still = map;
+  still.lattice.levels[4] = {0.0};
+  MapOracle still_oracle(still);
+  const Result still_result = search(still.lattice, still_oracle, Options{});
+  EXPECT_EQ(compare(still, still_result).differ, 0U);
+  EXPECT_LT(still_result.simulated, result.simulated / 2);
 }
 
 TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
