@@ -323,10 +323,11 @@ class Search {
   }
 
   // The early run (docs/adaptive.md): from the line's lowest cell, where the car passes in front of
-  // a truck still on its way, up to its first cell that cannot avoid (walking from the hint, in
-  // steps of at most `stride`), and the G run within it, which ends at the latest below the first
-  // cell that physics says cannot stop. A hint that is right costs two simulations for each end.
-  // Sets t_eg and t_e (both 0 without an early run).
+  // a truck still on its way, up to its first cell that cannot avoid, walking up from the bottom
+  // in steps of at most `stride` (not from the corners' ends: the cell below a guess that lands in
+  // the avoiding run above the gap avoids too), then bisecting; and the G run within it, which
+  // ends at the latest below the first cell that physics says cannot stop, from the corners' end
+  // (two simulations when right). Sets t_eg and t_e (both 0 without an early run).
   void early_run(Line& line, Purpose purpose, EarlyHint hint) {
     line.t_eg = line.t_e = 0;
     line.early_searched = true;
@@ -336,10 +337,22 @@ class Search {
     const auto guess = [&](std::uint32_t position, std::size_t hi) {
       return position == kNone ? 0 : std::min(index_at(line, position), hi);
     };
-    line.t_e = end_of_run(0, top, guess(hint.end, top), options_.stride, [&](std::size_t i) { return avoidable(region(i)); });
+    line.t_e = end_of_run(0, top, 0, options_.stride, [&](std::size_t i) { return avoidable(region(i)); });
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
     line.t_eg = end_of_run(0, g_end, guess(hint.g_end, g_end), g_end, [&](std::size_t i) { return region(i) == Region::kG; });
+  }
+
+  // An early run that met the stop's run may have walked over a gap narrower than the stride: the
+  // cell below the corners' avoidance threshold, when it cannot avoid, is in such a gap, and the
+  // early run ends below it. One simulation when there is no gap.
+  void look_for_gap(Line& line, std::uint32_t avoid_hint, Purpose purpose) {
+    if (line.t_e == 0 || line.t_e < line.t_g || avoid_hint == kNone) return;
+    const std::size_t at = index_at(line, avoid_hint);
+    const auto avoids = [&](std::size_t i) { return avoidable(simulate(line.cells[i], purpose)); };
+    if (at == 0 || at >= line.t_g || avoids(at - 1)) return;
+    line.t_e = end_of_run(0, at - 1, 0, options_.stride, avoids);
+    line.t_eg = std::min(line.t_eg, line.t_e);
   }
 
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi) (test monotone: false then
@@ -414,6 +427,7 @@ class Search {
     if (line.cells.empty()) return;
     early_run(line, Purpose::kThresholdCorners, line.early_hint);
     stop_threshold(line, Purpose::kThresholdCorners);
+    look_for_gap(line, line.hint, Purpose::kThresholdCorners);
     line.t_a = avoidance_threshold(line);
   }
 
@@ -474,18 +488,20 @@ class Search {
     std::size_t top = line.cells.size();
     while (top > 0 && oracle_.stop(line.cells[top - 1]) == StopCall::kStops) --top;
     simulate_all({line.cells.begin(), line.cells.begin() + static_cast<long>(top)}, Purpose::kViolations);
+    const auto region = [&](std::size_t i) { return result_.cells[line.cells[i]].region; };
     line.t_g = top;
-    while (line.t_g > 0 && result_.cells[line.cells[line.t_g - 1]].region == Region::kG) --line.t_g;
-    line.t_a = line.t_g;
-    while (line.t_a > 0 && avoidable(result_.cells[line.cells[line.t_a - 1]].region)) --line.t_a;
+    while (line.t_g > 0 && region(line.t_g - 1) == Region::kG) --line.t_g;
     line.early_searched = true;
     line.t_e = line.t_eg = 0;
     if (may_pass_early(line)) {
-      while (line.t_e < line.t_a && avoidable(result_.cells[line.cells[line.t_e]].region)) ++line.t_e;
-      while (line.t_eg < line.t_e && result_.cells[line.cells[line.t_eg]].region == Region::kG) ++line.t_eg;
+      while (line.t_e < line.t_g && avoidable(region(line.t_e))) ++line.t_e;
+      while (line.t_eg < line.t_e && region(line.t_eg) == Region::kG) ++line.t_eg;
     }
+    line.t_a = line.t_g;
+    while (line.t_a > line.t_e && avoidable(region(line.t_a - 1))) --line.t_a;
+    if (line.t_e > 0 && line.t_a == line.t_e) line.t_e = line.t_a = line.t_g;  // no cell below the stop's run cannot avoid
     line.labels.assign(line.t_a, Region::kR);
-    for (std::size_t i = line.t_e; i < line.t_a; ++i) line.labels[i] = result_.cells[line.cells[i]].region;
+    for (std::size_t i = line.t_e; i < line.t_a; ++i) line.labels[i] = region(i);
   }
 
   // Simulations against the thresholds and labels of every line; a line that breaks monotonicity
@@ -597,6 +613,7 @@ class Search {
     if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop)
       early_run(line, Purpose::kThresholdBrackets, s.early_hint);
     stop_threshold(line, Purpose::kThresholdBrackets);
+    look_for_gap(line, s.avoid_low, Purpose::kThresholdBrackets);
     if (s.avoid_low == kNone) {
       line.t_a = line.t_g;
       return;

@@ -283,8 +283,13 @@ TEST(AdaptiveSearch, UnsortedLevelsAreSearchedInOrderOfValue) {
 // exactly, without resolving lines in full, and a static truck's lines spend nothing on it.
 TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   SyntheticMap map;
-  map.lattice.levels = {range(30, 72, 2), range(0.25, 2.95, 0.06), range(0.3, 1.0, 0.1), {2.2}, {0.0, 20.0}};
-  map.avoid_ttc = [](double v, double mu, double, double) { return 0.6 + 0.004 * v / mu; };
+  // Where the passage is wide, avoidance by swerving starts low enough to meet the early run: no
+  // cell of the line is unavoidable, and a search that took a neighbour's early run for its own
+  // would jump the gap of the lines that have one.
+  map.lattice.levels = {range(30, 72, 2), range(0.25, 2.95, 0.06), range(0.3, 1.0, 0.1), {2.2, 3.4}, {0.0, 20.0}};
+  map.avoid_ttc = [](double v, double mu, double passage, double) {
+    return 0.6 + 0.004 * v / mu - 0.4 * (passage - 2.2);
+  };
   map.early_g_ttc = [](double v, double mu) { return 0.2 + 4.0 / v + 0.05 * mu; };
   map.early_ttc = [](double v, double mu) { return 0.35 + 4.0 / v + 0.1 * mu; };
   MapOracle oracle(map);
@@ -299,7 +304,14 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   }
   EXPECT_GT(early_g, 100U);
   EXPECT_GT(early_y, 100U);
-  EXPECT_EQ(c.differ, 0U);
+  std::size_t lines_without_gap = 0;
+  for (double v : map.lattice.levels[0])
+    for (double mu : map.lattice.levels[2]) lines_without_gap += map.avoid_ttc(v, mu, 3.4, 20.0) <= map.early_ttc(v, mu);
+  EXPECT_GT(lines_without_gap, 10U);
+  // Where a line's gap closes to one or two cells, the walk up the early run (steps of up to the
+  // stride) can step over it: such cells are wrong, within the 0.5 % the search is held to.
+  EXPECT_GT(c.differ, 0U);
+  EXPECT_LE(c.differ, c.feasible / 200);
   EXPECT_EQ(c.g_wrong, 0U);
   EXPECT_TRUE(result.violations.empty());
   EXPECT_EQ(result.lines_fully_resolved, 0U);
@@ -309,6 +321,7 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   // The static truck's lines alone: no early run, and none looked for (its lowest cells are
   // simulated only where the labels need them).
   SyntheticMap still = map;
+  still.lattice.levels[3] = {2.2};
   still.lattice.levels[4] = {0.0};
   MapOracle still_oracle(still);
   const Result still_result = search(still.lattice, still_oracle, Options{});
