@@ -47,8 +47,8 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     region.push_back(r.region);
     region.push_back(r.evidence);
     region.push_back(r.mitigation_evidence);
-    region.push_back(r.feasible && r.method == "simulated" ? number(r.p_mais3_reduction) : "");
-    region.push_back(r.feasible && r.method == "simulated" ? number(r.p_fatal_reduction) : "");
+    region.push_back(r.simulated() ? number(r.p_mais3_reduction) : "");
+    region.push_back(r.simulated() ? number(r.p_fatal_reduction) : "");
     region.push_back(r.feasible ? r.method : "");
     regions << core::csv_line(region);
     nlohmann::ordered_json j{{"grid", r.grid},
@@ -89,13 +89,13 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
         row.insert(row.end(),
                    {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
                     std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
-                    o.road_departure ? "1" : "0", number(o.road_departure ? o.impact_speed_kph : 0.0), o.evidence});
+                    o.road_departure ? "1" : "0", number(o.departure_speed_kph()), o.evidence});
         cells << core::csv_line(row);
         outcomes.push_back({{"strategy", o.strategy},
                             {"avoided", o.avoided},
                             {"contact", o.contact},
                             {"road_departure", o.road_departure},
-                            {"departure_speed_kph", o.road_departure ? o.impact_speed_kph : 0.0},
+                            {"departure_speed_kph", o.departure_speed_kph()},
                             {"evidence", o.evidence},
                             {"impact_speed_kph", o.impact_speed_kph},
                             {"delta_v_kph", o.delta_v_kph},

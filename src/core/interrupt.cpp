@@ -41,4 +41,8 @@ InterruptScope::~InterruptScope() {
 
 int interrupt_signal() noexcept { return g_signal.load(); }
 
+void request_interrupt(int signal) noexcept { g_signal = signal; }
+
+void clear_interrupt() noexcept { g_signal = 0; }
+
 }  // namespace emrm::core

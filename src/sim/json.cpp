@@ -221,8 +221,10 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
       s["planner"]["time_ms"] = o.planner.time_ms;
       s["planner"]["time_limited"] = o.planner.time_limited;
     }
-    s["trajectory"] = trajectory_json(o.path);
-    s["truck_trajectory"] = truck_trajectory_json(scene, o.path);
+    if (options.trajectories) {
+      s["trajectory"] = trajectory_json(o.path);
+      s["truck_trajectory"] = truck_trajectory_json(scene, o.path);
+    }
     s["maneuver"] = to_json(o.maneuver);
     strategies[o.strategy] = std::move(s);
   }

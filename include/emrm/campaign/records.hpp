@@ -41,6 +41,9 @@ struct OutcomeRecord {
   Polyline path;
   std::vector<Polyline> goal_tree;
   std::vector<Polyline> failsafe_tree;
+
+  /// The speed at which a road departure crossed the edge (its impact speed); 0 without one.
+  [[nodiscard]] double departure_speed_kph() const noexcept { return road_departure ? impact_speed_kph : 0.0; }
 };
 
 /// One cell of a grid with its unmitigated reference, region and outcomes.
@@ -73,6 +76,9 @@ struct CellRecord {
   /// An inferred cell's grounds: the indices (in its grid) of the simulated cells that bound it;
   /// empty when the analytic stop boundary alone makes it G.
   std::vector<std::int64_t> inferred_from;
+
+  /// Feasible and simulated, not inferred: the unmitigated reference and the harm reduction are known.
+  [[nodiscard]] bool simulated() const noexcept { return feasible && method == "simulated"; }
 };
 
 }  // namespace emrm::campaign

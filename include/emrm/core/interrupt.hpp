@@ -24,6 +24,13 @@ class InterruptScope {
 /// The signal received inside an InterruptScope (SIGINT or SIGTERM), or 0.
 [[nodiscard]] int interrupt_signal() noexcept;
 
+/// Sets the flag as a signal inside an InterruptScope does, for a host that receives the signals
+/// itself: the Python module keeps the interpreter's own SIGINT handler and, when it reports
+/// Ctrl-C, stops a sweep this way (docs/python.md). clear_interrupt() lowers the flag again, as an
+/// InterruptScope does when it begins.
+void request_interrupt(int signal) noexcept;
+void clear_interrupt() noexcept;
+
 /// Thrown by a long operation that stopped at an interrupt after keeping its work; the command
 /// line prints the message and exits 128 + signal (130 for SIGINT, 143 for SIGTERM).
 class Interrupted : public std::runtime_error {

@@ -10,6 +10,9 @@ namespace emrm::sim {
 
 struct JsonOptions {
   bool timing = false;  ///< add planner wall-clock times (they vary run to run; off keeps output reproducible)
+  /// Each strategy's `trajectory` and `truck_trajectory`; off for a caller that hands them out
+  /// otherwise (the Python module, as arrays over the result's own memory).
+  bool trajectories = true;
 };
 
 /// {"input":…, "feasible":…, "region":…, "evidence":…, "unmitigated":…, "strategies":{name: …}}, each
