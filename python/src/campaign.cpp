@@ -1,0 +1,297 @@
+// Sweeps and results stores (docs/campaign.md): campaign::sweep with the GIL released and Ctrl-C
+// stopping it as it stops `emrm sweep`, and a store's cells, outcomes and KPIs as columns for pandas.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <type_traits>
+
+#include "bindings.hpp"
+#include "emrm/campaign/aggregate.hpp"
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/store.hpp"
+#include "emrm/campaign/sweep.hpp"
+#include "emrm/core/interrupt.hpp"
+#include "emrm/core/text.hpp"
+
+namespace emrm::python {
+namespace {
+
+campaign::Campaign campaign_from(py::handle source, bool force) {
+  if (is_path(source)) return campaign::load_campaign(to_path(source), force);
+  return parse_mapping(source, [force](const std::string& text) {
+    return campaign::parse_campaign(text, "<campaign mapping>", std::filesystem::current_path(), force);
+  });
+}
+
+// Runs the sweep on a thread of its own while this one, the interpreter's, looks for signals ten
+// times a second with the GIL held only for that look. Python's own SIGINT handler stays in place:
+// when it reports Ctrl-C the sweep is asked to stop (core::request_interrupt), stores the cells in
+// flight and throws core::Interrupted, which reaches Python as emrm.Interrupted (a
+// KeyboardInterrupt). A second Ctrl-C while it stops changes nothing; the interpreter lives on.
+campaign::SweepSummary sweep_interruptibly(const campaign::Campaign& campaign, const campaign::SweepOptions& options) {
+  struct Shared {
+    std::mutex mutex;
+    std::condition_variable finished;
+    bool done = false;
+    campaign::SweepSummary summary;
+    std::exception_ptr error;
+  } shared;
+  std::optional<py::error_already_set> signalled;  // what the interpreter's handler raised
+  core::clear_interrupt();
+  {
+    const py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        shared.summary = campaign::sweep(campaign, options);
+      } catch (...) {
+        shared.error = std::current_exception();
+      }
+      const std::lock_guard lock(shared.mutex);
+      shared.done = true;
+      shared.finished.notify_all();
+    });
+    std::unique_lock lock(shared.mutex);
+    while (!shared.finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return shared.done; })) {
+      lock.unlock();
+      {
+        const py::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) {
+          if (signalled)
+            PyErr_Clear();  // stopping already
+          else
+            signalled.emplace();  // takes the error out of the interpreter
+          core::request_interrupt(SIGINT);
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (signalled && !signalled->matches(PyExc_KeyboardInterrupt)) throw *signalled;  // a handler of the user's
+  if (shared.error) std::rethrow_exception(shared.error);
+  if (signalled) throw *signalled;  // the sweep had just finished when Ctrl-C came
+  return shared.summary;
+}
+
+py::dict sweep(py::handle source, py::handle output_dir, int threads, bool progress, const std::optional<std::string>& profile,
+               bool force, const std::string& shard, bool adaptive, std::optional<std::size_t> verify_sample,
+               std::size_t initial_levels, std::size_t stride, py::handle progress_log) {
+  campaign::SweepOptions options;
+  campaign::parse_shard(shard, options.shard_index, options.shard_count);
+  options.output_dir = to_path(output_dir);
+  options.threads = threads;
+  options.progress = progress;
+  options.adaptive = adaptive;
+  options.verify_sample = verify_sample;
+  options.initial_levels = initial_levels;
+  options.stride = stride;
+  if (!progress_log.is_none()) options.progress_log = to_path(progress_log);
+  campaign::Campaign c = campaign_from(source, force);
+  if (profile) campaign::apply_profile(c, *profile);
+  const campaign::SweepSummary s = sweep_interruptibly(c, options);
+  py::list adaptive_summaries;
+  for (const auto& a : s.adaptive) adaptive_summaries.append(to_python(nlohmann::ordered_json::parse(a.json)));
+  py::dict summary;
+  summary["cells_total"] = s.cells_total;
+  summary["cells_done_before"] = s.cells_done_before;
+  summary["cells_simulated"] = s.cells_simulated;
+  summary["seconds"] = s.seconds;
+  summary["adaptive"] = adaptive_summaries;
+  return summary;
+}
+
+// Columns of a table, one row per element of `rows`: numbers and flags as NumPy arrays, text as lists.
+template <class Row>
+class Columns {
+ public:
+  explicit Columns(const std::vector<Row>& rows) : rows_(rows) {}
+
+  template <class Get>
+  void add(const char* name, Get get) {
+    using T = std::decay_t<decltype(get(std::declval<const Row&>()))>;
+    if constexpr (std::is_arithmetic_v<T>) {
+      py::array_t<T> values(static_cast<py::ssize_t>(rows_.size()));
+      T* data = values.mutable_data();
+      for (std::size_t i = 0; i < rows_.size(); ++i) data[i] = get(rows_[i]);
+      columns_[name] = values;
+    } else {
+      py::list values(rows_.size());
+      for (std::size_t i = 0; i < rows_.size(); ++i) values[i] = py::str(get(rows_[i]));
+      columns_[name] = values;
+    }
+  }
+  [[nodiscard]] py::dict dict() const { return columns_; }
+
+ private:
+  const std::vector<Row>& rows_;
+  py::dict columns_;
+};
+
+template <class Row, class Cell>
+void add_cell_factors(Columns<Row>& columns, Cell cell) {
+  columns.add("grid", [cell](const Row& r) -> const std::string& { return cell(r).grid; });
+  columns.add("index", [cell](const Row& r) { return cell(r).index; });
+  columns.add("speed_kph", [cell](const Row& r) { return cell(r).speed_kph; });
+  columns.add("ttc_s", [cell](const Row& r) { return cell(r).ttc_s; });
+  columns.add("mu", [cell](const Row& r) { return cell(r).mu; });
+  columns.add("passage_m", [cell](const Row& r) { return cell(r).passage_m; });
+  columns.add("truck_speed_kph", [cell](const Row& r) { return cell(r).truck_speed_kph; });
+}
+
+std::string joined(const std::vector<std::string>& words) { return core::join(words, " "); }
+
+// regions.csv's columns (at full precision; the reductions NaN where it leaves them blank), then the rest of the cell.
+py::dict region_columns(const std::vector<campaign::CellRecord>& records) {
+  using campaign::CellRecord;
+  constexpr double kBlank = std::numeric_limits<double>::quiet_NaN();
+  Columns<CellRecord> c(records);
+  add_cell_factors(c, [](const CellRecord& r) -> const CellRecord& { return r; });
+  c.add("feasible", [](const CellRecord& r) { return r.feasible; });
+  c.add("region", [](const CellRecord& r) { return r.region; });
+  c.add("evidence", [](const CellRecord& r) { return r.evidence; });
+  c.add("mitigation_evidence", [](const CellRecord& r) { return r.mitigation_evidence; });
+  c.add("p_mais3_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_mais3_reduction : kBlank; });
+  c.add("p_fatal_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_fatal_reduction : kBlank; });
+  c.add("method", [](const CellRecord& r) { return r.feasible ? r.method : std::string(); });
+  c.add("seed", [](const CellRecord& r) { return r.seed; });
+  c.add("strengthened", [](const CellRecord& r) { return r.strengthened; });
+  c.add("unmitigated_impact_speed_kph", [](const CellRecord& r) { return r.unmitigated_impact_speed_kph; });
+  c.add("unmitigated_delta_v_kph", [](const CellRecord& r) { return r.unmitigated_delta_v_kph; });
+  c.add("unmitigated_p_mais3", [](const CellRecord& r) { return r.unmitigated_p_mais3; });
+  c.add("unmitigated_p_fatal", [](const CellRecord& r) { return r.unmitigated_p_fatal; });
+  c.add("unmitigated_loss_level", [](const CellRecord& r) { return r.unmitigated_loss_level; });
+  c.add("inferred_from", [](const CellRecord& r) {
+    std::vector<std::string> cells;
+    for (const auto i : r.inferred_from) cells.push_back(std::to_string(i));
+    return joined(cells);
+  });
+  return c.dict();
+}
+
+struct OutcomeRow {
+  const campaign::CellRecord* cell;
+  const campaign::OutcomeRecord* outcome;
+};
+
+// cells.csv's columns, then the rest of each outcome.
+py::dict outcome_columns(const std::vector<campaign::CellRecord>& records) {
+  std::vector<OutcomeRow> rows;
+  for (const auto& r : records)
+    for (const auto& o : r.outcomes) rows.push_back({&r, &o});
+  Columns<OutcomeRow> c(rows);
+  add_cell_factors(c, [](const OutcomeRow& r) -> const campaign::CellRecord& { return *r.cell; });
+  c.add("strategy", [](const OutcomeRow& r) { return r.outcome->strategy; });
+  c.add("avoided", [](const OutcomeRow& r) { return r.outcome->avoided; });
+  c.add("impact_speed_kph", [](const OutcomeRow& r) { return r.outcome->impact_speed_kph; });
+  c.add("delta_v_kph", [](const OutcomeRow& r) { return r.outcome->delta_v_kph; });
+  c.add("loss_level", [](const OutcomeRow& r) { return r.outcome->loss_level; });
+  c.add("delta_loss", [](const OutcomeRow& r) { return r.outcome->delta_loss; });
+  c.add("min_ttc_s", [](const OutcomeRow& r) { return r.outcome->min_ttc_s; });
+  c.add("road_departure", [](const OutcomeRow& r) { return r.outcome->road_departure; });
+  c.add("departure_speed_kph", [](const OutcomeRow& r) { return r.outcome->departure_speed_kph(); });
+  c.add("evidence", [](const OutcomeRow& r) { return r.outcome->evidence; });
+  c.add("contact", [](const OutcomeRow& r) { return r.outcome->contact; });
+  c.add("p_mais3", [](const OutcomeRow& r) { return r.outcome->p_mais3; });
+  c.add("p_fatal", [](const OutcomeRow& r) { return r.outcome->p_fatal; });
+  c.add("planner_nodes", [](const OutcomeRow& r) { return r.outcome->planner_nodes; });
+  c.add("planner_rollouts", [](const OutcomeRow& r) { return r.outcome->planner_rollouts; });
+  c.add("chosen_strategy", [](const OutcomeRow& r) { return r.outcome->chosen_strategy; });
+  c.add("adopted_from", [](const OutcomeRow& r) { return r.outcome->adopted_from; });
+  c.add("fsm_trace", [](const OutcomeRow& r) { return joined(r.outcome->fsm_trace); });
+  c.add("loss_evaluation_trace", [](const OutcomeRow& r) { return joined(r.outcome->loss_evaluation_trace); });
+  c.add("seed", [](const OutcomeRow& r) { return r.cell->seed; });
+  return c.dict();
+}
+
+// kpis.csv's columns (campaign::grid_kpis of every grid), at full precision.
+py::dict kpi_columns(const std::vector<campaign::CellRecord>& records, const campaign::LevelCuts& cuts) {
+  using campaign::StrategyKpis;
+  std::vector<StrategyKpis> kpis;
+  for (const auto& grid : campaign::grid_names(records))
+    for (auto& k : campaign::grid_kpis(records, grid, cuts)) kpis.push_back(std::move(k));
+  Columns<StrategyKpis> c(kpis);
+  c.add("grid", [](const StrategyKpis& k) { return k.grid; });
+  c.add("strategy", [](const StrategyKpis& k) { return k.strategy; });
+  c.add("factor", [](const StrategyKpis& k) { return std::string(campaign::factor_name(k.factor)); });
+  c.add("level", [](const StrategyKpis& k) { return k.level; });
+  c.add("range", [&cuts](const StrategyKpis& k) { return campaign::level_range(k.factor, k.level, cuts); });
+  c.add("cells", [](const StrategyKpis& k) { return k.cells; });
+  c.add("avoided", [](const StrategyKpis& k) { return k.avoided; });
+  c.add("collisions", [](const StrategyKpis& k) { return k.collisions; });
+  c.add("mitigated", [](const StrategyKpis& k) { return k.mitigated; });
+  c.add("collision_avoidance_rate_pct", [](const StrategyKpis& k) { return k.collision_avoidance_rate_pct; });
+  c.add("mean_impact_speed_kph", [](const StrategyKpis& k) { return k.mean_impact_speed_kph; });
+  c.add("mean_impact_speed_collisions_kph", [](const StrategyKpis& k) { return k.mean_impact_speed_collisions_kph; });
+  c.add("mean_min_ttc_s", [](const StrategyKpis& k) { return k.mean_min_ttc_s; });
+  c.add("finite_min_ttc_cells", [](const StrategyKpis& k) { return k.finite_min_ttc; });
+  c.add("mitigability_success_pct", [](const StrategyKpis& k) { return k.mitigability_success_pct; });
+  c.add("mean_delta_loss", [](const StrategyKpis& k) { return k.mean_delta_loss; });
+  return c.dict();
+}
+
+py::dict read_results(py::handle dir) {
+  const auto store = campaign::results_store_in(to_path(dir), "emrm.load_results");
+  const campaign::CampaignMeta meta = campaign::read_meta(store);
+  std::vector<campaign::CellRecord> records;
+  std::vector<std::pair<std::string, std::string>> adaptive;
+  {
+    const py::gil_scoped_release release;
+    records = campaign::read_results(store);
+    adaptive = campaign::ResultStore::open_for_reading(store).adaptive_summaries();
+  }
+  // The KPI tables cut the passage at the car's width, as `emrm reproduce` does.
+  campaign::LevelCuts cuts;
+  cuts.car_width_m = sim::parse_stored_scene_config(meta.scene_yaml, store.string()).ego.width_m;
+  py::dict meta_dict;
+  meta_dict["config_hash"] = meta.config_hash;
+  meta_dict["emrm_version"] = meta.emrm_version;
+  meta_dict["seed"] = meta.seed;
+  meta_dict["strategies"] = meta.strategies;
+  meta_dict["grids"] = meta.grids;
+  meta_dict["shard_index"] = meta.shard_index;
+  meta_dict["shard_count"] = meta.shard_count;
+  meta_dict["campaign_yaml"] = meta.campaign_yaml;
+  meta_dict["scene_yaml"] = meta.scene_yaml;
+  py::dict adaptive_dict;
+  for (const auto& [grid, json] : adaptive) adaptive_dict[py::str(grid)] = to_python(nlohmann::ordered_json::parse(json));
+  py::dict out;
+  out["regions"] = region_columns(records);
+  out["cells"] = outcome_columns(records);
+  out["kpis"] = kpi_columns(records, cuts);
+  out["meta"] = meta_dict;
+  out["adaptive"] = adaptive_dict;
+  return out;
+}
+
+}  // namespace
+
+void bind_campaign(py::module_& m) {
+  m.def("_sweep", &sweep, py::arg("campaign"), py::arg("output_dir"), py::arg("threads"), py::arg("progress"),
+        py::arg("profile"), py::arg("force"), py::arg("shard"), py::arg("adaptive"), py::arg("verify_sample"),
+        py::arg("initial_levels"), py::arg("stride"), py::arg("progress_log"),
+        "campaign::sweep into output_dir (emrm.sweep wraps it); returns the summary.");
+  m.def("_read_results", &read_results, py::arg("dir"),
+        "A results folder's cells, outcomes, KPIs and metadata as columns (emrm.load_results wraps it).");
+  m.def(
+      "merge",
+      [](const std::vector<py::object>& dirs, py::handle output_dir) {
+        std::vector<std::filesystem::path> paths;
+        for (const auto& d : dirs) paths.push_back(to_path(d));
+        campaign::merge(paths, to_path(output_dir));
+      },
+      py::arg("dirs"), py::arg("output_dir"),
+      "Joins the results folders of the shards of one campaign into output_dir, as `emrm merge` does.");
+}
+
+}  // namespace emrm::python
