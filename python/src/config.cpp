@@ -166,7 +166,7 @@ void bind_config(py::module_& m) {
   py::class_<sim::SceneConfig, std::shared_ptr<sim::SceneConfig>> scene(
       m, "Scene",
       "The T-junction scene (docs/scene-yaml.md): every field of scene.yaml as a read-only attribute under its\n"
-      "YAML name. Scene() is the built-in scene, identical to examples/tjunction/scene.yaml.");
+      "YAML name. Scene() is the built-in scene, the one `emrm simulate` runs without --scene.");
   scene.def(py::init([] { return std::make_shared<sim::SceneConfig>(); }), "The built-in scene.");
   add_fields(scene, "Scene");
   scene.def_static("load", &load_scene, py::arg("path"), py::arg("profile") = py::none(),

@@ -1,0 +1,146 @@
+"""emrm.simulate gives what `emrm simulate --json` prints for the same cell, key for key and bit for
+bit; its trajectories are NumPy arrays over the result's own memory."""
+
+import gc
+import json
+
+import numpy as np
+import pytest
+
+import emrm
+from conftest import run_emrm
+
+# One cell of each region (the green one is bench_simulate's BM_CellGreen), an infeasible one, and
+# one with every factor and the seed away from their defaults.
+CELLS = [
+    dict(speed_kph=50, ttc_s=1.2),
+    dict(speed_kph=60, ttc_s=0.8),
+    dict(speed_kph=72, ttc_s=0.3),
+    dict(speed_kph=72, ttc_s=2.9),
+    dict(speed_kph=45, ttc_s=0.9, mu=0.5, passage_m=2.0, truck_speed_kph=15, seed=7),
+]
+FLAGS = {"speed_kph": "--speed-kph", "ttc_s": "--ttc-s", "mu": "--mu", "passage_m": "--passage-m",
+         "truck_speed_kph": "--truck-speed-kph", "seed": "--seed"}
+
+
+def cli_json(cell, *more):
+    args = ["simulate", "--json", *more]
+    for key, value in cell.items():
+        args += [FLAGS[key], repr(value)]
+    run = run_emrm(*args)
+    assert run.returncode == 0, run.stderr
+    return run.stdout
+
+
+def assert_same_fields(result, printed):
+    """Every key of the CLI's JSON is an attribute of the result with the same value."""
+    for key, value in printed.items():
+        if key != "strategies":
+            assert getattr(result, key) == value, key
+    assert sorted(result.strategies) == sorted(printed["strategies"])  # JSON sorts them; Python keeps evaluation order
+    for name, fields in printed["strategies"].items():
+        outcome = result.strategies[name]
+        for key, value in fields.items():
+            if key in ("trajectory", "truck_trajectory"):
+                trajectory = getattr(outcome, key)
+                assert len(trajectory) == len(value)
+                for column in value[0] if value else []:
+                    assert np.array_equal(trajectory[column], [p[column] for p in value]), (name, key, column)
+            else:
+                assert getattr(outcome, key) == value, (name, key)
+
+
+@pytest.mark.parametrize("cell", CELLS, ids=lambda c: "_".join(f"{k}{v}" for k, v in c.items()))
+def test_simulate_prints_what_the_cli_prints(cell):
+    printed = cli_json(cell)
+    result = emrm.simulate(**cell)
+    assert result.to_json() + "\n" == printed  # byte for byte
+    assert_same_fields(result, json.loads(printed))
+
+
+def test_a_scene_file_a_profile_and_some_strategies_as_the_cli_takes_them(examples):
+    cell = dict(speed_kph=55, ttc_s=1.0, mu=0.8)
+    printed = cli_json(cell, "--scene", examples / "scene.yaml", "--profile", "paper", "--strategy", "dodge",
+                       "--strategy", "emrm")
+    scene = emrm.Scene.load(examples / "scene.yaml", profile="paper")
+    result = emrm.simulate(scene, strategy=["dodge", "emrm"], **cell)
+    assert result.to_json() + "\n" == printed
+    assert_same_fields(result, json.loads(printed))
+    assert list(result.strategies) == ["dodge", "emrm"]
+
+
+def test_a_scene_reads_back_from_its_dict_and_its_pickle(examples):
+    import pickle
+
+    scene = emrm.Scene.load(examples / "scene.yaml", profile="paper")
+    assert emrm.Scene.from_dict(scene.to_dict()) == scene
+    assert pickle.loads(pickle.dumps(scene)) == scene
+    assert scene != emrm.Scene()
+
+
+def test_trajectories_are_views_of_the_result_without_copies():
+    result = emrm.simulate(speed_kph=60, ttc_s=0.8)
+    trajectory = result.strategies["dodge"].trajectory
+    for column in ("t", "x", "y", "psi", "v", "vx", "vy", "yaw_rate", "steer"):
+        first, second = trajectory[column], getattr(trajectory, column)
+        assert first.base is not None and not first.flags.owndata, column
+        assert not first.flags.writeable, column
+        assert first.__array_interface__["data"][0] == second.__array_interface__["data"][0], column
+    # x, y, psi, t lie in the simulator's array of samples: one stride apart, no gather.
+    x, y = trajectory.x, trajectory.y
+    assert x.strides == y.strides and x.strides[0] > x.itemsize
+    assert y.__array_interface__["data"][0] - x.__array_interface__["data"][0] == x.itemsize
+    truck = result.strategies["dodge"].truck_trajectory
+    assert truck.t.__array_interface__["data"][0] == trajectory.t.__array_interface__["data"][0]
+    assert truck.columns == ("t", "x", "y", "psi")
+    with pytest.raises(AttributeError):
+        truck.vx
+
+
+def test_an_array_keeps_its_result_alive():
+    x = emrm.simulate(speed_kph=60, ttc_s=0.8).strategies["dodge"].trajectory.x
+    copy = x.copy()
+    gc.collect()
+    emrm.simulate(speed_kph=72, ttc_s=0.3)  # reuses freed memory, if any was freed
+    assert np.array_equal(x, copy)
+
+
+def test_keys_the_json_leaves_out_read_none():
+    infeasible = emrm.simulate(speed_kph=72, ttc_s=2.9)
+    assert not infeasible.feasible and infeasible.strategies == {}
+    assert infeasible.evidence is None and infeasible.certificate is None
+    stop = emrm.simulate(speed_kph=50, ttc_s=1.2).strategies["emergency_stop"]
+    assert stop.chosen_strategy is None and stop.loss_evaluation_trace is None
+    with pytest.raises(AttributeError):
+        infeasible.no_such_key
+
+
+def test_bad_cells_raise_what_the_cli_prints():
+    run = run_emrm("simulate", "--speed-kph=-5", "--ttc-s", "1")
+    assert run.returncode == 2
+    with pytest.raises(emrm.UsageError) as error:
+        emrm.simulate(speed_kph=-5, ttc_s=1)
+    assert str(error.value) == run.stderr.strip()
+    assert isinstance(error.value, ValueError)
+    run = run_emrm("simulate", "--speed-kph", "50", "--ttc-s", "1", "--strategy", "fly")
+    with pytest.raises(emrm.UsageError) as error:
+        emrm.simulate(speed_kph=50, ttc_s=1, strategy="fly")
+    assert str(error.value) == run.stderr.strip()
+    with pytest.raises(TypeError):
+        emrm.simulate(speed_kph="fast", ttc_s=1)
+
+
+def test_a_bad_scene_file_raises_input_error_at_its_line_and_column(tmp_path, examples):
+    text = (examples / "scene.yaml").read_text().replace("lane_width_m: 3.5", "lane_width_m: -1")
+    scene_file = tmp_path / "scene.yaml"
+    scene_file.write_text(text)
+    run = run_emrm("simulate", "--scene", scene_file, "--speed-kph", "50", "--ttc-s", "1")
+    assert run.returncode == 2
+    with pytest.raises(emrm.InputError) as error:
+        emrm.simulate(scene_file, speed_kph=50, ttc_s=1)
+    assert str(error.value) == run.stderr.strip()
+    line = next(n for n, t in enumerate(text.splitlines(), 1) if "lane_width_m: -1" in t)
+    assert (error.value.file, error.value.line) == (str(scene_file), line)
+    assert error.value.column == text.splitlines()[line - 1].index("-1") + 1
+    with pytest.raises(emrm.InputError):
+        emrm.Scene.load(scene_file)

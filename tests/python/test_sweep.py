@@ -1,0 +1,171 @@
+"""emrm.sweep writes what `emrm sweep` writes; load_results gives the numbers of cells.csv and
+regions.csv at full precision; the results do not depend on the thread count; Ctrl-C stops a sweep
+that a second call resumes with no cell lost or stored twice."""
+
+import csv
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pandas
+import pytest
+
+import emrm
+from conftest import run_emrm
+
+# 16 cells over both regions a stop decides, some infeasible; a second grid lists its cells.
+CAMPAIGN = """seed: 5
+grids:
+  - name: map
+    speed_kph: {from: 30, to: 72, step: 14}
+    ttc_s: {from: 0.25, to: 1.45, step: 0.4}
+  - name: slippery
+    ttc_s: 0.9
+    cells:
+      - {speed_kph: 40, mu: 0.3}
+      - {speed_kph: 55, mu: 0.6, passage_m: 1.5, truck_speed_kph: 20}
+"""
+
+
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    """The campaign swept by the CLI, and by Python with one and with two threads."""
+    folder = tmp_path_factory.mktemp("sweep")
+    campaign = folder / "campaign.yaml"
+    campaign.write_text(CAMPAIGN)
+    run = run_emrm("sweep", campaign, "-o", folder / "cli", "--threads", "2")
+    assert run.returncode == 0, run.stderr
+    one = emrm.sweep(campaign, folder / "one", threads=1)
+    two = emrm.sweep(campaign, folder / "two", threads=2)
+    return folder, one, two
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def as_csv(value):
+    """A value as the exports write it: numbers with {:.6g}, flags 1/0, NaN blank."""
+    if isinstance(value, (bool,)) or type(value).__name__ == "bool_":
+        return "1" if value else "0"
+    if isinstance(value, float):
+        return "" if math.isnan(value) else format(value, ".6g")
+    return str(value)
+
+
+def assert_frame_is_csv(frame, rows):
+    assert len(frame) == len(rows)
+    columns = list(rows[0]) if rows else []
+    assert [c for c in frame.columns if c in columns] == columns  # in the file's order
+    for i, row in enumerate(rows):
+        for column, text in row.items():
+            assert as_csv(frame[column].iloc[i]) == text, (i, column)
+
+
+def test_python_writes_the_files_the_cli_writes(swept):
+    folder, one, _ = swept
+    for name in ("regions.csv", "cells.csv", "cells.json"):
+        assert (folder / "one" / name).read_bytes() == (folder / "cli" / name).read_bytes(), name
+    assert one.summary["cells_total"] == 18 and one.summary["cells_simulated"] == 18
+
+
+def test_load_results_has_the_numbers_of_the_csv_files(swept):
+    folder, _, _ = swept
+    results = emrm.load_results(folder / "cli")
+    assert_frame_is_csv(results["cells"], read_csv(folder / "cli" / "cells.csv"))
+    assert_frame_is_csv(results["regions"], read_csv(folder / "cli" / "regions.csv"))
+    assert results.meta["grids"] == ["map", "slippery"] and results.meta["seed"] == 5
+
+
+def test_kpis_count_the_cells_table(swept):
+    _, one, _ = swept
+    cells, kpis = one.cells, one.kpis
+    whole = kpis[kpis.factor == "all"]
+    for row in whole.itertuples():
+        mine = cells[(cells.grid == row.grid) & (cells.strategy == row.strategy)]
+        assert row.cells == len(mine) and row.avoided == mine.avoided.sum()
+        assert row.collision_avoidance_rate_pct == pytest.approx(100 * mine.avoided.mean())
+
+
+def test_results_do_not_depend_on_the_thread_count(swept):
+    _, one, two = swept
+    for table in ("cells", "regions", "kpis"):
+        pandas.testing.assert_frame_equal(one[table], two[table])
+
+
+def test_a_second_sweep_into_the_folder_finds_everything_stored(swept):
+    folder, _, _ = swept
+    again = emrm.sweep(folder / "campaign.yaml", folder / "one", threads=1)
+    assert again.summary["cells_done_before"] == 18 and again.summary["cells_simulated"] == 0
+
+
+def test_a_mapping_stands_for_a_campaign_file_and_a_temporary_folder_for_out_dir(swept):
+    _, one, _ = swept
+    grid = {"name": "map", "speed_kph": {"from": 30, "to": 72, "step": 14}, "ttc_s": {"from": 0.25, "to": 1.45, "step": 0.4}}
+    results = emrm.sweep({"seed": 5, "grids": [grid]}, threads=2)
+    assert results.dir is None
+    pandas.testing.assert_frame_equal(results.regions, one.regions[one.regions.grid == "map"])
+
+
+def test_bad_campaigns_raise_input_error_with_the_cli_message(tmp_path):
+    campaign = tmp_path / "campaign.yaml"
+    campaign.write_text("grids:\n  - name: g\n    mu: 3\n")
+    run = run_emrm("sweep", campaign, "-o", tmp_path / "out")
+    assert run.returncode == 2
+    with pytest.raises(emrm.InputError) as error:
+        emrm.sweep(campaign, tmp_path / "out")
+    assert str(error.value) == run.stderr.strip()
+    assert error.value.line == 3
+    with pytest.raises(emrm.InputError) as error:
+        emrm.sweep({"grids": [{"name": "g", "mu": 3}]})
+    assert error.value.file == "<campaign mapping>"
+    with pytest.raises(emrm.UsageError):
+        emrm.load_results(tmp_path / "nothing here")
+
+
+# 128 cells, a few seconds on one thread: long enough to be interrupted after the first.
+LONG_CAMPAIGN = """seed: 5
+grids:
+  - name: map
+    speed_kph: {from: 30, to: 72, step: 6}
+    ttc_s: {from: 0.25, to: 1.45, step: 0.08}
+"""
+
+SWEEP_SCRIPT = """
+import sys, emrm
+print("sweeping", flush=True)
+emrm.sweep(sys.argv[1], sys.argv[2], threads=1)
+"""
+
+
+def test_ctrl_c_stops_a_sweep_that_the_next_call_resumes(tmp_path):
+    campaign = tmp_path / "campaign.yaml"
+    campaign.write_text(LONG_CAMPAIGN)
+    out = tmp_path / "out"
+    child = subprocess.Popen([sys.executable, "-c", SWEEP_SCRIPT, campaign, out], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=os.environ)
+    assert child.stdout.readline().strip() == "sweeping"
+    for _ in range(600):
+        if (out / "results.sqlite").exists():
+            break
+        time.sleep(0.05)
+    time.sleep(0.5)
+    child.send_signal(signal.SIGINT)
+    _, err = child.communicate(timeout=120)
+    if child.returncode == 0:
+        pytest.skip("the sweep ended before the interrupt")
+    assert "emrm.Interrupted: interrupted: " in err and "cells stored in" in err, err
+    stored = int(err.split("interrupted: ")[1].split(" of ")[0])
+    assert 0 < stored < 128
+
+    resumed = emrm.sweep(campaign, out, threads=2)
+    assert resumed.summary["cells_done_before"] == stored
+    assert resumed.summary["cells_simulated"] == 128 - stored
+    fresh = emrm.sweep(campaign, tmp_path / "fresh", threads=2)
+    for name in ("regions.csv", "cells.csv"):  # none lost, none twice
+        assert (out / name).read_bytes() == (tmp_path / "fresh" / name).read_bytes()
+    pandas.testing.assert_frame_equal(resumed.cells, fresh.cells)
