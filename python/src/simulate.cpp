@@ -100,6 +100,7 @@ py::array trajectory_column(py::object self, const std::string& name, bool attri
   if (name == "t") return column(&p->t_s, n, kPoint, self);
   if (view.truck) {
     // The truck where sim::to_json puts it: Scene::truck_at at each of the ego's times.
+    cell.trucks.resize(cell.result.strategies.size());
     auto& truck = cell.trucks[view.index];
     if (truck.size() != n) {
       const sim::Scene scene(*cell.scene, cell.result.input);
@@ -123,6 +124,7 @@ py::array trajectory_column(py::object self, const std::string& name, bool attri
     if (name == "yaw_rate") return column(&p->state.yaw_rate_radps, n, kPoint, self);
     if (name == "steer") return column(&p->state.steer_rad, n, kPoint, self);
     if (name == "v") {
+      cell.speeds.resize(cell.result.strategies.size());
       auto& speed = cell.speeds[view.index];
       if (speed.size() != n) {
         speed.clear();
@@ -134,14 +136,15 @@ py::array trajectory_column(py::object self, const std::string& name, bool attri
   throw py::key_error(name);  // not reached: every column of the lists is served above
 }
 
-std::vector<std::string> strategies_asked(py::handle strategy) {
-  if (strategy.is_none()) return sim::strategy_names();
+// The strategies a `strategy` argument asks for; nothing for all of them (CellOptions' default).
+std::optional<std::vector<std::string>> strategies_asked(py::handle strategy) {
+  if (strategy.is_none()) return std::nullopt;
   std::vector<std::string> names;
   if (py::isinstance<py::str>(strategy))
     names.push_back(strategy.cast<std::string>());
   else
     for (py::handle name : strategy) names.push_back(py::str(name).cast<std::string>());
-  if (std::find(names.begin(), names.end(), "all") != names.end()) return sim::strategy_names();
+  if (std::find(names.begin(), names.end(), "all") != names.end()) return std::nullopt;
   for (const auto& name : names) sim::validate_strategy(name);
   return names;
 }
@@ -156,15 +159,13 @@ CellPtr simulate(py::handle scene_arg, double speed_kph, double ttc_s, double mu
   // The truck's speed is the scene's unless given, as `emrm simulate` has it.
   const sim::CellInput input{speed_kph, ttc_s, mu, passage_m, truck_speed_kph.value_or(cell->scene->truck.speed_kph)};
   sim::CellOptions options;
-  options.strategies = strategies_asked(strategy);
+  if (auto asked = strategies_asked(strategy)) options.strategies = std::move(*asked);
   options.seed = seed;
   options.certify = certify;
   {
     const py::gil_scoped_release release;
     cell->result = sim::simulate_cell(*cell->scene, input, options);
   }
-  cell->speeds.resize(cell->result.strategies.size());
-  cell->trucks.resize(cell->result.strategies.size());
   return cell;
 }
 

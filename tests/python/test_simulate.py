@@ -17,7 +17,7 @@ CELLS = [
     dict(speed_kph=60, ttc_s=0.8),
     dict(speed_kph=72, ttc_s=0.3),
     dict(speed_kph=72, ttc_s=2.9),
-    dict(speed_kph=45, ttc_s=0.9, mu=0.5, passage_m=2.0, truck_speed_kph=15, seed=7),
+    dict(speed_kph=55, ttc_s=0.9, mu=0.8, passage_m=2.5, truck_speed_kph=15, seed=7),
 ]
 FLAGS = {"speed_kph": "--speed-kph", "ttc_s": "--ttc-s", "mu": "--mu", "passage_m": "--passage-m",
          "truck_speed_kph": "--truck-speed-kph", "seed": "--seed"}
@@ -144,3 +144,37 @@ def test_a_bad_scene_file_raises_input_error_at_its_line_and_column(tmp_path, ex
     assert error.value.column == text.splitlines()[line - 1].index("-1") + 1
     with pytest.raises(emrm.InputError):
         emrm.Scene.load(scene_file)
+
+
+def test_other_threads_run_while_a_cell_simulates():
+    """The GIL is released inside simulate: a Python thread counts on meanwhile."""
+    import threading
+
+    counting = threading.Event()
+    done = threading.Event()
+    count = 0
+
+    def count_while_simulating():
+        nonlocal count
+        counting.set()
+        while not done.is_set():
+            count += 1
+
+    counter = threading.Thread(target=count_while_simulating)
+    counter.start()
+    counting.wait()
+    before = count
+    emrm.simulate(speed_kph=72, ttc_s=0.3, certify=False)  # every search in full: a long call
+    during = count - before
+    done.set()
+    counter.join()
+    assert during > 1000
+
+
+def test_threads_simulating_side_by_side_give_the_sequential_results():
+    from concurrent.futures import ThreadPoolExecutor
+
+    sequential = [emrm.simulate(**cell).to_json() for cell in CELLS]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        parallel = list(pool.map(lambda cell: emrm.simulate(**cell).to_json(), CELLS * 2))
+    assert parallel == sequential * 2

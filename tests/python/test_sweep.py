@@ -127,12 +127,12 @@ def test_bad_campaigns_raise_input_error_with_the_cli_message(tmp_path):
         emrm.load_results(tmp_path / "nothing here")
 
 
-# 128 cells, a few seconds on one thread: long enough to be interrupted after the first.
+# 88 cells, four seconds on one thread: long enough to be interrupted after the first.
 LONG_CAMPAIGN = """seed: 5
 grids:
   - name: map
     speed_kph: {from: 30, to: 72, step: 6}
-    ttc_s: {from: 0.25, to: 1.45, step: 0.08}
+    ttc_s: {from: 0.45, to: 1.45, step: 0.1}
 """
 
 SWEEP_SCRIPT = """
@@ -160,12 +160,26 @@ def test_ctrl_c_stops_a_sweep_that_the_next_call_resumes(tmp_path):
         pytest.skip("the sweep ended before the interrupt")
     assert "emrm.Interrupted: interrupted: " in err and "cells stored in" in err, err
     stored = int(err.split("interrupted: ")[1].split(" of ")[0])
-    assert 0 < stored < 128
+    assert 0 < stored < 88
 
     resumed = emrm.sweep(campaign, out, threads=2)
     assert resumed.summary["cells_done_before"] == stored
-    assert resumed.summary["cells_simulated"] == 128 - stored
+    assert resumed.summary["cells_simulated"] == 88 - stored
     fresh = emrm.sweep(campaign, tmp_path / "fresh", threads=2)
     for name in ("regions.csv", "cells.csv"):  # none lost, none twice
         assert (out / name).read_bytes() == (tmp_path / "fresh" / name).read_bytes()
     pandas.testing.assert_frame_equal(resumed.cells, fresh.cells)
+
+
+def test_the_example_draws_the_map_of_a_results_folder(tmp_path):
+    """examples/notebooks/mitigability_map.py on a small grid named as the shipped fine grid."""
+    from conftest import SOURCE_DIR
+
+    campaign = tmp_path / "campaign.yaml"
+    campaign.write_text("grids:\n  - name: fine\n    speed_kph: [30, 50, 70]\n    ttc_s: [0.3, 0.9, 1.5, 2.9]\n")
+    emrm.sweep(campaign, tmp_path / "out", threads=2)
+    example = SOURCE_DIR / "examples" / "notebooks" / "mitigability_map.py"
+    run = subprocess.run([sys.executable, example, "--results", tmp_path / "out"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert "regions: G " in run.stdout
+    assert (tmp_path / "out" / "mitigability_map.png").exists() or (tmp_path / "out" / "mitigability_map.csv").exists()
