@@ -63,13 +63,13 @@ py::object member(const py::dict& fields, const std::string& name, const std::ve
   throw py::attribute_error(name);
 }
 
-py::list names(const py::dict& fields, const std::vector<std::string>& optional, const std::vector<std::string>& more) {
-  py::list out;
-  for (const auto& [key, value] : fields) out.append(key);
-  for (const auto& name : optional)
-    if (!fields.contains(name)) out.append(name);
-  for (const auto& name : more) out.append(name);
-  return out;
+// dir(): the class's own attributes and the JSON's keys, for completion.
+py::list names(py::handle self, const py::dict& fields, const std::vector<std::string>& optional) {
+  const py::module_ builtins = py::module_::import("builtins");
+  py::set out(builtins.attr("object").attr("__dir__")(self));
+  for (const auto& [key, value] : fields) out.add(key);
+  for (const auto& name : optional) out.add(name);
+  return builtins.attr("sorted")(out);
 }
 
 // A read-only array of `count` doubles `stride` bytes apart from `first`, over memory `base` keeps.
@@ -216,8 +216,8 @@ void bind_simulate(py::module_& m) {
   outcome.def("__getattr__", [outcome_fields](const OutcomeView& self, const std::string& name) {
     return member(outcome_fields(self), name, kOptionalOutcomeKeys);
   });
-  outcome.def("__dir__", [outcome_fields](const OutcomeView& self) {
-    return names(outcome_fields(self), kOptionalOutcomeKeys, {"strategy", "trajectory", "truck_trajectory", "to_dict"});
+  outcome.def("__dir__", [outcome_fields](py::object self) {
+    return names(self, outcome_fields(self.cast<const OutcomeView&>()), kOptionalOutcomeKeys);
   });
   outcome.def(
       "to_dict", [outcome_fields](const OutcomeView& self) { return py::dict(outcome_fields(self)); },
@@ -243,8 +243,8 @@ void bind_simulate(py::module_& m) {
   result.def("__getattr__", [](SimulatedCell& self, const std::string& name) {
     return member(self.field_dict(), name, kOptionalCellKeys);
   });
-  result.def("__dir__", [](SimulatedCell& self) {
-    return names(self.field_dict(), kOptionalCellKeys, {"to_json", "to_dict"});
+  result.def("__dir__", [](py::object self) {
+    return names(self, self.cast<SimulatedCell&>().field_dict(), kOptionalCellKeys);
   });
   result.def(
       "to_json", [](const SimulatedCell& self, int indent) { return self.json(true).dump(indent); },
