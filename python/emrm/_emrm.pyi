@@ -3,7 +3,7 @@
 tests/python/test_stubs.py checks that the classes and fields below are the module's."""
 
 import os
-from typing import Any, Callable, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Final, Mapping, Optional, Sequence, Union
 
 import numpy
 import numpy.typing
@@ -37,153 +37,90 @@ class _Part:
     def to_dict(self) -> dict[str, Any]: ...
 
 class RoadConfig(_Part):
-    @property
-    def lane_width_m(self) -> float: ...
-    @property
-    def lanes(self) -> int: ...
-    @property
-    def shoulder_m(self) -> float: ...
-    @property
-    def ego_lane_center_m(self) -> float: ...
+    lane_width_m: Final[float]
+    lanes: Final[int]
+    shoulder_m: Final[float]
+    ego_lane_center_m: Final[float]
 
 class TruckConfig(_Part):
-    @property
-    def length_m(self) -> float: ...
-    @property
-    def width_m(self) -> float: ...
-    @property
-    def mass_kg(self) -> float: ...
-    @property
-    def yaw_inertia_kgm2(self) -> float: ...
-    @property
-    def speed_kph(self) -> float: ...
-    @property
-    def decel_mps2(self) -> float: ...
+    length_m: Final[float]
+    width_m: Final[float]
+    mass_kg: Final[float]
+    yaw_inertia_kgm2: Final[float]
+    speed_kph: Final[float]
+    decel_mps2: Final[float]
 
 class VehicleParams(_Part):
-    @property
-    def length_m(self) -> float: ...
-    @property
-    def width_m(self) -> float: ...
-    @property
-    def mass_kg(self) -> float: ...
-    @property
-    def yaw_inertia_kgm2(self) -> float: ...
-    @property
-    def cg_to_front_axle_m(self) -> float: ...
-    @property
-    def cg_to_rear_axle_m(self) -> float: ...
-    @property
-    def cg_height_m(self) -> float: ...
-    @property
-    def max_steer_rad(self) -> float: ...
-    @property
-    def max_steer_rate_radps(self) -> float: ...
-    @property
-    def front_cornering_stiffness_n_per_rad(self) -> float: ...
-    @property
-    def rear_cornering_stiffness_n_per_rad(self) -> float: ...
-    @property
-    def kinematic_blend_speed_mps(self) -> float: ...
+    length_m: Final[float]
+    width_m: Final[float]
+    mass_kg: Final[float]
+    yaw_inertia_kgm2: Final[float]
+    cg_to_front_axle_m: Final[float]
+    cg_to_rear_axle_m: Final[float]
+    cg_height_m: Final[float]
+    max_steer_rad: Final[float]
+    max_steer_rate_radps: Final[float]
+    front_cornering_stiffness_n_per_rad: Final[float]
+    rear_cornering_stiffness_n_per_rad: Final[float]
+    kinematic_blend_speed_mps: Final[float]
 
 class SimulationConfig(_Part):
-    @property
-    def vehicle_model(self) -> str: ...
-    @property
-    def dt_s(self) -> float: ...
-    @property
-    def horizon_s(self) -> float: ...
+    vehicle_model: Final[str]
+    dt_s: Final[float]
+    horizon_s: Final[float]
 
 class ActuationConfig(_Part):
-    @property
-    def perception_latency_s(self) -> float: ...
-    @property
-    def brake_dead_time_s(self) -> float: ...
-    @property
-    def brake_ramp_s(self) -> float: ...
-    @property
-    def max_decel_mps2(self) -> float: ...
-    @property
-    def steer_dead_time_s(self) -> float: ...
-    @property
-    def steer_time_constant_s(self) -> float: ...
+    perception_latency_s: Final[float]
+    brake_dead_time_s: Final[float]
+    brake_ramp_s: Final[float]
+    max_decel_mps2: Final[float]
+    steer_dead_time_s: Final[float]
+    steer_time_constant_s: Final[float]
 
 class SeverityConfig(_Part):
-    @property
-    def restitution(self) -> float: ...
-    @property
-    def contact_friction(self) -> float: ...
-    @property
-    def mais3_intercept(self) -> float: ...
-    @property
-    def mais3_slope_per_mps(self) -> float: ...
-    @property
-    def fatal_reference_mps(self) -> float: ...
-    @property
-    def fatal_exponent(self) -> float: ...
-    @property
-    def l6_p_mais3(self) -> float: ...
-    @property
-    def l7_p_fatal(self) -> float: ...
+    restitution: Final[float]
+    contact_friction: Final[float]
+    mais3_intercept: Final[float]
+    mais3_slope_per_mps: Final[float]
+    fatal_reference_mps: Final[float]
+    fatal_exponent: Final[float]
+    l6_p_mais3: Final[float]
+    l7_p_fatal: Final[float]
 
 class PlannerConfig(_Part):
-    @property
-    def max_nodes(self) -> int: ...
-    @property
-    def max_time_ms(self) -> float: ...
-    @property
-    def min_duration_s(self) -> float: ...
-    @property
-    def max_duration_s(self) -> float: ...
-    @property
-    def goal_bias(self) -> float: ...
-    @property
-    def restarts(self) -> int: ...
-    @property
-    def plausible_miss_m(self) -> float: ...
+    max_nodes: Final[int]
+    max_time_ms: Final[float]
+    min_duration_s: Final[float]
+    max_duration_s: Final[float]
+    goal_bias: Final[float]
+    restarts: Final[int]
+    plausible_miss_m: Final[float]
 
 class RoadsideConfig(_Part):
-    @property
-    def type(self) -> str: ...
+    type: Final[str]
 
 class SafeStateConfig(_Part):
-    @property
-    def horizon_s(self) -> float: ...
-    @property
-    def max_yaw_rate_radps(self) -> float: ...
-    @property
-    def max_slip_angle_rad(self) -> float: ...
-    @property
-    def max_heading_error_rad(self) -> float: ...
-    @property
-    def max_steer_rad(self) -> float: ...
+    horizon_s: Final[float]
+    max_yaw_rate_radps: Final[float]
+    max_slip_angle_rad: Final[float]
+    max_heading_error_rad: Final[float]
+    max_steer_rad: Final[float]
 
 class Scene(_Part):
     """Scene() is the built-in scene; every field of scene.yaml is a read-only attribute."""
 
     def __init__(self) -> None: ...
-    @property
-    def name(self) -> str: ...
-    @property
-    def road(self) -> RoadConfig: ...
-    @property
-    def truck(self) -> TruckConfig: ...
-    @property
-    def ego(self) -> VehicleParams: ...
-    @property
-    def simulation(self) -> SimulationConfig: ...
-    @property
-    def actuation(self) -> ActuationConfig: ...
-    @property
-    def severity(self) -> SeverityConfig: ...
-    @property
-    def planner(self) -> PlannerConfig: ...
-    @property
-    def roadside(self) -> RoadsideConfig: ...
-    @property
-    def safe_state(self) -> SafeStateConfig: ...
-    @property
-    def max_initial_distance_m(self) -> float: ...
+    name: Final[str]
+    road: Final[RoadConfig]
+    truck: Final[TruckConfig]
+    ego: Final[VehicleParams]
+    simulation: Final[SimulationConfig]
+    actuation: Final[ActuationConfig]
+    severity: Final[SeverityConfig]
+    planner: Final[PlannerConfig]
+    roadside: Final[RoadsideConfig]
+    safe_state: Final[SafeStateConfig]
+    max_initial_distance_m: Final[float]
     @staticmethod
     def load(path: _Path, profile: Optional[str] = None) -> Scene: ...
     @staticmethod
@@ -208,8 +145,7 @@ class Trajectory:
     vy: _Array
     yaw_rate: _Array
     steer: _Array
-    @property
-    def columns(self) -> tuple[str, ...]: ...
+    columns: Final[tuple[str, ...]]
     def __len__(self) -> int: ...
     def __getitem__(self, column: str) -> _Array: ...
     def to_dataframe(self) -> Any: ...
@@ -252,8 +188,7 @@ class CellResult:
     harm_reduction: Optional[dict[str, float]]
     certificate: Optional[dict[str, Any]]
     unmitigated: dict[str, Any]
-    @property
-    def strategies(self) -> dict[str, Outcome]: ...
+    strategies: Final[dict[str, Outcome]]
     def to_json(self, indent: int = 2) -> str: ...
     def to_dict(self) -> dict[str, Any]: ...
 

@@ -61,14 +61,15 @@ def stub_classes():
 
 
 def members(node):
-    """Attribute names a stub class declares: properties and annotated names."""
-    names = []
+    """The attributes a stub class declares (`name: type`, or `name: Final[type]` when read-only), with their types."""
+    types = {}
     for item in node.body:
-        if isinstance(item, ast.FunctionDef) and any(getattr(d, "id", "") == "property" for d in item.decorator_list):
-            names.append(item.name)
-        elif isinstance(item, ast.AnnAssign):
-            names.append(item.target.id)
-    return names
+        if isinstance(item, ast.AnnAssign):
+            annotation = item.annotation
+            if isinstance(annotation, ast.Subscript) and ast.unparse(annotation.value) == "Final":
+                annotation = annotation.slice
+            types[item.target.id] = ast.unparse(annotation)
+    return types
 
 
 def test_the_stubs_name_what_the_module_has():
@@ -85,12 +86,10 @@ def test_the_stubs_list_every_scene_field_with_its_type():
     parts = {"Scene": scene} | {type(getattr(scene, k)).__name__: getattr(scene, k)
                                 for k, v in scene.to_dict().items() if isinstance(v, dict)}
     for name, part in parts.items():
-        fields = part.to_dict()
-        assert members(classes[name]) == list(fields), name
-        for item in classes[name].body:
-            if isinstance(item, ast.FunctionDef) and item.name in fields:
-                value = getattr(part, item.name)
-                assert ast.unparse(item.returns) == type(value).__name__, (name, item.name)
+        declared = members(classes[name])
+        assert list(declared) == list(part.to_dict()), name
+        for field, type_name in declared.items():
+            assert type(getattr(part, field)).__name__ == type_name, (name, field)
 
 
 def test_the_stubs_list_every_key_of_simulate_json():
