@@ -29,7 +29,16 @@ namespace {
 struct Constraints {
   std::optional<scenario::PictModel> model;  // borrowed by `violates`
   scenario::RowViolates violates;
+  bool python = false;  // `violates` calls Python: the GIL stays held
 };
+
+// Runs `work` with the GIL released unless the constraints call back into Python.
+template <class Work>
+auto without_gil_unless(const Constraints& constraints, Work work) {
+  if (constraints.python) return work();
+  const py::gil_scoped_release release;
+  return work();
+}
 
 void make_constraints(Constraints& out, const std::vector<int>& levels, py::handle constraints,
                       std::uint64_t max_search_steps) {
@@ -54,6 +63,7 @@ void make_constraints(Constraints& out, const std::vector<int>& levels, py::hand
   }
   if (!PyCallable_Check(constraints.ptr()))
     throw py::type_error("emrm.covering_array: constraints must be None, a str of PICT constraints or a function of a row");
+  out.python = true;
   out.violates = [function = py::reinterpret_borrow<py::object>(constraints)](std::span<const int> row) {
     return py::bool_(function(py::tuple(py::cast(std::vector<int>(row.begin(), row.end()))))).cast<bool>();
   };
@@ -89,7 +99,7 @@ py::array_t<int> covering_array(const std::vector<int>& levels, int strength, py
   const auto options = array_options(strength, seed, effort, max_tuples, max_search_steps);
   Constraints c;
   make_constraints(c, levels, constraints, max_search_steps);
-  return rows_array(scenario::generate_covering_array(levels, options, c.violates));
+  return rows_array(without_gil_unless(c, [&] { return scenario::generate_covering_array(levels, options, c.violates); }));
 }
 
 // The array of a PICT model file: its parameters' names and the values as written, by column.
@@ -97,7 +107,11 @@ py::dict covering_array_model(py::handle model_file, int strength, std::uint64_t
                               std::size_t max_tuples, std::uint64_t max_search_steps) {
   const auto options = array_options(strength, seed, effort, max_tuples, max_search_steps);
   const scenario::PictModel model = scenario::load_pict_model(to_path(model_file), max_search_steps);
-  const scenario::CoveringArray ca = scenario::generate_covering_array(model.levels(), options, model.row_violates());
+  scenario::CoveringArray ca;
+  {
+    const py::gil_scoped_release release;
+    ca = scenario::generate_covering_array(model.levels(), options, model.row_violates());
+  }
   py::dict columns;
   for (std::size_t f = 0; f < model.parameters().size(); ++f) {
     py::list values;
@@ -112,7 +126,8 @@ py::dict check_covering_array(const std::vector<int>& levels, int strength, cons
   check_strength(strength);
   Constraints c;
   make_constraints(c, levels, constraints, max_search_steps);
-  const scenario::ArrayCheck check = scenario::check_covering_array(levels, strength, rows, c.violates, max_search_steps);
+  const scenario::ArrayCheck check = without_gil_unless(
+      c, [&] { return scenario::check_covering_array(levels, strength, rows, c.violates, max_search_steps); });
   py::dict out;
   out["ok"] = check.ok();
   out["required_tuples"] = check.required_tuples;
