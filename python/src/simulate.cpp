@@ -206,7 +206,10 @@ void bind_simulate(py::module_& m) {
       m, "Outcome",
       "One strategy's outcome: every key of `emrm simulate --json`'s strategies.NAME as an attribute\n"
       "(docs/simulate.md), trajectory and truck_trajectory as Trajectory arrays.");
+  // What a loop over many cells reads most, straight from the result (the other keys come from the JSON).
   outcome.def_property_readonly("strategy", [](const OutcomeView& self) { return self.outcome().strategy; });
+  outcome.def_property_readonly("avoided", [](const OutcomeView& self) { return self.outcome().avoided; });
+  outcome.def_property_readonly("loss_level", [](const OutcomeView& self) { return self.outcome().impact.loss_level; });
   outcome.def_property_readonly("trajectory", [](const OutcomeView& self) { return TrajectoryView{self.cell, self.index, false}; });
   outcome.def_property_readonly("truck_trajectory",
                                 [](const OutcomeView& self) { return TrajectoryView{self.cell, self.index, true}; });
@@ -234,6 +237,8 @@ void bind_simulate(py::module_& m) {
       "feasible, region, evidence, mitigation_evidence, strengthened, harm_reduction, certificate,\n"
       "unmitigated, strategies (name -> Outcome, in evaluation order). Keys the JSON leaves out for a cell\n"
       "read None.");
+  result.def_property_readonly("feasible", [](const SimulatedCell& self) { return self.result.feasible; });
+  result.def_property_readonly("region", [](const SimulatedCell& self) { return sim::region_name(self.result.region); });
   result.def_property_readonly("strategies", [](const CellPtr& self) {
     py::dict out;
     for (std::size_t i = 0; i < self->result.strategies.size(); ++i)
