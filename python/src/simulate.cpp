@@ -144,6 +144,7 @@ std::optional<std::vector<std::string>> strategies_asked(py::handle strategy) {
     names.push_back(strategy.cast<std::string>());
   else
     for (py::handle name : strategy) names.push_back(py::str(name).cast<std::string>());
+  if (names.empty()) throw UsageError("emrm.simulate: strategy: expected a name, a list of names or 'all', got none");
   if (std::find(names.begin(), names.end(), "all") != names.end()) return std::nullopt;
   for (const auto& name : names) sim::validate_strategy(name);
   return names;
