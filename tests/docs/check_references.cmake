@@ -14,7 +14,7 @@ file(GLOB_RECURSE code RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/cmake/*.in ${SOURCE_DIR}/cmake/*.cmake ${SOURCE_DIR}/CMakeLists.txt
      ${SOURCE_DIR}/examples/*.yaml ${SOURCE_DIR}/fuzz/*.cpp ${SOURCE_DIR}/fuzz/*.hpp ${SOURCE_DIR}/scripts/*.sh
      ${SOURCE_DIR}/python/*.cpp ${SOURCE_DIR}/python/*.hpp ${SOURCE_DIR}/python/*.py ${SOURCE_DIR}/python/*.pyi
-     ${SOURCE_DIR}/python/CMakeLists.txt ${SOURCE_DIR}/tests/*.py ${SOURCE_DIR}/examples/*.py)
+     ${SOURCE_DIR}/tests/*.py ${SOURCE_DIR}/examples/*.py)
 file(GLOB docs RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/docs/*.md)
 set(problems "")
 foreach(file IN LISTS code docs ITEMS README.md)
