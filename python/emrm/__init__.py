@@ -76,11 +76,12 @@ def _frame(columns: Mapping[str, Any]) -> "pandas.DataFrame":
 class Results:
     """A results folder (docs/campaign.md) as pandas tables, at full precision.
 
-    cells: one row per feasible cell and strategy, the columns of cells.csv first, then contact,
-    p_mais3, p_fatal, planner_nodes, planner_rollouts, chosen_strategy, adopted_from, fsm_trace,
-    loss_evaluation_trace, seed. regions: one row per cell, the columns of regions.csv first (the
-    harm reductions NaN where it leaves them blank), then seed, strengthened, the unmitigated
-    reference and inferred_from. kpis: the rows of tables/kpis.csv (campaign::grid_kpis).
+    cells: one row per feasible cell and strategy, the columns of cells.csv in their order (the
+    cell's index after grid), then contact, p_mais3, p_fatal, planner_nodes, planner_rollouts,
+    chosen_strategy, adopted_from, fsm_trace, loss_evaluation_trace, seed. regions: one row per
+    cell, the columns of regions.csv in their order (index after grid; the harm reductions NaN where
+    it leaves them blank), then seed, strengthened, the unmitigated reference and inferred_from.
+    kpis: the rows of tables/kpis.csv (campaign::grid_kpis).
     ``results["cells"]`` reads as ``results.cells``.
     """
 

@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 
+import numpy
 import pandas
 import pytest
 
@@ -50,7 +51,7 @@ def read_csv(path):
 
 def as_csv(value):
     """A value as the exports write it: numbers with {:.6g}, flags 1/0, NaN blank."""
-    if isinstance(value, (bool,)) or type(value).__name__ == "bool_":
+    if isinstance(value, (bool, numpy.bool_)):
         return "1" if value else "0"
     if isinstance(value, float):
         return "" if math.isnan(value) else format(value, ".6g")
