@@ -83,7 +83,7 @@ std::string repr(const T& config, const char* class_name) {
   return text + ")";
 }
 
-// Adds one read-only attribute per field, to_dict(), ==, repr() and pickling by to_dict.
+// Adds one read-only attribute per field, to_dict(), == (by to_dict) and repr().
 template <Config T, class... Options>
 void add_fields(py::class_<T, Options...>& cls, const char* class_name) {
   std::vector<std::string> names;
