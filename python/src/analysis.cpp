@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "bindings.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
 #include "emrm/safety/analysis.hpp"

@@ -10,6 +10,7 @@
 
 #include "bindings.hpp"
 #include "emrm/campaign/plan_checks.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/covering_array.hpp"
 #include "emrm/scenario/odd.hpp"
