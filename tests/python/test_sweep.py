@@ -161,7 +161,7 @@ def test_ctrl_c_stops_a_sweep_that_the_next_call_resumes(tmp_path):
         pytest.skip("the sweep ended before the interrupt")
     assert "emrm.Interrupted: interrupted: " in err and "cells stored in" in err, err
     stored = int(err.split("interrupted: ")[1].split(" of ")[0])
-    assert 0 < stored < 88
+    assert 0 <= stored < 88  # none yet stored on a machine slowed right down: the rerun does them all
 
     resumed = emrm.sweep(campaign, out, threads=2)
     assert resumed.summary["cells_done_before"] == stored
