@@ -285,38 +285,6 @@ class Search {
     }
   }
 
-  // The end of a run that holds on [.., lo): the first index in [lo, hi) where test fails, or hi.
-  // From a guess (tested with the cell below it), then walking up in steps that double up to
-  // max_step, then bisecting: a gap in the run narrower than max_step may go unseen.
-  template <typename Test>
-  static std::size_t end_of_run(std::size_t lo, std::size_t hi, std::size_t guess, std::size_t max_step, Test&& test) {
-    if (guess > lo && guess < hi) {
-      if (!test(guess - 1)) {
-        hi = guess - 1;
-      } else {
-        lo = guess;
-        if (!test(guess)) return guess;
-        lo = guess + 1;
-      }
-    }
-    for (std::size_t step = 1; lo < hi; step = std::min(2 * step, max_step)) {
-      const std::size_t i = std::min(lo + step - 1, hi - 1);
-      if (!test(i)) {
-        hi = i;
-        break;
-      }
-      lo = i + 1;
-    }
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (test(mid))
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    return lo;
-  }
-
   // Whether the line may start with an early run: along TTC, where arriving sooner can help.
   [[nodiscard]] bool may_pass_early(const Line& line) const {
     return monotone_ == kTtc && !line.cells.empty() && oracle_.passes_early(line.cells.front());
@@ -337,10 +305,10 @@ class Search {
     const auto guess = [&](std::uint32_t position, std::size_t hi) {
       return position == kNone ? 0 : std::min(index_at(line, position), hi);
     };
-    line.t_e = end_of_run(0, top, 0, options_.stride, [&](std::size_t i) { return avoidable(region(i)); });
+    line.t_e = threshold(0, top, 0, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
-    line.t_eg = end_of_run(0, g_end, guess(hint.g_end, g_end), g_end, [&](std::size_t i) { return region(i) == Region::kG; });
+    line.t_eg = threshold(0, g_end, guess(hint.g_end, g_end), [&](std::size_t i) { return region(i) != Region::kG; });
   }
 
   // An early run that met the stop's run may have walked over a gap narrower than the stride: the
@@ -349,17 +317,20 @@ class Search {
   void look_for_gap(Line& line, std::uint32_t avoid_hint, Purpose purpose) {
     if (line.t_e == 0 || line.t_e < line.t_g || avoid_hint == kNone) return;
     const std::size_t at = index_at(line, avoid_hint);
-    const auto avoids = [&](std::size_t i) { return avoidable(simulate(line.cells[i], purpose)); };
-    if (at == 0 || at >= line.t_g || avoids(at - 1)) return;
-    line.t_e = end_of_run(0, at - 1, 0, options_.stride, avoids);
+    const auto cannot = [&](std::size_t i) { return !avoidable(simulate(line.cells[i], purpose)); };
+    if (at == 0 || at >= line.t_g || !cannot(at - 1)) return;
+    line.t_e = threshold(0, at - 1, 0, cannot, options_.stride);
     line.t_eg = std::min(line.t_eg, line.t_e);
   }
 
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi) (test monotone: false then
   // true), from a guess: galloping away from the guess, then bisecting. Two tests when the guess is
-  // right, about 2·log2(distance) when it is not.
+  // right, about 2·log2(distance) when it is not. Upwards the steps grow to max_step at most, so
+  // that from the bottom of a line (an early run's end) a run of trues as long as max_step between
+  // falses is not stepped over.
   template <typename Test>
-  static std::size_t threshold(std::size_t lo, std::size_t hi, std::size_t guess, Test&& test) {
+  static std::size_t threshold(std::size_t lo, std::size_t hi, std::size_t guess, Test&& test,
+                               std::size_t max_step = std::numeric_limits<std::size_t>::max()) {
     const auto gallop_down = [&] {
       for (std::size_t step = 1; hi > lo; step *= 2) {
         const std::size_t i = hi - lo > step ? hi - step : lo;
@@ -377,7 +348,7 @@ class Search {
       gallop_down();
     } else {
       lo = guess + 1;
-      for (std::size_t step = 1; hi > lo; step *= 2) {
+      for (std::size_t step = 1; hi > lo; step = std::min(2 * step, max_step)) {
         const std::size_t i = std::min(lo + step - 1, hi - 1);
         if (test(i)) {
           hi = i;
