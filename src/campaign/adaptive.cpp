@@ -456,8 +456,7 @@ class Search {
     Line& line = lines_[id];
     line.full = true;
     line.thresholds_searched = line.thresholds_known = line.labels_sampled = line.labels_known = true;
-    std::size_t top = line.cells.size();
-    while (top > 0 && oracle_.stop(line.cells[top - 1]) == StopCall::kStops) --top;
+    const std::size_t top = analytic_top(line);
     simulate_all({line.cells.begin(), line.cells.begin() + static_cast<long>(top)}, Purpose::kViolations);
     const auto region = [&](std::size_t i) { return result_.cells[line.cells[i]].region; };
     line.t_g = top;
