@@ -383,12 +383,20 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
 // with a production car's actuators and trucks up to 30 km/h: a cell called kStops is avoided by
 // braking, one called kCannotStop is not, whether the truck stood in the car's lane from the start
 // or only got there by the time the car could (t = TTC).
-TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
+// The built-in scene with a production car's latency and brakes (the shipped profile's figures)
+// and a planner budget of `max_nodes`.
+sim::SceneConfig production_car(int max_nodes) {
   sim::SceneConfig config;
   config.actuation.perception_latency_s = 0.25;
   config.actuation.brake_dead_time_s = 0.1;
   config.actuation.brake_ramp_s = 0.25;
-  config.planner.max_nodes = 1;
+  config.actuation.steer_dead_time_s = 0.05;
+  config.planner.max_nodes = max_nodes;
+  return config;
+}
+
+TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
+  const sim::SceneConfig config = production_car(1);
   sim::CellOptions only_stop;
   only_stop.strategies = {"emergency_stop"};
   only_stop.certify = false;
@@ -422,12 +430,7 @@ TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
 // early run can start at such a cell. Every strategy's simulation agrees; without latency the call
 // never rules one out.
 TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
-  sim::SceneConfig config;
-  config.actuation.perception_latency_s = 0.25;
-  config.actuation.brake_dead_time_s = 0.1;
-  config.actuation.brake_ramp_s = 0.25;
-  config.actuation.steer_dead_time_s = 0.05;
-  config.planner.max_nodes = 200;
+  const sim::SceneConfig config = production_car(200);
   sim::CellOptions options;
   options.certify = false;
   std::mt19937_64 random(5);
