@@ -124,7 +124,7 @@ enum class Purpose : std::uint8_t {
   kThresholdCorners,  ///< a corner line's stop boundary, avoidance threshold and early run
   kThresholdBrackets, ///< a line between agreeing corners, within their bracket
   kLabels,            ///< a corner line's O/R labels
-  kLabelBrackets,     ///< a line between corners whose labels change alike, where its own change
+  kLabelBrackets,     ///< a line between corners whose labels change alike: its own changes
   kViolations,        ///< lines resolved in full after a contradiction
   kVerification,      ///< the random sample of inferred cells
 };
