@@ -1,7 +1,9 @@
-// emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE [INITIAL_LEVELS STRIDE]: replays the adaptive search
-// on a grid already swept in full, with the stored regions as the simulator. Prints, per adaptive-
-// capable grid, the simulations the search would need and the cells its map would get wrong: the
-// figures docs/adaptive.md reports, measured without simulating anything.
+// emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE [INITIAL_LEVELS STRIDE VERIFY BRACKET BRACKETS [GRID]]:
+// replays the adaptive search on a grid already swept in full, with the stored regions as the
+// simulator. Prints, per adaptive-capable grid, the simulations the search would need (and how many
+// of them were strengthened searches, the dear ones) and the cells its map would get wrong: the
+// figures docs/adaptive.md reports, measured without simulating anything. A seventh argument
+// prints the simulations per line of speed by friction.
 
 #include <fmt/format.h>
 
@@ -42,7 +44,9 @@ class StoredOracle final : public campaign::adaptive::Oracle {
 
 int main(int argc, char** argv) try {
   if (argc < 3) {
-    std::fputs("usage: emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE [INITIAL_LEVELS STRIDE VERIFY]\n", stderr);
+    std::fputs("usage: emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE "
+               "[INITIAL_LEVELS STRIDE VERIFY BRACKET BRACKETS [GRID]]\n",
+               stderr);
     return 2;
   }
   const campaign::Campaign c = campaign::load_campaign(argv[1], true);
@@ -51,37 +55,49 @@ int main(int argc, char** argv) try {
   if (argc > 4) options.stride = std::strtoul(argv[4], nullptr, 10);
   if (argc > 5) options.verify_sample = std::strtoul(argv[5], nullptr, 10);
   if (argc > 6) options.bracket = static_cast<std::uint32_t>(std::strtoul(argv[6], nullptr, 10));
+  if (argc > 7) {
+    const auto brackets = campaign::adaptive::brackets_named(argv[7]);
+    if (!brackets) throw std::invalid_argument("expected auto, search or predict");
+    options.brackets = *brackets;
+  }
   std::map<std::string, std::vector<sim::Region>> truth;
-  for (const campaign::GridSpec& grid : c.grids) truth[grid.name].assign(grid.cells.size(), sim::Region::kInfeasible);
+  std::map<std::string, std::vector<char>> dear;  // the cell's search was strengthened (about 1 s, not 0.02)
+  for (const campaign::GridSpec& grid : c.grids) {
+    truth[grid.name].assign(grid.cells.size(), sim::Region::kInfeasible);
+    dear[grid.name].assign(grid.cells.size(), 0);
+  }
   campaign::ResultStore::open_for_reading(argv[2]).for_each_cell([&](const campaign::CellRecord& r) {
     auto& regions = truth[r.grid];
-    if (r.index >= 0 && static_cast<std::size_t>(r.index) < regions.size())
+    if (r.index >= 0 && static_cast<std::size_t>(r.index) < regions.size()) {
       regions[static_cast<std::size_t>(r.index)] = campaign::adaptive::region_named(r.region);
+      dear[r.grid][static_cast<std::size_t>(r.index)] = r.strengthened ? 1 : 0;
+    }
   });
   for (const campaign::GridSpec& grid : c.grids) {
     if (grid.levels[0].empty()) continue;
     StoredOracle oracle(c, grid, truth[grid.name]);
     const auto result = campaign::adaptive::search(campaign::adaptive::Lattice{grid.levels}, oracle, options);
-    std::size_t differ = 0, g_wrong = 0;
+    std::size_t differ = 0, g_wrong = 0, strengthened = 0;
     for (std::size_t i = 0; i < result.cells.size(); ++i) {
       if (result.cells[i].method == campaign::adaptive::Method::kNone) continue;
+      strengthened += result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i];
       const sim::Region t = truth[grid.name][i];
       differ += result.cells[i].region != t;
       g_wrong += (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
     }
     fmt::print("{}: {} cells, {} feasible; simulated {} ({:.1f} %); differ {} ({:.2f} %); G wrong {}; "
-               "violations {}; lines {} resolved {} inferred {} full {}; rounds {}\n",
+               "violations {}; lines {} resolved {} inferred {} full {}; rounds {}; strengthened {}\n",
                grid.name, grid.cells.size(), result.feasible, result.simulated,
                100.0 * static_cast<double>(result.simulated) / static_cast<double>(result.feasible), differ,
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
-               result.lines_fully_resolved, result.rounds);
+               result.lines_fully_resolved, result.rounds, strengthened);
     fmt::print("  simulated for:");
     for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
       fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)),
                  result.simulated_for[p]);
     fmt::print("\n");
-    if (argc > 7) {  // simulations per line of speed (columns) by friction (rows), TTC being the line
+    if (argc > 8) {  // simulations per line of speed (columns) by friction (rows), TTC being the line
       const auto& l = grid.levels;
       for (std::size_t m = 0; m < l[2].size(); ++m) {
         fmt::print("mu {:5.2f} ", l[2][m]);

@@ -29,6 +29,7 @@ struct SweepCommandOptions {
   std::string verify_sample = "auto";
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
+  std::string brackets = "auto";
 };
 
 struct MergeCommandOptions {
@@ -69,6 +70,7 @@ int run_sweep(const SweepCommandOptions& o) {
   if (o.verify_sample != "auto") options.verify_sample = std::stoul(o.verify_sample);  // checked by its validator
   options.initial_levels = o.initial_levels;
   options.stride = o.stride;
+  options.brackets = *campaign::adaptive::brackets_named(o.brackets);  // checked by IsMember
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
   if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
   const campaign::SweepSummary s = campaign::sweep(c, options);
@@ -142,6 +144,12 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_option("--stride", s->stride,
                     "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
+      ->capture_default_str();
+  sweep->add_option("--brackets", s->brackets,
+                    "Adaptive: a line between corners whose thresholds agree within a level searches its own "
+                    "(search), takes the one predicted from them (predict), or auto: predict on grids of three "
+                    "factors or more")
+      ->check(CLI::IsMember({"auto", "search", "predict"}))
       ->capture_default_str();
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)

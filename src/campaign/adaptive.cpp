@@ -64,6 +64,9 @@ struct Line {
   std::vector<std::size_t> changes;  ///< where its runs of labels start, when found within its corners' brackets
   std::vector<std::uint32_t> threshold_corners;  ///< the lines its bracket came from (when not searched)
   std::vector<std::uint32_t> label_corners;      ///< the lines its labels came from (when not sampled)
+  /// Its avoidance threshold was predicted from its corners within [lo, hi) of their bracket, not
+  /// searched (Options::brackets); hi == 0: searched, or found without a bracket.
+  std::size_t predicted_lo = 0, predicted_hi = 0;
 
   /// Position of the avoidance threshold when the line has Y cells; kNone when avoidance starts with G.
   [[nodiscard]] std::uint32_t avoid_position() const noexcept { return t_a < t_g ? position[t_a] : kNone; }
@@ -137,6 +140,10 @@ class Search {
     monotone_ = lattice.levels[kTtc].size() > 1 ? kTtc : (lattice.levels[kMu].size() > 1 ? kMu : kTtc);
     for (std::size_t k = 0; k < kAxes; ++k)
       if (k != monotone_) line_axes_.push_back(k);
+    const auto varying = std::count_if(line_axes_.begin(), line_axes_.end(),
+                                       [&](std::size_t k) { return lattice.levels[k].size() > 1; });
+    predict_brackets_ =
+        options.brackets == Brackets::kPredict || (options.brackets == Brackets::kAuto && varying >= 2);
     result_.cells.resize(lattice.size());
     build_lines();
   }
@@ -144,6 +151,7 @@ class Search {
   Result run() {
     refine(Question::kThresholds);
     refine(Question::kLabels);
+    for (Line& line : lines_) settle_prediction(line);
     resolve_violations();
     for (std::size_t id = 0; id < lines_.size(); ++id) fill(id);
     verify();
@@ -445,6 +453,12 @@ class Search {
   void sample_labels(std::size_t id) {
     Line& line = lines_[id];
     line.labels_sampled = line.labels_known = true;
+    if (line.predicted_hi != 0) {  // a predicted threshold searched: the cell below it is sampled anyway
+      line.t_a = threshold(line.predicted_lo, line.predicted_hi - 1, line.t_a, [&](std::size_t i) {
+        return avoidable(simulate(line.cells[i], Purpose::kLabels));
+      });
+      line.predicted_hi = 0;
+    }
     if (line.t_a > line.t_e) {
       std::vector<std::uint32_t> samples{line.cells[line.t_a - 1]};
       for (std::size_t i = line.t_a; i > line.t_e;) {
@@ -693,9 +707,39 @@ class Search {
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
     const std::uint32_t predicted_start = predicted(box, id, &Line::avoid_start);
     const std::size_t guess = predicted_start == kNone ? hi : std::clamp(index_at(line, predicted_start), lo, hi);
+    if (predict_brackets_ && lo != hi) {
+      line.t_a = guess;
+      line.predicted_lo = lo;
+      line.predicted_hi = hi + 1;
+      settle_prediction(line);
+      return;
+    }
     line.t_a = lo == hi ? lo : threshold(lo, hi, guess, [&](std::size_t i) {
       return avoidable(simulate(line.cells[i], Purpose::kThresholdBrackets));
     });
+  }
+
+  // A predicted avoidance threshold moved where the line's own simulations within its bracket put
+  // it: above the highest that cannot avoid, else at the lowest that avoids below it. Cells that
+  // join the unavoidable part take the label of the simulated cell they join.
+  void settle_prediction(Line& line) {
+    if (line.predicted_hi == 0) return;
+    std::size_t t = line.t_a;
+    for (std::size_t i = line.predicted_lo; i < std::min(line.predicted_hi, line.t_g); ++i) {
+      if (!is_simulated(line.cells[i])) continue;
+      if (!avoidable(result_.cells[line.cells[i]].region)) t = std::max(t, i + 1);
+    }
+    for (std::size_t i = t; i-- > line.predicted_lo;) {
+      if (!is_simulated(line.cells[i])) continue;
+      if (!avoidable(result_.cells[line.cells[i]].region)) break;
+      t = i;
+    }
+    if (t == line.t_a) return;
+    if (line.labels_known && !line.labels.empty()) {
+      const Region fill = t > line.t_a ? result_.cells[line.cells[t - 1]].region : Region::kR;
+      line.labels.resize(std::max(t, line.t_e), fill);
+    }
+    line.t_a = t;
   }
 
   // The label the corners give the level nearest `position` (the lower on a tie).
@@ -1038,6 +1082,7 @@ class Search {
   const Lattice& lattice_;
   Oracle& oracle_;
   Options options_;
+  bool predict_brackets_ = false;  ///< Options::brackets, auto resolved
   std::array<std::vector<std::size_t>, kAxes> order_;  ///< per factor: sorted position → level index
   std::size_t monotone_ = kTtc;
   std::vector<std::size_t> line_axes_;
@@ -1079,6 +1124,13 @@ std::string_view purpose_name(Purpose p) noexcept {
     case Purpose::kVerification: return "verification";
   }
   return "";
+}
+
+std::optional<Brackets> brackets_named(std::string_view name) noexcept {
+  if (name == "auto") return Brackets::kAuto;
+  if (name == "search") return Brackets::kSearch;
+  if (name == "predict") return Brackets::kPredict;
+  return std::nullopt;
 }
 
 std::string_view basis_name(Method m) noexcept {

@@ -354,6 +354,7 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
   adaptive::Options search_options;
   search_options.initial_levels = options.initial_levels;
   search_options.stride = options.stride;
+  search_options.brackets = options.brackets;
   search_options.verify_sample = options.verify_sample;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;

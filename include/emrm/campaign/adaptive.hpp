@@ -76,6 +76,11 @@ class Oracle {
   [[nodiscard]] virtual bool passes_early(std::size_t /*cell*/) const { return false; }
 };
 
+/// Options::brackets.
+enum class Brackets : std::uint8_t { kAuto, kSearch, kPredict };
+/// "auto", "search" or "predict"; nothing for any other name.
+[[nodiscard]] std::optional<Brackets> brackets_named(std::string_view name) noexcept;
+
 struct Options {
   /// Lines searched per factor across the domain before any refinement (at least 2); 0: 4 for
   /// the thresholds when the lines vary in one factor, 3 when in more, and 2 for the labels.
@@ -86,6 +91,11 @@ struct Options {
   /// Corners whose avoidance thresholds differ by at most this many levels still agree: the lines
   /// between them search their own threshold within that bracket (log2 of it in simulations).
   std::uint32_t bracket = 1;
+  /// How a line between corners whose thresholds agree within the bracket finds its own avoidance
+  /// threshold: by simulations within the bracket (exact), or the threshold predicted from the
+  /// corners without one (off by a level where the prediction is; the verification sample measures
+  /// it); auto: predicted when the lines vary in two factors or more (grids of three or more).
+  Brackets brackets = Brackets::kAuto;
   /// Inferred cells re-simulated at random at the end to measure the disagreement rate; none: 0.5 %
   /// of the feasible cells, at least 20 and at most 500 (never more than were inferred).
   std::optional<std::size_t> verify_sample;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/campaign.hpp"
 
 namespace emrm::campaign {
@@ -28,6 +29,7 @@ struct SweepOptions {
   /// The search's settings (adaptive.hpp): initial levels, stride, verification sample.
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
+  adaptive::Brackets brackets = adaptive::Brackets::kAuto;
   std::optional<std::size_t> verify_sample;  ///< none: automatic (adaptive.hpp)
 };
 

@@ -292,8 +292,12 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   };
   map.early_g_ttc = [](double v, double mu) { return 0.2 + 4.0 / v + 0.05 * mu; };
   map.early_ttc = [](double v, double mu) { return 0.35 + 4.0 / v + 0.1 * mu; };
+  // Each line searches its own threshold even between agreeing corners, so that what differs is
+  // the early run's alone.
+  Options options;
+  options.brackets = Brackets::kSearch;
   MapOracle oracle(map);
-  const Result result = search(map.lattice, oracle, Options{});
+  const Result result = search(map.lattice, oracle, options);
   const Comparison c = compare(map, result);
   std::size_t early_g = 0, early_y = 0;
   for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
@@ -324,7 +328,7 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   still.lattice.levels[3] = {2.2};
   still.lattice.levels[4] = {0.0};
   MapOracle still_oracle(still);
-  const Result still_result = search(still.lattice, still_oracle, Options{});
+  const Result still_result = search(still.lattice, still_oracle, options);
   EXPECT_EQ(compare(still, still_result).differ, 0U);
   EXPECT_LT(still_result.simulated, result.simulated / 2);
 }
@@ -340,7 +344,9 @@ TEST(AdaptiveSearch, PredictsALinesThresholdFromItsNeighbours) {
     return 0.45 + 0.004 * v / mu - 0.15 * (passage - 2.2);
   };
   MapOracle oracle(map);
-  const Result result = search(map.lattice, oracle, Options{});
+  Options options;
+  options.brackets = Brackets::kSearch;
+  const Result result = search(map.lattice, oracle, options);
   const Comparison c = compare(map, result);
   EXPECT_EQ(c.differ, 0U);
   EXPECT_TRUE(result.violations.empty());
@@ -348,6 +354,45 @@ TEST(AdaptiveSearch, PredictsALinesThresholdFromItsNeighbours) {
                                      result.simulated_for[static_cast<std::size_t>(Purpose::kThresholdBrackets)];
   // From the median of the parent box's corners the same search took 3.7 simulations a line.
   EXPECT_LT(static_cast<double>(threshold_simulations), 3.4 * static_cast<double>(result.lines));
+}
+
+// From three factors on, a line between corners whose thresholds agree within a level takes the
+// threshold predicted from them without a simulation (Brackets::kAuto): fewer simulations, and
+// where the prediction is wrong the line is off by that one level, the cell at its threshold Y for
+// O or R (never a G cell), within the 1 % the search is held to on three factors.
+TEST(AdaptiveSearch, PredictedBracketsMissByOneLevelAtMost) {
+  std::mt19937_64 random(5);
+  for (int trial = 0; trial < 4; ++trial) {
+    SyntheticMap map = fine_map();
+    map.lattice.levels[0] = range(30, 72, 2);
+    map.lattice.levels[2] = range(0.2, 1.0, 0.1);
+    if (trial % 2) map.lattice.levels[3] = {1.6, 2.2, 2.8};
+    std::uniform_real_distribution<double> slope(0.002, 0.006), base(0.45, 0.7);
+    const double a = base(random), b = slope(random);
+    map.avoid_ttc = [a, b](double v, double mu, double passage, double) {
+      return a + b * v / mu - 0.1 * (passage - 2.2);
+    };
+    Result results[2];
+    for (int predict = 0; predict < 2; ++predict) {
+      Options options;
+      options.brackets = predict ? Brackets::kAuto : Brackets::kSearch;
+      MapOracle oracle(map);
+      results[predict] = search(map.lattice, oracle, options);
+    }
+    EXPECT_EQ(compare(map, results[0]).differ, 0U) << "trial " << trial;
+    const Comparison c = compare(map, results[1]);
+    EXPECT_LT(results[1].simulated, results[0].simulated) << "trial " << trial;
+    EXPECT_LE(static_cast<double>(c.differ), 0.01 * static_cast<double>(c.feasible)) << "trial " << trial;
+    EXPECT_EQ(c.g_wrong, 0U) << "trial " << trial;
+    for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
+      if (!map.feasible(cell) || results[1].cells[cell].region == map.truth(cell)) continue;
+      const auto f = map.factors(cell);
+      const double step = 0.06;
+      EXPECT_LT(std::abs(f[1] - map.avoid_ttc(f[0], f[2], f[3], f[4])), step + 1e-9)
+          << "trial " << trial << " cell " << cell;
+      EXPECT_TRUE(results[1].cells[cell].region == Region::kY || map.truth(cell) == Region::kY) << cell;
+    }
+  }
 }
 
 // Where the O/R label changes along TTC at a level that moves with speed, neighbouring lines differ
