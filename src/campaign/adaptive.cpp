@@ -85,18 +85,22 @@ struct Line {
   }
 };
 
-// A box of lines: per line axis, a range of sorted positions [lo, hi]; and the box it was split
-// from, whose corners predict the thresholds of its new corners (none for the first lattice's).
-struct Box {
+// Lines by their place: per line axis, a range of sorted positions [lo, hi].
+struct Range {
   std::array<std::uint32_t, 4> lo{}, hi{};
-  std::optional<std::pair<std::array<std::uint32_t, 4>, std::array<std::uint32_t, 4>>> parent;
+};
+
+// A box of lines; and the range it was split from, whose corners predict the thresholds of its new
+// corners (none for the first lattice's).
+struct Box : Range {
+  std::optional<Range> parent;
   EarlyHint early_hint;
   bool operator<(const Box& o) const noexcept { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
 };
 
 // What agreeing corners say of the lines between them.
 struct Signature {
-  std::array<std::uint32_t, 4> lo{}, hi{};  ///< the box's
+  Range box;  ///< where the corners are
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
   EarlyHint early_hint;  ///< the median ends of the corners' early runs
   std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
@@ -249,7 +253,7 @@ class Search {
   }
 
   template <typename Visit>
-  void for_each_corner(const Box& box, Visit&& visit) const {
+  void for_each_corner(const Range& box, Visit&& visit) const {
     std::array<std::uint32_t, 4> p{};
     for (unsigned mask = 0; mask < 16; ++mask) {
       bool duplicate = false;
@@ -263,7 +267,7 @@ class Search {
   }
 
   template <typename Visit>
-  void for_each_line(const Box& box, Visit&& visit) const {
+  void for_each_line(const Range& box, Visit&& visit) const {
     std::array<std::uint32_t, 4> p = box.lo;
     while (true) {
       visit(line_id(p));
@@ -606,8 +610,7 @@ class Search {
     std::vector<std::size_t> corners;
     for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
     Signature s;
-    s.lo = box.lo;
-    s.hi = box.hi;
+    s.box = box;
     if (q == Question::kThresholds) {
       s.early_hint = median_early(corners);
       s.early_hint.to_the_stop = std::all_of(corners.begin(), corners.end(), [&](std::size_t id) {
@@ -690,13 +693,12 @@ class Search {
     Line& line = lines_[id];
     line.thresholds_known = true;
     if (line.cells.empty()) return;
-    const Box box{s.lo, s.hi, std::nullopt, {}};
     if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop) {
       EarlyHint hint = s.early_hint;
-      if (hint.g_end != kNone) hint.g_end = predicted(box, id, &Line::early_g_end);
+      if (hint.g_end != kNone) hint.g_end = predicted(s.box, id, &Line::early_g_end);
       early_run(line, Purpose::kThresholdBrackets, hint);
     }
-    line.stop_hint = predicted(box, id, &Line::stop_start);
+    line.stop_hint = predicted(s.box, id, &Line::stop_start);
     stop_threshold(line, Purpose::kThresholdBrackets);
     look_for_gap(line, s.avoid_low, Purpose::kThresholdBrackets);
     if (s.avoid_low == kNone) {
@@ -705,7 +707,7 @@ class Search {
     }
     const auto index_of = [&](std::uint32_t position) { return std::clamp(index_at(line, position), line.t_e, line.t_g); };
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
-    const std::uint32_t predicted_start = predicted(box, id, &Line::avoid_start);
+    const std::uint32_t predicted_start = predicted(s.box, id, &Line::avoid_start);
     const std::size_t guess = predicted_start == kNone ? hi : std::clamp(index_at(line, predicted_start), lo, hi);
     if (predict_brackets_ && lo != hi) {
       line.t_a = guess;
@@ -754,7 +756,7 @@ class Search {
 
   // A line between agreeing corners takes their labels; false when they give none, or when a cell
   // the line simulated for its thresholds says otherwise.
-  bool infer_labels(Line& line, const Signature& s, const Box& box) {
+  bool infer_labels(Line& line, const Signature& s) {
     std::vector<Region> labels(line.t_a, Region::kR);
     for (std::size_t i = line.t_e; i < line.t_a; ++i) {
       std::optional<Region> label;
@@ -770,7 +772,7 @@ class Search {
     line.labels = std::move(labels);
     line.labels_known = true;
     line.label_corners.clear();
-    for_each_corner(box, [&](std::size_t id) { line.label_corners.push_back(static_cast<std::uint32_t>(id)); });
+    for_each_corner(s.box, [&](std::size_t id) { line.label_corners.push_back(static_cast<std::uint32_t>(id)); });
     return true;
   }
 
@@ -801,9 +803,8 @@ class Search {
           queued[id] = 1;
           if (q == Question::kThresholds) {
             if (box.parent) {
-              const Box parent{box.parent->first, box.parent->second, std::nullopt, {}};
-              line.hint = predicted(parent, id, &Line::avoid_start);
-              line.stop_hint = predicted(parent, id, &Line::stop_start);
+              line.hint = predicted(*box.parent, id, &Line::avoid_start);
+              line.stop_hint = predicted(*box.parent, id, &Line::stop_start);
             }
             line.early_hint = box.early_hint;
           }
@@ -852,7 +853,7 @@ class Search {
         for (std::size_t b = 0; b < pending.size(); ++b) {
           if (!signatures[b]) continue;
           bool ok = true;
-          for (std::size_t id : owned[b]) ok = ok && infer_labels(lines_[id], *signatures[b], pending[b]);
+          for (std::size_t id : owned[b]) ok = ok && infer_labels(lines_[id], *signatures[b]);
           if (ok) continue;
           for (std::size_t id : owned[b]) lines_[id].labels_known = false;
           signatures[b].reset();
@@ -884,7 +885,8 @@ class Search {
   // corners are too far apart to bracket the lines between, a new corner's search starts where
   // they point (two simulations when it is right) rather than at their median. kNone when no
   // corner has cells.
-  [[nodiscard]] std::uint32_t predicted(const Box& box, std::size_t id, std::uint32_t (Line::*start)() const) const {
+  [[nodiscard]] std::uint32_t predicted(const Range& box, std::size_t id,
+                                        std::uint32_t (Line::*start)() const) const {
     const auto p = line_position(id);
     double sum = 0.0, weight = 0.0;
     for_each_corner(box, [&](std::size_t c) {
@@ -943,10 +945,8 @@ class Search {
       for (const auto& h1 : parts[1])
         for (const auto& h2 : parts[2])
           for (const auto& h3 : parts[3])
-            out.push_back(Box{{h0.first, h1.first, h2.first, h3.first},
-                              {h0.second, h1.second, h2.second, h3.second},
-                              std::pair{box.lo, box.hi},
-                              early_hint});
+            out.push_back(Box{{{h0.first, h1.first, h2.first, h3.first}, {h0.second, h1.second, h2.second, h3.second}},
+                              Range(box), early_hint});
   }
 
   // --- the map ---------------------------------------------------------------------------------
