@@ -39,7 +39,8 @@ inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<C
                                       bool with_seed) {
   CellOptionSet o;
   command->add_option("--scene", args->scene_file,
-                      "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml)");
+                      "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml with instant "
+                      "actuators; pass that file for the production car of the shipped campaigns)");
   o.speed = command->add_option("--speed-kph", args->cell.speed_kph, "Ego speed when the hazard appears (km/h)");
   o.ttc = command->add_option("--ttc-s", args->cell.ttc_s, "Time to collision when the hazard appears (s)");
   if (required) {
