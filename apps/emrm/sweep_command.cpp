@@ -12,6 +12,7 @@
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
+#include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/interrupt.hpp"
 
 namespace emrm::cli {
@@ -29,6 +30,7 @@ struct SweepCommandOptions {
   std::string verify_sample = "auto";
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
+  bool mpi = false;
 };
 
 struct MergeCommandOptions {
@@ -59,9 +61,9 @@ void print_adaptive(const campaign::AdaptiveSummary& a) {
                            a.lines_fully_resolved == 1 ? "" : "s");
 }
 
-int run_sweep(const SweepCommandOptions& o) {
+// Every option but the shard (an MPI sweep refuses one).
+campaign::SweepOptions sweep_options(const SweepCommandOptions& o) {
   campaign::SweepOptions options;
-  campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
   options.output_dir = o.output_dir;
   options.threads = o.threads;
   options.progress_log = o.progress_log;
@@ -69,19 +71,64 @@ int run_sweep(const SweepCommandOptions& o) {
   if (o.verify_sample != "auto") options.verify_sample = std::stoul(o.verify_sample);  // checked by its validator
   options.initial_levels = o.initial_levels;
   options.stride = o.stride;
+  return options;
+}
+
+campaign::Campaign load(const SweepCommandOptions& o) {
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
   if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
-  const campaign::SweepSummary s = campaign::sweep(c, options);
+  return c;
+}
+
+void print_swept(const campaign::SweepSummary& s, const SweepCommandOptions& o, const std::string& shard) {
   const double rate = s.seconds > 0.0 ? static_cast<double>(s.cells_simulated) / s.seconds : 0.0;
   std::cout << fmt::format(
       "Swept {} cells{} into {}: {} simulated, {} already stored (skipped), {:.1f} s, {:.1f} cells/s\n",
-      s.cells_total,
-      options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
-                              : std::string(),
-      o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
-  for (const auto& a : s.adaptive) print_adaptive(a);
+      s.cells_total, shard, o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
+}
+
+void print_wrote(const SweepCommandOptions& o) {
   std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n",
                            o.output_dir);
+}
+
+int run_sweep(const SweepCommandOptions& o) {
+  campaign::SweepOptions options = sweep_options(o);
+  campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
+  const campaign::SweepSummary s = campaign::sweep(load(o), options);
+  print_swept(s, o,
+              options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
+                                      : std::string());
+  for (const auto& a : s.adaptive) print_adaptive(a);
+  print_wrote(o);
+  return static_cast<int>(ExitCode::kSuccess);
+}
+
+// One rank of `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): rank 0 prints; the others
+// print nothing, not even an error rank 0 already reports.
+int run_sweep_mpi(const SweepCommandOptions& o) {
+  const cluster::MpiSession mpi;
+  bool refused = false;
+  const auto s = cluster::sweep(
+      mpi,
+      [&] {
+        if (o.shard != "1/1")
+          throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
+        return load(o);
+      },
+      sweep_options(o), refused);
+  if (!s) return static_cast<int>(refused ? ExitCode::kBadInput : ExitCode::kSuccess);
+  print_swept(s->sweep, o, fmt::format(" on {} MPI rank{}", mpi.size(), mpi.size() == 1 ? "" : "s"));
+  std::string per_rank;
+  for (std::size_t r = 0; r < s->ranks.size(); ++r)
+    per_rank += fmt::format("{}{:.2f}", r == 0 ? "" : ", ", s->ranks[r].simulation_seconds);
+  std::cout << fmt::format("Simulation seconds per rank: {} (threads {}); busiest {:.1f} % above the mean per thread\n",
+                           per_rank, s->ranks[0].threads, 100.0 * cluster::busiest_above_mean(s->ranks));
+  if (s->cells_sent > 0)
+    std::cout << fmt::format("Coordination on rank 0: {:.3f} s, {:.4f} ms per cell handed out ({} cells in {} chunks)\n",
+                             s->coordination_seconds, 1e3 * s->coordination_seconds / static_cast<double>(s->cells_sent),
+                             s->cells_sent, s->chunks);
+  print_wrote(o);
   return static_cast<int>(ExitCode::kSuccess);
 }
 
@@ -143,9 +190,12 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                     "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
       ->capture_default_str();
+  sweep->add_flag("--mpi", s->mpi,
+                  "Run as one rank of an MPI job (mpirun -n N emrm sweep ... --mpi): rank 0 keeps the store, "
+                  "every rank simulates cells it hands out (docs/cluster.md)");
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = run_sweep(*s);
+    exit_code = s->mpi ? run_sweep_mpi(*s) : run_sweep(*s);
   });
 
   auto m = std::make_shared<MergeCommandOptions>();

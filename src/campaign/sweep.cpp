@@ -14,12 +14,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
+#include <thread>
 
 #include "emrm/campaign/adaptive.hpp"
+#include "emrm/campaign/distribute.hpp"
 #include "emrm/campaign/eta.hpp"
 #include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
@@ -198,6 +201,54 @@ std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& wo
   return counts;  // cells per class
 }
 
+// The work of a sweep as a Distributor sees it: the same counter the sweep's threads take cells
+// from, so other processes get cells in the same dearest-first order, and the same committer.
+class SweepQueue final : public TaskQueue {
+ public:
+  SweepQueue(const std::vector<WorkItem>& work, Committer& committer) : work_(work), committer_(committer) {}
+
+  std::optional<CellTask> next() override {
+    // After an interrupt (or a failure on the other side) no cell is handed out.
+    if (core::interrupt_signal() != 0 || stopped_.load()) return std::nullopt;
+    const std::size_t w = next_++;
+    if (w >= work_.size()) return std::nullopt;
+    return CellTask{work_[w].grid, work_[w].index, work_[w].cost};
+  }
+  [[nodiscard]] std::size_t remaining() const override {
+    const std::size_t taken = next_.load();
+    return taken < work_.size() ? work_.size() - taken : 0;
+  }
+  void deliver(CellRecord record, int cost, double seconds) override {
+    committer_.add(std::move(record), cost, seconds);
+  }
+  /// No more cells for anyone: the distributor or this process's threads failed.
+  void stop() noexcept { stopped_ = true; }
+
+  /// This process's threads: simulate cells until none is left; returns the thread-seconds spent.
+  double simulate(const Campaign& campaign, int workers) {
+    std::atomic<std::int64_t> busy_ns{0};
+    // More worker loops than threads is harmless: a loop that starts late finds nothing left.
+    tbb::parallel_for(
+        0, workers,
+        [&](int) {
+          while (const auto task = next()) {
+            const auto start = Clock::now();
+            CellRecord record = simulate_task(campaign, *task);
+            const auto spent = Clock::now() - start;
+            busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
+            committer_.add(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
+          }
+        },
+        tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
+    return static_cast<double>(busy_ns.load()) * 1e-9;
+  }
+
+ private:
+  const std::vector<WorkItem>& work_;
+  Committer& committer_;
+  std::atomic<std::size_t> next_{0};
+  std::atomic<bool> stopped_{false};
+};
 
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
@@ -387,6 +438,23 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
 
 }  // namespace
 
+CellRecord simulate_task(const Campaign& campaign, const CellTask& task) {
+  const GridSpec& grid = campaign.grids[task.grid];
+  const sim::CellInput& cell = grid.cells[task.index];
+  sim::CellOptions options;
+  options.strategies = campaign.strategies;
+  options.seed = grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[task.index];
+  options.keep_trees = grid.keep_trees;
+  const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, options);
+  return to_record(grid.name, static_cast<std::int64_t>(task.index), options.seed, result, grid.keep_trees);
+}
+
+bool sweeps_adaptively(const Campaign& campaign, const SweepOptions& options) {
+  return std::any_of(campaign.grids.begin(), campaign.grids.end(), [&](const GridSpec& grid) {
+    return (options.adaptive || grid.adaptive) && !grid.levels[0].empty();
+  });
+}
+
 void parse_shard(const std::string& text, int& index, int& count) {
   const auto slash = text.find('/');
   const auto parse = [&](std::string_view part, int& value) {
@@ -417,6 +485,9 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
   if (any_adaptive && options.shard_count > 1)
     throw UsageError("--shard cannot split an adaptive sweep: the search picks each cell from the ones simulated "
                      "before; run it on one machine (every core: --threads 0)");
+  if (any_adaptive && options.distributor != nullptr)
+    throw UsageError("--mpi: the adaptive search is not yet distributed over MPI ranks; run it without --mpi on one "
+                     "machine (every core: --threads 0)");
   const auto start = Clock::now();
   CampaignMeta meta = make_meta(campaign);
   meta.shard_index = options.shard_index;
@@ -469,28 +540,31 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
                         log.get());
     if (any_adaptive) committer.drop_estimate();
-    std::atomic<std::size_t> next{0};
-    // More worker loops than threads is harmless: a loop that starts late finds nothing left.
-    tbb::parallel_for(
-        0, workers,
-        [&](int) {
-          // After an interrupt no worker takes another cell; the ones in flight finish.
-          for (std::size_t w = next++; w < work.size() && core::interrupt_signal() == 0; w = next++) {
-            const GridSpec& grid = campaign.grids[work[w].grid];
-            const sim::CellInput& cell = grid.cells[work[w].index];
-            sim::CellOptions cell_options;
-            cell_options.strategies = campaign.strategies;
-            cell_options.seed =
-                grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[work[w].index];
-            cell_options.keep_trees = grid.keep_trees;
-            const auto cell_start = Clock::now();
-            const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
-            committer.add(to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result,
-                                    grid.keep_trees),
-                          work[w].cost, std::chrono::duration<double>(Clock::now() - cell_start).count());
+    SweepQueue queue(work, committer);
+    if (options.distributor == nullptr) {
+      summary.simulation_seconds = queue.simulate(campaign, workers);
+    } else {
+      // The distributor works on this thread (an MPI library may want its calls on the main one)
+      // while this process's threads simulate beside it.
+      std::exception_ptr failed;
+      {
+        std::jthread local([&] {
+          try {
+            summary.simulation_seconds = queue.simulate(campaign, workers);
+          } catch (...) {
+            failed = std::current_exception();
+            queue.stop();
           }
-        },
-        tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
+        });
+        try {
+          options.distributor->distribute(queue);
+        } catch (...) {
+          queue.stop();  // the local threads end with the cell in hand; then the error goes on
+          throw;
+        }
+      }
+      if (failed) std::rethrow_exception(failed);
+    }
     committer.finish();
     for (std::size_t g = 0; g < campaign.grids.size() && core::interrupt_signal() == 0; ++g) {
       if (!adaptive[g]) continue;

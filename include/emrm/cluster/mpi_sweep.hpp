@@ -1,0 +1,79 @@
+#pragma once
+
+// A campaign sweep over the ranks of an MPI job (docs/cluster.md): rank 0 runs campaign::sweep()
+// — it owns the results store, resumes, refuses another configuration and writes the exports —
+// and hands cells out in chunks on demand to every rank, itself included; the records come back
+// to it and are committed in its batches. Results are byte for byte those of one process.
+//
+// Nothing here names an MPI type: without MPI (EMRM_WITH_MPI off) the same functions exist and
+// refuse with a UsageError, so the command line builds either way.
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/sweep.hpp"
+
+namespace emrm::cluster {
+
+/// Whether this build has MPI (the CMake option EMRM_WITH_MPI).
+[[nodiscard]] bool mpi_built() noexcept;
+
+/// Why --mpi cannot run in this process, or none: not built with MPI, or not started by an MPI
+/// launcher (mpirun, mpiexec, srun: they set OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_RANK).
+/// `environment` looks a variable up (std::getenv; a test passes its own).
+[[nodiscard]] std::optional<std::string> mpi_unavailable(
+    const std::function<const char*(const char*)>& environment);
+
+/// MPI for the life of the object (MPI_Init_thread, funneled: only this thread calls MPI;
+/// MPI_Finalize when destroyed). One per process. Throws UsageError (exit 2) with
+/// mpi_unavailable()'s reason.
+class MpiSession {
+ public:
+  MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  ~MpiSession();
+  [[nodiscard]] int rank() const noexcept { return rank_; }
+  [[nodiscard]] int size() const noexcept { return size_; }
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+/// What each rank did, gathered on rank 0: the load-balance and overhead figures of the summary.
+struct RankStats {
+  std::size_t cells = 0;             ///< cells it simulated
+  double simulation_seconds = 0.0;   ///< thread-seconds spent simulating them
+  int threads = 0;
+};
+
+struct ClusterSummary {
+  campaign::SweepSummary sweep;
+  std::vector<RankStats> ranks;       ///< by rank; rank 0's own threads first
+  std::size_t chunks = 0;             ///< chunks handed to other ranks
+  std::size_t cells_sent = 0;         ///< cells in them
+  double coordination_seconds = 0.0;  ///< rank 0's time spent handing out and taking back chunks
+};
+
+/// How much the busiest rank's simulation time per thread exceeds the mean over the ranks that
+/// simulated: 0.05 is 5 % above. 0 for fewer than two ranks.
+[[nodiscard]] double busiest_above_mean(const std::vector<RankStats>& ranks);
+
+/// The sweep of the campaign `load` returns, over every rank of `session`. Every rank calls it
+/// with the same arguments; each calls `load` (the same campaign file on a shared file system), and
+/// rank 0 checks that every rank loaded the same configuration (config hash) before any cell runs.
+/// Rank 0 returns the summary; the other ranks return none once rank 0 lets them go.
+///
+/// Throws on rank 0 what `load` or campaign::sweep() throws (InputError, UsageError: another
+/// configuration in the store, an adaptive grid, shards; core::Interrupted after SIGINT or SIGTERM,
+/// everything done committed), and UsageError when a rank loaded another configuration. The other
+/// ranks throw nothing for an error rank 0 reports: they return none, and `refused` says so.
+std::optional<ClusterSummary> sweep(const MpiSession& session, const std::function<campaign::Campaign()>& load,
+                                    const campaign::SweepOptions& options, bool& refused);
+
+}  // namespace emrm::cluster
