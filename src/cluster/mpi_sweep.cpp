@@ -1,15 +1,22 @@
 // The MPI side of cluster/mpi_sweep.hpp (built only with EMRM_WITH_MPI; without_mpi.cpp otherwise).
 //
-// Messages (all MessagePack, nlohmann::json's binary form, which keeps every double and integer
-// exactly, infinities included):
-//   hello   worker → 0   {hash, threads} or {error}: what the worker loaded
-//   go      0 → worker   true: sweep; false: rank 0 refuses the job and reports why
-//   results worker → 0   [more, cells, simulation seconds, [[cost, seconds, record], ...]]: the
-//                        records of its last chunk (none in the first), and whether it takes more
-//   chunk   0 → worker   [[grid, index, cost], ...]: cells to simulate; empty: stop
-// A worker always waits for rank 0's answer to its results, so no message is left unmatched when
-// the ranks finalize.
+// Messages:
+//   hello   worker → 0   {hash, threads} or {error}: what the worker loaded (MessagePack JSON)
+//   go      0 → worker   true: sweep; false: rank 0 refuses the job and reports why (the same)
+//   results worker → 0   Results: the records of a finished chunk (none in the first two), whether
+//                        it asks for another chunk, whether it is its last message (a cereal binary
+//                        archive: every double and integer exactly, infinities included, without
+//                        building a document first)
+//   chunk   0 → worker   the answer to each request: cells to simulate; none: no more (the same)
+// A worker asks for two chunks at the start and for one more each time it finishes one, so it
+// always holds one in reserve and never waits for rank 0; rank 0 then need not answer at once, and
+// probes for messages every few milliseconds instead of spinning. A worker leaves only once every
+// request is answered and its last message sent, so no message is left unmatched at MPI_Finalize.
 
+#include <cereal/archives/portable_binary.hpp>
+#include <cereal/types/array.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/vector.hpp>
 #include <mpi.h>
 
 #include <fmt/format.h>
@@ -22,9 +29,15 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <csignal>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
+#include <deque>
+#include <mutex>
 #include <exception>
+#include <sstream>
+#include <ctime>
 #include <thread>
 #include <vector>
 
@@ -33,12 +46,64 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 
+// The records on the wire: every field of OutcomeRecord and CellRecord, in declaration order (found
+// by cereal through argument-dependent lookup, so in the records' namespace; this file only).
+namespace emrm::campaign {
+
+template <class Archive>
+void serialize(Archive& archive, OutcomeRecord& o) {
+  archive(o.strategy, o.avoided, o.contact, o.road_departure, o.impact_speed_kph, o.delta_v_kph, o.p_mais3, o.p_fatal,
+          o.loss_level, o.delta_loss, o.min_ttc_s, o.planner_nodes, o.planner_rollouts, o.fsm_trace,
+          o.loss_evaluation_trace, o.chosen_strategy, o.adopted_from, o.evidence, o.maneuver, o.path, o.goal_tree,
+          o.failsafe_tree);
+}
+
+template <class Archive>
+void serialize(Archive& archive, CellRecord& r) {
+  archive(r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph, r.seed, r.feasible, r.region,
+          r.unmitigated_impact_speed_kph, r.unmitigated_delta_v_kph, r.unmitigated_p_mais3, r.unmitigated_p_fatal,
+          r.unmitigated_loss_level, r.evidence, r.mitigation_evidence, r.strengthened, r.certificate,
+          r.p_mais3_reduction, r.p_fatal_reduction, r.outcomes, r.method, r.inferred_from);
+}
+
+template <class Archive>
+void serialize(Archive& archive, CellTask& task) {
+  archive(task.grid, task.index, task.cost);
+}
+
+}  // namespace emrm::campaign
+
 namespace emrm::cluster {
 namespace {
 
+// A simulated cell as a worker sends it back.
+struct Simulated {
+  int cost = 0;
+  double seconds = 0.0;
+  campaign::CellRecord record;
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(cost, seconds, record);
+  }
+};
+
+// A worker's message to rank 0: at the start, after each chunk, and at the end.
+struct Results {
+  bool more = true;                 ///< asks for another chunk (answered with one, maybe empty)
+  bool last = false;                ///< the worker leaves: no chunk in hand, no request unanswered
+  std::uint64_t cells = 0;          ///< simulated so far
+  double simulation_seconds = 0.0;  ///< thread-seconds spent on them
+  std::vector<Simulated> done;      ///< a finished chunk's cells (after an interrupt, those started)
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(more, last, cells, simulation_seconds, done);
+  }
+};
+
+using Chunk = std::vector<campaign::CellTask>;
+
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::json;
-using Bytes = std::vector<std::uint8_t>;
 
 constexpr int kTagHello = 1;
 constexpr int kTagGo = 2;
@@ -49,107 +114,54 @@ constexpr int kTagChunk = 4;
 // enough that the coordinator's work per chunk (about 0.1 ms a message) is noise, short enough
 // that the last chunks end close together.
 constexpr double kChunkSecondsPerThread = 0.25;
-// A cell of a class not seen yet is assumed this dear, so the first chunks are small.
-constexpr double kUnknownCellSeconds = 0.05;
+// A cell of a class not seen yet is assumed this dear: the first chunk of each rank is one cell.
+constexpr double kUnknownCellSeconds = 1.0;
 constexpr std::size_t kMaxChunkCells = 4096;
+constexpr std::size_t kTrustedCells = 8;
 // After an interrupt rank 0 waits this long for the chunks in flight. A rank that died (mpirun
 // then ends the job) never answers; what it had is simulated again by the rerun.
 constexpr auto kInterruptGrace = std::chrono::seconds(5);
 
-// ---- records on the wire: every field of CellRecord and OutcomeRecord, in declaration order ----
-
-Json to_wire(const campaign::OutcomeRecord& o) {
-  return Json::array({o.strategy, o.avoided, o.contact, o.road_departure, o.impact_speed_kph, o.delta_v_kph,
-                      o.p_mais3, o.p_fatal, o.loss_level, o.delta_loss, o.min_ttc_s, o.planner_nodes,
-                      o.planner_rollouts, o.fsm_trace, o.loss_evaluation_trace, o.chosen_strategy, o.adopted_from,
-                      o.evidence, o.maneuver, o.path, o.goal_tree, o.failsafe_tree});
-}
-
-Json to_wire(const campaign::CellRecord& r) {
-  Json outcomes = Json::array();
-  for (const auto& o : r.outcomes) outcomes.push_back(to_wire(o));
-  return Json::array({r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph, r.seed,
-                      r.feasible, r.region, r.unmitigated_impact_speed_kph, r.unmitigated_delta_v_kph,
-                      r.unmitigated_p_mais3, r.unmitigated_p_fatal, r.unmitigated_loss_level, r.evidence,
-                      r.mitigation_evidence, r.strengthened, r.certificate, r.p_mais3_reduction,
-                      r.p_fatal_reduction, std::move(outcomes), r.method, r.inferred_from});
-}
-
-campaign::OutcomeRecord outcome_from_wire(const Json& j) {
-  campaign::OutcomeRecord o;
-  std::size_t f = 0;
-  j.at(f++).get_to(o.strategy);
-  j.at(f++).get_to(o.avoided);
-  j.at(f++).get_to(o.contact);
-  j.at(f++).get_to(o.road_departure);
-  j.at(f++).get_to(o.impact_speed_kph);
-  j.at(f++).get_to(o.delta_v_kph);
-  j.at(f++).get_to(o.p_mais3);
-  j.at(f++).get_to(o.p_fatal);
-  j.at(f++).get_to(o.loss_level);
-  j.at(f++).get_to(o.delta_loss);
-  j.at(f++).get_to(o.min_ttc_s);
-  j.at(f++).get_to(o.planner_nodes);
-  j.at(f++).get_to(o.planner_rollouts);
-  j.at(f++).get_to(o.fsm_trace);
-  j.at(f++).get_to(o.loss_evaluation_trace);
-  j.at(f++).get_to(o.chosen_strategy);
-  j.at(f++).get_to(o.adopted_from);
-  j.at(f++).get_to(o.evidence);
-  j.at(f++).get_to(o.maneuver);
-  j.at(f++).get_to(o.path);
-  j.at(f++).get_to(o.goal_tree);
-  j.at(f++).get_to(o.failsafe_tree);
-  return o;
-}
-
-campaign::CellRecord cell_from_wire(const Json& j) {
-  campaign::CellRecord r;
-  std::size_t f = 0;
-  j.at(f++).get_to(r.grid);
-  j.at(f++).get_to(r.index);
-  j.at(f++).get_to(r.speed_kph);
-  j.at(f++).get_to(r.ttc_s);
-  j.at(f++).get_to(r.mu);
-  j.at(f++).get_to(r.passage_m);
-  j.at(f++).get_to(r.truck_speed_kph);
-  j.at(f++).get_to(r.seed);
-  j.at(f++).get_to(r.feasible);
-  j.at(f++).get_to(r.region);
-  j.at(f++).get_to(r.unmitigated_impact_speed_kph);
-  j.at(f++).get_to(r.unmitigated_delta_v_kph);
-  j.at(f++).get_to(r.unmitigated_p_mais3);
-  j.at(f++).get_to(r.unmitigated_p_fatal);
-  j.at(f++).get_to(r.unmitigated_loss_level);
-  j.at(f++).get_to(r.evidence);
-  j.at(f++).get_to(r.mitigation_evidence);
-  j.at(f++).get_to(r.strengthened);
-  j.at(f++).get_to(r.certificate);
-  j.at(f++).get_to(r.p_mais3_reduction);
-  j.at(f++).get_to(r.p_fatal_reduction);
-  for (const Json& o : j.at(f++)) r.outcomes.push_back(outcome_from_wire(o));
-  j.at(f++).get_to(r.method);
-  j.at(f++).get_to(r.inferred_from);
-  return r;
-}
-
 // ---- point-to-point messages ----
 
 void send(const Json& message, int to, int tag) {
-  const Bytes bytes = Json::to_msgpack(message);
+  const std::vector<std::uint8_t> bytes = Json::to_msgpack(message);
   MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD);
 }
 
-Json receive(const MPI_Status& probed) {
+std::string receive_bytes(const MPI_Status& probed) {
   int size = 0;
   MPI_Get_count(&probed, MPI_BYTE, &size);
-  Bytes bytes(static_cast<std::size_t>(size));
+  std::string bytes(static_cast<std::size_t>(size), '\0');
   MPI_Recv(bytes.data(), size, MPI_BYTE, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  return Json::from_msgpack(bytes);
+  return bytes;
+}
+
+Json receive(const MPI_Status& probed) { return Json::from_msgpack(receive_bytes(probed)); }
+
+template <class Message>
+void send_archive(Message& message, int to, int tag) {
+  std::ostringstream bytes;
+  {
+    cereal::PortableBinaryOutputArchive archive(bytes);
+    archive(message);
+  }
+  const std::string text = std::move(bytes).str();
+  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD);
+}
+
+template <class Message>
+Message from_archive(const std::string& bytes) {
+  std::istringstream in(bytes);
+  cereal::PortableBinaryInputArchive archive(in);
+  Message message;
+  archive(message);
+  return message;
 }
 
 // Open MPI's blocking calls poll the network without pause; a rank waiting so would take a core
 // from the threads simulating beside it. So waits probe and sleep, from 50 µs up to 1 ms.
+// Every chunk has one in reserve behind it, so a probe every few milliseconds delays no rank.
 class Backoff {
  public:
   void reset() noexcept { pause_ = kShortest; }
@@ -160,19 +172,27 @@ class Backoff {
 
  private:
   static constexpr std::chrono::microseconds kShortest{50};
-  static constexpr std::chrono::microseconds kLongest{1000};
+  static constexpr std::chrono::microseconds kLongest{5000};
   std::chrono::microseconds pause_ = kShortest;
 };
 
-Json wait_for(int source, int tag) {
+std::string wait_for(int source, int tag) {
   Backoff backoff;
   for (;;) {
     int arrived = 0;
     MPI_Status status;
     MPI_Iprobe(source, tag, MPI_COMM_WORLD, &arrived, &status);
-    if (arrived != 0) return receive(status);
+    if (arrived != 0) return receive_bytes(status);
     backoff.wait();
   }
+}
+
+// CPU seconds the calling thread has used: what coordination costs the node, whether or not the
+// thread waited for a core (on a node whose cores all simulate, wall time would count the waits).
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 int thread_count(int requested) { return requested > 0 ? requested : tbb::info::default_concurrency(); }
@@ -184,7 +204,12 @@ int thread_count(int requested) { return requested > 0 ? requested : tbb::info::
 class MpiDistributor final : public campaign::Distributor {
  public:
   MpiDistributor(int ranks, std::vector<int> threads)
-      : threads_(std::move(threads)), stats_(static_cast<std::size_t>(ranks)), active_(ranks - 1) {
+      : threads_(std::move(threads)),
+        stats_(static_cast<std::size_t>(ranks)),
+        handed_(static_cast<std::size_t>(ranks)),
+        returned_(static_cast<std::size_t>(ranks)),
+        active_(ranks - 1) {
+    for (int t : threads_) total_threads_ += static_cast<std::size_t>(std::max(t, 1));
     for (int r = 1; r < ranks; ++r) stats_[static_cast<std::size_t>(r)].threads = threads_[static_cast<std::size_t>(r)];
   }
 
@@ -206,16 +231,28 @@ class MpiDistributor final : public campaign::Distributor {
   }
 
   [[nodiscard]] std::vector<RankStats>& stats() noexcept { return stats_; }
+  /// Cells handed to other ranks whose records did not come back: the ranks stopped (an
+  /// interrupt) or died; the rerun simulates them.
+  [[nodiscard]] std::size_t unreturned() const noexcept {
+    std::size_t missing = 0;
+    for (std::size_t r = 0; r < handed_.size(); ++r) missing += handed_[r] - std::min(handed_[r], returned_[r]);
+    return missing;
+  }
   [[nodiscard]] std::size_t chunks() const noexcept { return chunks_; }
   [[nodiscard]] std::size_t cells_sent() const noexcept { return cells_sent_; }
-  [[nodiscard]] double coordination_seconds() const noexcept {
-    return std::chrono::duration<double>(coordination_).count();
-  }
+  /// CPU seconds of this thread answering messages (receiving, decoding, choosing and sending the
+  /// next chunk), without the commits: what bounds how many ranks one coordinator can serve.
+  [[nodiscard]] double handling_seconds() const noexcept { return handling_seconds_ - committing_seconds_; }
+  /// CPU seconds of this thread in all, waiting between messages included, without the commits.
+  [[nodiscard]] double coordination_seconds() const noexcept { return cpu_seconds_ - committing_seconds_; }
+  /// CPU seconds of this thread delivering records to the sweep's committer: the batches it committed.
+  [[nodiscard]] double committing_seconds() const noexcept { return committing_seconds_; }
 
  private:
   // Answers results with chunks until every rank is stopped; after an interrupt (or with a zero
   // `grace`, at once) gives up `grace` after the last message came.
   void serve_until_stopped(campaign::TaskQueue& queue, Clock::duration grace) {
+    const double cpu_start = thread_cpu_seconds();
     std::optional<Clock::time_point> quiet_since;
     Backoff backoff;
     while (active_ > 0) {
@@ -225,56 +262,67 @@ class MpiDistributor final : public campaign::Distributor {
       if (arrived == 0) {
         if (core::interrupt_signal() != 0 || grace == Clock::duration::zero()) {
           if (!quiet_since) quiet_since = Clock::now();
-          if (Clock::now() - *quiet_since > std::max<Clock::duration>(grace, std::chrono::seconds(2))) return;
+          if (Clock::now() - *quiet_since > std::max<Clock::duration>(grace, std::chrono::seconds(2))) break;
         }
         backoff.wait();
         continue;
       }
       backoff.reset();
       quiet_since.reset();
-      const auto start = Clock::now();
-      const Json message = receive(status);
+      const double handling = thread_cpu_seconds();
+      Results message = from_archive<Results>(receive_bytes(status));
       const int rank = status.MPI_SOURCE;
       RankStats& stats = stats_[static_cast<std::size_t>(rank)];
-      stats.cells = message.at(1).get<std::size_t>();
-      stats.simulation_seconds = message.at(2).get<double>();
-      for (const Json& cell : message.at(3)) {
-        const int cost = cell.at(0).get<int>();
-        const double seconds = cell.at(1).get<double>();
-        learn(cost, seconds);
-        queue.deliver(cell_from_wire(cell.at(2)), cost, seconds);
+      stats.cells = message.cells;
+      stats.simulation_seconds = message.simulation_seconds;
+      returned_[static_cast<std::size_t>(rank)] += message.done.size();
+      for (Simulated& cell : message.done) {
+        learn(cell.cost, cell.seconds);
+        const double delivering = thread_cpu_seconds();
+        // Sometimes commits a batch, as any thread of a sweep does.
+        queue.deliver(std::move(cell.record), cell.cost, cell.seconds);
+        committing_seconds_ += thread_cpu_seconds() - delivering;
       }
-      Json chunk = Json::array();
-      if (message.at(0).get<bool>()) chunk = next_chunk(queue, rank);
-      send(chunk, rank, kTagChunk);
-      if (chunk.empty()) --active_;
-      coordination_ += Clock::now() - start;
+      if (message.more) {
+        Chunk chunk = next_chunk(queue, rank);
+        handed_[static_cast<std::size_t>(rank)] += chunk.size();
+        send_archive(chunk, rank, kTagChunk);
+      }
+      if (message.last) --active_;
+      handling_seconds_ += thread_cpu_seconds() - handling;
     }
+    cpu_seconds_ += thread_cpu_seconds() - cpu_start;
   }
 
   void learn(int cost, double seconds) {
     const auto c = static_cast<std::size_t>(std::clamp(cost, 0, 2));
     class_seconds_[c] += seconds;
+    class_dearest_[c] = std::max(class_dearest_[c], seconds);
     ++class_cells_[c];
   }
 
+  // A class's mean once it rests on kTrustedCells cells; before, its dearest cell (the cells of a
+  // class can differ a hundredfold, and a chunk sized by one cheap cell would hold dear ones).
   [[nodiscard]] double expected_seconds(int cost) const {
     const auto c = static_cast<std::size_t>(std::clamp(cost, 0, 2));
-    return class_cells_[c] > 0 ? class_seconds_[c] / static_cast<double>(class_cells_[c]) : kUnknownCellSeconds;
+    if (class_cells_[c] == 0) return kUnknownCellSeconds;
+    if (class_cells_[c] < kTrustedCells) return class_dearest_[c];
+    return class_seconds_[c] / static_cast<double>(class_cells_[c]);
   }
 
-  // About kChunkSecondsPerThread of work per thread of the rank; near the end, no more than a
-  // share of what is left, so that the ranks finish together (guided self-scheduling).
-  Json next_chunk(campaign::TaskQueue& queue, int rank) {
+  // About kChunkSecondsPerThread of work per thread of the rank, and no more than a quarter of a
+  // fair share of the cells left per thread, so that the ranks finish together (guided
+  // self-scheduling).
+  Chunk next_chunk(campaign::TaskQueue& queue, int rank) {
     const double budget = kChunkSecondsPerThread * threads_[static_cast<std::size_t>(rank)];
-    const std::size_t share = std::max<std::size_t>(1, queue.remaining() / (2 * stats_.size()));
+    const std::size_t share = std::max<std::size_t>(1, queue.remaining() / (4 * total_threads_));
     const std::size_t limit = std::min(share, kMaxChunkCells);
-    Json chunk = Json::array();
+    Chunk chunk;
     double expected = 0.0;
     while (chunk.size() < limit && expected < budget) {
       const auto task = queue.next();
       if (!task) break;
-      chunk.push_back(Json::array({task->grid, task->index, task->cost}));
+      chunk.push_back(*task);
       expected += expected_seconds(task->cost);
     }
     if (!chunk.empty()) ++chunks_;
@@ -284,49 +332,127 @@ class MpiDistributor final : public campaign::Distributor {
 
   std::vector<int> threads_;
   std::vector<RankStats> stats_;
-  int active_ = 0;  ///< ranks not told to stop yet
+  std::vector<std::size_t> handed_, returned_;  ///< cells per rank
+  int active_ = 0;  ///< ranks that have not sent their last message
+  std::size_t total_threads_ = 0;
   std::array<double, 3> class_seconds_{};
+  std::array<double, 3> class_dearest_{};
   std::array<std::size_t, 3> class_cells_{};
   std::size_t chunks_ = 0;
   std::size_t cells_sent_ = 0;
-  Clock::duration coordination_{};
+  double cpu_seconds_ = 0.0;
+  double handling_seconds_ = 0.0;
+  double committing_seconds_ = 0.0;
 };
 
 // ---- the other ranks ----
 
-// Simulates the chunks rank 0 sends with this rank's threads until it sends none.
+// Simulates the chunks rank 0 sends with this rank's threads until it sends none. This thread
+// talks to rank 0 while another simulates, so a chunk in reserve is always on its way.
 void serve(const campaign::Campaign& campaign, int threads) {
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  std::size_t cells = 0;
-  double busy_seconds = 0.0;
-  Json done = Json::array();
-  for (;;) {
-    const bool more = core::interrupt_signal() == 0;
-    send(Json::array({more, cells, busy_seconds, std::move(done)}), 0, kTagResults);
-    const Json chunk = wait_for(0, kTagChunk);
-    if (chunk.empty()) return;
-    std::vector<campaign::CellTask> tasks;
-    for (const Json& cell : chunk)
-      tasks.push_back({cell.at(0).get<std::uint32_t>(), cell.at(1).get<std::uint32_t>(), cell.at(2).get<int>()});
-    std::vector<Json> results(tasks.size());
-    std::atomic<std::int64_t> busy_ns{0};
-    tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t i) {
-      if (core::interrupt_signal() != 0) return;  // the cells not started are simulated by the rerun
-      const auto start = Clock::now();
-      campaign::CellRecord record = campaign::simulate_task(campaign, tasks[i]);
-      const auto spent = Clock::now() - start;
-      busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
-      results[i] = Json::array({tasks[i].cost, std::chrono::duration<double>(spent).count(), to_wire(record)});
-    });
-    done = Json::array();
-    for (Json& result : results)
-      if (!result.is_null()) {
-        done.push_back(std::move(result));
-        ++cells;
+  std::mutex mutex;
+  std::condition_variable wake;
+  std::deque<Chunk> todo;                         // received, not started
+  std::deque<std::vector<Simulated>> finished;    // simulated, not sent
+  bool closing = false;
+  std::jthread simulating([&] {
+    for (;;) {
+      Chunk chunk;
+      {
+        std::unique_lock lock(mutex);
+        wake.wait(lock, [&] { return !todo.empty() || closing; });
+        if (todo.empty()) return;
+        chunk = std::move(todo.front());
+        todo.pop_front();
       }
-    busy_seconds += static_cast<double>(busy_ns.load()) * 1e-9;
+      std::vector<std::optional<Simulated>> cells(chunk.size());
+      tbb::parallel_for(std::size_t{0}, chunk.size(), [&](std::size_t i) {
+        if (core::interrupt_signal() != 0) return;  // the cells not started are simulated by the rerun
+        const auto start = Clock::now();
+        campaign::CellRecord record = campaign::simulate_task(campaign, chunk[i]);
+        cells[i] = Simulated{chunk[i].cost, std::chrono::duration<double>(Clock::now() - start).count(),
+                             std::move(record)};
+      });
+      std::vector<Simulated> done;
+      for (auto& cell : cells)
+        if (cell) done.push_back(std::move(*cell));
+      std::lock_guard lock(mutex);
+      finished.push_back(std::move(done));
+    }
+  });
+  const auto stop_simulating = [&] {
+    {
+      std::lock_guard lock(mutex);
+      closing = true;
+    }
+    wake.notify_one();
+  };
+
+  Results results;
+  int unanswered = 0;     // requests rank 0 has not answered yet
+  std::size_t held = 0;   // chunks received and not sent back
+  bool no_more = false;   // rank 0 answered with no cells, or an interrupt came
+  const auto report = [&](std::vector<Simulated> done, bool ask) {
+    for (const Simulated& cell : done) results.simulation_seconds += cell.seconds;
+    results.cells += done.size();
+    results.done = std::move(done);
+    results.more = ask;
+    send_archive(results, 0, kTagResults);
+    unanswered += ask ? 1 : 0;
+  };
+  try {
+    report({}, true);  // one chunk to simulate
+    report({}, true);  // and one in reserve
+  } catch (...) {
+    stop_simulating();
+    throw;
   }
+  Backoff backoff;
+  while (unanswered > 0 || held > 0) {
+    bool idle = true;
+    int arrived = 0;
+    MPI_Status status;
+    MPI_Iprobe(0, kTagChunk, MPI_COMM_WORLD, &arrived, &status);
+    if (arrived != 0) {
+      idle = false;
+      --unanswered;
+      auto chunk = from_archive<Chunk>(receive_bytes(status));
+      if (chunk.empty()) {
+        no_more = true;
+      } else {
+        ++held;
+        {
+          std::lock_guard lock(mutex);
+          todo.push_back(std::move(chunk));
+        }
+        wake.notify_one();
+      }
+    }
+    std::optional<std::vector<Simulated>> done;
+    {
+      std::lock_guard lock(mutex);
+      if (!finished.empty()) {
+        done = std::move(finished.front());
+        finished.pop_front();
+      }
+    }
+    if (done) {
+      idle = false;
+      --held;
+      no_more = no_more || core::interrupt_signal() != 0;
+      report(std::move(*done), !no_more);
+    }
+    if (idle) {
+      backoff.wait();
+    } else {
+      backoff.reset();
+    }
+  }
+  stop_simulating();
+  results.last = true;
+  report({}, false);
 }
 
 }  // namespace
@@ -366,7 +492,7 @@ std::optional<ClusterSummary> sweep(const MpiSession& session, const std::functi
   if (session.rank() != 0) {
     send(failed ? Json{{"error", failure}} : Json{{"hash", campaign::config_hash(*campaign)}, {"threads", threads}}, 0,
          kTagHello);
-    if (!wait_for(0, kTagGo).get<bool>()) {
+    if (!Json::from_msgpack(wait_for(0, kTagGo)).get<bool>()) {
       refused = true;
       return std::nullopt;
     }
@@ -414,8 +540,16 @@ std::optional<ClusterSummary> sweep(const MpiSession& session, const std::functi
   for (std::size_t r = 1; r < summary.ranks.size(); ++r) remote += summary.ranks[r].cells;
   summary.ranks[0].cells = summary.sweep.cells_simulated - remote;
   summary.chunks = distributor.chunks();
+  if (const std::size_t missing = distributor.unreturned(); missing > 0)  // a rank was stopped on its own
+    throw core::Interrupted(SIGTERM, fmt::format("interrupted: {} cells handed to other ranks did not come back; {} "
+                                                 "of {} cells stored in {}; rerun the same command to resume",
+                                                 missing, summary.sweep.cells_done_before + summary.sweep.cells_simulated,
+                                                 summary.sweep.cells_total,
+                                                 (options.output_dir / "results.sqlite").string()));
   summary.cells_sent = distributor.cells_sent();
   summary.coordination_seconds = distributor.coordination_seconds();
+  summary.handling_seconds = distributor.handling_seconds();
+  summary.committing_seconds = distributor.committing_seconds();
   return summary;
 }
 

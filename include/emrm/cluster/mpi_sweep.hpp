@@ -57,7 +57,14 @@ struct ClusterSummary {
   std::vector<RankStats> ranks;       ///< by rank; rank 0's own threads first
   std::size_t chunks = 0;             ///< chunks handed to other ranks
   std::size_t cells_sent = 0;         ///< cells in them
-  double coordination_seconds = 0.0;  ///< rank 0's time spent handing out and taking back chunks
+  /// CPU seconds of rank 0's coordinating thread, without its commits: answering messages
+  /// (receiving, decoding, choosing and sending chunks) plus probing for them between messages.
+  double coordination_seconds = 0.0;
+  /// Of that, answering messages alone: the work per cell that bounds how many ranks one
+  /// coordinator can serve (docs/cluster.md, "Scaling").
+  double handling_seconds = 0.0;
+  /// CPU seconds the coordinating thread spent committing batches (which any sweep spends somewhere).
+  double committing_seconds = 0.0;
 };
 
 /// How much the busiest rank's simulation time per thread exceeds the mean over the ranks that
