@@ -1,0 +1,243 @@
+// `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): the exports of one process for any number
+// of ranks; a worker rank or the whole job killed with SIGKILL loses nothing the rerun cannot
+// complete, and nothing is stored twice; what MPI cannot run is refused with exit 2 and one message.
+// Registered only when emrm is built with MPI (EMRM_WITH_MPI).
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "run_emrm.hpp"
+#include "test_scale.hpp"
+
+extern char** environ;
+
+namespace emrm::e2e {
+namespace mpi_cli_test {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// 64 cells, infeasible, cheap and dear; 16 under the sanitizers.
+const std::string kSmall = std::string("seed: 5\ngrids:\n  - name: map\n") +
+                           "    speed_kph: {from: 30, to: 72, step: " + test::sample("6", "14") + "}\n" +
+                           "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.16", "0.3") + "}\n";
+// 128 cells (64 under the sanitizers): long enough to be killed halfway.
+const std::string kLonger = std::string("seed: 5\ngrids:\n  - name: map\n") +
+                            "    speed_kph: {from: 30, to: 72, step: 6}\n" +
+                            "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.08", "0.16") + "}\n";
+
+// More ranks than cores (--oversubscribe); as root too, as in a CI container (--allow-run-as-root).
+std::string mpirun(int ranks) {
+  return std::string("'") + EMRM_MPIEXEC + "' --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " '" +
+         EMRM_BINARY + "'";
+}
+
+// Runs `mpirun -n RANKS emrm ARGS` through the shell, as run_emrm runs emrm.
+RunResult run_mpi(int ranks, const std::string& args, const fs::path& dir) {
+  const std::string command = mpirun(ranks) + " " + args + " >'" + (dir / "mpi.out").string() + "' 2>'" +
+                              (dir / "mpi.err").string() + "' </dev/null";
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = read_text(dir / "mpi.out");
+  result.err = read_text(dir / "mpi.err");
+  return result;
+}
+
+// The number of cells in a store, as text; empty while there is no store.
+std::string stored_cells(const fs::path& store) {
+  if (!fs::exists(store)) return {};
+  std::FILE* count = ::popen(("sqlite3 '" + store.string() + "' 'SELECT count(*) FROM cells' 2>/dev/null").c_str(), "r");
+  std::string text;
+  for (int c = std::fgetc(count); c != EOF; c = std::fgetc(count)) text += static_cast<char>(c);
+  return ::pclose(count) == 0 ? text : std::string();
+}
+
+// Every stored row, in key order: the whole store, not only what the exports show (maneuvers,
+// traces, certificates), must survive the trip between ranks.
+std::string store_rows(const fs::path& store) {
+  const fs::path dump = store.string() + ".rows";
+  const std::string command = "sqlite3 '" + store.string() +
+                              "' 'SELECT * FROM cells ORDER BY grid, cell_index; SELECT * FROM outcomes ORDER BY "
+                              "grid, cell_index, position' > '" + dump.string() + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  return read_text(dump);
+}
+
+// The process ids of the ranks, children of mpirun (Open MPI starts local ranks itself, each in a
+// process group of its own), by rank.
+std::map<int, pid_t> rank_pids(pid_t mpirun_pid) {
+  const std::string key = "OMPI_COMM_WORLD_RANK=";
+  std::map<int, pid_t> ranks;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string pid, comm, state;
+    pid_t parent = 0;
+    if (!(stat >> pid >> comm >> state >> parent) || parent != mpirun_pid) continue;
+    const std::string env = read_text(entry.path() / "environ");
+    for (std::size_t at = 0; at < env.size();) {
+      const std::size_t end = std::min(env.find('\0', at), env.size());
+      if (env.compare(at, key.size(), key) == 0)
+        ranks[std::stoi(env.substr(at + key.size(), end - at - key.size()))] = static_cast<pid_t>(std::stoi(name));
+      at = end + 1;
+    }
+  }
+  return ranks;
+}
+
+// Starts `mpirun -n RANKS emrm ARGS`; once the store holds a cell, kills with SIGKILL rank `victim`
+// (mpirun then ends the others), or every rank and mpirun when `victim` < 0; waits for mpirun.
+RunResult killed_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
+                     const fs::path& dir) {
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 1, (dir / "killed.out").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&files, 2, (dir / "killed.err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> words{EMRM_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks),
+                                 EMRM_BINARY};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  EXPECT_EQ(posix_spawn(&pid, EMRM_MPIEXEC, &files, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&files);
+  for (int i = 0; i < 1200; ++i) {  // up to a minute (the sanitizers start slowly)
+    const std::string count = stored_cells(store);
+    if (!count.empty() && std::stoi(count) > 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const auto pids = rank_pids(pid);  // none when the job has ended already: the caller skips
+  if (victim < 0) {
+    for (const auto& [rank, rank_pid] : pids) ::kill(rank_pid, SIGKILL);
+    ::kill(pid, SIGKILL);
+  } else if (const auto it = pids.find(victim); it != pids.end()) {
+    ::kill(it->second, SIGKILL);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_text(dir / "killed.out");
+  r.err = read_text(dir / "killed.err");
+  return r;
+}
+
+// The folder of a plain sweep of `campaign` (2 threads): what every MPI run must write.
+fs::path plain_sweep(const fs::path& dir, const std::string& campaign) {
+  write_text(dir / "campaign.yaml", campaign);
+  const auto plain = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") +
+                              " --threads 2");
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  return dir / "plain";
+}
+
+void expect_same_results(const fs::path& got, const fs::path& want) {
+  for (const char* file : {"regions.csv", "cells.csv", "cells.json"})
+    EXPECT_EQ(read_text(got / file), read_text(want / file)) << file;
+  EXPECT_EQ(store_rows(got / "results.sqlite"), store_rows(want / "results.sqlite"));
+}
+
+TEST(MpiCli, OneTwoAndFourRanksWriteWhatOneProcessWrites) {
+  const auto dir = scratch_dir("mpi-ranks");
+  const auto plain = plain_sweep(dir, kSmall);
+  for (int ranks : {1, 2, 4}) {
+    const auto out = dir / ("ranks" + std::to_string(ranks));
+    const auto r = run_mpi(ranks, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
+                           dir);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_THAT(r.out, HasSubstr("on " + std::to_string(ranks) + " MPI rank"));
+    EXPECT_THAT(r.out, HasSubstr("Simulation seconds per rank: "));
+    EXPECT_THAT(r.out, HasSubstr("above the mean per thread"));
+    if (ranks > 1) {
+      EXPECT_THAT(r.out, HasSubstr("Coordination on rank 0: "));
+    }
+    expect_same_results(out, plain);
+  }
+}
+
+TEST(MpiCli, AWorkerKilledMidRunLosesNothingTheRerunCompletes) {
+  const auto dir = scratch_dir("mpi-kill-worker");
+  const auto plain = plain_sweep(dir, kLonger);
+  const auto out = dir / "out";
+  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
+                                      "--threads", "1"};
+  const auto killed = killed_mpi(3, args, out / "results.sqlite", 1, dir);
+  if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
+  const auto resumed = run_mpi(3, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
+                               dir);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  EXPECT_THAT(resumed.out, HasSubstr("already stored"));
+  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));  // none lost, none twice
+  expect_same_results(out, plain);
+}
+
+TEST(MpiCli, TheWholeJobKilledLosesNothingTheRerunCompletes) {
+  const auto dir = scratch_dir("mpi-kill-job");
+  const auto plain = plain_sweep(dir, kLonger);
+  const auto out = dir / "out";
+  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
+                                      "--threads", "1"};
+  const auto killed = killed_mpi(2, args, out / "results.sqlite", -1, dir);
+  if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
+  const auto resumed = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
+                               dir);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  EXPECT_THAT(resumed.out, HasSubstr("already stored"));
+  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));
+  expect_same_results(out, plain);
+}
+
+// One line of emrm's own on stderr (mpirun adds its banner about the exit code around it).
+void expect_one_message(const RunResult& r, const std::string& message) {
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  std::size_t count = 0;
+  for (auto at = r.err.find(message); at != std::string::npos; at = r.err.find(message, at + 1)) ++count;
+  EXPECT_EQ(count, 1u) << r.err;
+}
+
+TEST(MpiCli, RefusesWhatItCannotDistributeOnceWithExit2) {
+  const auto dir = scratch_dir("mpi-refused");
+  write_text(dir / "campaign.yaml", kSmall);
+  const std::string sweep = "sweep " + quoted(dir / "campaign.yaml") + " --mpi -o ";
+  expect_one_message(run_mpi(2, sweep + quoted(dir / "shard") + " --shard 1/2", dir), "--mpi with --shard");
+  expect_one_message(run_mpi(2, sweep + quoted(dir / "adaptive") + " --adaptive", dir), "not yet distributed");
+  write_text(dir / "broken.yaml", "grids: [\n");
+  expect_one_message(run_mpi(3, "sweep " + quoted(dir / "broken.yaml") + " --mpi -o " + quoted(dir / "broken"), dir),
+                     "broken.yaml:");
+
+  // A store of another configuration, as without MPI.
+  ASSERT_EQ(run_mpi(2, sweep + quoted(dir / "out") + " --threads 1", dir).exit_code, 0);
+  write_text(dir / "other.yaml", "seed: 6\n" + kSmall.substr(kSmall.find('\n') + 1));
+  expect_one_message(run_mpi(2, "sweep " + quoted(dir / "other.yaml") + " --mpi -o " + quoted(dir / "out"), dir),
+                     "come from another configuration");
+}
+
+TEST(MpiCli, WithoutALauncherSaysHowToStartIt) {
+  const auto dir = scratch_dir("mpi-alone");
+  write_text(dir / "campaign.yaml", kSmall);
+  const auto r = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") + " --mpi");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("not started by an MPI launcher"));
+  EXPECT_THAT(r.err, HasSubstr("mpirun -n N"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+}  // namespace mpi_cli_test
+}  // namespace emrm::e2e
