@@ -31,6 +31,7 @@ struct SweepCommandOptions {
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
   bool mpi = false;
+  double mpi_hung_after_s = cluster::kDefaultHungAfterSeconds;
 };
 
 struct MergeCommandOptions {
@@ -107,7 +108,7 @@ int run_sweep(const SweepCommandOptions& o) {
 // One rank of `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): rank 0 prints; the others
 // print nothing, not even an error rank 0 already reports.
 int run_sweep_mpi(const SweepCommandOptions& o) {
-  const cluster::MpiSession mpi;
+  cluster::MpiSession mpi;
   bool refused = false;
   const auto s = cluster::sweep(
       mpi,
@@ -116,7 +117,7 @@ int run_sweep_mpi(const SweepCommandOptions& o) {
           throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
         return load(o);
       },
-      sweep_options(o), refused);
+      sweep_options(o), o.mpi_hung_after_s, refused);
   if (!s) return static_cast<int>(refused ? ExitCode::kBadInput : ExitCode::kSuccess);
   print_swept(s->sweep, o, fmt::format(" on {} MPI rank{}", mpi.size(), mpi.size() == 1 ? "" : "s"));
   std::string per_rank;
@@ -132,6 +133,9 @@ int run_sweep_mpi(const SweepCommandOptions& o) {
         per_cell_ms(s->handling_seconds), per_cell_ms(s->coordination_seconds), s->cells_sent, s->chunks,
         per_cell_ms(s->committing_seconds));
   }
+  for (const int rank : s->lost_ranks)
+    std::cout << fmt::format("Rank {} said nothing for {:g} s and was given up; the other ranks simulated its cells\n",
+                             rank, o.mpi_hung_after_s);
   print_wrote(o);
   return static_cast<int>(ExitCode::kSuccess);
 }
@@ -197,6 +201,12 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
   sweep->add_flag("--mpi", s->mpi,
                   "Run as one rank of an MPI job (mpirun -n N emrm sweep ... --mpi): rank 0 keeps the store, "
                   "every rank simulates cells it hands out (docs/cluster.md)");
+  sweep
+      ->add_option("--mpi-hung-after", s->mpi_hung_after_s,
+                   "With --mpi: seconds a rank holding cells may say nothing before rank 0 gives its cells to "
+                   "the other ranks (docs/cluster.md)")
+      ->check(CLI::Range(1.0, 1e6, "1 to 1000000"))
+      ->capture_default_str();
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
     exit_code = s->mpi ? run_sweep_mpi(*s) : run_sweep(*s);

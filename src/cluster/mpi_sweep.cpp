@@ -32,6 +32,7 @@
 #include <csignal>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <mutex>
@@ -91,12 +92,13 @@ struct Simulated {
 struct Results {
   bool more = true;                 ///< asks for another chunk (answered with one, maybe empty)
   bool last = false;                ///< the worker leaves: no chunk in hand, no request unanswered
+  bool returns_chunk = false;       ///< `done` is its oldest chunk in hand, finished
   std::uint64_t cells = 0;          ///< simulated so far
   double simulation_seconds = 0.0;  ///< thread-seconds spent on them
   std::vector<Simulated> done;      ///< a finished chunk's cells (after an interrupt, those started)
   template <class Archive>
   void serialize(Archive& archive) {
-    archive(more, last, cells, simulation_seconds, done);
+    archive(more, last, returns_chunk, cells, simulation_seconds, done);
   }
 };
 
@@ -140,7 +142,7 @@ std::string receive_bytes(const MPI_Status& probed) {
 Json receive(const MPI_Status& probed) { return Json::from_msgpack(receive_bytes(probed)); }
 
 template <class Message>
-void send_archive(Message& message, int to, int tag) {
+void send_archive(const Message& message, int to, int tag) {
   std::ostringstream bytes;
   {
     cereal::PortableBinaryOutputArchive archive(bytes);
@@ -200,14 +202,21 @@ int thread_count(int requested) { return requested > 0 ? requested : tbb::info::
 // ---- rank 0 ----
 
 // Hands cells out to the other ranks on demand, sized by what cells of each cost class took so
-// far, and delivers their records to the sweep's committer.
+// far, and delivers their records to the sweep's committer. A rank silent for `hung_after` while
+// it holds cells is given up: its cells go to the next ranks that ask (or are simulated here at the
+// end), and whatever it sends later is dropped, so no cell is stored twice.
 class MpiDistributor final : public campaign::Distributor {
  public:
-  MpiDistributor(int ranks, std::vector<int> threads)
-      : threads_(std::move(threads)),
+  MpiDistributor(const campaign::Campaign& campaign, int ranks, std::vector<int> threads, Clock::duration hung_after)
+      : campaign_(campaign),
+        threads_(std::move(threads)),
+        hung_after_(hung_after),
         stats_(static_cast<std::size_t>(ranks)),
         handed_(static_cast<std::size_t>(ranks)),
         returned_(static_cast<std::size_t>(ranks)),
+        in_hand_(static_cast<std::size_t>(ranks)),
+        heard_(static_cast<std::size_t>(ranks), Clock::now()),
+        lost_(static_cast<std::size_t>(ranks), 0),
         active_(ranks - 1) {
     for (int t : threads_) total_threads_ += static_cast<std::size_t>(std::max(t, 1));
     for (int r = 1; r < ranks; ++r) stats_[static_cast<std::size_t>(r)].threads = threads_[static_cast<std::size_t>(r)];
@@ -231,12 +240,16 @@ class MpiDistributor final : public campaign::Distributor {
   }
 
   [[nodiscard]] std::vector<RankStats>& stats() noexcept { return stats_; }
+  /// Seconds this thread spent simulating the cells of hung ranks nobody else took.
+  [[nodiscard]] double stranded_seconds() const noexcept { return stranded_seconds_; }
+  /// The ranks given up as hung, in the order they were.
+  [[nodiscard]] const std::vector<int>& lost_ranks() const noexcept { return lost_ranks_; }
   /// Cells handed to other ranks whose records did not come back: the ranks stopped (an
   /// interrupt) or died; the rerun simulates them.
   [[nodiscard]] std::size_t unreturned() const noexcept {
     std::size_t missing = 0;
     for (std::size_t r = 0; r < handed_.size(); ++r) missing += handed_[r] - std::min(handed_[r], returned_[r]);
-    return missing;
+    return missing + reissue_.size();
   }
   [[nodiscard]] std::size_t chunks() const noexcept { return chunks_; }
   [[nodiscard]] std::size_t cells_sent() const noexcept { return cells_sent_; }
@@ -260,6 +273,7 @@ class MpiDistributor final : public campaign::Distributor {
       MPI_Status status;
       MPI_Iprobe(MPI_ANY_SOURCE, kTagResults, MPI_COMM_WORLD, &arrived, &status);
       if (arrived == 0) {
+        give_up_on_hung_ranks(queue);
         if (core::interrupt_signal() != 0 || grace == Clock::duration::zero()) {
           if (!quiet_since) quiet_since = Clock::now();
           if (Clock::now() - *quiet_since > std::max<Clock::duration>(grace, std::chrono::seconds(2))) break;
@@ -272,10 +286,18 @@ class MpiDistributor final : public campaign::Distributor {
       const double handling = thread_cpu_seconds();
       Results message = from_archive<Results>(receive_bytes(status));
       const int rank = status.MPI_SOURCE;
-      RankStats& stats = stats_[static_cast<std::size_t>(rank)];
+      const auto r = static_cast<std::size_t>(rank);
+      heard_[r] = Clock::now();
+      if (lost_[r] != 0) {  // its cells went to others: drop them, let it go
+        if (message.more) send_archive(Chunk{}, rank, kTagChunk);
+        handling_seconds_ += thread_cpu_seconds() - handling;
+        continue;
+      }
+      if (message.returns_chunk && !in_hand_[r].empty()) in_hand_[r].pop_front();
+      RankStats& stats = stats_[r];
       stats.cells = message.cells;
       stats.simulation_seconds = message.simulation_seconds;
-      returned_[static_cast<std::size_t>(rank)] += message.done.size();
+      returned_[r] += message.done.size();
       for (Simulated& cell : message.done) {
         learn(cell.cost, cell.seconds);
         const double delivering = thread_cpu_seconds();
@@ -285,13 +307,45 @@ class MpiDistributor final : public campaign::Distributor {
       }
       if (message.more) {
         Chunk chunk = next_chunk(queue, rank);
-        handed_[static_cast<std::size_t>(rank)] += chunk.size();
+        handed_[r] += chunk.size();
         send_archive(chunk, rank, kTagChunk);
+        if (!chunk.empty()) in_hand_[r].push_back(std::move(chunk));
       }
       if (message.last) --active_;
       handling_seconds_ += thread_cpu_seconds() - handling;
     }
     cpu_seconds_ += thread_cpu_seconds() - cpu_start;
+    simulate_stranded(queue);
+  }
+
+  // A rank is given up when silent for hung_after_ while it holds cells, or once nothing is left
+  // to hand out and only its last message is awaited.
+  void give_up_on_hung_ranks(const campaign::TaskQueue& queue) {
+    const auto now = Clock::now();
+    const bool nothing_left = queue.remaining() == 0 && reissue_.empty();
+    for (std::size_t r = 1; r < in_hand_.size(); ++r) {
+      if (lost_[r] != 0 || now - heard_[r] < hung_after_ || (in_hand_[r].empty() && !nothing_left)) continue;
+      lost_[r] = 1;
+      lost_ranks_.push_back(static_cast<int>(r));
+      --active_;
+      for (const Chunk& chunk : in_hand_[r]) reissue_.insert(reissue_.end(), chunk.begin(), chunk.end());
+      in_hand_[r].clear();
+      handed_[r] = returned_[r];  // its cells are the others' now
+    }
+  }
+
+  // Cells of a hung rank that no other rank asked for before the end: simulated on this thread.
+  void simulate_stranded(campaign::TaskQueue& queue) {
+    while (!reissue_.empty() && core::interrupt_signal() == 0) {
+      const campaign::CellTask task = reissue_.front();
+      const auto start = Clock::now();
+      campaign::CellRecord record = campaign::simulate_task(campaign_, task);
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      stats_[0].cells += 1;
+      stranded_seconds_ += seconds;
+      queue.deliver(std::move(record), task.cost, seconds);
+      reissue_.pop_front();
+    }
   }
 
   void learn(int cost, double seconds) {
@@ -315,12 +369,18 @@ class MpiDistributor final : public campaign::Distributor {
   // self-scheduling).
   Chunk next_chunk(campaign::TaskQueue& queue, int rank) {
     const double budget = kChunkSecondsPerThread * threads_[static_cast<std::size_t>(rank)];
-    const std::size_t share = std::max<std::size_t>(1, queue.remaining() / (4 * total_threads_));
+    const std::size_t share = std::max<std::size_t>(1, (queue.remaining() + reissue_.size()) / (4 * total_threads_));
     const std::size_t limit = std::min(share, kMaxChunkCells);
     Chunk chunk;
     double expected = 0.0;
-    while (chunk.size() < limit && expected < budget) {
-      const auto task = queue.next();
+    while (chunk.size() < limit && expected < budget && core::interrupt_signal() == 0) {
+      std::optional<campaign::CellTask> task;
+      if (!reissue_.empty()) {  // a hung rank's cells first
+        task = reissue_.front();
+        reissue_.pop_front();
+      } else {
+        task = queue.next();
+      }
       if (!task) break;
       chunk.push_back(*task);
       expected += expected_seconds(task->cost);
@@ -330,9 +390,16 @@ class MpiDistributor final : public campaign::Distributor {
     return chunk;
   }
 
+  const campaign::Campaign& campaign_;
   std::vector<int> threads_;
+  Clock::duration hung_after_;
   std::vector<RankStats> stats_;
   std::vector<std::size_t> handed_, returned_;  ///< cells per rank
+  std::vector<std::deque<Chunk>> in_hand_;      ///< per rank: chunks sent and not returned, oldest first
+  std::vector<Clock::time_point> heard_;        ///< per rank: its last message
+  std::vector<char> lost_;                      ///< per rank: given up as hung
+  std::vector<int> lost_ranks_;
+  std::deque<campaign::CellTask> reissue_;      ///< a hung rank's cells, for the next ranks that ask
   int active_ = 0;  ///< ranks that have not sent their last message
   std::size_t total_threads_ = 0;
   std::array<double, 3> class_seconds_{};
@@ -343,6 +410,7 @@ class MpiDistributor final : public campaign::Distributor {
   double cpu_seconds_ = 0.0;
   double handling_seconds_ = 0.0;
   double committing_seconds_ = 0.0;
+  double stranded_seconds_ = 0.0;  ///< rank 0's coordinating thread simulating a hung rank's cells
 };
 
 // ---- the other ranks ----
@@ -394,17 +462,18 @@ void serve(const campaign::Campaign& campaign, int threads) {
   int unanswered = 0;     // requests rank 0 has not answered yet
   std::size_t held = 0;   // chunks received and not sent back
   bool no_more = false;   // rank 0 answered with no cells, or an interrupt came
-  const auto report = [&](std::vector<Simulated> done, bool ask) {
+  const auto report = [&](std::vector<Simulated> done, bool ask, bool returns_chunk) {
     for (const Simulated& cell : done) results.simulation_seconds += cell.seconds;
     results.cells += done.size();
     results.done = std::move(done);
     results.more = ask;
+    results.returns_chunk = returns_chunk;
     send_archive(results, 0, kTagResults);
     unanswered += ask ? 1 : 0;
   };
   try {
-    report({}, true);  // one chunk to simulate
-    report({}, true);  // and one in reserve
+    report({}, true, false);  // one chunk to simulate
+    report({}, true, false);  // and one in reserve
   } catch (...) {
     stop_simulating();
     throw;
@@ -442,7 +511,7 @@ void serve(const campaign::Campaign& campaign, int threads) {
       idle = false;
       --held;
       no_more = no_more || core::interrupt_signal() != 0;
-      report(std::move(*done), !no_more);
+      report(std::move(*done), !no_more, true);
     }
     if (idle) {
       backoff.wait();
@@ -452,7 +521,7 @@ void serve(const campaign::Campaign& campaign, int threads) {
   }
   stop_simulating();
   results.last = true;
-  report({}, false);
+  report({}, false, false);
 }
 
 }  // namespace
@@ -468,10 +537,16 @@ MpiSession::MpiSession() {
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }
 
-MpiSession::~MpiSession() { MPI_Finalize(); }
+MpiSession::~MpiSession() {
+  if (abort_code_) {  // a hung rank would never reach MPI_Finalize: end them all, with this exit code
+    std::fflush(nullptr);
+    MPI_Abort(MPI_COMM_WORLD, *abort_code_);
+  }
+  MPI_Finalize();
+}
 
-std::optional<ClusterSummary> sweep(const MpiSession& session, const std::function<campaign::Campaign()>& load,
-                                    const campaign::SweepOptions& options, bool& refused) {
+std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<campaign::Campaign()>& load,
+                                    const campaign::SweepOptions& options, double hung_after_s, bool& refused) {
   refused = false;
   const int threads = thread_count(options.threads);
   // Every rank loads the campaign; rank 0 hears from every other rank before any cell runs, so a
@@ -523,19 +598,29 @@ std::optional<ClusterSummary> sweep(const MpiSession& session, const std::functi
   if (failed) std::rethrow_exception(failed);
   if (!mismatch.empty()) throw UsageError(mismatch);
 
-  MpiDistributor distributor(session.size(), rank_threads);
+  MpiDistributor distributor(*campaign, session.size(), rank_threads,
+                             std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hung_after_s)));
   campaign::SweepOptions rank0_options = options;
   if (session.size() > 1) rank0_options.distributor = &distributor;
   ClusterSummary summary;
   try {
     summary.sweep = campaign::sweep(*campaign, rank0_options);
-  } catch (...) {  // another configuration in the store, an interrupt, a disk full: let the ranks go
+  } catch (const std::exception& e) {  // another configuration in the store, an interrupt, a disk full
     distributor.release();
+    if (!distributor.lost_ranks().empty()) {  // MPI_Abort ends the process before the caller could say it
+      std::fprintf(stderr, "%s\n", e.what());
+      const auto* interrupted = dynamic_cast<const core::Interrupted*>(&e);
+      session.abort_at_exit(interrupted != nullptr               ? 128 + interrupted->signal()
+                            : dynamic_cast<const Error*>(&e) != nullptr ? 2
+                                                                        : 70);
+    }
     throw;
   }
+  summary.lost_ranks = distributor.lost_ranks();
+  if (!summary.lost_ranks.empty()) session.abort_at_exit(0);  // everything is stored: a success
   summary.ranks = std::move(distributor.stats());
   summary.ranks[0].threads = threads;
-  summary.ranks[0].simulation_seconds = summary.sweep.simulation_seconds;
+  summary.ranks[0].simulation_seconds = summary.sweep.simulation_seconds + distributor.stranded_seconds();
   std::size_t remote = 0;
   for (std::size_t r = 1; r < summary.ranks.size(); ++r) remote += summary.ranks[r].cells;
   summary.ranks[0].cells = summary.sweep.cells_simulated - remote;

@@ -15,8 +15,8 @@ MpiSession::MpiSession() {
 
 MpiSession::~MpiSession() = default;
 
-std::optional<ClusterSummary> sweep(const MpiSession&, const std::function<campaign::Campaign()>&,
-                                    const campaign::SweepOptions&, bool& refused) {
+std::optional<ClusterSummary> sweep(MpiSession&, const std::function<campaign::Campaign()>&,
+                                    const campaign::SweepOptions&, double, bool& refused) {
   refused = true;  // unreachable: no MpiSession exists without MPI
   return std::nullopt;
 }

@@ -1,6 +1,7 @@
 // `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): the exports of one process for any number
 // of ranks; a worker rank or the whole job killed with SIGKILL loses nothing the rerun cannot
-// complete, and nothing is stored twice; what MPI cannot run is refused with exit 2 and one message.
+// complete, and nothing is stored twice; a hung worker's cells go to the others; what MPI cannot
+// run is refused with exit 2 and one message.
 // Registered only when emrm is built with MPI (EMRM_WITH_MPI).
 
 #include <gmock/gmock.h>
@@ -101,10 +102,10 @@ std::map<int, pid_t> rank_pids(pid_t mpirun_pid) {
   return ranks;
 }
 
-// Starts `mpirun -n RANKS emrm ARGS`; once the store holds a cell, kills with SIGKILL rank `victim`
-// (mpirun then ends the others), or every rank and mpirun when `victim` < 0; waits for mpirun.
-RunResult killed_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
-                     const fs::path& dir) {
+// Starts `mpirun -n RANKS emrm ARGS`; once the store holds a cell, sends `signal` to rank `victim`,
+// or SIGKILL to every rank and mpirun when `victim` < 0; waits for mpirun.
+RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
+                        int signal, const fs::path& dir) {
   posix_spawn_file_actions_t files;
   posix_spawn_file_actions_init(&files);
   posix_spawn_file_actions_addopen(&files, 1, (dir / "killed.out").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -128,7 +129,7 @@ RunResult killed_mpi(int ranks, const std::vector<std::string>& args, const fs::
     for (const auto& [rank, rank_pid] : pids) ::kill(rank_pid, SIGKILL);
     ::kill(pid, SIGKILL);
   } else if (const auto it = pids.find(victim); it != pids.end()) {
-    ::kill(it->second, SIGKILL);
+    ::kill(it->second, signal);
   }
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -178,7 +179,7 @@ TEST(MpiCli, AWorkerKilledMidRunLosesNothingTheRerunCompletes) {
   const auto out = dir / "out";
   const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
                                       "--threads", "1"};
-  const auto killed = killed_mpi(3, args, out / "results.sqlite", 1, dir);
+  const auto killed = signalled_mpi(3, args, out / "results.sqlite", 1, SIGKILL, dir);
   if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
   const auto resumed = run_mpi(3, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
                                dir);
@@ -194,12 +195,26 @@ TEST(MpiCli, TheWholeJobKilledLosesNothingTheRerunCompletes) {
   const auto out = dir / "out";
   const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
                                       "--threads", "1"};
-  const auto killed = killed_mpi(2, args, out / "results.sqlite", -1, dir);
+  const auto killed = signalled_mpi(2, args, out / "results.sqlite", -1, SIGKILL, dir);
   if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
   const auto resumed = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
                                dir);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
   EXPECT_THAT(resumed.out, HasSubstr("already stored"));
+  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));
+  expect_same_results(out, plain);
+}
+
+TEST(MpiCli, AHungWorkersCellsGoToTheOthers) {
+  const auto dir = scratch_dir("mpi-hung-worker");
+  const auto plain = plain_sweep(dir, kLonger);
+  const auto out = dir / "out";
+  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
+                                      "--threads", "1", "--mpi-hung-after", "3"};
+  const auto stopped = signalled_mpi(3, args, out / "results.sqlite", 1, SIGSTOP, dir);  // ended by MPI_Abort
+  ASSERT_EQ(stopped.exit_code, 0) << stopped.out << stopped.err;
+  if (stopped.out.find("Rank 1 said nothing for 3 s and was given up") == std::string::npos)
+    GTEST_SKIP() << "the sweep ended before rank 1 stopped:\n" << stopped.out;
   EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));
   expect_same_results(out, plain);
 }

@@ -39,10 +39,14 @@ class MpiSession {
   ~MpiSession();
   [[nodiscard]] int rank() const noexcept { return rank_; }
   [[nodiscard]] int size() const noexcept { return size_; }
+  /// End with MPI_Abort(exit_code) instead of MPI_Finalize, which waits for every rank: a rank
+  /// given up as hung would never come.
+  void abort_at_exit(int exit_code) noexcept { abort_code_ = exit_code; }
 
  private:
   int rank_ = 0;
   int size_ = 1;
+  std::optional<int> abort_code_;
 };
 
 /// What each rank did, gathered on rank 0: the load-balance and overhead figures of the summary.
@@ -65,7 +69,14 @@ struct ClusterSummary {
   double handling_seconds = 0.0;
   /// CPU seconds the coordinating thread spent committing batches (which any sweep spends somewhere).
   double committing_seconds = 0.0;
+  /// Ranks given up as hung (silent for `hung_after_s` while holding cells, or while rank 0 awaited
+  /// only their last message); their cells were simulated by the others. The process then ends by
+  /// MPI_Abort, exit code 0.
+  std::vector<int> lost_ranks;
 };
+
+/// Seconds a rank holding cells may stay silent before rank 0 gives them to the others.
+inline constexpr double kDefaultHungAfterSeconds = 600.0;
 
 /// How much the busiest rank's simulation time per thread exceeds the mean over the ranks that
 /// simulated: 0.05 is 5 % above. 0 for fewer than two ranks.
@@ -74,13 +85,14 @@ struct ClusterSummary {
 /// The sweep of the campaign `load` returns, over every rank of `session`. Every rank calls it
 /// with the same arguments; each calls `load` (the same campaign file on a shared file system), and
 /// rank 0 checks that every rank loaded the same configuration (config hash) before any cell runs.
-/// Rank 0 returns the summary; the other ranks return none once rank 0 lets them go.
+/// Rank 0 returns the summary; the other ranks return none once rank 0 lets them go. A rank silent
+/// for `hung_after_s` while it holds cells is given up (ClusterSummary::lost_ranks).
 ///
 /// Throws on rank 0 what `load` or campaign::sweep() throws (InputError, UsageError: another
 /// configuration in the store, an adaptive grid, shards; core::Interrupted after SIGINT or SIGTERM,
 /// everything done committed), and UsageError when a rank loaded another configuration. The other
 /// ranks throw nothing for an error rank 0 reports: they return none, and `refused` says so.
-std::optional<ClusterSummary> sweep(const MpiSession& session, const std::function<campaign::Campaign()>& load,
-                                    const campaign::SweepOptions& options, bool& refused);
+std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<campaign::Campaign()>& load,
+                                    const campaign::SweepOptions& options, double hung_after_s, bool& refused);
 
 }  // namespace emrm::cluster
