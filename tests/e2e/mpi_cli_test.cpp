@@ -6,8 +6,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,9 +20,8 @@
 #include <vector>
 
 #include "run_emrm.hpp"
+#include "spawn_process.hpp"
 #include "test_scale.hpp"
-
-extern char** environ;
 
 namespace emrm::e2e {
 namespace mpi_cli_test {
@@ -106,19 +103,10 @@ std::map<int, pid_t> rank_pids(pid_t mpirun_pid) {
 // or SIGKILL to every rank and mpirun when `victim` < 0; waits for mpirun.
 RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
                         int signal, const fs::path& dir) {
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, 1, (dir / "killed.out").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&files, 2, (dir / "killed.err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::vector<std::string> words{EMRM_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks),
                                  EMRM_BINARY};
   words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  EXPECT_EQ(posix_spawn(&pid, EMRM_MPIEXEC, &files, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&files);
+  const pid_t pid = spawn_process(words, dir);
   for (int i = 0; i < 1200; ++i) {  // up to a minute (the sanitizers start slowly)
     const std::string count = stored_cells(store);
     if (!count.empty() && std::stoi(count) > 0) break;
@@ -131,13 +119,7 @@ RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const f
   } else if (const auto it = pids.find(victim); it != pids.end()) {
     ::kill(it->second, signal);
   }
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = read_text(dir / "killed.out");
-  r.err = read_text(dir / "killed.err");
-  return r;
+  return wait_for_process(pid, dir);
 }
 
 // The folder of a plain sweep of `campaign` (2 threads): what every MPI run must write.
@@ -173,50 +155,53 @@ TEST(MpiCli, OneTwoAndFourRanksWriteWhatOneProcessWrites) {
   }
 }
 
+// `mpirun -n RANKS emrm sweep` of the 128 cells into DIR/out with the rank `victim` sent `signal`
+// once the store holds a cell (every rank and mpirun killed when `victim` < 0): what it printed.
+RunResult signalled_sweep(const fs::path& dir, int ranks, int victim, int signal,
+                          const std::vector<std::string>& more_args = {}) {
+  std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(), "--mpi",
+                                "--threads", "1"};
+  args.insert(args.end(), more_args.begin(), more_args.end());
+  return signalled_mpi(ranks, args, dir / "out" / "results.sqlite", victim, signal, dir);
+}
+
+// The store in DIR/out holds every cell once, and its rows and exports are a plain sweep's.
+void expect_complete(const fs::path& dir, const fs::path& plain) {
+  EXPECT_EQ(stored_cells(dir / "out" / "results.sqlite"), stored_cells(plain / "results.sqlite"));
+  expect_same_results(dir / "out", plain);
+}
+
+// The same command again completes what a killed job left.
+void expect_rerun_completes(const fs::path& dir, int ranks, const fs::path& plain) {
+  const auto resumed = run_mpi(
+      ranks, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") + " --mpi --threads 1", dir);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  EXPECT_THAT(resumed.out, HasSubstr("already stored"));
+  expect_complete(dir, plain);  // none lost, none twice
+}
+
 TEST(MpiCli, AWorkerKilledMidRunLosesNothingTheRerunCompletes) {
   const auto dir = scratch_dir("mpi-kill-worker");
   const auto plain = plain_sweep(dir, kLonger);
-  const auto out = dir / "out";
-  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
-                                      "--threads", "1"};
-  const auto killed = signalled_mpi(3, args, out / "results.sqlite", 1, SIGKILL, dir);
-  if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
-  const auto resumed = run_mpi(3, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
-                               dir);
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
-  EXPECT_THAT(resumed.out, HasSubstr("already stored"));
-  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));  // none lost, none twice
-  expect_same_results(out, plain);
+  if (signalled_sweep(dir, 3, 1, SIGKILL).exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
+  expect_rerun_completes(dir, 3, plain);
 }
 
 TEST(MpiCli, TheWholeJobKilledLosesNothingTheRerunCompletes) {
   const auto dir = scratch_dir("mpi-kill-job");
   const auto plain = plain_sweep(dir, kLonger);
-  const auto out = dir / "out";
-  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
-                                      "--threads", "1"};
-  const auto killed = signalled_mpi(2, args, out / "results.sqlite", -1, SIGKILL, dir);
-  if (killed.exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
-  const auto resumed = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
-                               dir);
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
-  EXPECT_THAT(resumed.out, HasSubstr("already stored"));
-  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));
-  expect_same_results(out, plain);
+  if (signalled_sweep(dir, 2, -1, SIGKILL).exit_code == 0) GTEST_SKIP() << "the sweep ended before the kill";
+  expect_rerun_completes(dir, 2, plain);
 }
 
 TEST(MpiCli, AHungWorkersCellsGoToTheOthers) {
   const auto dir = scratch_dir("mpi-hung-worker");
   const auto plain = plain_sweep(dir, kLonger);
-  const auto out = dir / "out";
-  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", out.string(), "--mpi",
-                                      "--threads", "1", "--mpi-hung-after", "3"};
-  const auto stopped = signalled_mpi(3, args, out / "results.sqlite", 1, SIGSTOP, dir);  // ended by MPI_Abort
+  const auto stopped = signalled_sweep(dir, 3, 1, SIGSTOP, {"--mpi-hung-after", "3"});  // ended by MPI_Abort
   ASSERT_EQ(stopped.exit_code, 0) << stopped.out << stopped.err;
   if (stopped.out.find("Rank 1 said nothing for 3 s and was given up") == std::string::npos)
     GTEST_SKIP() << "the sweep ended before rank 1 stopped:\n" << stopped.out;
-  EXPECT_EQ(stored_cells(out / "results.sqlite"), stored_cells(plain / "results.sqlite"));
-  expect_same_results(out, plain);
+  expect_complete(dir, plain);
 }
 
 // One line of emrm's own on stderr (mpirun adds its banner about the exit code around it).
