@@ -449,12 +449,6 @@ CellRecord simulate_task(const Campaign& campaign, const CellTask& task) {
   return to_record(grid.name, static_cast<std::int64_t>(task.index), options.seed, result, grid.keep_trees);
 }
 
-bool sweeps_adaptively(const Campaign& campaign, const SweepOptions& options) {
-  return std::any_of(campaign.grids.begin(), campaign.grids.end(), [&](const GridSpec& grid) {
-    return (options.adaptive || grid.adaptive) && !grid.levels[0].empty();
-  });
-}
-
 void parse_shard(const std::string& text, int& index, int& count) {
   const auto slash = text.find('/');
   const auto parse = [&](std::string_view part, int& value) {

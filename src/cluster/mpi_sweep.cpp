@@ -556,9 +556,6 @@ std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<cam
   std::string failure;
   try {
     campaign = load();
-    if (campaign::sweeps_adaptively(*campaign, options))
-      throw UsageError("--mpi: the adaptive search is not yet distributed over MPI ranks; run it without --mpi on "
-                       "one machine (every core: --threads 0)");
   } catch (const std::exception& e) {
     failed = std::current_exception();
     failure = e.what();
@@ -601,7 +598,7 @@ std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<cam
   MpiDistributor distributor(*campaign, session.size(), rank_threads,
                              std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hung_after_s)));
   campaign::SweepOptions rank0_options = options;
-  if (session.size() > 1) rank0_options.distributor = &distributor;
+  rank0_options.distributor = &distributor;  // with one rank too: sweep() then refuses what it cannot distribute
   ClusterSummary summary;
   try {
     summary.sweep = campaign::sweep(*campaign, rank0_options);

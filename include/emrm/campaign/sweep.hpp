@@ -60,10 +60,6 @@ struct SweepSummary {
   std::vector<AdaptiveSummary> adaptive;  ///< one per grid swept adaptively, in grid order
 };
 
-/// Whether sweep() would sweep some grid of `campaign` by the adaptive search (--adaptive, or a
-/// product grid with `adaptive: true`).
-[[nodiscard]] bool sweeps_adaptively(const Campaign& campaign, const SweepOptions& options);
-
 /// "K/N" → (K, N). Throws UsageError unless 1 <= K <= N.
 void parse_shard(const std::string& text, int& index, int& count);
 
