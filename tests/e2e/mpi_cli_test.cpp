@@ -38,10 +38,18 @@ const std::string kLonger = std::string("seed: 5\ngrids:\n  - name: map\n") +
                             "    speed_kph: {from: 30, to: 72, step: 6}\n" +
                             "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.08", "0.16") + "}\n";
 
-// More ranks than cores (--oversubscribe); as root too, as in a CI container (--allow-run-as-root).
+// mpirun's words before emrm's: more ranks than cores; as root too, as in a CI container; and
+// shared-memory messages copied through a buffer, since a container's seccomp profile may forbid
+// one process reading another's memory (Open MPI's single copy).
+std::vector<std::string> mpirun_words(int ranks) {
+  return {EMRM_MPIEXEC, "--oversubscribe", "--allow-run-as-root", "--mca", "btl_vader_single_copy_mechanism", "none",
+          "-n", std::to_string(ranks), EMRM_BINARY};
+}
+
 std::string mpirun(int ranks) {
-  return std::string("'") + EMRM_MPIEXEC + "' --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " '" +
-         EMRM_BINARY + "'";
+  std::string command;
+  for (const std::string& word : mpirun_words(ranks)) command += (command.empty() ? "" : " ") + quoted(word);
+  return command;
 }
 
 // Runs `mpirun -n RANKS emrm ARGS` through the shell, as run_emrm runs emrm.
@@ -103,8 +111,7 @@ std::map<int, pid_t> rank_pids(pid_t mpirun_pid) {
 // or SIGKILL to every rank and mpirun when `victim` < 0; waits for mpirun.
 RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
                         int signal, const fs::path& dir) {
-  std::vector<std::string> words{EMRM_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks),
-                                 EMRM_BINARY};
+  std::vector<std::string> words = mpirun_words(ranks);
   words.insert(words.end(), args.begin(), args.end());
   const pid_t pid = spawn_process(words, dir);
   for (int i = 0; i < 1200; ++i) {  // up to a minute (the sanitizers start slowly)
