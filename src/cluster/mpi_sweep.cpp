@@ -120,6 +120,8 @@ constexpr double kChunkSecondsPerThread = 0.25;
 constexpr double kUnknownCellSeconds = 1.0;
 constexpr std::size_t kMaxChunkCells = 4096;
 constexpr std::size_t kTrustedCells = 8;
+// The tail of a sweep: no more cells left than this many per thread of the job.
+constexpr std::size_t kTailCellsPerThread = 4;
 // After an interrupt rank 0 waits this long for the chunks in flight. A rank that died (mpirun
 // then ends the job) never answers; what it had is simulated again by the rerun.
 constexpr auto kInterruptGrace = std::chrono::seconds(5);
@@ -215,6 +217,7 @@ class MpiDistributor final : public campaign::Distributor {
         handed_(static_cast<std::size_t>(ranks)),
         returned_(static_cast<std::size_t>(ranks)),
         in_hand_(static_cast<std::size_t>(ranks)),
+        deferred_(static_cast<std::size_t>(ranks), 0),
         heard_(static_cast<std::size_t>(ranks), Clock::now()),
         lost_(static_cast<std::size_t>(ranks), 0),
         active_(ranks - 1) {
@@ -305,7 +308,13 @@ class MpiDistributor final : public campaign::Distributor {
         queue.deliver(std::move(cell.record), cell.cost, cell.seconds);
         committing_seconds_ += thread_cpu_seconds() - delivering;
       }
-      if (message.more) {
+      // Near the end a chunk in reserve would keep cells from a rank that has none: a rank still
+      // holding one waits for its next chunk until it returns that one.
+      deferred_[r] += message.more ? 1 : 0;
+      const bool tail = grace != Clock::duration::zero() &&
+                        queue.remaining() + reissue_.size() <= kTailCellsPerThread * total_threads_;
+      while (deferred_[r] > 0 && (in_hand_[r].empty() || !tail)) {
+        --deferred_[r];
         Chunk chunk = next_chunk(queue, rank);
         handed_[r] += chunk.size();
         send_archive(chunk, rank, kTagChunk);
@@ -396,6 +405,7 @@ class MpiDistributor final : public campaign::Distributor {
   std::vector<RankStats> stats_;
   std::vector<std::size_t> handed_, returned_;  ///< cells per rank
   std::vector<std::deque<Chunk>> in_hand_;      ///< per rank: chunks sent and not returned, oldest first
+  std::vector<int> deferred_;                   ///< per rank: requests not answered yet (the tail)
   std::vector<Clock::time_point> heard_;        ///< per rank: its last message
   std::vector<char> lost_;                      ///< per rank: given up as hung
   std::vector<int> lost_ranks_;
