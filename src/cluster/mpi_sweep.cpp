@@ -534,6 +534,17 @@ void serve(const campaign::Campaign& campaign, int threads) {
   report({}, false, false);
 }
 
+// With a rank given up as hung the job ends by MPI_Abort, before the caller could print `error`:
+// printed here, with the exit code the command line would give it.
+void abort_if_ranks_lost(MpiSession& session, const MpiDistributor& distributor, const std::exception& error) {
+  if (distributor.lost_ranks().empty()) return;
+  std::fprintf(stderr, "%s\n", error.what());
+  const auto* interrupted = dynamic_cast<const core::Interrupted*>(&error);
+  session.abort_at_exit(interrupted != nullptr                     ? 128 + interrupted->signal()
+                        : dynamic_cast<const Error*>(&error) != nullptr ? 2
+                                                                       : 70);
+}
+
 }  // namespace
 
 bool mpi_built() noexcept { return true; }
@@ -614,14 +625,17 @@ std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<cam
     summary.sweep = campaign::sweep(*campaign, rank0_options);
   } catch (const std::exception& e) {  // another configuration in the store, an interrupt, a disk full
     distributor.release();
-    if (!distributor.lost_ranks().empty()) {  // MPI_Abort ends the process before the caller could say it
-      std::fprintf(stderr, "%s\n", e.what());
-      const auto* interrupted = dynamic_cast<const core::Interrupted*>(&e);
-      session.abort_at_exit(interrupted != nullptr               ? 128 + interrupted->signal()
-                            : dynamic_cast<const Error*>(&e) != nullptr ? 2
-                                                                        : 70);
-    }
+    abort_if_ranks_lost(session, distributor, e);
     throw;
+  }
+  if (const std::size_t missing = distributor.unreturned(); missing > 0) {  // a rank was stopped on its own
+    const core::Interrupted stopped(
+        SIGTERM, fmt::format("interrupted: {} cells handed to other ranks did not come back; {} of {} cells stored in "
+                             "{}; rerun the same command to resume",
+                             missing, summary.sweep.cells_done_before + summary.sweep.cells_simulated,
+                             summary.sweep.cells_total, (options.output_dir / "results.sqlite").string()));
+    abort_if_ranks_lost(session, distributor, stopped);
+    throw stopped;
   }
   summary.lost_ranks = distributor.lost_ranks();
   if (!summary.lost_ranks.empty()) session.abort_at_exit(0);  // everything is stored: a success
@@ -632,12 +646,6 @@ std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<cam
   for (std::size_t r = 1; r < summary.ranks.size(); ++r) remote += summary.ranks[r].cells;
   summary.ranks[0].cells = summary.sweep.cells_simulated - remote;
   summary.chunks = distributor.chunks();
-  if (const std::size_t missing = distributor.unreturned(); missing > 0)  // a rank was stopped on its own
-    throw core::Interrupted(SIGTERM, fmt::format("interrupted: {} cells handed to other ranks did not come back; {} "
-                                                 "of {} cells stored in {}; rerun the same command to resume",
-                                                 missing, summary.sweep.cells_done_before + summary.sweep.cells_simulated,
-                                                 summary.sweep.cells_total,
-                                                 (options.output_dir / "results.sqlite").string()));
   summary.cells_sent = distributor.cells_sent();
   summary.coordination_seconds = distributor.coordination_seconds();
   summary.handling_seconds = distributor.handling_seconds();
