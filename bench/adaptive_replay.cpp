@@ -28,7 +28,7 @@ class StoredOracle final : public campaign::adaptive::Oracle {
     return campaign::adaptive::stop_call(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
-    return campaign::adaptive::truck_on_its_way(grid_.cells[cell]);
+    return campaign::adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override { return truth_[cell]; }
 

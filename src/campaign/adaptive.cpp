@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <deque>
 #include <limits>
 #include <map>
@@ -33,6 +34,7 @@ bool avoidable(Region r) noexcept { return r == Region::kG || r == Region::kY; }
 // or no early run on the lines it came from).
 struct EarlyHint {
   std::uint32_t end = kNone, g_end = kNone;
+  bool to_the_stop = false;  ///< every corner's early run reaches the stop's run (no cell between cannot avoid)
 };
 
 // A line: the feasible cells that differ only in the monotone factor, in ascending order of it.
@@ -48,7 +50,8 @@ struct Line {
   bool full = false;      ///< every cell that the stop boundary does not settle simulated
   bool violated = false;  ///< simulations contradicted monotonicity
   bool early_searched = false;  ///< its early run by simulations of its own (else from its corners)
-  std::uint32_t hint = kNone;  ///< a guess of the avoidance threshold's position (from a parent box)
+  std::uint32_t hint = kNone;       ///< a guess of the avoidance threshold's position (from a parent box)
+  std::uint32_t stop_hint = kNone;  ///< and of the stop boundary's
   EarlyHint early_hint;  ///< from a parent box
   // The line in runs, bottom to top: [0, t_eg) G and [t_eg, t_e) Y passing in front of a truck
   // still on its way (the early run; empty unless the oracle says arriving sooner can help),
@@ -58,11 +61,18 @@ struct Line {
   std::size_t t_g = 0;  ///< first index of the G run at the top
   std::size_t t_a = 0;  ///< first index of the avoidable run (G or Y) at the top
   std::vector<Region> labels;  ///< O/R of the cells in [t_e, t_a) (by index; simulated or inferred)
+  std::vector<std::size_t> changes;  ///< where its runs of labels start, when found within its corners' brackets
   std::vector<std::uint32_t> threshold_corners;  ///< the lines its bracket came from (when not searched)
   std::vector<std::uint32_t> label_corners;      ///< the lines its labels came from (when not sampled)
 
   /// Position of the avoidance threshold when the line has Y cells; kNone when avoidance starts with G.
   [[nodiscard]] std::uint32_t avoid_position() const noexcept { return t_a < t_g ? position[t_a] : kNone; }
+  /// Position of the first cell of the avoiding run at the top (of the G run when there is no Y).
+  [[nodiscard]] std::uint32_t avoid_start() const noexcept { return position_of(t_a); }
+  /// Position of the first cell above the early run's G part (the line's first without one).
+  [[nodiscard]] std::uint32_t early_g_end() const noexcept { return position_of(t_eg); }
+  /// Position of the first cell of the G run at the top.
+  [[nodiscard]] std::uint32_t stop_start() const noexcept { return position_of(t_g); }
   /// Position of the first cell above the early run; kNone without an early run.
   [[nodiscard]] std::uint32_t early_position() const noexcept { return t_e == 0 ? kNone : position_of(t_e); }
   /// Position of the first cell above the early run's G part; kNone without one.
@@ -72,20 +82,43 @@ struct Line {
   }
 };
 
-// A box of lines: per line axis, a range of sorted positions [lo, hi].
+// A box of lines: per line axis, a range of sorted positions [lo, hi]; and the box it was split
+// from, whose corners predict the thresholds of its new corners (none for the first lattice's).
 struct Box {
   std::array<std::uint32_t, 4> lo{}, hi{};
-  std::uint32_t hint = kNone;
+  std::optional<std::pair<std::array<std::uint32_t, 4>, std::array<std::uint32_t, 4>>> parent;
   EarlyHint early_hint;
   bool operator<(const Box& o) const noexcept { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
 };
 
 // What agreeing corners say of the lines between them.
 struct Signature {
+  std::array<std::uint32_t, 4> lo{}, hi{};  ///< the box's
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
   EarlyHint early_hint;  ///< the median ends of the corners' early runs
   std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
+  // Or, when the corners' labels differ at some level: the runs of labels they all have, bottom to
+  // top, and the span of the positions where each run after the first starts.
+  std::vector<Region> runs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> changes;
 };
+
+// A line's O/R labels as runs: their regions bottom to top, and the position where each run after
+// the first starts.
+struct Runs {
+  std::vector<Region> regions;
+  std::vector<std::uint32_t> starts;
+};
+
+Runs runs_of(const Line& line) {
+  Runs r;
+  for (std::size_t i = line.t_e; i < line.t_a; ++i) {
+    if (!r.regions.empty() && r.regions.back() == line.labels[i]) continue;
+    if (!r.regions.empty()) r.starts.push_back(line.position[i]);
+    r.regions.push_back(line.labels[i]);
+  }
+  return r;
+}
 
 // The two refinements: of the avoidance thresholds, then of the O/R labels below them.
 enum class Question { kThresholds, kLabels };
@@ -278,7 +311,8 @@ class Search {
     std::size_t lo = hi;
     while (lo > 0 && oracle_.stop(line.cells[lo - 1]) == StopCall::kUnknown) --lo;
     if (line.t_e > 0) lo = std::max(lo, std::min(hi, line.t_e < hi ? line.t_e + 1 : line.t_eg + 1));
-    line.t_g = threshold(lo, hi, hi, g);
+    const std::size_t guess = line.stop_hint == kNone ? hi : std::clamp(index_at(line, line.stop_hint), lo, hi);
+    line.t_g = threshold(lo, hi, guess, g);
     if (line.t_e >= line.t_g) {  // no cell below the stop's run cannot avoid: the early run meets it
       line.t_e = line.t_g;
       line.t_eg = std::min(line.t_eg, line.t_g);
@@ -305,7 +339,10 @@ class Search {
     const auto guess = [&](std::uint32_t position, std::size_t hi) {
       return position == kNone ? 0 : std::min(index_at(line, position), hi);
     };
-    line.t_e = threshold(0, top, 0, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
+    // Between corners whose early runs all reach the stop's run, no gap is looked for: the line's
+    // early run is taken to reach it too (its G part is still searched, and what it simulates is
+    // checked against that).
+    line.t_e = hint.to_the_stop ? top : threshold(0, top, 0, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
     line.t_eg = threshold(0, g_end, guess(hint.g_end, g_end), [&](std::size_t i) { return region(i) != Region::kG; });
@@ -518,8 +555,11 @@ class Search {
   }
 
   // Whether two lines, settled by their own searches, answer `q` alike: both have a Y run or
-  // neither, with thresholds within the bracket; the same O/R label wherever both have one.
-  bool agree(const Line& a, const Line& b, Question q) const {
+  // neither, with thresholds within the bracket; the same O/R label wherever both have one, or the
+  // same runs of labels changing within the bracket of each other.
+  bool agree(std::size_t id_a, std::size_t id_b, Question q) const {
+    const Line& a = lines_[id_a];
+    const Line& b = lines_[id_b];
     if (q == Question::kThresholds) {
       const std::uint32_t pa = a.avoid_position(), pb = b.avoid_position();
       if ((pa == kNone) != (pb == kNone)) return false;
@@ -528,7 +568,8 @@ class Search {
     std::size_t j = b.t_e;
     for (std::size_t i = a.t_e; i < a.t_a; ++i) {
       while (j < b.t_a && b.position[j] < a.position[i]) ++j;
-      if (j < b.t_a && b.position[j] == a.position[i] && a.labels[i] != b.labels[j]) return false;
+      if (j < b.t_a && b.position[j] == a.position[i] && a.labels[i] != b.labels[j])
+        return alike_runs({id_a, id_b}, Signature{}).has_value();
     }
     return true;
   }
@@ -551,7 +592,15 @@ class Search {
     std::vector<std::size_t> corners;
     for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
     Signature s;
-    if (q == Question::kThresholds) s.early_hint = median_early(corners);
+    s.lo = box.lo;
+    s.hi = box.hi;
+    if (q == Question::kThresholds) {
+      s.early_hint = median_early(corners);
+      s.early_hint.to_the_stop = std::all_of(corners.begin(), corners.end(), [&](std::size_t id) {
+        const Line& line = lines_[id];
+        return line.cells.empty() || (line.t_e > 0 && line.t_e >= line.t_g);
+      });
+    }
     for (std::size_t id : corners) {
       const Line& line = lines_[id];
       if (q == Question::kThresholds) {
@@ -566,7 +615,7 @@ class Search {
       }
       for (std::size_t i = line.t_e; i < line.t_a; ++i) {
         const auto [it, inserted] = s.labels.emplace(line.position[i], line.labels[i]);
-        if (!inserted && it->second != line.labels[i]) return std::nullopt;
+        if (!inserted && it->second != line.labels[i]) return alike_runs(corners, std::move(s));
       }
     }
     if (q == Question::kThresholds && s.avoid_low != kNone && s.avoid_high - s.avoid_low > options_.bracket)
@@ -574,14 +623,66 @@ class Search {
     return s;
   }
 
+  // Corners whose labels differ at some level may still change alike: the same runs in the same
+  // order (corners without O/R cells aside), each change within the bracket of the others. The
+  // lines between then find each of their own changes within that bracket (none or one simulation
+  // each), as they do their avoidance thresholds.
+  std::optional<Signature> alike_runs(const std::vector<std::size_t>& corners, Signature s) const {
+    s.labels.clear();
+    bool first = true;
+    for (std::size_t id : corners) {
+      const Line& line = lines_[id];
+      if (line.t_a <= line.t_e) continue;
+      const Runs r = runs_of(line);
+      if (first) {
+        s.runs = r.regions;
+        for (std::uint32_t p : r.starts) s.changes.emplace_back(p, p);
+        first = false;
+        continue;
+      }
+      if (r.regions != s.runs) return std::nullopt;
+      for (std::size_t j = 0; j < r.starts.size(); ++j) {
+        s.changes[j].first = std::min(s.changes[j].first, r.starts[j]);
+        s.changes[j].second = std::max(s.changes[j].second, r.starts[j]);
+      }
+    }
+    if (first) return std::nullopt;
+    for (std::size_t j = 0; j < s.changes.size(); ++j)
+      if (s.changes[j].second - s.changes[j].first > options_.bracket ||
+          (j > 0 && s.changes[j].first <= s.changes[j - 1].second))
+        return std::nullopt;
+    return s;
+  }
+
+  // A line between corners that change alike: each of its changes searched within their bracket.
+  void bracket_labels(std::size_t id, const Signature& s) {
+    Line& line = lines_[id];
+    line.changes.clear();
+    std::size_t from = line.t_e;
+    for (std::size_t j = 0; j < s.changes.size(); ++j) {
+      const std::size_t lo = std::clamp(index_at(line, s.changes[j].first), from, line.t_a);
+      const std::size_t hi = std::clamp(index_at(line, s.changes[j].second), lo, line.t_a);
+      from = threshold(lo, hi, hi, [&](std::size_t i) {
+        return simulate(line.cells[i], Purpose::kLabelBrackets) != s.runs[j];
+      });
+      line.changes.push_back(from);
+    }
+  }
+
   // A line between agreeing corners: its own early run (none, without a simulation, when no corner
   // has one and physics says its lowest cell cannot stop) and stop boundary, and its avoidance
   // threshold searched within the corners' bracket (no simulation when they agree exactly).
-  void bracket_thresholds(Line& line, const Signature& s) {
+  void bracket_thresholds(std::size_t id, const Signature& s) {
+    Line& line = lines_[id];
     line.thresholds_known = true;
     if (line.cells.empty()) return;
-    if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop)
-      early_run(line, Purpose::kThresholdBrackets, s.early_hint);
+    const Box box{s.lo, s.hi, std::nullopt, {}};
+    if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop) {
+      EarlyHint hint = s.early_hint;
+      if (hint.g_end != kNone) hint.g_end = predicted(box, id, &Line::early_g_end);
+      early_run(line, Purpose::kThresholdBrackets, hint);
+    }
+    line.stop_hint = predicted(box, id, &Line::stop_start);
     stop_threshold(line, Purpose::kThresholdBrackets);
     look_for_gap(line, s.avoid_low, Purpose::kThresholdBrackets);
     if (s.avoid_low == kNone) {
@@ -590,7 +691,9 @@ class Search {
     }
     const auto index_of = [&](std::uint32_t position) { return std::clamp(index_at(line, position), line.t_e, line.t_g); };
     const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
-    line.t_a = lo == hi ? lo : threshold(lo, hi, hi, [&](std::size_t i) {
+    const std::uint32_t predicted_start = predicted(box, id, &Line::avoid_start);
+    const std::size_t guess = predicted_start == kNone ? hi : std::clamp(index_at(line, predicted_start), lo, hi);
+    line.t_a = lo == hi ? lo : threshold(lo, hi, guess, [&](std::size_t i) {
       return avoidable(simulate(line.cells[i], Purpose::kThresholdBrackets));
     });
   }
@@ -610,7 +713,12 @@ class Search {
   bool infer_labels(Line& line, const Signature& s, const Box& box) {
     std::vector<Region> labels(line.t_a, Region::kR);
     for (std::size_t i = line.t_e; i < line.t_a; ++i) {
-      const auto label = nearest_label(s, line.position[i]);
+      std::optional<Region> label;
+      if (s.runs.empty())
+        label = nearest_label(s, line.position[i]);
+      else
+        label = s.runs[static_cast<std::size_t>(std::upper_bound(line.changes.begin(), line.changes.end(), i) -
+                                                line.changes.begin())];
       if (!label) return false;
       labels[i] = *label;
       if (is_simulated(line.cells[i]) && result_.cells[line.cells[i]].region != labels[i]) return false;
@@ -648,7 +756,11 @@ class Search {
           if (done || queued[id]) return;
           queued[id] = 1;
           if (q == Question::kThresholds) {
-            line.hint = box.hint;
+            if (box.parent) {
+              const Box parent{box.parent->first, box.parent->second, std::nullopt, {}};
+              line.hint = predicted(parent, id, &Line::avoid_start);
+              line.stop_hint = predicted(parent, id, &Line::stop_start);
+            }
             line.early_hint = box.early_hint;
           }
           work.emplace_back(id, nullptr);
@@ -688,6 +800,11 @@ class Search {
           }
         }
       } else {
+        std::vector<std::pair<std::size_t, const Signature*>> changes;
+        for (std::size_t b = 0; b < pending.size(); ++b)
+          if (signatures[b] && !signatures[b]->runs.empty())
+            for (std::size_t id : owned[b]) changes.emplace_back(id, &*signatures[b]);
+        parallel(changes, [&](const std::pair<std::size_t, const Signature*>& w) { bracket_labels(w.first, *w.second); });
         for (std::size_t b = 0; b < pending.size(); ++b) {
           if (!signatures[b]) continue;
           bool ok = true;
@@ -709,12 +826,37 @@ class Search {
   void run(const std::vector<std::pair<std::size_t, const Signature*>>& work, Question q) {
     parallel(work, [&](const std::pair<std::size_t, const Signature*>& w) {
       if (w.second != nullptr)
-        bracket_thresholds(lines_[w.first], *w.second);
+        bracket_thresholds(w.first, *w.second);
       else if (q == Question::kThresholds)
         search_thresholds(w.first);
       else
         sample_labels(w.first);
     });
+  }
+
+  // What the searched corners of `box` predict for the line `id` within it: their `start` (a
+  // position along the line, as Line::avoid_start), interpolated multilinearly in the lines'
+  // positions. The thresholds move smoothly with speed, friction and passage, so where a box's
+  // corners are too far apart to bracket the lines between, a new corner's search starts where
+  // they point (two simulations when it is right) rather than at their median. kNone when no
+  // corner has cells.
+  [[nodiscard]] std::uint32_t predicted(const Box& box, std::size_t id, std::uint32_t (Line::*start)() const) const {
+    const auto p = line_position(id);
+    double sum = 0.0, weight = 0.0;
+    for_each_corner(box, [&](std::size_t c) {
+      const Line& corner = lines_[c];
+      if (corner.cells.empty() || !corner.thresholds_searched) return;
+      const auto q = line_position(c);
+      double w = 1.0;
+      for (std::size_t a = 0; a < 4; ++a) {
+        if (box.hi[a] == box.lo[a]) continue;
+        const double f = static_cast<double>(p[a] - box.lo[a]) / static_cast<double>(box.hi[a] - box.lo[a]);
+        w *= q[a] == box.hi[a] ? f : 1.0 - f;
+      }
+      sum += w * (corner.*start)();
+      weight += w;
+    });
+    return weight > 0.0 ? static_cast<std::uint32_t>(std::lround(sum / weight)) : kNone;
   }
 
   // Splits a box whose corners disagree across the factors they disagree across: in two halves
@@ -730,7 +872,7 @@ class Search {
         auto p = line_position(id);
         if (across[a] || p[a] != box.lo[a]) return;
         p[a] = box.hi[a];
-        across[a] = !agree(lines_[id], lines_[line_id(p)], q);
+        across[a] = !agree(id, line_id(p), q);
       });
       any = any || across[a];
     }
@@ -750,17 +892,6 @@ class Search {
       }
     }
     if (!divides) return;
-    // The new corners start their threshold search where the corners' thresholds are.
-    std::vector<std::uint32_t> thresholds;
-    for_each_corner(box, [&](std::size_t id) {
-      if (lines_[id].avoid_position() != kNone) thresholds.push_back(lines_[id].avoid_position());
-    });
-    std::uint32_t hint = kNone;
-    if (!thresholds.empty()) {
-      std::nth_element(thresholds.begin(), thresholds.begin() + static_cast<long>(thresholds.size() / 2),
-                       thresholds.end());
-      hint = thresholds[thresholds.size() / 2];
-    }
     std::vector<std::size_t> corners;
     for_each_corner(box, [&](std::size_t id) { corners.push_back(id); });
     const EarlyHint early_hint = median_early(corners);
@@ -770,7 +901,7 @@ class Search {
           for (const auto& h3 : parts[3])
             out.push_back(Box{{h0.first, h1.first, h2.first, h3.first},
                               {h0.second, h1.second, h2.second, h3.second},
-                              hint,
+                              std::pair{box.lo, box.hi},
                               early_hint});
   }
 
@@ -943,6 +1074,7 @@ std::string_view purpose_name(Purpose p) noexcept {
     case Purpose::kThresholdCorners: return "threshold_corners";
     case Purpose::kThresholdBrackets: return "threshold_brackets";
     case Purpose::kLabels: return "labels";
+    case Purpose::kLabelBrackets: return "label_brackets";
     case Purpose::kViolations: return "violations";
     case Purpose::kVerification: return "verification";
   }
@@ -966,7 +1098,36 @@ sim::Region region_named(std::string_view name) noexcept {
   return Region::kInfeasible;
 }
 
-bool truck_on_its_way(const sim::CellInput& cell) noexcept { return cell.truck_speed_kph > 0.0; }
+namespace {
+
+// Whether the truck overlaps the car's straight path across the lane from t = `from_s` until it
+// rests (its front below the car's left side then, its rear above the car's right side at rest):
+// it is then in the way whenever the car, going straight, gets there from `from_s` on. A truck
+// that keeps going clears the lane in the end, so it never stands in the way for certain.
+bool in_the_way_from(const sim::SceneConfig& scene, const sim::CellInput& cell, double from_s) {
+  if (scene.truck.decel_mps2 <= 0.0 && cell.truck_speed_kph > 0.0) return false;
+  const sim::Scene s(scene, cell);
+  const double top = scene.road.ego_lane_center_m + scene.ego.width_m / 2.0;
+  const double bottom = scene.road.ego_lane_center_m - scene.ego.width_m / 2.0;
+  const double rest_s = scene.truck.decel_mps2 > 0.0 ? cell.truck_speed_kph / 3.6 / scene.truck.decel_mps2 : 0.0;
+  const double rear_at_rest = s.truck_front_y_at(rest_s) + scene.truck.length_m;
+  constexpr double kOverlap_m = 0.01;  // of the truck and the car's path, for certain
+  return s.truck_front_y_at(from_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m;
+}
+
+}  // namespace
+
+bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell) {
+  if (!(cell.truck_speed_kph > 0.0)) return false;
+  // Until the first actuator moves (the perception latency, then the quicker of the brakes' and the
+  // steering's dead times) the car goes straight at its speed: its front reaches the truck's near
+  // side at t = TTC (v·TTC is the gap; rolling on, it loses a few millimetres, hence the 20 ms).
+  // Reaching it before it can act, into a truck that is in its way, it hits: no strategy avoids.
+  const sim::ActuationConfig& a = scene.actuation;
+  const double first_action_s = a.perception_latency_s + std::min(a.brake_dead_time_s, a.steer_dead_time_s);
+  constexpr double kRolling_s = 0.02;
+  return !(cell.ttc_s + kRolling_s <= first_action_s && in_the_way_from(scene, cell, cell.ttc_s));
+}
 
 StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   constexpr double kMargin_m = 0.1;  // the simulated stop matches the analytic one within 0.03 m (docs/adaptive.md)
@@ -976,21 +1137,9 @@ StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   if (!(margin < -kMargin_m)) return StopCall::kUnknown;
   // Braking straight, the car's front reaches the truck's near side no earlier than at t = TTC (at
   // its initial speed throughout; v·TTC is the gap) and, short of the stop by more than the margin,
-  // it does reach it. The truck only moves down the road until it rests. So if the truck overlaps
-  // the car's straight path across the lane at t = TTC (its front below the car's left side) and
-  // still when it rests (its rear above the car's right side), it is in the way whenever the car
-  // gets there: braking cannot avoid it, neither by stopping short nor by passing in front of it
-  // before it arrives. A truck that keeps going clears the lane in the end.
-  const sim::Scene s(scene, cell);
-  const double top = scene.road.ego_lane_center_m + scene.ego.width_m / 2.0;
-  const double bottom = scene.road.ego_lane_center_m - scene.ego.width_m / 2.0;
-  if (scene.truck.decel_mps2 <= 0.0 && cell.truck_speed_kph > 0.0) return StopCall::kUnknown;
-  const double rest_s = scene.truck.decel_mps2 > 0.0 ? cell.truck_speed_kph / 3.6 / scene.truck.decel_mps2 : 0.0;
-  const double rear_at_rest = s.truck_front_y_at(rest_s) + scene.truck.length_m;
-  constexpr double kOverlap_m = 0.01;  // of the truck and the car's path, for certain
-  return s.truck_front_y_at(cell.ttc_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m
-             ? StopCall::kCannotStop
-             : StopCall::kUnknown;
+  // it does reach it. So if the truck is in the way from t = TTC on, braking cannot avoid it,
+  // neither by stopping short nor by passing in front of it before it arrives.
+  return in_the_way_from(scene, cell, cell.ttc_s) ? StopCall::kCannotStop : StopCall::kUnknown;
 }
 
 Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {

@@ -293,7 +293,7 @@ class GridOracle final : public adaptive::Oracle {
   }
 
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
-    return adaptive::truck_on_its_way(grid_.cells[cell]);
+    return adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];

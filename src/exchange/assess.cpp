@@ -362,6 +362,7 @@ class Judge {
     const auto first_overlap = [&](double lo, double hi) {
       while (hi - lo > 1e-7) {  // as the simulator times a touch: depths of micrometres
         const double mid = 0.5 * (lo + hi);
+        if (mid <= lo || mid >= hi) break;  // times so large that no double lies between
         (gap(mid) <= 0.0 ? hi : lo) = mid;
       }
       return hi;

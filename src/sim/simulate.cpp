@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -156,20 +158,30 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
   // cells keep the workers busy, a lone cell or the tail of a sweep does not), and the outcome is
   // the first in order that avoids, counted as if they had run one after another: a restart after
   // an avoiding one is skipped, or, if it ran, neither used nor counted.
+  //
+  // Their context is isolated: when the caller's parallel work is cancelled (an exception in a
+  // neighbouring task, as an adaptive search stopping at an interrupt throws), restarts that had
+  // not started would otherwise be skipped and this cell's result would rest on part of them.
   const int restarts = std::max(0, budget.restarts);
   std::vector<std::optional<PlanResult>> plans(static_cast<std::size_t>(restarts));
   std::atomic<int> first_avoiding{restarts};
-  tbb::parallel_for(0, restarts, [&](int k) {
-    if (k > first_avoiding.load()) return;
-    auto& plan = plans[static_cast<std::size_t>(k)];
-    plan = own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false});
-    if (!plan->avoidance) return;
-    int current = first_avoiding.load();
-    while (k < current && !first_avoiding.compare_exchange_weak(current, k)) {
-    }
-  });
-  for (auto& plan : plans)  // every restart up to the first avoiding one has run
+  tbb::task_group_context isolated(tbb::task_group_context::isolated);
+  tbb::parallel_for(
+      0, restarts,
+      [&](int k) {
+        if (k > first_avoiding.load()) return;
+        auto& plan = plans[static_cast<std::size_t>(k)];
+        plan = own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false});
+        if (!plan->avoidance) return;
+        int current = first_avoiding.load();
+        while (k < current && !first_avoiding.compare_exchange_weak(current, k)) {
+        }
+      },
+      isolated);
+  for (auto& plan : plans) {  // every restart up to the first avoiding one has run
+    if (!plan) throw std::logic_error("strengthened search: a restart before the first avoiding one did not run");
     if (auto outcome = found(*plan)) return outcome;
+  }
   return std::nullopt;
 }
 

@@ -52,8 +52,10 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 [[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
 /// Whether arriving sooner can help at this cell (Oracle::passes_early for the shipped physics): the
-/// truck moves, so the gap it leaves narrows over time and the car may pass in front of it first.
-[[nodiscard]] bool truck_on_its_way(const sim::CellInput& cell) noexcept;
+/// truck moves, so the gap it leaves narrows over time and the car may pass in front of it first;
+/// unless the car reaches the truck before any of its actuators can act (TTC within the perception
+/// latency and the quicker dead time) while the truck stands in its way: then nothing avoids it.
+[[nodiscard]] bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
 /// read back).
@@ -122,10 +124,11 @@ enum class Purpose : std::uint8_t {
   kThresholdCorners,  ///< a corner line's stop boundary, avoidance threshold and early run
   kThresholdBrackets, ///< a line between agreeing corners, within their bracket
   kLabels,            ///< a corner line's O/R labels
+  kLabelBrackets,     ///< a line between corners whose labels change alike: its own changes
   kViolations,        ///< lines resolved in full after a contradiction
   kVerification,      ///< the random sample of inferred cells
 };
-inline constexpr std::size_t kPurposes = 5;
+inline constexpr std::size_t kPurposes = 6;
 [[nodiscard]] std::string_view purpose_name(Purpose p) noexcept;  ///< "threshold_corners", …
 
 struct Result {

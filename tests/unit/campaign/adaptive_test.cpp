@@ -329,6 +329,42 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   EXPECT_LT(still_result.simulated, result.simulated / 2);
 }
 
+// Where friction and passage are stepped coarsely, the avoidance threshold moves by more than a TTC
+// level from one line to the next, so boxes of lines rarely agree and most lines search their own
+// threshold. Each starts where its box's searched corners point (interpolated, not their median):
+// about two simulations a line for the threshold, as when a bracket holds.
+TEST(AdaptiveSearch, PredictsALinesThresholdFromItsNeighbours) {
+  SyntheticMap map;
+  map.lattice.levels = {range(30, 72, 6), range(0.25, 2.95, 0.06), range(0.1, 1.0, 0.1), range(1.0, 4.0, 0.6), {0.0}};
+  map.avoid_ttc = [](double v, double mu, double passage, double) {
+    return 0.45 + 0.004 * v / mu - 0.15 * (passage - 2.2);
+  };
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  const Comparison c = compare(map, result);
+  EXPECT_EQ(c.differ, 0U);
+  EXPECT_TRUE(result.violations.empty());
+  const auto threshold_simulations = result.simulated_for[static_cast<std::size_t>(Purpose::kThresholdCorners)] +
+                                     result.simulated_for[static_cast<std::size_t>(Purpose::kThresholdBrackets)];
+  // From the median of the parent box's corners the same search took 3.7 simulations a line.
+  EXPECT_LT(static_cast<double>(threshold_simulations), 3.4 * static_cast<double>(result.lines));
+}
+
+// Where the O/R label changes along TTC at a level that moves with speed, neighbouring lines differ
+// at one level or two: boxes whose corners change alike (the same runs, each change within a level
+// of the others) give the lines between them their runs, each change found by its own simulation.
+TEST(AdaptiveSearch, LinesBetweenCornersWhoseLabelsChangeAlikeFindTheirOwnChange) {
+  SyntheticMap map = fine_map();
+  map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+  MapOracle oracle(map);
+  const Result result = search(map.lattice, oracle, Options{});
+  const Comparison c = compare(map, result);
+  EXPECT_EQ(c.differ, 0U);
+  EXPECT_TRUE(result.violations.empty());
+  EXPECT_GT(result.simulated_for[static_cast<std::size_t>(Purpose::kLabelBrackets)], 0U);
+  EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(c.feasible));
+}
+
 TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   const SyntheticMap map = fine_map();
   MapOracle oracle(map);
@@ -347,12 +383,20 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
 // with a production car's actuators and trucks up to 30 km/h: a cell called kStops is avoided by
 // braking, one called kCannotStop is not, whether the truck stood in the car's lane from the start
 // or only got there by the time the car could (t = TTC).
-TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
+// The built-in scene with a production car's latency and brakes (the shipped profile's figures)
+// and a planner budget of `max_nodes`.
+sim::SceneConfig production_car(int max_nodes) {
   sim::SceneConfig config;
   config.actuation.perception_latency_s = 0.25;
   config.actuation.brake_dead_time_s = 0.1;
   config.actuation.brake_ramp_s = 0.25;
-  config.planner.max_nodes = 1;
+  config.actuation.steer_dead_time_s = 0.05;
+  config.planner.max_nodes = max_nodes;
+  return config;
+}
+
+TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
+  const sim::SceneConfig config = production_car(1);
   sim::CellOptions only_stop;
   only_stop.strategies = {"emergency_stop"};
   only_stop.certify = false;
@@ -379,6 +423,37 @@ TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
   EXPECT_GT(stops, cells / 20);
   EXPECT_GT(cannot, cells / 10);
   EXPECT_GT(cannot_only_later, cells / 20);  // the truck came down into the lane after t = 0
+}
+
+// Reaching the truck before any actuator can act (TTC within the perception latency and the
+// quicker dead time) while it stands in the car's way, the car hits it whatever it decides: no
+// early run can start at such a cell. Every strategy's simulation agrees; without latency the call
+// never rules one out.
+TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
+  const sim::SceneConfig config = production_car(200);
+  sim::CellOptions options;
+  options.certify = false;
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> speed(30, 72), ttc(0.2, 0.3), mu(0.1, 1.0), passage(1.0, 4.0);
+  const std::array<double, 3> truck_speeds{10.0, 20.0, 30.0};
+  std::size_t ruled_out = 0;
+  const std::size_t cells = test::sample(120, 30);
+  for (std::size_t k = 0; k < cells; ++k) {
+    const sim::CellInput cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 3]};
+    if (!sim::Scene(config, cell).feasible()) continue;
+    sim::SceneConfig instant = config;
+    instant.actuation = sim::ActuationConfig{};
+    EXPECT_TRUE(may_pass_early(instant, cell));
+    if (may_pass_early(config, cell)) continue;
+    ++ruled_out;
+    const Region region = sim::simulate_cell(config, cell, options).region;
+    EXPECT_TRUE(region == Region::kO || region == Region::kR)
+        << cell.speed_kph << " km/h, TTC " << cell.ttc_s << " s, mu " << cell.mu << ", passage " << cell.passage_m
+        << " m, truck " << cell.truck_speed_kph << " km/h: " << sim::region_name(region);
+  }
+  EXPECT_GT(ruled_out, cells / 4);
+  sim::CellInput standing{50.0, 0.25, 0.8, 2.0, 0.0};
+  EXPECT_FALSE(may_pass_early(config, standing));
 }
 
 }  // namespace adaptive_test

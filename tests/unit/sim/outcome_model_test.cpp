@@ -4,11 +4,14 @@
 // (docs/physics.md, docs/simulate.md).
 
 #include <gtest/gtest.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -331,6 +334,34 @@ TEST(SeedStability, TheRegionDoesNotDependOnThePlannersSeed) {
                                      {45.0, 0.35, 1.0, 3.0, 10.0}, {70.0, 0.5, 1.0, 2.0, 10.0},
                                      {50.0, 0.9, 0.6, 2.5, 10.0},  {40.0, 0.3, 1.0, 1.8, 10.0}};
   for (const auto& cell : cells) EXPECT_TRUE(seed_stable(config, cell, 3));
+}
+
+// The restarts of a strengthened search run side by side. When the caller's parallel work is
+// cancelled around a cell in flight (an adaptive search stopping at an interrupt throws in a
+// neighbouring task), they must not be cut short: the cell's result is its result alone, not one
+// resting on the restarts that happened to start (before, a skipped restart was read as if it had
+// run, and the sweep crashed).
+TEST(SeedStability, AStrengthenedSearchIsNotCutShortWhenItsCallersWorkIsCancelled) {
+  // A cell of the shipped scene whose region the restarts decide (Y, with a witness).
+  const SceneConfig config = load_scene_config(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/scene.yaml");
+  const CellInput cell{61.0, 0.91, 1.0, 3.0, 10.0};
+  CellOptions options;
+  options.seed = 13957258665385695640ULL;
+  const CellResult alone = simulate_cell(config, cell, options);
+  ASSERT_TRUE(alone.strengthened);
+  std::optional<CellResult> inside;
+  tbb::task_group_context cancelled;
+  tbb::parallel_for(
+      0, 1,
+      [&](int) {
+        cancelled.cancel_group_execution();  // as a neighbouring task's exception would
+        inside = simulate_cell(config, cell, options);
+      },
+      cancelled);
+  ASSERT_TRUE(inside.has_value());
+  const Scene scene(config, cell);
+  EXPECT_EQ(inside->region, alone.region);
+  EXPECT_EQ(to_json(*inside, scene, options.seed).dump(), to_json(alone, scene, options.seed).dump());
 }
 
 // The long run for the closing note: 100 random cells in the band below the stop boundary (where
