@@ -5,6 +5,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,13 +14,16 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
 #include <thread>
+#include <unordered_map>
 
 #include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/distribute.hpp"
@@ -173,6 +177,9 @@ std::unique_ptr<std::FILE, CloseFile> open_progress_log(const std::filesystem::p
   return file;
 }
 
+// The threads of this process that simulate: --threads, or every core.
+int local_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
+
 // 2: braking alone (through the scene's actuators) cannot stop in time, so every search runs;
 // 1: feasible; 0: infeasible, nothing is simulated.
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
@@ -253,6 +260,118 @@ class SweepQueue final : public TaskQueue {
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
 
+// An adaptive search's simulations when other processes help (a Distributor): each call of
+// simulate() becomes a cell in this queue, taken by this process's simulating threads or by the
+// Distributor for another process, and the calling thread waits for its region. A cell's record
+// is the same wherever it is simulated (simulate_task), so the search decides as it would alone.
+class AskedCells final : public TaskQueue {
+ public:
+  AskedCells(const Campaign& campaign, std::uint32_t grid, Committer& committer)
+      : campaign_(campaign), grid_(grid), committer_(committer) {}
+
+  /// The region of the cell's simulation, once some process delivered it. Throws
+  /// SearchInterrupted after an interrupt. Thread-safe.
+  sim::Region simulate(std::uint32_t cell) {
+    std::unique_lock lock(mutex_);
+    WorkItem item{grid_, cell};
+    asked_.push_back({grid_, cell, expected_cost(campaign_, item)});
+    answers_.emplace(cell, sim::Region::kInfeasible);
+    changed_.notify_all();
+    for (;;) {
+      if (const auto it = answers_.find(cell); it->second != sim::Region::kInfeasible) {
+        const sim::Region region = it->second;
+        answers_.erase(it);
+        return region;
+      }
+      if (core::interrupt_signal() != 0 || abandoned_) throw SearchInterrupted{};
+      changed_.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  }
+
+  std::optional<CellTask> next() override {
+    std::lock_guard lock(mutex_);
+    return take_locked();
+  }
+  [[nodiscard]] std::size_t remaining() const override {
+    std::lock_guard lock(mutex_);
+    return asked_.size();
+  }
+  void deliver(CellRecord record, int cost, double seconds) override {
+    const auto cell = static_cast<std::uint32_t>(record.index);
+    const sim::Region region = adaptive::region_named(record.region);
+    committer_.add(std::move(record), cost, seconds);
+    std::lock_guard lock(mutex_);
+    if (const auto it = answers_.find(cell); it != answers_.end()) it->second = region;
+    changed_.notify_all();
+  }
+  [[nodiscard]] bool open() const override {
+    std::lock_guard lock(mutex_);
+    return !closed_;
+  }
+  /// The search has ended: no more cells will be asked for.
+  void close() {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+    changed_.notify_all();
+  }
+  /// The distributor failed: the search stops as at an interrupt, the simulating threads end.
+  void abandon() {
+    std::lock_guard lock(mutex_);
+    closed_ = abandoned_ = true;
+    asked_.clear();
+    changed_.notify_all();
+  }
+
+  /// This process's `threads` simulate asked cells until the queue closes; returns the
+  /// thread-seconds they spent.
+  double simulate_here(int threads) {
+    std::atomic<std::int64_t> busy_ns{0};
+    tbb::task_arena arena(threads);  // their own: the search's threads only wait
+    arena.execute([&] {
+      tbb::parallel_for(
+          0, threads,
+          [&](int) {
+            while (const auto task = wait_for_task()) {
+              const auto start = Clock::now();
+              CellRecord record = simulate_task(campaign_, *task);
+              const auto spent = Clock::now() - start;
+              busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
+              deliver(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
+            }
+          },
+          tbb::simple_partitioner());
+    });
+    return static_cast<double>(busy_ns.load()) * 1e-9;
+  }
+
+ private:
+  std::optional<CellTask> take_locked() {
+    if (asked_.empty() || core::interrupt_signal() != 0) return std::nullopt;
+    const CellTask task = asked_.front();
+    asked_.pop_front();
+    return task;
+  }
+
+  std::optional<CellTask> wait_for_task() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      if (auto task = take_locked()) return task;
+      if (closed_ || core::interrupt_signal() != 0) return std::nullopt;
+      changed_.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  }
+
+  const Campaign& campaign_;
+  std::uint32_t grid_;
+  Committer& committer_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<CellTask> asked_;                         ///< asked for, not taken yet
+  std::unordered_map<std::uint32_t, sim::Region> answers_;  ///< per cell asked: kInfeasible until delivered
+  bool closed_ = false;
+  bool abandoned_ = false;
+};
+
 // The adaptive search's view of one grid: feasibility and the stop boundary from the scene;
 // simulations run as a full sweep runs them (the cell's own seed), stored through the committer,
 // or read from the store when an earlier run simulated them.
@@ -298,6 +417,7 @@ class GridOracle final : public adaptive::Oracle {
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
     if (core::interrupt_signal() != 0) throw SearchInterrupted{};
+    if (asked_ != nullptr) return asked_->simulate(static_cast<std::uint32_t>(cell));
     sim::CellOptions options;
     options.strategies = campaign_.strategies;
     options.seed = seed(cell);
@@ -314,12 +434,15 @@ class GridOracle final : public adaptive::Oracle {
   }
   /// The store held the cell before this run (simulated, or infeasible).
   [[nodiscard]] bool stored(std::size_t cell) const { return present_[cell] != 0; }
+  /// Simulations go to `asked` (borrowed) instead of this thread.
+  void ask(AskedCells* asked) noexcept { asked_ = asked; }
 
  private:
   enum class Rule { kAnalytic, kSimulate, kNoBaseline };
   const Campaign& campaign_;
   const GridSpec& grid_;
   Committer& committer_;
+  AskedCells* asked_ = nullptr;
   std::vector<sim::Region> stored_;  ///< kInfeasible: not simulated yet
   std::vector<char> present_;        ///< in the store before this run
   Rule stop_rule_ = Rule::kAnalytic;
@@ -397,8 +520,9 @@ AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, 
 
 // One grid by the adaptive search: the cells it asks for are simulated (or read back), the
 // others stored as inferred in batches, then the summary.
-AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, ResultStore& store,
-                               Committer& committer, const SweepOptions& options) {
+AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultStore& store, Committer& committer,
+                               const SweepOptions& options, double& simulation_seconds) {
+  const GridSpec& grid = campaign.grids[g];
   store.delete_inferred(grid.name);
   GridOracle oracle(campaign, grid, committer, store.simulated_regions(grid.name));
   adaptive::Lattice lattice{grid.levels};
@@ -408,11 +532,43 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
   search_options.verify_sample = options.verify_sample;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;
-  try {
-    result = adaptive::search(lattice, oracle, search_options);
-  } catch (const SearchInterrupted&) {
-    return {};  // the caller flushes the committer and reports the interrupt
+  bool interrupted = false;
+  if (options.distributor == nullptr) {
+    try {
+      result = adaptive::search(lattice, oracle, search_options);
+    } catch (const SearchInterrupted&) {
+      interrupted = true;
+    }
+  } else {
+    // The search runs with a thread per simulation it may keep in flight (each waits for its
+    // cell), this process's simulating threads and the distributor beside it.
+    AskedCells asked(campaign, static_cast<std::uint32_t>(g), committer);
+    oracle.ask(&asked);
+    const int here = local_threads(options.threads);
+    std::exception_ptr failed;
+    {
+      std::jthread simulating([&] { simulation_seconds += asked.simulate_here(here); });
+      std::jthread searching([&] {
+        try {
+          tbb::task_arena arena(here + options.distributor->threads());
+          arena.execute([&] { result = adaptive::search(lattice, oracle, search_options); });
+        } catch (const SearchInterrupted&) {
+          interrupted = true;
+        } catch (...) {
+          failed = std::current_exception();
+        }
+        asked.close();
+      });
+      try {
+        options.distributor->distribute(campaign, asked);
+      } catch (...) {
+        asked.abandon();  // the search and the simulating threads stop, then the error goes on
+        throw;
+      }
+    }
+    if (failed) std::rethrow_exception(failed);
   }
+  if (interrupted) return {};  // the caller flushes the committer and reports the interrupt
   std::vector<CellRecord> batch;
   const auto flush = [&] {
     store.insert(batch);
@@ -479,9 +635,6 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
   if (any_adaptive && options.shard_count > 1)
     throw UsageError("--shard cannot split an adaptive sweep: the search picks each cell from the ones simulated "
                      "before; run it on one machine (every core: --threads 0)");
-  if (any_adaptive && options.distributor != nullptr)
-    throw UsageError("--mpi: the adaptive search is not yet distributed over MPI ranks; run it without --mpi on one "
-                     "machine (every core: --threads 0)");
   const auto start = Clock::now();
   CampaignMeta meta = make_meta(campaign);
   meta.shard_index = options.shard_index;
@@ -551,7 +704,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
           }
         });
         try {
-          options.distributor->distribute(queue);
+          options.distributor->distribute(campaign, queue);
         } catch (...) {
           queue.stop();  // the local threads end with the cell in hand; then the error goes on
           throw;
@@ -560,9 +713,17 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
       if (failed) std::rethrow_exception(failed);
     }
     committer.finish();
+    if (any_adaptive && options.distributor != nullptr) {
+      // A search thread per simulation in flight on any process (sweep_adaptive): more than this
+      // process's threads, most of them waiting.
+      limit.reset();
+      limit.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<std::size_t>(local_threads(options.threads) + options.distributor->threads()));
+    }
     for (std::size_t g = 0; g < campaign.grids.size() && core::interrupt_signal() == 0; ++g) {
       if (!adaptive[g]) continue;
-      AdaptiveSummary grid_summary = sweep_adaptive(campaign, campaign.grids[g], store, committer, options);
+      AdaptiveSummary grid_summary =
+          sweep_adaptive(campaign, g, store, committer, options, summary.simulation_seconds);
       committer.finish();
       if (core::interrupt_signal() == 0) summary.adaptive.push_back(std::move(grid_summary));
     }

@@ -37,15 +37,22 @@ class TaskQueue {
   /// A cell simulated elsewhere and the seconds it took there: committed in the sweep's next batch.
   /// Throws emrm::Error when the store cannot be written.
   virtual void deliver(CellRecord record, int cost, double seconds) = 0;
+  /// Whether cells may still come after next() found none: an adaptive search asks for each cell
+  /// as it goes, so a Distributor keeps waiting for cells until the search ends.
+  [[nodiscard]] virtual bool open() const { return false; }
 };
 
-/// Runs on the thread that called sweep(), beside the sweep's own threads: takes cells from the
-/// queue for other processes and delivers their records; returns when every cell it took is
-/// delivered, or after an interrupt.
+/// Runs on the thread that called sweep(), beside the sweep's own threads: takes cells of
+/// `campaign` from the queue for other processes and delivers their records; returns when the
+/// queue is closed and every cell it took is delivered, or after an interrupt. Called once per
+/// run of cells: a sweep's cells, then each adaptive grid's.
 class Distributor {
  public:
   virtual ~Distributor() = default;
-  virtual void distribute(TaskQueue& queue) = 0;
+  virtual void distribute(const Campaign& campaign, TaskQueue& queue) = 0;
+  /// Threads simulating on the other processes: an adaptive search keeps as many more of its
+  /// simulations in flight.
+  [[nodiscard]] virtual int threads() const noexcept { return 0; }
 };
 
 }  // namespace emrm::campaign
