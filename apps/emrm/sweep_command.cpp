@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "mpi_options.hpp"
 #include "options.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
@@ -30,8 +31,7 @@ struct SweepCommandOptions {
   std::string verify_sample = "auto";
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
-  bool mpi = false;
-  double mpi_hung_after_s = cluster::kDefaultHungAfterSeconds;
+  MpiOptions mpi;
 };
 
 struct MergeCommandOptions {
@@ -105,37 +105,32 @@ int run_sweep(const SweepCommandOptions& o) {
   return static_cast<int>(ExitCode::kSuccess);
 }
 
-// One rank of `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): rank 0 prints; the others
-// print nothing, not even an error rank 0 already reports.
-int run_sweep_mpi(const SweepCommandOptions& o) {
-  cluster::MpiSession mpi;
-  bool refused = false;
-  const auto s = cluster::sweep(
-      mpi,
-      [&] {
-        if (o.shard != "1/1")
-          throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
-        return load(o);
-      },
-      sweep_options(o), o.mpi_hung_after_s, refused);
-  if (!s) return static_cast<int>(refused ? ExitCode::kBadInput : ExitCode::kSuccess);
-  print_swept(s->sweep, o, fmt::format(" on {} MPI rank{}", mpi.size(), mpi.size() == 1 ? "" : "s"));
+// Rank 0 of `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md); the other ranks print nothing,
+// not even an error rank 0 reports.
+int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
+  if (o.shard != "1/1")
+    throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
+  campaign::SweepOptions options = sweep_options(o);
+  options.distributor = &ranks.distributor();
+  const auto s = ranks.summary(campaign::sweep(load(o), options));
+  print_swept(s.sweep, o, fmt::format(" on {} MPI rank{}", ranks.size(), ranks.size() == 1 ? "" : "s"));
+  for (const auto& a : s.sweep.adaptive) print_adaptive(a);
   std::string per_rank;
-  for (std::size_t r = 0; r < s->ranks.size(); ++r)
-    per_rank += fmt::format("{}{:.2f}", r == 0 ? "" : ", ", s->ranks[r].simulation_seconds);
+  for (std::size_t r = 0; r < s.ranks.size(); ++r)
+    per_rank += fmt::format("{}{:.2f}", r == 0 ? "" : ", ", s.ranks[r].simulation_seconds);
   std::cout << fmt::format("Simulation seconds per rank: {} (threads {}); busiest {:.1f} % above the mean per thread\n",
-                           per_rank, s->ranks[0].threads, 100.0 * cluster::busiest_above_mean(s->ranks));
-  if (s->cells_sent > 0) {
-    const auto per_cell_ms = [&](double seconds) { return 1e3 * seconds / static_cast<double>(s->cells_sent); };
+                           per_rank, s.ranks[0].threads, 100.0 * cluster::busiest_above_mean(s.ranks));
+  if (s.cells_sent > 0) {
+    const auto per_cell_ms = [&](double seconds) { return 1e3 * seconds / static_cast<double>(s.cells_sent); };
     std::cout << fmt::format(
         "Coordination on rank 0: {:.4f} ms per cell handed out answering messages, {:.4f} ms with the probing "
         "between them ({} cells in {} chunks); its commits {:.4f} ms per cell\n",
-        per_cell_ms(s->handling_seconds), per_cell_ms(s->coordination_seconds), s->cells_sent, s->chunks,
-        per_cell_ms(s->committing_seconds));
+        per_cell_ms(s.handling_seconds), per_cell_ms(s.coordination_seconds), s.cells_sent, s.chunks,
+        per_cell_ms(s.committing_seconds));
   }
-  for (const int rank : s->lost_ranks)
+  for (const int rank : s.lost_ranks)
     std::cout << fmt::format("Rank {} said nothing for {:g} s and was given up; the other ranks simulated its cells\n",
-                             rank, o.mpi_hung_after_s);
+                             rank, o.mpi.hung_after_s);
   print_wrote(o);
   return static_cast<int>(ExitCode::kSuccess);
 }
@@ -198,18 +193,11 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                     "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
       ->capture_default_str();
-  sweep->add_flag("--mpi", s->mpi,
-                  "Run as one rank of an MPI job (mpirun -n N emrm sweep ... --mpi): rank 0 keeps the store, "
-                  "every rank simulates cells it hands out (docs/cluster.md)");
-  sweep
-      ->add_option("--mpi-hung-after", s->mpi_hung_after_s,
-                   "With --mpi: seconds a rank holding cells may say nothing before rank 0 gives its cells to "
-                   "the other ranks (docs/cluster.md)")
-      ->check(CLI::Range(1.0, 1e6, "1 to 1000000"))
-      ->capture_default_str();
+  add_mpi_options(sweep, s->mpi, "mpirun -n N emrm sweep ... --mpi");
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = s->mpi ? run_sweep_mpi(*s) : run_sweep(*s);
+    exit_code = on_ranks(s->mpi, s->threads,
+                         [&](cluster::Ranks* ranks) { return ranks != nullptr ? run_sweep_mpi(*s, *ranks) : run_sweep(*s); });
   });
 
   auto m = std::make_shared<MergeCommandOptions>();

@@ -1,20 +1,24 @@
 // The MPI side of cluster/mpi_sweep.hpp (built only with EMRM_WITH_MPI; without_mpi.cpp otherwise).
 //
 // Messages:
-//   hello   worker → 0   {hash, threads} or {error}: what the worker loaded (MessagePack JSON)
-//   go      0 → worker   true: sweep; false: rank 0 refuses the job and reports why (the same)
+//   hello   worker → 0   {threads}: how many threads it simulates with (MessagePack JSON), once
+//   job     0 → worker   Job: a campaign to sweep (its cells come in chunks), or the end of the
+//                        command with its exit code (a cereal binary archive)
 //   results worker → 0   Results: the records of a finished chunk (none in the first two), whether
-//                        it asks for another chunk, whether it is its last message (a cereal binary
-//                        archive: every double and integer exactly, infinities included, without
-//                        building a document first)
+//                        it asks for another chunk, whether it is its last message of the job (a
+//                        cereal binary archive: every double and integer exactly, infinities
+//                        included, without building a document first)
 //   chunk   0 → worker   the answer to each request: cells to simulate; none: no more (the same)
-// A worker asks for two chunks at the start and for one more each time it finishes one, so it
-// always holds one in reserve and never waits for rank 0; rank 0 then need not answer at once, and
-// probes for messages every few milliseconds instead of spinning. A worker leaves only once every
-// request is answered and its last message sent, so no message is left unmatched at MPI_Finalize.
+// A worker asks for two chunks at the start of a job and for one more each time it finishes one,
+// so it always holds one in reserve and never waits for rank 0; rank 0 then need not answer at
+// once, and probes for messages every few milliseconds instead of spinning. An adaptive search
+// asks for its cells one by one as it goes: rank 0 then answers a request once a cell is asked
+// for. A worker leaves a job only once every request is answered and its last message sent, so
+// no message is left unmatched at MPI_Finalize.
 
 #include <cereal/archives/portable_binary.hpp>
 #include <cereal/types/array.hpp>
+#include <cereal/types/optional.hpp>
 #include <cereal/types/string.hpp>
 #include <cereal/types/vector.hpp>
 #include <mpi.h>
@@ -37,6 +41,9 @@
 #include <deque>
 #include <mutex>
 #include <exception>
+#include <filesystem>
+#include <limits>
+#include <set>
 #include <sstream>
 #include <ctime>
 #include <thread>
@@ -46,6 +53,7 @@
 #include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/sim/scene.hpp"
 
 // The records on the wire: every field of OutcomeRecord and CellRecord, in declaration order (found
 // by cereal through argument-dependent lookup, so in the records' namespace; this file only).
@@ -72,7 +80,35 @@ void serialize(Archive& archive, CellTask& task) {
   archive(task.grid, task.index, task.cost);
 }
 
+// A campaign as the ranks receive it: everything that decides a cell's result (the scene as the
+// store keeps it, in YAML); the worker checks that its config hash is rank 0's.
+template <class Archive>
+void serialize(Archive& archive, GridSpec& grid) {
+  archive(grid.name, grid.cells, grid.seeds, grid.keep_trees, grid.levels, grid.adaptive);
+}
+
+template <class Archive>
+void save(Archive& archive, const Campaign& c) {
+  archive(c.file, c.scene_file, sim::to_yaml(c.scene), c.seed, c.strategies, c.grids, c.max_cells, c.text);
+}
+
+template <class Archive>
+void load(Archive& archive, Campaign& c) {
+  std::string scene;
+  archive(c.file, c.scene_file, scene, c.seed, c.strategies, c.grids, c.max_cells, c.text);
+  c.scene = sim::parse_stored_scene_config(scene, c.file + " (scene from rank 0)");
+}
+
 }  // namespace emrm::campaign
+
+namespace emrm::sim {
+
+template <class Archive>
+void serialize(Archive& archive, CellInput& cell) {
+  archive(cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph);
+}
+
+}  // namespace emrm::sim
 
 namespace emrm::cluster {
 namespace {
@@ -104,11 +140,22 @@ struct Results {
 
 using Chunk = std::vector<campaign::CellTask>;
 
+// Rank 0's word to the workers: sweep this campaign, or the command ended with this exit code.
+struct Job {
+  std::optional<campaign::Campaign> campaign;
+  std::string hash;  ///< the campaign's config hash on rank 0
+  int exit_code = 0;
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(campaign, hash, exit_code);
+  }
+};
+
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::json;
 
 constexpr int kTagHello = 1;
-constexpr int kTagGo = 2;
+constexpr int kTagJob = 2;
 constexpr int kTagResults = 3;
 constexpr int kTagChunk = 4;
 
@@ -168,15 +215,17 @@ Message from_archive(const std::string& bytes) {
 // Every chunk has one in reserve behind it, so a probe every few milliseconds delays no rank.
 class Backoff {
  public:
+  /// `longest`: shorter where a wait delays a search that waits for each cell.
+  explicit Backoff(std::chrono::microseconds longest = std::chrono::microseconds(5000)) : longest_(longest) {}
   void reset() noexcept { pause_ = kShortest; }
   void wait() {
     std::this_thread::sleep_for(pause_);
-    pause_ = std::min(pause_ * 2, kLongest);
+    pause_ = std::min(pause_ * 2, longest_);
   }
 
  private:
   static constexpr std::chrono::microseconds kShortest{50};
-  static constexpr std::chrono::microseconds kLongest{5000};
+  std::chrono::microseconds longest_;
   std::chrono::microseconds pause_ = kShortest;
 };
 
@@ -206,12 +255,12 @@ int thread_count(int requested) { return requested > 0 ? requested : tbb::info::
 // Hands cells out to the other ranks on demand, sized by what cells of each cost class took so
 // far, and delivers their records to the sweep's committer. A rank silent for `hung_after` while
 // it holds cells is given up: its cells go to the next ranks that ask (or are simulated here at the
-// end), and whatever it sends later is dropped, so no cell is stored twice.
-class MpiDistributor final : public campaign::Distributor {
+// end), and whatever it sends later is dropped, so no cell is stored twice. Cells a rank hands back
+// unsimulated (it was stopped on its own) go to the others the same way.
+class MpiDistributor final : public campaign::Distributor, public Ranks {
  public:
-  MpiDistributor(const campaign::Campaign& campaign, int ranks, std::vector<int> threads, Clock::duration hung_after)
-      : campaign_(campaign),
-        threads_(std::move(threads)),
+  MpiDistributor(int ranks, std::vector<int> threads, Clock::duration hung_after)
+      : threads_(std::move(threads)),
         hung_after_(hung_after),
         stats_(static_cast<std::size_t>(ranks)),
         handed_(static_cast<std::size_t>(ranks)),
@@ -219,69 +268,110 @@ class MpiDistributor final : public campaign::Distributor {
         in_hand_(static_cast<std::size_t>(ranks)),
         deferred_(static_cast<std::size_t>(ranks), 0),
         heard_(static_cast<std::size_t>(ranks), Clock::now()),
-        lost_(static_cast<std::size_t>(ranks), 0),
-        active_(ranks - 1) {
+        lost_(static_cast<std::size_t>(ranks), 0) {
     for (int t : threads_) total_threads_ += static_cast<std::size_t>(std::max(t, 1));
     for (int r = 1; r < ranks; ++r) stats_[static_cast<std::size_t>(r)].threads = threads_[static_cast<std::size_t>(r)];
   }
 
-  void distribute(campaign::TaskQueue& queue) override { serve_until_stopped(queue, kInterruptGrace); }
+  void distribute(const campaign::Campaign& campaign, campaign::TaskQueue& queue) override {
+    start_job(campaign);
+    serve_until_stopped(queue, kInterruptGrace);
+  }
 
-  /// Stops the ranks still waiting when the sweep failed before or while it distributed: each is
-  /// answered with no cells, whatever it sends is dropped.
-  void release() noexcept {
-    class NoCells final : public campaign::TaskQueue {
-     public:
-      std::optional<campaign::CellTask> next() override { return std::nullopt; }
-      [[nodiscard]] std::size_t remaining() const override { return 0; }
-      void deliver(campaign::CellRecord, int, double) override {}
-    } none;
+  [[nodiscard]] int threads() const noexcept override {
+    int sum = 0;
+    for (std::size_t r = 1; r < threads_.size(); ++r) sum += lost_[r] != 0 ? 0 : std::max(threads_[r], 1);
+    return sum;
+  }
+
+  [[nodiscard]] campaign::Distributor& distributor() noexcept override { return *this; }
+  [[nodiscard]] int size() const noexcept override { return static_cast<int>(threads_.size()); }
+
+  [[nodiscard]] ClusterSummary summary(const campaign::SweepSummary& sweep) const override {
+    ClusterSummary summary;
+    summary.sweep = sweep;
+    summary.ranks = stats_;
+    summary.ranks[0].threads = threads_[0];
+    summary.ranks[0].simulation_seconds = sweep.simulation_seconds + stranded_seconds_;
+    std::size_t remote = 0;
+    for (std::size_t r = 1; r < summary.ranks.size(); ++r) remote += summary.ranks[r].cells;
+    summary.ranks[0].cells = sweep.cells_simulated - std::min(sweep.cells_simulated, remote);
+    summary.chunks = chunks_;
+    summary.cells_sent = cells_sent_;
+    summary.coordination_seconds = cpu_seconds_ - committing_seconds_;
+    summary.handling_seconds = handling_seconds_ - committing_seconds_;
+    summary.committing_seconds = committing_seconds_;
+    summary.lost_ranks = lost_ranks_;
+    return summary;
+  }
+
+  /// The command ended with `exit_code`: the ranks still serving a job are answered with no
+  /// cells (a sweep that failed while it distributed), then every rank not given up is told.
+  void finish(int exit_code) noexcept {
     try {
-      serve_until_stopped(none, std::chrono::seconds(0));
+      reissue_.clear();
+      if (active_ > 0) {
+        class NoCells final : public campaign::TaskQueue {
+         public:
+          std::optional<campaign::CellTask> next() override { return std::nullopt; }
+          [[nodiscard]] std::size_t remaining() const override { return 0; }
+          void deliver(campaign::CellRecord, int, double) override {}
+        } none;
+        serve_until_stopped(none, Clock::duration::zero());
+      }
+      Job end;
+      end.exit_code = exit_code;
+      for (std::size_t r = 1; r < lost_.size(); ++r)
+        if (lost_[r] == 0) send_archive(end, static_cast<int>(r), kTagJob);
     } catch (...) {  // the error being reported matters more than this one
     }
   }
 
-  [[nodiscard]] std::vector<RankStats>& stats() noexcept { return stats_; }
-  /// Seconds this thread spent simulating the cells of hung ranks nobody else took.
-  [[nodiscard]] double stranded_seconds() const noexcept { return stranded_seconds_; }
   /// The ranks given up as hung, in the order they were.
   [[nodiscard]] const std::vector<int>& lost_ranks() const noexcept { return lost_ranks_; }
-  /// Cells handed to other ranks whose records did not come back: the ranks stopped (an
-  /// interrupt) or died; the rerun simulates them.
-  [[nodiscard]] std::size_t unreturned() const noexcept {
-    std::size_t missing = 0;
-    for (std::size_t r = 0; r < handed_.size(); ++r) missing += handed_[r] - std::min(handed_[r], returned_[r]);
-    return missing + reissue_.size();
-  }
-  [[nodiscard]] std::size_t chunks() const noexcept { return chunks_; }
-  [[nodiscard]] std::size_t cells_sent() const noexcept { return cells_sent_; }
-  /// CPU seconds of this thread answering messages (receiving, decoding, choosing and sending the
-  /// next chunk), without the commits: what bounds how many ranks one coordinator can serve.
-  [[nodiscard]] double handling_seconds() const noexcept { return handling_seconds_ - committing_seconds_; }
-  /// CPU seconds of this thread in all, waiting between messages included, without the commits.
-  [[nodiscard]] double coordination_seconds() const noexcept { return cpu_seconds_ - committing_seconds_; }
-  /// CPU seconds of this thread delivering records to the sweep's committer: the batches it committed.
-  [[nodiscard]] double committing_seconds() const noexcept { return committing_seconds_; }
 
  private:
-  // Answers results with chunks until every rank is stopped; after an interrupt (or with a zero
-  // `grace`, at once) gives up `grace` after the last message came.
+  // Sends the campaign to every rank not given up and starts counting this job's cells.
+  void start_job(const campaign::Campaign& campaign) {
+    campaign_ = &campaign;
+    Job job;
+    job.campaign = campaign;
+    job.hash = campaign::config_hash(campaign);
+    active_ = 0;
+    for (std::size_t r = 1; r < lost_.size(); ++r) {
+      handed_[r] = returned_[r] = 0;
+      in_hand_[r].clear();
+      deferred_[r] = 0;
+      heard_[r] = Clock::now();
+      stats_[r].cells = 0;
+      stats_[r].simulation_seconds = 0.0;
+      if (lost_[r] != 0) continue;
+      send_archive(job, static_cast<int>(r), kTagJob);
+      ++active_;
+    }
+    reissue_.clear();
+    chunks_ = cells_sent_ = 0;
+    cpu_seconds_ = handling_seconds_ = committing_seconds_ = stranded_seconds_ = 0.0;
+  }
+
+  // Answers results with chunks until every rank is done with the job; after an interrupt (or
+  // with a zero `grace`, at once) gives up `grace` after the last message came.
   void serve_until_stopped(campaign::TaskQueue& queue, Clock::duration grace) {
     const double cpu_start = thread_cpu_seconds();
     std::optional<Clock::time_point> quiet_since;
-    Backoff backoff;
+    Backoff backoff(queue.open() ? std::chrono::microseconds(1000) : std::chrono::microseconds(5000));
     while (active_ > 0) {
       int arrived = 0;
       MPI_Status status;
       MPI_Iprobe(MPI_ANY_SOURCE, kTagResults, MPI_COMM_WORLD, &arrived, &status);
       if (arrived == 0) {
         give_up_on_hung_ranks(queue);
+        const bool answered = answer_waiting(queue, grace);
         if (core::interrupt_signal() != 0 || grace == Clock::duration::zero()) {
           if (!quiet_since) quiet_since = Clock::now();
           if (Clock::now() - *quiet_since > std::max<Clock::duration>(grace, std::chrono::seconds(2))) break;
         }
-        backoff.wait();
+        if (!answered && !simulate_one_stranded(queue)) backoff.wait();
         continue;
       }
       backoff.reset();
@@ -296,7 +386,10 @@ class MpiDistributor final : public campaign::Distributor {
         handling_seconds_ += thread_cpu_seconds() - handling;
         continue;
       }
-      if (message.returns_chunk && !in_hand_[r].empty()) in_hand_[r].pop_front();
+      if (message.returns_chunk && !in_hand_[r].empty()) {
+        reissue_unsimulated(in_hand_[r].front(), message.done);
+        in_hand_[r].pop_front();
+      }
       RankStats& stats = stats_[r];
       stats.cells = message.cells;
       stats.simulation_seconds = message.simulation_seconds;
@@ -308,30 +401,61 @@ class MpiDistributor final : public campaign::Distributor {
         queue.deliver(std::move(cell.record), cell.cost, cell.seconds);
         committing_seconds_ += thread_cpu_seconds() - delivering;
       }
-      // Near the end a chunk in reserve would keep cells from a rank that has none: a rank still
-      // holding one waits for its next chunk until it returns that one.
       deferred_[r] += message.more ? 1 : 0;
-      const bool tail = grace != Clock::duration::zero() &&
-                        queue.remaining() + reissue_.size() <= kTailCellsPerThread * total_threads_;
-      while (deferred_[r] > 0 && (in_hand_[r].empty() || !tail)) {
-        --deferred_[r];
-        Chunk chunk = next_chunk(queue, rank);
-        handed_[r] += chunk.size();
-        send_archive(chunk, rank, kTagChunk);
-        if (!chunk.empty()) in_hand_[r].push_back(std::move(chunk));
-      }
+      answer(queue, rank, grace);
       if (message.last) --active_;
+      if (queue.open()) answer_waiting(queue, grace);
       handling_seconds_ += thread_cpu_seconds() - handling;
     }
     cpu_seconds_ += thread_cpu_seconds() - cpu_start;
-    simulate_stranded(queue);
+    while (simulate_one_stranded(queue)) {
+    }
+  }
+
+  // Answers what rank `rank` asked for and may have now. Near the end a chunk in reserve would keep
+  // cells from a rank that has none, so a rank still holding one waits for its next chunk until it
+  // returns that one; so does every rank while cells are asked for one by one (an open queue).
+  // While the queue is open and has no cell, a request waits. True when a chunk was sent.
+  bool answer(campaign::TaskQueue& queue, int rank, Clock::duration grace) {
+    const auto r = static_cast<std::size_t>(rank);
+    const bool tail = queue.open() || (grace != Clock::duration::zero() &&
+                                       queue.remaining() + reissue_.size() <= kTailCellsPerThread * total_threads_);
+    bool sent = false;
+    while (deferred_[r] > 0 && (in_hand_[r].empty() || !tail)) {
+      Chunk chunk = next_chunk(queue, rank);
+      if (chunk.empty() && queue.open() && core::interrupt_signal() == 0) break;  // a cell may yet be asked for
+      --deferred_[r];
+      handed_[r] += chunk.size();
+      send_archive(chunk, rank, kTagChunk);
+      sent = sent || !chunk.empty();
+      if (!chunk.empty()) in_hand_[r].push_back(std::move(chunk));
+    }
+    return sent;
+  }
+
+  // The requests that wait for cells (an open queue), or for its end.
+  bool answer_waiting(campaign::TaskQueue& queue, Clock::duration grace) {
+    bool sent = false;
+    for (std::size_t r = 1; r < deferred_.size(); ++r)
+      if (deferred_[r] > 0 && lost_[r] == 0) sent = answer(queue, static_cast<int>(r), grace) || sent;
+    return sent;
+  }
+
+  // The cells of a returned chunk that came back without a record (the rank was stopped before it
+  // started them) go to the others.
+  void reissue_unsimulated(const Chunk& chunk, const std::vector<Simulated>& done) {
+    if (done.size() == chunk.size()) return;
+    std::set<std::pair<std::string, std::int64_t>> back;
+    for (const Simulated& cell : done) back.emplace(cell.record.grid, cell.record.index);
+    for (const campaign::CellTask& task : chunk)
+      if (back.count({campaign_->grids[task.grid].name, task.index}) == 0) reissue_.push_back(task);
   }
 
   // A rank is given up when silent for hung_after_ while it holds cells, or once nothing is left
   // to hand out and only its last message is awaited.
   void give_up_on_hung_ranks(const campaign::TaskQueue& queue) {
     const auto now = Clock::now();
-    const bool nothing_left = queue.remaining() == 0 && reissue_.empty();
+    const bool nothing_left = !queue.open() && queue.remaining() == 0 && reissue_.empty();
     for (std::size_t r = 1; r < in_hand_.size(); ++r) {
       if (lost_[r] != 0 || now - heard_[r] < hung_after_ || (in_hand_[r].empty() && !nothing_left)) continue;
       lost_[r] = 1;
@@ -343,18 +467,20 @@ class MpiDistributor final : public campaign::Distributor {
     }
   }
 
-  // Cells of a hung rank that no other rank asked for before the end: simulated on this thread.
-  void simulate_stranded(campaign::TaskQueue& queue) {
-    while (!reissue_.empty() && core::interrupt_signal() == 0) {
-      const campaign::CellTask task = reissue_.front();
-      const auto start = Clock::now();
-      campaign::CellRecord record = campaign::simulate_task(campaign_, task);
-      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      stats_[0].cells += 1;
-      stranded_seconds_ += seconds;
-      queue.deliver(std::move(record), task.cost, seconds);
-      reissue_.pop_front();
-    }
+  // A cell of a hung or stopped rank that no other rank asked for: simulated on this thread, at
+  // the end of a sweep or while cells are asked for one by one (a search waits for it). False when
+  // there is none.
+  bool simulate_one_stranded(campaign::TaskQueue& queue) {
+    if (reissue_.empty() || core::interrupt_signal() != 0 || (active_ > 0 && !queue.open())) return false;
+    const campaign::CellTask task = reissue_.front();
+    reissue_.pop_front();
+    const auto start = Clock::now();
+    campaign::CellRecord record = campaign::simulate_task(*campaign_, task);
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats_[0].cells += 1;
+    stranded_seconds_ += seconds;
+    queue.deliver(std::move(record), task.cost, seconds);
+    return true;
   }
 
   void learn(int cost, double seconds) {
@@ -375,11 +501,13 @@ class MpiDistributor final : public campaign::Distributor {
 
   // About kChunkSecondsPerThread of work per thread of the rank, and no more than a quarter of a
   // fair share of the cells left per thread, so that the ranks finish together (guided
-  // self-scheduling).
+  // self-scheduling). Cells asked for one by one: a cell per thread of the rank, as many as wait.
   Chunk next_chunk(campaign::TaskQueue& queue, int rank) {
-    const double budget = kChunkSecondsPerThread * threads_[static_cast<std::size_t>(rank)];
+    const int threads = std::max(threads_[static_cast<std::size_t>(rank)], 1);
+    const bool open = queue.open();
+    const double budget = open ? std::numeric_limits<double>::infinity() : kChunkSecondsPerThread * threads;
     const std::size_t share = std::max<std::size_t>(1, (queue.remaining() + reissue_.size()) / (4 * total_threads_));
-    const std::size_t limit = std::min(share, kMaxChunkCells);
+    const std::size_t limit = open ? static_cast<std::size_t>(threads) : std::min(share, kMaxChunkCells);
     Chunk chunk;
     double expected = 0.0;
     while (chunk.size() < limit && expected < budget && core::interrupt_signal() == 0) {
@@ -399,7 +527,7 @@ class MpiDistributor final : public campaign::Distributor {
     return chunk;
   }
 
-  const campaign::Campaign& campaign_;
+  const campaign::Campaign* campaign_ = nullptr;  ///< of the job being served
   std::vector<int> threads_;
   Clock::duration hung_after_;
   std::vector<RankStats> stats_;
@@ -409,8 +537,8 @@ class MpiDistributor final : public campaign::Distributor {
   std::vector<Clock::time_point> heard_;        ///< per rank: its last message
   std::vector<char> lost_;                      ///< per rank: given up as hung
   std::vector<int> lost_ranks_;
-  std::deque<campaign::CellTask> reissue_;      ///< a hung rank's cells, for the next ranks that ask
-  int active_ = 0;  ///< ranks that have not sent their last message
+  std::deque<campaign::CellTask> reissue_;      ///< a hung or stopped rank's cells, for the next ranks that ask
+  int active_ = 0;  ///< ranks that have not sent their last message of the job
   std::size_t total_threads_ = 0;
   std::array<double, 3> class_seconds_{};
   std::array<double, 3> class_dearest_{};
@@ -482,8 +610,9 @@ void serve(const campaign::Campaign& campaign, int threads) {
     unanswered += ask ? 1 : 0;
   };
   try {
-    report({}, true, false);  // one chunk to simulate
-    report({}, true, false);  // and one in reserve
+    const bool ask = core::interrupt_signal() == 0;  // stopped before the job: no cells, only the last word
+    report({}, ask, false);  // one chunk to simulate
+    report({}, ask, false);  // and one in reserve
   } catch (...) {
     stop_simulating();
     throw;
@@ -534,15 +663,27 @@ void serve(const campaign::Campaign& campaign, int threads) {
   report({}, false, false);
 }
 
-// With a rank given up as hung the job ends by MPI_Abort, before the caller could print `error`:
-// printed here, with the exit code the command line would give it.
-void abort_if_ranks_lost(MpiSession& session, const MpiDistributor& distributor, const std::exception& error) {
-  if (distributor.lost_ranks().empty()) return;
-  std::fprintf(stderr, "%s\n", error.what());
-  const auto* interrupted = dynamic_cast<const core::Interrupted*>(&error);
-  session.abort_at_exit(interrupted != nullptr                     ? 128 + interrupted->signal()
-                        : dynamic_cast<const Error*>(&error) != nullptr ? 2
-                                                                       : 70);
+// A worker's part of the command: the jobs rank 0 sends, until it sends the exit code.
+int work(int threads) {
+  for (;;) {
+    Job job = from_archive<Job>(wait_for(0, kTagJob));
+    if (!job.campaign) return job.exit_code;
+    if (campaign::config_hash(*job.campaign) != job.hash) {  // the campaign changed on its way: a bug
+      std::fprintf(stderr, "emrm: internal error: a rank received another campaign than rank 0 sent (config hash %s, "
+                   "rank 0's %s)\n", campaign::config_hash(*job.campaign).c_str(), job.hash.c_str());
+      std::fflush(nullptr);
+      MPI_Abort(MPI_COMM_WORLD, 70);
+    }
+    serve(*job.campaign, threads);
+  }
+}
+
+// The exit code the command line gives an error (apps/emrm/cli.cpp).
+int exit_code_of(const std::exception& error) {
+  if (const auto* interrupted = dynamic_cast<const core::Interrupted*>(&error)) return 128 + interrupted->signal();
+  if (dynamic_cast<const Error*>(&error) != nullptr) return 2;
+  if (dynamic_cast<const std::filesystem::filesystem_error*>(&error) != nullptr) return 2;
+  return 70;
 }
 
 }  // namespace
@@ -566,91 +707,34 @@ MpiSession::~MpiSession() {
   MPI_Finalize();
 }
 
-std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<campaign::Campaign()>& load,
-                                    const campaign::SweepOptions& options, double hung_after_s, bool& refused) {
-  refused = false;
-  const int threads = thread_count(options.threads);
-  // Every rank loads the campaign; rank 0 hears from every other rank before any cell runs, so a
-  // bad campaign is reported once (by rank 0) and a rank that sees other files stops the job.
-  std::optional<campaign::Campaign> campaign;
-  std::exception_ptr failed;
-  std::string failure;
-  try {
-    campaign = load();
-  } catch (const std::exception& e) {
-    failed = std::current_exception();
-    failure = e.what();
-  }
-
+int run_on_ranks(MpiSession& session, int threads, double hung_after_s, const std::function<int(Ranks&)>& command) {
   if (session.rank() != 0) {
-    send(failed ? Json{{"error", failure}} : Json{{"hash", campaign::config_hash(*campaign)}, {"threads", threads}}, 0,
-         kTagHello);
-    if (!Json::from_msgpack(wait_for(0, kTagGo)).get<bool>()) {
-      refused = true;
-      return std::nullopt;
-    }
-    serve(*campaign, options.threads);
-    return std::nullopt;
+    send(Json{{"threads", thread_count(threads)}}, 0, kTagHello);
+    return work(threads);
   }
-
-  std::vector<int> rank_threads(static_cast<std::size_t>(session.size()), threads);
-  std::string mismatch;
+  std::vector<int> rank_threads(static_cast<std::size_t>(session.size()), thread_count(threads));
   for (int r = 1; r < session.size(); ++r) {
     MPI_Status status;
     MPI_Probe(r, kTagHello, MPI_COMM_WORLD, &status);
-    const Json hello = receive(status);
-    if (hello.contains("error")) {
-      if (mismatch.empty())
-        mismatch = fmt::format("--mpi: rank {} could not load the campaign: {}", r, hello["error"].get<std::string>());
-    } else if (!failed && hello["hash"].get<std::string>() != campaign::config_hash(*campaign)) {
-      if (mismatch.empty())
-        mismatch = fmt::format("--mpi: rank {} loaded another configuration (config hash {}, rank 0's is {}); every "
-                               "rank must read the same campaign, scene and profile",
-                               r, hello["hash"].get<std::string>(), campaign::config_hash(*campaign));
-    } else {
-      rank_threads[static_cast<std::size_t>(r)] = hello["threads"].get<int>();
-    }
+    rank_threads[static_cast<std::size_t>(r)] = receive(status)["threads"].get<int>();
   }
-  const bool go = !failed && mismatch.empty();
-  for (int r = 1; r < session.size(); ++r) send(Json(go), r, kTagGo);
-  if (failed) std::rethrow_exception(failed);
-  if (!mismatch.empty()) throw UsageError(mismatch);
-
-  MpiDistributor distributor(*campaign, session.size(), rank_threads,
+  MpiDistributor distributor(session.size(), rank_threads,
                              std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(hung_after_s)));
-  campaign::SweepOptions rank0_options = options;
-  rank0_options.distributor = &distributor;  // with one rank too: sweep() then refuses what it cannot distribute
-  ClusterSummary summary;
+  int exit_code = 0;
   try {
-    summary.sweep = campaign::sweep(*campaign, rank0_options);
+    exit_code = command(distributor);
   } catch (const std::exception& e) {  // another configuration in the store, an interrupt, a disk full
-    distributor.release();
-    abort_if_ranks_lost(session, distributor, e);
+    distributor.finish(exit_code_of(e));
+    if (!distributor.lost_ranks().empty()) {
+      // The job ends by MPI_Abort, before the command line could print the error: printed here.
+      std::fprintf(stderr, "%s\n", e.what());
+      session.abort_at_exit(exit_code_of(e));
+    }
     throw;
   }
-  if (const std::size_t missing = distributor.unreturned(); missing > 0) {  // a rank was stopped on its own
-    const core::Interrupted stopped(
-        SIGTERM, fmt::format("interrupted: {} cells handed to other ranks did not come back; {} of {} cells stored in "
-                             "{}; rerun the same command to resume",
-                             missing, summary.sweep.cells_done_before + summary.sweep.cells_simulated,
-                             summary.sweep.cells_total, (options.output_dir / "results.sqlite").string()));
-    abort_if_ranks_lost(session, distributor, stopped);
-    throw stopped;
-  }
-  summary.lost_ranks = distributor.lost_ranks();
-  if (!summary.lost_ranks.empty()) session.abort_at_exit(0);  // everything is stored: a success
-  summary.ranks = std::move(distributor.stats());
-  summary.ranks[0].threads = threads;
-  summary.ranks[0].simulation_seconds = summary.sweep.simulation_seconds + distributor.stranded_seconds();
-  std::size_t remote = 0;
-  for (std::size_t r = 1; r < summary.ranks.size(); ++r) remote += summary.ranks[r].cells;
-  summary.ranks[0].cells = summary.sweep.cells_simulated - remote;
-  summary.chunks = distributor.chunks();
-  summary.cells_sent = distributor.cells_sent();
-  summary.coordination_seconds = distributor.coordination_seconds();
-  summary.handling_seconds = distributor.handling_seconds();
-  summary.committing_seconds = distributor.committing_seconds();
-  return summary;
+  distributor.finish(exit_code);
+  if (!distributor.lost_ranks().empty()) session.abort_at_exit(exit_code);  // everything is stored
+  return exit_code;
 }
 
 }  // namespace emrm::cluster

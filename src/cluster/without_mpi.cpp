@@ -15,10 +15,8 @@ MpiSession::MpiSession() {
 
 MpiSession::~MpiSession() = default;
 
-std::optional<ClusterSummary> sweep(MpiSession&, const std::function<campaign::Campaign()>&,
-                                    const campaign::SweepOptions&, double, bool& refused) {
-  refused = true;  // unreachable: no MpiSession exists without MPI
-  return std::nullopt;
+int run_on_ranks(MpiSession&, int, double, const std::function<int(Ranks&)>&) {
+  return 2;  // unreachable: no MpiSession exists without MPI
 }
 
 }  // namespace emrm::cluster

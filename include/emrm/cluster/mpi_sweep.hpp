@@ -1,9 +1,10 @@
 #pragma once
 
-// A campaign sweep over the ranks of an MPI job (docs/cluster.md): rank 0 runs campaign::sweep()
-// — it owns the results store, resumes, refuses another configuration and writes the exports —
-// and hands cells out in chunks on demand to every rank, itself included; the records come back
-// to it and are committed in its batches. Results are byte for byte those of one process.
+// Campaign sweeps over the ranks of an MPI job (docs/cluster.md): rank 0 runs the command —
+// campaign::sweep() owns the results store, resumes, refuses another configuration and writes the
+// exports — and hands cells out in chunks on demand to every rank, itself included, with the
+// campaign they belong to; the records come back to it and are committed in its batches. Results
+// are byte for byte those of one process.
 //
 // Nothing here names an MPI type: without MPI (EMRM_WITH_MPI off) the same functions exist and
 // refuse with a UsageError, so the command line builds either way.
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/distribute.hpp"
 #include "emrm/campaign/sweep.hpp"
 
 namespace emrm::cluster {
@@ -82,17 +84,31 @@ inline constexpr double kDefaultHungAfterSeconds = 600.0;
 /// simulated: 0.05 is 5 % above. 0 for fewer than two ranks.
 [[nodiscard]] double busiest_above_mean(const std::vector<RankStats>& ranks);
 
-/// The sweep of the campaign `load` returns, over every rank of `session`. Every rank calls it
-/// with the same arguments; each calls `load` (the same campaign file on a shared file system), and
-/// rank 0 checks that every rank loaded the same configuration (config hash) before any cell runs.
-/// Rank 0 returns the summary; the other ranks return none once rank 0 lets them go. A rank silent
-/// for `hung_after_s` while it holds cells is given up (ClusterSummary::lost_ranks).
+/// Rank 0's view of the job while its command runs.
+class Ranks {
+ public:
+  virtual ~Ranks() = default;
+  /// Hands the cells of every sweep it is given to (campaign::SweepOptions::distributor) to all
+  /// ranks; an adaptive search's simulations too.
+  [[nodiscard]] virtual campaign::Distributor& distributor() noexcept = 0;
+  [[nodiscard]] virtual int size() const noexcept = 0;
+  /// The figures of the last sweep distributed, `sweep` being what campaign::sweep() returned.
+  [[nodiscard]] virtual ClusterSummary summary(const campaign::SweepSummary& sweep) const = 0;
+};
+
+/// A command over every rank of `session` (`emrm sweep`, `run` and `reproduce` with --mpi,
+/// docs/cluster.md). Every rank calls it with the same arguments. Rank 0 runs `command` and
+/// returns what it returns; each sweep the command runs with Ranks::distributor() sends its
+/// campaign to the other ranks, which simulate the cells they are handed with `threads` threads
+/// (0: every core) until rank 0's command ends, and then return its exit code, having printed
+/// nothing. A rank silent for `hung_after_s` while it holds cells is given up
+/// (ClusterSummary::lost_ranks): its cells go to the others, and the job ends by MPI_Abort with
+/// the command's exit code.
 ///
-/// Throws on rank 0 what `load` or campaign::sweep() throws (InputError, UsageError: another
-/// configuration in the store, an adaptive grid, shards; core::Interrupted after SIGINT or SIGTERM,
-/// everything done committed), and UsageError when a rank loaded another configuration. The other
-/// ranks throw nothing for an error rank 0 reports: they return none, and `refused` says so.
-std::optional<ClusterSummary> sweep(MpiSession& session, const std::function<campaign::Campaign()>& load,
-                                    const campaign::SweepOptions& options, double hung_after_s, bool& refused);
+/// Throws on rank 0 what `command` throws (the other ranks return the exit code the command line
+/// gives it: 2 for emrm::Error, 128 + signal for core::Interrupted, 70 otherwise); a sweep whose
+/// cells handed to other ranks did not all come back (a rank stopped on its own) throws
+/// core::Interrupted, everything that came back committed.
+int run_on_ranks(MpiSession& session, int threads, double hung_after_s, const std::function<int(Ranks&)>& command);
 
 }  // namespace emrm::cluster
