@@ -1,7 +1,7 @@
-// `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md): the exports of one process for any number
-// of ranks; a worker rank or the whole job killed with SIGKILL loses nothing the rerun cannot
-// complete, and nothing is stored twice; a hung worker's cells go to the others; what MPI cannot
-// run is refused with exit 2 and one message.
+// `mpirun -n N emrm sweep|run|reproduce ... --mpi` (docs/cluster.md): the outputs of one process
+// for any number of ranks, the adaptive search's included; a worker rank or the whole job killed
+// with SIGKILL loses nothing the rerun cannot complete, and nothing is stored twice; a hung
+// worker's cells go to the others; what MPI cannot run is refused with exit 2 and one message.
 // Registered only when emrm is built with MPI (EMRM_WITH_MPI).
 
 #include <gmock/gmock.h>
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "run_emrm.hpp"
+#include "small_example.hpp"
 #include "spawn_process.hpp"
 #include "test_scale.hpp"
 
@@ -224,12 +225,94 @@ void expect_one_message(const RunResult& r, const std::string& message) {
   EXPECT_EQ(count, 1u) << r.err;
 }
 
+// 150 cells of the shipped scene for the adaptive search (about 30 simulated).
+const std::string kAdaptive = std::string("seed: 5\ngrids:\n  - name: map\n") +
+                              "    speed_kph: {from: 30, to: 72, step: 6}\n" +
+                              "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.07", "0.2") + "}\n";
+
+// The search on rank 0 asks the ranks for its simulations one by one: the same cells simulated,
+// the same cells inferred, the same store, whichever rank simulated each.
+TEST(MpiCli, TheAdaptiveSearchOnTwoRanksWritesWhatOneProcessWrites) {
+  const auto dir = scratch_dir("mpi-adaptive");
+  write_text(dir / "campaign.yaml", kAdaptive);
+  const auto plain = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") +
+                              " --adaptive --threads 2");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto r = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") +
+                                " --adaptive --mpi --threads 1", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string search = plain.out.substr(plain.out.find("grid 'map'"));
+  EXPECT_THAT(r.out, HasSubstr(search.substr(0, search.find("Wrote"))));  // simulated, inferred, verified alike
+  EXPECT_THAT(r.out, HasSubstr("Coordination on rank 0: "));  // rank 1 simulated some of them
+  expect_same_results(dir / "out", dir / "plain");
+}
+
+TEST(MpiCli, TheAdaptiveSearchKilledResumesToTheSameMap) {
+  const auto dir = scratch_dir("mpi-adaptive-kill");
+  write_text(dir / "campaign.yaml", kAdaptive);
+  ASSERT_EQ(run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") + " --adaptive").exit_code,
+            0);
+  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(),
+                                      "--adaptive", "--mpi", "--threads", "1"};
+  if (signalled_mpi(2, args, dir / "out" / "results.sqlite", -1, SIGKILL, dir).exit_code == 0)
+    GTEST_SKIP() << "the search ended before the kill";
+  const auto resumed = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") +
+                                      " --adaptive --mpi --threads 1", dir);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  expect_same_results(dir / "out", dir / "plain");
+}
+
+// A planned run's scenarios handed out as a sweep's cells: every file `emrm run` writes is one
+// process's.
+TEST(MpiCli, RunOnOneAndTwoRanksWritesWhatOneProcessWrites) {
+  const auto example = small_example("mpi-run");
+  const auto dir = example.parent_path();
+  ASSERT_EQ(run_emrm("plan " + quoted(example / "odd.yaml") + " -o " + quoted(dir / "plan")).exit_code, 0);
+  const std::string run = "run " + quoted(dir / "plan" / "scenarios.csv") + " -o ";
+  const auto plain = run_emrm(run + quoted(dir / "plain") + " --threads 2");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  for (int ranks : {1, 2}) {
+    const auto out = dir / ("ranks" + std::to_string(ranks));
+    const auto r = run_mpi(ranks, run + quoted(out) + " --mpi --threads 1", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_THAT(r.out, HasSubstr("8 simulated"));
+    for (const char* file : {"outcomes.csv", "estimates.csv", "estimates.json", "traceability.csv"})
+      EXPECT_EQ(read_text(out / file), read_text(dir / "plain" / file)) << file;
+    expect_same_results(out, dir / "plain");
+  }
+}
+
+// Every sweep of reproduce (the campaign's, each profile's, the planned run's) on the ranks, the
+// rest on rank 0: the tables and stores of one process. Bad input: exit 2 on every rank, said once.
+TEST(MpiCli, ReproduceOnTwoRanksWritesWhatOneProcessWrites) {
+  const auto example = small_example("mpi-reproduce");
+  const auto dir = example.parent_path();
+  const std::string reproduce = "reproduce --examples " + quoted(example) + " --sample 1 -o ";
+  const auto plain = run_emrm(reproduce + quoted(dir / "plain") + " --threads 2");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto r = run_mpi(2, reproduce + quoted(dir / "out") + " --mpi --threads 1", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_THAT(r.out, HasSubstr("Report: "));
+  for (const char* file : {"tables/emrm_vs_baseline.csv", "tables/regions.csv", "tables/regions_by_profile.csv",
+                           "tables/coverage.csv", "tables/kpis.csv", "diagnostics.json", "verify.json",
+                           "plan_results/estimates.csv", "plan_results/outcomes.csv", "profiles/index.json"})
+    EXPECT_EQ(read_text(dir / "out" / file), read_text(dir / "plain" / file)) << file;
+  expect_same_results(dir / "out", dir / "plain");
+  expect_same_results(dir / "out" / "plan_results", dir / "plain" / "plan_results");
+  for (const auto& profile : fs::directory_iterator(dir / "plain" / "profiles"))
+    if (profile.is_directory())
+      expect_same_results(dir / "out" / "profiles" / profile.path().filename(), profile.path());
+
+  expect_one_message(run_mpi(3, "reproduce --examples " + quoted(dir / "nowhere") + " --mpi -o " + quoted(dir / "x"), dir),
+                     "is not a folder");
+  EXPECT_FALSE(fs::exists(dir / "x"));
+}
+
 TEST(MpiCli, RefusesWhatItCannotDistributeOnceWithExit2) {
   const auto dir = scratch_dir("mpi-refused");
   write_text(dir / "campaign.yaml", kSmall);
   const std::string sweep = "sweep " + quoted(dir / "campaign.yaml") + " --mpi -o ";
   expect_one_message(run_mpi(2, sweep + quoted(dir / "shard") + " --shard 1/2", dir), "--mpi with --shard");
-  expect_one_message(run_mpi(2, sweep + quoted(dir / "adaptive") + " --adaptive", dir), "not yet distributed");
   write_text(dir / "broken.yaml", "grids: [\n");
   expect_one_message(run_mpi(3, "sweep " + quoted(dir / "broken.yaml") + " --mpi -o " + quoted(dir / "broken"), dir),
                      "broken.yaml:");
