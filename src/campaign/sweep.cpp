@@ -208,6 +208,27 @@ std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& wo
   return counts;  // cells per class
 }
 
+// `loops` loops, each a task of its own so that each can run on a thread of its own: each
+// simulates the cells `take` gives until it gives none and hands each record to `done` with the
+// seconds it took. Returns the thread-seconds spent simulating.
+template <class Take, class Done>
+double simulate_in_loops(const Campaign& campaign, int loops, Take&& take, Done&& done) {
+  std::atomic<std::int64_t> busy_ns{0};
+  tbb::parallel_for(
+      0, loops,
+      [&](int) {
+        while (const auto task = take()) {
+          const auto start = Clock::now();
+          CellRecord record = simulate_task(campaign, *task);
+          const auto spent = Clock::now() - start;
+          busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
+          done(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
+        }
+      },
+      tbb::simple_partitioner());
+  return static_cast<double>(busy_ns.load()) * 1e-9;
+}
+
 // The work of a sweep as a Distributor sees it: the same counter the sweep's threads take cells
 // from, so other processes get cells in the same dearest-first order, and the same committer.
 class SweepQueue final : public TaskQueue {
@@ -233,21 +254,10 @@ class SweepQueue final : public TaskQueue {
 
   /// This process's threads: simulate cells until none is left; returns the thread-seconds spent.
   double simulate(const Campaign& campaign, int workers) {
-    std::atomic<std::int64_t> busy_ns{0};
     // More worker loops than threads is harmless: a loop that starts late finds nothing left.
-    tbb::parallel_for(
-        0, workers,
-        [&](int) {
-          while (const auto task = next()) {
-            const auto start = Clock::now();
-            CellRecord record = simulate_task(campaign, *task);
-            const auto spent = Clock::now() - start;
-            busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
-            committer_.add(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
-          }
-        },
-        tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
-    return static_cast<double>(busy_ns.load()) * 1e-9;
+    return simulate_in_loops(
+        campaign, workers, [&] { return next(); },
+        [&](CellRecord record, int cost, double seconds) { committer_.add(std::move(record), cost, seconds); });
   }
 
  private:
@@ -256,6 +266,31 @@ class SweepQueue final : public TaskQueue {
   std::atomic<std::size_t> next_{0};
   std::atomic<bool> stopped_{false};
 };
+
+// `distributor` works on this thread (an MPI library may want its calls on the main one) while
+// `here` runs on another; `stop` makes both end early when one fails. Rethrows what either threw.
+template <class Here, class Stop>
+void beside_distributor(Distributor& distributor, const Campaign& campaign, TaskQueue& queue, Here&& here,
+                        Stop&& stop) {
+  std::exception_ptr failed;
+  {
+    std::jthread local([&] {
+      try {
+        here();
+      } catch (...) {
+        failed = std::current_exception();
+        stop();
+      }
+    });
+    try {
+      distributor.distribute(campaign, queue);
+    } catch (...) {
+      stop();
+      throw;
+    }
+  }
+  if (failed) std::rethrow_exception(failed);
+}
 
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
@@ -325,23 +360,14 @@ class AskedCells final : public TaskQueue {
   /// This process's `threads` simulate asked cells until the queue closes; returns the
   /// thread-seconds they spent.
   double simulate_here(int threads) {
-    std::atomic<std::int64_t> busy_ns{0};
+    double seconds = 0.0;
     tbb::task_arena arena(threads);  // their own: the search's threads only wait
     arena.execute([&] {
-      tbb::parallel_for(
-          0, threads,
-          [&](int) {
-            while (const auto task = wait_for_task()) {
-              const auto start = Clock::now();
-              CellRecord record = simulate_task(campaign_, *task);
-              const auto spent = Clock::now() - start;
-              busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
-              deliver(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
-            }
-          },
-          tbb::simple_partitioner());
+      seconds = simulate_in_loops(
+          campaign_, threads, [&] { return wait_for_task(); },
+          [&](CellRecord record, int cost, double spent) { deliver(std::move(record), cost, spent); });
     });
-    return static_cast<double>(busy_ns.load()) * 1e-9;
+    return seconds;
   }
 
  private:
@@ -545,28 +571,22 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
     AskedCells asked(campaign, static_cast<std::uint32_t>(g), committer);
     oracle.ask(&asked);
     const int here = local_threads(options.threads);
-    std::exception_ptr failed;
-    {
-      std::jthread simulating([&] { simulation_seconds += asked.simulate_here(here); });
-      std::jthread searching([&] {
-        try {
-          tbb::task_arena arena(here + options.distributor->threads());
-          arena.execute([&] { result = adaptive::search(lattice, oracle, search_options); });
-        } catch (const SearchInterrupted&) {
-          interrupted = true;
-        } catch (...) {
-          failed = std::current_exception();
-        }
-        asked.close();
-      });
-      try {
-        options.distributor->distribute(campaign, asked);
-      } catch (...) {
-        asked.abandon();  // the search and the simulating threads stop, then the error goes on
-        throw;
-      }
-    }
-    if (failed) std::rethrow_exception(failed);
+    beside_distributor(
+        *options.distributor, campaign, asked,
+        [&] {
+          std::jthread simulating([&] { simulation_seconds += asked.simulate_here(here); });
+          try {
+            tbb::task_arena arena(here + options.distributor->threads());
+            arena.execute([&] { result = adaptive::search(lattice, oracle, search_options); });
+          } catch (const SearchInterrupted&) {
+            interrupted = true;
+          } catch (...) {
+            asked.abandon();  // the simulating thread ends before the error goes on
+            throw;
+          }
+          asked.close();
+        },
+        [&] { asked.abandon(); });  // the search and the simulating threads stop
   }
   if (interrupted) return {};  // the caller flushes the committer and reports the interrupt
   std::vector<CellRecord> batch;
@@ -691,26 +711,10 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     if (options.distributor == nullptr) {
       summary.simulation_seconds = queue.simulate(campaign, workers);
     } else {
-      // The distributor works on this thread (an MPI library may want its calls on the main one)
-      // while this process's threads simulate beside it.
-      std::exception_ptr failed;
-      {
-        std::jthread local([&] {
-          try {
-            summary.simulation_seconds = queue.simulate(campaign, workers);
-          } catch (...) {
-            failed = std::current_exception();
-            queue.stop();
-          }
-        });
-        try {
-          options.distributor->distribute(campaign, queue);
-        } catch (...) {
-          queue.stop();  // the local threads end with the cell in hand; then the error goes on
-          throw;
-        }
-      }
-      if (failed) std::rethrow_exception(failed);
+      // The local threads end with the cell in hand when either side fails.
+      beside_distributor(
+          *options.distributor, campaign, queue,
+          [&] { summary.simulation_seconds = queue.simulate(campaign, workers); }, [&] { queue.stop(); });
     }
     committer.finish();
     if (any_adaptive && options.distributor != nullptr) {
