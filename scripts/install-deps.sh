@@ -7,6 +7,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev libxml2-dev
   graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev libnlopt-cxx-dev
+  openmpi-bin libopenmpi-dev libcereal-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest
   chromium fonts-dejavu-core
 )

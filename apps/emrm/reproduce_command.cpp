@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "mpi_options.hpp"
 #include "options.hpp"
 #include "emrm/campaign/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
@@ -55,6 +56,7 @@ struct ReproduceOptions {
   int threads = 0;
   std::size_t sample = 40;
   std::string profile;
+  MpiOptions mpi;
 };
 
 constexpr const char* kExampleFiles[] = {"safety.yaml",   "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
@@ -133,7 +135,9 @@ bool run_fsm_check(const fs::path& file, const fs::path& out) {
   return r.ok();
 }
 
-int run(const ReproduceOptions& options) {
+// `distributor`: the other ranks of an MPI job (--mpi), which simulate the cells of the sweeps (the
+// campaign's, each profile's, the planned run's); everything else runs here. Null: this process alone.
+int run(const ReproduceOptions& options, campaign::Distributor* distributor) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path examples = find_examples(options);
   const fs::path out = options.output_dir;
@@ -152,6 +156,7 @@ int run(const ReproduceOptions& options) {
   sweep_options.output_dir = out;
   sweep_options.threads = options.threads;
   sweep_options.progress = ::isatty(STDERR_FILENO) != 0;
+  sweep_options.distributor = distributor;
   const auto s = campaign::sweep(plan, sweep_options);
   fmt::print("sweep     {}: {} cells, {} already stored, {} simulated in {:.1f} s -> {}\n",
              (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated,
@@ -224,6 +229,7 @@ int run(const ReproduceOptions& options) {
   run_options.threads = options.threads;
   run_options.progress = sweep_options.progress;
   run_options.profile = options.profile;
+  run_options.distributor = distributor;
   const campaign::RunResult run = campaign::run_scenarios(run_options);
   const auto& all = run.subsets.front().estimate;
   fmt::print(
@@ -282,9 +288,12 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
       ->type_name("DIR");
   cmd->add_option("--sample", options->sample, "Cells checked against the reference planner (default 40)")
       ->type_name("N");
+  add_mpi_options(cmd, options->mpi, "mpirun -n N emrm reproduce ... --mpi");
   cmd->callback([options, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = run(*options);
+    exit_code = on_ranks(options->mpi, options->threads, [&](cluster::Ranks* ranks) {
+      return run(*options, ranks != nullptr ? &ranks->distributor() : nullptr);
+    });
   });
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "mpi_options.hpp"
 #include "options.hpp"
 #include "emrm/campaign/run.hpp"
 #include "emrm/core/error.hpp"
@@ -22,9 +23,11 @@ struct RunCommandOptions {
   std::string safety;
   int threads = 0;
   std::string profile;
+  MpiOptions mpi;
 };
 
-int run(const RunCommandOptions& o) {
+// `ranks`: rank 0 of an MPI job (--mpi), whose other ranks simulate scenarios; null: this process alone.
+int run(const RunCommandOptions& o, cluster::Ranks* ranks) {
   if (!std::filesystem::is_regular_file(o.scenarios))
     throw UsageError(fmt::format("emrm run: '{}' does not exist", o.scenarios));
   campaign::RunOptions options;
@@ -32,6 +35,7 @@ int run(const RunCommandOptions& o) {
   options.output_dir = o.output_dir;
   options.threads = o.threads;
   options.profile = o.profile;
+  if (ranks != nullptr) options.distributor = &ranks->distributor();
   if (!o.safety.empty()) {
     if (!std::filesystem::is_regular_file(o.safety))
       throw UsageError(fmt::format("emrm run: --safety '{}' does not exist", o.safety));
@@ -58,9 +62,10 @@ void register_run_command(CLI::App& app, int& exit_code) {
                   "safety case for the traceability matrix (default: the plan's, from scenarios.json)");
   add_threads_option(cmd, options->threads, "worker threads (0: all cores)");
   cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
+  add_mpi_options(cmd, options->mpi, "mpirun -n N emrm run ... --mpi");
   cmd->callback([options, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = run(*options);
+    exit_code = on_ranks(options->mpi, options->threads, [&](cluster::Ranks* ranks) { return run(*options, ranks); });
   });
 }
 

@@ -8,10 +8,12 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "mpi_options.hpp"
 #include "options.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
+#include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/interrupt.hpp"
 
 namespace emrm::cli {
@@ -30,6 +32,7 @@ struct SweepCommandOptions {
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
   std::string brackets = "auto";
+  MpiOptions mpi;
 };
 
 struct MergeCommandOptions {
@@ -60,9 +63,9 @@ void print_adaptive(const campaign::AdaptiveSummary& a) {
                            a.lines_fully_resolved == 1 ? "" : "s");
 }
 
-int run_sweep(const SweepCommandOptions& o) {
+// Every option but the shard (an MPI sweep refuses one).
+campaign::SweepOptions sweep_options(const SweepCommandOptions& o) {
   campaign::SweepOptions options;
-  campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
   options.output_dir = o.output_dir;
   options.threads = o.threads;
   options.progress_log = o.progress_log;
@@ -71,19 +74,66 @@ int run_sweep(const SweepCommandOptions& o) {
   options.initial_levels = o.initial_levels;
   options.stride = o.stride;
   options.brackets = *campaign::adaptive::brackets_named(o.brackets);  // checked by IsMember
+  return options;
+}
+
+campaign::Campaign load(const SweepCommandOptions& o) {
   campaign::Campaign c = campaign::load_campaign(o.campaign_file, o.force);
   if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
-  const campaign::SweepSummary s = campaign::sweep(c, options);
+  return c;
+}
+
+void print_swept(const campaign::SweepSummary& s, const SweepCommandOptions& o, const std::string& shard) {
   const double rate = s.seconds > 0.0 ? static_cast<double>(s.cells_simulated) / s.seconds : 0.0;
   std::cout << fmt::format(
       "Swept {} cells{} into {}: {} simulated, {} already stored (skipped), {:.1f} s, {:.1f} cells/s\n",
-      s.cells_total,
-      options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
-                              : std::string(),
-      o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
-  for (const auto& a : s.adaptive) print_adaptive(a);
+      s.cells_total, shard, o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
+}
+
+void print_wrote(const SweepCommandOptions& o) {
   std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n",
                            o.output_dir);
+}
+
+int run_sweep(const SweepCommandOptions& o) {
+  campaign::SweepOptions options = sweep_options(o);
+  campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
+  const campaign::SweepSummary s = campaign::sweep(load(o), options);
+  print_swept(s, o,
+              options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
+                                      : std::string());
+  for (const auto& a : s.adaptive) print_adaptive(a);
+  print_wrote(o);
+  return static_cast<int>(ExitCode::kSuccess);
+}
+
+// Rank 0 of `mpirun -n N emrm sweep ... --mpi` (docs/cluster.md); the other ranks print nothing,
+// not even an error rank 0 reports.
+int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
+  if (o.shard != "1/1")
+    throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
+  campaign::SweepOptions options = sweep_options(o);
+  options.distributor = &ranks.distributor();
+  const auto s = ranks.summary(campaign::sweep(load(o), options));
+  print_swept(s.sweep, o, fmt::format(" on {} MPI rank{}", ranks.size(), ranks.size() == 1 ? "" : "s"));
+  for (const auto& a : s.sweep.adaptive) print_adaptive(a);
+  std::string per_rank;
+  for (std::size_t r = 0; r < s.ranks.size(); ++r)
+    per_rank += fmt::format("{}{:.2f}", r == 0 ? "" : ", ", s.ranks[r].simulation_seconds);
+  std::cout << fmt::format("Simulation seconds per rank: {} (threads {}); busiest {:.1f} % above the mean per thread\n",
+                           per_rank, s.ranks[0].threads, 100.0 * cluster::busiest_above_mean(s.ranks));
+  if (s.cells_sent > 0) {
+    const auto per_cell_ms = [&](double seconds) { return 1e3 * seconds / static_cast<double>(s.cells_sent); };
+    std::cout << fmt::format(
+        "Coordination on rank 0: {:.4f} ms per cell handed out answering messages, {:.4f} ms with the probing "
+        "between them ({} cells in {} chunks); its commits {:.4f} ms per cell\n",
+        per_cell_ms(s.handling_seconds), per_cell_ms(s.coordination_seconds), s.cells_sent, s.chunks,
+        per_cell_ms(s.committing_seconds));
+  }
+  for (const int rank : s.lost_ranks)
+    std::cout << fmt::format("Rank {} said nothing for {:g} s and was given up; the other ranks simulated its cells\n",
+                             rank, o.mpi.hung_after_s);
+  print_wrote(o);
   return static_cast<int>(ExitCode::kSuccess);
 }
 
@@ -151,9 +201,11 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                     "factors or more")
       ->check(CLI::IsMember({"auto", "search", "predict"}))
       ->capture_default_str();
+  add_mpi_options(sweep, s->mpi, "mpirun -n N emrm sweep ... --mpi");
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = run_sweep(*s);
+    exit_code = on_ranks(s->mpi, s->threads,
+                         [&](cluster::Ranks* ranks) { return ranks != nullptr ? run_sweep_mpi(*s, *ranks) : run_sweep(*s); });
   });
 
   auto m = std::make_shared<MergeCommandOptions>();

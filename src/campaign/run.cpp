@@ -340,6 +340,7 @@ RunResult run_scenarios(const RunOptions& options) {
   sweep_options.threads = options.threads;
   sweep_options.progress = options.progress;
   sweep_options.unit = "scenarios";
+  sweep_options.distributor = options.distributor;
   result.sweep = sweep(campaign, sweep_options);
 
   // Outcomes, in file order.

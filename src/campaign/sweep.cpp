@@ -5,6 +5,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,13 +14,19 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
+#include <thread>
+#include <unordered_map>
 
 #include "emrm/campaign/adaptive.hpp"
+#include "emrm/campaign/distribute.hpp"
 #include "emrm/campaign/eta.hpp"
 #include "emrm/campaign/exports.hpp"
 #include "emrm/campaign/store.hpp"
@@ -170,6 +177,9 @@ std::unique_ptr<std::FILE, CloseFile> open_progress_log(const std::filesystem::p
   return file;
 }
 
+// The threads of this process that simulate: --threads, or every core.
+int local_threads(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
+
 // 2: braking alone (through the scene's actuators) cannot stop in time, so every search runs;
 // 1: feasible; 0: infeasible, nothing is simulated.
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
@@ -198,9 +208,195 @@ std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& wo
   return counts;  // cells per class
 }
 
+// `loops` loops, each a task of its own so that each can run on a thread of its own: each
+// simulates the cells `take` gives until it gives none and hands each record to `done` with the
+// seconds it took. Returns the thread-seconds spent simulating.
+template <class Take, class Done>
+double simulate_in_loops(const Campaign& campaign, int loops, Take&& take, Done&& done) {
+  std::atomic<std::int64_t> busy_ns{0};
+  tbb::parallel_for(
+      0, loops,
+      [&](int) {
+        while (const auto task = take()) {
+          const auto start = Clock::now();
+          CellRecord record = simulate_task(campaign, *task);
+          const auto spent = Clock::now() - start;
+          busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(spent).count();
+          done(std::move(record), task->cost, std::chrono::duration<double>(spent).count());
+        }
+      },
+      tbb::simple_partitioner());
+  return static_cast<double>(busy_ns.load()) * 1e-9;
+}
+
+// The work of a sweep as a Distributor sees it: the same counter the sweep's threads take cells
+// from, so other processes get cells in the same dearest-first order, and the same committer.
+class SweepQueue final : public TaskQueue {
+ public:
+  SweepQueue(const std::vector<WorkItem>& work, Committer& committer) : work_(work), committer_(committer) {}
+
+  std::optional<CellTask> next() override {
+    // After an interrupt (or a failure on the other side) no cell is handed out.
+    if (core::interrupt_signal() != 0 || stopped_.load()) return std::nullopt;
+    const std::size_t w = next_++;
+    if (w >= work_.size()) return std::nullopt;
+    return CellTask{work_[w].grid, work_[w].index, work_[w].cost};
+  }
+  [[nodiscard]] std::size_t remaining() const override {
+    const std::size_t taken = next_.load();
+    return taken < work_.size() ? work_.size() - taken : 0;
+  }
+  void deliver(CellRecord record, int cost, double seconds) override {
+    committer_.add(std::move(record), cost, seconds);
+  }
+  /// No more cells for anyone: the distributor or this process's threads failed.
+  void stop() noexcept { stopped_ = true; }
+
+  /// This process's threads: simulate cells until none is left; returns the thread-seconds spent.
+  double simulate(const Campaign& campaign, int workers) {
+    // More worker loops than threads is harmless: a loop that starts late finds nothing left.
+    return simulate_in_loops(
+        campaign, workers, [&] { return next(); },
+        [&](CellRecord record, int cost, double seconds) { committer_.add(std::move(record), cost, seconds); });
+  }
+
+ private:
+  const std::vector<WorkItem>& work_;
+  Committer& committer_;
+  std::atomic<std::size_t> next_{0};
+  std::atomic<bool> stopped_{false};
+};
+
+// `distributor` works on this thread (an MPI library may want its calls on the main one) while
+// `here` runs on another; `stop` makes both end early when one fails. Rethrows what either threw.
+template <class Here, class Stop>
+void beside_distributor(Distributor& distributor, const Campaign& campaign, TaskQueue& queue, Here&& here,
+                        Stop&& stop) {
+  std::exception_ptr failed;
+  {
+    std::jthread local([&] {
+      try {
+        here();
+      } catch (...) {
+        failed = std::current_exception();
+        stop();
+      }
+    });
+    try {
+      distributor.distribute(campaign, queue);
+    } catch (...) {
+      stop();
+      throw;
+    }
+  }
+  if (failed) std::rethrow_exception(failed);
+}
 
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
+
+// An adaptive search's simulations when other processes help (a Distributor): each call of
+// simulate() becomes a cell in this queue, taken by this process's simulating threads or by the
+// Distributor for another process, and the calling thread waits for its region. A cell's record
+// is the same wherever it is simulated (simulate_task), so the search decides as it would alone.
+class AskedCells final : public TaskQueue {
+ public:
+  AskedCells(const Campaign& campaign, std::uint32_t grid, Committer& committer)
+      : campaign_(campaign), grid_(grid), committer_(committer) {}
+
+  /// The region of the cell's simulation, once some process delivered it. Throws
+  /// SearchInterrupted after an interrupt. Thread-safe.
+  sim::Region simulate(std::uint32_t cell) {
+    std::unique_lock lock(mutex_);
+    WorkItem item{grid_, cell};
+    asked_.push_back({grid_, cell, expected_cost(campaign_, item)});
+    answers_.emplace(cell, sim::Region::kInfeasible);
+    changed_.notify_all();
+    for (;;) {
+      if (const auto it = answers_.find(cell); it->second != sim::Region::kInfeasible) {
+        const sim::Region region = it->second;
+        answers_.erase(it);
+        return region;
+      }
+      if (core::interrupt_signal() != 0 || abandoned_) throw SearchInterrupted{};
+      changed_.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  }
+
+  std::optional<CellTask> next() override {
+    std::lock_guard lock(mutex_);
+    return take_locked();
+  }
+  [[nodiscard]] std::size_t remaining() const override {
+    std::lock_guard lock(mutex_);
+    return asked_.size();
+  }
+  void deliver(CellRecord record, int cost, double seconds) override {
+    const auto cell = static_cast<std::uint32_t>(record.index);
+    const sim::Region region = adaptive::region_named(record.region);
+    committer_.add(std::move(record), cost, seconds);
+    std::lock_guard lock(mutex_);
+    if (const auto it = answers_.find(cell); it != answers_.end()) it->second = region;
+    changed_.notify_all();
+  }
+  [[nodiscard]] bool open() const override {
+    std::lock_guard lock(mutex_);
+    return !closed_;
+  }
+  /// The search has ended: no more cells will be asked for.
+  void close() {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+    changed_.notify_all();
+  }
+  /// The distributor failed: the search stops as at an interrupt, the simulating threads end.
+  void abandon() {
+    std::lock_guard lock(mutex_);
+    closed_ = abandoned_ = true;
+    asked_.clear();
+    changed_.notify_all();
+  }
+
+  /// This process's `threads` simulate asked cells until the queue closes; returns the
+  /// thread-seconds they spent.
+  double simulate_here(int threads) {
+    double seconds = 0.0;
+    tbb::task_arena arena(threads);  // their own: the search's threads only wait
+    arena.execute([&] {
+      seconds = simulate_in_loops(
+          campaign_, threads, [&] { return wait_for_task(); },
+          [&](CellRecord record, int cost, double spent) { deliver(std::move(record), cost, spent); });
+    });
+    return seconds;
+  }
+
+ private:
+  std::optional<CellTask> take_locked() {
+    if (asked_.empty() || core::interrupt_signal() != 0) return std::nullopt;
+    const CellTask task = asked_.front();
+    asked_.pop_front();
+    return task;
+  }
+
+  std::optional<CellTask> wait_for_task() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      if (auto task = take_locked()) return task;
+      if (closed_ || core::interrupt_signal() != 0) return std::nullopt;
+      changed_.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  }
+
+  const Campaign& campaign_;
+  std::uint32_t grid_;
+  Committer& committer_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<CellTask> asked_;                         ///< asked for, not taken yet
+  std::unordered_map<std::uint32_t, sim::Region> answers_;  ///< per cell asked: kInfeasible until delivered
+  bool closed_ = false;
+  bool abandoned_ = false;
+};
 
 // The adaptive search's view of one grid: feasibility and the stop boundary from the scene;
 // simulations run as a full sweep runs them (the cell's own seed), stored through the committer,
@@ -247,6 +443,7 @@ class GridOracle final : public adaptive::Oracle {
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
     if (core::interrupt_signal() != 0) throw SearchInterrupted{};
+    if (asked_ != nullptr) return asked_->simulate(static_cast<std::uint32_t>(cell));
     sim::CellOptions options;
     options.strategies = campaign_.strategies;
     options.seed = seed(cell);
@@ -263,12 +460,15 @@ class GridOracle final : public adaptive::Oracle {
   }
   /// The store held the cell before this run (simulated, or infeasible).
   [[nodiscard]] bool stored(std::size_t cell) const { return present_[cell] != 0; }
+  /// Simulations go to `asked` (borrowed) instead of this thread.
+  void ask(AskedCells* asked) noexcept { asked_ = asked; }
 
  private:
   enum class Rule { kAnalytic, kSimulate, kNoBaseline };
   const Campaign& campaign_;
   const GridSpec& grid_;
   Committer& committer_;
+  AskedCells* asked_ = nullptr;
   std::vector<sim::Region> stored_;  ///< kInfeasible: not simulated yet
   std::vector<char> present_;        ///< in the store before this run
   Rule stop_rule_ = Rule::kAnalytic;
@@ -346,8 +546,9 @@ AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, 
 
 // One grid by the adaptive search: the cells it asks for are simulated (or read back), the
 // others stored as inferred in batches, then the summary.
-AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, ResultStore& store,
-                               Committer& committer, const SweepOptions& options) {
+AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultStore& store, Committer& committer,
+                               const SweepOptions& options, double& simulation_seconds) {
+  const GridSpec& grid = campaign.grids[g];
   store.delete_inferred(grid.name);
   GridOracle oracle(campaign, grid, committer, store.simulated_regions(grid.name));
   adaptive::Lattice lattice{grid.levels};
@@ -358,11 +559,37 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
   search_options.verify_sample = options.verify_sample;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;
-  try {
-    result = adaptive::search(lattice, oracle, search_options);
-  } catch (const SearchInterrupted&) {
-    return {};  // the caller flushes the committer and reports the interrupt
+  bool interrupted = false;
+  if (options.distributor == nullptr) {
+    try {
+      result = adaptive::search(lattice, oracle, search_options);
+    } catch (const SearchInterrupted&) {
+      interrupted = true;
+    }
+  } else {
+    // The search runs with a thread per simulation it may keep in flight (each waits for its
+    // cell), this process's simulating threads and the distributor beside it.
+    AskedCells asked(campaign, static_cast<std::uint32_t>(g), committer);
+    oracle.ask(&asked);
+    const int here = local_threads(options.threads);
+    beside_distributor(
+        *options.distributor, campaign, asked,
+        [&] {
+          std::jthread simulating([&] { simulation_seconds += asked.simulate_here(here); });
+          try {
+            tbb::task_arena arena(here + options.distributor->threads());
+            arena.execute([&] { result = adaptive::search(lattice, oracle, search_options); });
+          } catch (const SearchInterrupted&) {
+            interrupted = true;
+          } catch (...) {
+            asked.abandon();  // the simulating thread ends before the error goes on
+            throw;
+          }
+          asked.close();
+        },
+        [&] { asked.abandon(); });  // the search and the simulating threads stop
   }
+  if (interrupted) return {};  // the caller flushes the committer and reports the interrupt
   std::vector<CellRecord> batch;
   const auto flush = [&] {
     store.insert(batch);
@@ -387,6 +614,17 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, const GridSpec& grid, R
 }
 
 }  // namespace
+
+CellRecord simulate_task(const Campaign& campaign, const CellTask& task) {
+  const GridSpec& grid = campaign.grids[task.grid];
+  const sim::CellInput& cell = grid.cells[task.index];
+  sim::CellOptions options;
+  options.strategies = campaign.strategies;
+  options.seed = grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[task.index];
+  options.keep_trees = grid.keep_trees;
+  const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, options);
+  return to_record(grid.name, static_cast<std::int64_t>(task.index), options.seed, result, grid.keep_trees);
+}
 
 void parse_shard(const std::string& text, int& index, int& count) {
   const auto slash = text.find('/');
@@ -470,32 +708,27 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
                         log.get());
     if (any_adaptive) committer.drop_estimate();
-    std::atomic<std::size_t> next{0};
-    // More worker loops than threads is harmless: a loop that starts late finds nothing left.
-    tbb::parallel_for(
-        0, workers,
-        [&](int) {
-          // After an interrupt no worker takes another cell; the ones in flight finish.
-          for (std::size_t w = next++; w < work.size() && core::interrupt_signal() == 0; w = next++) {
-            const GridSpec& grid = campaign.grids[work[w].grid];
-            const sim::CellInput& cell = grid.cells[work[w].index];
-            sim::CellOptions cell_options;
-            cell_options.strategies = campaign.strategies;
-            cell_options.seed =
-                grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[work[w].index];
-            cell_options.keep_trees = grid.keep_trees;
-            const auto cell_start = Clock::now();
-            const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, cell_options);
-            committer.add(to_record(grid.name, static_cast<std::int64_t>(work[w].index), cell_options.seed, result,
-                                    grid.keep_trees),
-                          work[w].cost, std::chrono::duration<double>(Clock::now() - cell_start).count());
-          }
-        },
-        tbb::simple_partitioner());  // one task per worker loop, so each can run on its own thread
+    SweepQueue queue(work, committer);
+    if (options.distributor == nullptr) {
+      summary.simulation_seconds = queue.simulate(campaign, workers);
+    } else {
+      // The local threads end with the cell in hand when either side fails.
+      beside_distributor(
+          *options.distributor, campaign, queue,
+          [&] { summary.simulation_seconds = queue.simulate(campaign, workers); }, [&] { queue.stop(); });
+    }
     committer.finish();
+    if (any_adaptive && options.distributor != nullptr) {
+      // A search thread per simulation in flight on any process (sweep_adaptive): more than this
+      // process's threads, most of them waiting.
+      limit.reset();
+      limit.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<std::size_t>(local_threads(options.threads) + options.distributor->threads()));
+    }
     for (std::size_t g = 0; g < campaign.grids.size() && core::interrupt_signal() == 0; ++g) {
       if (!adaptive[g]) continue;
-      AdaptiveSummary grid_summary = sweep_adaptive(campaign, campaign.grids[g], store, committer, options);
+      AdaptiveSummary grid_summary =
+          sweep_adaptive(campaign, g, store, committer, options, summary.simulation_seconds);
       committer.finish();
       if (core::interrupt_signal() == 0) summary.adaptive.push_back(std::move(grid_summary));
     }

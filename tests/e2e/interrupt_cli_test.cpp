@@ -4,9 +4,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -17,9 +14,8 @@
 
 #include "run_emrm.hpp"
 #include "small_example.hpp"
+#include "spawn_process.hpp"
 #include "test_scale.hpp"
-
-extern char** environ;
 
 namespace emrm::e2e {
 namespace interrupt_cli_test {
@@ -31,28 +27,13 @@ namespace fs = std::filesystem;
 // `signal` `delay` after `ready` exists, and waits for it.
 RunResult interrupted_emrm(const std::vector<std::string>& args, const fs::path& ready, std::chrono::milliseconds delay,
                            int signal, const fs::path& dir) {
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, 1, (dir / "stdout.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&files, 2, (dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::vector<std::string> words{EMRM_BINARY};
   words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  EXPECT_EQ(posix_spawn(&pid, EMRM_BINARY, &files, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&files);
+  const pid_t pid = spawn_process(words, dir);
   for (int i = 0; i < 600 && !fs::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   std::this_thread::sleep_for(delay);
   ::kill(pid, signal);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = read_text(dir / "stdout.txt");
-  r.err = read_text(dir / "stderr.txt");
-  return r;
+  return wait_for_process(pid, dir);
 }
 
 // 240 cells; 64 under the sanitizers, which run every cell five to ten times slower.

@@ -33,6 +33,9 @@ struct RunOptions {
   /// An actuation profile overlaying the plan's scene (sim::apply_profile; a NAME is looked up in
   /// the scene's profiles/ folder). Empty: the scene as it is.
   std::string profile;
+  /// Other processes that simulate scenarios beside this one's threads (SweepOptions::distributor);
+  /// borrowed. Null: this process alone.
+  Distributor* distributor = nullptr;
 };
 
 /// A target the plan fell short of (scenarios.json's `stop.shortfalls`), repeated by `emrm run`.

@@ -14,6 +14,8 @@
 
 namespace emrm::campaign {
 
+class Distributor;
+
 struct SweepOptions {
   std::filesystem::path output_dir;
   int threads = 0;      ///< 0 = all cores
@@ -31,6 +33,9 @@ struct SweepOptions {
   std::size_t stride = 4;
   adaptive::Brackets brackets = adaptive::Brackets::kAuto;
   std::optional<std::size_t> verify_sample;  ///< none: automatic (adaptive.hpp)
+  /// Other processes that simulate cells beside this one's threads (distribute.hpp; the MPI ranks
+  /// of cluster/mpi_sweep.hpp); borrowed. Null: this process alone.
+  Distributor* distributor = nullptr;
 };
 
 /// What the adaptive search of one grid did (also stored, as JSON, in the store's adaptive table).
@@ -53,6 +58,7 @@ struct SweepSummary {
   std::size_t cells_done_before = 0;  ///< found in the store and skipped
   std::size_t cells_simulated = 0;
   double seconds = 0.0;
+  double simulation_seconds = 0.0;  ///< thread-seconds this process's threads spent simulating cells
   std::vector<AdaptiveSummary> adaptive;  ///< one per grid swept adaptively, in grid order
 };
 
