@@ -9,8 +9,8 @@ namespace emrm::cluster {
 std::optional<std::string> mpi_unavailable(const std::function<const char*(const char*)>& environment) {
   if (!mpi_built())
     return "--mpi: this emrm was built without MPI (EMRM_WITH_MPI is off: install Open MPI with "
-           "scripts/install-deps.sh and rebuild); run without --mpi on one machine, or split the campaign with "
-           "--shard K/N and join the parts with emrm merge";
+           "scripts/install-deps.sh and rebuild); run without --mpi on one machine (emrm sweep can also split a "
+           "campaign with --shard K/N, joined by emrm merge)";
   // Checked before MPI_Init: started alone, Open MPI would quietly run a job of one rank.
   for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
     if (environment(launched) != nullptr) return std::nullopt;
