@@ -80,7 +80,7 @@ class RegionCounter {
       const std::size_t i = cells[k];
       sim::CellOptions options;
       options.strategies = campaign_.strategies;
-      options.seed = grid_.seeds.empty() ? cell_seed(campaign_, grid_.name, grid_.cells[i]) : grid_.seeds[i];
+      options.seed = cell_seed(campaign_, grid_, i);
       out[k] = std::string(sim::region_name(sim::simulate_cell(scene, grid_.cells[i], options).region));
     });
     return out;

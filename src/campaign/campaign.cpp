@@ -316,6 +316,10 @@ std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const
   return sim::derive_seed(campaign.seed, cell_key(grid, cell));
 }
 
+std::uint64_t cell_seed(const Campaign& campaign, const GridSpec& grid, std::size_t index) {
+  return grid.seeds.empty() ? cell_seed(campaign, grid.name, grid.cells[index]) : grid.seeds[index];
+}
+
 std::string config_hash(const Campaign& campaign) {
   // FNV-1a over a canonical text of everything that decides a cell's result.
   std::uint64_t h = 14695981039346656037ull;

@@ -403,13 +403,14 @@ class AskedCells final : public TaskQueue {
 // or read from the store when an earlier run simulated them.
 class GridOracle final : public adaptive::Oracle {
  public:
-  GridOracle(const Campaign& campaign, const GridSpec& grid, Committer& committer,
+  GridOracle(const Campaign& campaign, std::size_t g, Committer& committer,
              const std::vector<std::pair<std::int64_t, std::string>>& stored)
       : campaign_(campaign),
-        grid_(grid),
+        g_(static_cast<std::uint32_t>(g)),
+        grid_(campaign.grids[g]),
         committer_(committer),
-        stored_(grid.cells.size(), sim::Region::kInfeasible),
-        present_(grid.cells.size(), 0) {
+        stored_(grid_.cells.size(), sim::Region::kInfeasible),
+        present_(grid_.cells.size(), 0) {
     for (const auto& [index, region] : stored)
       if (index >= 0 && static_cast<std::size_t>(index) < stored_.size()) {
         stored_[static_cast<std::size_t>(index)] = adaptive::region_named(region);
@@ -444,20 +445,14 @@ class GridOracle final : public adaptive::Oracle {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
     if (core::interrupt_signal() != 0) throw SearchInterrupted{};
     if (asked_ != nullptr) return asked_->simulate(static_cast<std::uint32_t>(cell));
-    sim::CellOptions options;
-    options.strategies = campaign_.strategies;
-    options.seed = seed(cell);
-    options.keep_trees = grid_.keep_trees;
     const auto start = Clock::now();
-    const sim::CellResult result = sim::simulate_cell(campaign_.scene, grid_.cells[cell], options);
-    committer_.add(to_record(grid_.name, static_cast<std::int64_t>(cell), options.seed, result, grid_.keep_trees), 1,
-                   std::chrono::duration<double>(Clock::now() - start).count());
-    return result.region;
+    CellRecord record = simulate_task(campaign_, CellTask{g_, static_cast<std::uint32_t>(cell), 1});
+    const sim::Region region = adaptive::region_named(record.region);
+    committer_.add(std::move(record), 1, std::chrono::duration<double>(Clock::now() - start).count());
+    return region;
   }
 
-  [[nodiscard]] std::uint64_t seed(std::size_t cell) const {
-    return grid_.seeds.empty() ? cell_seed(campaign_, grid_.name, grid_.cells[cell]) : grid_.seeds[cell];
-  }
+  [[nodiscard]] std::uint64_t seed(std::size_t cell) const { return cell_seed(campaign_, grid_, cell); }
   /// The store held the cell before this run (simulated, or infeasible).
   [[nodiscard]] bool stored(std::size_t cell) const { return present_[cell] != 0; }
   /// Simulations go to `asked` (borrowed) instead of this thread.
@@ -466,6 +461,7 @@ class GridOracle final : public adaptive::Oracle {
  private:
   enum class Rule { kAnalytic, kSimulate, kNoBaseline };
   const Campaign& campaign_;
+  std::uint32_t g_;  ///< the grid's position in the campaign
   const GridSpec& grid_;
   Committer& committer_;
   AskedCells* asked_ = nullptr;
@@ -550,7 +546,7 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
                                const SweepOptions& options, double& simulation_seconds) {
   const GridSpec& grid = campaign.grids[g];
   store.delete_inferred(grid.name);
-  GridOracle oracle(campaign, grid, committer, store.simulated_regions(grid.name));
+  GridOracle oracle(campaign, g, committer, store.simulated_regions(grid.name));
   adaptive::Lattice lattice{grid.levels};
   adaptive::Options search_options;
   search_options.initial_levels = options.initial_levels;
@@ -620,7 +616,7 @@ CellRecord simulate_task(const Campaign& campaign, const CellTask& task) {
   const sim::CellInput& cell = grid.cells[task.index];
   sim::CellOptions options;
   options.strategies = campaign.strategies;
-  options.seed = grid.seeds.empty() ? cell_seed(campaign, grid.name, cell) : grid.seeds[task.index];
+  options.seed = cell_seed(campaign, grid, task.index);
   options.keep_trees = grid.keep_trees;
   const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, options);
   return to_record(grid.name, static_cast<std::int64_t>(task.index), options.seed, result, grid.keep_trees);

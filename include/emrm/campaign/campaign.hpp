@@ -87,6 +87,9 @@ void apply_profile(Campaign& campaign, const std::string& profile);
 /// sim::derive_seed(campaign.seed, cell_key(grid, cell)): the same on every run, thread and shard.
 [[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid,
                                       const sim::CellInput& cell);
+/// The seed cell `index` of `grid` is simulated with: the grid's own (a planned scenario's) when it
+/// lists them, else the one above.
+[[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const GridSpec& grid, std::size_t index);
 
 /// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees only with
 /// `keep_trajectories`, simulated with trees kept).
