@@ -3,10 +3,12 @@
 // simulator. Prints, per adaptive-capable grid, the simulations the search would need (and how many
 // of them were strengthened searches, the dear ones) and the cells its map would get wrong: the
 // figures docs/adaptive.md reports, measured without simulating anything. A seventh argument
-// prints the simulations per line of speed by friction.
+// prints the simulations per line of speed by friction. EMRM_SPREAD=N sets Options::spread and
+// EMRM_NOEARLY=1 turns Options::predict_early off.
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cstdlib>
 #include <exception>
 #include <map>
@@ -60,6 +62,8 @@ int main(int argc, char** argv) try {
     if (!brackets) throw std::invalid_argument("expected auto, search or predict");
     options.brackets = *brackets;
   }
+  if (const char* v = std::getenv("EMRM_SPREAD")) options.spread = static_cast<std::uint32_t>(std::strtoul(v, nullptr, 10));
+  if (std::getenv("EMRM_NOEARLY")) options.predict_early = false;
   std::map<std::string, std::vector<sim::Region>> truth;
   std::map<std::string, std::vector<char>> dear;  // the cell's search was strengthened (about 1 s, not 0.02)
   for (const campaign::GridSpec& grid : c.grids) {
@@ -92,6 +96,16 @@ int main(int argc, char** argv) try {
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
                result.lines_fully_resolved, result.rounds, strengthened);
+    fmt::print("  cost estimate {:.0f} s (1.0 s a strengthened simulation, 0.12 s another)\n",
+               1.0 * static_cast<double>(strengthened) + 0.12 * static_cast<double>(result.simulated - strengthened));
+    std::array<std::size_t, campaign::adaptive::kPurposes> dear_for{};
+    for (std::size_t i = 0; i < result.cells.size(); ++i)
+      if (result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i])
+        ++dear_for[result.cells[i].purpose];
+    fmt::print("  strengthened for:");
+    for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
+      fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)), dear_for[p]);
+    fmt::print("\n");
     fmt::print("  simulated for:");
     for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
       fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)),

@@ -32,6 +32,7 @@ struct SweepCommandOptions {
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
   std::string brackets = "auto";
+  std::uint32_t spread = 3;
   MpiOptions mpi;
 };
 
@@ -74,6 +75,7 @@ campaign::SweepOptions sweep_options(const SweepCommandOptions& o) {
   options.initial_levels = o.initial_levels;
   options.stride = o.stride;
   options.brackets = *campaign::adaptive::brackets_named(o.brackets);  // checked by IsMember
+  options.spread = o.spread;
   return options;
 }
 
@@ -200,6 +202,12 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                     "(search), takes the one predicted from them (predict), or auto: predict on grids of three "
                     "factors or more")
       ->check(CLI::IsMember({"auto", "search", "predict"}))
+      ->capture_default_str();
+  sweep->add_option("--spread", s->spread,
+                    "Adaptive, where brackets are predicted: corners whose avoidance thresholds or early runs "
+                    "differ by up to N TTC levels still agree, and the lines between take what they predict "
+                    "(1 to 1000)")
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000}, "1 to 1000"))
       ->capture_default_str();
   add_mpi_options(sweep, s->mpi, "mpirun -n N emrm sweep ... --mpi");
   sweep->callback([s, &exit_code] {

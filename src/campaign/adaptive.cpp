@@ -35,6 +35,9 @@ bool avoidable(Region r) noexcept { return r == Region::kG || r == Region::kY; }
 struct EarlyHint {
   std::uint32_t end = kNone, g_end = kNone;
   bool to_the_stop = false;  ///< every corner's early run reaches the stop's run (no cell between cannot avoid)
+  /// Where the line's early run is predicted to end (a position; kNone: it is searched), when the
+  /// corners' early runs all end below the stop's run within the bracket of one another.
+  std::uint32_t predicted_end = kNone;
 };
 
 // A line: the feasible cells that differ only in the monotone factor, in ascending order of it.
@@ -50,6 +53,7 @@ struct Line {
   bool full = false;      ///< every cell that the stop boundary does not settle simulated
   bool violated = false;  ///< simulations contradicted monotonicity
   bool early_searched = false;  ///< its early run by simulations of its own (else from its corners)
+  bool early_predicted = false;  ///< its early run's end predicted from its corners (its G part searched)
   std::uint32_t hint = kNone;       ///< a guess of the avoidance threshold's position (from a parent box)
   std::uint32_t stop_hint = kNone;  ///< and of the stop boundary's
   EarlyHint early_hint;  ///< from a parent box
@@ -103,6 +107,7 @@ struct Signature {
   Range box;  ///< where the corners are
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
   EarlyHint early_hint;  ///< the median ends of the corners' early runs
+  bool early_predicted = false;  ///< the corners' early runs end alike below the stop's run
   std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
   // Or, when the corners' labels differ at some level: the runs of labels they all have, bottom to
   // top, and the span of the positions where each run after the first starts.
@@ -148,6 +153,8 @@ class Search {
                                        [&](std::size_t k) { return lattice.levels[k].size() > 1; });
     predict_brackets_ =
         options.brackets == Brackets::kPredict || (options.brackets == Brackets::kAuto && varying >= 2);
+    predict_labels_ = predict_brackets_ && varying >= 3;
+    spread_ = predict_brackets_ ? std::max(options.bracket, options.spread) : options.bracket;
     result_.cells.resize(lattice.size());
     build_lines();
   }
@@ -155,7 +162,10 @@ class Search {
   Result run() {
     refine(Question::kThresholds);
     refine(Question::kLabels);
-    for (Line& line : lines_) settle_prediction(line);
+    for (Line& line : lines_) {
+      settle_prediction(line);
+      settle_early(line);
+    }
     resolve_violations();
     for (std::size_t id = 0; id < lines_.size(); ++id) fill(id);
     verify();
@@ -287,6 +297,7 @@ class Search {
     if (c.method != Method::kSimulated) {
       c.region = oracle_.simulate(cell);
       c.method = Method::kSimulated;
+      c.purpose = static_cast<std::uint8_t>(purpose);
       c.from.clear();
       ++simulated_;
       ++simulated_for_[static_cast<std::size_t>(purpose)];
@@ -351,6 +362,7 @@ class Search {
     const auto guess = [&](std::uint32_t position, std::size_t hi) {
       return position == kNone ? 0 : std::min(index_at(line, position), hi);
     };
+    if (hint.predicted_end != kNone && predicted_early_run(line, hint, top, purpose)) return;
     // Between corners whose early runs all reach the stop's run, no gap is looked for: the line's
     // early run is taken to reach it too (its G part is still searched, and what it simulates is
     // checked against that).
@@ -358,6 +370,50 @@ class Search {
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
     line.t_eg = threshold(0, g_end, guess(hint.g_end, g_end), [&](std::size_t i) { return region(i) != Region::kG; });
+  }
+
+  // Between corners whose early runs end alike below the stop's run: the G part searched exactly
+  // below the first cell that physics says cannot stop (G cannot reach past it, and the stop's G run
+  // lies above it), the end of the avoiding part predicted from the corners, unless the first cell
+  // above the G part already cannot avoid. False (nothing decided) when no cell below the top
+  // cannot stop: then G is searched after the walk, as on a corner.
+  bool predicted_early_run(Line& line, const EarlyHint& hint, std::size_t top, Purpose purpose) {
+    std::size_t cannot_stop = 0;
+    while (cannot_stop < top && oracle_.stop(line.cells[cannot_stop]) != StopCall::kCannotStop) ++cannot_stop;
+    if (cannot_stop >= top) return false;
+    const auto region = [&](std::size_t i) { return simulate(line.cells[i], purpose); };
+    const std::size_t guess = hint.g_end == kNone ? 0 : std::min(index_at(line, hint.g_end), cannot_stop);
+    line.t_eg = threshold(0, cannot_stop, guess, [&](std::size_t i) { return region(i) != Region::kG; });
+    if (line.t_eg < cannot_stop && !avoidable(region(line.t_eg))) {
+      line.t_e = line.t_eg;
+      return true;
+    }
+    line.t_e = std::clamp(index_at(line, hint.predicted_end), line.t_eg + (line.t_eg < cannot_stop ? 1 : 0), top);
+    line.early_predicted = true;
+    return true;
+  }
+
+  // A predicted early run's end moved where the line's own simulations put it: down to the first
+  // that cannot avoid, up past the last that avoids below the first that cannot. Cells that join
+  // the part below the avoidance threshold take the label of the simulated cell they join.
+  void settle_early(Line& line) {
+    if (!line.early_predicted) return;
+    std::size_t t = line.t_e;
+    for (std::size_t i = line.t_eg; i < line.t_e; ++i)
+      if (is_simulated(line.cells[i]) && !avoidable(result_.cells[line.cells[i]].region)) {
+        t = i;
+        break;
+      }
+    if (t == line.t_e)
+      for (std::size_t i = line.t_e; i < line.t_a && i < line.cells.size(); ++i) {
+        if (!is_simulated(line.cells[i])) continue;
+        if (!avoidable(result_.cells[line.cells[i]].region)) break;
+        t = i + 1;
+      }
+    if (t == line.t_e) return;
+    if (t < line.t_e && line.labels_known && line.labels.size() >= line.t_e)
+      for (std::size_t i = t; i < line.t_e; ++i) line.labels[i] = result_.cells[line.cells[t]].region;
+    line.t_e = std::min(t, line.t_a);
   }
 
   // An early run that met the stop's run may have walked over a gap narrower than the stride: the
@@ -617,6 +673,18 @@ class Search {
         const Line& line = lines_[id];
         return line.cells.empty() || (line.t_e > 0 && line.t_e >= line.t_g);
       });
+      if (predict_brackets_ && options_.predict_early) {
+        std::uint32_t low = kNone, high = 0;
+        bool alike = true;
+        for (std::size_t id : corners) {
+          const Line& line = lines_[id];
+          if (line.cells.empty()) continue;
+          if (line.t_e == 0 || line.t_e >= line.t_g) alike = false;
+          low = std::min(low, line.early_position());
+          high = std::max(high, line.early_position());
+        }
+        if (alike && low != kNone && high - low <= spread_) s.early_predicted = true;
+      }
     }
     for (std::size_t id : corners) {
       const Line& line = lines_[id];
@@ -635,8 +703,9 @@ class Search {
         if (!inserted && it->second != line.labels[i]) return alike_runs(corners, std::move(s));
       }
     }
-    if (q == Question::kThresholds && s.avoid_low != kNone && s.avoid_high - s.avoid_low > options_.bracket)
-      return std::nullopt;
+    if (q == Question::kThresholds && s.avoid_low != kNone && s.avoid_high - s.avoid_low > options_.bracket) {
+      if (!predict_brackets_ || s.avoid_high - s.avoid_low > spread_) return std::nullopt;
+    }
     return s;
   }
 
@@ -679,11 +748,38 @@ class Search {
     for (std::size_t j = 0; j < s.changes.size(); ++j) {
       const std::size_t lo = std::clamp(index_at(line, s.changes[j].first), from, line.t_a);
       const std::size_t hi = std::clamp(index_at(line, s.changes[j].second), lo, line.t_a);
-      from = threshold(lo, hi, hi, [&](std::size_t i) {
-        return simulate(line.cells[i], Purpose::kLabelBrackets) != s.runs[j];
-      });
+      if (predict_labels_ && lo != hi) {
+        from = predicted_change(line, id, s, j, lo, hi);
+      } else {
+        from = threshold(lo, hi, hi, [&](std::size_t i) {
+          return simulate(line.cells[i], Purpose::kLabelBrackets) != s.runs[j];
+        });
+      }
       line.changes.push_back(from);
     }
+  }
+
+  // Where the corners' j-th change of labels predicts the line's, within [lo, hi]: interpolated
+  // from them, then moved where the line's own simulations say (above the last cell of the run
+  // before it, at the first of the run after it).
+  std::size_t predicted_change(const Line& line, std::size_t id, const Signature& s, std::size_t j, std::size_t lo,
+                               std::size_t hi) const {
+    const std::uint32_t at = interpolated(s.box, id, [&](const Line& corner) -> std::optional<std::uint32_t> {
+      if (!corner.labels_sampled || corner.t_a <= corner.t_e) return std::nullopt;
+      const Runs r = runs_of(corner);
+      if (r.starts.size() != s.changes.size()) return std::nullopt;
+      return r.starts[j];
+    });
+    std::size_t change = at == kNone ? hi : std::clamp(index_at(line, at), lo, hi);
+    const auto label = [&](std::size_t i) { return result_.cells[line.cells[i]].region; };
+    for (std::size_t i = lo; i < hi; ++i)
+      if (is_simulated(line.cells[i]) && label(i) == s.runs[j]) change = std::max(change, i + 1);
+    for (std::size_t i = change; i-- > lo;) {
+      if (!is_simulated(line.cells[i])) continue;
+      if (label(i) == s.runs[j]) break;
+      if (label(i) == s.runs[j + 1]) change = i;
+    }
+    return change;
   }
 
   // A line between agreeing corners: its own early run (none, without a simulation, when no corner
@@ -696,6 +792,7 @@ class Search {
     if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop) {
       EarlyHint hint = s.early_hint;
       if (hint.g_end != kNone) hint.g_end = predicted(s.box, id, &Line::early_g_end);
+      if (s.early_predicted) hint.predicted_end = predicted(s.box, id, &Line::early_position);
       early_run(line, Purpose::kThresholdBrackets, hint);
     }
     line.stop_hint = predicted(s.box, id, &Line::stop_start);
@@ -887,11 +984,21 @@ class Search {
   // corner has cells.
   [[nodiscard]] std::uint32_t predicted(const Range& box, std::size_t id,
                                         std::uint32_t (Line::*start)() const) const {
+    return interpolated(box, id, [&](const Line& corner) -> std::optional<std::uint32_t> {
+      if (corner.cells.empty() || !corner.thresholds_searched) return std::nullopt;
+      return (corner.*start)();
+    });
+  }
+
+  // A position the corners of `box` give (nothing from a corner that has none), interpolated
+  // multilinearly at the line `id`'s place in the box; kNone when no corner gives one.
+  template <typename Value>
+  [[nodiscard]] std::uint32_t interpolated(const Range& box, std::size_t id, Value&& value) const {
     const auto p = line_position(id);
     double sum = 0.0, weight = 0.0;
     for_each_corner(box, [&](std::size_t c) {
-      const Line& corner = lines_[c];
-      if (corner.cells.empty() || !corner.thresholds_searched) return;
+      const std::optional<std::uint32_t> v = value(lines_[c]);
+      if (!v) return;
       const auto q = line_position(c);
       double w = 1.0;
       for (std::size_t a = 0; a < 4; ++a) {
@@ -899,7 +1006,7 @@ class Search {
         const double f = static_cast<double>(p[a] - box.lo[a]) / static_cast<double>(box.hi[a] - box.lo[a]);
         w *= q[a] == box.hi[a] ? f : 1.0 - f;
       }
-      sum += w * (corner.*start)();
+      sum += w * *v;
       weight += w;
     });
     return weight > 0.0 ? static_cast<std::uint32_t>(std::lround(sum / weight)) : kNone;
@@ -977,7 +1084,7 @@ class Search {
         c.region = g ? Region::kG : Region::kY;
         begin = g ? 0 : line.t_eg;
         end = g ? line.t_eg : line.t_e;
-        from_line = true;  // an early run is always the line's own
+        from_line = g || !line.early_predicted;  // an early run's G part is always the line's own
       } else if (y) {
         c.region = Region::kY;
         begin = line.t_a;
@@ -992,7 +1099,8 @@ class Search {
         if (above != simulated.begin() && *std::prev(above) >= begin) c.from.push_back(line.cells[*std::prev(above)]);
         if (above != simulated.end() && *above < end) c.from.push_back(line.cells[*above]);
       }
-      if (c.from.empty()) corner_sources(line, y ? line.threshold_corners : line.label_corners, i, c.from);
+      if (c.from.empty())
+        corner_sources(line, y || i < line.t_e ? line.threshold_corners : line.label_corners, i, c.from);
     }
   }
 
@@ -1083,6 +1191,8 @@ class Search {
   Oracle& oracle_;
   Options options_;
   bool predict_brackets_ = false;  ///< Options::brackets, auto resolved
+  std::uint32_t spread_ = 1;       ///< Options::spread, auto resolved
+  bool predict_labels_ = false;    ///< label changes predicted within their bracket (from four factors on)
   std::array<std::vector<std::size_t>, kAxes> order_;  ///< per factor: sorted position → level index
   std::size_t monotone_ = kTtc;
   std::vector<std::size_t> line_axes_;
@@ -1199,6 +1309,7 @@ Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
     if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
   if (options.initial_levels == 1) throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");
   if (options.stride < 1) throw std::invalid_argument("adaptive search: stride must be at least 1");
+  if (options.spread < 1) throw std::invalid_argument("adaptive search: spread must be at least 1");
   return Search(lattice, oracle, options).run();
 }
 

@@ -552,6 +552,7 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
   search_options.initial_levels = options.initial_levels;
   search_options.stride = options.stride;
   search_options.brackets = options.brackets;
+  search_options.spread = options.spread;
   search_options.verify_sample = options.verify_sample;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;

@@ -145,6 +145,8 @@ TEST(AdaptiveCli, BadInputIsRefusedWithOneLine) {
     expect_bad_input(run_emrm(sweep + "--verify-sample " + value), "--verify-sample");
   expect_bad_input(run_emrm(sweep + "--initial-levels 1"), "--initial-levels");
   expect_bad_input(run_emrm(sweep + "--stride 0"), "--stride");
+  for (const char* value : {"0", "-1", "nan", "abc", "1001", "2.5"})
+    expect_bad_input(run_emrm(sweep + "--spread " + value), "--spread");
   for (const char* value : {"exact", "", "1", "Predict"})
     expect_bad_input(run_emrm(sweep + "--brackets '" + value + "'"), "--brackets");
   expect_bad_input(run_emrm(sweep + "--adaptive-levels 3"), "unknown option '--adaptive-levels'");

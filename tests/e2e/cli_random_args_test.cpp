@@ -33,7 +33,7 @@ TEST(CliRandomArguments, ExitCodesAreOnlyZeroOneOrTwo) {
       "--output",    "-o",       "--levels", "--strength",  "--effort",          "--sample", "--profile",
       "--format",    "--words",  "--json",   "--shard",     "--force",           "--scene",  "--strategy",
       "--fit",       "--stops",  "--match",  "--examples",  "--no-certify",      "--check",  "--bogus",
-      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--brackets", "--max-figures", "--no-figures",
+      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--brackets", "--spread", "--max-figures", "--no-figures",
       "--plan",      "--tolerance-m"};
   const std::string out = (dir.parent_path() / "out").string();
   const std::vector<std::string> values{

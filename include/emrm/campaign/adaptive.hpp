@@ -96,6 +96,12 @@ struct Options {
   /// corners without one (off by a level where the prediction is; the verification sample measures
   /// it); auto: predicted when the lines vary in two factors or more (grids of three or more).
   Brackets brackets = Brackets::kAuto;
+  /// With predicted brackets: corners whose avoidance thresholds differ by up to this many levels
+  /// (at least 1) agree, and the lines between take the threshold they predict.
+  std::uint32_t spread = 3;
+  /// With predicted brackets: a line between corners whose early runs end within `spread` levels of
+  /// one another below the stop's run takes the end they predict (its G part is still searched).
+  bool predict_early = true;
   /// Inferred cells re-simulated at random at the end to measure the disagreement rate; none: 0.5 %
   /// of the feasible cells, at least 20 and at most 500 (never more than were inferred).
   std::optional<std::size_t> verify_sample;
@@ -117,6 +123,8 @@ enum class Method : std::uint8_t {
 struct Cell {
   sim::Region region = sim::Region::kInfeasible;
   Method method = Method::kNone;
+  /// Simulated cells: what the search simulated it for (a Purpose).
+  std::uint8_t purpose = 0;
   /// Inferred cells: the simulated cells that bound the inference (at most 16, sorted).
   std::vector<std::uint32_t> from;
 };

@@ -28,10 +28,11 @@ struct SweepOptions {
   /// Sweep every product grid by the adaptive boundary search (docs/adaptive.md), not only those
   /// with `adaptive: true`. Not with shards.
   bool adaptive = false;
-  /// The search's settings (adaptive.hpp): initial levels, stride, verification sample.
+  /// The search's settings (adaptive.hpp): initial levels, stride, brackets, spread, verification sample.
   std::size_t initial_levels = 0;
   std::size_t stride = 4;
   adaptive::Brackets brackets = adaptive::Brackets::kAuto;
+  std::uint32_t spread = 3;
   std::optional<std::size_t> verify_sample;  ///< none: automatic (adaptive.hpp)
   /// Other processes that simulate cells beside this one's threads (distribute.hpp; the MPI ranks
   /// of cluster/mpi_sweep.hpp); borrowed. Null: this process alone.

@@ -410,6 +410,84 @@ TEST(AdaptiveSearch, LinesBetweenCornersWhoseLabelsChangeAlikeFindTheirOwnChange
   EXPECT_LT(static_cast<double>(result.simulated), 0.2 * static_cast<double>(c.feasible));
 }
 
+// From three factors on, a line between corners whose early runs end alike below the stop's run
+// takes the end they predict instead of walking up to it (the walk ends at a cell that cannot
+// avoid: a dear simulation). Its G part is still its own search, so G stays exact; the avoiding
+// cells above it that it infers name the corners they came from.
+TEST(AdaptiveSearch, PredictedEarlyRunsKeepTheStopExact) {
+  SyntheticMap map;
+  map.lattice.levels = {range(30, 72, 2), range(0.25, 2.95, 0.06), range(0.3, 1.0, 0.1), {2.2, 2.8}, {20.0}};
+  map.avoid_ttc = [](double v, double mu, double passage, double) {
+    return 0.7 + 0.004 * v / mu - 0.1 * (passage - 2.2);
+  };
+  map.early_g_ttc = [](double v, double mu) { return 0.2 + 4.0 / v + 0.05 * mu; };
+  map.early_ttc = [](double v, double mu) { return 0.35 + 4.0 / v + 0.1 * mu; };
+  Result results[2];
+  for (int predict = 0; predict < 2; ++predict) {
+    Options options;
+    options.predict_early = predict == 1;
+    MapOracle oracle(map);
+    results[predict] = search(map.lattice, oracle, options);
+    EXPECT_EQ(results[predict].simulated, oracle.total());
+  }
+  const Comparison walked = compare(map, results[0]), predicted = compare(map, results[1]);
+  EXPECT_EQ(walked.g_wrong, 0U);
+  EXPECT_EQ(predicted.g_wrong, 0U);
+  EXPECT_LT(results[1].simulated, results[0].simulated);
+  EXPECT_LE(static_cast<double>(predicted.differ), 0.01 * static_cast<double>(predicted.feasible));
+  std::size_t inferred_early = 0;
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
+    const Cell& c = results[1].cells[cell];
+    const auto f = map.factors(cell);
+    if (c.method != Method::kBox || f[1] >= map.early_ttc(f[0], f[2])) continue;
+    ++inferred_early;
+    ASSERT_FALSE(c.from.empty()) << cell;
+    for (const auto from : c.from) EXPECT_EQ(results[1].cells[from].method, Method::kSimulated) << cell;
+  }
+  EXPECT_GT(inferred_early, 0U);
+}
+
+// From four factors on, a line between corners whose O/R labels change alike (each change within a
+// level of the others') takes the change they predict without simulating it, as it does its
+// avoidance threshold; with brackets searched each such line simulates its own change. Where the
+// predictions miss, they miss by one level, next to the boundary.
+TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
+  SyntheticMap map = fine_map();
+  map.lattice.levels[0] = range(30, 72, 2);
+  map.lattice.levels[2] = range(0.2, 1.0, 0.1);
+  map.lattice.levels[3] = {1.6, 2.2, 2.8};
+  map.avoid_ttc = [](double v, double mu, double passage, double) {
+    return 0.55 + 0.003 * v / mu - 0.1 * (passage - 2.2);
+  };
+  map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+  Result results[2];
+  for (int predict = 0; predict < 2; ++predict) {
+    Options options;
+    options.brackets = predict ? Brackets::kAuto : Brackets::kSearch;
+    MapOracle oracle(map);
+    results[predict] = search(map.lattice, oracle, options);
+  }
+  const auto label_brackets = [](const Result& r) {
+    return r.simulated_for[static_cast<std::size_t>(Purpose::kLabelBrackets)];
+  };
+  EXPECT_GT(label_brackets(results[0]), 0U);
+  EXPECT_EQ(label_brackets(results[1]), 0U);
+  EXPECT_LT(results[1].simulated, results[0].simulated);
+  const Comparison c = compare(map, results[1]);
+  EXPECT_EQ(c.g_wrong, 0U);
+  EXPECT_EQ(compare(map, results[0]).differ, 0U);
+  EXPECT_LE(static_cast<double>(c.differ), 0.02 * static_cast<double>(c.feasible));
+  // Where a prediction is wrong, the cell is next to the boundary it missed: the avoidance
+  // threshold or the change of labels, within one TTC level.
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {
+    if (!map.feasible(cell) || results[1].cells[cell].region == map.truth(cell)) continue;
+    const auto f = map.factors(cell);
+    const double to_threshold = std::abs(f[1] - map.avoid_ttc(f[0], f[2], f[3], f[4]));
+    const double to_change = std::abs(f[1] - (0.3 + 0.004 * (f[0] - 30.0)));
+    EXPECT_LT(std::min(to_threshold, to_change), 0.06 + 1e-9) << cell;
+  }
+}
+
 TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   const SyntheticMap map = fine_map();
   MapOracle oracle(map);
@@ -418,6 +496,9 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
   options = Options{};
   options.stride = 0;
+  EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
+  options = Options{};
+  options.spread = 0;
   EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
   Lattice empty = map.lattice;
   empty.levels[2].clear();
