@@ -34,7 +34,11 @@ class StoredOracle final : public campaign::adaptive::Oracle {
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
     return campaign::adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
+  [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
+    return rule_ && campaign::adaptive::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
+  }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override { return truth_[cell]; }
+  bool rule_ = std::getenv("EMRM_NORULE") == nullptr;
 
  private:
   const campaign::Campaign& campaign_;

@@ -17,6 +17,10 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "emrm/sim/loss.hpp"
+#include "emrm/sim/rollout.hpp"
+#include "emrm/sim/vehicle.hpp"
+
 namespace emrm::campaign::adaptive {
 namespace {
 
@@ -156,6 +160,7 @@ class Search {
     predict_labels_ = predict_brackets_ && varying >= 3;
     spread_ = predict_brackets_ ? std::max(options.bracket, options.spread) : options.bracket;
     result_.cells.resize(lattice.size());
+    nothing_to_mitigate_.assign(lattice.size(), -1);
     build_lines();
   }
 
@@ -167,7 +172,9 @@ class Search {
       settle_early(line);
     }
     resolve_violations();
-    for (std::size_t id = 0; id < lines_.size(); ++id) fill(id);
+    std::vector<std::size_t> all(lines_.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    parallel(all, [&](std::size_t id) { fill(id); });  // each line writes its own cells
     verify();
     finish();
     return std::move(result_);
@@ -525,30 +532,48 @@ class Search {
         i = i > line.t_e + options_.stride ? i - options_.stride : line.t_e;
         samples.push_back(line.cells[i]);
       }
+      std::erase_if(samples, [&](std::uint32_t cell) { return !is_simulated(cell) && nothing_to_mitigate(cell); });
       simulate_all(samples, Purpose::kLabels);
       bisect_changes(line, line.t_e, line.t_a, Purpose::kLabels);
     }
     line.labels.assign(line.t_a, Region::kR);
     std::size_t below = line.t_e;
     for (std::size_t i = line.t_e; i < line.t_a; ++i) {
-      if (is_simulated(line.cells[i])) below = i;
-      line.labels[i] = result_.cells[line.cells[below]].region;
+      if (label(line.cells[i])) below = i;
+      line.labels[i] = label(line.cells[below]).value_or(Region::kR);
     }
   }
 
-  // Between two simulated cells of [begin, end) with different labels, simulations halve the gap
-  // until the two are neighbours; the midpoints of one pass are simulated together.
+  // Whether an unavoidable cell is R by the oracle's rule (nothing to mitigate), asked once a cell.
+  bool nothing_to_mitigate(std::uint32_t cell) {
+    std::int8_t& known = nothing_to_mitigate_[cell];
+    if (known < 0) known = oracle_.nothing_to_mitigate(cell) ? 1 : 0;
+    return known == 1;
+  }
+
+  // An unavoidable cell's label when something gives it: its simulation, else the rule.
+  std::optional<Region> label(std::uint32_t cell) {
+    if (is_simulated(cell)) return result_.cells[cell].region;
+    if (nothing_to_mitigate(cell)) return Region::kR;
+    return std::nullopt;
+  }
+
+  // Between two cells of [begin, end) with different known labels (simulated, or R by the rule),
+  // simulations halve the gap until the two are neighbours; the midpoints of one pass are simulated
+  // together.
   void bisect_changes(const Line& line, std::size_t begin, std::size_t end, Purpose purpose) {
     std::vector<std::uint32_t> midpoints{0};
     while (!midpoints.empty()) {
       midpoints.clear();
       std::size_t previous = end;
+      std::optional<Region> before;
       for (std::size_t i = begin; i < end; ++i) {
-        if (!is_simulated(line.cells[i])) continue;
-        if (previous != end && i - previous > 1 &&
-            result_.cells[line.cells[i]].region != result_.cells[line.cells[previous]].region)
+        const std::optional<Region> here = label(line.cells[i]);
+        if (!here) continue;
+        if (previous != end && i - previous > 1 && *here != *before)
           midpoints.push_back(line.cells[previous + (i - previous) / 2]);
         previous = i;
+        before = here;
       }
       simulate_all(midpoints, purpose);
     }
@@ -1091,7 +1116,7 @@ class Search {
         end = line.t_g;
         from_line = line.thresholds_searched;
       } else {
-        c.region = line.labels[i];
+        c.region = nothing_to_mitigate(line.cells[i]) ? Region::kR : line.labels[i];
       }
       c.method = from_line ? Method::kLine : Method::kBox;
       if (from_line) {  // the simulated cells around it in its run
@@ -1197,6 +1222,7 @@ class Search {
   std::size_t monotone_ = kTtc;
   std::vector<std::size_t> line_axes_;
   std::vector<Line> lines_;
+  std::vector<std::int8_t> nothing_to_mitigate_;  ///< per cell: -1 not asked yet, else the oracle's answer
   Result result_;
   std::atomic<std::size_t> simulated_{0};
   std::array<std::atomic<std::size_t>, kPurposes> simulated_for_{};
@@ -1278,6 +1304,15 @@ bool in_the_way_from(const sim::SceneConfig& scene, const sim::CellInput& cell, 
 }
 
 }  // namespace
+
+bool nothing_to_mitigate(const sim::SceneConfig& scene, const sim::CellInput& cell) {
+  const sim::Scene s(scene, cell);
+  if (!s.feasible()) return false;
+  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
+  const sim::RolloutResult nothing = sim::no_action_rollout(s, *model);
+  return nothing.termination == sim::Termination::kContact &&
+         nothing.impact.loss_level <= sim::loss_level(true, false, 0.0, 0.0, scene.severity);
+}
 
 bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   if (!(cell.truck_speed_kph > 0.0)) return false;

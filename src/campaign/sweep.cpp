@@ -441,6 +441,9 @@ class GridOracle final : public adaptive::Oracle {
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
     return adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
+  [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
+    return adaptive::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
+  }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];
     if (core::interrupt_signal() != 0) throw SearchInterrupted{};

@@ -57,6 +57,13 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 /// latency and the quicker dead time) while the truck stands in its way: then nothing avoids it.
 [[nodiscard]] bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
+/// Whether the car doing nothing hits the truck at the lowest loss level a contact can have
+/// (P(MAIS3+) and P(fatal) below their levels: L4): then a strategy that does not avoid the truck
+/// cannot be graded lower either, and an unavoidable cell is R (Oracle::nothing_to_mitigate for the
+/// shipped loss model). Not a proof: a contact without closing speed (the stopped car touched by
+/// the truck) grades 0, below L4, and makes such a cell O; the verification sample measures it.
+[[nodiscard]] bool nothing_to_mitigate(const sim::SceneConfig& scene, const sim::CellInput& cell);
+
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
 /// read back).
 [[nodiscard]] sim::Region region_named(std::string_view name) noexcept;
@@ -74,6 +81,10 @@ class Oracle {
   /// there, which the car may pass in front of at the lowest TTCs (a moving truck). Then a line
   /// along TTC may start with a run of its own that avoids, below the cells that cannot.
   [[nodiscard]] virtual bool passes_early(std::size_t /*cell*/) const { return false; }
+  /// Whether an unavoidable cell is R without a simulation: the crash of doing nothing is already
+  /// graded the lowest a crash can be. The labels below a line's avoidance threshold are then not
+  /// sampled where it says so.
+  [[nodiscard]] virtual bool nothing_to_mitigate(std::size_t /*cell*/) const { return false; }
 };
 
 /// Options::brackets.

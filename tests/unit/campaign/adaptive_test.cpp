@@ -34,6 +34,8 @@ struct SyntheticMap {
   /// A truck still on its way (truck speed above 0): below these TTCs the car passes in front of it,
   /// G below the first, Y below the second. None when unset.
   std::function<double(double v, double mu)> early_g_ttc, early_ttc;
+  /// Where the oracle says an unavoidable cell is R without a simulation (nowhere when unset).
+  std::function<bool(double v, double ttc)> nothing_to_mitigate;
 
   [[nodiscard]] std::array<double, 5> factors(std::size_t cell) const {
     std::array<double, 5> f{};
@@ -83,6 +85,10 @@ class MapOracle final : public Oracle {
     return margin < -0.1 && arrived ? StopCall::kCannotStop : StopCall::kUnknown;
   }
   [[nodiscard]] bool passes_early(std::size_t cell) const override { return map_.passes_early(cell); }
+  [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
+    const auto f = map_.factors(cell);
+    return map_.nothing_to_mitigate && map_.nothing_to_mitigate(f[0], f[1]);
+  }
   [[nodiscard]] Region simulate(std::size_t cell) override {
     EXPECT_TRUE(map_.feasible(cell)) << "simulated an infeasible cell " << cell;
     EXPECT_EQ(calls_[cell]++, 0) << "simulated cell " << cell << " twice";
@@ -486,6 +492,43 @@ TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
     const double to_change = std::abs(f[1] - (0.3 + 0.004 * (f[0] - 30.0)));
     EXPECT_LT(std::min(to_threshold, to_change), 0.06 + 1e-9) << cell;
   }
+}
+
+// Where the oracle says there is nothing to mitigate (the crash of doing nothing is already graded
+// the lowest a crash can be), the unavoidable cells are R without sampling their labels: the same
+// map from fewer simulations. Where the rule is wrong (an O it calls R), the map follows the rule and
+// the verification sample is what finds it.
+TEST(AdaptiveSearch, CellsWithNothingToMitigateAreRWithoutASimulation) {
+  SyntheticMap map = fine_map();
+  map.unavoidable = [](double v, double ttc, double) { return v > 50.0 && ttc > 0.4 ? Region::kO : Region::kR; };
+  Result results[2];
+  for (int rule = 0; rule < 2; ++rule) {
+    SyntheticMap m = map;
+    if (rule) m.nothing_to_mitigate = [](double v, double) { return v <= 50.0; };
+    MapOracle oracle(m);
+    results[rule] = search(m.lattice, oracle, Options{});
+    EXPECT_EQ(compare(m, results[rule]).differ, 0U) << rule;
+  }
+  EXPECT_LT(results[1].simulated_for[static_cast<std::size_t>(Purpose::kLabels)],
+            results[0].simulated_for[static_cast<std::size_t>(Purpose::kLabels)]);
+  EXPECT_LT(results[1].simulated, results[0].simulated);
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {  // no label sampled where the rule holds
+    const Cell& c = results[1].cells[cell];
+    if (map.factors(cell)[0] <= 50.0 && c.method == Method::kSimulated) {
+      EXPECT_NE(c.purpose, static_cast<std::uint8_t>(Purpose::kLabels)) << cell;
+    }
+  }
+
+  SyntheticMap wrong = map;
+  wrong.nothing_to_mitigate = [](double, double) { return true; };  // says R where the map has O
+  MapOracle oracle(wrong);
+  Options options;
+  options.verify_sample = 300;
+  const Result result = search(wrong.lattice, oracle, options);
+  const Comparison c = compare(wrong, result);
+  EXPECT_GT(c.differ, 0U);
+  EXPECT_EQ(c.g_wrong, 0U);
+  EXPECT_FALSE(result.verify_disagreements.empty());
 }
 
 TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
