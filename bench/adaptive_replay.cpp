@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <atomic>
 #include <cstdlib>
 #include <exception>
 #include <map>
@@ -37,7 +38,11 @@ class StoredOracle final : public campaign::adaptive::Oracle {
   [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
     return rule_ && campaign::adaptive::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
   }
-  [[nodiscard]] sim::Region simulate(std::size_t cell) override { return truth_[cell]; }
+  [[nodiscard]] sim::Region simulate(std::size_t cell) override {
+    if (truth_[cell] == sim::Region::kInfeasible) ++unknown;  // not in the store: a replay of part of a grid
+    return truth_[cell];
+  }
+  std::atomic<std::size_t> unknown{0};
   bool rule_ = std::getenv("EMRM_NORULE") == nullptr;
 
  private:
@@ -91,7 +96,14 @@ int main(int argc, char** argv) try {
       strengthened += result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i];
       const sim::Region t = truth[grid.name][i];
       differ += result.cells[i].region != t;
-      g_wrong += (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
+      const bool gw = (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
+      g_wrong += gw;
+      if (gw && std::getenv("EMRM_SHOWG") && g_wrong <= 8) {
+        const auto& cell = grid.cells[i];
+        fmt::print("G wrong: {} {} {} {} {}: stored {} replay {} ({})\n", cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m,
+                   cell.truck_speed_kph, static_cast<int>(t), static_cast<int>(result.cells[i].region),
+                   campaign::adaptive::basis_name(result.cells[i].method));
+      }
     }
     fmt::print("{}: {} cells, {} feasible; simulated {} ({:.1f} %); differ {} ({:.2f} %); G wrong {}; "
                "violations {}; lines {} resolved {} inferred {} full {}; rounds {}; strengthened {}\n",
@@ -100,8 +112,9 @@ int main(int argc, char** argv) try {
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
                result.lines_fully_resolved, result.rounds, strengthened);
-    fmt::print("  cost estimate {:.0f} s (1.0 s a strengthened simulation, 0.12 s another)\n",
-               1.0 * static_cast<double>(strengthened) + 0.12 * static_cast<double>(result.simulated - strengthened));
+    fmt::print("  cost estimate {:.0f} s (1.0 s a strengthened simulation, 0.12 s another); not in the store: {}\n",
+               1.0 * static_cast<double>(strengthened) + 0.12 * static_cast<double>(result.simulated - strengthened),
+               oracle.unknown.load());
     std::array<std::size_t, campaign::adaptive::kPurposes> dear_for{};
     for (std::size_t i = 0; i < result.cells.size(); ++i)
       if (result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i])

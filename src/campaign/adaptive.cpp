@@ -157,7 +157,7 @@ class Search {
                                        [&](std::size_t k) { return lattice.levels[k].size() > 1; });
     predict_brackets_ =
         options.brackets == Brackets::kPredict || (options.brackets == Brackets::kAuto && varying >= 2);
-    predict_labels_ = predict_brackets_ && varying >= 3;
+    four_factors_ = predict_brackets_ && varying >= 3;
     spread_ = predict_brackets_ ? std::max(options.bracket, options.spread) : options.bracket;
     result_.cells.resize(lattice.size());
     nothing_to_mitigate_.assign(lattice.size(), -1);
@@ -376,7 +376,13 @@ class Search {
     line.t_e = hint.to_the_stop ? top : threshold(0, top, 0, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
-    line.t_eg = threshold(0, g_end, guess(hint.g_end, g_end), [&](std::size_t i) { return region(i) != Region::kG; });
+    // Where the early run reaches the stop's run and no cell that cannot stop lies between, the
+    // G test is not monotone up to g_end: early G, then Y, then the stop's G. A guess that lands in
+    // the stop's G looks like the early run's, so the G part is walked up from the bottom instead
+    // (steps of at most the stride, as the early run's end is).
+    const bool unbounded = hint.to_the_stop && g_end == line.t_e;
+    line.t_eg = threshold(0, g_end, unbounded ? 0 : guess(hint.g_end, g_end),
+                          [&](std::size_t i) { return region(i) != Region::kG; }, options_.stride);
   }
 
   // Between corners whose early runs end alike below the stop's run: the G part searched exactly
@@ -711,15 +717,15 @@ class Search {
         if (alike && low != kNone && high - low <= spread_) s.early_predicted = true;
       }
     }
+    bool with_y = false, without_y = false;
     for (std::size_t id : corners) {
       const Line& line = lines_[id];
       if (q == Question::kThresholds) {
         const std::uint32_t p = line.avoid_position();
-        if (id == corners.front()) s.avoid_low = s.avoid_high = p;
-        if ((p == kNone) != (s.avoid_low == kNone)) return std::nullopt;
+        (p == kNone ? without_y : with_y) = true;
         if (p != kNone) {
-          s.avoid_low = std::min(s.avoid_low, p);
-          s.avoid_high = std::max(s.avoid_high, p);
+          s.avoid_low = s.avoid_low == kNone ? p : std::min(s.avoid_low, p);
+          s.avoid_high = std::max(s.avoid_high == kNone ? 0 : s.avoid_high, p);
         }
         continue;
       }
@@ -727,6 +733,9 @@ class Search {
         const auto [it, inserted] = s.labels.emplace(line.position[i], line.labels[i]);
         if (!inserted && it->second != line.labels[i]) return alike_runs(corners, std::move(s));
       }
+    }
+    if (q == Question::kThresholds && with_y && without_y) {
+      return std::nullopt;  // some corners avoid by Y first, others only where braking stops
     }
     if (q == Question::kThresholds && s.avoid_low != kNone && s.avoid_high - s.avoid_low > options_.bracket) {
       if (!predict_brackets_ || s.avoid_high - s.avoid_low > spread_) return std::nullopt;
@@ -773,7 +782,7 @@ class Search {
     for (std::size_t j = 0; j < s.changes.size(); ++j) {
       const std::size_t lo = std::clamp(index_at(line, s.changes[j].first), from, line.t_a);
       const std::size_t hi = std::clamp(index_at(line, s.changes[j].second), lo, line.t_a);
-      if (predict_labels_ && lo != hi) {
+      if (four_factors_ && lo != hi) {
         from = predicted_change(line, id, s, j, lo, hi);
       } else {
         from = threshold(lo, hi, hi, [&](std::size_t i) {
@@ -1054,6 +1063,33 @@ class Search {
       });
       any = any || across[a];
     }
+    if (q == Question::kThresholds && four_factors_) {
+      // From four factors on, only across the factor along which the corners' thresholds differ
+      // most: split across every factor at once, a box of k factors gets up to 3^k - 2^k new corner
+      // lines (65 for k = 4), most of them along factors the next split would not have needed.
+      std::array<std::uint32_t, 4> worst{};
+      for (std::size_t a = 0; a < 4; ++a) {
+        if (!across[a]) continue;
+        for_each_corner(box, [&](std::size_t id) {
+          auto p = line_position(id);
+          if (p[a] != box.lo[a]) return;
+          p[a] = box.hi[a];
+          const Line& x = lines_[id];
+          const Line& y = lines_[line_id(p)];
+          if (x.cells.empty() != y.cells.empty()) {
+            worst[a] = kNone;  // feasible on one side only: the widest disagreement
+            return;
+          }
+          if (x.cells.empty()) return;
+          const std::uint32_t u = x.avoid_start(), v = y.avoid_start();
+          worst[a] = std::max(worst[a], u > v ? u - v : v - u);
+        });
+      }
+      std::size_t best = 4;  // the first of the widest among the factors they disagree across
+      for (std::size_t a = 0; a < 4; ++a)
+        if (across[a] && (best == 4 || worst[a] > worst[best])) best = a;
+      for (std::size_t a = 0; a < 4; ++a) across[a] = across[a] && a == best;
+    }
     std::array<std::vector<std::pair<std::uint32_t, std::uint32_t>>, 4> parts;
     bool divides = false;
     for (std::size_t a = 0; a < 4; ++a) {
@@ -1217,7 +1253,9 @@ class Search {
   Options options_;
   bool predict_brackets_ = false;  ///< Options::brackets, auto resolved
   std::uint32_t spread_ = 1;       ///< Options::spread, auto resolved
-  bool predict_labels_ = false;    ///< label changes predicted within their bracket (from four factors on)
+  /// From four factors on (with predicted brackets): label changes predicted within their bracket,
+  /// thresholds predicted between corners with and without a Y run, boxes split one factor at a time.
+  bool four_factors_ = false;
   std::array<std::vector<std::size_t>, kAxes> order_;  ///< per factor: sorted position → level index
   std::size_t monotone_ = kTtc;
   std::vector<std::size_t> line_axes_;

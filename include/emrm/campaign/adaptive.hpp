@@ -60,8 +60,9 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 /// Whether the car doing nothing hits the truck at the lowest loss level a contact can have
 /// (P(MAIS3+) and P(fatal) below their levels: L4): then a strategy that does not avoid the truck
 /// cannot be graded lower either, and an unavoidable cell is R (Oracle::nothing_to_mitigate for the
-/// shipped loss model). Not a proof: a contact without closing speed (the stopped car touched by
-/// the truck) grades 0, below L4, and makes such a cell O; the verification sample measures it.
+/// shipped loss model). Not a proof: a strategy that fails to avoid without a crash graded L4 (a
+/// contact without closing speed, or no safe state reached within the horizon) grades 0 and makes
+/// such a cell O; the verification sample measures it.
 [[nodiscard]] bool nothing_to_mitigate(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
