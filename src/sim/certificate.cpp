@@ -126,7 +126,12 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Braking& braking, const Wi
     margin = route_margins(c, c.y0 + 0.5 * c.width, c.y0 - 0.5 * c.width, t, t);
     out.window_start_s = out.window_end_s = t;
   } else {
-    const auto [early, late] = arrival_window(c, braking, xi);
+    const auto [early, computed_late] = arrival_window(c, braking, xi);
+    // Braking can only make the car arrive later, but the latest arrival is found on the bound's
+    // time grid: where the car gets there before its brakes act, it can come out a fraction of a
+    // step before the earliest, and the window would hold no step at all (a margin shown for no
+    // arrival time). Then the car arrives at its constant speed, exactly at the earliest time.
+    const double late = std::max(early, computed_late);
     out.window_start_s = c.tau + early;
     out.window_end_s = c.tau + late;
     const int k_last = b.index_at_or_after(late);

@@ -227,6 +227,34 @@ TEST(Certificate, BlockedRoadNarrowPassageAndNoRoomToStopIsCertified) {
     }
 }
 
+// Where the car reaches the crossing line before its brakes act, its latest arrival (found on the
+// bound's time grid) could come out a fraction of a step before its earliest: the window held no
+// step, nothing was checked, and the certificate claimed an infinite margin (stored as null, which
+// `emrm verify` then refused). The five-factor example had such cells at the lowest TTCs beside a
+// truck at 30 km/h. Every certificate now shows a finite margin over a window that holds its
+// arrival, and its checker agrees.
+TEST(Certificate, AnArrivalBeforeTheBrakesActIsChecked) {
+  SceneConfig config;
+  config.actuation = kProductionActuation;
+  int certified = 0;
+  for (double speed : {30.0, 32.0, 36.0, 44.0})
+    for (double ttc : {0.25, 0.31})
+      for (double mu : {0.1, 0.5, 1.0})
+        for (double passage : {1.0, 2.2})
+          for (double truck : {20.0, 30.0}) {
+            const CellInput cell{speed, ttc, mu, passage, truck};
+            const Scene scene(config, cell);
+            const auto cert = certify_unavoidable(scene);
+            if (!cert) continue;
+            ++certified;
+            EXPECT_TRUE(std::isfinite(cert->margin_m)) << describe(cell);
+            EXPECT_GE(cert->margin_m, kCertificateMinMargin_m) << describe(cell);
+            EXPECT_LE(cert->window_start_s, cert->window_end_s) << describe(cell);
+            EXPECT_TRUE(check_certificate(scene, *cert)) << describe(cell);
+          }
+  EXPECT_GT(certified, 0);
+}
+
 // (b) With the truck stopping out of the ego's lane (a 5 m passage: its front stops at y = 0),
 // or standing there, the car that just drives on never touches it: never certified.
 TEST(Certificate, TruckOutOfTheLaneIsNeverCertified) {
