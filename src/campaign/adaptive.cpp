@@ -1162,6 +1162,12 @@ class Search {
       }
       if (c.from.empty())
         corner_sources(line, y || i < line.t_e ? line.threshold_corners : line.label_corners, i, c.from);
+      if (c.from.empty()) {  // R by the rule where nothing was sampled: the line's cells that bound it
+        const auto above = std::lower_bound(simulated.begin(), simulated.end(), i);
+        if (above != simulated.begin()) c.from.push_back(line.cells[*std::prev(above)]);
+        if (above != simulated.end()) c.from.push_back(line.cells[*above]);
+      }
+      if (c.from.empty()) corner_sources(line, line.threshold_corners, i, c.from);
     }
   }
 
@@ -1254,7 +1260,7 @@ class Search {
   bool predict_brackets_ = false;  ///< Options::brackets, auto resolved
   std::uint32_t spread_ = 1;       ///< Options::spread, auto resolved
   /// From four factors on (with predicted brackets): label changes predicted within their bracket,
-  /// thresholds predicted between corners with and without a Y run, boxes split one factor at a time.
+  /// and boxes split across one factor at a time.
   bool four_factors_ = false;
   std::array<std::vector<std::size_t>, kAxes> order_;  ///< per factor: sorted position → level index
   std::size_t monotone_ = kTtc;

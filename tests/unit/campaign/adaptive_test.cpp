@@ -512,6 +512,13 @@ TEST(AdaptiveSearch, CellsWithNothingToMitigateAreRWithoutASimulation) {
   EXPECT_LT(results[1].simulated_for[static_cast<std::size_t>(Purpose::kLabels)],
             results[0].simulated_for[static_cast<std::size_t>(Purpose::kLabels)]);
   EXPECT_LT(results[1].simulated, results[0].simulated);
+  for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {  // every inferred R still names its grounds
+    const Cell& c = results[1].cells[cell];
+    if (c.method == Method::kLine || c.method == Method::kBox) {
+      ASSERT_FALSE(c.from.empty()) << cell;
+      for (const auto from : c.from) EXPECT_EQ(results[1].cells[from].method, Method::kSimulated) << cell;
+    }
+  }
   for (std::size_t cell = 0; cell < map.lattice.size(); ++cell) {  // no label sampled where the rule holds
     const Cell& c = results[1].cells[cell];
     if (map.factors(cell)[0] <= 50.0 && c.method == Method::kSimulated) {
