@@ -362,6 +362,18 @@ TEST(AdaptiveSearch, PredictsALinesThresholdFromItsNeighbours) {
   EXPECT_LT(static_cast<double>(threshold_simulations), 3.4 * static_cast<double>(result.lines));
 }
 
+// The map searched with every bracket searched ([0]) and with the default predictions ([1]).
+std::array<Result, 2> searched_and_predicted(const SyntheticMap& map) {
+  std::array<Result, 2> results;
+  for (int predict = 0; predict < 2; ++predict) {
+    Options options;
+    options.brackets = predict ? Brackets::kAuto : Brackets::kSearch;
+    MapOracle oracle(map);
+    results[predict] = search(map.lattice, oracle, options);
+  }
+  return results;
+}
+
 // From three factors on, a line between corners whose thresholds agree within a level takes the
 // threshold predicted from them without a simulation (Brackets::kAuto): fewer simulations, and
 // where the prediction is wrong the line is off by that one level, the cell at its threshold Y for
@@ -378,13 +390,7 @@ TEST(AdaptiveSearch, PredictedBracketsMissByOneLevelAtMost) {
     map.avoid_ttc = [a, b](double v, double mu, double passage, double) {
       return a + b * v / mu - 0.1 * (passage - 2.2);
     };
-    Result results[2];
-    for (int predict = 0; predict < 2; ++predict) {
-      Options options;
-      options.brackets = predict ? Brackets::kAuto : Brackets::kSearch;
-      MapOracle oracle(map);
-      results[predict] = search(map.lattice, oracle, options);
-    }
+    const std::array<Result, 2> results = searched_and_predicted(map);
     EXPECT_EQ(compare(map, results[0]).differ, 0U) << "trial " << trial;
     const Comparison c = compare(map, results[1]);
     EXPECT_LT(results[1].simulated, results[0].simulated) << "trial " << trial;
@@ -466,13 +472,7 @@ TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
     return 0.55 + 0.003 * v / mu - 0.1 * (passage - 2.2);
   };
   map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
-  Result results[2];
-  for (int predict = 0; predict < 2; ++predict) {
-    Options options;
-    options.brackets = predict ? Brackets::kAuto : Brackets::kSearch;
-    MapOracle oracle(map);
-    results[predict] = search(map.lattice, oracle, options);
-  }
+  const std::array<Result, 2> results = searched_and_predicted(map);
   const auto label_brackets = [](const Result& r) {
     return r.simulated_for[static_cast<std::size_t>(Purpose::kLabelBrackets)];
   };
