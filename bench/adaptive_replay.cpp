@@ -3,8 +3,8 @@
 // simulator. Prints, per adaptive-capable grid, the simulations the search would need (and how many
 // of them were strengthened searches, the dear ones) and the cells its map would get wrong: the
 // figures docs/adaptive.md reports, measured without simulating anything. A seventh argument
-// prints the simulations per line of speed by friction. EMRM_SPREAD=N sets Options::spread and
-// EMRM_NOEARLY=1 turns Options::predict_early off.
+// prints the simulations per line of speed by friction. EMRM_SPREAD=N sets Options::spread,
+// EMRM_NOEARLY=1 turns Options::predict_early off and EMRM_NORULE=1 the "nothing to mitigate" rule.
 
 #include <fmt/format.h>
 
@@ -96,14 +96,7 @@ int main(int argc, char** argv) try {
       strengthened += result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i];
       const sim::Region t = truth[grid.name][i];
       differ += result.cells[i].region != t;
-      const bool gw = (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
-      g_wrong += gw;
-      if (gw && std::getenv("EMRM_SHOWG") && g_wrong <= 8) {
-        const auto& cell = grid.cells[i];
-        fmt::print("G wrong: {} {} {} {} {}: stored {} replay {} ({})\n", cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m,
-                   cell.truck_speed_kph, static_cast<int>(t), static_cast<int>(result.cells[i].region),
-                   campaign::adaptive::basis_name(result.cells[i].method));
-      }
+      g_wrong += (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
     }
     fmt::print("{}: {} cells, {} feasible; simulated {} ({:.1f} %); differ {} ({:.2f} %); G wrong {}; "
                "violations {}; lines {} resolved {} inferred {} full {}; rounds {}; strengthened {}\n",

@@ -1155,18 +1155,16 @@ class Search {
         c.region = nothing_to_mitigate(line.cells[i]) ? Region::kR : line.labels[i];
       }
       c.method = from_line ? Method::kLine : Method::kBox;
-      if (from_line) {  // the simulated cells around it in its run
+      // The line's simulated cells nearest below and above it within [lo, hi).
+      const auto bounding = [&](std::size_t lo, std::size_t hi) {
         const auto above = std::upper_bound(simulated.begin(), simulated.end(), i);
-        if (above != simulated.begin() && *std::prev(above) >= begin) c.from.push_back(line.cells[*std::prev(above)]);
-        if (above != simulated.end() && *above < end) c.from.push_back(line.cells[*above]);
-      }
+        if (above != simulated.begin() && *std::prev(above) >= lo) c.from.push_back(line.cells[*std::prev(above)]);
+        if (above != simulated.end() && *above < hi) c.from.push_back(line.cells[*above]);
+      };
+      if (from_line) bounding(begin, end);  // the simulated cells around it in its run
       if (c.from.empty())
         corner_sources(line, y || i < line.t_e ? line.threshold_corners : line.label_corners, i, c.from);
-      if (c.from.empty()) {  // R by the rule where nothing was sampled: the line's cells that bound it
-        const auto above = std::lower_bound(simulated.begin(), simulated.end(), i);
-        if (above != simulated.begin()) c.from.push_back(line.cells[*std::prev(above)]);
-        if (above != simulated.end()) c.from.push_back(line.cells[*above]);
-      }
+      if (c.from.empty()) bounding(0, line.cells.size());  // R by the rule where nothing was sampled
       if (c.from.empty()) corner_sources(line, line.threshold_corners, i, c.from);
     }
   }
