@@ -113,12 +113,21 @@ int run_cli(int argc, char** argv, Mode mode) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const emrm::core::Interrupted& e) {  // the work so far is stored; the message says how to resume
-    std::fprintf(stderr, "%s\n", e.what());
-    return 128 + e.signal();
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "%s\nRun with --help for more information.\n", short_words(e.what()).c_str());
     return static_cast<int>(emrm::ExitCode::kBadInput);
+  } catch (...) {
+    return report_error();
+  }
+  return exit_code;
+}
+
+int report_error() {
+  try {
+    throw;
+  } catch (const emrm::core::Interrupted& e) {  // the work so far is stored; the message says how to resume
+    std::fprintf(stderr, "%s\n", e.what());
+    return 128 + e.signal();
   } catch (const emrm::Error& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return static_cast<int>(emrm::ExitCode::kBadInput);
@@ -130,7 +139,6 @@ int run_cli(int argc, char** argv, Mode mode) {
     std::fprintf(stderr, "emrm: internal error: %s\n", e.what());
     return 70;
   }
-  return exit_code;
 }
 
 }  // namespace emrm::cli

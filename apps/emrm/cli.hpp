@@ -14,4 +14,8 @@ enum class Mode {
 /// an internal error, which is a bug).
 int run_cli(int argc, char** argv, Mode mode = Mode::kRun);
 
+/// Called inside a catch block: prints the error being handled the way the command line does
+/// and returns its exit code (2 bad input, 128 + signal after an interrupt, 70 a bug).
+int report_error();
+
 }  // namespace emrm::cli

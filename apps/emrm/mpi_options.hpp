@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "cli.hpp"
 #include "emrm/cluster/mpi_sweep.hpp"
 
 namespace emrm::cli {
@@ -33,12 +34,18 @@ inline void add_mpi_options(CLI::App* command, MpiOptions& options, const std::s
 
 /// `command` on this process alone (given no ranks), or with --mpi on rank 0 of the MPI job while
 /// the other ranks simulate the cells of its sweeps and then return its exit code
-/// (cluster::run_on_ranks). Throws UsageError (exit 2) for --mpi without MPI or without a launcher.
+/// (cluster::run_on_ranks); with --mpi, an error of the command is printed on rank 0 and its exit
+/// code returned. Throws UsageError (exit 2) for --mpi without MPI or without a launcher.
 inline int on_ranks(const MpiOptions& options, int threads, const std::function<int(cluster::Ranks*)>& command) {
   if (!options.mpi) return command(nullptr);
   cluster::MpiSession session;
-  return cluster::run_on_ranks(session, threads, options.hung_after_s,
-                               [&](cluster::Ranks& ranks) { return command(&ranks); });
+  return cluster::run_on_ranks(session, threads, options.hung_after_s, [&](cluster::Ranks& ranks) {
+    try {
+      return command(&ranks);
+    } catch (...) {  // printed before the other ranks learn the exit code: a rank that exits non-zero
+      return report_error();  // first makes the launcher end the job, rank 0 with it
+    }
+  });
 }
 
 }  // namespace emrm::cli
