@@ -4,7 +4,10 @@
 // of them were strengthened searches, the dear ones) and the cells its map would get wrong: the
 // figures docs/adaptive.md reports, measured without simulating anything. A seventh argument
 // prints the simulations per line of speed by friction. EMRM_SPREAD=N sets Options::spread,
-// EMRM_NOEARLY=1 turns Options::predict_early off and EMRM_NORULE=1 the "nothing to mitigate" rule.
+// EMRM_NOEARLY=1 turns Options::predict_early off and EMRM_NORULE=1 the "nothing to mitigate" rule;
+// EMRM_VIOLATIONS=1 lists the violations, EMRM_BOTTOM=1 counts the strengthened simulations at the
+// lowest TTC. A stored certificate without a margin (written before the certificate checked arrivals
+// before the brakes act) counts as a strengthened simulation.
 
 #include <fmt/format.h>
 
@@ -83,7 +86,10 @@ int main(int argc, char** argv) try {
     auto& regions = truth[r.grid];
     if (r.index >= 0 && static_cast<std::size_t>(r.index) < regions.size()) {
       regions[static_cast<std::size_t>(r.index)] = campaign::adaptive::region_named(r.region);
-      dear[r.grid][static_cast<std::size_t>(r.index)] = r.strengthened ? 1 : 0;
+      // A certificate without a margin (stores written before the certificate checked an arrival
+      // before the brakes act) no longer certifies: the cell's search is strengthened now.
+      const bool void_certificate = r.certificate.find("\"margin_m\":null") != std::string::npos;
+      dear[r.grid][static_cast<std::size_t>(r.index)] = r.strengthened || void_certificate ? 1 : 0;
     }
   });
   for (const campaign::GridSpec& grid : c.grids) {
@@ -105,6 +111,17 @@ int main(int argc, char** argv) try {
                100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
                result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
                result.lines_fully_resolved, result.rounds, strengthened);
+    if (std::getenv("EMRM_VIOLATIONS"))
+      for (const auto& v : result.violations) {
+        const auto& lo = grid.cells[v.low_cell];
+        const auto& hi = grid.cells[v.high_cell];
+        fmt::print("  violation {}: {} km/h TTC {} .. {} mu {} passage {} truck {} ({} / {})\n", v.what, lo.speed_kph,
+                   lo.ttc_s, hi.ttc_s, lo.mu, lo.passage_m, lo.truck_speed_kph,
+                   sim::region_name(truth[grid.name][v.low_cell]), sim::region_name(truth[grid.name][v.high_cell]));
+        fmt::print("    simulated for {} / {}\n",
+                   campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(result.cells[v.low_cell].purpose)),
+                   campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(result.cells[v.high_cell].purpose)));
+      }
     fmt::print("  cost estimate {:.0f} s (1.0 s a strengthened simulation, 0.12 s another); not in the store: {}\n",
                1.0 * static_cast<double>(strengthened) + 0.12 * static_cast<double>(result.simulated - strengthened),
                oracle.unknown.load());
@@ -112,6 +129,17 @@ int main(int argc, char** argv) try {
     for (std::size_t i = 0; i < result.cells.size(); ++i)
       if (result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i])
         ++dear_for[result.cells[i].purpose];
+    if (std::getenv("EMRM_BOTTOM")) {  // strengthened simulations at the lowest TTC, by purpose
+      std::array<std::size_t, campaign::adaptive::kPurposes> bottom{};
+      for (std::size_t i = 0; i < result.cells.size(); ++i)
+        if (result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i] &&
+            grid.cells[i].ttc_s == grid.levels[1].front())
+          ++bottom[result.cells[i].purpose];
+      fmt::print("  strengthened at the lowest TTC:");
+      for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
+        fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)), bottom[p]);
+      fmt::print("\n");
+    }
     fmt::print("  strengthened for:");
     for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
       fmt::print(" {} {}", campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(p)), dear_for[p]);

@@ -171,6 +171,9 @@ class Search {
       settle_prediction(line);
       settle_early(line);
     }
+    std::vector<std::size_t> every(lines_.size());
+    std::iota(every.begin(), every.end(), std::size_t{0});
+    parallel(every, [&](std::size_t id) { research_threshold(lines_[id]); });
     resolve_violations();
     std::vector<std::size_t> all(lines_.size());
     std::iota(all.begin(), all.end(), std::size_t{0});
@@ -616,6 +619,59 @@ class Search {
     for (std::size_t i = line.t_e; i < line.t_a; ++i) line.labels[i] = region(i);
   }
 
+  // An avoidance threshold that the line's later simulations (its labels, a neighbour's search)
+  // contradict with no simulated cell between to break monotonicity, as a prediction or a bracket
+  // one level off does: searched again between the simulated cells that bound it (a few
+  // simulations instead of this line and its neighbours in full). Searched down from the lowest
+  // cell below it that avoids, above the highest simulated one below that does not; up from the
+  // highest cell above it that does not avoid, below the lowest simulated one above that avoids.
+  void research_threshold(Line& line) {
+    if (line.full || line.t_a <= line.t_e || line.t_a > line.t_g) return;
+    const auto simulated_avoids = [&](std::size_t i) -> std::optional<bool> {
+      if (!is_simulated(line.cells[i])) return std::nullopt;
+      return avoidable(result_.cells[line.cells[i]].region);
+    };
+    const auto avoids = [&](std::size_t i) { return avoidable(simulate(line.cells[i], Purpose::kViolations)); };
+    std::size_t lowest_avoiding = line.t_a, floor = line.t_a;
+    for (std::size_t i = line.t_a; i-- > line.t_e;) {
+      const auto a = simulated_avoids(i);
+      if (!a) continue;
+      if (!*a) {
+        floor = i + 1;
+        break;
+      }
+      lowest_avoiding = i;
+    }
+    std::size_t t = line.t_a;
+    if (lowest_avoiding < line.t_a && floor <= lowest_avoiding) {
+      t = threshold(floor, lowest_avoiding, lowest_avoiding, avoids);
+    } else if (line.t_a < line.t_g) {
+      std::size_t highest_failing = line.t_a, ceiling = line.t_g;
+      for (std::size_t i = line.t_a; i < line.t_g; ++i) {
+        const auto a = simulated_avoids(i);
+        if (!a) continue;
+        if (*a) {
+          ceiling = i;
+          break;
+        }
+        highest_failing = i;
+      }
+      if (highest_failing == line.t_a && simulated_avoids(line.t_a) != std::optional<bool>(false)) return;
+      t = threshold(highest_failing + 1, ceiling, highest_failing + 1, avoids);
+    }
+    if (t == line.t_a) return;
+    if (line.labels_known && !line.labels.empty()) {
+      Region fill = Region::kR;  // of the nearest simulated cell that cannot avoid below the new threshold
+      for (std::size_t i = t; i-- > line.t_e;)
+        if (simulated_avoids(i) == std::optional<bool>(false)) {
+          fill = result_.cells[line.cells[i]].region;
+          break;
+        }
+      line.labels.resize(std::max(t, line.t_e), fill);
+    }
+    line.t_a = t;
+  }
+
   // Simulations against the thresholds and labels of every line; a line that breaks monotonicity
   // is simulated in full with its neighbours (theirs too, if they break it), until none does.
   void resolve_violations() {
@@ -823,7 +879,7 @@ class Search {
     Line& line = lines_[id];
     line.thresholds_known = true;
     if (line.cells.empty()) return;
-    if (s.early_hint.end != kNone || oracle_.stop(line.cells.front()) != StopCall::kCannotStop) {
+    if (s.early_hint.end != kNone || (!predict_brackets_ && oracle_.stop(line.cells.front()) != StopCall::kCannotStop)) {
       EarlyHint hint = s.early_hint;
       if (hint.g_end != kNone) hint.g_end = predicted(s.box, id, &Line::early_g_end);
       if (s.early_predicted) hint.predicted_end = predicted(s.box, id, &Line::early_position);
@@ -1365,7 +1421,17 @@ bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   const sim::ActuationConfig& a = scene.actuation;
   const double first_action_s = a.perception_latency_s + std::min(a.brake_dead_time_s, a.steer_dead_time_s);
   constexpr double kRolling_s = 0.02;
-  return !(cell.ttc_s + kRolling_s <= first_action_s && in_the_way_from(scene, cell, cell.ttc_s));
+  if (!(cell.ttc_s + kRolling_s <= first_action_s)) return true;
+  if (in_the_way_from(scene, cell, cell.ttc_s)) return false;
+  // A truck still entering the car's path may meet it before it can act all the same: every
+  // strategy drives the car as doing nothing does until then (the same states, step by step), so a
+  // contact of the no-action rollout a step before the first action is every strategy's.
+  const sim::Scene s(scene, cell);
+  if (!s.feasible()) return true;
+  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
+  const sim::RolloutResult nothing = sim::no_action_rollout(s, *model);
+  return !(nothing.termination == sim::Termination::kContact &&
+           nothing.end_time_s + scene.simulation.dt_s <= first_action_s);
 }
 
 StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {

@@ -54,7 +54,9 @@ enum class StopCall { kStops, kCannotStop, kUnknown };
 /// Whether arriving sooner can help at this cell (Oracle::passes_early for the shipped physics): the
 /// truck moves, so the gap it leaves narrows over time and the car may pass in front of it first;
 /// unless the car reaches the truck before any of its actuators can act (TTC within the perception
-/// latency and the quicker dead time) while the truck stands in its way: then nothing avoids it.
+/// latency and the quicker dead time) while the truck stands in its way, or, doing nothing, touches
+/// it a step before the first actuator acts (every strategy drives it the same until then): then
+/// nothing avoids it.
 [[nodiscard]] bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell);
 
 /// Whether the car doing nothing hits the truck at the lowest loss level a contact can have

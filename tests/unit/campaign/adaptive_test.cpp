@@ -494,6 +494,33 @@ TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
   }
 }
 
+// A dip of the avoidance threshold narrower than the first lattice (here near 35 km/h, friction
+// aside): the corners around it have no Y cell below the top of their feasible TTCs, so the lines
+// between take none, until a later simulation of theirs (an O/R label sample) avoids. That breaks no
+// monotonicity along the line: its threshold is searched again between the simulated cells that
+// bound it. No violation is reported, no line is simulated in full, and the searched map stays exact.
+TEST(AdaptiveSearch, AThresholdALaterSimulationContradictsIsSearchedAgain) {
+  for (const double width : {1.5, 3.0}) {
+    SyntheticMap map = fine_map();
+    map.lattice.levels[0] = range(30, 72, 2);
+    map.lattice.levels[2] = {0.3, 0.4, 0.5, 0.6};
+    map.lattice.levels[3] = {1.6, 2.2, 2.8};
+    map.avoid_ttc = [width](double v, double mu, double passage, double) {
+      return 1.6 + 0.2 * mu - 0.05 * passage - 0.8 * std::exp(-std::pow((v - 35.0) / width, 2.0));
+    };
+    map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+    const std::array<Result, 2> results = searched_and_predicted(map);
+    for (const Result& result : results) {
+      EXPECT_TRUE(result.violations.empty()) << width;
+      EXPECT_EQ(result.lines_fully_resolved, 0U) << width;
+      EXPECT_EQ(compare(map, result).g_wrong, 0U) << width;
+    }
+    EXPECT_EQ(compare(map, results[0]).differ, 0U) << width;
+    const Comparison c = compare(map, results[1]);
+    EXPECT_LE(static_cast<double>(c.differ), 0.02 * static_cast<double>(c.feasible)) << width;
+  }
+}
+
 // Where the oracle says there is nothing to mitigate (the crash of doing nothing is already graded
 // the lowest a crash can be), the unavoidable cells are R without sampling their labels: the same
 // map from fewer simulations. Where the rule is wrong (an O it calls R), the map follows the rule and
@@ -602,9 +629,9 @@ TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
 }
 
 // Reaching the truck before any actuator can act (TTC within the perception latency and the
-// quicker dead time) while it stands in the car's way, the car hits it whatever it decides: no
-// early run can start at such a cell. Every strategy's simulation agrees; without latency the call
-// never rules one out.
+// quicker dead time) while it stands in the car's way, or meeting it by then as it comes across
+// (the no-action rollout's contact), the car hits it whatever it decides: no early run can start at
+// such a cell. Every strategy's simulation agrees; without latency the call never rules one out.
 TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
   const sim::SceneConfig config = production_car(200);
   sim::CellOptions options;
@@ -612,7 +639,8 @@ TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
   std::mt19937_64 random(5);
   std::uniform_real_distribution<double> speed(30, 72), ttc(0.2, 0.3), mu(0.1, 1.0), passage(1.0, 4.0);
   const std::array<double, 3> truck_speeds{10.0, 20.0, 30.0};
-  std::size_t ruled_out = 0;
+  std::size_t ruled_out = 0, still_entering = 0;
+  const double top = config.road.ego_lane_center_m + config.ego.width_m / 2.0;
   const std::size_t cells = test::sample(120, 30);
   for (std::size_t k = 0; k < cells; ++k) {
     const sim::CellInput cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 3]};
@@ -622,12 +650,17 @@ TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
     EXPECT_TRUE(may_pass_early(instant, cell));
     if (may_pass_early(config, cell)) continue;
     ++ruled_out;
+    // Ruled out by the no-action rollout's contact, the truck not yet across the car's path at TTC.
+    if (sim::Scene(config, cell).truck_front_y_at(cell.ttc_s) >= top - 0.01) ++still_entering;
     const Region region = sim::simulate_cell(config, cell, options).region;
     EXPECT_TRUE(region == Region::kO || region == Region::kR)
         << cell.speed_kph << " km/h, TTC " << cell.ttc_s << " s, mu " << cell.mu << ", passage " << cell.passage_m
         << " m, truck " << cell.truck_speed_kph << " km/h: " << sim::region_name(region);
   }
   EXPECT_GT(ruled_out, cells / 4);
+  if (!test::kSanitized) {
+    EXPECT_GT(still_entering, 0u);  // a few in a hundred
+  }
   sim::CellInput standing{50.0, 0.25, 0.8, 2.0, 0.0};
   EXPECT_FALSE(may_pass_early(config, standing));
 }
