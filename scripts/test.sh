@@ -8,4 +8,4 @@ cd "$(dirname "$0")/.."
 cmake --workflow --preset dev
 cmake --workflow --preset asan
 cmake --workflow --preset clang
-./scripts/fuzz.sh --seconds 20
+./scripts/fuzz.sh --seconds 10

@@ -376,7 +376,7 @@ class Search {
     // Between corners whose early runs all reach the stop's run, no gap is looked for: the line's
     // early run is taken to reach it too (its G part is still searched, and what it simulates is
     // checked against that).
-    line.t_e = hint.to_the_stop ? top : threshold(0, top, 0, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
+    line.t_e = hint.to_the_stop ? top : threshold_from_below(top, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
     std::size_t g_end = 0;
     while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
     // Where the early run reaches the stop's run and no cell that cannot stop lies between, the
@@ -440,7 +440,7 @@ class Search {
     const std::size_t at = index_at(line, avoid_hint);
     const auto cannot = [&](std::size_t i) { return !avoidable(simulate(line.cells[i], purpose)); };
     if (at == 0 || at >= line.t_g || !cannot(at - 1)) return;
-    line.t_e = threshold(0, at - 1, 0, cannot, options_.stride);
+    line.t_e = threshold_from_below(at - 1, cannot, options_.stride);
     line.t_eg = std::min(line.t_eg, line.t_e);
   }
 
@@ -488,12 +488,70 @@ class Search {
     return hi;
   }
 
+  // threshold() from the bottom of a line for a test whose false answers are cheap and true ones
+  // dear (the early run's end: a cell that avoids against one that cannot): up in steps that grow
+  // to max_step, then, from the last false, up a cell at a time to the first true. At most one dear
+  // test besides the answer's (bisecting the last step could make two).
+  template <typename Test>
+  static std::size_t threshold_from_below(std::size_t hi, Test&& test, std::size_t max_step) {
+    std::size_t lo = 0;
+    for (std::size_t step = 1; lo < hi; step = std::min(2 * step, max_step)) {
+      const std::size_t i = std::min(lo + step - 1, hi - 1);
+      if (test(i)) {
+        hi = i;
+        break;
+      }
+      lo = i + 1;
+    }
+    while (lo < hi && !test(lo)) ++lo;
+    return lo;
+  }
+
+  // threshold() for a test whose true answers are cheap and false ones dear: a cell that avoids
+  // (a planner that found a way, about 0.3 s) against one that no strategy avoids and no
+  // certificate proves so (the strengthened search, 1 to 2 s). The same answer where the test is
+  // monotone, found from above: from a true guess it walks down a cell at a time to the first
+  // false, the one dear test a threshold needs; from a false one it first jumps up (2, 4, 8 cells)
+  // to a true one. Past kWalk cells down without a false it bisects the rest.
+  template <typename Test>
+  static std::size_t threshold_from_above(std::size_t lo, std::size_t hi, std::size_t guess, Test&& test) {
+    constexpr std::size_t kWalk = 6;
+    if (guess < hi) {
+      if (test(guess)) {
+        hi = guess;
+      } else {
+        lo = guess + 1;
+        for (std::size_t step = 2; lo < hi; step *= 2) {
+          const std::size_t i = std::min(lo + step - 1, hi - 1);
+          if (test(i)) {
+            hi = i;
+            break;
+          }
+          lo = i + 1;
+        }
+      }
+    }
+    for (std::size_t walked = 0; walked < kWalk && hi > lo; ++walked) {
+      if (!test(hi - 1)) return hi;
+      --hi;
+    }
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (test(mid))
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return hi;
+  }
+
   // The avoidance threshold between the early run and the stop boundary, from the line's hint
   // when it has one.
   std::size_t avoidance_threshold(const Line& line) {
     const std::size_t guess = line.hint == kNone ? line.t_g : std::clamp(index_at(line, line.hint), line.t_e, line.t_g);
-    return threshold(line.t_e, line.t_g, guess,
-                     [&](std::size_t i) { return avoidable(simulate(line.cells[i], Purpose::kThresholdCorners)); });
+    return threshold_from_above(line.t_e, line.t_g, guess, [&](std::size_t i) {
+      return avoidable(simulate(line.cells[i], Purpose::kThresholdCorners));
+    });
   }
 
   // Every simulated cell against the thresholds; the first contradiction, if any.
@@ -530,7 +588,7 @@ class Search {
     Line& line = lines_[id];
     line.labels_sampled = line.labels_known = true;
     if (line.predicted_hi != 0) {  // a predicted threshold searched: the cell below it is sampled anyway
-      line.t_a = threshold(line.predicted_lo, line.predicted_hi - 1, line.t_a, [&](std::size_t i) {
+      line.t_a = threshold_from_above(line.predicted_lo, line.predicted_hi - 1, line.t_a, [&](std::size_t i) {
         return avoidable(simulate(line.cells[i], Purpose::kLabels));
       });
       line.predicted_hi = 0;
@@ -644,7 +702,7 @@ class Search {
     }
     std::size_t t = line.t_a;
     if (lowest_avoiding < line.t_a && floor <= lowest_avoiding) {
-      t = threshold(floor, lowest_avoiding, lowest_avoiding, avoids);
+      t = threshold_from_above(floor, lowest_avoiding, lowest_avoiding, avoids);
     } else if (line.t_a < line.t_g) {
       std::size_t highest_failing = line.t_a, ceiling = line.t_g;
       for (std::size_t i = line.t_a; i < line.t_g; ++i) {
@@ -657,7 +715,7 @@ class Search {
         highest_failing = i;
       }
       if (highest_failing == line.t_a && simulated_avoids(line.t_a) != std::optional<bool>(false)) return;
-      t = threshold(highest_failing + 1, ceiling, highest_failing + 1, avoids);
+      t = threshold_from_above(highest_failing + 1, ceiling, highest_failing + 1, avoids);
     }
     if (t == line.t_a) return;
     if (line.labels_known && !line.labels.empty()) {
@@ -903,7 +961,7 @@ class Search {
       settle_prediction(line);
       return;
     }
-    line.t_a = lo == hi ? lo : threshold(lo, hi, guess, [&](std::size_t i) {
+    line.t_a = lo == hi ? lo : threshold_from_above(lo, hi, guess, [&](std::size_t i) {
       return avoidable(simulate(line.cells[i], Purpose::kThresholdBrackets));
     });
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "run_emrm.hpp"
+#include "test_scale.hpp"
 
 namespace emrm::e2e {
 namespace adaptive_cli_test {
@@ -26,6 +27,17 @@ constexpr const char* kCampaign =
     "  - name: map\n"
     "    speed_kph: [30, 40, 50, 60, 70]\n"
     "    ttc_s: {from: 0.25, to: 2.45, levels: 12}\n"
+    "    mu: 1.0\n"
+    "    passage_m: 3.0\n";
+
+// The same over 3 speeds and 8 TTCs, for the sanitized builds where the full sweep of the
+// threads test is most of its time.
+constexpr const char* kSmallCampaign =
+    "seed: 2\n"
+    "grids:\n"
+    "  - name: map\n"
+    "    speed_kph: [30, 50, 70]\n"
+    "    ttc_s: {from: 0.25, to: 2.35, levels: 8}\n"
     "    mu: 1.0\n"
     "    passage_m: 3.0\n";
 
@@ -97,7 +109,7 @@ TEST(AdaptiveCli, SimulatesAFractionAndSaysWhichCellsWereInferred) {
 }
 
 TEST(AdaptiveCli, TheMapDoesNotDependOnTheThreadCountAndAFullSweepReplacesTheInferredCells) {
-  const fs::path campaign = campaign_file("adaptive-threads");
+  const fs::path campaign = campaign_file("adaptive-threads", test::sample(kCampaign, kSmallCampaign));
   const fs::path one = campaign.parent_path() / "one", two = campaign.parent_path() / "two";
   ASSERT_EQ(run_emrm("sweep " + quoted(campaign) + " -o " + quoted(one) + " --adaptive --threads 1").exit_code, 0);
   ASSERT_EQ(run_emrm("sweep " + quoted(campaign) + " -o " + quoted(two) + " --adaptive --threads 2").exit_code, 0);

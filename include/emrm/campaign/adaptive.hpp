@@ -157,7 +157,7 @@ enum class Purpose : std::uint8_t {
   kThresholdBrackets, ///< a line between agreeing corners, within their bracket
   kLabels,            ///< a corner line's O/R labels
   kLabelBrackets,     ///< a line between corners whose labels change alike: its own changes
-  kViolations,        ///< lines resolved in full after a contradiction
+  kViolations,        ///< after a contradiction: lines resolved in full, thresholds searched again
   kVerification,      ///< the random sample of inferred cells
 };
 inline constexpr std::size_t kPurposes = 6;

@@ -414,13 +414,14 @@ TEST(Certificate, SecondTighteningCertifiesCellsUnderProductionActuation) {
 // at some TTC implies certified at every smaller TTC, and certified at some mu implies certified at
 // every lower mu.
 TEST(Certificate, CertifiedSetShrinksWithTtcAndGrowsAsFrictionFalls) {
+  const double step = test::sample(0.02, 0.04);  // of TTC (s) and of friction
   for (double latency : {0.0, 0.25}) {
     SceneConfig config;
     config.actuation.perception_latency_s = latency;
     for (double speed : {30.0, 50.0, 72.0, 90.0})
       for (double mu : {0.3, 0.7, 1.0}) {
         bool seen_uncertified = false;
-        for (double ttc = 0.05; ttc <= 2.5; ttc += 0.02) {
+        for (double ttc = 0.05; ttc <= 2.5; ttc += step) {
           const bool certified = certify_unavoidable(Scene(config, {speed, ttc, mu, 3.0, 10.0})).has_value();
           if (!certified) seen_uncertified = true;
           EXPECT_FALSE(certified && seen_uncertified)
@@ -430,7 +431,7 @@ TEST(Certificate, CertifiedSetShrinksWithTtcAndGrowsAsFrictionFalls) {
     for (double speed : {30.0, 50.0, 72.0})
       for (double ttc : {0.3, 0.5, 0.8, 1.2}) {
         bool seen_uncertified = false;
-        for (double mu = 0.1; mu <= 1.21; mu += 0.02) {
+        for (double mu = 0.1; mu <= 1.21; mu += step) {
           const bool certified = certify_unavoidable(Scene(config, {speed, ttc, mu, 3.0, 10.0})).has_value();
           if (!certified) seen_uncertified = true;
           EXPECT_FALSE(certified && seen_uncertified)
