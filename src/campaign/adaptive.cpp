@@ -512,7 +512,8 @@ class Search {
   // certificate proves so (the strengthened search, 1 to 2 s). The same answer where the test is
   // monotone, found from above: from a true guess it walks down a cell at a time to the first
   // false, the one dear test a threshold needs; from a false one it first jumps up (2, 4, 8 cells)
-  // to a true one. Past kWalk cells down without a false it bisects the rest.
+  // to a true one. Past kWalk cells down without a false it gallops down (2, 4, 8 cells) to a
+  // false and walks down again from the last true, bisecting only a gap wider than 2·kWalk.
   template <typename Test>
   static std::size_t threshold_from_above(std::size_t lo, std::size_t hi, std::size_t guess, Test&& test) {
     constexpr std::size_t kWalk = 6;
@@ -531,9 +532,25 @@ class Search {
         }
       }
     }
-    for (std::size_t walked = 0; walked < kWalk && hi > lo; ++walked) {
-      if (!test(hi - 1)) return hi;
-      --hi;
+    const auto walk_down = [&] {  // true: the threshold is found (hi)
+      for (std::size_t walked = 0; walked < kWalk && hi > lo; ++walked) {
+        if (!test(hi - 1)) return true;
+        --hi;
+      }
+      return hi == lo;
+    };
+    if (walk_down()) return hi;
+    for (std::size_t step = 2; hi > lo; step *= 2) {
+      const std::size_t i = hi - lo > step ? hi - step : lo;
+      if (!test(i)) {
+        lo = i + 1;
+        break;
+      }
+      hi = i;
+    }
+    if (hi - lo <= 2 * kWalk) {
+      while (hi > lo && test(hi - 1)) --hi;
+      return hi;
     }
     while (lo < hi) {
       const std::size_t mid = lo + (hi - lo) / 2;

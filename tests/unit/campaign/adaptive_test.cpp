@@ -494,6 +494,30 @@ TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
   }
 }
 
+// A cell that cannot avoid costs a threshold search the strengthened search (1 to 2 s), one that
+// avoids a fraction of that: the avoidance threshold is searched from above, so a line whose Y run
+// is shorter than six cells spends one simulation of a cell that cannot avoid on it, the cell just
+// below its threshold, and a longer one two (bisecting, it spent two on each of these lines).
+TEST(AdaptiveSearch, AThresholdSearchSimulatesAboutOneCellThatCannotAvoid) {
+  for (const double avoid : {1.0, 0.85, 0.7, 0.55, 0.4}) {
+    SyntheticMap map = fine_map();
+    map.lattice.levels[0] = {50.0};
+    map.lattice.levels[4] = {0.0};
+    map.avoid_ttc = [avoid](double, double, double, double) { return avoid; };
+    MapOracle oracle(map);
+    const Result result = search(map.lattice, oracle, Options{});
+    std::size_t dear = 0, y_run = 0;
+    for (std::size_t cell = 0; cell < result.cells.size(); ++cell) {
+      const Cell& c = result.cells[cell];
+      y_run += c.region == Region::kY;
+      dear += c.method == Method::kSimulated && static_cast<Purpose>(c.purpose) == Purpose::kThresholdCorners &&
+              (c.region == Region::kO || c.region == Region::kR);
+    }
+    EXPECT_EQ(compare(map, result).differ, 0U) << avoid;
+    EXPECT_LE(dear, y_run < 6 ? 1U : 2U) << "Y from TTC " << avoid << " s, " << y_run << " Y cells";
+  }
+}
+
 // A dip of the avoidance threshold narrower than the first lattice (here near 35 km/h, friction
 // aside): the corners around it have no Y cell below the top of their feasible TTCs, so the lines
 // between take none, until a later simulation of theirs (an O/R label sample) avoids. That breaks no
