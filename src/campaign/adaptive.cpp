@@ -444,6 +444,34 @@ class Search {
     line.t_eg = std::min(line.t_eg, line.t_e);
   }
 
+  // Down from hi in steps that double from first_step to the first false test (test monotone:
+  // false then true): [lo, hi] narrowed to just above that cell and the last true one.
+  template <typename Test>
+  static void gallop_down_from(std::size_t& lo, std::size_t& hi, Test&& test, std::size_t first_step) {
+    for (std::size_t step = first_step; hi > lo; step *= 2) {
+      const std::size_t i = hi - lo > step ? hi - step : lo;
+      if (!test(i)) {
+        lo = i + 1;
+        return;
+      }
+      hi = i;
+    }
+  }
+
+  // The smallest b in [lo, hi] with test(i) true for every i in [b, hi), by bisection (test
+  // monotone: false then true).
+  template <typename Test>
+  static std::size_t bisect(std::size_t lo, std::size_t hi, Test&& test) {
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (test(mid))
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return hi;
+  }
+
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi) (test monotone: false then
   // true), from a guess: galloping away from the guess, then bisecting. Two tests when the guess is
   // right, about 2·log2(distance) when it is not. Upwards the steps grow to max_step at most, so
@@ -452,16 +480,7 @@ class Search {
   template <typename Test>
   static std::size_t threshold(std::size_t lo, std::size_t hi, std::size_t guess, Test&& test,
                                std::size_t max_step = std::numeric_limits<std::size_t>::max()) {
-    const auto gallop_down = [&] {
-      for (std::size_t step = 1; hi > lo; step *= 2) {
-        const std::size_t i = hi - lo > step ? hi - step : lo;
-        if (!test(i)) {
-          lo = i + 1;
-          return;
-        }
-        hi = i;
-      }
-    };
+    const auto gallop_down = [&] { gallop_down_from(lo, hi, test, 1); };
     if (guess >= hi) {
       gallop_down();
     } else if (test(guess)) {
@@ -478,14 +497,7 @@ class Search {
         lo = i + 1;
       }
     }
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (test(mid))
-        hi = mid;
-      else
-        lo = mid + 1;
-    }
-    return hi;
+    return bisect(lo, hi, test);
   }
 
   // threshold() from the bottom of a line for a test whose false answers are cheap and true ones
@@ -540,26 +552,12 @@ class Search {
       return hi == lo;
     };
     if (walk_down()) return hi;
-    for (std::size_t step = 2; hi > lo; step *= 2) {
-      const std::size_t i = hi - lo > step ? hi - step : lo;
-      if (!test(i)) {
-        lo = i + 1;
-        break;
-      }
-      hi = i;
-    }
+    gallop_down_from(lo, hi, test, 2);
     if (hi - lo <= 2 * kWalk) {
       while (hi > lo && test(hi - 1)) --hi;
       return hi;
     }
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (test(mid))
-        hi = mid;
-      else
-        lo = mid + 1;
-    }
-    return hi;
+    return bisect(lo, hi, test);
   }
 
   // The avoidance threshold between the early run and the stop boundary, from the line's hint
@@ -948,8 +946,9 @@ class Search {
   }
 
   // A line between agreeing corners: its own early run (none, without a simulation, when no corner
-  // has one and physics says its lowest cell cannot stop) and stop boundary, and its avoidance
-  // threshold searched within the corners' bracket (no simulation when they agree exactly).
+  // has one and brackets are predicted or physics says its lowest cell cannot stop) and stop
+  // boundary, and its avoidance threshold searched within the corners' bracket (no simulation when
+  // they agree exactly) or predicted.
   void bracket_thresholds(std::size_t id, const Signature& s) {
     Line& line = lines_[id];
     line.thresholds_known = true;
