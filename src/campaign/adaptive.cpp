@@ -458,6 +458,21 @@ class Search {
     }
   }
 
+  // Up from lo in steps that double from first_step (up to max_step) to the first true test (test
+  // monotone: false then true): lo just above the last false test, hi at the first true one.
+  template <typename Test>
+  static void gallop_up_from(std::size_t& lo, std::size_t& hi, Test&& test, std::size_t first_step,
+                             std::size_t max_step = std::numeric_limits<std::size_t>::max()) {
+    for (std::size_t step = first_step; lo < hi; step = std::min(2 * step, max_step)) {
+      const std::size_t i = std::min(lo + step - 1, hi - 1);
+      if (test(i)) {
+        hi = i;
+        return;
+      }
+      lo = i + 1;
+    }
+  }
+
   // The smallest b in [lo, hi] with test(i) true for every i in [b, hi), by bisection (test
   // monotone: false then true).
   template <typename Test>
@@ -488,14 +503,7 @@ class Search {
       gallop_down();
     } else {
       lo = guess + 1;
-      for (std::size_t step = 1; hi > lo; step = std::min(2 * step, max_step)) {
-        const std::size_t i = std::min(lo + step - 1, hi - 1);
-        if (test(i)) {
-          hi = i;
-          break;
-        }
-        lo = i + 1;
-      }
+      gallop_up_from(lo, hi, test, 1, max_step);
     }
     return bisect(lo, hi, test);
   }
@@ -507,14 +515,7 @@ class Search {
   template <typename Test>
   static std::size_t threshold_from_below(std::size_t hi, Test&& test, std::size_t max_step) {
     std::size_t lo = 0;
-    for (std::size_t step = 1; lo < hi; step = std::min(2 * step, max_step)) {
-      const std::size_t i = std::min(lo + step - 1, hi - 1);
-      if (test(i)) {
-        hi = i;
-        break;
-      }
-      lo = i + 1;
-    }
+    gallop_up_from(lo, hi, test, 1, max_step);
     while (lo < hi && !test(lo)) ++lo;
     return lo;
   }
@@ -534,14 +535,7 @@ class Search {
         hi = guess;
       } else {
         lo = guess + 1;
-        for (std::size_t step = 2; lo < hi; step *= 2) {
-          const std::size_t i = std::min(lo + step - 1, hi - 1);
-          if (test(i)) {
-            hi = i;
-            break;
-          }
-          lo = i + 1;
-        }
+        gallop_up_from(lo, hi, test, 2);
       }
     }
     const auto walk_down = [&] {  // true: the threshold is found (hi)
@@ -720,6 +714,7 @@ class Search {
       t = threshold_from_above(floor, lowest_avoiding, lowest_avoiding, avoids);
     } else if (line.t_a < line.t_g) {
       std::size_t highest_failing = line.t_a, ceiling = line.t_g;
+      bool found_failing = false;
       for (std::size_t i = line.t_a; i < line.t_g; ++i) {
         const auto a = simulated_avoids(i);
         if (!a) continue;
@@ -728,8 +723,9 @@ class Search {
           break;
         }
         highest_failing = i;
+        found_failing = true;
       }
-      if (highest_failing == line.t_a && simulated_avoids(line.t_a) != std::optional<bool>(false)) return;
+      if (!found_failing) return;
       t = threshold_from_above(highest_failing + 1, ceiling, highest_failing + 1, avoids);
     }
     if (t == line.t_a) return;
@@ -1475,15 +1471,20 @@ bool in_the_way_from(const sim::SceneConfig& scene, const sim::CellInput& cell, 
   return s.truck_front_y_at(from_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m;
 }
 
+// What doing nothing comes to in a cell; none for a cell the car cannot start in.
+std::optional<sim::RolloutResult> no_action_of(const sim::SceneConfig& scene, const sim::CellInput& cell) {
+  const sim::Scene s(scene, cell);
+  if (!s.feasible()) return std::nullopt;
+  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
+  return sim::no_action_rollout(s, *model);
+}
+
 }  // namespace
 
 bool nothing_to_mitigate(const sim::SceneConfig& scene, const sim::CellInput& cell) {
-  const sim::Scene s(scene, cell);
-  if (!s.feasible()) return false;
-  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
-  const sim::RolloutResult nothing = sim::no_action_rollout(s, *model);
-  return nothing.termination == sim::Termination::kContact &&
-         nothing.impact.loss_level <= sim::loss_level(true, false, 0.0, 0.0, scene.severity);
+  const auto nothing = no_action_of(scene, cell);
+  return nothing && nothing->termination == sim::Termination::kContact &&
+         nothing->impact.loss_level <= sim::loss_level(true, false, 0.0, 0.0, scene.severity);
 }
 
 bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell) {
@@ -1500,12 +1501,9 @@ bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell) {
   // A truck still entering the car's path may meet it before it can act all the same: every
   // strategy drives the car as doing nothing does until then (the same states, step by step), so a
   // contact of the no-action rollout a step before the first action is every strategy's.
-  const sim::Scene s(scene, cell);
-  if (!s.feasible()) return true;
-  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
-  const sim::RolloutResult nothing = sim::no_action_rollout(s, *model);
-  return !(nothing.termination == sim::Termination::kContact &&
-           nothing.end_time_s + scene.simulation.dt_s <= first_action_s);
+  const auto nothing = no_action_of(scene, cell);
+  return !(nothing && nothing->termination == sim::Termination::kContact &&
+           nothing->end_time_s + scene.simulation.dt_s <= first_action_s);
 }
 
 StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell) {
