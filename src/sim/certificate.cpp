@@ -41,12 +41,26 @@ constexpr std::array kLambdas{0.0, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 3.0,
 // heading bound at the crossing is the one that shows most).
 constexpr int kHeadingCaps = 65;
 constexpr double kHeadingCapStep_rad = 0.02;
+// Where between the front corners' crossing (0) and the rear corners' (1) the "flank" witnesses
+// put the CG.
+constexpr std::array kFlankParts{0.5, 0.75, 1.0};
+
+// (C11) disc, (C12) side: the cross-section at the truck's near side, (C12a) flank: at its far side.
+enum class WitnessKind { kDisc, kSide, kFlank };
+constexpr std::array kWitnessNames{"disc", "side", "flank"};
 
 struct Witness {
-  bool disc = false;
+  WitnessKind kind = WitnessKind::kDisc;
   double crossing_x = 0.0;
   double heading_cap = 0.0;
 };
+
+// The line x = x_c whose cross-section a side or flank witness shows in the truck: inside the
+// truck's x-range by the margin, at its near side or its far side.
+double section_x(const Setup& c, WitnessKind kind) {
+  return kind == WitnessKind::kFlank ? c.near_x + c.truck_width - kCertificateMinMargin_m
+                                     : c.near_x + kCertificateMinMargin_m;
+}
 
 struct Evaluation {
   double margin = -kInf;
@@ -82,14 +96,15 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Braking& braking, const Wi
   Evaluation out;
   const double xi = w.crossing_x;
   const double min_margin = kCertificateMinMargin_m;
-  const double face_x = c.near_x + min_margin;  // the crossing line, inside the truck by the margin
+  const bool disc = w.kind == WitnessKind::kDisc;
+  const double face_x = section_x(c, w.kind);  // the cross-section's line, inside the truck by the margin
   if (!(xi < c.x_tau + braking.stop_travel()) || !(xi > c.x0)) return out;
 
   // Geometry of the witness.
   double a_lo = 0.0, a_hi = 0.0, cos_cap = 1.0, sin_cap = 0.0;
-  if (w.disc) {
+  if (disc) {
     if (c.cf < 0.5 * c.width || c.cr < 0.5 * c.width) return out;  // the disc must lie in the car
-    if (xi < face_x || xi > c.near_x + c.truck_width - min_margin) return out;
+    if (xi < c.near_x + min_margin || xi > c.near_x + c.truck_width - min_margin) return out;
   } else {
     if (!(w.heading_cap > 0.0 && w.heading_cap < 1.5)) return out;
     sin_cap = std::sin(w.heading_cap);
@@ -145,7 +160,7 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Braking& braking, const Wi
       const double need_hi = c.x_tau + c.v0 * s_hi - xi;
       const double d_cg = b.bound(Functional::kCg, k, need_lo, need_hi);
       double top_lo = 0.0, bottom_hi = 0.0;
-      if (w.disc) {
+      if (disc) {
         top_lo = c.y0 - d_cg + 0.5 * c.width;
         bottom_hi = c.y0 + d_cg - 0.5 * c.width;
       } else {
@@ -170,11 +185,33 @@ std::vector<Witness> witnesses(const Setup& c) {
   const double face_x = c.near_x + kCertificateMinMargin_m;
   for (double xi : {face_x, face_x + 0.1, face_x + 0.3, c.near_x + 0.5 * c.truck_width,
                     c.near_x + c.truck_width - kCertificateMinMargin_m})
-    out.push_back({true, xi, 0.0});
+    out.push_back({WitnessKind::kDisc, xi, 0.0});
+  // Where the CG is when the car's front corners have just crossed the line x_c (part 0) or its
+  // rear corners are about to (part 1, less a millimetre), the car's heading within the cap.
+  const auto straddling = [&](double x_c, double cap, double part) {
+    const double front_in = x_c - (c.cf * std::cos(cap) - 0.5 * c.width * std::sin(cap));
+    const double rear_out = x_c + (c.cr * std::cos(cap) - 0.5 * c.width * std::sin(cap)) - 0.001;
+    return front_in + part * (rear_out - front_in);
+  };
   for (int i = 1; i <= kHeadingCaps; ++i) {
     const double cap = kHeadingCapStep_rad * i;
-    out.push_back({false, face_x - (c.cf * std::cos(cap) - 0.5 * c.width * std::sin(cap)), cap});
+    out.push_back({WitnessKind::kSide, straddling(face_x, cap, 0.0), cap});
   }
+  // The flank, tried after every other witness: a truck still entering the car's path as the car
+  // crossed its near side comes down onto the car's side while the car is still in its x-range.
+  // The cross-section at its far side, the CG from a third of the way to the rear corners'
+  // crossing (evaluate() turns down the caps at which the car cannot straddle the line).
+  // Only where the truck still moves as the car's front reaches its near side (at t = TTC at the
+  // earliest): a truck at rest by then is in the same place when the car crosses its far side, and
+  // the car has had longer to move aside.
+  const core::Vec2 truck_velocity = c.scene->truck_at(c.scene->cell().ttc_s).velocity_mps;
+  if (truck_velocity.x == 0.0 && truck_velocity.y == 0.0) return out;
+  const double far_x = section_x(c, WitnessKind::kFlank);
+  for (const double part : kFlankParts)
+    for (int i = 1; i <= kHeadingCaps; ++i) {
+      const double cap = kHeadingCapStep_rad * i;
+      out.push_back({WitnessKind::kFlank, straddling(far_x, cap, part), cap});
+    }
   return out;
 }
 
@@ -207,7 +244,7 @@ std::optional<Certificate> certify_unavoidable(const Scene& scene) {
     if (!(e.margin >= kCertificateMinMargin_m)) continue;
     Certificate cert;
     cert.margin_m = e.margin;
-    cert.witness = w.disc ? "disc" : "side";
+    cert.witness = kWitnessNames[static_cast<std::size_t>(w.kind)];
     cert.crossing_x_m = w.crossing_x;
     cert.heading_cap_rad = w.heading_cap;
     cert.window_start_s = e.window_start_s;
@@ -230,10 +267,11 @@ bool check_certificate(const Scene& scene, const Certificate& cert) {
       a.truck_speed_kph != b.truck_speed_kph || cert.latency_s != scene.config().actuation.perception_latency_s ||
       !same_actuation(cert.actuation, scene.config().actuation))
     return false;
-  if (cert.witness != "disc" && cert.witness != "side") return false;
+  const auto* named = std::find(kWitnessNames.begin(), kWitnessNames.end(), cert.witness);
+  if (named == kWitnessNames.end()) return false;
   if (!std::isfinite(cert.crossing_x_m) || !std::isfinite(cert.heading_cap_rad)) return false;
   const Setup c = make_setup(scene);
-  const Witness w{cert.witness == "disc", cert.crossing_x_m, cert.heading_cap_rad};
+  const Witness w{static_cast<WitnessKind>(named - kWitnessNames.begin()), cert.crossing_x_m, cert.heading_cap_rad};
   // A denser set of multipliers (the certifier's among them): every one of them is a valid bound on
   // its own. The certifier's step is tried first, then half of it (each is a sound bound).
   std::vector<double> lambdas(kLambdas.begin(), kLambdas.end());

@@ -28,10 +28,11 @@ struct Certificate {
   /// arrival time and every relaxed trajectory.
   double margin_m = 0.0;
   /// "disc": the disc of radius width/2 about the CG, once the CG is in the truck's x-range;
-  /// "side": the car's cross-section at the truck's near side, with the heading bounded.
+  /// "side": the car's cross-section at the truck's near side, with the heading bounded;
+  /// "flank": the same at the truck's far side (a truck that comes down onto the car's flank).
   std::string witness;
   double crossing_x_m = 0.0;      ///< x of the CG at the crossing event
-  double heading_cap_rad = 0.0;   ///< "side": |heading| at the crossing is shown to be at most this
+  double heading_cap_rad = 0.0;   ///< "side", "flank": |heading| at the crossing is shown to be at most this
   double window_start_s = 0.0;    ///< earliest time the CG can reach crossing_x_m
   double window_end_s = 0.0;      ///< latest (braking at mu·g from the end of the latency)
   double stop_reach_x_m = 0.0;    ///< least x the CG reaches before its speed can fall to the stop threshold
