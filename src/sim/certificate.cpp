@@ -199,8 +199,8 @@ std::vector<Witness> witnesses(const Setup& c) {
   }
   // The flank, tried after every other witness: a truck still entering the car's path as the car
   // crossed its near side comes down onto the car's side while the car is still in its x-range.
-  // The cross-section at its far side, the CG from a third of the way to the rear corners'
-  // crossing (evaluate() turns down the caps at which the car cannot straddle the line).
+  // The cross-section at its far side, the CG half, three quarters and all of the way to the rear
+  // corners' crossing (evaluate() turns down the caps at which the car cannot straddle the line).
   // Only where the truck still moves as the car's front reaches its near side (at t = TTC at the
   // earliest): a truck at rest by then is in the same place when the car crosses its far side, and
   // the car has had longer to move aside.
