@@ -21,6 +21,7 @@
 #include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
+#include "emrm/sim/stop_physics.hpp"
 
 namespace {
 
@@ -34,13 +35,13 @@ class StoredOracle final : public campaign::adaptive::Oracle {
     return sim::Scene(campaign_.scene, grid_.cells[cell]).feasible();
   }
   [[nodiscard]] campaign::adaptive::StopCall stop(std::size_t cell) const override {
-    return campaign::adaptive::stop_call(campaign_.scene, grid_.cells[cell]);
+    return sim::stop_call(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
-    return campaign::adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
+    return sim::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
-    return rule_ && campaign::adaptive::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
+    return rule_ && sim::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (truth_[cell] == sim::Region::kInfeasible) ++unknown;  // not in the store: a replay of part of a grid

@@ -8,11 +8,11 @@
 #include <string>
 
 #include "cli.hpp"
-#include "emrm/campaign/calibrate.hpp"
+#include "emrm/calibration/calibrate.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/exports.hpp"
-#include "emrm/campaign/paper_reference.hpp"
-#include "emrm/campaign/run.hpp"
+#include "emrm/results/paper_reference.hpp"
+#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/exchange/assess.hpp"
@@ -123,10 +123,10 @@ void report_side_files(std::string_view data) {
 void measurements(std::string_view data) {
   const fs::path file = fresh_scratch() / "measured";
   write(file, data);
-  refused_or_read([&] { (void)campaign::read_stops(file); });
-  refused_or_read([&] { (void)campaign::read_decel_trace(file); });
-  refused_or_read([&] { (void)campaign::read_region_target(file); });
-  refused_or_read([&] { (void)campaign::parse_paper_reference(std::string(data), "paper_reference.yaml"); });
+  refused_or_read([&] { (void)calibration::read_stops(file); });
+  refused_or_read([&] { (void)calibration::read_decel_trace(file); });
+  refused_or_read([&] { (void)calibration::read_region_target(file); });
+  refused_or_read([&] { (void)results::parse_paper_reference(std::string(data), "paper_reference.yaml"); });
 }
 
 // `emrm assess`'s recorded trajectories, in both formats, judged in one cell of the default scene.

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "emrm/safety/analysis.hpp"
-#include "safety_case.hpp"
+#include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -26,7 +26,7 @@ struct AnalyzeOptions {
 int run(const AnalyzeOptions& options) {
   std::optional<std::filesystem::path> fsm;
   if (!options.fsm_file.empty()) fsm = options.fsm_file;
-  const safety::Analysis analysis = analyze_safety_file(options.safety_file, fsm, options.no_fsm);
+  const safety::Analysis analysis = workflow::analyze_safety_file(options.safety_file, fsm, options.no_fsm);
 
   if (options.format == "json")
     std::cout << safety::to_json(analysis).dump(2) << "\n";

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "commands.hpp"
-#include "emrm/campaign/aggregate.hpp"
-#include "emrm/campaign/boundary.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/boundary.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
@@ -55,7 +55,7 @@ int run(const BoundaryOptions& options) {
   // The analytic stop boundary is the store's own scene's: its actuators, as the sweep drove them.
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string() + " (scene)");
   const auto records = campaign::read_results(store);
-  const campaign::BoundaryReport boundaries = campaign::compute_boundaries(records, scene.actuation);
+  const results::BoundaryReport boundaries = results::compute_boundaries(records, scene.actuation);
   const fs::path out = options.output.empty() ? dir / "boundary" : fs::path(options.output);
 
   std::vector<report::Figure> figures;
@@ -66,9 +66,9 @@ int run(const BoundaryOptions& options) {
     figures = report::draw_boundary_figures(boundaries, records, out, figure_options);
   }
   // The CSV files last, together: when they are there, so is every figure of the run.
-  const auto written = campaign::write_boundary_files(out, boundaries);
+  const auto written = results::write_boundary_files(out, boundaries);
 
-  fmt::print("Boundaries of {} ({} cells): {}", dir.string(), records.size(), campaign::summary(boundaries));
+  fmt::print("Boundaries of {} ({} cells): {}", dir.string(), records.size(), results::summary(boundaries));
   if (!options.no_figures) fmt::print("Drew {}\n", figures_line(figures, boundaries.slices.size(), out));
   fmt::print("Wrote {}, {}\n", written[0].string(), written[1].string());
   return static_cast<int>(ExitCode::kSuccess);

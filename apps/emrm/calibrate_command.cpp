@@ -9,11 +9,10 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "options.hpp"
-#include "emrm/campaign/calibrate.hpp"
+#include "emrm/calibration/calibrate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/sim/scene.hpp"
@@ -38,7 +37,7 @@ struct CalibrateOptions {
 };
 
 // NAME=LO:HI
-std::pair<std::string, campaign::FitBounds> parse_bound(const std::string& text) {
+std::pair<std::string, calibration::FitBounds> parse_bound(const std::string& text) {
   const auto eq = text.find('=');
   const auto colon = text.find(':', eq == std::string::npos ? 0 : eq);
   const auto number = [&](const std::string& s) {
@@ -51,53 +50,6 @@ std::pair<std::string, campaign::FitBounds> parse_bound(const std::string& text)
   return {text.substr(0, eq), {number(text.substr(eq + 1, colon - eq - 1)), number(text.substr(colon + 1))}};
 }
 
-void print_json(const campaign::CalibrationResult& r, const campaign::RegionCalibration* regions) {
-  nlohmann::ordered_json j;
-  j["fitted"] = nlohmann::ordered_json::object();
-  for (const auto& [name, v] : r.fitted)
-    j["fitted"][name] = {{"value", v.value}, {"ci_low", v.ci_low}, {"ci_high", v.ci_high}, {"identifiable", v.identifiable}};
-  j["residual_rms"] = r.residual_rms;
-  j["observations"] = r.observations;
-  j["converged"] = r.converged;
-  j["warnings"] = r.warnings;
-  if (regions != nullptr) {
-    j["grid"] = regions->grid;
-    j["feasible_cells"] = regions->feasible_cells;
-    j["sweeps"] = regions->sweeps;
-    j["fractions"] = nlohmann::ordered_json::object();
-    for (const auto& [name, pct] : regions->fitted_pct) {
-      const auto t = regions->target_pct.find(name);
-      j["fractions"][name] = {{"fitted_pct", pct},
-                              {"target_pct", t != regions->target_pct.end() ? nlohmann::ordered_json(t->second)
-                                                                             : nlohmann::ordered_json(nullptr)}};
-    }
-  }
-  fmt::print("{}\n", j.dump(2));
-}
-
-void print_text(const campaign::CalibrationResult& r, const campaign::RegionCalibration* regions,
-                const std::string& source, std::string_view unit, const std::string& output) {
-  if (regions != nullptr)
-    fmt::print("Calibrated to {} (grid '{}', {} feasible cells, {} simulation(s) of the grid), residual RMS {:.4g} "
-               "points:\n",
-               source, regions->grid, regions->feasible_cells, regions->sweeps, r.residual_rms);
-  else
-    fmt::print("Calibrated from {} ({} observations), residual RMS {:.4g} {}:\n", source, r.observations,
-               r.residual_rms, unit);
-  for (const auto& [name, v] : r.fitted)
-    fmt::print("  {:<22} {:>9.4f}   95 % interval [{:.4f}, {:.4f}]{}\n", name, v.value, v.ci_low, v.ci_high,
-               v.identifiable ? "" : "   NOT IDENTIFIABLE");
-  if (regions != nullptr)
-    for (const auto& [name, pct] : regions->fitted_pct) {
-      const auto t = regions->target_pct.find(name);
-      fmt::print("  {} {:>5.1f} %{}\n", name, pct,
-                 t != regions->target_pct.end() ? fmt::format("   target {:.1f} %", t->second) : std::string("   (not fitted)"));
-    }
-  for (const auto& w : r.warnings) fmt::print("warning: {}\n", w);
-  if (r.converged) fmt::print("Wrote {}\n", output);
-  else fmt::print("The fit did not converge: no profile written.\n");
-}
-
 int run(const CalibrateOptions& o) {
   if (o.stops.empty() + o.trace.empty() + o.regions.empty() != 2)
     throw UsageError("emrm calibrate: give exactly one of --stops, --decel-trace and --regions");
@@ -107,28 +59,28 @@ int run(const CalibrateOptions& o) {
     throw UsageError("--regions needs --campaign FILE: the campaign whose grid the fractions are of");
   if (!o.regions.empty() && !o.scene_file.empty())
     throw UsageError("--regions takes its scene from --campaign; drop --scene");
-  campaign::CalibrationRequest request;
+  calibration::CalibrationRequest request;
   request.fit = o.fit;
   for (const auto& b : o.bounds) {
     const auto [name, bound] = parse_bound(b);
     request.bounds[name] = bound;
   }
 
-  std::optional<campaign::RegionCalibration> regions;
-  campaign::CalibrationResult r;
+  std::optional<calibration::RegionCalibration> regions;
+  calibration::CalibrationResult r;
   if (!o.regions.empty()) {
-    const campaign::RegionTarget target = campaign::read_region_target(o.regions);
+    const calibration::RegionTarget target = calibration::read_region_target(o.regions);
     campaign::Campaign c = campaign::load_campaign(o.campaign_file);
     if (!o.profile.empty()) campaign::apply_profile(c, o.profile);
     request.start = c.scene.actuation;
-    regions = campaign::calibrate_regions(c, target, o.match, request, o.threads);
+    regions = calibration::calibrate_regions(c, target, o.match, request, o.threads);
     r = regions->calibration;
   } else {
     sim::SceneConfig scene = o.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(o.scene_file);
     if (!o.profile.empty()) sim::apply_profile(scene, o.profile, std::filesystem::path(o.scene_file).parent_path());
     request.start = scene.actuation;
-    r = o.stops.empty() ? campaign::calibrate_trace(campaign::read_decel_trace(o.trace), request)
-                        : campaign::calibrate_stops(campaign::read_stops(o.stops), request);
+    r = o.stops.empty() ? calibration::calibrate_trace(calibration::read_decel_trace(o.trace), request)
+                        : calibration::calibrate_stops(calibration::read_stops(o.stops), request);
   }
   const std::string description =
       !o.regions.empty()
@@ -136,12 +88,16 @@ int run(const CalibrateOptions& o) {
                         regions->grid)
           : fmt::format("fitted to the {} of {}", o.stops.empty() ? "speed trace" : "stops",
                         std::filesystem::path(o.stops.empty() ? o.trace : o.stops).filename().string());
-  if (r.converged) core::write_file(o.output, campaign::profile_yaml(r, o.command_line, description));
+  if (r.converged) core::write_file(o.output, calibration::profile_yaml(r, o.command_line, description));
 
-  const campaign::RegionCalibration* by_regions = regions ? &*regions : nullptr;
-  if (o.json) print_json(r, by_regions);
-  else if (!o.regions.empty()) print_text(r, by_regions, o.regions, "points", o.output);
-  else print_text(r, nullptr, o.stops.empty() ? o.trace : o.stops, o.stops.empty() ? "m/s" : "m", o.output);
+  const calibration::RegionCalibration* by_regions = regions ? &*regions : nullptr;
+  if (o.json)
+    fmt::print("{}\n", calibration::to_json(r, by_regions).dump(2));
+  else if (!o.regions.empty())
+    fmt::print("{}", calibration::to_text(r, by_regions, o.regions, "points", o.output));
+  else
+    fmt::print("{}", calibration::to_text(r, nullptr, o.stops.empty() ? o.trace : o.stops, o.stops.empty() ? "m/s" : "m",
+                                         o.output));
   return static_cast<int>(r.converged && r.warnings.empty() ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 

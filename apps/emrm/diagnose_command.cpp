@@ -11,7 +11,7 @@
 
 #include "commands.hpp"
 #include "options.hpp"
-#include "emrm/campaign/diagnostics.hpp"
+#include "emrm/results/diagnostics.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/sim/scene.hpp"
@@ -34,16 +34,16 @@ int run(const DiagnoseOptions& options) {
   const campaign::CampaignMeta meta = campaign::read_meta(store);
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string() + " (scene)");
   const auto records = campaign::read_results(store);
-  campaign::DiagnosticsOptions diagnostics_options;
+  results::DiagnosticsOptions diagnostics_options;
   diagnostics_options.reference_sample = options.sample;
   diagnostics_options.seed = options.seed.value_or(meta.seed);
   diagnostics_options.threads = options.threads;
-  const auto diagnostics = campaign::run_diagnostics(records, scene, diagnostics_options);
-  campaign::write_diagnostics(dir, diagnostics);
-  fmt::print("Diagnostics of {} ({} cells): {}\n", dir.string(), records.size(), campaign::summary(diagnostics));
+  const auto diagnostics = results::run_diagnostics(records, scene, diagnostics_options);
+  results::write_diagnostics(dir, diagnostics);
+  fmt::print("Diagnostics of {} ({} cells): {}\n", dir.string(), records.size(), results::summary(diagnostics));
   fmt::print("Wrote {}/diagnostics.json and {}/fsm; `emrm report {}` shows them\n", dir.string(), dir.string(),
              dir.string());
-  if (!campaign::contradicts_physics(diagnostics)) return static_cast<int>(ExitCode::kSuccess);
+  if (!results::contradicts_physics(diagnostics)) return static_cast<int>(ExitCode::kSuccess);
   fmt::print("diagnose: stored regions contradict the analytic stop boundary; the cells are listed in "
              "diagnostics.json (exit 1)\n");
   return static_cast<int>(ExitCode::kFindings);

@@ -11,7 +11,7 @@
 
 #include "cell_options.hpp"
 #include "commands.hpp"
-#include "emrm/campaign/run.hpp"
+#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/exchange/assess.hpp"

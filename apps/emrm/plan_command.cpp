@@ -13,14 +13,14 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "emrm/campaign/plan_checks.hpp"
+#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
-#include "safety_case.hpp"
+#include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -59,19 +59,19 @@ int run(const PlanOptions& o) {
   if (!o.safety_file.empty()) safety = o.safety_file;
   const auto start = std::chrono::steady_clock::now();
   const scenario::Odd odd = scenario::load_odd(o.odd_file, safety);
-  const sim::SceneConfig scene = campaign::plan_scene(odd);
-  campaign::check_odd_against_scene(odd, scene);
+  const sim::SceneConfig scene = workflow::plan_scene(odd);
+  workflow::check_odd_against_scene(odd, scene);
   std::vector<std::string> warnings;
   if (odd.safety_file) {
-    const safety::Analysis analysis = analyze_safety_file(*odd.safety_file);
+    const safety::Analysis analysis = workflow::analyze_safety_file(*odd.safety_file);
     if (!safety_case_acceptable(analysis, o, warnings)) return static_cast<int>(ExitCode::kFindings);
-    for (auto& w : campaign::safety_range_warnings(odd, analysis.safety_case))
+    for (auto& w : workflow::safety_range_warnings(odd, analysis.safety_case))
       warnings.push_back(std::move(w));
   }
   const scenario::Plan plan = scenario::build_plan(odd);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto reports = scenario::coverage_comparison(odd, plan);
-  for (auto& w : campaign::placement_warnings(odd, plan, scene)) warnings.push_back(std::move(w));
+  for (auto& w : workflow::placement_warnings(odd, plan, scene)) warnings.push_back(std::move(w));
 
   const fs::path dir = o.output_dir;
   scenario::write_plan(dir, odd, plan, reports);

@@ -1,269 +1,40 @@
-// `emrm reproduce -o DIR`: the paper's whole case study on the shipped T-junction example —
-// analysis of the safety case, checks of both FSMs, the campaign sweep, the tables beside the
-// paper's numbers and the diagnostics. Exit 1 when the analysis finds errors or an FSM check
-// fails; bad input escapes as emrm::InputError / UsageError (exit 2).
+// `emrm reproduce -o DIR` (workflow::reproduce): exit 1 when the analysis finds errors, an FSM check
+// fails, the plan misses C1-C4 or a claim of the store does not verify; bad input escapes as
+// emrm::InputError / UsageError (exit 2).
 
-#include <fmt/format.h>
 #include <unistd.h>
 
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <iostream>
 #include <memory>
-#include <optional>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include "commands.hpp"
 #include "mpi_options.hpp"
 #include "options.hpp"
-#include "emrm/campaign/aggregate.hpp"
-#include "emrm/campaign/campaign.hpp"
-#include "emrm/campaign/diagnostics.hpp"
-#include "emrm/campaign/verify.hpp"
-#include "emrm/campaign/paper_reference.hpp"
-#include "emrm/campaign/profiles.hpp"
-#include "emrm/campaign/run.hpp"
-#include "emrm/campaign/sensitivity.hpp"
-#include "emrm/campaign/store.hpp"
-#include "emrm/campaign/sweep.hpp"
-#include "emrm/campaign/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
-#include "emrm/core/table.hpp"
-#include "emrm/core/text.hpp"
-#include "emrm/fsm/load.hpp"
-#include "emrm/fsm/report.hpp"
-#include "emrm/report/report.hpp"
-#include "emrm/safety/analysis.hpp"
-#include "emrm/safety/load.hpp"
-#include "emrm/scenario/odd.hpp"
-#include "emrm/scenario/plan.hpp"
-#include "emrm/scenario/plan_io.hpp"
-#include "safety_case.hpp"
+#include "emrm/workflow/reproduce.hpp"
 
 namespace emrm::cli {
 namespace {
 
-// "0 dodge, 1 drift_to_avoid": how many avoidances the RRT missed, per checked strategy.
-namespace fs = std::filesystem;
-
 struct ReproduceOptions {
   std::string output_dir;
-  std::string examples_dir;  // empty: search (see find_examples)
+  std::string examples_dir;  // empty: search (workflow::find_examples)
   int threads = 0;
   std::size_t sample = 40;
   std::string profile;
   MpiOptions mpi;
 };
 
-constexpr const char* kExampleFiles[] = {"safety.yaml",   "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
-                                         "campaign.yaml", "odd.yaml",      "paper_reference.yaml"};
-
-bool is_example_dir(const fs::path& dir) {
-  std::error_code ec;
-  return fs::is_regular_file(dir / "campaign.yaml", ec) && fs::is_regular_file(dir / "safety.yaml", ec);
-}
-
-// The shipped example: ./examples/tjunction, then the same under every parent folder (running
-// from inside a build tree), then next to the executable (an installed tree's share/emrm).
-fs::path find_examples(const ReproduceOptions& options) {
-  if (!options.examples_dir.empty()) {
-    if (!fs::is_directory(options.examples_dir))
-      throw UsageError(fmt::format("--examples: '{}' is not a folder", options.examples_dir));
-    for (const char* name : kExampleFiles)
-      if (!fs::is_regular_file(fs::path(options.examples_dir) / name))
-        throw UsageError(fmt::format("--examples: '{}' has no {} (expected {})", options.examples_dir, name,
-                                     core::join({std::begin(kExampleFiles), std::end(kExampleFiles)}, ", ")));
-    return options.examples_dir;
-  }
-  std::vector<fs::path> tried;
-  std::error_code ec;
-  for (fs::path dir = fs::current_path(ec); !dir.empty(); dir = dir.parent_path()) {
-    tried.push_back(dir / "examples" / "tjunction");
-    if (is_example_dir(tried.back())) return tried.back();
-    if (dir == dir.root_path()) break;
-  }
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    tried.push_back(exe.parent_path() / ".." / "share" / "emrm" / "examples" / "tjunction");
-    if (is_example_dir(tried.back())) return fs::weakly_canonical(tried.back());
-    for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path()) {
-      tried.push_back(dir / "examples" / "tjunction");
-      if (is_example_dir(tried.back())) return tried.back();
-    }
-  }
-  throw UsageError(fmt::format(
-      "cannot find the shipped example folder examples/tjunction (looked in the current folder, its parents "
-      "and {}); run from the repository or pass --examples DIR",
-      tried.empty() ? std::string("nowhere")
-                    : (exe.parent_path() / ".." / "share" / "emrm" / "examples").string()));
-}
-
-std::string pct(double v) { return core::format_number(v, 1); }
-
-// Steps 1–4: the safety case, written as `emrm analyze -o DIR/analysis` would.
-bool run_analysis(const fs::path& examples, const fs::path& out) {
-  const auto safety_file = examples / "safety.yaml";
-  const safety::Analysis analysis = analyze_safety_file(safety_file);
-  const auto dir = out / "analysis";
-  safety::write_analysis(dir, analysis);
-  const auto& c = analysis.safety_case;
-  fmt::print(
-      "analysis  {}: {}, {}, {}; {}, {}; {} -> {}\n", safety_file.string(),
-      core::counted(c.losses.size(), "loss", "losses"), core::counted(c.hazards.size(), "hazard", "hazards"),
-      core::counted(c.ucas.size(), "UCA", "UCAs"), core::counted(analysis.errors(), "error", "errors"),
-      core::counted(analysis.warnings(), "warning", "warnings"),
-      core::counted(analysis.matrix.size(), "traceability row", "traceability rows"), dir.string());
-  return analysis.errors() == 0;
-}
-
-// Step 5: the structural checks of one FSM, as `emrm fsm FILE --check --format json`, and its
-// plain diagram.
-bool run_fsm_check(const fs::path& file, const fs::path& out) {
-  const fsm::Report report = fsm::write_check_files(file, out / "fsm");
-  const fsm::Generator& g = report.machine;
-  const fsm::CheckReport& r = *report.check;
-  fmt::print(
-      "fsm       {}: {} states, {} transitions; accessible {}, co-accessible {}, deterministic {}, "
-      "non-blocking {}\n",
-      file.string(), g.states().size(), g.transitions().size(), r.accessible.ok() ? "ok" : "FAILED",
-      r.coaccessible.ok() ? "ok" : "FAILED", r.deterministic.ok() ? "ok" : "FAILED",
-      r.nonblocking.ok() ? "ok" : "FAILED");
-  return r.ok();
-}
-
-// `distributor`: the other ranks of an MPI job (--mpi), which simulate the cells of the sweeps (the
-// campaign's, each profile's, the planned run's); everything else runs here. Null: this process alone.
 int run(const ReproduceOptions& options, campaign::Distributor* distributor) {
-  const auto start = std::chrono::steady_clock::now();
-  const fs::path examples = find_examples(options);
-  const fs::path out = options.output_dir;
-  // Read every input before any long work, so bad input fails in a second and not after the sweep.
-  campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
-  if (!options.profile.empty()) campaign::apply_profile(plan, options.profile);
-  const campaign::PaperReference paper = campaign::load_paper_reference(examples / "paper_reference.yaml");
-  const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml");
-  fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
-
-  bool ok = run_analysis(examples, out);
-  ok = run_fsm_check(examples / "emrm_fsm.yaml", out) && ok;
-  ok = run_fsm_check(examples / "loss_evaluation_fsm.yaml", out) && ok;
-
-  campaign::SweepOptions sweep_options;
-  sweep_options.output_dir = out;
-  sweep_options.threads = options.threads;
-  sweep_options.progress = ::isatty(STDERR_FILENO) != 0;
-  sweep_options.distributor = distributor;
-  const auto s = campaign::sweep(plan, sweep_options);
-  fmt::print("sweep     {}: {} cells, {} already stored, {} simulated in {:.1f} s -> {}\n",
-             (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated,
-             s.seconds, (out / "results.sqlite").string());
-
-  // Every claim of the store re-checked without trusting the sweep (docs/verify.md).
-  const auto verified = campaign::verify_results(out / "results.sqlite");
-  campaign::write_verify_report(out, verified);
-  fmt::print("verify    {} cells, {} maneuvers replayed, {} avoidances re-checked every ms, {} certificates, {} undecided: "
-             "{} -> {}\n",
-             verified.cells, verified.witnesses, verified.avoidances, verified.certificates, verified.undecided,
-             verified.ok() ? "all claims hold" : fmt::format("{} claims FAIL", verified.failures.size()),
-             (out / "verify.json").string());
-  ok = verified.ok() && ok;
-
-  const auto records = campaign::read_results(out / "results.sqlite");
-  campaign::TableOptions table_options;
-  table_options.grid = campaign::headline_grid(records, paper.fine_grid.grid);
-  table_options.cuts.car_width_m = plan.scene.ego.width_m;
-  table_options.actuation = plan.scene.actuation;
-  campaign::write_tables(out, records, paper, table_options);
-  core::write_table(out / "tables", "brake_sensitivity",
-                    campaign::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
-
-  // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
-  if (const auto profiles = campaign::scene_profiles(plan); !profiles.empty()) {
-    const auto runs = campaign::sweep_profiles(plan, table_options.grid, profiles, sweep_options);
-    std::vector<std::vector<campaign::CellRecord>> per_profile;
-    std::vector<std::string> parts;
-    for (const auto& run : runs) {
-      per_profile.push_back(campaign::read_results(out / run.store));
-      const auto c = campaign::count_regions(per_profile.back(), table_options.grid);
-      parts.push_back(fmt::format("{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)),
-                                  pct(c.pct(c.o)), pct(c.pct(c.r)),
-                                  run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
-    }
-    core::write_table(out / "tables", "regions_by_profile",
-                      campaign::profiles_table(runs, per_profile, paper, table_options.grid));
-    fmt::print("profiles  grid '{}' per profile (%): {} -> {}\n", table_options.grid, core::join(parts, "; "),
-               (out / "profiles").string());
-  }
-
-  campaign::DiagnosticsOptions diagnostics_options;
-  diagnostics_options.reference_sample = options.sample;
-  diagnostics_options.seed = plan.seed;
-  diagnostics_options.threads = options.threads;
-  const auto diagnostics = campaign::run_diagnostics(records, plan.scene, diagnostics_options);
-  campaign::write_diagnostics(out, diagnostics);
-
-  // Steps 6–7 (paper §V-B): the minimum scenario set, checked, compared with the baselines, run.
-  const auto plan_start = std::chrono::steady_clock::now();
-  const scenario::Plan scenario_plan = scenario::build_plan(odd);
-  const auto coverage = scenario::coverage_comparison(odd, scenario_plan);
-  scenario::write_plan(out / "plan", odd, scenario_plan, coverage);
-  const core::Table coverage_table = campaign::coverage_comparison_table(coverage, paper);
-  core::write_table(out / "tables", "coverage", coverage_table);
-  const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - plan_start).count();
-  const auto& ours = coverage.front();
-  ok = ours.all() && ok;
-  fmt::print(
-      "plan      {}: {} scenarios for {} relevant cells ({} tracked) in {:.2f} s; C1 {}, C2 {}, C3 {}, C4 {}; {} -> "
-      "{}\n",
-      (examples / "odd.yaml").string(), scenario_plan.scenarios.size(), scenario_plan.relevant_cells,
-      scenario_plan.tracked_cells, plan_seconds, ours.c1 ? "holds" : "FAILS", ours.c2 ? "holds" : "FAILS",
-      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason,
-      (out / "plan").string());
-  campaign::RunOptions run_options;
-  run_options.scenarios_csv = out / "plan" / "scenarios.csv";
-  run_options.output_dir = out / "plan_results";
-  run_options.threads = options.threads;
-  run_options.progress = sweep_options.progress;
-  run_options.profile = options.profile;
-  run_options.distributor = distributor;
-  const campaign::RunResult run = campaign::run_scenarios(run_options);
-  const auto& all = run.subsets.front().estimate;
-  fmt::print(
-      "run       {} scenarios in {:.1f} s: S(all) = {:.3f} (Wilson [{:.3f}, {:.3f}] at n_eff {:.1f}); widest "
-      "half-width {:.3f} in a tracked cell (target {:g}); EMRM FSM transitions exercised {}/{} -> {}\n",
-      run.outcomes.size(), run.sweep.seconds, all.estimate, all.wilson.low, all.wilson.high, all.n_eff, run.widest_tracked_half_width, run.epsilon,
-      run.transitions_exercised, run.transitions_total, run_options.output_dir.string());
-  fmt::print("\n{}\n{}", coverage_table.title, core::markdown_table(coverage_table.header, coverage_table.rows));
-
-  // The summary: the headline numbers, ours beside the paper's.
-  const auto regions = campaign::count_regions(records, table_options.grid);
-  const auto& pr = paper.fine_grid.regions_pct;
-  fmt::print("\nRegions of grid '{}' (% of feasible cells), ours vs paper:\n", table_options.grid);
-  fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n",
-             regions.feasible, paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g,
-             pct(regions.pct(regions.y)), pr.y, pct(regions.pct(regions.o)), pr.o,
-             pct(regions.pct(regions.r)), pr.r);
-  const auto table = campaign::emrm_vs_baseline_table(records, paper, table_options.grid);
-  fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
-  fmt::print("\nDiagnostics: {}\n", campaign::summary(diagnostics));
-  const auto report = report::write_report(out);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fmt::print(
-      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,regions_by_profile,claims,coverage,brake_sensitivity}}"
-      ".{{md,csv,tex}}, kpis.csv; "
-      "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
-      out.string(), out.string(), out.string(), out.string(), seconds);
-  fmt::print("Report: {} (figures in {}/figures, drawn in {:.1f} s)\n", report.html.string(), out.string(),
-             report.figure_seconds);
-  if (!ok)
-    fmt::print(
-        "reproduce: the analysis found errors, an FSM check failed, the plan misses C1-C4 or a claim of the store "
-        "did not verify (exit 1)\n");
-  return static_cast<int>(ok ? ExitCode::kSuccess : ExitCode::kFindings);
+  workflow::ReproduceOptions o;
+  o.output_dir = options.output_dir;
+  o.examples_dir = options.examples_dir;
+  o.threads = options.threads;
+  o.sample = options.sample;
+  o.profile = options.profile;
+  o.progress = ::isatty(STDERR_FILENO) != 0;
+  return static_cast<int>(workflow::reproduce(o, distributor) ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 
 }  // namespace

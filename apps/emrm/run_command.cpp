@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "mpi_options.hpp"
 #include "options.hpp"
-#include "emrm/campaign/run.hpp"
+#include "emrm/workflow/run.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 
@@ -30,7 +30,7 @@ struct RunCommandOptions {
 int run(const RunCommandOptions& o, cluster::Ranks* ranks) {
   if (!std::filesystem::is_regular_file(o.scenarios))
     throw UsageError(fmt::format("emrm run: '{}' does not exist", o.scenarios));
-  campaign::RunOptions options;
+  workflow::RunOptions options;
   options.scenarios_csv = o.scenarios;
   options.output_dir = o.output_dir;
   options.threads = o.threads;
@@ -41,8 +41,8 @@ int run(const RunCommandOptions& o, cluster::Ranks* ranks) {
       throw UsageError(fmt::format("emrm run: --safety '{}' does not exist", o.safety));
     options.safety_file = o.safety;
   }
-  const campaign::RunResult r = campaign::run_scenarios(options);
-  fmt::print("{}", campaign::to_text(r, o.scenarios, o.output_dir));
+  const workflow::RunResult r = workflow::run_scenarios(options);
+  fmt::print("{}", workflow::to_text(r, o.scenarios, o.output_dir));
   // The plan's shortfalls are the same exit 1 as `emrm plan` gave them: the evidence has gaps.
   return static_cast<int>(r.plan_shortfalls.empty() ? ExitCode::kSuccess : ExitCode::kFindings);
 }

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "emrm/campaign/verify.hpp"
+#include "emrm/results/verify.hpp"
 #include "emrm/core/error.hpp"
 
 namespace emrm::cli {
@@ -21,11 +21,11 @@ struct VerifyCommandOptions {
 int run(const VerifyCommandOptions& options) {
   const std::filesystem::path dir(options.dir);
   const auto store = std::filesystem::is_directory(dir) ? dir / "results.sqlite" : dir;
-  const campaign::VerifyReport report = campaign::verify_results(store);
+  const results::VerifyReport report = results::verify_results(store);
   if (options.json)
-    fmt::print("{}\n", campaign::to_json(report).dump(2));
+    fmt::print("{}\n", results::to_json(report).dump(2));
   else
-    fmt::print("{}", campaign::to_text(report));
+    fmt::print("{}", results::to_text(report));
   return static_cast<int>(report.ok() ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 

@@ -11,7 +11,7 @@
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
 #include "emrm/safety/analysis.hpp"
-#include "safety_case.hpp"
+#include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::python {
 namespace {
@@ -30,7 +30,7 @@ py::dict table(const core::Row& header, const std::vector<core::Row>& rows) {
 safety::Analysis analyze(py::handle safety_file, py::handle fsm_file, bool no_fsm) {
   std::optional<std::filesystem::path> fsm;
   if (!fsm_file.is_none()) fsm = to_path(fsm_file);
-  return cli::analyze_safety_file(to_path(safety_file), fsm, no_fsm);
+  return workflow::analyze_safety_file(to_path(safety_file), fsm, no_fsm);
 }
 
 fsm::Report check_fsm(py::handle file, bool check, int words, const std::vector<std::string>& word_queries,

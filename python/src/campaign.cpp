@@ -16,7 +16,7 @@
 #include <type_traits>
 
 #include "bindings.hpp"
-#include "emrm/campaign/aggregate.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
@@ -214,18 +214,18 @@ py::dict outcome_columns(const std::vector<campaign::CellRecord>& records) {
   return c.dict();
 }
 
-// kpis.csv's columns (campaign::grid_kpis of every grid), at full precision.
-py::dict kpi_columns(const std::vector<campaign::CellRecord>& records, const campaign::LevelCuts& cuts) {
-  using campaign::StrategyKpis;
+// kpis.csv's columns (results::grid_kpis of every grid), at full precision.
+py::dict kpi_columns(const std::vector<campaign::CellRecord>& records, const results::LevelCuts& cuts) {
+  using results::StrategyKpis;
   std::vector<StrategyKpis> kpis;
-  for (const auto& grid : campaign::grid_names(records))
-    for (auto& k : campaign::grid_kpis(records, grid, cuts)) kpis.push_back(std::move(k));
+  for (const auto& grid : results::grid_names(records))
+    for (auto& k : results::grid_kpis(records, grid, cuts)) kpis.push_back(std::move(k));
   Columns<StrategyKpis> c(kpis);
   c.add("grid", [](const StrategyKpis& k) { return k.grid; });
   c.add("strategy", [](const StrategyKpis& k) { return k.strategy; });
-  c.add("factor", [](const StrategyKpis& k) { return std::string(campaign::factor_name(k.factor)); });
+  c.add("factor", [](const StrategyKpis& k) { return std::string(results::factor_name(k.factor)); });
   c.add("level", [](const StrategyKpis& k) { return k.level; });
-  c.add("range", [&cuts](const StrategyKpis& k) { return campaign::level_range(k.factor, k.level, cuts); });
+  c.add("range", [&cuts](const StrategyKpis& k) { return results::level_range(k.factor, k.level, cuts); });
   c.add("cells", [](const StrategyKpis& k) { return k.cells; });
   c.add("avoided", [](const StrategyKpis& k) { return k.avoided; });
   c.add("collisions", [](const StrategyKpis& k) { return k.collisions; });
@@ -251,7 +251,7 @@ py::dict read_results(py::handle dir) {
     adaptive = campaign::ResultStore::open_for_reading(store).adaptive_summaries();
   }
   // The KPI tables cut the passage at the car's width, as `emrm reproduce` does.
-  campaign::LevelCuts cuts;
+  results::LevelCuts cuts;
   cuts.car_width_m = sim::parse_stored_scene_config(meta.scene_yaml, store.string()).ego.width_m;
   py::dict meta_dict;
   meta_dict["config_hash"] = meta.config_hash;

@@ -9,7 +9,7 @@
 #include <span>
 
 #include "bindings.hpp"
-#include "emrm/campaign/plan_checks.hpp"
+#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/covering_array.hpp"
@@ -17,7 +17,7 @@
 #include "emrm/scenario/pict_model.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
-#include "safety_case.hpp"
+#include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::python {
 namespace {
@@ -188,15 +188,15 @@ py::dict plan(py::handle source, py::handle safety_file, py::handle output_dir, 
   if (!safety_file.is_none()) safety = to_path(safety_file);
   const auto start = std::chrono::steady_clock::now();
   const scenario::Odd odd = odd_from(source, safety);
-  const sim::SceneConfig scene = campaign::plan_scene(odd);
-  campaign::check_odd_against_scene(odd, scene);
+  const sim::SceneConfig scene = workflow::plan_scene(odd);
+  workflow::check_odd_against_scene(odd, scene);
   py::dict out;
   std::vector<std::string> warnings;
   if (odd.safety_file) {
-    safety::Analysis analysis = cli::analyze_safety_file(*odd.safety_file);
+    safety::Analysis analysis = workflow::analyze_safety_file(*odd.safety_file);
     const bool refused = analysis.errors() > 0 && !allow_findings;
     if (!refused)
-      for (auto& w : campaign::safety_range_warnings(odd, analysis.safety_case)) warnings.push_back(std::move(w));
+      for (auto& w : workflow::safety_range_warnings(odd, analysis.safety_case)) warnings.push_back(std::move(w));
     out["analysis"] = std::move(analysis);
     if (refused) return out;
   }
@@ -208,7 +208,7 @@ py::dict plan(py::handle source, py::handle safety_file, py::handle output_dir, 
     reports = scenario::coverage_comparison(odd, planned);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (auto& w : campaign::placement_warnings(odd, planned, scene)) warnings.push_back(std::move(w));
+  for (auto& w : workflow::placement_warnings(odd, planned, scene)) warnings.push_back(std::move(w));
   const std::filesystem::path dir = output_dir.is_none() ? std::filesystem::path(".") : to_path(output_dir);
   if (!output_dir.is_none()) scenario::write_plan(dir, odd, planned, reports);
   const auto [header, rows] = scenario::coverage_table(reports);

@@ -34,6 +34,7 @@
 #include "emrm/sim/actuation.hpp"
 #include "emrm/sim/strategy.hpp"
 #include "emrm/sim/vehicle.hpp"
+#include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::campaign {
 namespace {
@@ -184,10 +185,8 @@ int local_threads(int threads) { return threads > 0 ? threads : tbb::info::defau
 // 1: feasible; 0: infeasible, nothing is simulated.
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
   const sim::CellInput& cell = campaign.grids[item.grid].cells[item.index];
-  const double v_mps = cell.speed_kph / 3.6;
-  const double distance_m = v_mps * cell.ttc_s;
   if (!sim::Scene(campaign.scene, cell).feasible()) return 0;
-  return campaign.scene.actuation.stopping_distance_m(v_mps, cell.mu, true) > distance_m ? 2 : 1;
+  return sim::stop_margin_m(cell.speed_kph, cell.ttc_s, cell.mu, campaign.scene.actuation) < 0.0 ? 2 : 1;
 }
 
 // The order cells run in (results do not depend on it): within each cost class shuffled with a
@@ -435,14 +434,14 @@ class GridOracle final : public adaptive::Oracle {
       case Rule::kSimulate: return adaptive::StopCall::kUnknown;
       case Rule::kAnalytic: break;
     }
-    return adaptive::stop_call(campaign_.scene, grid_.cells[cell]);
+    return sim::stop_call(campaign_.scene, grid_.cells[cell]);
   }
 
   [[nodiscard]] bool passes_early(std::size_t cell) const override {
-    return adaptive::may_pass_early(campaign_.scene, grid_.cells[cell]);
+    return sim::may_pass_early(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] bool nothing_to_mitigate(std::size_t cell) const override {
-    return adaptive::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
+    return sim::nothing_to_mitigate(campaign_.scene, grid_.cells[cell]);
   }
   [[nodiscard]] sim::Region simulate(std::size_t cell) override {
     if (stored_[cell] != sim::Region::kInfeasible) return stored_[cell];

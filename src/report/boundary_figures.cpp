@@ -15,18 +15,19 @@
 #include <string_view>
 #include <vector>
 
-#include "emrm/campaign/aggregate.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/sim/stop_physics.hpp"
 #include "figure_parts.hpp"
 
 namespace emrm::report {
 namespace {
 
 namespace fs = std::filesystem;
-using campaign::BoundaryReport;
-using campaign::BoundaryRow;
-using campaign::BoundarySlice;
+using results::BoundaryReport;
+using results::BoundaryRow;
+using results::BoundarySlice;
 using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
@@ -145,7 +146,7 @@ void add_analytic_line(SliceDrawing& d, const BoundaryReport& report, double mu,
   std::vector<std::string> points;
   for (int i = 0; i <= kAnalyticSamples; ++i) {
     const double v = low + (high - low) * i / kAnalyticSamples;
-    const double ttc = campaign::analytic_stop_ttc_s(v, mu, report.actuation);
+    const double ttc = sim::stop_boundary_ttc_s(v, mu, report.actuation);
     points.push_back(fmt::format("{} {}", plot_number(v), plot_number(ttc)));
     d.csv.push_back({"analytic_stop", plot_number(v), "", "", plot_number(ttc), ""});
   }
@@ -242,7 +243,7 @@ std::vector<Figure> draw_boundary_figures(const BoundaryReport& report, const st
   const std::size_t drawn = std::min(report.slices.size(), options.max_figures);
   for (std::size_t i = 0; i < drawn; ++i) {
     const BoundarySlice& slice = report.slices[i];
-    const std::vector<CellRecord> grid_cells = campaign::records_of_grid(records, slice.grid);
+    const std::vector<CellRecord> grid_cells = results::records_of_grid(records, slice.grid);
     std::vector<CellRecord> cells;
     for (const auto& c : grid_cells)
       if (slice.holds(c)) cells.push_back(c);

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <utility>
 
-#include "emrm/campaign/aggregate.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
 #include "emrm/sim/strategy.hpp"
@@ -29,7 +29,7 @@ using detail::write_csv;
 
 /// The strategies of `records` in evaluation order, then any other in order of first appearance.
 std::vector<std::string> ordered_strategies(const std::vector<CellRecord>& records) {
-  const auto seen = campaign::strategy_names_of(records);
+  const auto seen = results::strategy_names_of(records);
   std::vector<std::string> out;
   for (const auto& name : sim::strategy_names())
     if (std::find(seen.begin(), seen.end(), name) != seen.end()) out.push_back(name);
@@ -50,7 +50,7 @@ std::vector<CellRecord> figure_of_grid(Figure& figure, std::string name, std::st
                                        const std::vector<CellRecord>& records, const std::string& grid) {
   figure.name = std::move(name);
   figure.title = std::move(title);
-  auto cells = campaign::records_of_grid(records, grid);
+  auto cells = results::records_of_grid(records, grid);
   if (cells.empty()) figure.note = fmt::format("no {}: no grid '{}' in the store", what, grid);
   return cells;
 }
@@ -69,7 +69,7 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
   std::vector<std::string> lines, tics;
   std::size_t feasible = 0;
   for (const auto& strategy : strategies) {
-    const auto k = campaign::strategy_kpis(cells, strategy, grid);
+    const auto k = results::strategy_kpis(cells, strategy, grid);
     if (k.cells == 0) continue;
     feasible = std::max(feasible, k.cells);
     core::Row row{strategy, std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
@@ -139,7 +139,7 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
   std::vector<std::vector<std::string>> per_strategy(strategies.size());
   for (const SweepPoint& point : points) {
     for (std::size_t s = 0; s < strategies.size(); ++s) {
-      const auto k = campaign::strategy_kpis(point.cells, strategies[s], grid);
+      const auto k = results::strategy_kpis(point.cells, strategies[s], grid);
       if (k.cells == 0) continue;  // every cell of this point infeasible: no point, the line bridges it
       core::Row row = point.key;
       row.insert(row.end(), {strategies[s], std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "emrm/campaign/aggregate.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/figures.hpp"
 #include "emrm/report/gnuplot.hpp"
@@ -175,7 +175,7 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const st
   p.spec = spec;
   p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
   p.origin_y = i < 2 ? layout.key_h + layout.cell_h : layout.key_h;
-  std::vector<CellRecord> cells = campaign::records_of_grid(records, p.spec.grid);
+  std::vector<CellRecord> cells = results::records_of_grid(records, p.spec.grid);
   if (cells.empty()) {
     layout.missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
     layout.missing_labels += fmt::format(
@@ -352,7 +352,7 @@ struct RegionPanel {
   std::string shares;  ///< "G a %, Y b %, O c %, R d % of N feasible[, k undecided]"
 };
 RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector<core::Row>& rows, std::string& data) {
-  const auto regions = campaign::count_regions(p.cells, p.spec.grid);  // throws on a corrupt region
+  const auto regions = results::count_regions(p.cells, p.spec.grid);  // throws on a corrupt region
   std::vector<std::string> lines, crosses;
   for (const auto& c : p.cells) {
     core::Row row = cell_columns(p, c);
@@ -578,7 +578,7 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs:
 
 // --- the map under each actuation profile ---------------------------------------------------------
 
-Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
+Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
                          const std::vector<std::vector<CellRecord>>& records, const std::string& grid,
                          const fs::path& dir) {
   Figure figure;
@@ -604,7 +604,7 @@ Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
   bool undecided = false;
   for (std::size_t k = 0; k < layout.panels.size(); ++k) {
     const MapPanel& p = layout.panels[k];
-    const campaign::ProfileRun& run = runs[run_of[k]];
+    const results::ProfileRun& run = runs[run_of[k]];
     const auto& a = run.actuation;
     const double latency_s = a.perception_latency_s + a.brake_dead_time_s + 0.5 * a.brake_ramp_s;
     const std::size_t before = rows.size();
@@ -793,9 +793,9 @@ std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const
                                    const GridMapOptions& options) {
   std::vector<Figure> figures;
   StemSet stems;
-  for (const auto& grid : campaign::grid_names(records)) {
+  for (const auto& grid : results::grid_names(records)) {
     if (std::find(options.skip.begin(), options.skip.end(), grid) != options.skip.end()) continue;
-    const std::vector<CellRecord> cells = campaign::records_of_grid(records, grid);
+    const std::vector<CellRecord> cells = results::records_of_grid(records, grid);
     const GridCut cut = cut_grid(cells);
     const std::vector<GridSlice> slices = slices_of(cells, cut);
     const std::size_t drawn = std::min(slices.size(), options.max_slices_per_grid);

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
-#include "emrm/campaign/run.hpp"
+#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"

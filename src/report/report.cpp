@@ -12,15 +12,15 @@
 #include <set>
 #include <sstream>
 
-#include "emrm/campaign/aggregate.hpp"
-#include "emrm/campaign/diagnostics.hpp"
-#include "emrm/campaign/profiles.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/diagnostics.hpp"
+#include "emrm/results/profiles.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
-#include "emrm/campaign/run.hpp"
+#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/trajectory_figure.hpp"
 #include "html.hpp"
@@ -199,7 +199,7 @@ std::string findings_html(const fs::path& dir) {
   }
 }
 
-// The checks of diagnostics.json (campaign::to_json) as one table: what each found, then the file.
+// The checks of diagnostics.json (results::to_json) as one table: what each found, then the file.
 std::string diagnostics_table(const nlohmann::json& d) {
   const auto& stop = d.at("stop_boundary");
   const auto& mono = d.at("monotonicity");
@@ -292,8 +292,8 @@ std::string shortfalls_html(const fs::path& dir) {
 std::string regions_html(const std::vector<campaign::CellRecord>& records) {
   core::Row header{"grid", "cells", "feasible", "G %", "Y %", "O %", "R %", "O/R certified", "O/R undecided"};
   std::vector<core::Row> rows;
-  for (const auto& g : campaign::grid_names(records)) {
-    const auto c = campaign::count_regions(records, g);
+  for (const auto& g : results::grid_names(records)) {
+    const auto c = results::count_regions(records, g);
     std::size_t certified = 0;
     std::size_t undecided = 0;
     for (const auto& r : records)
@@ -458,7 +458,7 @@ namespace {
 // Which actuation made the results (docs/actuation.md), with the name of the profile it is when
 // `reproduce` swept the profiles side by side: every figure and table of the report is under it,
 // but the per-profile figure, whose panels name their own.
-std::string actuation_html(const sim::ActuationConfig& a, const std::vector<campaign::ProfileRun>& profiles) {
+std::string actuation_html(const sim::ActuationConfig& a, const std::vector<results::ProfileRun>& profiles) {
   std::string name;
   for (const auto& p : profiles)
     if (p.reused) name = fmt::format(" (the <code>{}</code> profile)", html_escape(p.name));
@@ -480,7 +480,7 @@ Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const std:
 // broken one fails the report with nothing written.
 struct ReportInputs {
   std::optional<PlannedRun> planned;
-  std::vector<campaign::ProfileRun> runs;  ///< those whose store exists
+  std::vector<results::ProfileRun> runs;  ///< those whose store exists
   std::vector<std::vector<campaign::CellRecord>> per_profile;
   std::optional<std::vector<scenario::CoverageReport>> coverage;
   std::string trace_source;
@@ -491,9 +491,9 @@ struct ReportInputs {
 ReportInputs read_inputs(const fs::path& dir) {
   ReportInputs in;
   in.planned = read_planned_run(dir);
-  in.runs = campaign::read_profile_index(dir);
+  in.runs = results::read_profile_index(dir);
   std::error_code ec;
-  std::erase_if(in.runs, [&](const campaign::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
+  std::erase_if(in.runs, [&](const results::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
   for (const auto& run : in.runs) in.per_profile.push_back(campaign::read_results(dir / run.store));
   for (const fs::path& file : coverage_candidates(dir)) {
     const std::string text = read_or_empty(file);
@@ -521,7 +521,7 @@ ReportSummary write_report(const fs::path& dir) {
 
   ReportSummary summary;
   const auto start = Clock::now();
-  const std::string grid = campaign::headline_grid(records);
+  const std::string grid = results::headline_grid(records);
   // The dashed stop boundary as a latency: perception, brake dead time and half the ramp (the ramp's
   // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check).
   const auto& act = scene.actuation;
@@ -529,7 +529,7 @@ ReportSummary write_report(const fs::path& dir) {
   // The paper's four-panel maps when the store holds one of their grids; any other grid its own maps.
   const MapPanels paper;
   const std::vector<std::string> paper_grids{paper.coarse, paper.fine, paper.speed_mu, paper.ttc_mu};
-  const auto grids = campaign::grid_names(records);
+  const auto grids = results::grid_names(records);
   GridMapOptions grid_maps;
   grid_maps.skip = paper_grids;
   if (planned) grid_maps.skip.push_back(campaign::kPlanGrid);  // scenarios, not a grid: mapped by the ODD's cells
@@ -559,12 +559,12 @@ ReportSummary write_report(const fs::path& dir) {
     if (in.coverage) coverage = draw_coverage_comparison(*in.coverage, figures_dir);
     summary.figures.push_back(coverage);
   }
-  const auto emrm_coverage = campaign::emrm_fsm_coverage(records, sim::default_emrm_fsm());
+  const auto emrm_coverage = results::emrm_fsm_coverage(records, sim::default_emrm_fsm());
   summary.figures.push_back(draw_fsm_figure(sim::default_emrm_fsm(), emrm_coverage.coverage.counts, "emrm_fsm",
                                             "EMRM hazard–loss FSM, transitions coloured by how often the runs took "
                                             "them (dashed red: never)",
                                             figures_dir));
-  const auto loss_coverage = campaign::loss_evaluation_fsm_coverage(records, sim::default_loss_evaluation_fsm());
+  const auto loss_coverage = results::loss_evaluation_fsm_coverage(records, sim::default_loss_evaluation_fsm());
   summary.figures.push_back(draw_fsm_figure(sim::default_loss_evaluation_fsm(), loss_coverage.coverage.counts,
                                             "loss_evaluation_fsm",
                                             "Loss-evaluation FSM, transitions coloured by how often emrm's decisions "

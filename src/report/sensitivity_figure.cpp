@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "emrm/campaign/sensitivity.hpp"
+#include "emrm/results/sensitivity.hpp"
 #include "emrm/report/figures.hpp"
 #include "emrm/report/gnuplot.hpp"
 #include "figure_parts.hpp"
@@ -17,7 +17,7 @@ Figure draw_brake_sensitivity(const std::vector<campaign::CellRecord>& records, 
   Figure figure;
   figure.name = "brake_sensitivity";
   figure.title = fmt::format("Brake sensitivity on grid '{}'", grid);
-  const campaign::BrakeSensitivity s = campaign::brake_sensitivity(records, grid, actuation);
+  const results::BrakeSensitivity s = results::brake_sensitivity(records, grid, actuation);
   if (std::isnan(s.base_g_pct)) {
     figure.note = fmt::format("no brake sensitivity: grid '{}' has no feasible cell in the store", grid);
     return figure;

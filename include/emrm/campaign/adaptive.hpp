@@ -25,6 +25,7 @@
 #include "emrm/scenario/statistics.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::campaign::adaptive {
 
@@ -38,34 +39,8 @@ struct Lattice {
   [[nodiscard]] std::size_t index(const std::array<std::size_t, 5>& level) const noexcept;
 };
 
-/// What physics says of a cell's emergency stop without simulating it: braking alone stops before
-/// the truck with a margin (so the cell is G); it cannot avoid (it does not stop in time and the
-/// truck stands in its way throughout); or only a simulation can tell (near the boundary, or a truck
-/// that may not have reached the car's lane yet when the car gets there).
-enum class StopCall { kStops, kCannotStop, kUnknown };
-
-/// The physics of the shipped emergency stop (straight braking through the scene's actuators):
-/// kStops when v·TTC exceeds the stopping distance by more than 0.1 m; kCannotStop when it falls
-/// short by more than 0.1 m and the truck stands in the car's lane from t = TTC (the earliest the
-/// braking car can reach it) until it comes to rest, so that braking can neither stop short of it
-/// nor pass in front of it before it arrives; kUnknown otherwise.
-[[nodiscard]] StopCall stop_call(const sim::SceneConfig& scene, const sim::CellInput& cell);
-
-/// Whether arriving sooner can help at this cell (Oracle::passes_early for the shipped physics): the
-/// truck moves, so the gap it leaves narrows over time and the car may pass in front of it first;
-/// unless the car reaches the truck before any of its actuators can act (TTC within the perception
-/// latency and the quicker dead time) while the truck stands in its way, or, doing nothing, touches
-/// it a step before the first actuator acts (every strategy drives it the same until then): then
-/// nothing avoids it.
-[[nodiscard]] bool may_pass_early(const sim::SceneConfig& scene, const sim::CellInput& cell);
-
-/// Whether the car doing nothing hits the truck at the lowest loss level a contact can have
-/// (P(MAIS3+) and P(fatal) below their levels: L4): then a strategy that does not avoid the truck
-/// cannot be graded lower either, and an unavoidable cell is R (Oracle::nothing_to_mitigate for the
-/// shipped loss model). Not a proof: a strategy that fails to avoid without a crash graded L4 (a
-/// contact without closing speed, or no safe state reached within the horizon) grades 0 and makes
-/// such a cell O; the verification sample measures it.
-[[nodiscard]] bool nothing_to_mitigate(const sim::SceneConfig& scene, const sim::CellInput& cell);
+/// What the oracle says of a cell's emergency stop without simulating it (sim/stop_physics.hpp).
+using StopCall = sim::StopCall;
 
 /// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
 /// read back).

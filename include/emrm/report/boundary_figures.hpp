@@ -1,13 +1,13 @@
 #pragma once
 
-// The figures of `emrm boundary` (docs/boundary.md): the boundary curves of campaign::BoundaryReport
+// The figures of `emrm boundary` (docs/boundary.md): the boundary curves of results::BoundaryReport
 // over the region map they were read from, one figure per grid and combination of the other factors.
 
 #include <cstddef>
 #include <filesystem>
 #include <vector>
 
-#include "emrm/campaign/boundary.hpp"
+#include "emrm/results/boundary.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/report/figures.hpp"
 
@@ -28,7 +28,7 @@ struct BoundaryFigureOptions {
 /// boundary, or analytic_stop), speed_kph, ttc_below_s, ttc_at_s, drawn_ttc_s, exceptions. When
 /// slices are left out, one more Figure, boundary_more, has no files and a note listing them.
 /// Throws as render_png_and_svg (gnuplot missing or failing).
-std::vector<Figure> draw_boundary_figures(const campaign::BoundaryReport& report,
+std::vector<Figure> draw_boundary_figures(const results::BoundaryReport& report,
                                           const std::vector<campaign::CellRecord>& records,
                                           const std::filesystem::path& dir, const BoundaryFigureOptions& options = {});
 

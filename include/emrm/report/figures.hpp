@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "emrm/campaign/profiles.hpp"
+#include "emrm/results/profiles.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/coverage.hpp"
@@ -122,7 +122,7 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const std::f
 /// side by side"): the mitigability map's colours and crosses, one speed × TTC panel per profile
 /// (records[i] are runs[i]'s; at most four, in the 2×2 layout), each with its own dashed stop
 /// boundary. CSV columns: panel, profile, grid, speed_kph, ttc_s, mu, passage_m, region, evidence.
-Figure draw_profile_maps(const std::vector<campaign::ProfileRun>& runs,
+Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
                          const std::vector<std::vector<campaign::CellRecord>>& records, const std::string& grid,
                          const std::filesystem::path& dir);
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/campaign/paper_reference.hpp"
-#include "emrm/campaign/tables.hpp"
+#include "emrm/results/paper_reference.hpp"
+#include "emrm/results/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
@@ -136,12 +136,12 @@ std::vector<campaign::CellRecord> toy_records() {
 
 TEST(ToyStrategy, AppearsInTheTablesWithItsTitle) {
   const sim::StrategyRegistration toy(half_brake_info(), std::make_shared<HalfBrake>());
-  const auto paper = campaign::load_paper_reference(EMRM_SOURCE_DIR "/examples/tjunction/paper_reference.yaml");
-  const core::Table t = campaign::emrm_vs_baseline_table(toy_records(), paper, "toy");
+  const auto paper = results::load_paper_reference(EMRM_SOURCE_DIR "/examples/tjunction/paper_reference.yaml");
+  const core::Table t = results::emrm_vs_baseline_table(toy_records(), paper, "toy");
   // The paper has no column for it: it is shown as ours only, under its registered title.
   EXPECT_NE(std::find(t.header.begin(), t.header.end(), "Half Brake (half_brake, ours only)"), t.header.end())
       << core::join(t.header, " | ");
-  const std::string csv = campaign::kpis_csv(toy_records());
+  const std::string csv = results::kpis_csv(toy_records());
   EXPECT_NE(csv.find("half_brake"), std::string::npos);
 }
 

@@ -13,10 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "emrm/campaign/aggregate.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::report {
 namespace figures_test {
@@ -58,7 +59,7 @@ CellRecord synthetic_cell(const std::string& grid, std::int64_t index, double sp
     c.region = "infeasible";
     return c;
   }
-  const bool stoppable = campaign::analytically_stoppable(speed, ttc, mu);
+  const bool stoppable = sim::analytically_stoppable(speed, ttc, mu, sim::ActuationConfig{});
   const bool steerable = ttc >= 0.6 && mu >= 0.3;
   c.region = stoppable ? "G" : steerable ? "Y" : speed < 45.0 ? "O" : "R";
   // Every seventh O/R cell rests on a failed search only; the others on a certificate.
@@ -215,7 +216,7 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
   ASSERT_EQ(csv.size(), 1 + 30 + 1978 + 430 + 260);
   std::size_t line = 1;
   for (const auto& [panel, grid] : {std::pair{"a", "coarse"}, {"b", "fine"}, {"c", "speed_mu"}, {"d", "ttc_mu"}}) {
-    for (const auto& cell : campaign::records_of_grid(campaign_records(), grid)) {
+    for (const auto& cell : results::records_of_grid(campaign_records(), grid)) {
       const auto& row = csv[line++];
       ASSERT_EQ(row[0], panel);
       ASSERT_EQ(row[1], grid);
@@ -473,7 +474,7 @@ TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
   ASSERT_EQ(csv.size(), map.size());
   std::size_t line = 1;
   for (const char* grid : {"coarse", "fine", "speed_mu", "ttc_mu"})
-    for (const auto& cell : campaign::records_of_grid(campaign_records(), grid)) {
+    for (const auto& cell : results::records_of_grid(campaign_records(), grid)) {
       const auto& row = csv[line];
       ASSERT_EQ(core::Row(row.begin(), row.begin() + 7), core::Row(map[line].begin(), map[line].begin() + 7));
       ++line;
@@ -549,7 +550,7 @@ TEST_F(FigureLoss, RatesAreThoseOfTheFeasibleCellsOfTheGrid) {
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.front(), (core::Row{"strategy", "cells", "collision_avoidance_rate_pct", "mean_impact_speed_kph"}));
   ASSERT_EQ(csv.size(), 1 + kStrategies.size());
-  const auto fine = campaign::records_of_grid(campaign_records(), "fine");
+  const auto fine = results::records_of_grid(campaign_records(), "fine");
   for (std::size_t i = 0; i < kStrategies.size(); ++i) {
     const auto& row = csv[i + 1];
     EXPECT_EQ(row[0], kStrategies[i]);  // the fixed order, whatever the records' order
@@ -586,7 +587,7 @@ TEST_F(FigureSweep, OneRowPerSpeedAndStrategyWithTheRatesAtThatSpeed) {
   ASSERT_EQ(csv.front(), (core::Row{"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct",
                                     "mitigability_success_pct"}));
   ASSERT_EQ(csv.size(), 1 + 43 * kStrategies.size());  // every speed has a feasible cell
-  const auto fine = campaign::records_of_grid(campaign_records(), "fine");
+  const auto fine = results::records_of_grid(campaign_records(), "fine");
   std::size_t line = 1;
   for (int s = 0; s < 43; ++s) {
     const double speed = 30.0 + s;
@@ -624,7 +625,7 @@ TEST_F(FigureEmpty, SweepOfAMissingGridWritesNothing) {
 
 TEST_F(FigureSweep, ABinnedSweepHasOnePointPerBinAndStrategy) {
   // The fine grid's 43 speeds in three bins: below 40, 40 to 55, above.
-  const auto fine = campaign::records_of_grid(campaign_records(), "fine");
+  const auto fine = results::records_of_grid(campaign_records(), "fine");
   std::vector<int> levels;
   for (const auto& c : fine) levels.push_back(c.speed_kph < 40.0 ? 0 : c.speed_kph < 55.0 ? 1 : 2);
   const PlanFactor speed{"speed_kph", "km/h", {"[30, 40)", "[40, 55)", "[55, 72]"}};

@@ -1,0 +1,107 @@
+#pragma once
+
+// Aggregation of a campaign's cell records (docs/results.md): region fractions per grid and the KPIs
+// of each strategy over the feasible cells of a grid, overall and by parameter level. Pure
+// functions of the records; no simulation. Definitions: docs/results.md.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emrm/campaign/records.hpp"
+#include "emrm/sim/actuation.hpp"
+#include "emrm/core/error.hpp"
+
+namespace emrm::results {
+
+/// Grid names in order of first appearance in `records`.
+[[nodiscard]] std::vector<std::string> grid_names(const std::vector<campaign::CellRecord>& records);
+/// The records of one grid, in their stored order.
+[[nodiscard]] std::vector<campaign::CellRecord> records_of_grid(const std::vector<campaign::CellRecord>& records,
+                                                      std::string_view grid);
+
+/// The grid headline tables and figures read: `wanted` when the records have it, else the grid
+/// with the most cells (the first of equals); empty when there are no records.
+[[nodiscard]] std::string headline_grid(const std::vector<campaign::CellRecord>& records, std::string_view wanted = "fine");
+
+/// Region counts of one grid. Percentages are over the feasible cells.
+struct RegionCounts {
+  std::string grid;
+  std::size_t cells = 0;  ///< all cells, infeasible included
+  std::size_t feasible = 0;
+  std::size_t infeasible = 0;
+  std::size_t g = 0, y = 0, o = 0, r = 0;
+  /// 100·n / feasible; NaN when there is no feasible cell.
+  [[nodiscard]] double pct(std::size_t n) const noexcept;
+};
+
+/// Counts the regions of the records whose grid is `grid`. A feasible record whose region is not
+/// G, Y, O or R (a corrupt store) throws emrm::Error naming the cell.
+[[nodiscard]] RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std::string_view grid);
+
+/// The factors a breakdown is by. kAll is the whole grid.
+enum class Factor { kAll, kSpeed, kTtc, kFriction, kPassage };
+[[nodiscard]] std::string_view factor_name(Factor f) noexcept;  ///< all, speed, ttc, friction, passage
+
+/// Where the levels of each factor are cut (docs/results.md). Upper bounds are inclusive for speed
+/// and TTC (40 km/h is low, 41 medium; 0.7 s is low, 1.3 s medium), lower bounds inclusive for
+/// friction (0.35 is medium, 0.7 high); a passage narrower than the car is narrow.
+struct LevelCuts {
+  double speed_low_max_kph = 40.0;
+  double speed_med_max_kph = 56.0;
+  double ttc_low_max_s = 0.7;
+  double ttc_med_max_s = 1.3;
+  double mu_med_min = 0.35;
+  double mu_high_min = 0.7;
+  double car_width_m = 1.61;
+};
+
+/// Level names of a factor, in table order: all → {all}; speed, ttc, friction → {low, med, high};
+/// passage → {narrow, wide}.
+[[nodiscard]] const std::vector<std::string>& level_names(Factor f);
+/// Human-readable range of a level, e.g. "30-40 km/h" → "<= 40 km/h", "<= 0.7 s", "< 1.61 m".
+[[nodiscard]] std::string level_range(Factor f, std::string_view level, const LevelCuts& cuts);
+/// The level of a cell for a factor. Values within 1e-9 of a cut count as on it (grid values such
+/// as 0.25 + 7·0.06 are not exact in binary).
+[[nodiscard]] std::string level_of(Factor f, const campaign::CellRecord& cell, const LevelCuts& cuts);
+
+/// The KPIs of one strategy over a set of feasible cells (docs/results.md).
+struct StrategyKpis {
+  std::string grid;
+  std::string strategy;
+  Factor factor = Factor::kAll;
+  std::string level = "all";
+  std::size_t cells = 0;                          ///< feasible cells with an outcome of this strategy
+  std::size_t avoided = 0;                        ///< of which avoided
+  std::size_t collisions = 0;                     ///< not avoided (contact or road departure)
+  std::size_t mitigated = 0;                      ///< loss level below the unmitigated level
+  double collision_avoidance_rate_pct = 0.0;      ///< 100·avoided / cells
+  double mean_impact_speed_kph = 0.0;             ///< over all cells, 0 when avoided
+  double mean_impact_speed_collisions_kph = 0.0;  ///< over collisions only; NaN without any
+  double mean_min_ttc_s = 0.0;                    ///< over cells with a finite minimum TTC; NaN without any
+  std::size_t finite_min_ttc = 0;                 ///< cells with a finite minimum TTC
+  double mitigability_success_pct = 0.0;          ///< 100·mitigated / cells
+  double mean_delta_loss = 0.0;                   ///< mean of unmitigated level − outcome level
+};
+
+/// KPIs of `strategy` over the feasible records given (any grid mix; `grid`, `factor` and `level`
+/// are only copied into the result). With no matching cell every mean and rate is NaN.
+[[nodiscard]] StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std::string_view strategy,
+                                         std::string_view grid = "", Factor factor = Factor::kAll,
+                                         std::string_view level = "all");
+
+/// Strategy names in order of first appearance in the records' outcomes.
+[[nodiscard]] std::vector<std::string> strategy_names_of(const std::vector<campaign::CellRecord>& records);
+
+/// Every KPI row of one grid: per strategy, the whole grid then each level of speed, TTC, friction
+/// and passage (levels with no cell included, with NaN means), in that order.
+[[nodiscard]] std::vector<StrategyKpis> grid_kpis(const std::vector<campaign::CellRecord>& records,
+                                                  std::string_view grid, const LevelCuts& cuts = {});
+
+/// The row of `kpis` for a strategy, factor and level, if there is one.
+[[nodiscard]] const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy,
+                                            Factor factor = Factor::kAll, std::string_view level = "all");
+
+}  // namespace emrm::results

@@ -1,0 +1,237 @@
+#include "emrm/results/aggregate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "emrm/core/error.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::results {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Grid values such as 0.25 + 0.06·k land a few ulps off their decimal; a cut must not split them.
+constexpr double kCutTolerance = 1e-9;
+
+const campaign::OutcomeRecord* outcome_of(const campaign::CellRecord& cell, std::string_view strategy) {
+  for (const auto& o : cell.outcomes)
+    if (o.strategy == strategy) return &o;
+  return nullptr;
+}
+
+double ratio_pct(std::size_t n, std::size_t total) {
+  return total == 0 ? kNaN : 100.0 * static_cast<double>(n) / static_cast<double>(total);
+}
+
+}  // namespace
+
+std::vector<std::string> grid_names(const std::vector<campaign::CellRecord>& records) {
+  std::vector<std::string> names;
+  for (const auto& r : records)
+    if (std::find(names.begin(), names.end(), r.grid) == names.end()) names.push_back(r.grid);
+  return names;
+}
+
+std::vector<campaign::CellRecord> records_of_grid(const std::vector<campaign::CellRecord>& records, std::string_view grid) {
+  std::vector<campaign::CellRecord> out;
+  for (const auto& r : records)
+    if (r.grid == grid) out.push_back(r);
+  return out;
+}
+
+double RegionCounts::pct(std::size_t n) const noexcept { return ratio_pct(n, feasible); }
+
+std::string headline_grid(const std::vector<campaign::CellRecord>& records, std::string_view wanted) {
+  std::string best;
+  std::size_t best_n = 0;
+  for (const auto& g : grid_names(records)) {
+    if (g == wanted) return g;
+    const auto n = count_regions(records, g).cells;
+    if (n > best_n) best = g, best_n = n;
+  }
+  return best;
+}
+
+RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std::string_view grid) {
+  RegionCounts c;
+  c.grid = std::string(grid);
+  for (const auto& r : records) {
+    if (r.grid != grid) continue;
+    ++c.cells;
+    if (!r.feasible) {
+      ++c.infeasible;
+      continue;
+    }
+    ++c.feasible;
+    if (r.region == "G")
+      ++c.g;
+    else if (r.region == "Y")
+      ++c.y;
+    else if (r.region == "O")
+      ++c.o;
+    else if (r.region == "R")
+      ++c.r;
+    else
+      throw Error(
+          fmt::format("cell {} of grid '{}' is feasible but its region is '{}' (expected G, Y, O or R)",
+                      r.index, r.grid, r.region));
+  }
+  return c;
+}
+
+std::string_view factor_name(Factor f) noexcept {
+  switch (f) {
+    case Factor::kAll:
+      return "all";
+    case Factor::kSpeed:
+      return "speed";
+    case Factor::kTtc:
+      return "ttc";
+    case Factor::kFriction:
+      return "friction";
+    case Factor::kPassage:
+      return "passage";
+  }
+  return "?";
+}
+
+const std::vector<std::string>& level_names(Factor f) {
+  static const std::vector<std::string> all{"all"};
+  static const std::vector<std::string> three{"low", "med", "high"};
+  static const std::vector<std::string> passage{"narrow", "wide"};
+  switch (f) {
+    case Factor::kAll:
+      return all;
+    case Factor::kPassage:
+      return passage;
+    default:
+      return three;
+  }
+}
+
+std::string level_range(Factor f, std::string_view level, const LevelCuts& c) {
+  switch (f) {
+    case Factor::kAll:
+      return "all";
+    case Factor::kSpeed:
+      if (level == "low") return fmt::format("<= {:g} km/h", c.speed_low_max_kph);
+      if (level == "med") return fmt::format("{:g}-{:g} km/h", c.speed_low_max_kph, c.speed_med_max_kph);
+      return fmt::format("> {:g} km/h", c.speed_med_max_kph);
+    case Factor::kTtc:
+      if (level == "low") return fmt::format("<= {:g} s", c.ttc_low_max_s);
+      if (level == "med") return fmt::format("{:g}-{:g} s", c.ttc_low_max_s, c.ttc_med_max_s);
+      return fmt::format("> {:g} s", c.ttc_med_max_s);
+    case Factor::kFriction:
+      if (level == "low") return fmt::format("mu < {:g}", c.mu_med_min);
+      if (level == "med") return fmt::format("{:g} <= mu < {:g}", c.mu_med_min, c.mu_high_min);
+      return fmt::format("mu >= {:g}", c.mu_high_min);
+    case Factor::kPassage:
+      if (level == "narrow") return fmt::format("< {:g} m", c.car_width_m);
+      return fmt::format(">= {:g} m", c.car_width_m);
+  }
+  return std::string(level);
+}
+
+std::string level_of(Factor f, const campaign::CellRecord& cell, const LevelCuts& c) {
+  switch (f) {
+    case Factor::kAll:
+      return "all";
+    case Factor::kSpeed:
+      if (cell.speed_kph <= c.speed_low_max_kph + kCutTolerance) return "low";
+      if (cell.speed_kph <= c.speed_med_max_kph + kCutTolerance) return "med";
+      return "high";
+    case Factor::kTtc:
+      if (cell.ttc_s <= c.ttc_low_max_s + kCutTolerance) return "low";
+      if (cell.ttc_s <= c.ttc_med_max_s + kCutTolerance) return "med";
+      return "high";
+    case Factor::kFriction:
+      if (cell.mu < c.mu_med_min - kCutTolerance) return "low";
+      if (cell.mu < c.mu_high_min - kCutTolerance) return "med";
+      return "high";
+    case Factor::kPassage:
+      return cell.passage_m < c.car_width_m - kCutTolerance ? "narrow" : "wide";
+  }
+  return "all";
+}
+
+StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std::string_view strategy,
+                           std::string_view grid, Factor factor, std::string_view level) {
+  StrategyKpis k;
+  k.grid = std::string(grid);
+  k.strategy = std::string(strategy);
+  k.factor = factor;
+  k.level = std::string(level);
+  double impact_sum = 0.0, ttc_sum = 0.0, delta_loss_sum = 0.0;
+  for (const auto& cell : records) {
+    if (!cell.feasible) continue;
+    const campaign::OutcomeRecord* o = outcome_of(cell, strategy);
+    if (o == nullptr) continue;
+    ++k.cells;
+    if (o->avoided) {
+      ++k.avoided;
+    } else {
+      ++k.collisions;
+      impact_sum += o->impact_speed_kph;
+    }
+    // An avoided cell has level 0, so it counts as mitigated exactly when there was a loss to avoid.
+    const int level_reached = o->avoided ? 0 : o->loss_level;
+    if (level_reached < cell.unmitigated_loss_level) ++k.mitigated;
+    if (std::isfinite(o->min_ttc_s)) {
+      ++k.finite_min_ttc;
+      ttc_sum += o->min_ttc_s;
+    }
+    delta_loss_sum += o->delta_loss;
+  }
+  const auto n = static_cast<double>(k.cells);
+  k.collision_avoidance_rate_pct = ratio_pct(k.avoided, k.cells);
+  k.mitigability_success_pct = ratio_pct(k.mitigated, k.cells);
+  k.mean_impact_speed_kph = k.cells == 0 ? kNaN : impact_sum / n;
+  k.mean_impact_speed_collisions_kph =
+      k.collisions == 0 ? kNaN : impact_sum / static_cast<double>(k.collisions);
+  k.mean_min_ttc_s = k.finite_min_ttc == 0 ? kNaN : ttc_sum / static_cast<double>(k.finite_min_ttc);
+  k.mean_delta_loss = k.cells == 0 ? kNaN : delta_loss_sum / n;
+  return k;
+}
+
+std::vector<std::string> strategy_names_of(const std::vector<campaign::CellRecord>& records) {
+  std::vector<std::string> names;
+  for (const auto& r : records)
+    for (const auto& o : r.outcomes)
+      if (std::find(names.begin(), names.end(), o.strategy) == names.end()) names.push_back(o.strategy);
+  return names;
+}
+
+std::vector<StrategyKpis> grid_kpis(const std::vector<campaign::CellRecord>& records, std::string_view grid,
+                                    const LevelCuts& cuts) {
+  const auto cells = records_of_grid(records, grid);
+  struct Subset {
+    Factor factor;
+    std::string level;
+    std::vector<campaign::CellRecord> cells;
+  };
+  std::vector<Subset> subsets;
+  for (Factor f : {Factor::kAll, Factor::kSpeed, Factor::kTtc, Factor::kFriction, Factor::kPassage}) {
+    for (const auto& level : level_names(f)) {
+      Subset s{f, level, {}};
+      for (const auto& c : cells)
+        if (level_of(f, c, cuts) == level) s.cells.push_back(c);
+      subsets.push_back(std::move(s));
+    }
+  }
+  std::vector<StrategyKpis> out;
+  for (const auto& strategy : strategy_names_of(cells))
+    for (const auto& s : subsets) out.push_back(strategy_kpis(s.cells, strategy, grid, s.factor, s.level));
+  return out;
+}
+
+const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy, Factor factor,
+                              std::string_view level) {
+  for (const auto& k : kpis)
+    if (k.strategy == strategy && k.factor == factor && k.level == level) return &k;
+  return nullptr;
+}
+
+}  // namespace emrm::results

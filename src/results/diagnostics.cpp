@@ -1,0 +1,366 @@
+#include "emrm/results/diagnostics.hpp"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+#include <thread>
+#include <tuple>
+
+#include "emrm/results/aggregate.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/fsm/dot.hpp"
+#include "emrm/sim/planner.hpp"
+#include "emrm/sim/simulate.hpp"
+#include "emrm/sim/vehicle.hpp"
+#include "emrm/sim/stop_physics.hpp"
+
+namespace emrm::results {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+const campaign::OutcomeRecord* outcome_of(const campaign::CellRecord& cell, std::string_view strategy) {
+  for (const auto& o : cell.outcomes)
+    if (o.strategy == strategy) return &o;
+  return nullptr;
+}
+
+// Cells compared along one factor share every other factor exactly: they come from one grid's
+// expansion of the same list values, so exact equality is the right test.
+using GroupKey = std::tuple<double, double, double, double>;
+
+void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid,
+                 const std::string& factor, const std::vector<std::string>& strategies,
+                 std::size_t max_examples, MonotonicityCheck& out) {
+  const bool along_ttc = factor == "ttc";
+  std::map<GroupKey, std::vector<const campaign::CellRecord*>> groups;
+  for (const auto* c : cells) {
+    const GroupKey key = along_ttc ? GroupKey{c->speed_kph, c->mu, c->passage_m, c->truck_speed_kph}
+                                   : GroupKey{c->speed_kph, c->ttc_s, c->passage_m, c->truck_speed_kph};
+    groups[key].push_back(c);
+  }
+  const auto value = [&](const campaign::CellRecord* c) { return along_ttc ? c->ttc_s : c->mu; };
+  for (const auto& strategy : strategies) {
+    ReversalCount count{grid, strategy, factor, 0, 0};
+    for (auto& [key, group] : groups) {
+      std::sort(group.begin(), group.end(), [&](auto* a, auto* b) { return value(a) < value(b); });
+      for (std::size_t i = 0; i + 1 < group.size(); ++i) {
+        const auto* lo = outcome_of(*group[i], strategy);
+        const auto* hi = outcome_of(*group[i + 1], strategy);
+        if (lo == nullptr || hi == nullptr || value(group[i]) == value(group[i + 1])) continue;
+        ++count.pairs;
+        if (lo->avoided && !hi->avoided) {
+          ++count.reversals;
+          ++out.total_reversals;
+          if (out.examples.size() < max_examples)
+            out.examples.push_back({grid, strategy, factor, cell_ref(*group[i]), cell_ref(*group[i + 1])});
+        }
+      }
+    }
+    if (count.pairs > 0) out.counts.push_back(count);
+  }
+}
+
+FsmCoverage coverage_of(const fsm::Generator& g, const std::vector<std::vector<std::string>>& words) {
+  FsmCoverage c;
+  c.fsm = g.name();
+  c.traces = words.size();
+  c.coverage = fsm::transition_coverage(g, words);
+  c.transitions = g.transitions();
+  c.generator = &g;
+  return c;
+}
+
+Json cell_json(const CellRef& c) {
+  return {{"grid", c.grid}, {"index", c.index},         {"speed_kph", c.speed_kph}, {"ttc_s", c.ttc_s},
+          {"mu", c.mu},     {"passage_m", c.passage_m}, {"region", c.region}};
+}
+
+Json cells_json(const std::vector<CellRef>& cells) {
+  Json out = Json::array();
+  for (const auto& c : cells) out.push_back(cell_json(c));
+  return out;
+}
+
+Json coverage_json(const FsmCoverage& c) {
+  Json transitions = Json::array();
+  for (std::size_t i = 0; i < c.transitions.size(); ++i) {
+    const auto& t = c.transitions[i];
+    transitions.push_back(
+        {{"from", t.from}, {"event", t.event}, {"to", t.to}, {"count", c.coverage.counts[i]}});
+  }
+  return {{"fsm", c.fsm},
+          {"traces", c.coverage.traces},
+          {"accepted", c.coverage.accepted},
+          {"rejected", c.coverage.rejected.size()},
+          {"covered", c.coverage.covered},
+          {"total", c.coverage.counts.size()},
+          {"fraction", c.coverage.fraction()},
+          {"transitions", transitions}};
+}
+
+}  // namespace
+
+CellRef cell_ref(const campaign::CellRecord& r) {
+  return {r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.region};
+}
+
+StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records, double latency_s) {
+  sim::ActuationConfig actuation;
+  actuation.perception_latency_s = latency_s;
+  return check_stop_boundary(records, actuation);
+}
+
+StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records, const sim::ActuationConfig& actuation) {
+  StopBoundaryCheck c;
+  c.latency_s = actuation.perception_latency_s;
+  c.actuation = actuation;
+  for (const auto& r : records) {
+    if (!r.feasible) continue;
+    ++c.feasible;
+    const bool stoppable = sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, actuation);
+    if (stoppable) {
+      ++c.stoppable;
+      if (r.region == "R") c.stoppable_red.push_back(cell_ref(r));
+      if (r.region != "G") c.stoppable_not_green.push_back(cell_ref(r));
+    } else if (r.region == "G") {
+      c.green_not_stoppable.push_back(cell_ref(r));
+    }
+  }
+  return c;
+}
+
+MonotonicityCheck check_monotonicity(const std::vector<campaign::CellRecord>& records, std::size_t max_examples) {
+  MonotonicityCheck out;
+  const auto strategies = strategy_names_of(records);
+  for (const auto& grid : grid_names(records)) {
+    std::vector<const campaign::CellRecord*> cells;
+    for (const auto& r : records)
+      if (r.grid == grid && r.feasible) cells.push_back(&r);
+    count_along(cells, grid, "ttc", strategies, max_examples, out);
+    count_along(cells, grid, "mu", strategies, max_examples, out);
+  }
+  return out;
+}
+
+const ReferenceCounts* ReferenceCheck::of(std::string_view strategy) const noexcept {
+  for (const auto& c : strategies)
+    if (c.strategy == strategy) return &c;
+  return nullptr;
+}
+
+std::vector<sim::StrategyInfo> reference_checked_strategies() {
+  std::vector<sim::StrategyInfo> out;
+  for (const auto& e : sim::registered_strategies().entries())
+    if (!e.info.planner.empty() && !e.info.limits.accept_contact) out.push_back(e.info);
+  return out;
+}
+
+ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& scene,
+                                       std::size_t sample, std::uint64_t seed, int threads) {
+  sim::validate(scene);
+  ReferenceCheck check;
+  check.seed = seed;
+  const auto checked = reference_checked_strategies();
+  for (const auto& s : checked) check.strategies.push_back({s.name});
+  std::vector<const campaign::CellRecord*> candidates;
+  for (const auto& r : records)
+    if (r.feasible && std::all_of(checked.begin(), checked.end(),
+                                  [&](const sim::StrategyInfo& s) { return outcome_of(r, s.name) != nullptr; }))
+      candidates.push_back(&r);
+  // A partial Fisher–Yates shuffle with our own generator: std::shuffle's algorithm is not
+  // specified, and the sample must be the same on every standard library.
+  std::mt19937_64 rng(seed);
+  const std::size_t n = std::min(sample, candidates.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t span = candidates.size() - i;
+    const std::size_t j = i + static_cast<std::size_t>(rng() % span);
+    std::swap(candidates[i], candidates[j]);
+  }
+  candidates.resize(n);
+  check.sampled = n;
+
+  // reference_avoids[i * checked + k]: the reference planner avoids cell i with strategy k's limits.
+  std::vector<char> reference_avoids(n * checked.size(), 0);
+  const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
+  const auto run_one = [&](std::size_t i) {
+    const campaign::CellRecord& r = *candidates[i];
+    const sim::CellInput input{r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph};
+    sim::validate_cell(scene, input);
+    const sim::Scene cell_scene(scene, input);
+    for (std::size_t k = 0; k < checked.size(); ++k)
+      reference_avoids[i * checked.size() + k] =
+          sim::plan_reference(cell_scene, *model, checked[k].limits).avoidance.has_value();
+  };
+  {
+    const int workers =
+        threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    // An arena of our own, so the thread limit does not leak into the rest of the process.
+    tbb::task_arena arena(workers);
+    arena.execute([&] { tbb::parallel_for(std::size_t{0}, n, run_one); });
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const campaign::CellRecord& r = *candidates[i];
+    for (std::size_t k = 0; k < checked.size(); ++k) {
+      ReferenceCounts& counts = check.strategies[k];
+      const bool reference = reference_avoids[i * checked.size() + k] != 0;
+      const bool stored = outcome_of(r, counts.strategy)->avoided;
+      if (reference) ++counts.reference_avoids;
+      if (reference && !stored) ++counts.missed;
+      if (!reference && stored) ++counts.beyond_reference;
+      if (reference != stored) check.disagreements.push_back({cell_ref(r), counts.strategy, reference, stored});
+    }
+  }
+  return check;
+}
+
+std::vector<std::string> trace_events(const std::vector<std::string>& trace) {
+  std::vector<std::string> events;
+  for (std::size_t i = 1; i < trace.size(); i += 2) events.push_back(trace[i]);
+  return events;
+}
+
+FsmCoverage emrm_fsm_coverage(const std::vector<campaign::CellRecord>& records, const fsm::Generator& g) {
+  std::vector<std::vector<std::string>> words;
+  for (const auto& r : records) {
+    if (!r.feasible) continue;
+    for (const auto& o : r.outcomes)
+      if (!o.fsm_trace.empty()) words.push_back(trace_events(o.fsm_trace));
+  }
+  return coverage_of(g, words);
+}
+
+FsmCoverage loss_evaluation_fsm_coverage(const std::vector<campaign::CellRecord>& records, const fsm::Generator& g) {
+  std::vector<std::vector<std::string>> words;
+  for (const auto& r : records) {
+    if (!r.feasible) continue;
+    for (const auto& o : r.outcomes)
+      if (!o.loss_evaluation_trace.empty())
+        words.push_back(trace_events(o.loss_evaluation_trace));
+  }
+  return coverage_of(g, words);
+}
+
+Diagnostics run_diagnostics(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& scene,
+                            const DiagnosticsOptions& options) {
+  Diagnostics d;
+  d.stop_boundary = check_stop_boundary(records, scene.actuation);
+  d.monotonicity = check_monotonicity(records);
+  d.reference =
+      check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
+  d.emrm_fsm = emrm_fsm_coverage(records, sim::default_emrm_fsm());
+  d.loss_evaluation_fsm = loss_evaluation_fsm_coverage(records, sim::default_loss_evaluation_fsm());
+  return d;
+}
+
+nlohmann::ordered_json to_json(const Diagnostics& d) {
+  const auto& sb = d.stop_boundary;
+  Json stop{{"definition",
+             "feasible cells with v TTC >= v (perception latency + brake dead time + ramp/2) + v^2/(2a) - a ramp^2/24 "
+             "(a = mu g or the brake cap) are analytically stoppable"},
+            {"latency_s", sb.latency_s},
+            {"brake_dead_time_s", sb.actuation.brake_dead_time_s},
+            {"brake_ramp_s", sb.actuation.brake_ramp_s},
+            {"max_decel_mps2", sb.actuation.max_decel_mps2},
+            {"feasible", sb.feasible},
+            {"stoppable", sb.stoppable},
+            {"stoppable_red_count", sb.stoppable_red.size()},
+            {"ok", sb.stoppable_red.empty()},
+            {"stoppable_red", cells_json(sb.stoppable_red)},
+            {"stoppable_not_green_count", sb.stoppable_not_green.size()},
+            {"stoppable_not_green", cells_json(sb.stoppable_not_green)},
+            {"green_not_stoppable_count", sb.green_not_stoppable.size()},
+            {"green_not_stoppable", cells_json(sb.green_not_stoppable)}};
+  Json counts = Json::array();
+  for (const auto& c : d.monotonicity.counts)
+    counts.push_back({{"grid", c.grid},
+                      {"strategy", c.strategy},
+                      {"factor", c.factor},
+                      {"pairs", c.pairs},
+                      {"reversals", c.reversals}});
+  Json examples = Json::array();
+  for (const auto& e : d.monotonicity.examples)
+    examples.push_back({{"grid", e.grid},
+                        {"strategy", e.strategy},
+                        {"factor", e.factor},
+                        {"avoided_at", cell_json(e.lower)},
+                        {"not_avoided_at", cell_json(e.higher)}});
+  Json mono{{"definition",
+             "a strategy avoided at a lower TTC (mu) but not at the next higher, other factors equal"},
+            {"total_reversals", d.monotonicity.total_reversals},
+            {"counts", counts},
+            {"examples", examples}};
+  const auto& rc = d.reference;
+  Json disagreements = Json::array();
+  for (const auto& x : rc.disagreements)
+    disagreements.push_back({{"cell", cell_json(x.cell)},
+                             {"strategy", x.strategy},
+                             {"reference_avoids", x.reference_avoids},
+                             {"stored_avoided", x.stored_avoided}});
+  Json reference{{"definition",
+                  "sim::plan_reference with each checked strategy's control limits on a seeded sample of "
+                  "feasible cells, against the stored outcomes of the strategies that search for an avoidance "
+                  "of their own (docs/results.md)"},
+                 {"sampled", rc.sampled},
+                 {"seed", rc.seed}};
+  for (const auto& c : rc.strategies)
+    reference[c.strategy] = {{"reference_avoids", c.reference_avoids},
+                             {"rrt_missed", c.missed},
+                             {"rrt_beyond_reference", c.beyond_reference}};
+  reference["disagreements"] = disagreements;
+  return {{"stop_boundary", stop},
+          {"monotonicity", mono},
+          {"rrt_vs_reference", reference},
+          {"fsm_coverage",
+           {{"emrm_fsm", coverage_json(d.emrm_fsm)},
+            {"loss_evaluation_fsm", coverage_json(d.loss_evaluation_fsm)}}}};
+}
+
+std::string summary(const Diagnostics& d) {
+  const auto& sb = d.stop_boundary;
+  const auto& rc = d.reference;
+  std::vector<std::string> missed;
+  for (const auto& c : rc.strategies) missed.push_back(fmt::format("{} {}", c.missed, c.strategy));
+  return fmt::format(
+      "{} analytically stoppable cells classified R{}; {} G cells below the stop boundary; {} monotonicity "
+      "reversals; reference planner on {} cells: RRT missed {}; FSM transition coverage {}/{} (EMRM), {}/{} "
+      "(loss evaluation)",
+      sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
+      sb.green_not_stoppable.size(), d.monotonicity.total_reversals, rc.sampled,
+      missed.empty() ? std::string("nothing (no strategy checked)") : core::join(missed, ", "),
+      d.emrm_fsm.coverage.covered, d.emrm_fsm.coverage.counts.size(), d.loss_evaluation_fsm.coverage.covered,
+      d.loss_evaluation_fsm.coverage.counts.size());
+}
+
+bool contradicts_physics(const Diagnostics& d) noexcept {
+  return !d.stop_boundary.stoppable_red.empty() || !d.stop_boundary.green_not_stoppable.empty();
+}
+
+std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d) {
+  // Every file rendered before the first is written, then all together: a failing Graphviz leaves
+  // no diagnostics.json without its diagrams.
+  std::vector<core::FileContent> files{{dir / "diagnostics.json", to_json(d).dump(2) + "\n"}};
+  const bool svg = fsm::dot_available();
+  for (const auto& [stem, c] :
+       {std::pair{"emrm_fsm", &d.emrm_fsm}, std::pair{"loss_evaluation_fsm", &d.loss_evaluation_fsm}}) {
+    if (c->generator == nullptr) continue;
+    fsm::DotOptions options;
+    options.transition_counts = c->coverage.counts;
+    const std::string dot = fsm::to_dot(*c->generator, options);
+    const auto base = dir / "fsm" / stem;
+    files.push_back({base.string() + ".dot", dot});
+    if (svg) files.push_back({base.string() + ".svg", fsm::render_svg(dot)});
+  }
+  core::write_files(files);
+  std::vector<std::filesystem::path> written;
+  for (const auto& f : files) written.push_back(f.path);
+  return written;
+}
+
+}  // namespace emrm::results
