@@ -14,6 +14,8 @@
 
 #include "emrm/sim/certificate.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -222,12 +224,21 @@ bool same_actuation(const ActuationConfig& a, const ActuationConfig& b) {
 }
 
 bool applicable(const Scene& scene) {
-  const SceneConfig& c = scene.config();
-  return c.simulation.vehicle_model == SingleTrackFiala::kName && c.simulation.dt_s <= kMaxSceneStep_s &&
-         scene.initial_speed_mps() > 0.0 && scene.cell().mu > 0.0;
+  return !no_certificate_bound(scene.config()) && scene.initial_speed_mps() > 0.0 && scene.cell().mu > 0.0;
 }
 
 }  // namespace
+
+std::optional<std::string> no_certificate_bound(const SceneConfig& config) {
+  const auto model = find_vehicle_model(config.simulation.vehicle_model);
+  if (!model || !model->certificate_bound)
+    return fmt::format("vehicle model '{}' has no certificate bound: no cell is certified unavoidable",
+                       config.simulation.vehicle_model);
+  if (config.simulation.dt_s > kMaxSceneStep_s)
+    return fmt::format("a time step of {:g} s is above the certificate bound's {:g} s: no cell is certified unavoidable",
+                       config.simulation.dt_s, kMaxSceneStep_s);
+  return std::nullopt;
+}
 
 std::optional<Certificate> certify_unavoidable(const Scene& scene) {
   if (!applicable(scene)) return std::nullopt;

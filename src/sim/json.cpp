@@ -200,6 +200,7 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
     j["strengthened"] = result.strengthened;
     j["harm_reduction"] = {{"p_mais3", result.p_mais3_reduction}, {"p_fatal", result.p_fatal_reduction}};
     if (result.certificate) j["certificate"] = to_json(*result.certificate);
+    if (!result.no_certificate.empty()) j["no_certificate"] = result.no_certificate;
   }
   j["unmitigated"] = impact_json(result.unmitigated);
   nlohmann::json strategies = nlohmann::json::object();

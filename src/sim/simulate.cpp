@@ -273,6 +273,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   result.p_fatal_reduction = result.unmitigated.p_fatal - best_p_fatal;
   if (result.region == Region::kO || result.region == Region::kR) {
     result.evidence = certified ? Evidence::kCertificate : Evidence::kUndecided;
+    if (!certified && options.certify) result.no_certificate = no_certificate_bound(config).value_or("");
     result.mitigation_evidence =
         result.region == Region::kO ? "witness" : (result.unmitigated.loss_level <= 4 ? "proof" : "search");
   }

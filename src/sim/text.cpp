@@ -33,6 +33,7 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   }
   const auto& u = r.unmitigated;
   out += fmt::format("Region: {}\n", region_name(r.region));
+  if (!r.no_certificate.empty()) out += fmt::format("Evidence: {} ({})\n", evidence_name(r.evidence), r.no_certificate);
   out += fmt::format("Unmitigated: impact {:.1f} km/h, delta-v {:.1f} km/h, P(MAIS3+) {:.3f}, P(fatal) {:.3f}, L{}\n\n",
                      u.impact_speed_mps * 3.6, u.delta_v_mps * 3.6, u.p_mais3, u.p_fatal, u.loss_level);
   std::vector<core::Row> rows;

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/registry.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -59,21 +61,22 @@ VehicleState rest_state(const VehicleState& s, const VehicleState& k1, double dt
   return out;
 }
 
-struct ModelEntry {
-  std::string_view name{};
-  std::unique_ptr<VehicleModel> (*make)(const VehicleParams&) = nullptr;
-};
-
 template <class Model>
-std::unique_ptr<VehicleModel> make_model(const VehicleParams& p) {
-  return std::make_unique<Model>(p);
+VehicleModelInfo shipped(std::string description, bool certificate_bound) {
+  return {std::string(Model::kName), std::move(description),
+          [](const VehicleParams& p) -> std::unique_ptr<VehicleModel> { return std::make_unique<Model>(p); },
+          certificate_bound};
 }
 
-// The registry (esmini-style): a new model is one line here. Immutable, so thread-safe.
-constexpr std::array kModels{
-    ModelEntry{SingleTrackFiala::kName, &make_model<SingleTrackFiala>},
-    ModelEntry{KinematicBicycle::kName, &make_model<KinematicBicycle>},
-};
+// The registry (esmini-style): the shipped models, then whatever a program registers.
+core::Registry<VehicleModelInfo>& registry() {
+  static core::Registry<VehicleModelInfo> models(
+      "vehicle model",
+      {shipped<SingleTrackFiala>("single-track model with Fiala brush tires (docs/physics.md)", true),
+       shipped<KinematicBicycle>("kinematic single-track model, for comparison", false)},
+      [](const VehicleModelInfo& m) -> std::string_view { return m.name; });
+  return models;
+}
 
 }  // namespace
 
@@ -113,18 +116,34 @@ bool VehicleModel::rear_axle_sliding(const VehicleState& s, const Control& u, do
 
 void validate(const VehicleParams& params) { core::validate_fields("vehicle", params); }
 
+VehicleModelRegistration::VehicleModelRegistration(VehicleModelInfo info) : name_(info.name) {
+  if (!info.make) throw UsageError(fmt::format("vehicle model '{}' has no factory", info.name));
+  registry().add(std::move(info));
+}
+
+VehicleModelRegistration::~VehicleModelRegistration() { registry().remove(name_); }
+
+std::optional<VehicleModelInfo> find_vehicle_model(std::string_view name) {
+  const auto table = registry().table();
+  for (const auto& m : *table)
+    if (m.name == name) return m;
+  return std::nullopt;
+}
+
 std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const VehicleParams& params) {
   validate(params);
-  for (const auto& entry : kModels)
-    if (entry.name == name) return entry.make(params);
+  const auto table = registry().table();
+  for (const auto& m : *table)
+    if (m.name == name) return m.make(params);
   throw Error(
       fmt::format("unknown vehicle model '{}' (known: {})", name, fmt::join(vehicle_model_names(), ", ")));
 }
 
 std::vector<std::string> vehicle_model_names() {
+  const auto table = registry().table();
   std::vector<std::string> names;
-  names.reserve(kModels.size());
-  for (const auto& entry : kModels) names.emplace_back(entry.name);
+  names.reserve(table->size());
+  for (const auto& m : *table) names.push_back(m.name);
   return names;
 }
 

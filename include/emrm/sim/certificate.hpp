@@ -43,10 +43,15 @@ struct Certificate {
 };
 
 /// A certificate for the cell, or nothing when the bound cannot prove unavoidability (always
-/// nothing for a vehicle model other than single_track_fiala, or a time step above 0.02 s). Pure,
+/// nothing where no_certificate_bound says why). Pure,
 /// cheap (0.3–0.7 ms on average over the fine grid, a few ms in the slowest cells; it is run for
 /// every cell of every sweep before any search).
 [[nodiscard]] std::optional<Certificate> certify_unavoidable(const Scene& scene);
+
+/// Why no cell of this scene can carry a certificate, or nothing when cells can: the scene's vehicle
+/// model is registered without a certificate bound (VehicleModelInfo::certificate_bound), or its
+/// time step is above the bound's 0.02 s.
+[[nodiscard]] std::optional<std::string> no_certificate_bound(const SceneConfig& config);
 
 /// Re-derives the certificate's claim independently (for `emrm verify`): true when it holds. It
 /// checks that the certificate names this scene's cell, latency and actuators, and re-evaluates its witness

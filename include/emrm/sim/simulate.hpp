@@ -65,6 +65,9 @@ struct CellResult {
   bool strengthened = false;
   /// The proof that nothing avoids the truck, when the cell has one (O and R cells only).
   std::optional<Certificate> certificate;
+  /// An undecided O or R cell whose scene cannot carry a certificate: why (sim::no_certificate_bound:
+  /// a vehicle model or time step without the bound); empty otherwise.
+  std::string no_certificate;
   ImpactAssessment unmitigated;
   /// Mitigation within a level: the unmitigated reference's P(MAIS3+) and P(fatal) minus the best
   /// (lowest) of the strategies' (0 when there is no risk; the reference's own when one avoids).

@@ -3,11 +3,14 @@
 // Vehicle dynamics (docs/physics.md). The default model is a single-track (bicycle) model with
 // Fiala brush tires per axle, a friction circle per axle, quasi-static longitudinal load
 // transfer and a blend to the kinematic model at low speed; a kinematic bicycle model is kept
-// for comparison. Models are picked by name from a registry; all are pure and thread-safe.
+// for comparison. Models are picked by name from a registry (VehicleModelRegistration adds one);
+// all are pure and thread-safe.
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <numbers>
 #include <string>
 #include <string_view>
@@ -201,9 +204,40 @@ struct KinematicBodyRates {
 
 }  // namespace detail
 
-/// Creates a model by name ("single_track_fiala", "kinematic_bicycle") after validate(params).
-/// Throws emrm::Error for an unknown name (the message lists the known ones), core::ConfigError
-/// for bad parameters. The model's own functions expect validated parameters and check nothing.
+/// A vehicle model as the registry knows it: picked by name from a scene's
+/// `simulation.vehicle_model`, made for the scene's parameters.
+struct VehicleModelInfo {
+  std::string name;
+  std::string description;
+  /// Makes the model for parameters that validate() accepted.
+  std::function<std::unique_ptr<VehicleModel>(const VehicleParams&)> make;
+  /// Whether the unavoidability certificate's bound (certificate.hpp) is derived for this model's
+  /// dynamics. Without one no cell is certified unavoidable: O and R cells stay `undecided`, and the
+  /// cell's result says why (CellResult::no_certificate).
+  bool certificate_bound = false;
+};
+
+/// Registers a vehicle model for as long as the object lives (the registry of strategies and planners:
+/// a program or a test adds its own model, `emrm simulate` and the sweeps use it by name). The shipped
+/// models, single_track_fiala and kinematic_bicycle, are always registered. Throws UsageError for a
+/// name already registered or a model without a factory.
+class VehicleModelRegistration {
+ public:
+  explicit VehicleModelRegistration(VehicleModelInfo info);
+  ~VehicleModelRegistration();
+  VehicleModelRegistration(const VehicleModelRegistration&) = delete;
+  VehicleModelRegistration& operator=(const VehicleModelRegistration&) = delete;
+
+ private:
+  std::string name_;
+};
+
+/// The registered model of that name, if any (a copy: the registry may change afterwards).
+[[nodiscard]] std::optional<VehicleModelInfo> find_vehicle_model(std::string_view name);
+
+/// Creates a registered model by name after validate(params). Throws emrm::Error for an unknown name
+/// (the message lists the known ones), core::ConfigError for bad parameters. The model's own
+/// functions expect validated parameters and check nothing.
 [[nodiscard]] std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const VehicleParams& params);
 /// Names known to make_vehicle_model, in registration order.
 [[nodiscard]] std::vector<std::string> vehicle_model_names();
