@@ -41,7 +41,7 @@ void require_gnuplot() {
 std::string figures_line(const std::vector<report::Figure>& figures, std::size_t slices, const fs::path& out) {
   std::size_t drawn = 0;
   for (const auto& f : figures) drawn += f.png.empty() ? 0 : 1;
-  const std::string line =
+  std::string line =
       fmt::format("{} (.png, .svg, .csv) in {}", core::counted(drawn, "figure", "figures"), out.string());
   if (drawn == slices) return line;
   return fmt::format("{}: the first {} of {} slices (--max-figures raises the cap); boundary.csv holds them all", line,

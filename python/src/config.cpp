@@ -106,7 +106,7 @@ void bind_part(py::module_& m, const char* name, const char* doc) {
 
 // `changes` merged into `base`: nested mappings merge, anything else replaces. A key may name a
 // nested field as a path, "truck.speed_kph" or (as a keyword) truck__speed_kph.
-void merge(py::dict base, py::handle changes) {
+void merge(const py::dict& base, py::handle changes) {
   for (const auto& [key, value] : py::dict(py::reinterpret_borrow<py::object>(changes))) {
     std::string path = py::str(key).cast<std::string>();
     for (std::size_t at = path.find("__"); at != std::string::npos; at = path.find("__")) path.replace(at, 2, ".");
@@ -177,7 +177,7 @@ void bind_config(py::module_& m) {
                    "InputError for an unknown field, a wrong type or a value out of range.");
   scene.def(
       "with_",
-      [](const sim::SceneConfig& self, py::object changes, py::kwargs more) {
+      [](const sim::SceneConfig& self, const py::object& changes, const py::kwargs& more) {
         py::dict fields = to_dict(self);
         if (!changes.is_none()) merge(fields, changes);
         merge(fields, more);

@@ -47,7 +47,7 @@ py::object input_error_object(const InputError& error) {
 
 void set_error(py::handle type, const py::object& exception) { PyErr_SetObject(type.ptr(), exception.ptr()); }
 
-void translate(std::exception_ptr thrown) {
+void translate(const std::exception_ptr& thrown) {
   try {
     if (thrown) std::rethrow_exception(thrown);
   } catch (const core::Interrupted& e) {

@@ -438,7 +438,7 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
 }
 
 std::filesystem::path scene_folder(const Campaign& campaign) {
-  const std::filesystem::path campaign_dir = std::filesystem::path(campaign.file).parent_path();
+  std::filesystem::path campaign_dir = std::filesystem::path(campaign.file).parent_path();
   if (!campaign.scene_file) return campaign_dir;
   const std::filesystem::path scene = *campaign.scene_file;
   return (scene.is_relative() ? campaign_dir / scene : scene).parent_path();

@@ -196,7 +196,7 @@ ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& 
     const sim::Scene cell_scene(scene, input);
     for (std::size_t k = 0; k < checked.size(); ++k)
       reference_avoids[i * checked.size() + k] =
-          sim::plan_reference(cell_scene, *model, checked[k].limits).avoidance.has_value();
+          static_cast<char>(sim::plan_reference(cell_scene, *model, checked[k].limits).avoidance.has_value());
   };
   {
     const int workers =

@@ -87,7 +87,9 @@ struct PictModel::Constraint {
         const int vp = row[static_cast<std::size_t>(p)];
         const int vq = row[static_cast<std::size_t>(q)];
         if (vp == kDontCare || vq == kDontCare) return Tri::kUnknown;
-        return table[static_cast<std::size_t>(vp * q_levels + vq)] ? Tri::kTrue : Tri::kFalse;
+        return table[static_cast<std::size_t>(vp) * static_cast<std::size_t>(q_levels) + static_cast<std::size_t>(vq)]
+                   ? Tri::kTrue
+                   : Tri::kFalse;
       }
     }
     return Tri::kUnknown;

@@ -302,8 +302,9 @@ class Rrt {
     for (int i = from; i >= 0; i = nodes_[static_cast<std::size_t>(i)].parent) order.push_back(i);
     std::vector<PathPoint> path;
     std::vector<ControlSegment> plan;
-    for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      const Node& node = nodes_[static_cast<std::size_t>(*it)];
+    std::reverse(order.begin(), order.end());  // root first
+    for (const int i : order) {
+      const Node& node = nodes_[static_cast<std::size_t>(i)];
       path.insert(path.end(), node.edge.begin(), node.edge.end());
       plan.insert(plan.end(), node.plan.begin(), node.plan.end());
     }

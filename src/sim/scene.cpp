@@ -65,7 +65,7 @@ std::filesystem::path profile_path(const std::string& profile, const std::filesy
     return profile;
   }
   const std::filesystem::path folder = scene_dir / "profiles";
-  const std::filesystem::path file = folder / (profile + ".yaml");
+  std::filesystem::path file = folder / (profile + ".yaml");
   if (std::filesystem::is_regular_file(file)) return file;
   std::vector<std::string> names;
   std::error_code ec;
