@@ -1,6 +1,6 @@
 #pragma once
 
-// Private to the figure code: what the figures of figures.cpp and the maps of map_figures.cpp
+// Private to the figure code: what the figures of figures.cpp and the maps (map_panels.hpp)
 // share (a figure's files, a cell's value along an axis).
 
 #include <filesystem>

@@ -1,7 +1,7 @@
 #pragma once
 
 // The remaining time of a sweep from a cost model (docs/campaign.md, "Progress and ETA"): cells
-// fall into cost classes known before they run (campaign/sweep.cpp: infeasible, feasible, braking
+// fall into cost classes known before they run (campaign/sweep_progress.cpp: infeasible, feasible, braking
 // alone cannot stop), each class's mean time per cell is learnt from the cells done, and the sum
 // over the cells left is scaled by the parallelism observed so far. A rate over all cells done
 // would be wrong whenever the mix of classes changes along the run (the dearest run first).

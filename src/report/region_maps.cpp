@@ -1,6 +1,7 @@
-// The maps over the grids' cells (docs/report.md): the mitigability map and the harm-reduction
-// map. Both share one 2×2 panel layout — grids, axes, cell rectangles, the stop boundary — and
-// differ only in how a cell is coloured and what the key says.
+// The region maps (docs/report.md): the mitigability map over the paper's four grids, the map
+// under each actuation profile, the maps of any other grid slice by slice, and the one-panel map
+// the boundary figures draw their curves over. A cell is coloured by its region, an undecided O/R
+// cell crossed; the panels are laid out as map_panels.hpp says.
 
 #include <fmt/format.h>
 
@@ -8,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <limits>
 #include <map>
 #include <string>
 #include <string_view>
@@ -21,6 +21,7 @@
 #include "emrm/report/gnuplot.hpp"
 #include "emrm/sim/vehicle.hpp"
 #include "figure_parts.hpp"
+#include "map_panels.hpp"
 
 namespace emrm::report {
 namespace {
@@ -35,303 +36,33 @@ using detail::is_o_or_r;
 using detail::is_undecided;
 using detail::value_of;
 using detail::write_csv;
-
-struct RegionStyle {
-  std::string_view region;
-  std::string_view colour;
-  std::string_view label;
-};
-constexpr std::array<RegionStyle, 5> kRegions{{
-    {"G", "#2ca02c", "G fully avoidable"},
-    {"Y", "#ffdd57", "Y aggressive avoidance required"},
-    {"O", "#ff7f0e", "O mitigatable"},
-    {"R", "#d62728", "R not mitigatable"},
-    {"infeasible", "#bdbdbd", "infeasible"},
-}};
-
-std::string_view axis_label(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "ego speed (km/h)";
-    case Axis::kTtc:
-      return "time to collision TTC (s)";
-    case Axis::kMu:
-      return "road friction μ (–)";
-    case Axis::kPassage:
-      return "passage width (m)";
-    case Axis::kTruckSpeed:
-      return "truck speed (km/h)";
-  }
-  return "";
-}
-
-std::string_view axis_plural(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "speeds";
-    case Axis::kTtc:
-      return "TTCs";
-    case Axis::kMu:
-      return "μ";
-    case Axis::kPassage:
-      return "passage widths";
-    case Axis::kTruckSpeed:
-      return "truck speeds";
-  }
-  return "";
-}
-
-/// Half the smallest step between distinct values: the half-width of a cell's rectangle.
-double half_step(const std::vector<double>& values, Axis a) {
-  double step = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
-  if (std::isfinite(step)) return step / 2.0;
-  // A single value: a band of a plausible width.
-  return a == Axis::kSpeed || a == Axis::kTruckSpeed ? 1.0 : 0.05;
-}
-
-double median_of(const std::vector<CellRecord>& cells, Axis a) {
-  std::vector<double> v;
-  for (const auto& c : cells) v.push_back(value_of(c, a));
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
-}
-
-std::string fixed_text(Axis a, double v) {
-  switch (a) {
-    case Axis::kSpeed:
-      return fmt::format("v = {} km/h", plot_number(v));
-    case Axis::kTtc:
-      return fmt::format("TTC = {} s", plot_number(v));
-    case Axis::kMu:
-      return fmt::format("μ = {}", plot_number(v));
-    case Axis::kPassage:
-      return fmt::format("passage {} m", plot_number(v));
-    case Axis::kTruckSpeed:
-      return fmt::format("truck {} km/h", plot_number(v));
-  }
-  return "";
-}
-
-std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
-
-std::string region_colour(std::string_view region) {
-  for (const auto& s : kRegions)
-    if (s.region == region) return std::string(s.colour);
-  return std::string(kRegions.back().colour);
-}
-
-// --- the panels both maps share -----------------------------------------------------------------
-
-struct PanelSpec {
-  char letter;
-  std::string grid;
-  Axis x, y, fixed;
-  std::string_view name;  ///< "Speed × TTC, coarse grid"
-};
-
-/// One panel whose grid has cells: its cells, their extent, and where it sits on the page.
-struct MapPanel {
-  PanelSpec spec;
-  std::vector<CellRecord> cells;
-  std::vector<double> xs, ys;  ///< the distinct values along each axis
-  double hx = 0.0, hy = 0.0;   ///< half a cell's width and height
-  double fixed = 0.0;          ///< the median of the factor the panel holds fixed
-  std::string held;            ///< what the panel holds fixed, as its heading says it: "μ = 1"
-  bool lettered = true;        ///< headed "(a) NAME" (a panel of the 2×2 layout), else "NAME"
-  double origin_x = 0.0, origin_y = 0.0;
-};
-
-constexpr int kMapWidthPx = 1400, kMapHeightPx = 1000, kMapFontPt = 13;
-
-/// A map's 2×2 layout above a key strip `key_h` high (screen units): the panels that have cells,
-/// in order (a)–(d); a missing grid leaves its slot empty but for a label, and is said in `missing`.
-struct MapLayout {
-  std::vector<MapPanel> panels;
-  std::vector<std::string> missing;
-  std::string missing_labels;  ///< gnuplot labels for the empty slots, drawn with the key strip
-  std::size_t total_cells = 0;
-  double key_h = 0.0, cell_h = 0.0;
-  double panel_w = 0.5;  ///< a panel's width (screen units)
-  int width_px = kMapWidthPx, height_px = kMapHeightPx;
-};
-
-/// Gives `p` its cells and their extent along the axes of its spec.
-void fill_panel(MapPanel& p, std::vector<CellRecord> cells) {
-  p.cells = std::move(cells);
-  p.xs = distinct_values(p.cells, p.spec.x);
-  p.ys = distinct_values(p.cells, p.spec.y);
-  p.hx = half_step(p.xs, p.spec.x);
-  p.hy = half_step(p.ys, p.spec.y);
-  p.fixed = median_of(p.cells, p.spec.fixed);
-  p.held = fixed_text(p.spec.fixed, p.fixed);
-}
-
-/// Puts panel `spec` in slot `i` (0–3, row by row) of `layout` with the cells of its grid in
-/// `records`; a grid without cells leaves the slot empty but for a label.
-void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const std::vector<CellRecord>& records) {
-  MapPanel p;
-  p.spec = spec;
-  p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
-  p.origin_y = i < 2 ? layout.key_h + layout.cell_h : layout.key_h;
-  std::vector<CellRecord> cells = results::records_of_grid(records, p.spec.grid);
-  if (cells.empty()) {
-    layout.missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
-    layout.missing_labels += fmt::format(
-        "set label {} {} at screen {},{} center\n", 90 + i,
-        single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.spec.letter, p.spec.name,
-                                  enhanced_literal(p.spec.grid))),
-        p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
-    return;
-  }
-  layout.total_cells += cells.size();
-  fill_panel(p, std::move(cells));
-  layout.panels.push_back(std::move(p));
-}
-
-constexpr double kMapTop = 0.955;  // below the multiplot's title
-
-MapLayout empty_layout(double key_h) {
-  MapLayout layout;
-  layout.key_h = key_h;
-  layout.cell_h = (kMapTop - key_h) / 2.0;
-  return layout;
-}
-
-MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& grids, double key_h) {
-  const std::array<PanelSpec, 4> specs{{
-      {'a', grids.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
-      {'b', grids.fine, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, fine grid"},
-      {'c', grids.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
-      {'d', grids.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
-  }};
-  MapLayout layout = empty_layout(key_h);
-  for (std::size_t i = 0; i < specs.size(); ++i) add_panel(layout, i, specs[i], records);
-  if (layout.panels.size() != 1) return layout;
-  // One of the four grids alone (a fine-only campaign, or a user's grid of that name): the whole
-  // page for it, not three empty slots; the others are said in `missing` only.
-  layout.missing_labels.clear();
-  layout.panel_w = 1.0;
-  layout.cell_h = kMapTop - key_h;
-  MapPanel& only = layout.panels.front();
-  only.lettered = false;
-  only.origin_x = 0.0;
-  only.origin_y = key_h;
-  return layout;
-}
-
-std::string no_map_note(std::string_view what, const MapPanels& grids) {
-  return fmt::format("no {}: none of the grids '{}', '{}', '{}', '{}' is in the store", what, grids.coarse,
-                     grids.fine, grids.speed_mu, grids.ttc_mu);
-}
-
-/// "5 speeds × 6 TTCs, μ = 1": the panel's extent, as its heading and the caption state it.
-std::string panel_extent(const MapPanel& p) {
-  return fmt::format("{} {} × {} {}, {}", p.xs.size(), axis_plural(p.spec.x), p.ys.size(), axis_plural(p.spec.y),
-                     p.held);
-}
-
-/// "(a) Speed × TTC, coarse grid", or the name alone for a map of one panel.
-std::string panel_name(const MapPanel& p) {
-  return p.lettered ? fmt::format("({}) {}", p.spec.letter, p.spec.name) : std::string(p.spec.name);
-}
-
-/// The panel's part of the figure's caption, `detail` after its cell count.
-std::string panel_caption(const MapPanel& p, std::string_view detail) {
-  return fmt::format("{}, {} ({} cells; {})", panel_name(p), panel_extent(p), p.cells.size(), detail);
-}
-
-/// The CSV columns every map starts a cell's row with: panel, grid, speed_kph, ttc_s, mu,
-/// passage_m, region.
-core::Row cell_columns(const MapPanel& p, const CellRecord& c) {
-  return {std::string(1, p.spec.letter), c.grid,           plot_number(c.speed_kph), plot_number(c.ttc_s),
-          plot_number(c.mu),             plot_number(c.passage_m), region_of(c)};
-}
-
-/// A cell's rectangle, the start of its datablock line: x y half-width half-height.
-std::string cell_box(const MapPanel& p, const CellRecord& c) {
-  return fmt::format("{} {} {} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y)),
-                     plot_number(p.hx), plot_number(p.hy));
-}
-
-/// The plot item drawing the rectangles of datablock `block` (x y hx hy COLOUR), coloured by `colour`
-/// ("rgb variable", "palette"). Neighbours overlap by 3 % of a cell so that antialiased edges leave
-/// no seams between them.
-std::string boxes(std::string_view block, std::string_view colour) {
-  return fmt::format("${} using 1:2:($3*1.03):($4*1.03):5 with boxxyerror fs solid 1.0 noborder lc {} notitle", block,
-                     colour);
-}
-
-std::string boundary_text(double latency_s) {
-  return latency_s == 0.0 ? std::string("TTC = v/(2μg)")
-                          : fmt::format("TTC = {:.3g} s + v/(2μg)", latency_s);
-}
-
-/// The dashed analytic stop boundary TTC = L + v/(2μg) as a gnuplot function of the panel's x.
-std::string boundary_function(const MapPanel& p, double latency_s) {
-  const double two_g = 2.0 * sim::kGravity_mps2;
-  const PanelSpec& s = p.spec;
-  if (s.x == Axis::kSpeed && s.y == Axis::kTtc)
-    return fmt::format("({} + x/3.6/({}*{}))", plot_number(latency_s), plot_number(two_g), plot_number(p.fixed));
-  if (s.x == Axis::kSpeed && s.y == Axis::kMu) {
-    if (p.fixed <= latency_s) return "";  // nothing stops within the latency alone
-    return fmt::format("(x/3.6/({}*({} - {})))", plot_number(two_g), plot_number(p.fixed), plot_number(latency_s));
-  }
-  if (s.x != Axis::kTtc || s.y != Axis::kMu) return "";  // no closed form over other factors
-  // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
-  return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", plot_number(p.fixed), plot_number(latency_s),
-                     plot_number(two_g));
-}
-
-constexpr std::string_view kBoundaryStyle = "with lines dt 2 lw 2.5 lc rgb 'black'";
-
-/// One panel of the multiplot: its place, its heading with `subtitle` under it, its axes, then
-/// `layers` (plot items over its cells, in drawing order).
-std::string panel_plot(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
-                       const std::vector<std::string>& layers) {
-  const std::string heading = fmt::format("{}: {} ({} cells)", panel_name(p), panel_extent(p), p.cells.size());
-  std::string out =
-      fmt::format("set origin {},{}\nset size {},{}\n", p.origin_x, p.origin_y, layout.panel_w, layout.cell_h);
-  out += fmt::format("set title {}\n",
-                     double_quoted(enhanced_literal(heading) + "\n{/*0.8 " + enhanced_literal(subtitle) + "}"));
-  out += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.spec.x)),
-                     single_quoted(axis_label(p.spec.y)));
-  out += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(p.xs.front() - p.hx),
-                     plot_number(p.xs.back() + p.hx), plot_number(p.ys.front() - p.hy),
-                     plot_number(p.ys.back() + p.hy));
-  return out + "plot " + core::join(layers, ", ") + "\n";
-}
-
-/// panel_plot with the closed-form stop boundary on top of `layers`.
-std::string panel_script(const MapLayout& layout, const MapPanel& p, std::string_view subtitle,
-                         std::vector<std::string> layers, double latency_s) {
-  const std::string boundary = boundary_function(p, latency_s);
-  if (!boundary.empty()) layers.push_back(fmt::format("{} {} notitle", boundary, kBoundaryStyle));
-  return panel_plot(layout, p, subtitle, layers);
-}
-
-/// The key's entry for a dashed stop boundary titled `label`.
-std::string boundary_key_entry(const std::string& label) {
-  return fmt::format("NaN {} title {}", kBoundaryStyle, single_quoted(label));
-}
-
-/// The whole map: a multiplot titled `title` holding `panels` (panel_script), then the key strip
-/// (`key` entries in at most `key_rows` rows, `strip_h` high) with the empty slots' labels.
-std::string map_script(const MapLayout& layout, std::string_view title, const std::string& panels,
-                       const std::vector<std::string>& key, int key_rows, int key_width_adjust, double strip_h) {
-  std::string body = fmt::format(
-      "set multiplot title {} font ',16'\n"
-      "set samples 600\nset tics out nomirror\nset border 3\nset key off\n",
-      single_quoted(title));
-  body += panels;
-  body += "set key on\n" + key_strip(strip_h, key_rows, key_width_adjust, key, layout.missing_labels);
-  return body + "unset multiplot\n";
-}
-
+using detail::kRegions;
+using detail::region_colour;
+using detail::fixed_text;
+using detail::MapPanel;
+using detail::MapLayout;
+using detail::kMapWidthPx;
+using detail::kMapHeightPx;
+using detail::kMapFontPt;
+using detail::kMapTop;
+using detail::fill_panel;
+using detail::add_panel;
+using detail::empty_layout;
+using detail::lay_out_map;
+using detail::no_map_note;
+using detail::panel_extent;
+using detail::panel_caption;
+using detail::cell_columns;
+using detail::cell_box;
+using detail::boxes;
+using detail::boundary_text;
+using detail::boundary_function;
+using detail::panel_plot;
+using detail::panel_script;
+using detail::boundary_key_entry;
+using detail::map_script;
 
 constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
-constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
 constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
 
 /// The cross over an undecided cell, sized by the cell on the page (a panel's plot area is roughly
@@ -465,113 +196,6 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   const std::string body =
       map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells), panel_plots, key,
                  undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
-  render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
-  return figure;
-}
-
-// --- the harm-reduction map ----------------------------------------------------------------------
-
-Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
-                               double latency_s) {
-  Figure figure;
-  figure.name = "harm_reduction_map";
-  figure.title = "Harm reduction by the best strategy";  // replaced by the full caption once drawn
-  // A taller key strip: the colour bar sits above the key entries.
-  const MapLayout layout = lay_out_map(records, panels, 0.11);
-  if (layout.panels.empty()) {
-    figure.note = no_map_note("harm reduction map", panels);
-    return figure;
-  }
-  // One scale for all panels, so that a colour means the same reduction everywhere.
-  double largest = 0.0;
-  for (const MapPanel& p : layout.panels)
-    for (const auto& c : p.cells)
-      if (c.feasible) largest = std::max(largest, c.p_mais3_reduction);
-
-  std::vector<core::Row> rows;
-  std::vector<std::string> caption_parts;
-  std::string data, panel_plots;
-  bool colour_bar = false;
-  for (const MapPanel& p : layout.panels) {
-    std::vector<std::string> reduced, infeasible;
-    std::size_t feasible = 0, o_or_r = 0, o_or_r_reduced = 0, unsearched = 0;
-    double sum = 0.0, most = 0.0;
-    for (const auto& c : p.cells) {
-      core::Row row = cell_columns(p, c);
-      // Certified with the reference at L4: no search ran (the level cannot fall), so the reduction
-      // is the emergency stop's, a lower bound on what a least-loss search might find.
-      unsearched += c.feasible && c.evidence == "certificate" && c.mitigation_evidence == "proof";
-      if (c.feasible) {
-        for (const double v : {c.unmitigated_p_mais3, c.p_mais3_reduction, c.unmitigated_p_fatal, c.p_fatal_reduction})
-          row.push_back(plot_number(v));
-        reduced.push_back(fmt::format("{} {}", cell_box(p, c), plot_number(c.p_mais3_reduction)));
-        ++feasible;
-        sum += c.p_mais3_reduction;
-        most = std::max(most, c.p_mais3_reduction);
-        o_or_r += is_o_or_r(c);
-        o_or_r_reduced += is_o_or_r(c) && c.p_mais3_reduction > 0.0;
-      } else {
-        row.insert(row.end(), 4, std::string());
-        infeasible.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour("infeasible"))));
-      }
-      rows.push_back(std::move(row));
-    }
-    std::vector<std::string> layers;
-    if (!reduced.empty()) {
-      const std::string block = fmt::format("harm_{}", p.spec.letter);
-      data += datablock(block, reduced);
-      layers.push_back(boxes(block, "palette"));
-    }
-    if (!infeasible.empty()) {
-      const std::string block = fmt::format("infeasible_{}", p.spec.letter);
-      data += datablock(block, infeasible);
-      layers.push_back(boxes(block, "rgb variable"));
-    }
-    const std::string summary =
-        feasible == 0 ? std::string("no feasible cell")
-                      : fmt::format("reduction mean {:.3f}, max {:.3f} over {} feasible; {} of {} O/R reduced",
-                                    sum / static_cast<double>(feasible), most, feasible, o_or_r_reduced, o_or_r);
-    caption_parts.push_back(panel_caption(
-        p, unsearched == 0 ? summary
-                           : fmt::format("{}; {} certified L4 cells not searched, their reduction the emergency "
-                                         "stop's (a lower bound)",
-                                         summary, unsearched)));
-    // The colour bar is drawn once, with the first panel that has a feasible cell, in the key strip.
-    const bool with_bar = !colour_bar && !reduced.empty();
-    if (with_bar)
-      panel_plots += fmt::format(
-          "set colorbox user horizontal origin screen 0.42,0.075 size screen 0.36,0.018\n"
-          "set label 80 {} at screen 0.41,0.084 right\n",
-          single_quoted(kReductionLabel));
-    panel_plots += panel_script(layout, p, summary, layers, latency_s);
-    if (with_bar) panel_plots += "unset colorbox\nunset label 80\n";
-    colour_bar = colour_bar || with_bar;
-  }
-
-  figure.note = core::join(layout.missing, "; ");
-  figure.title = fmt::format(
-      "Harm reduction by the best strategy over {} simulated cells: {}. Each feasible cell is coloured by the "
-      "unmitigated reference's P(MAIS3+) minus the lowest P(MAIS3+) of the strategies (0 to {:.3f}): an avoided "
-      "cell (G, Y) counts its whole unmitigated risk, an O or R cell the mitigation inside its loss level, which the "
-      "mitigability map does not show. Grey: infeasible. Dashed: the analytic stop boundary {} at the panel's fixed "
-      "parameter.",
-      layout.total_cells, core::join(caption_parts, "; "), largest, boundary_text(latency_s));
-  write_csv(figure, dir,
-            {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "unmitigated_p_mais3",
-             "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"},
-            rows);
-
-  // Sequential, light to dark, and apart from the region colours and the grey of infeasible cells.
-  const std::string scale = fmt::format(
-      "set palette defined (0 '#f2f0f7', 0.35 '#9e9ac8', 0.7 '#6a51a3', 1 '#3f007d')\nset cbrange [0:{}]\n"
-      "set cbtics out\nset format cb '%g'\nunset colorbox\n",
-      plot_number(largest > 0.0 ? largest : 1.0));
-  const std::vector<std::string> key{fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title 'infeasible'",
-                                                 single_quoted(region_colour("infeasible"))),
-                                     boundary_key_entry("stop boundary " + boundary_text(latency_s))};
-  const std::string body = map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)",
-                                                          layout.total_cells),
-                                      scale + panel_plots, key, 1, 0, 0.035);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }

@@ -1,0 +1,153 @@
+// The harm-reduction map (docs/report.md): each feasible cell coloured by how much the best
+// strategy lowers P(MAIS3+) below the unmitigated reference's, on one scale for all panels, in the
+// panel layout the mitigability map shares (map_panels.hpp).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "emrm/core/text.hpp"
+#include "emrm/report/figures.hpp"
+#include "emrm/report/gnuplot.hpp"
+#include "figure_parts.hpp"
+#include "map_panels.hpp"
+
+namespace emrm::report {
+namespace {
+
+namespace fs = std::filesystem;
+using campaign::CellRecord;
+using detail::is_o_or_r;
+using detail::write_csv;
+using detail::region_colour;
+using detail::MapPanel;
+using detail::MapLayout;
+using detail::kMapWidthPx;
+using detail::kMapHeightPx;
+using detail::kMapFontPt;
+using detail::lay_out_map;
+using detail::no_map_note;
+using detail::panel_caption;
+using detail::cell_columns;
+using detail::cell_box;
+using detail::boxes;
+using detail::boundary_text;
+using detail::panel_script;
+using detail::boundary_key_entry;
+using detail::map_script;
+
+constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
+
+}  // namespace
+
+Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
+                               double latency_s) {
+  Figure figure;
+  figure.name = "harm_reduction_map";
+  figure.title = "Harm reduction by the best strategy";  // replaced by the full caption once drawn
+  // A taller key strip: the colour bar sits above the key entries.
+  const MapLayout layout = lay_out_map(records, panels, 0.11);
+  if (layout.panels.empty()) {
+    figure.note = no_map_note("harm reduction map", panels);
+    return figure;
+  }
+  // One scale for all panels, so that a colour means the same reduction everywhere.
+  double largest = 0.0;
+  for (const MapPanel& p : layout.panels)
+    for (const auto& c : p.cells)
+      if (c.feasible) largest = std::max(largest, c.p_mais3_reduction);
+
+  std::vector<core::Row> rows;
+  std::vector<std::string> caption_parts;
+  std::string data, panel_plots;
+  bool colour_bar = false;
+  for (const MapPanel& p : layout.panels) {
+    std::vector<std::string> reduced, infeasible;
+    std::size_t feasible = 0, o_or_r = 0, o_or_r_reduced = 0, unsearched = 0;
+    double sum = 0.0, most = 0.0;
+    for (const auto& c : p.cells) {
+      core::Row row = cell_columns(p, c);
+      // Certified with the reference at L4: no search ran (the level cannot fall), so the reduction
+      // is the emergency stop's, a lower bound on what a least-loss search might find.
+      unsearched += c.feasible && c.evidence == "certificate" && c.mitigation_evidence == "proof";
+      if (c.feasible) {
+        for (const double v : {c.unmitigated_p_mais3, c.p_mais3_reduction, c.unmitigated_p_fatal, c.p_fatal_reduction})
+          row.push_back(plot_number(v));
+        reduced.push_back(fmt::format("{} {}", cell_box(p, c), plot_number(c.p_mais3_reduction)));
+        ++feasible;
+        sum += c.p_mais3_reduction;
+        most = std::max(most, c.p_mais3_reduction);
+        o_or_r += is_o_or_r(c);
+        o_or_r_reduced += is_o_or_r(c) && c.p_mais3_reduction > 0.0;
+      } else {
+        row.insert(row.end(), 4, std::string());
+        infeasible.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour("infeasible"))));
+      }
+      rows.push_back(std::move(row));
+    }
+    std::vector<std::string> layers;
+    if (!reduced.empty()) {
+      const std::string block = fmt::format("harm_{}", p.spec.letter);
+      data += datablock(block, reduced);
+      layers.push_back(boxes(block, "palette"));
+    }
+    if (!infeasible.empty()) {
+      const std::string block = fmt::format("infeasible_{}", p.spec.letter);
+      data += datablock(block, infeasible);
+      layers.push_back(boxes(block, "rgb variable"));
+    }
+    const std::string summary =
+        feasible == 0 ? std::string("no feasible cell")
+                      : fmt::format("reduction mean {:.3f}, max {:.3f} over {} feasible; {} of {} O/R reduced",
+                                    sum / static_cast<double>(feasible), most, feasible, o_or_r_reduced, o_or_r);
+    caption_parts.push_back(panel_caption(
+        p, unsearched == 0 ? summary
+                           : fmt::format("{}; {} certified L4 cells not searched, their reduction the emergency "
+                                         "stop's (a lower bound)",
+                                         summary, unsearched)));
+    // The colour bar is drawn once, with the first panel that has a feasible cell, in the key strip.
+    const bool with_bar = !colour_bar && !reduced.empty();
+    if (with_bar)
+      panel_plots += fmt::format(
+          "set colorbox user horizontal origin screen 0.42,0.075 size screen 0.36,0.018\n"
+          "set label 80 {} at screen 0.41,0.084 right\n",
+          single_quoted(kReductionLabel));
+    panel_plots += panel_script(layout, p, summary, layers, latency_s);
+    if (with_bar) panel_plots += "unset colorbox\nunset label 80\n";
+    colour_bar = colour_bar || with_bar;
+  }
+
+  figure.note = core::join(layout.missing, "; ");
+  figure.title = fmt::format(
+      "Harm reduction by the best strategy over {} simulated cells: {}. Each feasible cell is coloured by the "
+      "unmitigated reference's P(MAIS3+) minus the lowest P(MAIS3+) of the strategies (0 to {:.3f}): an avoided "
+      "cell (G, Y) counts its whole unmitigated risk, an O or R cell the mitigation inside its loss level, which the "
+      "mitigability map does not show. Grey: infeasible. Dashed: the analytic stop boundary {} at the panel's fixed "
+      "parameter.",
+      layout.total_cells, core::join(caption_parts, "; "), largest, boundary_text(latency_s));
+  write_csv(figure, dir,
+            {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "unmitigated_p_mais3",
+             "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"},
+            rows);
+
+  // Sequential, light to dark, and apart from the region colours and the grey of infeasible cells.
+  const std::string scale = fmt::format(
+      "set palette defined (0 '#f2f0f7', 0.35 '#9e9ac8', 0.7 '#6a51a3', 1 '#3f007d')\nset cbrange [0:{}]\n"
+      "set cbtics out\nset format cb '%g'\nunset colorbox\n",
+      plot_number(largest > 0.0 ? largest : 1.0));
+  const std::vector<std::string> key{fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title 'infeasible'",
+                                                 single_quoted(region_colour("infeasible"))),
+                                     boundary_key_entry("stop boundary " + boundary_text(latency_s))};
+  const std::string body = map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)",
+                                                          layout.total_cells),
+                                      scale + panel_plots, key, 1, 0, 0.035);
+  render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
+  return figure;
+}
+
+}  // namespace emrm::report

@@ -1,0 +1,25 @@
+#pragma once
+
+// Private to the report: the sections of report.html read from side files of the results folder
+// (a planned run's shortfalls and estimates, verify.json, diagnostics.json, analysis/findings.json)
+// and where a planned run's files are.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace emrm::report::detail {
+
+/// Where a plan's coverage.json may be: reproduce's plan/, this folder, and beside the scenarios.csv
+/// the run read (estimates.json's "plan", relative to its own folder).
+[[nodiscard]] std::vector<std::filesystem::path> coverage_candidates(const std::filesystem::path& dir);
+
+/// The plan's shortfalls that the run repeated, first thing in the report: its estimates lack them.
+/// "" when the run has none (or there is no run).
+[[nodiscard]] std::string shortfalls_html(const std::filesystem::path& dir);
+
+/// The sections after the figures that come from side files: the planned run's estimates
+/// (statistics_html), the verification, the diagnostics and the findings of the safety analysis.
+[[nodiscard]] std::string side_sections_html(const std::filesystem::path& dir);
+
+}  // namespace emrm::report::detail
