@@ -60,9 +60,10 @@ class StoredOracle final : public campaign::adaptive::Oracle {
 
 int main(int argc, char** argv) try {
   if (argc < 3) {
-    std::fputs("usage: emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE "
-               "[INITIAL_LEVELS STRIDE VERIFY BRACKET BRACKETS [GRID]]\n",
-               stderr);
+    std::fputs(
+        "usage: emrm_adaptive_replay CAMPAIGN RESULTS_SQLITE "
+        "[INITIAL_LEVELS STRIDE VERIFY BRACKET BRACKETS [GRID]]\n",
+        stderr);
     return 2;
   }
   const campaign::Campaign c = campaign::load_campaign(argv[1], true);
@@ -76,7 +77,8 @@ int main(int argc, char** argv) try {
     if (!brackets) throw std::invalid_argument("expected auto, search or predict");
     options.brackets = *brackets;
   }
-  if (const char* v = std::getenv("EMRM_SPREAD")) options.spread = static_cast<std::uint32_t>(std::strtoul(v, nullptr, 10));
+  if (const char* v = std::getenv("EMRM_SPREAD"))
+    options.spread = static_cast<std::uint32_t>(std::strtoul(v, nullptr, 10));
   if (std::getenv("EMRM_NOEARLY")) options.predict_early = false;
   std::map<std::string, std::vector<sim::Region>> truth;
   std::map<std::string, std::vector<char>> dear;  // the cell's search was strengthened (about 1 s, not 0.02)
@@ -94,7 +96,8 @@ int main(int argc, char** argv) try {
       // An inferred O or R cell of an adaptive store, simulated by the replay, is taken to be dear
       // (no certificate known): the estimate errs high.
       const bool inferred_unavoidable = r.method != "simulated" && (r.region == "O" || r.region == "R");
-      dear[r.grid][static_cast<std::size_t>(r.index)] = r.strengthened || void_certificate || inferred_unavoidable ? 1 : 0;
+      dear[r.grid][static_cast<std::size_t>(r.index)] =
+          r.strengthened || void_certificate || inferred_unavoidable ? 1 : 0;
     }
   });
   for (const campaign::GridSpec& grid : c.grids) {
@@ -109,13 +112,14 @@ int main(int argc, char** argv) try {
       differ += result.cells[i].region != t;
       g_wrong += (result.cells[i].region == sim::Region::kG) != (t == sim::Region::kG);
     }
-    fmt::print("{}: {} cells, {} feasible; simulated {} ({:.1f} %); differ {} ({:.2f} %); G wrong {}; "
-               "violations {}; lines {} resolved {} inferred {} full {}; rounds {}; strengthened {}\n",
-               grid.name, grid.cells.size(), result.feasible, result.simulated,
-               100.0 * static_cast<double>(result.simulated) / static_cast<double>(result.feasible), differ,
-               100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong,
-               result.violations.size(), result.lines, result.lines_resolved, result.lines_inferred,
-               result.lines_fully_resolved, result.rounds, strengthened);
+    fmt::print(
+        "{}: {} cells, {} feasible; simulated {} ({:.1f} %); differ {} ({:.2f} %); G wrong {}; "
+        "violations {}; lines {} resolved {} inferred {} full {}; rounds {}; strengthened {}\n",
+        grid.name, grid.cells.size(), result.feasible, result.simulated,
+        100.0 * static_cast<double>(result.simulated) / static_cast<double>(result.feasible), differ,
+        100.0 * static_cast<double>(differ) / static_cast<double>(result.feasible), g_wrong, result.violations.size(),
+        result.lines, result.lines_resolved, result.lines_inferred, result.lines_fully_resolved, result.rounds,
+        strengthened);
     if (std::getenv("EMRM_VIOLATIONS"))
       for (const auto& v : result.violations) {
         const auto& lo = grid.cells[v.low_cell];
@@ -124,8 +128,10 @@ int main(int argc, char** argv) try {
                    lo.ttc_s, hi.ttc_s, lo.mu, lo.passage_m, lo.truck_speed_kph,
                    sim::region_name(truth[grid.name][v.low_cell]), sim::region_name(truth[grid.name][v.high_cell]));
         fmt::print("    simulated for {} / {}\n",
-                   campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(result.cells[v.low_cell].purpose)),
-                   campaign::adaptive::purpose_name(static_cast<campaign::adaptive::Purpose>(result.cells[v.high_cell].purpose)));
+                   campaign::adaptive::purpose_name(
+                       static_cast<campaign::adaptive::Purpose>(result.cells[v.low_cell].purpose)),
+                   campaign::adaptive::purpose_name(
+                       static_cast<campaign::adaptive::Purpose>(result.cells[v.high_cell].purpose)));
       }
     fmt::print("  cost estimate {:.0f} s (1.0 s a strengthened simulation, 0.12 s another); not in the store: {}\n",
                1.0 * static_cast<double>(strengthened) + 0.12 * static_cast<double>(result.simulated - strengthened),

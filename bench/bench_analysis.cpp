@@ -52,7 +52,7 @@ BENCHMARK(BM_RegionEvaluation);
 // The simulator steps the EMRM FSM once per event of every simulated cell.
 void BM_FsmStepThroughTrace(benchmark::State& state) {
   const auto g = emrm::fsm::parse_generator(read("emrm_fsm.yaml"), "emrm_fsm.yaml");
-  const std::vector<std::string> word{"hazard_detected", "high_risk", "execute_maneuver", "timeout_error",
+  const std::vector<std::string> word{"hazard_detected",        "high_risk", "execute_maneuver", "timeout_error",
                                       "post_incident_response", "safe"};
   const auto initial = *g.initial();
   for (auto _ : state) benchmark::DoNotOptimize(g.run(initial, word));

@@ -24,8 +24,7 @@ const char* const kCampaign =
 
 void BM_Sweep40Cells(benchmark::State& state) {
   const emrm::campaign::Campaign campaign = emrm::campaign::parse_campaign(kCampaign, "bench.yaml", ".");
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("emrm-bench-sweep-" + std::to_string(::getpid()));
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-bench-sweep-" + std::to_string(::getpid()));
   emrm::campaign::SweepOptions options;
   options.output_dir = dir;
   options.threads = static_cast<int>(state.range(0));

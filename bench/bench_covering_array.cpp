@@ -34,9 +34,7 @@ void CoveringT2_3pow4(benchmark::State& s) { run(s, levels_of({{3, 4}}), 2); }
 void CoveringT2_3pow13(benchmark::State& s) { run(s, levels_of({{3, 13}}), 2); }
 void CoveringT2_2pow100(benchmark::State& s) { run(s, levels_of({{2, 100}}), 2); }
 void CoveringT2_10pow20(benchmark::State& s) { run(s, levels_of({{10, 20}}), 2); }
-void CoveringT2_4pow15_3pow17_2pow29(benchmark::State& s) {
-  run(s, levels_of({{4, 15}, {3, 17}, {2, 29}}), 2);
-}
+void CoveringT2_4pow15_3pow17_2pow29(benchmark::State& s) { run(s, levels_of({{4, 15}, {3, 17}, {2, 29}}), 2); }
 void CoveringT2_4pow1_3pow39_2pow35(benchmark::State& s) { run(s, levels_of({{4, 1}, {3, 39}, {2, 35}}), 2); }
 void CoveringT3_3pow4(benchmark::State& s) { run(s, levels_of({{3, 4}}), 3); }
 void CoveringT3_5pow10(benchmark::State& s) { run(s, levels_of({{5, 10}}), 3); }

@@ -20,8 +20,7 @@ std::array<OrientedBox, 64> ego_poses_near(const OrientedBox& truck) {
   std::array<OrientedBox, 64> poses{};
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const double k = static_cast<double>(i);
-    poses[i] = {
-        {truck.center.x - 3.2 + 0.05 * k, truck.center.y - 6.6 + 0.03 * k}, -0.4 + 0.0125 * k, 4.508, 1.61};
+    poses[i] = {{truck.center.x - 3.2 + 0.05 * k, truck.center.y - 6.6 + 0.03 * k}, -0.4 + 0.0125 * k, 4.508, 1.61};
   }
   return poses;
 }

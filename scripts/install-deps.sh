@@ -3,7 +3,7 @@
 # Idempotent: packages already present are left alone.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config git clang libclang-rt-dev
+  build-essential cmake ninja-build pkg-config git clang libclang-rt-dev clang-format clang-tidy
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev libxml2-dev
   graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev libnlopt-cxx-dev

@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Builds emrm and runs every test three times: a normal GCC build (preset dev), GCC under
+# Checks the sources (no .cpp over 600 lines, clang-format), builds emrm and runs every test three
+# times: a normal GCC build (preset dev, then clang-tidy on its compile commands), GCC under
 # AddressSanitizer + UndefinedBehaviorSanitizer (preset asan), and clang under both sanitizers
-# (preset clang), whose libFuzzer targets then each run a short smoke run (docs/fuzzing.md).
+# (preset clang), whose libFuzzer targets then each run a short smoke run (docs/fuzzing.md,
+# docs/testing.md).
 # Run scripts/install-deps.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+./scripts/lint.sh sources
 cmake --workflow --preset dev
+./scripts/lint.sh tidy
 cmake --workflow --preset asan
 cmake --workflow --preset clang
 ./scripts/fuzz.sh --seconds 10

@@ -49,8 +49,7 @@ void register_analyze_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("analyze",
                                  "Check a safety case (HARA, STPA UCAs, mapping) and write its traceability matrix.\n"
                                  "Exit 0: no errors; 1: the analysis found errors; 2: bad input.");
-  cmd->add_option("SAFETY.yaml", options->safety_file, "Safety case file (schema: docs/safety-yaml.md)")
-      ->required();
+  cmd->add_option("SAFETY.yaml", options->safety_file, "Safety case file (schema: docs/safety-yaml.md)")->required();
   cmd->add_option("--fsm", options->fsm_file,
                   "EMRM FSM whose transitions the UCAs name (default: the case's own 'fsm:' entry)");
   cmd->add_flag("--no-fsm", options->no_fsm, "Do not check UCA transitions against an FSM");

@@ -10,13 +10,13 @@
 #include <string>
 
 #include "commands.hpp"
-#include "emrm/results/aggregate.hpp"
-#include "emrm/results/boundary.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/boundary_figures.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/boundary.hpp"
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::cli {
@@ -34,8 +34,9 @@ struct BoundaryOptions {
 // gnuplot is looked for before anything is written: without it the command would stop halfway.
 void require_gnuplot() {
   if (!core::find_program("gnuplot"))
-    throw UsageError("emrm boundary: cannot draw figures: gnuplot was not found on PATH; install it (apt-get install "
-                     "gnuplot-nox), or pass --no-figures for the CSV files alone");
+    throw UsageError(
+        "emrm boundary: cannot draw figures: gnuplot was not found on PATH; install it (apt-get install "
+        "gnuplot-nox), or pass --no-figures for the CSV files alone");
 }
 
 std::string figures_line(const std::vector<report::Figure>& figures, std::size_t slices, const fs::path& out) {

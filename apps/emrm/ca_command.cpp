@@ -7,11 +7,11 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "options.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/scenario/covering_array.hpp"
 #include "emrm/scenario/covering_array_io.hpp"
 #include "emrm/scenario/pict_model.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -42,8 +42,7 @@ std::vector<int> parse_levels(const std::string& text) {
     }
     if (item.empty() || used != item.size())
       throw UsageError(fmt::format("emrm ca: --levels expects comma-separated integers, got '{}'", item));
-    if (value < 1)
-      throw UsageError(fmt::format("emrm ca: every level count must be at least 1, got {}", value));
+    if (value < 1) throw UsageError(fmt::format("emrm ca: every level count must be at least 1, got {}", value));
     levels.push_back(value);
     if (comma == text.size()) break;
     start = comma + 1;
@@ -65,8 +64,8 @@ int run(const CaOptions& o) {
     levels = parse_levels(o.levels);
   }
   if (static_cast<std::size_t>(o.strength) > levels.size())
-    throw UsageError(fmt::format("emrm ca: --strength {} needs at least {} factors, got {}", o.strength,
-                                 o.strength, levels.size()));
+    throw UsageError(
+        fmt::format("emrm ca: --strength {} needs at least {} factors, got {}", o.strength, o.strength, levels.size()));
   const scenario::RowViolates violates = model ? model->row_violates() : scenario::RowViolates{};
   scenario::CoveringArrayOptions options;
   options.strength = o.strength;
@@ -79,9 +78,9 @@ int run(const CaOptions& o) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::cout << scenario::covering_array_csv(ca, model ? &*model : nullptr);
-  std::cerr << fmt::format(
-      "{} rows, strength {}, {} of {} tuples covered ({} excluded by constraints), {:.3f} s\n",
-      ca.rows.size(), ca.strength, ca.required_tuples, ca.required_tuples, ca.forbidden_tuples, seconds);
+  std::cerr << fmt::format("{} rows, strength {}, {} of {} tuples covered ({} excluded by constraints), {:.3f} s\n",
+                           ca.rows.size(), ca.strength, ca.required_tuples, ca.required_tuples, ca.forbidden_tuples,
+                           seconds);
   if (o.check) {
     const auto report = scenario::check_covering_array(levels, o.strength, ca.rows, violates, o.max_search_steps);
     if (!report.ok()) {
@@ -98,18 +97,16 @@ int run(const CaOptions& o) {
 
 void register_ca_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<CaOptions>();
-  auto* cmd = app.add_subcommand(
-      "ca",
-      "Generate a covering array (strength 2 or 3) from level counts or a PICT-style model\n"
-      "file, printed as CSV; a summary goes to stderr.");
+  auto* cmd = app.add_subcommand("ca",
+                                 "Generate a covering array (strength 2 or 3) from level counts or a PICT-style model\n"
+                                 "file, printed as CSV; a summary goes to stderr.");
   cmd->add_option("model", o->model_file, "PICT-style model file ('Name: v1, v2' lines and constraints)");
   cmd->add_option("--levels", o->levels, "Comma-separated level counts, e.g. 3,3,3,3 (instead of a model)");
   cmd->add_option("--strength,-t", o->strength, "Interaction strength t, 2 or 3")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Random seed; the same seed gives the same array")
       ->check(seed_value())
       ->capture_default_str();
-  cmd->add_option("--effort", o->effort,
-                  "Effort of the row-removing search after the greedy array (0: greedy only)")
+  cmd->add_option("--effort", o->effort, "Effort of the row-removing search after the greedy array (0: greedy only)")
       ->check(finite_in(0.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--max-tuples", o->max_tuples, "Most t-tuples to cover (memory grows with them)")

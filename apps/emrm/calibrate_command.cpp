@@ -11,11 +11,11 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "options.hpp"
 #include "emrm/calibration/calibrate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/sim/scene.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -83,11 +83,10 @@ int run(const CalibrateOptions& o) {
                         : calibration::calibrate_stops(calibration::read_stops(o.stops), request);
   }
   const std::string description =
-      !o.regions.empty()
-          ? fmt::format("fitted to the region fractions of {} (grid '{}')", std::filesystem::path(o.regions).filename().string(),
-                        regions->grid)
-          : fmt::format("fitted to the {} of {}", o.stops.empty() ? "speed trace" : "stops",
-                        std::filesystem::path(o.stops.empty() ? o.trace : o.stops).filename().string());
+      !o.regions.empty() ? fmt::format("fitted to the region fractions of {} (grid '{}')",
+                                       std::filesystem::path(o.regions).filename().string(), regions->grid)
+                         : fmt::format("fitted to the {} of {}", o.stops.empty() ? "speed trace" : "stops",
+                                       std::filesystem::path(o.stops.empty() ? o.trace : o.stops).filename().string());
   if (r.converged) core::write_file(o.output, calibration::profile_yaml(r, o.command_line, description));
 
   const calibration::RegionCalibration* by_regions = regions ? &*regions : nullptr;
@@ -96,8 +95,8 @@ int run(const CalibrateOptions& o) {
   else if (!o.regions.empty())
     fmt::print("{}", calibration::to_text(r, by_regions, o.regions, "points", o.output));
   else
-    fmt::print("{}", calibration::to_text(r, nullptr, o.stops.empty() ? o.trace : o.stops, o.stops.empty() ? "m/s" : "m",
-                                         o.output));
+    fmt::print("{}", calibration::to_text(r, nullptr, o.stops.empty() ? o.trace : o.stops,
+                                          o.stops.empty() ? "m/s" : "m", o.output));
   return static_cast<int>(r.converged && r.warnings.empty() ? ExitCode::kSuccess : ExitCode::kFindings);
 }
 
@@ -112,8 +111,9 @@ void register_calibrate_command(CLI::App& app, int& exit_code) {
       "and write a profile for --profile");
   cmd->add_option("--stops", o->stops, "CSV of stops: speed_kph, mu, stop_distance_m[, time_to_stop_s]");
   cmd->add_option("--decel-trace", o->trace, "CSV of speed traces: run, t_s, speed_mps (t = 0 at the brake command)");
-  cmd->add_option("--regions", o->regions,
-                  "YAML of target region fractions of a grid: grid, regions_pct {G, Y, O, R} (or a paper_reference.yaml)");
+  cmd->add_option(
+      "--regions", o->regions,
+      "YAML of target region fractions of a grid: grid, regions_pct {G, Y, O, R} (or a paper_reference.yaml)");
   cmd->add_option("--match", o->match, "With --regions: the fractions to fit, e.g. G (default: all the file gives)")
       ->delimiter(',');
   cmd->add_option("--campaign", o->campaign_file, "With --regions: the campaign that defines the grid");
@@ -123,7 +123,8 @@ void register_calibrate_command(CLI::App& app, int& exit_code) {
       ->required()
       ->delimiter(',');
   cmd->add_option("--bounds", o->bounds, "Search range NAME=LO:HI (repeatable)");
-  cmd->add_option("--scene", o->scene_file, "Scene whose actuation gives the parameters not fitted (not with --regions)");
+  cmd->add_option("--scene", o->scene_file,
+                  "Scene whose actuation gives the parameters not fitted (not with --regions)");
   cmd->add_option("--profile", o->profile, "Profile overlaying that scene first (NAME or FILE)");
   cmd->add_option("-o,--output", o->output, "Profile YAML to write")->required();
   cmd->add_flag("--json", o->json, "Print {fitted: {NAME: {value, ci_low, ci_high}}, residual_rms, converged}");

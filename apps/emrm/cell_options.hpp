@@ -4,14 +4,13 @@
 // and `emrm assess`: one set of flags, defaults and checks.
 
 #include <CLI/CLI.hpp>
-
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
 
-#include "options.hpp"
 #include "emrm/sim/scene.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 

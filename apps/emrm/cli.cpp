@@ -2,9 +2,11 @@
 // (0 success, 1 the analysis found errors, 2 bad input or usage, 128 + signal after an interrupt).
 // main() is one call of run_cli; the CLI fuzz target calls it with Mode::kParseOnly.
 
-#include <CLI/CLI.hpp>
+#include "cli.hpp"
+
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -13,13 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "cli.hpp"
 #include "commands.hpp"
-#include "options.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/version.hpp"
+#include "options.hpp"
 
 namespace {
 
@@ -71,9 +72,10 @@ std::string short_words(const std::string& message) {
 namespace emrm::cli {
 
 int run_cli(int argc, char** argv, Mode mode) {
-  CLI::App app{"emrm — verification and validation of an Evasive Minimum-Risk Maneuver (EMRM).\n"
-               "Exit codes: 0 success, 1 the analysis or check found errors, 2 bad input or usage.",
-               "emrm"};
+  CLI::App app{
+      "emrm — verification and validation of an Evasive Minimum-Risk Maneuver (EMRM).\n"
+      "Exit codes: 0 success, 1 the analysis or check found errors, 2 bad input or usage.",
+      "emrm"};
   app.set_version_flag("--version", fmt::format("emrm {}", emrm::kVersion));
   app.require_subcommand(1);
   app.fallthrough(false);

@@ -10,11 +10,11 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "options.hpp"
-#include "emrm/results/diagnostics.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/results/diagnostics.hpp"
 #include "emrm/sim/scene.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -44,8 +44,9 @@ int run(const DiagnoseOptions& options) {
   fmt::print("Wrote {}/diagnostics.json and {}/fsm; `emrm report {}` shows them\n", dir.string(), dir.string(),
              dir.string());
   if (!results::contradicts_physics(diagnostics)) return static_cast<int>(ExitCode::kSuccess);
-  fmt::print("diagnose: stored regions contradict the analytic stop boundary; the cells are listed in "
-             "diagnostics.json (exit 1)\n");
+  fmt::print(
+      "diagnose: stored regions contradict the analytic stop boundary; the cells are listed in "
+      "diagnostics.json (exit 1)\n");
   return static_cast<int>(ExitCode::kFindings);
 }
 

@@ -72,18 +72,15 @@ int run_fsm(const FsmOptions& options) {
 
 void register_fsm_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<FsmOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "fsm",
-      "Check and explore a hazard-loss FSM G = (S, Σ, δ, s0, S_M) (docs/fsm.md).\n"
-      "Without options prints a summary. Exit 1 if a check fails or a trace is not in L(G).");
-  cmd->add_option("FSM", options->file, "FSM YAML file (schema in docs/fsm.md)")
-      ->required()
-      ->type_name("FILE");
+  CLI::App* cmd =
+      app.add_subcommand("fsm",
+                         "Check and explore a hazard-loss FSM G = (S, Σ, δ, s0, S_M) (docs/fsm.md).\n"
+                         "Without options prints a summary. Exit 1 if a check fails or a trace is not in L(G).");
+  cmd->add_option("FSM", options->file, "FSM YAML file (schema in docs/fsm.md)")->required()->type_name("FILE");
   cmd->add_flag("--check", options->check,
                 "Check that G is accessible, co-accessible, deterministic and non-blocking (exit 1 if not)");
   cmd->add_option("--words", options->words,
-                  fmt::format("List the words of L(G) of length 1..N (0..{}), marking those in L_m(G)",
-                              kMaxWordLength))
+                  fmt::format("List the words of L(G) of length 1..N (0..{}), marking those in L_m(G)", kMaxWordLength))
       ->check(CLI::Range(0, kMaxWordLength))
       ->type_name("N");
   cmd->add_option("--word", options->word_queries,
@@ -91,9 +88,8 @@ void register_fsm_command(CLI::App& app, int& exit_code) {
       ->expected(1)
       ->take_all()
       ->type_name("WORD");
-  cmd->add_option(
-         "--traces", options->traces,
-         "Transition coverage of the traces in FILE (one per line, events separated by spaces, '#' comments)")
+  cmd->add_option("--traces", options->traces,
+                  "Transition coverage of the traces in FILE (one per line, events separated by spaces, '#' comments)")
       ->type_name("FILE");
   cmd->add_option("--compose", options->compose,
                   "Work on the synchronous composition G || OTHER (another FSM YAML file)")
@@ -101,13 +97,10 @@ void register_fsm_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--max-states", options->max_states, "With --compose: most states of the product")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}))
       ->capture_default_str();
-  cmd->add_option("--dot", options->dot,
-                  "Write the Graphviz DOT diagram to FILE (edges coloured by --traces)")
+  cmd->add_option("--dot", options->dot, "Write the Graphviz DOT diagram to FILE (edges coloured by --traces)")
       ->type_name("FILE");
-  cmd->add_option("--svg", options->svg, "Render the diagram to FILE as SVG (needs Graphviz `dot`)")
-      ->type_name("FILE");
-  cmd->add_option("--format", options->format, "Output format: text or json")
-      ->check(CLI::IsMember({"text", "json"}));
+  cmd->add_option("--svg", options->svg, "Render the diagram to FILE as SVG (needs Graphviz `dot`)")->type_name("FILE");
+  cmd->add_option("--format", options->format, "Output format: text or json")->check(CLI::IsMember({"text", "json"}));
   cmd->callback([options, &exit_code] { exit_code = run_fsm(*options); });
 }
 

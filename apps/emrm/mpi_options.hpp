@@ -4,7 +4,6 @@
 // (`emrm sweep`, `run`, `reproduce`; docs/cluster.md).
 
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <string>
 
@@ -42,7 +41,7 @@ inline int on_ranks(const MpiOptions& options, int threads, const std::function<
   return cluster::run_on_ranks(session, threads, options.hung_after_s, [&](cluster::Ranks& ranks) {
     try {
       return command(&ranks);
-    } catch (...) {  // printed before the other ranks learn the exit code: a rank that exits non-zero
+    } catch (...) {           // printed before the other ranks learn the exit code: a rank that exits non-zero
       return report_error();  // first makes the launcher end the job, rank 0 with it
     }
   });

@@ -4,15 +4,14 @@
 // exact: a number must be finite and in its range, a seed must fit 64 bits (CLI11 would clamp it),
 // and a value is quoted only up to a length in a message.
 
-#include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
-
-#include <fmt/format.h>
 
 namespace emrm::cli {
 

@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::cli {
@@ -65,8 +65,7 @@ int run(const PlanOptions& o) {
   if (odd.safety_file) {
     const safety::Analysis analysis = workflow::analyze_safety_file(*odd.safety_file);
     if (!safety_case_acceptable(analysis, o, warnings)) return static_cast<int>(ExitCode::kFindings);
-    for (auto& w : workflow::safety_range_warnings(odd, analysis.safety_case))
-      warnings.push_back(std::move(w));
+    for (auto& w : workflow::safety_range_warnings(odd, analysis.safety_case)) warnings.push_back(std::move(w));
   }
   const scenario::Plan plan = scenario::build_plan(odd);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -91,8 +90,9 @@ void register_plan_command(CLI::App& app, int& exit_code) {
                                      "Exit 0: planned; 1: the safety case has error findings (no plan) or "
                                      "C1-C4 fail; 2: bad input.");
   cmd->add_option("ODD", options->odd_file, "ODD file (docs/odd-yaml.md)")->required();
-  cmd->add_option("--safety", options->safety_file, "safety case whose UCAs are the malfunction modes "
-                                                    "(default: the ODD's 'safety:' entry)");
+  cmd->add_option("--safety", options->safety_file,
+                  "safety case whose UCAs are the malfunction modes "
+                  "(default: the ODD's 'safety:' entry)");
   cmd->add_option("-o,--output", options->output_dir, "output folder")->required();
   cmd->add_flag("--allow-findings", options->allow_findings,
                 "Plan even when the safety case has error findings (as `emrm analyze` reports them)");

@@ -31,9 +31,10 @@ int run(const std::string& dir) {
 
 void register_report_command(CLI::App& app, int& exit_code) {
   auto dir = std::make_shared<std::string>();
-  CLI::App* cmd = app.add_subcommand(
-      "report", "Draw the paper's figures (PNG, SVG and CSV in DIR/figures) and write DIR/report.html from a "
-                "results folder written by emrm sweep, run or reproduce");
+  CLI::App* cmd =
+      app.add_subcommand("report",
+                         "Draw the paper's figures (PNG, SVG and CSV in DIR/figures) and write DIR/report.html from a "
+                         "results folder written by emrm sweep, run or reproduce");
   cmd->add_option("DIR", *dir, "results folder (holds results.sqlite)")->required();
   cmd->callback([dir, &exit_code] { exit_code = run(*dir); });
 }

@@ -8,11 +8,11 @@
 #include <string>
 
 #include "commands.hpp"
-#include "mpi_options.hpp"
-#include "options.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/workflow/reproduce.hpp"
+#include "mpi_options.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -48,12 +48,13 @@ void register_reproduce_command(CLI::App& app, int& exit_code) {
       "sweep (resumable), tables beside the paper's numbers and diagnostics (docs/results.md).\n"
       "Exit 0: done; 1: the analysis found errors, an FSM check failed or the scenario plan misses C1-C4;\n"
       "2: bad input.");
-  cmd->add_option("-o,--output", options->output_dir,
-                  "Output folder (a rerun resumes the sweep stored there)")
+  cmd->add_option("-o,--output", options->output_dir, "Output folder (a rerun resumes the sweep stored there)")
       ->required()
       ->type_name("DIR");
   add_threads_option(cmd, options->threads, "Worker threads (0: all cores)");
-  cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
+  cmd->add_option(
+      "--profile", options->profile,
+      "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   cmd->add_option("--examples", options->examples_dir,
                   "Example folder (default: examples/tjunction here or above, or beside the executable)")
       ->type_name("DIR");

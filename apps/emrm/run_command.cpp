@@ -8,11 +8,11 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "mpi_options.hpp"
-#include "options.hpp"
-#include "emrm/workflow/run.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/workflow/run.hpp"
+#include "mpi_options.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -61,7 +61,9 @@ void register_run_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--safety", options->safety,
                   "safety case for the traceability matrix (default: the plan's, from scenarios.json)");
   add_threads_option(cmd, options->threads, "worker threads (0: all cores)");
-  cmd->add_option("--profile", options->profile, "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
+  cmd->add_option(
+      "--profile", options->profile,
+      "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE (docs/actuation.md)");
   add_mpi_options(cmd, options->mpi, "mpirun -n N emrm run ... --mpi");
   cmd->callback([options, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)

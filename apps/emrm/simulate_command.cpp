@@ -40,8 +40,7 @@ int run(const SimulateOptions& options) {
   }
   const sim::CellResult result = sim::simulate_cell(config, cell, cell_options);
   if (options.json) {
-    std::cout << sim::to_json(result, sim::Scene(config, result.input), seed, {options.timing}).dump(2)
-              << "\n";
+    std::cout << sim::to_json(result, sim::Scene(config, result.input), seed, {options.timing}).dump(2) << "\n";
   } else {
     std::cout << sim::to_text(result, config, seed);
   }
@@ -66,8 +65,9 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
   cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");
   cmd->add_flag("--paths", o->paths, "Kept for older scripts: the JSON always has every trajectory");
-  cmd->add_flag("--no-certify", o->no_certify,
-                "Search every cell in full, even where a certificate proves that nothing avoids (to check certificates)");
+  cmd->add_flag(
+      "--no-certify", o->no_certify,
+      "Search every cell in full, even where a certificate proves that nothing avoids (to check certificates)");
   cmd->add_option("--figure", o->figure, "Draw the trajectory trees to FILE.svg or FILE.png (gnuplot)");
   cmd->callback([o, &exit_code] { exit_code = run(*o); });
 }

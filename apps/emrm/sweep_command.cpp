@@ -8,13 +8,13 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "mpi_options.hpp"
-#include "options.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "mpi_options.hpp"
+#include "options.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -88,13 +88,12 @@ campaign::Campaign load(const SweepCommandOptions& o) {
 void print_swept(const campaign::SweepSummary& s, const SweepCommandOptions& o, const std::string& shard) {
   const double rate = s.seconds > 0.0 ? static_cast<double>(s.cells_simulated) / s.seconds : 0.0;
   std::cout << fmt::format(
-      "Swept {} cells{} into {}: {} simulated, {} already stored (skipped), {:.1f} s, {:.1f} cells/s\n",
-      s.cells_total, shard, o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
+      "Swept {} cells{} into {}: {} simulated, {} already stored (skipped), {:.1f} s, {:.1f} cells/s\n", s.cells_total,
+      shard, o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
 }
 
 void print_wrote(const SweepCommandOptions& o) {
-  std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n",
-                           o.output_dir);
+  std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n", o.output_dir);
 }
 
 int run_sweep(const SweepCommandOptions& o) {
@@ -142,10 +141,9 @@ int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
 int run_merge(const MergeCommandOptions& o) {
   std::vector<std::filesystem::path> dirs(o.dirs.begin(), o.dirs.end());
   campaign::merge(dirs, o.output_dir);
-  const auto store =
-      campaign::ResultStore::open_for_reading(std::filesystem::path(o.output_dir) / "results.sqlite");
-  std::cout << fmt::format("Merged {} folders into {}: {} cells (config hash {})\n", dirs.size(),
-                           o.output_dir, store.cell_count(), store.meta().config_hash);
+  const auto store = campaign::ResultStore::open_for_reading(std::filesystem::path(o.output_dir) / "results.sqlite");
+  std::cout << fmt::format("Merged {} folders into {}: {} cells (config hash {})\n", dirs.size(), o.output_dir,
+                           store.cell_count(), store.meta().config_hash);
   return static_cast<int>(ExitCode::kSuccess);
 }
 
@@ -153,31 +151,29 @@ int run_merge(const MergeCommandOptions& o) {
 
 void register_sweep_commands(CLI::App& app, int& exit_code) {
   auto s = std::make_shared<SweepCommandOptions>();
-  auto* sweep =
-      app.add_subcommand("sweep",
-                         "Simulate every cell of a campaign's grids in parallel into DIR/results.sqlite\n"
-                         "(resumable: a rerun skips stored cells) and export regions.csv and cells.csv.");
-  sweep->add_option("campaign", s->campaign_file, "Campaign file (docs/campaign.md)")
-      ->required();
+  auto* sweep = app.add_subcommand("sweep",
+                                   "Simulate every cell of a campaign's grids in parallel into DIR/results.sqlite\n"
+                                   "(resumable: a rerun skips stored cells) and export regions.csv and cells.csv.");
+  sweep->add_option("campaign", s->campaign_file, "Campaign file (docs/campaign.md)")->required();
   sweep->add_option("-o,--output", s->output_dir, "Output folder")->required();
   add_threads_option(sweep, s->threads, "Worker threads (0: all cores)")->capture_default_str();
-  sweep
-      ->add_option("--shard", s->shard,
-                   "Take only shard K of N (K/N, 1 <= K <= N); join shards with `emrm merge`")
+  sweep->add_option("--shard", s->shard, "Take only shard K of N (K/N, 1 <= K <= N); join shards with `emrm merge`")
       ->capture_default_str();
   sweep->add_flag("--force", s->force, "Allow grids of more than max_cells cells");
   sweep->add_option("--profile", s->profile,
                     "Actuation profile overlaying the scene: a NAME in the scene's profiles/ folder or a FILE "
                     "(docs/actuation.md)");
-  sweep->add_option("--progress-log", s->progress_log,
-                    "Also write the progress to FILE, one JSON line per commit: done, total, elapsed_s, eta_s")
+  sweep
+      ->add_option("--progress-log", s->progress_log,
+                   "Also write the progress to FILE, one JSON line per commit: done, total, elapsed_s, eta_s")
       ->type_name("FILE");
   sweep->add_flag("--adaptive", s->adaptive,
                   "Adaptive boundary search on every product grid: simulate only the cells near region "
                   "boundaries and infer the rest (docs/adaptive.md)");
-  sweep->add_option("--verify-sample", s->verify_sample,
-                    "Adaptive: inferred cells re-simulated at random to measure the disagreement rate (0 to "
-                    "1000000, or auto: 0.5 % of the feasible cells, 20 to 500)")
+  sweep
+      ->add_option("--verify-sample", s->verify_sample,
+                   "Adaptive: inferred cells re-simulated at random to measure the disagreement rate (0 to "
+                   "1000000, or auto: 0.5 % of the feasible cells, 20 to 500)")
       ->check(CLI::Validator(
           [](std::string& value) -> std::string {
             if (value == "auto") return {};
@@ -189,38 +185,42 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
           },
           "auto|0..1000000"))
       ->capture_default_str();
-  sweep->add_option("--initial-levels", s->initial_levels,
-                    "Adaptive: lines searched per factor before refining (2 to 1000; 0: automatic)")
+  sweep
+      ->add_option("--initial-levels", s->initial_levels,
+                   "Adaptive: lines searched per factor before refining (2 to 1000; 0: automatic)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{1000}, "0 to 1000") & !CLI::IsMember({std::size_t{1}}))
       ->capture_default_str();
-  sweep->add_option("--stride", s->stride,
-                    "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
+  sweep
+      ->add_option("--stride", s->stride,
+                   "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
       ->capture_default_str();
-  sweep->add_option("--brackets", s->brackets,
-                    "Adaptive: a line between corners whose thresholds agree within a level searches its own "
-                    "(search), takes the one predicted from them (predict), or auto: predict on grids of three "
-                    "factors or more")
+  sweep
+      ->add_option("--brackets", s->brackets,
+                   "Adaptive: a line between corners whose thresholds agree within a level searches its own "
+                   "(search), takes the one predicted from them (predict), or auto: predict on grids of three "
+                   "factors or more")
       ->check(CLI::IsMember({"auto", "search", "predict"}))
       ->capture_default_str();
-  sweep->add_option("--spread", s->spread,
-                    "Adaptive, where brackets are predicted: corners whose avoidance thresholds or early runs "
-                    "differ by up to N TTC levels still agree, and the lines between take what they predict "
-                    "(1 to 1000)")
+  sweep
+      ->add_option("--spread", s->spread,
+                   "Adaptive, where brackets are predicted: corners whose avoidance thresholds or early runs "
+                   "differ by up to N TTC levels still agree, and the lines between take what they predict "
+                   "(1 to 1000)")
       ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000}, "1 to 1000"))
       ->capture_default_str();
   add_mpi_options(sweep, s->mpi, "mpirun -n N emrm sweep ... --mpi");
   sweep->callback([s, &exit_code] {
     const core::InterruptScope interrupts;  // Ctrl-C keeps what is done (docs/campaign.md)
-    exit_code = on_ranks(s->mpi, s->threads,
-                         [&](cluster::Ranks* ranks) { return ranks != nullptr ? run_sweep_mpi(*s, *ranks) : run_sweep(*s); });
+    exit_code = on_ranks(s->mpi, s->threads, [&](cluster::Ranks* ranks) {
+      return ranks != nullptr ? run_sweep_mpi(*s, *ranks) : run_sweep(*s);
+    });
   });
 
   auto m = std::make_shared<MergeCommandOptions>();
-  auto* merge =
-      app.add_subcommand("merge",
-                         "Join the results stores of shards of one campaign (same config hash) into\n"
-                         "OUT/results.sqlite and write its exports.");
+  auto* merge = app.add_subcommand("merge",
+                                   "Join the results stores of shards of one campaign (same config hash) into\n"
+                                   "OUT/results.sqlite and write its exports.");
   merge->add_option("-o,--output", m->output_dir, "Output folder")->required();
   merge->add_option("dirs", m->dirs, "Folders written by `emrm sweep --shard K/N`")
       ->required()

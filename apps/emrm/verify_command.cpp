@@ -7,8 +7,8 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "emrm/results/verify.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/results/verify.hpp"
 
 namespace emrm::cli {
 namespace {

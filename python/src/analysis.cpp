@@ -2,6 +2,8 @@
 // docs/fsm.md), each produced by the library's own functions: findings, traceability and ASIL rows
 // as their files hold them, the JSON and text as the commands print them.
 
+#include "emrm/safety/analysis.hpp"
+
 #include <pybind11/stl.h>
 
 #include <optional>
@@ -10,7 +12,6 @@
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
-#include "emrm/safety/analysis.hpp"
 #include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::python {
@@ -60,17 +61,15 @@ void bind_analysis(py::module_& m) {
   py::class_<safety::Analysis> analysis(m, "_Analysis", "A checked safety case (emrm.analyze wraps it).");
   analysis.def_property_readonly("errors", &safety::Analysis::errors);
   analysis.def_property_readonly("warnings", &safety::Analysis::warnings);
-  analysis.def_property_readonly("findings", [](const safety::Analysis& a) {
-    return to_python(safety::findings_json(a.findings));
-  });
+  analysis.def_property_readonly(
+      "findings", [](const safety::Analysis& a) { return to_python(safety::findings_json(a.findings)); });
   analysis.def_property_readonly("traceability", [](const safety::Analysis& a) {
     std::vector<core::Row> rows;
     for (const auto& row : a.matrix) rows.push_back(safety::to_row(row));
     return table(safety::traceability_header(), rows);
   });
-  analysis.def_property_readonly("asil", [](const safety::Analysis& a) {
-    return table(safety::asil_header(), safety::asil_rows(a.safety_case));
-  });
+  analysis.def_property_readonly(
+      "asil", [](const safety::Analysis& a) { return table(safety::asil_header(), safety::asil_rows(a.safety_case)); });
   analysis.def("to_dict", [](const safety::Analysis& a) { return to_python(safety::to_json(a)); });
   analysis.def("to_text", [](const safety::Analysis& a) { return safety::to_text(a); });
   analysis.def("write", [](const safety::Analysis& a, py::handle dir) {

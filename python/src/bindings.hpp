@@ -8,9 +8,8 @@
 
 #include <filesystem>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "emrm/core/error.hpp"
 #include "emrm/sim/scene.hpp"

@@ -1,6 +1,8 @@
 // Sweeps and results stores (docs/campaign.md): campaign::sweep with the GIL released and Ctrl-C
 // stopping it as it stops `emrm sweep`, and a store's cells, outcomes and KPIs as columns for pandas.
 
+#include "emrm/campaign/campaign.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -16,12 +18,11 @@
 #include <type_traits>
 
 #include "bindings.hpp"
-#include "emrm/results/aggregate.hpp"
-#include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/aggregate.hpp"
 
 namespace emrm::python {
 namespace {
@@ -84,9 +85,10 @@ campaign::SweepSummary sweep_interruptibly(const campaign::Campaign& campaign, c
   return shared.summary;
 }
 
-py::dict sweep(py::handle source, py::handle output_dir, int threads, bool progress, const std::optional<std::string>& profile,
-               bool force, const std::string& shard, bool adaptive, std::optional<std::size_t> verify_sample,
-               std::size_t initial_levels, std::size_t stride, py::handle progress_log) {
+py::dict sweep(py::handle source, py::handle output_dir, int threads, bool progress,
+               const std::optional<std::string>& profile, bool force, const std::string& shard, bool adaptive,
+               std::optional<std::size_t> verify_sample, std::size_t initial_levels, std::size_t stride,
+               py::handle progress_log) {
   campaign::SweepOptions options;
   campaign::parse_shard(shard, options.shard_index, options.shard_count);
   options.output_dir = to_path(output_dir);
@@ -264,7 +266,8 @@ py::dict read_results(py::handle dir) {
   meta_dict["campaign_yaml"] = meta.campaign_yaml;
   meta_dict["scene_yaml"] = meta.scene_yaml;
   py::dict adaptive_dict;
-  for (const auto& [grid, json] : adaptive) adaptive_dict[py::str(grid)] = to_python(nlohmann::ordered_json::parse(json));
+  for (const auto& [grid, json] : adaptive)
+    adaptive_dict[py::str(grid)] = to_python(nlohmann::ordered_json::parse(json));
   py::dict out;
   out["regions"] = region_columns(records);
   out["cells"] = outcome_columns(records);

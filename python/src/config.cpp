@@ -14,7 +14,9 @@ namespace emrm::python {
 namespace {
 
 template <class T>
-concept Config = requires(T& value, core::Validator& archive) { value.serialize(archive); };
+concept Config = requires(T& value, core::Validator& archive) {
+  value.serialize(archive);
+};
 
 // An archive that hands every field serialize() names to `visit(key, value)`, in its order.
 template <class Visit>
@@ -157,7 +159,8 @@ void bind_config(py::module_& m) {
   bind_part<sim::TruckConfig>(m, "TruckConfig", "The crossing truck (`truck:`).");
   bind_part<sim::VehicleParams>(m, "VehicleParams", "The ego car (`ego:`).");
   bind_part<sim::SimulationConfig>(m, "SimulationConfig", "Vehicle model, time step and horizon (`simulation:`).");
-  bind_part<sim::ActuationConfig>(m, "ActuationConfig", "Perception latency, brake and steering actuators (`actuation:`).");
+  bind_part<sim::ActuationConfig>(m, "ActuationConfig",
+                                  "Perception latency, brake and steering actuators (`actuation:`).");
   bind_part<sim::SeverityConfig>(m, "SeverityConfig", "The impact and injury model (`severity:`).");
   bind_part<sim::PlannerConfig>(m, "PlannerConfig", "The RRT planners' budget (`planner:`).");
   bind_part<sim::RoadsideConfig>(m, "RoadsideConfig", "What lies beyond the road's edges (`roadside:`).");
@@ -169,9 +172,10 @@ void bind_config(py::module_& m) {
       "YAML name. Scene() is the built-in scene, the one `emrm simulate` runs without --scene.");
   scene.def(py::init([] { return std::make_shared<sim::SceneConfig>(); }), "The built-in scene.");
   add_fields(scene, "Scene");
-  scene.def_static("load", &load_scene, py::arg("path"), py::arg("profile") = py::none(),
-                   "Loads a scene file, as `emrm simulate --scene FILE [--profile NAME|FILE]` does; a profile NAME is\n"
-                   "looked up in the profiles/ folder beside the file. Raises InputError at the file's line and column.");
+  scene.def_static(
+      "load", &load_scene, py::arg("path"), py::arg("profile") = py::none(),
+      "Loads a scene file, as `emrm simulate --scene FILE [--profile NAME|FILE]` does; a profile NAME is\n"
+      "looked up in the profiles/ folder beside the file. Raises InputError at the file's line and column.");
   scene.def_static("from_dict", &scene_from_mapping, py::arg("mapping"),
                    "A scene from a mapping shaped like scene.yaml (missing fields keep their defaults). Raises\n"
                    "InputError for an unknown field, a wrong type or a value out of range.");

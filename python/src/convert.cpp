@@ -12,14 +12,18 @@ template <class Json>
 py::object json_to_python(const Json& j) {
   using Type = nlohmann::json::value_t;
   switch (j.type()) {
-    case Type::boolean: return py::bool_(j.template get<bool>());
-    case Type::number_integer: return py::int_(j.template get<std::int64_t>());
-    case Type::number_unsigned: return py::int_(j.template get<std::uint64_t>());
+    case Type::boolean:
+      return py::bool_(j.template get<bool>());
+    case Type::number_integer:
+      return py::int_(j.template get<std::int64_t>());
+    case Type::number_unsigned:
+      return py::int_(j.template get<std::uint64_t>());
     case Type::number_float: {
       const double v = j.template get<double>();
       return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none());
     }
-    case Type::string: return py::str(j.template get_ref<const std::string&>());
+    case Type::string:
+      return py::str(j.template get_ref<const std::string&>());
     case Type::array: {
       py::list list;
       for (const auto& item : j) list.append(json_to_python(item));
@@ -32,7 +36,8 @@ py::object json_to_python(const Json& j) {
     }
     case Type::null:
     case Type::binary:
-    case Type::discarded: break;
+    case Type::discarded:
+      break;
   }
   return py::none();
 }
@@ -48,11 +53,13 @@ py::object json_default(py::handle value) {
 }  // namespace
 
 std::string mapping_text(py::handle mapping) {
-  if (!py::isinstance<py::dict>(mapping) && !py::isinstance(mapping, py::module_::import("collections.abc").attr("Mapping")))
+  if (!py::isinstance<py::dict>(mapping) &&
+      !py::isinstance(mapping, py::module_::import("collections.abc").attr("Mapping")))
     throw py::type_error("emrm: expected a file name or a mapping (dict), got " +
                          py::str(py::type::of(mapping).attr("__name__")).cast<std::string>());
   return py::module_::import("json")
-      .attr("dumps")(py::dict(py::reinterpret_borrow<py::object>(mapping)), py::arg("indent") = 2, py::arg("default") = py::cpp_function(json_default))
+      .attr("dumps")(py::dict(py::reinterpret_borrow<py::object>(mapping)), py::arg("indent") = 2,
+                     py::arg("default") = py::cpp_function(json_default))
       .cast<std::string>();
 }
 

@@ -47,7 +47,8 @@ py::object input_error_object(const InputError& error) {
 
 void set_error(py::handle type, const py::object& exception) { PyErr_SetObject(type.ptr(), exception.ptr()); }
 
-void translate(const std::exception_ptr& thrown) {
+// By value: pybind11::ExceptionTranslator's signature.
+void translate(std::exception_ptr thrown) {  // NOLINT(performance-unnecessary-value-param)
   try {
     if (thrown) std::rethrow_exception(thrown);
   } catch (const core::Interrupted& e) {
@@ -62,7 +63,7 @@ void translate(const std::exception_ptr& thrown) {
     PyErr_SetString(g_types.error.ptr(), e.what());
   } catch (const std::filesystem::filesystem_error& e) {  // OSError picks its subclass (FileNotFoundError, …)
     set_error(PyExc_OSError, py::reinterpret_borrow<py::object>(PyExc_OSError)(e.code().value(), e.code().message(),
-                                                                                e.path1().string()));
+                                                                               e.path1().string()));
   }
 }
 
@@ -74,7 +75,8 @@ void raise_input_error_in(const InputError& error, const std::string& text) {
   std::string line;
   for (int n = 1; std::getline(lines, line); ++n)
     if (n == error.where().line && py::hasattr(exception, "add_note"))
-      exception.attr("add_note")("in the mapping as the loader read it (JSON), line " + std::to_string(n) + ": " + line);
+      exception.attr("add_note")("in the mapping as the loader read it (JSON), line " + std::to_string(n) + ": " +
+                                 line);
   set_error(g_types.input, exception);
   throw py::error_already_set();
 }

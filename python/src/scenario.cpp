@@ -9,7 +9,6 @@
 #include <span>
 
 #include "bindings.hpp"
-#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/scenario/covering_array.hpp"
@@ -17,6 +16,7 @@
 #include "emrm/scenario/pict_model.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::python {
@@ -53,17 +53,19 @@ void make_constraints(Constraints& out, const std::vector<int>& levels, py::hand
     }
     const int offset = static_cast<int>(levels.size());
     try {
-      out.model.emplace(scenario::parse_pict_model(model + constraints.cast<std::string>(), "<constraints>",
-                                                   max_search_steps));
+      out.model.emplace(
+          scenario::parse_pict_model(model + constraints.cast<std::string>(), "<constraints>", max_search_steps));
     } catch (const InputError& e) {  // at the line of the constraints as given
       const SourceLocation& at = e.where();
-      throw InputError({at.file, at.line > offset ? at.line - offset : 0, at.line > offset ? at.column : 0}, e.message());
+      throw InputError({at.file, at.line > offset ? at.line - offset : 0, at.line > offset ? at.column : 0},
+                       e.message());
     }
     out.violates = out.model->row_violates();
     return;
   }
   if (!PyCallable_Check(constraints.ptr()))
-    throw py::type_error("emrm.covering_array: constraints must be None, a str of PICT constraints or a function of a row");
+    throw py::type_error(
+        "emrm.covering_array: constraints must be None, a str of PICT constraints or a function of a row");
   out.python = true;
   out.violates = [function = py::reinterpret_borrow<py::object>(constraints)](std::span<const int> row) {
     return py::bool_(function(py::tuple(py::cast(std::vector<int>(row.begin(), row.end()))))).cast<bool>();
@@ -71,7 +73,8 @@ void make_constraints(Constraints& out, const std::vector<int>& levels, py::hand
 }
 
 void check_strength(int strength) {
-  if (strength != 2 && strength != 3) throw UsageError("emrm.covering_array: strength must be 2 or 3, got " + std::to_string(strength));
+  if (strength != 2 && strength != 3)
+    throw UsageError("emrm.covering_array: strength must be 2 or 3, got " + std::to_string(strength));
 }
 
 scenario::CoveringArrayOptions array_options(int strength, std::uint64_t seed, double effort, std::size_t max_tuples,
@@ -95,12 +98,14 @@ py::array_t<int> rows_array(const scenario::CoveringArray& ca) {
   return rows;
 }
 
-py::array_t<int> covering_array(const std::vector<int>& levels, int strength, py::handle constraints, std::uint64_t seed,
-                                double effort, std::size_t max_tuples, std::uint64_t max_search_steps) {
+py::array_t<int> covering_array(const std::vector<int>& levels, int strength, py::handle constraints,
+                                std::uint64_t seed, double effort, std::size_t max_tuples,
+                                std::uint64_t max_search_steps) {
   const auto options = array_options(strength, seed, effort, max_tuples, max_search_steps);
   Constraints c;
   make_constraints(c, levels, constraints, max_search_steps);
-  return rows_array(without_gil_unless(c, [&] { return scenario::generate_covering_array(levels, options, c.violates); }));
+  return rows_array(
+      without_gil_unless(c, [&] { return scenario::generate_covering_array(levels, options, c.violates); }));
 }
 
 // The array of a PICT model file: its parameters' names and the values as written, by column.
@@ -163,7 +168,8 @@ py::dict scenario_columns(const scenario::Odd& odd, const scenario::Plan& plan) 
   text_column("step", [](const scenario::Scenario& s) { return s.step; });
   for (std::size_t f = 0; f < odd.factors.size(); ++f) {
     py::array_t<double> values(static_cast<py::ssize_t>(plan.scenarios.size()));
-    for (std::size_t i = 0; i < plan.scenarios.size(); ++i) values.mutable_at(static_cast<py::ssize_t>(i)) = plan.scenarios[i].values[f];
+    for (std::size_t i = 0; i < plan.scenarios.size(); ++i)
+      values.mutable_at(static_cast<py::ssize_t>(i)) = plan.scenarios[i].values[f];
     columns[py::str(odd.factors[f].name)] = values;
   }
   text_column("cell", [](const scenario::Scenario& s) { return scenario::cell_key(s.cell); });
@@ -246,7 +252,8 @@ void bind_scenario(py::module_& m) {
   m.def("_covering_array_model", &covering_array_model, py::arg("model"), py::arg("strength"), py::arg("seed"),
         py::arg("effort"), py::arg("max_tuples"), py::arg("max_search_steps"));
   m.def("check_covering_array", &check_covering_array, py::arg("levels"), py::arg("strength"), py::arg("rows"),
-        py::arg("constraints") = py::none(), py::kw_only(), py::arg("max_search_steps") = scenario::kDefaultMaxSearchSteps,
+        py::arg("constraints") = py::none(), py::kw_only(),
+        py::arg("max_search_steps") = scenario::kDefaultMaxSearchSteps,
         "Checks rows by brute force, as `emrm ca --check`: every t-tuple a valid row can hold is covered and\n"
         "no row breaks a constraint. Returns {'ok', 'required_tuples', 'covered_tuples', 'invalid_rows',\n"
         "'first_problem'}.");

@@ -3,6 +3,8 @@
 // of `emrm simulate --json` (sim::to_json, read on first use), its trajectories NumPy arrays over the
 // result's own memory.
 
+#include "emrm/sim/simulate.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -14,7 +16,6 @@
 
 #include "bindings.hpp"
 #include "emrm/sim/json.hpp"
-#include "emrm/sim/simulate.hpp"
 
 namespace emrm::python {
 namespace {
@@ -25,8 +26,8 @@ struct SimulatedCell {
   sim::CellResult result;
   std::uint64_t seed = 1;
   bool timing = false;
-  std::optional<py::dict> fields;  // the JSON without trajectories, as Python objects; made on first use
-  std::vector<std::vector<double>> speeds;                  // per strategy: the ego's speed, on first use
+  std::optional<py::dict> fields;           // the JSON without trajectories, as Python objects; made on first use
+  std::vector<std::vector<double>> speeds;  // per strategy: the ego's speed, on first use
   std::vector<std::vector<std::array<double, 3>>> trucks;  // per strategy: the truck's x, y, heading
 
   [[nodiscard]] nlohmann::json json(bool trajectories) const {
@@ -187,7 +188,8 @@ void bind_simulate(py::module_& m) {
       "__getitem__", [](py::object self, const std::string& name) { return trajectory_column(self, name); },
       py::arg("column"));
   for (const auto& name : kEgoColumns)
-    trajectory.def_property_readonly(name.c_str(), [name](py::object self) { return trajectory_column(self, name, true); });
+    trajectory.def_property_readonly(name.c_str(),
+                                     [name](py::object self) { return trajectory_column(self, name, true); });
   trajectory.def(
       "to_dataframe",
       [](py::object self) {
@@ -199,8 +201,8 @@ void bind_simulate(py::module_& m) {
       },
       "The columns as a pandas DataFrame (pandas copies them).");
   trajectory.def("__repr__", [](const TrajectoryView& self) {
-    return std::string(self.truck ? "TruckTrajectory(" : "Trajectory(") + self.cell->result.strategies[self.index].strategy +
-           ", " + std::to_string(self.path().size()) + " samples)";
+    return std::string(self.truck ? "TruckTrajectory(" : "Trajectory(") +
+           self.cell->result.strategies[self.index].strategy + ", " + std::to_string(self.path().size()) + " samples)";
   });
 
   py::class_<OutcomeView> outcome(
@@ -211,9 +213,12 @@ void bind_simulate(py::module_& m) {
   outcome.def_property_readonly("strategy", [](const OutcomeView& self) { return self.outcome().strategy; });
   outcome.def_property_readonly("avoided", [](const OutcomeView& self) { return self.outcome().avoided; });
   outcome.def_property_readonly("loss_level", [](const OutcomeView& self) { return self.outcome().impact.loss_level; });
-  outcome.def_property_readonly("trajectory", [](const OutcomeView& self) { return TrajectoryView{self.cell, self.index, false}; });
-  outcome.def_property_readonly("truck_trajectory",
-                                [](const OutcomeView& self) { return TrajectoryView{self.cell, self.index, true}; });
+  outcome.def_property_readonly("trajectory", [](const OutcomeView& self) {
+    return TrajectoryView{self.cell, self.index, false};
+  });
+  outcome.def_property_readonly("truck_trajectory", [](const OutcomeView& self) {
+    return TrajectoryView{self.cell, self.index, true};
+  });
   const auto outcome_fields = [](const OutcomeView& self) -> py::dict {
     return self.cell->field_dict()["strategies"][py::str(self.outcome().strategy)];
   };
@@ -239,7 +244,8 @@ void bind_simulate(py::module_& m) {
       "unmitigated, strategies (name -> Outcome, in evaluation order). Keys the JSON leaves out for a cell\n"
       "read None.");
   result.def_property_readonly("feasible", [](const SimulatedCell& self) { return self.result.feasible; });
-  result.def_property_readonly("region", [](const SimulatedCell& self) { return sim::region_name(self.result.region); });
+  result.def_property_readonly("region",
+                               [](const SimulatedCell& self) { return sim::region_name(self.result.region); });
   result.def_property_readonly("strategies", [](const CellPtr& self) {
     py::dict out;
     for (std::size_t i = 0; i < self->result.strategies.size(); ++i)
@@ -249,9 +255,8 @@ void bind_simulate(py::module_& m) {
   result.def("__getattr__", [](SimulatedCell& self, const std::string& name) {
     return member(self.field_dict(), name, kOptionalCellKeys);
   });
-  result.def("__dir__", [](py::object self) {
-    return names(self, self.cast<SimulatedCell&>().field_dict(), kOptionalCellKeys);
-  });
+  result.def("__dir__",
+             [](py::object self) { return names(self, self.cast<SimulatedCell&>().field_dict(), kOptionalCellKeys); });
   result.def(
       "to_json", [](const SimulatedCell& self, int indent) { return self.json(true).dump(indent); },
       py::arg("indent") = 2, "The text `emrm simulate --json` prints (without its final line break).");
@@ -260,8 +265,9 @@ void bind_simulate(py::module_& m) {
       "simulate --json as Python objects, trajectories as lists of dicts.");
   result.def("__repr__", [](const SimulatedCell& self) {
     const auto& in = self.result.input;
-    return "CellResult(" + py::repr(py::make_tuple(in.speed_kph, in.ttc_s, in.mu, in.passage_m, in.truck_speed_kph))
-                               .cast<std::string>() +
+    return "CellResult(" +
+           py::repr(py::make_tuple(in.speed_kph, in.ttc_s, in.mu, in.passage_m, in.truck_speed_kph))
+               .cast<std::string>() +
            ", region=" + std::string(sim::region_name(self.result.region)) + ")";
   });
 

@@ -37,7 +37,8 @@ std::map<std::string, std::size_t> find_columns(const core::CsvRecord& header, c
   std::vector<std::string> expected;
   for (const auto& c : columns) expected.push_back(c.name);
   for (const auto& c : columns) {
-    if (const auto it = at.find(c.name); it != at.end()) out[c.name] = it->second;
+    if (const auto it = at.find(c.name); it != at.end())
+      out[c.name] = it->second;
     else if (c.required)
       throw InputError({file, header.lines.front(), 1},
                        fmt::format("missing column '{}'; expected the columns {}", c.name, core::join(expected, ", ")));
@@ -72,14 +73,15 @@ std::vector<core::CsvRecord> records_of(const std::filesystem::path& file) {
 std::vector<StopRecord> read_stops(const std::filesystem::path& file) {
   const auto records = records_of(file);
   const std::string f = file.string();
-  const auto col = find_columns(records.front(),
-                                {{"speed_kph"}, {"mu"}, {"stop_distance_m"}, {"time_to_stop_s", false}}, f);
+  const auto col =
+      find_columns(records.front(), {{"speed_kph"}, {"mu"}, {"stop_distance_m"}, {"time_to_stop_s", false}}, f);
   std::vector<StopRecord> out;
   for (std::size_t k = 1; k < records.size(); ++k) {
     const auto& r = records[k];
     StopRecord s;
     s.speed_kph = number_at(r, col.at("speed_kph"), "speed_kph", f);
-    require(s.speed_kph > 0.0, r, col.at("speed_kph"), f, fmt::format("speed_kph: expected a value > 0, got {}", s.speed_kph));
+    require(s.speed_kph > 0.0, r, col.at("speed_kph"), f,
+            fmt::format("speed_kph: expected a value > 0, got {}", s.speed_kph));
     s.mu = number_at(r, col.at("mu"), "mu", f);
     require(s.mu > 0.0 && s.mu <= 2.0, r, col.at("mu"), f, fmt::format("mu: expected 0 < mu <= 2, got {}", s.mu));
     s.stop_distance_m = number_at(r, col.at("stop_distance_m"), "stop_distance_m", f);
@@ -108,10 +110,12 @@ std::vector<TraceSample> read_decel_trace(const std::filesystem::path& file) {
     s.run = trim(r.fields[col.at("run")]);
     s.t_s = number_at(r, col.at("t_s"), "t_s", f);
     s.speed_mps = number_at(r, col.at("speed_mps"), "speed_mps", f);
-    require(s.speed_mps >= 0.0, r, col.at("speed_mps"), f, fmt::format("speed_mps: expected a speed >= 0, got {}", s.speed_mps));
+    require(s.speed_mps >= 0.0, r, col.at("speed_mps"), f,
+            fmt::format("speed_mps: expected a speed >= 0, got {}", s.speed_mps));
     if (const auto it = last_t.find(s.run); it != last_t.end())
-      require(s.t_s > it->second, r, col.at("t_s"), f,
-              fmt::format("t_s: expected the times of run '{}' to increase, got {} after {}", s.run, s.t_s, it->second));
+      require(
+          s.t_s > it->second, r, col.at("t_s"), f,
+          fmt::format("t_s: expected the times of run '{}' to increase, got {} after {}", s.run, s.t_s, it->second));
     last_t[s.run] = s.t_s;
     out.push_back(s);
   }
@@ -193,8 +197,8 @@ std::string profile_yaml(const CalibrationResult& result, const std::string& com
       "  perception_latency_s: {}\n  brake_dead_time_s: {}\n  brake_ramp_s: {}\n  max_decel_mps2: {}\n"
       "  steer_dead_time_s: {}\n  steer_time_constant_s: {}\n",
       command, result.residual_rms, result.observations, fitted, warnings, nlohmann::json(description).dump(),
-      a.perception_latency_s,
-      a.brake_dead_time_s, a.brake_ramp_s, a.max_decel_mps2, a.steer_dead_time_s, a.steer_time_constant_s);
+      a.perception_latency_s, a.brake_dead_time_s, a.brake_ramp_s, a.max_decel_mps2, a.steer_dead_time_s,
+      a.steer_time_constant_s);
 }
 
 }  // namespace emrm::calibration

@@ -4,21 +4,21 @@
 // stop cannot save, once per parameter vector tried.
 
 #include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
-#include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_for.h>
 #include <optional>
 #include <set>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/calibration/calibrate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "fit.hpp"
@@ -42,10 +42,10 @@ const campaign::GridSpec& grid_named(const campaign::Campaign& campaign, const R
 // with `simulate` the others from the planners (cells the stop saves are not simulated).
 class RegionCounter {
  public:
-  RegionCounter(const campaign::Campaign& campaign, const campaign::GridSpec& grid, int threads) : campaign_(campaign), grid_(grid) {
+  RegionCounter(const campaign::Campaign& campaign, const campaign::GridSpec& grid, int threads)
+      : campaign_(campaign), grid_(grid) {
     if (threads < 0) throw UsageError(fmt::format("--threads must be >= 0, got {}", threads));
-    if (threads > 0)
-      limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    if (threads > 0) limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     for (std::size_t i = 0; i < grid.cells.size(); ++i)
       if (sim::Scene(campaign.scene, grid.cells[i]).feasible()) feasible_.push_back(i);
   }
@@ -59,8 +59,10 @@ class RegionCounter {
     std::map<std::string, double> count{{"G", 0.0}};
     for (const std::size_t i : feasible_) {
       const sim::CellInput& c = grid_.cells[i];
-      if (sim::analytically_stoppable(c.speed_kph, c.ttc_s, c.mu, a)) count["G"] += 1.0;
-      else rest.push_back(i);
+      if (sim::analytically_stoppable(c.speed_kph, c.ttc_s, c.mu, a))
+        count["G"] += 1.0;
+      else
+        rest.push_back(i);
     }
     if (simulate) {
       for (const auto r : kRegions) count.try_emplace(std::string(r), 0.0);
@@ -125,14 +127,16 @@ RegionTarget read_region_target(const std::filesystem::path& file) {
       t.grid = value.as_string();
       t.grid_at = value.location();
     } else if (k == "regions_pct") {
-      if (!value.is_map()) value.fail(fmt::format("regions_pct: expected a mapping of G, Y, O, R to percentages, got {}",
-                                                  value.describe()));
+      if (!value.is_map())
+        value.fail(
+            fmt::format("regions_pct: expected a mapping of G, Y, O, R to percentages, got {}", value.describe()));
       for (const auto& [region, pct] : value.entries()) {
         const std::string name = region.as_string();
         if (std::ranges::find(kRegions, name) == kRegions.end())
           region.fail(fmt::format("regions_pct: unknown region '{}'; expected G, Y, O or R", name));
         const double v = pct.as_double();
-        if (v < 0.0 || v > 100.0) pct.fail(fmt::format("regions_pct.{}: expected a percentage in [0, 100], got {:g}", name, v));
+        if (v < 0.0 || v > 100.0)
+          pct.fail(fmt::format("regions_pct.{}: expected a percentage in [0, 100], got {:g}", name, v));
         t.pct[name] = v;
       }
     } else if (!nested && k != "feasible_cells" && k != "source" && k != "description") {
@@ -145,7 +149,8 @@ RegionTarget read_region_target(const std::filesystem::path& file) {
     double sum = 0.0;
     for (const auto& [name, v] : t.pct) sum += v;
     if (std::abs(sum - 100.0) > 1.0)
-      node.at("regions_pct").fail(fmt::format("regions_pct: G + Y + O + R must be 100 % (±1 for rounding), got {:g}", sum));
+      node.at("regions_pct")
+          .fail(fmt::format("regions_pct: G + Y + O + R must be 100 % (±1 for rounding), got {:g}", sum));
   }
   return t;
 }

@@ -51,7 +51,8 @@ using Evaluations = std::map<std::vector<double>, double>;
 
 // 95 % profile-likelihood interval of coordinate `i`: where n·ln(SSE_profile/SSE_min) ≤ χ²(1), or
 // for a χ² objective where χ²_profile − χ²_min ≤ χ²(1).
-std::pair<double, double> profile_interval(const Problem& p, const Optimum& at, std::size_t i, const Evaluations& seen) {
+std::pair<double, double> profile_interval(const Problem& p, const Optimum& at, std::size_t i,
+                                           const Evaluations& seen) {
   const double n = static_cast<double>(p.observations);
   const double floor_sse = std::max(at.sse, 1e-18 * n);
   const auto excess_of = [&](double sse) {
@@ -168,11 +169,9 @@ Optimum minimise(const Problem& p, const std::map<std::size_t, double>& fixed, c
     nlopt::opt opt(p.piecewise_constant ? nlopt::GN_DIRECT_L : nlopt::LN_SBPLX, static_cast<unsigned>(free.size()));
     opt.set_lower_bounds(lo);
     opt.set_upper_bounds(hi);
-    opt.set_min_objective(
-        [](const std::vector<double>& v, std::vector<double>& /*grad*/, void* data) {
-          return (*static_cast<decltype(&objective)>(data))(v);
-        },
-        const_cast<void*>(static_cast<const void*>(&objective)));
+    opt.set_min_objective([](const std::vector<double>& v, std::vector<double>& /*grad*/,
+                             void* data) { return (*static_cast<decltype(&objective)>(data))(v); },
+                          const_cast<void*>(static_cast<const void*>(&objective)));
     opt.set_xtol_abs(1e-9);
     opt.set_ftol_rel(1e-15);
     opt.set_maxeval(p.max_evaluations);

@@ -25,10 +25,9 @@ Search::Search(const Lattice& lattice, Oracle& oracle, const Options& options)
   monotone_ = lattice.levels[kTtc].size() > 1 ? kTtc : (lattice.levels[kMu].size() > 1 ? kMu : kTtc);
   for (std::size_t k = 0; k < kAxes; ++k)
     if (k != monotone_) line_axes_.push_back(k);
-  const auto varying = std::count_if(line_axes_.begin(), line_axes_.end(),
-                                     [&](std::size_t k) { return lattice.levels[k].size() > 1; });
-  predict_brackets_ =
-      options.brackets == Brackets::kPredict || (options.brackets == Brackets::kAuto && varying >= 2);
+  const auto varying =
+      std::count_if(line_axes_.begin(), line_axes_.end(), [&](std::size_t k) { return lattice.levels[k].size() > 1; });
+  predict_brackets_ = options.brackets == Brackets::kPredict || (options.brackets == Brackets::kAuto && varying >= 2);
   four_factors_ = predict_brackets_ && varying >= 3;
   spread_ = predict_brackets_ ? std::max(options.bracket, options.spread) : options.bracket;
   result_.cells.resize(lattice.size());
@@ -93,20 +92,29 @@ std::size_t Lattice::index(const std::array<std::size_t, 5>& level) const noexce
 
 std::string_view method_name(Method m) noexcept {
   switch (m) {
-    case Method::kNone: return "";
-    case Method::kSimulated: return "simulated";
-    default: return "inferred";
+    case Method::kNone:
+      return "";
+    case Method::kSimulated:
+      return "simulated";
+    default:
+      return "inferred";
   }
 }
 
 std::string_view purpose_name(Purpose p) noexcept {
   switch (p) {
-    case Purpose::kThresholdCorners: return "threshold_corners";
-    case Purpose::kThresholdBrackets: return "threshold_brackets";
-    case Purpose::kLabels: return "labels";
-    case Purpose::kLabelBrackets: return "label_brackets";
-    case Purpose::kViolations: return "violations";
-    case Purpose::kVerification: return "verification";
+    case Purpose::kThresholdCorners:
+      return "threshold_corners";
+    case Purpose::kThresholdBrackets:
+      return "threshold_brackets";
+    case Purpose::kLabels:
+      return "labels";
+    case Purpose::kLabelBrackets:
+      return "label_brackets";
+    case Purpose::kViolations:
+      return "violations";
+    case Purpose::kVerification:
+      return "verification";
   }
   return "";
 }
@@ -120,11 +128,16 @@ std::optional<Brackets> brackets_named(std::string_view name) noexcept {
 
 std::string_view basis_name(Method m) noexcept {
   switch (m) {
-    case Method::kNone: return "";
-    case Method::kSimulated: return "simulated";
-    case Method::kStop: return "stop";
-    case Method::kLine: return "line";
-    case Method::kBox: return "box";
+    case Method::kNone:
+      return "";
+    case Method::kSimulated:
+      return "simulated";
+    case Method::kStop:
+      return "stop";
+    case Method::kLine:
+      return "line";
+    case Method::kBox:
+      return "box";
   }
   return "";
 }
@@ -138,7 +151,8 @@ sim::Region region_named(std::string_view name) noexcept {
 Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
   for (const auto& l : lattice.levels)
     if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
-  if (options.initial_levels == 1) throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");
+  if (options.initial_levels == 1)
+    throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");
   if (options.stride < 1) throw std::invalid_argument("adaptive search: stride must be at least 1");
   if (options.spread < 1) throw std::invalid_argument("adaptive search: spread must be at least 1");
   return detail::Search(lattice, oracle, options).run();

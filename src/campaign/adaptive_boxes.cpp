@@ -58,7 +58,8 @@ EarlyHint Search::median_early(const std::vector<std::size_t>& ids) const {
     std::nth_element(ends.begin(), ends.begin() + static_cast<long>(ends.size() / 2), ends.end());
     return ends[ends.size() / 2];
   };
-  return {median([](const Line& l) { return l.early_position(); }), median([](const Line& l) { return l.early_g_position(); })};
+  return {median([](const Line& l) { return l.early_position(); }),
+          median([](const Line& l) { return l.early_g_position(); })};
 }
 
 // The corners' common answer to `q`, or nothing when some two of them disagree.
@@ -154,9 +155,8 @@ void Search::bracket_labels(std::size_t id, const Signature& s) {
     if (four_factors_ && lo != hi) {
       from = predicted_change(line, id, s, j, lo, hi);
     } else {
-      from = threshold(lo, hi, hi, [&](std::size_t i) {
-        return simulate(line.cells[i], Purpose::kLabelBrackets) != s.runs[j];
-      });
+      from = threshold(lo, hi, hi,
+                       [&](std::size_t i) { return simulate(line.cells[i], Purpose::kLabelBrackets) != s.runs[j]; });
     }
     line.changes.push_back(from);
   }
@@ -206,7 +206,9 @@ void Search::bracket_thresholds(std::size_t id, const Signature& s) {
     line.t_a = line.t_g;
     return;
   }
-  const auto index_of = [&](std::uint32_t position) { return std::clamp(index_at(line, position), line.t_e, line.t_g); };
+  const auto index_of = [&](std::uint32_t position) {
+    return std::clamp(index_at(line, position), line.t_e, line.t_g);
+  };
   const std::size_t lo = index_of(s.avoid_low), hi = index_of(s.avoid_high);
   const std::uint32_t predicted_start = predicted(s.box, id, &Line::avoid_start);
   const std::size_t guess = predicted_start == kNone ? hi : std::clamp(index_at(line, predicted_start), lo, hi);
@@ -249,8 +251,8 @@ void Search::settle_prediction(Line& line) {
 std::optional<Region> Search::nearest_label(const Signature& s, std::uint32_t position) {
   if (s.labels.empty()) return std::nullopt;
   auto it = s.labels.lower_bound(position);
-  if (it == s.labels.end() || (it->first != position && it != s.labels.begin() &&
-                               position - std::prev(it)->first <= it->first - position))
+  if (it == s.labels.end() ||
+      (it->first != position && it != s.labels.begin() && position - std::prev(it)->first <= it->first - position))
     it = std::prev(it);
   return it->second;
 }
@@ -386,8 +388,7 @@ void Search::run(const std::vector<std::pair<std::size_t, const Signature*>>& wo
 // corners are too far apart to bracket the lines between, a new corner's search starts where
 // they point (two simulations when it is right) rather than at their median. kNone when no
 // corner has cells.
-std::uint32_t Search::predicted(const Range& box, std::size_t id,
-                                std::uint32_t (Line::*start)() const) const {
+std::uint32_t Search::predicted(const Range& box, std::size_t id, std::uint32_t (Line::*start)() const) const {
   return interpolated(box, id, [&](const Line& corner) -> std::optional<std::uint32_t> {
     if (corner.cells.empty() || !corner.thresholds_searched) return std::nullopt;
     return (corner.*start)();
@@ -484,7 +485,8 @@ void Search::split(const Box& box, Question q, std::vector<Box>& out) const {
       for (const auto& h2 : parts[2])
         for (const auto& h3 : parts[3])
           out.push_back(Box{{{h0.first, h1.first, h2.first, h3.first}, {h0.second, h1.second, h2.second, h3.second}},
-                            Range(box), early_hint});
+                            Range(box),
+                            early_hint});
 }
 
 }  // namespace emrm::campaign::adaptive::detail

@@ -49,7 +49,8 @@ void Search::resolve_fully(std::size_t id) {
   }
   line.t_a = line.t_g;
   while (line.t_a > line.t_e && avoidable(region(line.t_a - 1))) --line.t_a;
-  if (line.t_e > 0 && line.t_a == line.t_e) line.t_e = line.t_a = line.t_g;  // no cell below the stop's run cannot avoid
+  if (line.t_e > 0 && line.t_a == line.t_e)
+    line.t_e = line.t_a = line.t_g;  // no cell below the stop's run cannot avoid
   line.labels.assign(line.t_a, Region::kR);
   for (std::size_t i = line.t_e; i < line.t_a; ++i) line.labels[i] = region(i);
 }
@@ -148,8 +149,8 @@ void Search::corner_sources(const Line& line, const std::vector<std::uint32_t>& 
   for (std::uint32_t corner : corners) {
     const Line& other = lines_[corner];
     if (other.cells.empty()) continue;
-    auto at = static_cast<std::size_t>(std::lower_bound(other.position.begin(), other.position.end(),
-                                                        line.position[i]) - other.position.begin());
+    auto at = static_cast<std::size_t>(
+        std::lower_bound(other.position.begin(), other.position.end(), line.position[i]) - other.position.begin());
     if (at == other.cells.size() ||
         (at > 0 && line.position[i] - other.position[at - 1] < other.position[at] - line.position[i]))
       --at;

@@ -52,25 +52,25 @@ struct EarlyHint {
 struct Line {
   std::vector<std::uint32_t> cells;
   std::vector<std::uint32_t> position;  ///< of each cell along the monotone axis (sorted level)
-  bool thresholds_searched = false;  ///< by a search of its own (a corner of a threshold box)
-  bool thresholds_known = false;     ///< searched, or found within a uniform box's bracket
-  bool labels_sampled = false;       ///< O/R labels by samples of its own (a corner of a label box)
-  bool labels_known = false;         ///< sampled, or inferred from a uniform box's corners
-  bool full = false;      ///< every cell that the stop boundary does not settle simulated
-  bool violated = false;  ///< simulations contradicted monotonicity
-  bool early_searched = false;  ///< its early run by simulations of its own (else from its corners)
-  bool early_predicted = false;  ///< its early run's end predicted from its corners (its G part searched)
-  std::uint32_t hint = kNone;       ///< a guess of the avoidance threshold's position (from a parent box)
-  std::uint32_t stop_hint = kNone;  ///< and of the stop boundary's
-  EarlyHint early_hint;  ///< from a parent box
+  bool thresholds_searched = false;     ///< by a search of its own (a corner of a threshold box)
+  bool thresholds_known = false;        ///< searched, or found within a uniform box's bracket
+  bool labels_sampled = false;          ///< O/R labels by samples of its own (a corner of a label box)
+  bool labels_known = false;            ///< sampled, or inferred from a uniform box's corners
+  bool full = false;                    ///< every cell that the stop boundary does not settle simulated
+  bool violated = false;                ///< simulations contradicted monotonicity
+  bool early_searched = false;          ///< its early run by simulations of its own (else from its corners)
+  bool early_predicted = false;         ///< its early run's end predicted from its corners (its G part searched)
+  std::uint32_t hint = kNone;           ///< a guess of the avoidance threshold's position (from a parent box)
+  std::uint32_t stop_hint = kNone;      ///< and of the stop boundary's
+  EarlyHint early_hint;                 ///< from a parent box
   // The line in runs, bottom to top: [0, t_eg) G and [t_eg, t_e) Y passing in front of a truck
   // still on its way (the early run; empty unless the oracle says arriving sooner can help),
   // [t_e, t_a) O or R, [t_a, t_g) Y, [t_g, size) G.
-  std::size_t t_eg = 0;  ///< end of the early G run
-  std::size_t t_e = 0;   ///< end of the early avoidable run
-  std::size_t t_g = 0;  ///< first index of the G run at the top
-  std::size_t t_a = 0;  ///< first index of the avoidable run (G or Y) at the top
-  std::vector<Region> labels;  ///< O/R of the cells in [t_e, t_a) (by index; simulated or inferred)
+  std::size_t t_eg = 0;              ///< end of the early G run
+  std::size_t t_e = 0;               ///< end of the early avoidable run
+  std::size_t t_g = 0;               ///< first index of the G run at the top
+  std::size_t t_a = 0;               ///< first index of the avoidable run (G or Y) at the top
+  std::vector<Region> labels;        ///< O/R of the cells in [t_e, t_a) (by index; simulated or inferred)
   std::vector<std::size_t> changes;  ///< where its runs of labels start, when found within its corners' brackets
   std::vector<std::uint32_t> threshold_corners;  ///< the lines its bracket came from (when not searched)
   std::vector<std::uint32_t> label_corners;      ///< the lines its labels came from (when not sampled)
@@ -110,11 +110,11 @@ struct Box : Range {
 
 // What agreeing corners say of the lines between them.
 struct Signature {
-  Range box;  ///< where the corners are
+  Range box;                                            ///< where the corners are
   std::uint32_t avoid_low = kNone, avoid_high = kNone;  ///< the corners' thresholds span [low, high]
-  EarlyHint early_hint;  ///< the median ends of the corners' early runs
-  bool early_predicted = false;  ///< the corners' early runs end alike below the stop's run
-  std::map<std::uint32_t, Region> labels;                ///< O/R by level, below the thresholds
+  EarlyHint early_hint;                                 ///< the median ends of the corners' early runs
+  bool early_predicted = false;                         ///< the corners' early runs end alike below the stop's run
+  std::map<std::uint32_t, Region> labels;               ///< O/R by level, below the thresholds
   // Or, when the corners' labels differ at some level: the runs of labels they all have, bottom to
   // top, and the span of the positions where each run after the first starts.
   std::vector<Region> runs;
@@ -331,16 +331,15 @@ class Search {
   std::optional<Signature> signature(const Box& box, Question q) const;
   std::optional<Signature> alike_runs(const std::vector<std::size_t>& corners, Signature s) const;
   void bracket_labels(std::size_t id, const Signature& s);
-  std::size_t predicted_change(const Line& line, std::size_t id, const Signature& s, std::size_t j,
-                               std::size_t lo, std::size_t hi) const;
+  std::size_t predicted_change(const Line& line, std::size_t id, const Signature& s, std::size_t j, std::size_t lo,
+                               std::size_t hi) const;
   void bracket_thresholds(std::size_t id, const Signature& s);
   void settle_prediction(Line& line);
   static std::optional<Region> nearest_label(const Signature& s, std::uint32_t position);
   bool infer_labels(Line& line, const Signature& s);
   void refine(Question q);
   void run(const std::vector<std::pair<std::size_t, const Signature*>>& work, Question q);
-  [[nodiscard]] std::uint32_t predicted(const Range& box, std::size_t id,
-                                        std::uint32_t (Line::*start)() const) const;
+  [[nodiscard]] std::uint32_t predicted(const Range& box, std::size_t id, std::uint32_t (Line::*start)() const) const;
   template <typename Value>
   [[nodiscard]] std::uint32_t interpolated(const Range& box, std::size_t id, Value&& value) const;
   void split(const Box& box, Question q, std::vector<Box>& out) const;

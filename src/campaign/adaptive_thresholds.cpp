@@ -55,7 +55,9 @@ void Search::early_run(Line& line, Purpose purpose, EarlyHint hint) {
   // Between corners whose early runs all reach the stop's run, no gap is looked for: the line's
   // early run is taken to reach it too (its G part is still searched, and what it simulates is
   // checked against that).
-  line.t_e = hint.to_the_stop ? top : threshold_from_below(top, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
+  line.t_e = hint.to_the_stop ? top
+                              : threshold_from_below(
+                                    top, [&](std::size_t i) { return !avoidable(region(i)); }, options_.stride);
   std::size_t g_end = 0;
   while (g_end < line.t_e && oracle_.stop(line.cells[g_end]) != StopCall::kCannotStop) ++g_end;
   // Where the early run reaches the stop's run and no cell that cannot stop lies between, the
@@ -63,8 +65,9 @@ void Search::early_run(Line& line, Purpose purpose, EarlyHint hint) {
   // the stop's G looks like the early run's, so the G part is walked up from the bottom instead
   // (steps of at most the stride, as the early run's end is).
   const bool unbounded = hint.to_the_stop && g_end == line.t_e;
-  line.t_eg = threshold(0, g_end, unbounded ? 0 : guess(hint.g_end, g_end),
-                        [&](std::size_t i) { return region(i) != Region::kG; }, options_.stride);
+  line.t_eg = threshold(
+      0, g_end, unbounded ? 0 : guess(hint.g_end, g_end), [&](std::size_t i) { return region(i) != Region::kG; },
+      options_.stride);
 }
 
 // Between corners whose early runs end alike below the stop's run: the G part searched exactly

@@ -16,8 +16,7 @@
 namespace emrm::campaign {
 namespace {
 
-constexpr std::array<std::string_view, 5> kFactors{"speed_kph", "ttc_s", "mu", "passage_m",
-                                                   "truck_speed_kph"};
+constexpr std::array<std::string_view, 5> kFactors{"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
 
 using core::round_1e9;
 using core::scalar_number;
@@ -56,14 +55,15 @@ std::string max_cells_message(long long max_cells) {
 }
 
 std::string campaign_too_large_message(double cells) {
-  return fmt::format("the campaign's grids have {:.0f} cells, more than the {} a campaign may hold even with "
-                     "--force; split the domain into several campaigns",
-                     cells, kMaxCampaignCells);
+  return fmt::format(
+      "the campaign's grids have {:.0f} cells, more than the {} a campaign may hold even with "
+      "--force; split the domain into several campaigns",
+      cells, kMaxCampaignCells);
 }
 
 std::string too_many_cells_message(const std::string& grid, double cells, std::size_t max_cells) {
-  return fmt::format("grid '{}' has {:.0f} cells, more than the maximum {}; raise max_cells or pass --force",
-                     grid, cells, max_cells);
+  return fmt::format("grid '{}' has {:.0f} cells, more than the maximum {}; raise max_cells or pass --force", grid,
+                     cells, max_cells);
 }
 
 // A grid as written: where its factors and its cells list stand, for messages.
@@ -76,8 +76,8 @@ struct GridNodes {
 
 // Reads the shape of a grid: its fields, factor values and cells. Whether they make a valid grid
 // is validate()'s question; only the size of a product is checked here, before it is expanded.
-GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells,
-                   bool force, std::size_t cells_before, GridNodes& nodes) {
+GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells, bool force,
+                   std::size_t cells_before, GridNodes& nodes) {
   if (!node.is_map()) node.fail("expected a grid (a mapping with name and factors), got " + node.describe());
   GridSpec grid;
   grid.where = node.location();
@@ -109,25 +109,25 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
 
   sim::CellInput base = default_cell(scene);
   if (nodes.cells && grid.adaptive)
-    nodes.adaptive->fail(fmt::format("grid '{}' lists its cells: adaptive needs a product grid (factors with "
-                                     "levels), whose neighbouring cells the search can compare",
-                                     grid.name));
+    nodes.adaptive->fail(
+        fmt::format("grid '{}' lists its cells: adaptive needs a product grid (factors with "
+                    "levels), whose neighbouring cells the search can compare",
+                    grid.name));
   if (nodes.cells) {
     // Grid-level factors are the defaults of every listed cell, so they must be single values.
     sim::CellInput defaults = base;
     for (std::size_t f = 0; f < kFactors.size(); ++f) {
       if (!nodes.factors[f]) continue;
       if (factors[f].size() != 1)
-        nodes.factors[f]->fail(fmt::format(
-            "grid '{}' lists its cells: {} at grid level must be one value (the default of every cell)",
-            grid.name, kFactors[f]));
+        nodes.factors[f]->fail(
+            fmt::format("grid '{}' lists its cells: {} at grid level must be one value (the default of every cell)",
+                        grid.name, kFactors[f]));
       factor_of(defaults, f) = factors[f][0];
     }
     for (const auto& element : nodes.cells->elements()) {
       if (cells_before + grid.cells.size() >= kMaxCampaignCells)
         element.fail(campaign_too_large_message(static_cast<double>(kMaxCampaignCells + 1)));
-      if (!element.is_map())
-        element.fail("expected a cell (a mapping of factors), got " + element.describe());
+      if (!element.is_map()) element.fail("expected a cell (a mapping of factors), got " + element.describe());
       sim::CellInput cell = defaults;
       for (const auto& [key, value] : element.entries()) {
         const std::string k = key.as_string();
@@ -149,8 +149,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
     if (!nodes.factors[f]) factors[f] = {factor_of(base, f)};
     count *= static_cast<double>(factors[f].size());
   }
-  if (count > static_cast<double>(max_cells) && !force)
-    node.fail(too_many_cells_message(grid.name, count, max_cells));
+  if (count > static_cast<double>(max_cells) && !force) node.fail(too_many_cells_message(grid.name, count, max_cells));
   if (count + static_cast<double>(cells_before) > static_cast<double>(kMaxCampaignCells))
     node.fail(campaign_too_large_message(count + static_cast<double>(cells_before)));
   grid.cells.reserve(static_cast<std::size_t>(count));
@@ -216,11 +215,10 @@ void validate(const Campaign& campaign, bool force) {
     if (grid.name.empty()) v.fail("name", "a grid name must not be empty");
     if (grid.cells.empty()) v.fail("cells", fmt::format("grid '{}' has an empty cells list", grid.name));
     if (grid.cells.size() > campaign.max_cells && !force)
-      v.fail({},
-             too_many_cells_message(grid.name, static_cast<double>(grid.cells.size()), campaign.max_cells));
+      v.fail({}, too_many_cells_message(grid.name, static_cast<double>(grid.cells.size()), campaign.max_cells));
     if (!grid.seeds.empty() && grid.seeds.size() != grid.cells.size())
-      v.fail("seeds", fmt::format("grid '{}' has {} seeds for {} cells", grid.name, grid.seeds.size(),
-                                  grid.cells.size()));
+      v.fail("seeds",
+             fmt::format("grid '{}' has {} seeds for {} cells", grid.name, grid.seeds.size(), grid.cells.size()));
     {
       const core::Validator::Scope cells(v, "cells");
       for (std::size_t j = 0; j < grid.cells.size(); ++j) {
@@ -237,8 +235,8 @@ void validate(const Campaign& campaign, bool force) {
   if (campaign.grids.empty()) v.fail({}, "a campaign needs at least one grid");
 }
 
-Campaign parse_campaign(const std::string& text, const std::string& file_name,
-                        const std::filesystem::path& base_dir, bool force) {
+Campaign parse_campaign(const std::string& text, const std::string& file_name, const std::filesystem::path& base_dir,
+                        bool force) {
   const core::YamlNode root = core::YamlNode::parse(text, file_name);
   if (!root.is_map())
     root.fail("expected a campaign (a mapping with scene, seed, strategies, grids), got " + root.describe());
@@ -291,9 +289,8 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name,
   } catch (const core::ConfigError& e) {
     // grids[i].cells[j] of a product grid: no node of its own, the factor values make it.
     const auto& steps = e.path().steps;
-    if (steps.size() == 4 && std::get_if<std::string>(&steps[0]) &&
-        std::get<std::string>(steps[0]) == "grids" && std::get_if<std::string>(&steps[2]) &&
-        std::get<std::string>(steps[2]) == "cells") {
+    if (steps.size() == 4 && std::get_if<std::string>(&steps[0]) && std::get<std::string>(steps[0]) == "grids" &&
+        std::get_if<std::string>(&steps[2]) && std::get<std::string>(steps[2]) == "cells") {
       const auto i = std::get<std::size_t>(steps[1]);
       if (!grid_nodes[i].cells) fail_in_product(grid_nodes[i], campaign.grids[i], campaign.scene, e.detail());
     }
@@ -308,8 +305,8 @@ Campaign load_campaign(const std::filesystem::path& path, bool force) {
 }
 
 std::string cell_key(const std::string& grid, const sim::CellInput& cell) {
-  return fmt::format("{} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}", grid, cell.speed_kph, cell.ttc_s, cell.mu,
-                     cell.passage_m, cell.truck_speed_kph);
+  return fmt::format("{} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}", grid, cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m,
+                     cell.truck_speed_kph);
 }
 
 std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const sim::CellInput& cell) {

@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <ostream>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 
 #include "emrm/campaign/store.hpp"
@@ -31,12 +31,11 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   std::ostream& regions = regions_file.stream();
   std::ostream& cells = cells_file.stream();
   std::ostream& json = json_file.stream();
-  regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible",
-                             "region", "evidence", "mitigation_evidence", "p_mais3_reduction",
-                             "p_fatal_reduction", "method"});
-  cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy",
-                           "avoided", "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss",
-                           "min_ttc_s", "road_departure", "departure_speed_kph", "evidence"});
+  regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible", "region",
+                             "evidence", "mitigation_evidence", "p_mais3_reduction", "p_fatal_reduction", "method"});
+  cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy", "avoided",
+                           "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss", "min_ttc_s", "road_departure",
+                           "departure_speed_kph", "evidence"});
   json << "[";
   bool first = true;
   store.for_each_cell([&](const CellRecord& r) {
@@ -73,8 +72,9 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
         try {
           j["certificate"] = nlohmann::ordered_json::parse(r.certificate);
         } catch (const nlohmann::json::parse_error& e) {  // a store damaged or edited by hand
-          throw InputError(SourceLocation{results_sqlite.string()},
-                           fmt::format("cell {}#{}: the stored certificate is not JSON: {}", r.grid, r.index, e.what()));
+          throw InputError(
+              SourceLocation{results_sqlite.string()},
+              fmt::format("cell {}#{}: the stored certificate is not JSON: {}", r.grid, r.index, e.what()));
         }
       }
       j["harm_reduction"] = {{"p_mais3", r.p_mais3_reduction}, {"p_fatal", r.p_fatal_reduction}};
@@ -86,10 +86,9 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
       auto& outcomes = j["outcomes"] = nlohmann::ordered_json::array();
       for (const auto& o : r.outcomes) {
         core::Row row = factors;
-        row.insert(row.end(),
-                   {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
-                    std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
-                    o.road_departure ? "1" : "0", number(o.departure_speed_kph()), o.evidence});
+        row.insert(row.end(), {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
+                               std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
+                               o.road_departure ? "1" : "0", number(o.departure_speed_kph()), o.evidence});
         cells << core::csv_line(row);
         outcomes.push_back({{"strategy", o.strategy},
                             {"avoided", o.avoided},

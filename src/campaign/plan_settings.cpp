@@ -48,8 +48,7 @@ void read_plan_modes(const nlohmann::json& j, const std::string& file, PlanSetti
       if (item.is_string())
         s.shortfalls.push_back({"", "", item.get<std::string>()});
       else if (item.is_object())
-        s.shortfalls.push_back(
-            {item.value("kind", ""), item.value("subject", ""), item.value("message", "")});
+        s.shortfalls.push_back({item.value("kind", ""), item.value("subject", ""), item.value("message", "")});
       else
         throw InputError({file, 1, 1}, "'stop.shortfalls' must list shortfalls (objects or text)");
     }
@@ -120,7 +119,8 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
     for (const auto& c : cells) {
       if (!c.is_object() || !c.contains("cell") || !c["cell"].is_string()) continue;
       const std::string key = c["cell"].get<std::string>();
-      if (const auto t = c.find("tracked"); t != c.end() && t->is_boolean() && t->get<bool>()) s.tracked_cells.insert(key);
+      if (const auto t = c.find("tracked"); t != c.end() && t->is_boolean() && t->get<bool>())
+        s.tracked_cells.insert(key);
       s.cell_levels[key] = cell_levels(c, file);
     }
   // Paths in a scenarios.json are relative to its own folder.
@@ -136,7 +136,8 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
     throw InputError({file, 1, 1},
                      fmt::format("acceptance outcome must be avoided or mitigated, got '{}'", s.acceptance_outcome));
   if (!(s.epsilon > 0.0 && s.epsilon < 0.5))
-    throw InputError({file, 1, 1}, fmt::format("settings.epsilon: expected a half-width in (0, 0.5), got {:g}", s.epsilon));
+    throw InputError({file, 1, 1},
+                     fmt::format("settings.epsilon: expected a half-width in (0, 0.5), got {:g}", s.epsilon));
   if (!(s.delta > 0.0 && s.delta < 1.0))
     throw InputError({file, 1, 1}, fmt::format("delta must lie in (0, 1), got {:g}", s.delta));
   return s;

@@ -53,10 +53,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using detail::Statement;
 using detail::column_text;
 using detail::exec;
 using detail::not_a_store;
+using detail::Statement;
 using detail::whole_number;
 
 constexpr const char* kSchema = R"sql(
@@ -126,9 +126,8 @@ CampaignMeta load_meta(sqlite3* db, const std::filesystem::path& path) {
   };
   const std::string version = get("schema_version");
   if (version != std::to_string(kStoreSchemaVersion))
-    throw UsageError(
-        fmt::format("{}: error: results store of schema version {}, but this emrm reads version {}",
-                    path.string(), version, kStoreSchemaVersion));
+    throw UsageError(fmt::format("{}: error: results store of schema version {}, but this emrm reads version {}",
+                                 path.string(), version, kStoreSchemaVersion));
   CampaignMeta meta;
   meta.config_hash = get("config_hash");
   meta.emrm_version = get("emrm_version");
@@ -198,8 +197,7 @@ ResultStore::~ResultStore() {
   if (db_) sqlite3_close(db_);
 }
 
-ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_sqlite,
-                                          const CampaignMeta& meta) {
+ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_sqlite, const CampaignMeta& meta) {
   if (results_sqlite.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(results_sqlite.parent_path(), ec);
@@ -220,10 +218,9 @@ ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_s
                       "use another output folder or delete it to start over",
                       results_sqlite.string(), dir, stored.config_hash, meta.config_hash));
     if (stored.shard_index != meta.shard_index || stored.shard_count != meta.shard_count)
-      throw UsageError(
-          fmt::format("{}: error: the results in {} are shard {}/{}, not {}/{}; use another output folder",
-                      results_sqlite.string(), dir, stored.shard_index, stored.shard_count, meta.shard_index,
-                      meta.shard_count));
+      throw UsageError(fmt::format("{}: error: the results in {} are shard {}/{}, not {}/{}; use another output folder",
+                                   results_sqlite.string(), dir, stored.shard_index, stored.shard_count,
+                                   meta.shard_index, meta.shard_count));
     exec(db, results_sqlite, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
     return ResultStore(guard.release(), results_sqlite, stored);
   }
@@ -264,8 +261,7 @@ ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_s
 
 ResultStore ResultStore::open_for_reading(const std::filesystem::path& results_sqlite) {
   if (!std::filesystem::is_regular_file(results_sqlite))
-    throw UsageError(
-        fmt::format("{}: error: no results store here (run `emrm sweep` first)", results_sqlite.string()));
+    throw UsageError(fmt::format("{}: error: no results store here (run `emrm sweep` first)", results_sqlite.string()));
   // Read-write when allowed (nothing is written): the last connection to close then removes the
   // -wal and -shm files, which a read-only one would leave behind.
   const auto dir = results_sqlite.has_parent_path() ? results_sqlite.parent_path() : fs::path(".");
@@ -284,14 +280,16 @@ std::filesystem::path results_store_in(const std::filesystem::path& dir, std::st
   if (!std::filesystem::exists(dir, ec))
     throw UsageError(fmt::format("{}: results folder '{}' does not exist", command, dir.string()));
   if (!std::filesystem::is_directory(dir, ec))
-    throw UsageError(fmt::format("{}: '{}' is not a folder; expected a results folder written by emrm sweep, run or "
-                                 "reproduce",
-                                 command, dir.string()));
+    throw UsageError(
+        fmt::format("{}: '{}' is not a folder; expected a results folder written by emrm sweep, run or "
+                    "reproduce",
+                    command, dir.string()));
   const auto store = dir / "results.sqlite";
   if (!std::filesystem::is_regular_file(store, ec))
-    throw UsageError(fmt::format("{}: '{}' holds no results.sqlite; expected a results folder written by emrm "
-                                 "sweep, run or reproduce",
-                                 command, dir.string()));
+    throw UsageError(
+        fmt::format("{}: '{}' holds no results.sqlite; expected a results folder written by emrm "
+                    "sweep, run or reproduce",
+                    command, dir.string()));
   return store;
 }
 

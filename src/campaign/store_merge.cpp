@@ -1,18 +1,17 @@
 // Merging results stores: the shards of one campaign (the same config hash) joined into one.
 
-#include "emrm/campaign/store.hpp"
-
 #include <fmt/format.h>
 #include <sqlite3.h>
 
 #include "emrm/campaign/exports.hpp"
+#include "emrm/campaign/store.hpp"
 #include "store_sql.hpp"
 
 namespace emrm::campaign {
 namespace {
 
-using detail::Statement;
 using detail::exec;
+using detail::Statement;
 }  // namespace
 
 void ResultStore::absorb(const std::filesystem::path& other_results_sqlite) {

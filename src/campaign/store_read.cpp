@@ -1,8 +1,6 @@
 // Reading the results store: the keys and regions of its simulated cells, the adaptive summaries,
 // and every cell with its outcomes and trajectories, in the order of the grids.
 
-#include "emrm/campaign/store.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,13 +11,14 @@
 #include <tuple>
 #include <utility>
 
+#include "emrm/campaign/store.hpp"
 #include "store_sql.hpp"
 
 namespace emrm::campaign {
 namespace {
 
-using detail::Statement;
 using detail::not_a_store;
+using detail::Statement;
 using detail::whole_number;
 
 // Polylines as text (store_write.cpp): points "t x y v" joined by ';', polylines joined by '|'.
@@ -56,8 +55,9 @@ std::vector<std::string> split_words(const std::string& text) {
 }  // namespace
 
 void ResultStore::for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const {
-  Statement q(db_, path_,
-              "SELECT g.position, c.cell_index FROM cells c JOIN grids g ON g.name = c.grid WHERE c.method = 'simulated'");
+  Statement q(
+      db_, path_,
+      "SELECT g.position, c.cell_index FROM cells c JOIN grids g ON g.name = c.grid WHERE c.method = 'simulated'");
   while (q.step()) visit(static_cast<std::size_t>(q.int64(0)), q.int64(1));
 }
 
@@ -85,9 +85,8 @@ std::int64_t ResultStore::cell_count() const {
 }
 
 void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& visit) const {
-  Statement cells(
-      db_, path_,
-      "SELECT c.* FROM cells c JOIN grids g ON g.name = c.grid ORDER BY g.position, c.cell_index");
+  Statement cells(db_, path_,
+                  "SELECT c.* FROM cells c JOIN grids g ON g.name = c.grid ORDER BY g.position, c.cell_index");
   Statement outcomes(db_, path_,
                      "SELECT o.* FROM outcomes o JOIN grids g ON g.name = o.grid "
                      "ORDER BY g.position, o.cell_index, o.position");

@@ -28,8 +28,7 @@ namespace emrm::campaign::detail {
 class Statement {
  public:
   Statement(sqlite3* db, const std::filesystem::path& path, const char* sql) : db_(db), path_(&path) {
-    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK)
-      fail(db, path, "cannot prepare a query");
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) fail(db, path, "cannot prepare a query");
   }
   Statement(const Statement&) = delete;
   Statement& operator=(const Statement&) = delete;
@@ -59,9 +58,10 @@ class Statement {
   /// before they reach a JSON or CSV writer.
   std::string text(int col) const {
     if (auto value = column_text(stmt_, col)) return *value;
-    throw UsageError(fmt::format("{}: error: not an emrm results store (column '{}' holds a byte that is not "
-                                 "UTF-8; it was damaged or edited)",
-                                 path_->string(), sqlite3_column_name(stmt_, col)));
+    throw UsageError(
+        fmt::format("{}: error: not an emrm results store (column '{}' holds a byte that is not "
+                    "UTF-8; it was damaged or edited)",
+                    path_->string(), sqlite3_column_name(stmt_, col)));
   }
   double real(int col) const { return sqlite3_column_double(stmt_, col); }
   std::int64_t int64(int col) const { return sqlite3_column_int64(stmt_, col); }

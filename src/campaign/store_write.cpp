@@ -1,20 +1,19 @@
 // Writing to the results store: a batch of cells with their outcomes and trajectories in one
 // transaction, and what the adaptive search replaces (its inferred cells, its summary).
 
-#include "emrm/campaign/store.hpp"
-
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "emrm/campaign/store.hpp"
 #include "emrm/core/text.hpp"
 #include "store_sql.hpp"
 
 namespace emrm::campaign {
 namespace {
 
-using detail::Statement;
 using detail::exec;
+using detail::Statement;
 
 // Polylines as text: points "t x y v" joined by ';', polylines joined by '|'.
 std::string encode(const Polyline& line) {

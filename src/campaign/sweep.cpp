@@ -21,15 +21,15 @@ namespace emrm::campaign {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using detail::beside_distributor;
 using detail::Committer;
-using detail::WorkItem;
 using detail::expected_cost;
 using detail::local_threads;
 using detail::open_progress_log;
 using detail::order_work;
 using detail::simulate_in_loops;
-using detail::beside_distributor;
 using detail::sweep_adaptive;
+using detail::WorkItem;
 
 // The work of a sweep as a Distributor sees it: the same counter the sweep's threads take cells
 // from, so other processes get cells in the same dearest-first order, and the same committer.
@@ -110,8 +110,9 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     adaptive[g] = (options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels[0].empty();
   const bool any_adaptive = std::find(adaptive.begin(), adaptive.end(), 1) != adaptive.end();
   if (any_adaptive && options.shard_count > 1)
-    throw UsageError("--shard cannot split an adaptive sweep: the search picks each cell from the ones simulated "
-                     "before; run it on one machine (every core: --threads 0)");
+    throw UsageError(
+        "--shard cannot split an adaptive sweep: the search picks each cell from the ones simulated "
+        "before; run it on one machine (every core: --threads 0)");
   const auto start = Clock::now();
   CampaignMeta meta = make_meta(campaign);
   meta.shard_index = options.shard_index;
@@ -130,7 +131,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     });
 
     std::vector<WorkItem> work;
-    std::size_t position = 0;  // global position over all grids, for sharding
+    std::size_t position = 0;        // global position over all grids, for sharding
     std::size_t adaptive_cells = 0;  // at most this many simulations (the progress bar's total)
     for (std::size_t g = 0; g < campaign.grids.size(); ++g) {
       const GridSpec& grid = campaign.grids[g];
@@ -161,8 +162,8 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     if (options.threads > 0)
       limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
     const int workers = std::max(options.threads, tbb::info::default_concurrency());
-    Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit, EtaModel(counts),
-                        log.get());
+    Committer committer(store, work.size() + adaptive_cells, options.progress && ::isatty(2) == 1, options.unit,
+                        EtaModel(counts), log.get());
     if (any_adaptive) committer.drop_estimate();
     SweepQueue queue(work, committer);
     if (options.distributor == nullptr) {
@@ -183,17 +184,17 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
     }
     for (std::size_t g = 0; g < campaign.grids.size() && core::interrupt_signal() == 0; ++g) {
       if (!adaptive[g]) continue;
-      AdaptiveSummary grid_summary =
-          sweep_adaptive(campaign, g, store, committer, options, summary.simulation_seconds);
+      AdaptiveSummary grid_summary = sweep_adaptive(campaign, g, store, committer, options, summary.simulation_seconds);
       committer.finish();
       if (core::interrupt_signal() == 0) summary.adaptive.push_back(std::move(grid_summary));
     }
     summary.cells_simulated = committer.simulated();
   }
   if (const int signal = core::interrupt_signal(); signal != 0)
-    throw core::Interrupted(signal, fmt::format("interrupted: {} of {} {} stored in {}; rerun the same command to resume",
-                                                summary.cells_done_before + summary.cells_simulated,
-                                                summary.cells_total, options.unit, store_path.string()));
+    throw core::Interrupted(
+        signal, fmt::format("interrupted: {} of {} {} stored in {}; rerun the same command to resume",
+                            summary.cells_done_before + summary.cells_simulated, summary.cells_total, options.unit,
+                            store_path.string()));
   write_exports(store_path, options.output_dir);
   summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return summary;

@@ -14,20 +14,20 @@
 
 #include "emrm/campaign/adaptive.hpp"
 #include "emrm/core/interrupt.hpp"
-#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/strategy.hpp"
 #include "sweep_parts.hpp"
 
 namespace emrm::campaign {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using detail::beside_distributor;
 using detail::Committer;
-using detail::WorkItem;
 using detail::expected_cost;
 using detail::local_threads;
 using detail::simulate_in_loops;
-using detail::beside_distributor;
+using detail::WorkItem;
 
 // Thrown by a simulation after an interrupt: the search stops, what is simulated is kept.
 struct SearchInterrupted {};
@@ -129,7 +129,7 @@ class AskedCells final : public TaskQueue {
   Committer& committer_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
-  std::deque<CellTask> asked_;                         ///< asked for, not taken yet
+  std::deque<CellTask> asked_;                              ///< asked for, not taken yet
   std::unordered_map<std::uint32_t, sim::Region> answers_;  ///< per cell asked: kInfeasible until delivered
   bool closed_ = false;
   bool abandoned_ = false;
@@ -168,9 +168,12 @@ class GridOracle final : public adaptive::Oracle {
 
   [[nodiscard]] adaptive::StopCall stop(std::size_t cell) const override {
     switch (stop_rule_) {
-      case Rule::kNoBaseline: return adaptive::StopCall::kCannotStop;
-      case Rule::kSimulate: return adaptive::StopCall::kUnknown;
-      case Rule::kAnalytic: break;
+      case Rule::kNoBaseline:
+        return adaptive::StopCall::kCannotStop;
+      case Rule::kSimulate:
+        return adaptive::StopCall::kUnknown;
+      case Rule::kAnalytic:
+        break;
     }
     return sim::stop_call(campaign_.scene, grid_.cells[cell]);
   }
@@ -266,16 +269,20 @@ AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, 
       {"inferred_cells", s.inferred},
       {"inferred_by_stop_boundary", s.inferred_stop},
       {"rounds", s.rounds},
-      {"lines", {{"total", s.lines}, {"resolved", s.lines_resolved}, {"inferred", s.lines_inferred},
-                 {"fully_resolved", s.lines_fully_resolved}}},
+      {"lines",
+       {{"total", s.lines},
+        {"resolved", s.lines_resolved},
+        {"inferred", s.lines_inferred},
+        {"fully_resolved", s.lines_fully_resolved}}},
       {"violations", violations},
-      {"verification", {{"population", s.verify_population},
-                        {"sampled", s.verify_sampled},
-                        {"disagreements", s.verify_disagreements},
-                        {"disagreeing_cells", result.verify_disagreements},
-                        {"confidence", confidence},
-                        {"rate_low", s.disagreement_low},
-                        {"rate_high", s.disagreement_high}}}};
+      {"verification",
+       {{"population", s.verify_population},
+        {"sampled", s.verify_sampled},
+        {"disagreements", s.verify_disagreements},
+        {"disagreeing_cells", result.verify_disagreements},
+        {"confidence", confidence},
+        {"rate_low", s.disagreement_low},
+        {"rate_high", s.disagreement_high}}}};
   s.json = j.dump();
   return s;
 }

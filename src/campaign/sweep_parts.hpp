@@ -37,7 +37,7 @@ using Clock = std::chrono::steady_clock;
 struct WorkItem {
   std::uint32_t grid;
   std::uint32_t index;
-  int cost = 0;  ///< expected_cost()
+  int cost = 0;        ///< expected_cost()
   bool probe = false;  ///< among the first cells of its class (order_work)
 };
 
@@ -47,8 +47,7 @@ struct WorkItem {
 class Committer {
  public:
   /// `log`: the open --progress-log, or null.
-  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit, EtaModel eta,
-            std::FILE* log);
+  Committer(ResultStore& store, std::size_t total, bool progress, std::string unit, EtaModel eta, std::FILE* log);
   Committer(const Committer&) = delete;
   Committer& operator=(const Committer&) = delete;
 
@@ -162,7 +161,7 @@ void beside_distributor(Distributor& distributor, const Campaign& campaign, Task
 
 // One grid by the adaptive search: the cells it asks for are simulated (or read back), the
 // others stored as inferred in batches, then the summary.
-AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultStore& store,
-                               Committer& committer, const SweepOptions& options, double& simulation_seconds);
+AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultStore& store, Committer& committer,
+                               const SweepOptions& options, double& simulation_seconds);
 
 }  // namespace emrm::campaign::detail

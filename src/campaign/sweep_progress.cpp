@@ -69,8 +69,8 @@ std::optional<double> Committer::remaining_s() {
 
 void Committer::log_line() {
   const auto left = remaining_s();
-  std::fprintf(log_, "{\"done\": %zu, \"total\": %zu, \"elapsed_s\": %.3f, \"eta_s\": %s}\n", simulated_.load(),
-               total_, static_cast<double>(now_ns()) * 1e-9, left ? fmt::format("{:.3f}", *left).c_str() : "null");
+  std::fprintf(log_, "{\"done\": %zu, \"total\": %zu, \"elapsed_s\": %.3f, \"eta_s\": %s}\n", simulated_.load(), total_,
+               static_cast<double>(now_ns()) * 1e-9, left ? fmt::format("{:.3f}", *left).c_str() : "null");
   std::fflush(log_);
 }
 

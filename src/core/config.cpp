@@ -14,8 +14,7 @@ std::string format_value(long long value) { return fmt::format("{}", value); }
 
 std::string format_message(std::string_view format, std::initializer_list<MessageArg> args) {
   fmt::dynamic_format_arg_store<fmt::format_context> store;
-  for (const MessageArg& arg : args)
-    std::visit([&store](const auto& value) { store.push_back(value); }, arg.value());
+  for (const MessageArg& arg : args) std::visit([&store](const auto& value) { store.push_back(value); }, arg.value());
   return fmt::vformat(format, store);
 }
 
@@ -26,13 +25,9 @@ std::string expected_got(std::string_view what, long long value) {
   return fmt::format("expected {}, got {}", what, value);
 }
 
-std::string Within::message(double v) const {
-  return expected_got(fmt::format("a value in [{}, {}]", low, high), v);
-}
+std::string Within::message(double v) const { return expected_got(fmt::format("a value in [{}, {}]", low, high), v); }
 
-std::string OpenInterval::message(double v) const {
-  return expected_got(fmt::format("a value in {}", text), v);
-}
+std::string OpenInterval::message(double v) const { return expected_got(fmt::format("a value in {}", text), v); }
 
 std::string AtLeast::message(long long v) const {
   return expected_got(fmt::format("at least {} {}", minimum, noun), v);
@@ -64,16 +59,13 @@ namespace {
 
 std::string config_message(std::string_view subject, const FieldPath& path, const std::string& detail) {
   const std::string where = path.str();
-  return where.empty() ? fmt::format("{}: {}", subject, detail)
-                       : fmt::format("{}: {}: {}", subject, where, detail);
+  return where.empty() ? fmt::format("{}: {}", subject, detail) : fmt::format("{}: {}: {}", subject, where, detail);
 }
 
 }  // namespace
 
 ConfigError::ConfigError(std::string_view subject, FieldPath path, std::string detail)
-    : InputError({}, config_message(subject, path, detail)),
-      path_(std::move(path)),
-      detail_(std::move(detail)) {}
+    : InputError({}, config_message(subject, path, detail)), path_(std::move(path)), detail_(std::move(detail)) {}
 
 void Validator::fail(std::string_view field, std::string detail) const {
   FieldPath path;

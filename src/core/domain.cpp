@@ -38,8 +38,8 @@ std::vector<double> expand_range(const YamlNode& node) {
     // `to` counts as reached within 1e-9 relative: 0.25 + 45·0.06 is 2.9500000000000002.
     const double n = std::floor(q + 1e-9 * std::max(1.0, q));
     if (n + 1 > static_cast<double>(kMaxFactorValues))
-      node.fail(fmt::format("the range has {:g} values, more than the {} a factor may have; use a larger step",
-                            n + 1, kMaxFactorValues));
+      node.fail(fmt::format("the range has {:g} values, more than the {} a factor may have; use a larger step", n + 1,
+                            kMaxFactorValues));
     for (long long i = 0; i <= static_cast<long long>(n); ++i)
       values.push_back(round_1e9(lo + static_cast<double>(i) * dx));
   } else {

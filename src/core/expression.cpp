@@ -56,8 +56,7 @@ void Expression::compile() {
     throw InputError(where_, "expected an expression, got empty text");
   try {
     impl_->parser.DefineInfixOprt("!", logical_not);
-    for (std::size_t i = 0; i < variables_.size(); ++i)
-      impl_->parser.DefineVar(variables_[i], &impl_->values[i]);
+    for (std::size_t i = 0; i < variables_.size(); ++i) impl_->parser.DefineVar(variables_[i], &impl_->values[i]);
     impl_->parser.SetExpr(text_);
     impl_->parser.Eval();  // forces the parse, so every error surfaces here
   } catch (const mu::Parser::exception_type& e) {

@@ -1,10 +1,10 @@
 #include "emrm/core/geometry.hpp"
 
-#include "emrm/core/trig.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "emrm/core/trig.hpp"
 
 namespace emrm::core {
 namespace {
@@ -37,15 +37,12 @@ double radius_along(const Frame& f, Vec2 dir) noexcept {
 std::array<Vec2, 4> corners_of(const Frame& f) noexcept {
   const Vec2 along = f.axis * f.half_length;
   const Vec2 across = f.normal * f.half_width;
-  return {f.center + along - across, f.center + along + across, f.center - along + across,
-          f.center - along - across};
+  return {f.center + along - across, f.center + along + across, f.center - along + across, f.center - along - across};
 }
 
 // The four outward face normals of a box, in the order of corners_of's edges:
 // front (FR→FL), left (FL→RL), rear (RL→RR), right (RR→FR).
-std::array<Vec2, 4> face_normals_of(const Frame& f) noexcept {
-  return {f.axis, f.normal, -f.axis, -f.normal};
-}
+std::array<Vec2, 4> face_normals_of(const Frame& f) noexcept { return {f.axis, f.normal, -f.axis, -f.normal}; }
 
 // A convex polygon of at most 8 vertices: a quadrilateral clipped by four half-planes.
 struct Polygon {
@@ -174,8 +171,7 @@ Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept {
   int best = 0;
   for (int i = 0; i < 4; ++i) {
     const Vec2 axis = axes[static_cast<std::size_t>(i)];
-    const double depth =
-        std::max(radius_along(fa, axis) + radius_along(fb, axis) - std::abs(d.dot(axis)), 0.0);
+    const double depth = std::max(radius_along(fa, axis) + radius_along(fb, axis) - std::abs(d.dot(axis)), 0.0);
     // a's axes win ties (strictly smaller needed to switch), so the normal of a face-to-face
     // contact of parallel boxes does not depend on rounding.
     if (depth < best_depth - 1e-12) {
@@ -203,8 +199,8 @@ Contact contact(const OrientedBox& a, const OrientedBox& b) noexcept {
   return out;
 }
 
-std::optional<double> time_to_overlap(const OrientedBox& a, Vec2 velocity_a, const OrientedBox& b,
-                                      Vec2 velocity_b, double horizon_s) noexcept {
+std::optional<double> time_to_overlap(const OrientedBox& a, Vec2 velocity_a, const OrientedBox& b, Vec2 velocity_b,
+                                      double horizon_s) noexcept {
   // In b's frame of motion a moves at v; on every separating axis the projections overlap during
   // one time interval; the boxes overlap during the intersection of the four.
   const Vec2 v = velocity_a - velocity_b;

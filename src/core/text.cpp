@@ -1,16 +1,14 @@
 #include "emrm/core/text.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cerrno>
 #include <cctype>
+#include <cerrno>
+#include <cmath>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -145,9 +143,12 @@ namespace {
 std::string markdown_cell(const std::string& text) {
   std::string out;
   for (char c : text) {
-    if (c == '|') out += "\\|";
-    else if (c == '\n') out += "<br>";
-    else out += c;
+    if (c == '|')
+      out += "\\|";
+    else if (c == '\n')
+      out += "<br>";
+    else
+      out += c;
   }
   return out;
 }
@@ -176,8 +177,8 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
     row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
       const std::size_t above = row[j];
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      const bool same =
+          std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
       row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? std::size_t{0} : std::size_t{1})});
       diagonal = above;
     }
@@ -223,8 +224,8 @@ std::string read_input_file(const std::filesystem::path& path) {
   while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
     text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
     if (text.size() > kMaxInputFileBytes)
-      throw InputError(where, fmt::format("the file is larger than {} MiB; expected an emrm input file",
-                                          kMaxInputFileBytes >> 20));
+      throw InputError(
+          where, fmt::format("the file is larger than {} MiB; expected an emrm input file", kMaxInputFileBytes >> 20));
   }
   if (in.bad()) throw InputError(where, "cannot read the file");
   // Text is UTF-8 from here on (every name may reach a JSON writer): a byte-order mark is dropped, a
@@ -249,16 +250,18 @@ std::optional<std::size_t> first_invalid_utf8(std::string_view text) {
     const unsigned char b = byte(i);
     std::size_t length = 0;
     unsigned char low = 0x80, high = 0xBF;  // the allowed range of the second byte
-    if (b < 0x80) length = 1;
-    else if (b >= 0xC2 && b <= 0xDF) length = 2;
+    if (b < 0x80)
+      length = 1;
+    else if (b >= 0xC2 && b <= 0xDF)
+      length = 2;
     else if (b >= 0xE0 && b <= 0xEF) {
       length = 3;
-      if (b == 0xE0) low = 0xA0;       // no overlong forms
-      if (b == 0xED) high = 0x9F;      // no surrogates
+      if (b == 0xE0) low = 0xA0;   // no overlong forms
+      if (b == 0xED) high = 0x9F;  // no surrogates
     } else if (b >= 0xF0 && b <= 0xF4) {
       length = 4;
-      if (b == 0xF0) low = 0x90;       // no overlong forms
-      if (b == 0xF4) high = 0x8F;      // nothing above U+10FFFF
+      if (b == 0xF0) low = 0x90;   // no overlong forms
+      if (b == 0xF4) high = 0x8F;  // nothing above U+10FFFF
     } else {
       return i;
     }

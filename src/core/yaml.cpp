@@ -1,7 +1,5 @@
 #include "emrm/core/yaml.hpp"
 
-#include "emrm/core/text.hpp"
-
 #include <fmt/format.h>
 
 #include <cctype>
@@ -10,6 +8,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "emrm/core/text.hpp"
 
 namespace emrm::core {
 namespace {
@@ -48,15 +48,12 @@ std::string join_keys(const std::vector<std::string>& keys) {
 YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file)
     : node_(std::move(node)), file_(std::move(file)) {}
 
-YamlNode YamlNode::load_file(const std::filesystem::path& path) {
-  return parse(read_input_file(path), path.string());
-}
+YamlNode YamlNode::load_file(const std::filesystem::path& path) { return parse(read_input_file(path), path.string()); }
 
 YamlNode YamlNode::parse(const std::string& text, std::string file_name) {
   YAML::Node root = parse_text(text, file_name);
   auto file = std::make_shared<const std::string>(std::move(file_name));
-  if (!root.IsDefined() || root.IsNull())
-    throw InputError({*file, 1, 1}, "the file is empty; expected a YAML mapping");
+  if (!root.IsDefined() || root.IsNull()) throw InputError({*file, 1, 1}, "the file is empty; expected a YAML mapping");
   return YamlNode(std::move(root), std::move(file));
 }
 
@@ -100,8 +97,7 @@ std::vector<std::pair<YamlNode, YamlNode>> YamlNode::entries() const {
   for (const auto& entry : node_) {
     YamlNode key(entry.first, file_);
     if (!entry.first.IsScalar()) key.fail("expected a plain key, got " + key.describe());
-    if (!seen.insert(entry.first.Scalar()).second)
-      key.fail(fmt::format("duplicate key '{}'", entry.first.Scalar()));
+    if (!seen.insert(entry.first.Scalar()).second) key.fail(fmt::format("duplicate key '{}'", entry.first.Scalar()));
     out.emplace_back(std::move(key), YamlNode(entry.second, file_));
   }
   return out;
@@ -173,8 +169,7 @@ YamlNode node_at(const YamlNode& root, const FieldPath& path) {
     std::optional<YamlNode> child;
     if (const auto* key = std::get_if<std::string>(&step)) {
       if (node.is_map()) child = node.find(*key);
-    } else if (const std::size_t index = std::get<std::size_t>(step);
-               node.is_sequence() && index < node.raw().size()) {
+    } else if (const std::size_t index = std::get<std::size_t>(step); node.is_sequence() && index < node.raw().size()) {
       child = node.elements()[index];
     }
     if (!child || child->is_null()) break;
@@ -185,8 +180,7 @@ YamlNode node_at(const YamlNode& root, const FieldPath& path) {
 
 void fail_at(const YamlNode& root, const ConfigError& error, bool with_path) {
   const std::string path = error.path().str();
-  node_at(root, error.path())
-      .fail(with_path && !path.empty() ? path + ": " + error.detail() : error.detail());
+  node_at(root, error.path()).fail(with_path && !path.empty() ? path + ": " + error.detail() : error.detail());
 }
 
 std::string to_yaml_text(const YAML::Node& node) {

@@ -91,8 +91,7 @@ std::string count_attributes(std::size_t count, std::size_t max_count) {
   if (count == 0) return "color=\"#d62728\", fontcolor=\"#d62728\", style=dashed";
   // Log scale, so that one transition taken a thousand times does not wash out the rest.
   const double share =
-      max_count <= 1 ? 1.0
-                     : std::log1p(static_cast<double>(count)) / std::log1p(static_cast<double>(max_count));
+      max_count <= 1 ? 1.0 : std::log1p(static_cast<double>(count)) / std::log1p(static_cast<double>(max_count));
   const int shade = 4 + static_cast<int>(std::lround(5.0 * share));  // blues9: 4 (light) .. 9 (dark)
   return fmt::format("colorscheme=blues9, color={}, fontcolor={}, penwidth={:.2f}", std::min(shade, 9),
                      std::min(shade, 9), 1.0 + 2.5 * share);
@@ -104,16 +103,15 @@ std::string to_dot(const Generator& g, const DotOptions& options) {
   const auto& transitions = g.transitions();
   const bool with_counts = !options.transition_counts.empty();
   if (with_counts && options.transition_counts.size() != transitions.size())
-    throw Error(fmt::format("fsm: {} transition counts given for {} transitions",
-                            options.transition_counts.size(), transitions.size()));
+    throw Error(fmt::format("fsm: {} transition counts given for {} transitions", options.transition_counts.size(),
+                            transitions.size()));
   const std::string& rankdir = options.rank_direction;
   if (rankdir != "LR" && rankdir != "RL" && rankdir != "TB" && rankdir != "BT")
     throw Error(fmt::format("fsm: rank direction must be LR, RL, TB or BT, got '{}'", rankdir));
 
   std::string out;
   out += fmt::format("digraph {} {{\n", quote(g.name()));
-  out += fmt::format("  graph [rankdir={}, label={}, labelloc=t, fontname=\"Helvetica\"];\n", rankdir,
-                     quote(g.name()));
+  out += fmt::format("  graph [rankdir={}, label={}, labelloc=t, fontname=\"Helvetica\"];\n", rankdir, quote(g.name()));
   out += "  node [fontname=\"Helvetica\", fontsize=11];\n";
   out += "  edge [fontname=\"Helvetica\", fontsize=10];\n";
   // The initial arrow starts at an invisible point; '<' cannot appear in a state id, so no clash.
@@ -131,8 +129,7 @@ std::string to_dot(const Generator& g, const DotOptions& options) {
   }
 
   if (with_counts) {
-    const std::size_t max_count =
-        *std::max_element(options.transition_counts.begin(), options.transition_counts.end());
+    const std::size_t max_count = *std::max_element(options.transition_counts.begin(), options.transition_counts.end());
     for (std::size_t i = 0; i < transitions.size(); ++i) {
       const auto& t = transitions[i];
       const std::size_t count = options.transition_counts[i];
@@ -170,9 +167,10 @@ std::string render_svg(const std::string& dot_source, const std::string& dot_pro
 std::string render(const std::string& dot_source, const std::string& format, const std::string& dot_program) {
   const auto program = core::find_program(dot_program);
   if (!program)
-    throw Error(fmt::format("cannot render {}: the Graphviz program '{}' was not found on PATH; install Graphviz "
-                            "(for example `apt install graphviz`) or write DOT with --dot instead",
-                            format, dot_program));
+    throw Error(
+        fmt::format("cannot render {}: the Graphviz program '{}' was not found on PATH; install Graphviz "
+                    "(for example `apt install graphviz`) or write DOT with --dot instead",
+                    format, dot_program));
   core::TempDir dir("emrm-dot");
   const auto input = dir.path() / "graph.dot";
   const auto output = dir.path() / ("graph." + format);

@@ -78,8 +78,7 @@ std::vector<std::string> Generator::marked_states() const {
   return out;
 }
 
-bool Generator::has_transition(const std::string& from, const std::string& event,
-                               const std::string& to) const {
+bool Generator::has_transition(const std::string& from, const std::string& event, const std::string& to) const {
   const int f = state_index(from);
   const int e = event_index(event);
   const int t = state_index(to);
@@ -115,8 +114,7 @@ std::optional<std::string> Generator::step(const std::string& state, const std::
   return states_[static_cast<std::size_t>(next)].id;
 }
 
-std::optional<std::string> Generator::run(const std::string& state,
-                                          const std::vector<std::string>& word) const {
+std::optional<std::string> Generator::run(const std::string& state, const std::vector<std::string>& word) const {
   int s = state_index(state);
   if (s == kNone) return std::nullopt;
   for (const auto& event : word) {
@@ -142,8 +140,7 @@ std::vector<int> Generator::reach(const std::vector<std::string>& word) const {
         continue;
       }
       for (int i : outgoing(s))
-        if (edges_[static_cast<std::size_t>(i)].event == e)
-          next.push_back(edges_[static_cast<std::size_t>(i)].to);
+        if (edges_[static_cast<std::size_t>(i)].event == e) next.push_back(edges_[static_cast<std::size_t>(i)].to);
     }
     std::sort(next.begin(), next.end());
     next.erase(std::unique(next.begin(), next.end()), next.end());

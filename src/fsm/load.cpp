@@ -30,7 +30,6 @@ struct Declaration {
   }
 };
 
-
 struct FsmFile {
   std::string name;
   std::string description;
@@ -85,18 +84,16 @@ std::string name_list(const std::vector<std::string>& names) {
 }
 
 bool is_id_char(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-         c == '.';
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
 }
 
 void check_id(const Declaration& d, std::string_view kind) {
   if (d.id.empty()) throw InputError(d.where, fmt::format("expected a non-empty {} id", kind));
   for (char c : d.id)
     if (!is_id_char(c))
-      throw InputError(d.where,
-                       fmt::format("invalid {} id '{}': expected letters, digits, '_', '-' or '.' only "
-                                   "(words are written as ids separated by spaces)",
-                                   kind, d.id));
+      throw InputError(d.where, fmt::format("invalid {} id '{}': expected letters, digits, '_', '-' or '.' only "
+                                            "(words are written as ids separated by spaces)",
+                                            kind, d.id));
 }
 
 /// Declared ids of one kind, for lookups and messages.
@@ -108,8 +105,8 @@ class Names {
     check_id(d, kind_);
     auto [it, inserted] = where_.emplace(d.id, d.where);
     if (!inserted)
-      throw InputError(
-          d.where, fmt::format("duplicate {} id '{}' (first declared at {})", kind_, d.id, it->second.str()));
+      throw InputError(d.where,
+                       fmt::format("duplicate {} id '{}' (first declared at {})", kind_, d.id, it->second.str()));
     order_.push_back(d.id);
   }
 
@@ -117,10 +114,10 @@ class Names {
   void require(const Ref& ref, std::string_view role) const {
     if (where_.contains(ref.id)) return;
     if (order_.empty())
-      throw InputError(ref.where, fmt::format("{} '{}' is not a declared {}: no {}s are declared", role,
-                                              ref.id, kind_, kind_));
-    throw InputError(ref.where, fmt::format("{} '{}' is not a declared {}; expected one of: {}", role, ref.id,
-                                            kind_, name_list(order_)));
+      throw InputError(ref.where,
+                       fmt::format("{} '{}' is not a declared {}: no {}s are declared", role, ref.id, kind_, kind_));
+    throw InputError(ref.where, fmt::format("{} '{}' is not a declared {}; expected one of: {}", role, ref.id, kind_,
+                                            name_list(order_)));
   }
 
  private:
@@ -141,8 +138,7 @@ Generator build(const FsmFile& file) {
     states.require(m, "marked state");
     auto [it, inserted] = marked.emplace(m.id, m.where);
     if (!inserted)
-      throw InputError(m.where,
-                       fmt::format("state '{}' is marked twice (first at {})", m.id, it->second.str()));
+      throw InputError(m.where, fmt::format("state '{}' is marked twice (first at {})", m.id, it->second.str()));
   }
   std::map<std::tuple<std::string, std::string, std::string>, SourceLocation> seen;
   for (const auto& t : file.transitions) {
@@ -151,8 +147,8 @@ Generator build(const FsmFile& file) {
     states.require(t.to, "transition target");
     auto [it, inserted] = seen.emplace(std::tuple{t.from.id, t.event.id, t.to.id}, t.where);
     if (!inserted)
-      throw InputError(t.where, fmt::format("duplicate transition {} --{}--> {} (first at {})", t.from.id,
-                                            t.event.id, t.to.id, it->second.str()));
+      throw InputError(t.where, fmt::format("duplicate transition {} --{}--> {} (first at {})", t.from.id, t.event.id,
+                                            t.to.id, it->second.str()));
   }
 
   // Everything is validated, so the Generator's own checks cannot fire from here on.
@@ -173,9 +169,7 @@ Generator read_generator(const core::YamlNode& root) {
 
 }  // namespace
 
-Generator load_generator(const std::filesystem::path& path) {
-  return read_generator(core::YamlNode::load_file(path));
-}
+Generator load_generator(const std::filesystem::path& path) { return read_generator(core::YamlNode::load_file(path)); }
 
 Generator parse_generator(const std::string& text, const std::string& file_name) {
   return read_generator(core::YamlNode::parse(text, file_name));

@@ -305,13 +305,9 @@ WordEnumeration enumerate_words(const Generator& g, int max_length, std::size_t 
   return result;
 }
 
-std::vector<std::string> accessible_states(const Generator& g) {
-  return names_where(g, accessible_mask(g), true);
-}
+std::vector<std::string> accessible_states(const Generator& g) { return names_where(g, accessible_mask(g), true); }
 
-std::vector<std::string> coaccessible_states(const Generator& g) {
-  return names_where(g, coaccessible_mask(g), true);
-}
+std::vector<std::string> coaccessible_states(const Generator& g) { return names_where(g, coaccessible_mask(g), true); }
 
 Generator accessible_part(const Generator& g) { return restrict_to(g, accessible_mask(g)); }
 
@@ -327,13 +323,9 @@ Generator trim(const Generator& g) {
   return restrict_to(g, keep);
 }
 
-AccessibilityCheck check_accessible(const Generator& g) {
-  return {names_where(g, accessible_mask(g), false)};
-}
+AccessibilityCheck check_accessible(const Generator& g) { return {names_where(g, accessible_mask(g), false)}; }
 
-CoaccessibilityCheck check_coaccessible(const Generator& g) {
-  return {names_where(g, coaccessible_mask(g), false)};
-}
+CoaccessibilityCheck check_coaccessible(const Generator& g) { return {names_where(g, coaccessible_mask(g), false)}; }
 
 DeterminismCheck check_deterministic(const Generator& g) {
   DeterminismCheck result;
@@ -419,9 +411,10 @@ Generator compose(const Generator& g1, const Generator& g2, std::size_t max_stat
           if (inserted) pairs.emplace_back(a2, b2);
           edges.push_back({static_cast<int>(k), u, it->second});
           if (pairs.size() > max_states || edges.size() > 10 * max_states)
-            throw UsageError(fmt::format("fsm: the composition of {} and {} has more than {} states or {} transitions; "
-                                         "--max-states raises the limit",
-                                         g1.name(), g2.name(), max_states, 10 * max_states));
+            throw UsageError(
+                fmt::format("fsm: the composition of {} and {} has more than {} states or {} transitions; "
+                            "--max-states raises the limit",
+                            g1.name(), g2.name(), max_states, 10 * max_states));
         }
     }
   }
@@ -433,12 +426,11 @@ Generator compose(const Generator& g1, const Generator& g2, std::size_t max_stat
     const auto& s2 = g2.states()[at(b)];
     std::string name = s1.id + "|" + s2.id;
     if (!taken.insert(name).second)
-      throw Error(
-          fmt::format("fsm: composing {} and {} gives two states named '{}'", g1.name(), g2.name(), name));
+      throw Error(fmt::format("fsm: composing {} and {} gives two states named '{}'", g1.name(), g2.name(), name));
     std::string description;
     if (!s1.description.empty() || !s2.description.empty())
-      description = (s1.description.empty() ? s1.id : s1.description) + " | " +
-                    (s2.description.empty() ? s2.id : s2.description);
+      description =
+          (s1.description.empty() ? s1.id : s1.description) + " | " + (s2.description.empty() ? s2.id : s2.description);
     out.add_state(name, std::move(description));
     names.push_back(std::move(name));
   }
@@ -450,8 +442,7 @@ Generator compose(const Generator& g1, const Generator& g2, std::size_t max_stat
   return out;
 }
 
-TransitionCoverage transition_coverage(const Generator& g,
-                                       const std::vector<std::vector<std::string>>& traces) {
+TransitionCoverage transition_coverage(const Generator& g, const std::vector<std::vector<std::string>>& traces) {
   TransitionCoverage result;
   result.counts.assign(g.transitions().size(), 0);
   result.traces = traces.size();

@@ -16,9 +16,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string transition_text(const Transition& t) {
-  return fmt::format("{} --{}--> {}", t.from, t.event, t.to);
-}
+std::string transition_text(const Transition& t) { return fmt::format("{} --{}--> {}", t.from, t.event, t.to); }
 
 std::string with_location(const Transition& t) {
   if (t.where.file.empty()) return transition_text(t);
@@ -47,11 +45,10 @@ std::string failure_text(const WordEvaluation& e) {
 // ---- text output --------------------------------------------------------------------------
 
 std::string summary_text(const Generator& g, const std::string& source) {
-  std::string out =
-      fmt::format("{} ({}): {}, {}, {}, {}\n", g.name(), source, plural(g.states().size(), "state", "states"),
-                  plural(g.events().size(), "event", "events"),
-                  plural(g.transitions().size(), "transition", "transitions"),
-                  g.is_deterministic() ? "deterministic" : "non-deterministic");
+  std::string out = fmt::format(
+      "{} ({}): {}, {}, {}, {}\n", g.name(), source, plural(g.states().size(), "state", "states"),
+      plural(g.events().size(), "event", "events"), plural(g.transitions().size(), "transition", "transitions"),
+      g.is_deterministic() ? "deterministic" : "non-deterministic");
   out += fmt::format("initial: {}\n", g.initial().value_or("(none)"));
   const auto marked = g.marked_states();
   out += fmt::format("marked:  {}\n", marked.empty() ? "(none)" : core::join(marked, ", "));
@@ -76,16 +73,14 @@ std::string summary_text(const Generator& g, const std::string& source) {
 
 std::string check_text(const Generator& g, const CheckReport& r) {
   const auto line = [](std::string_view what, bool ok, const std::string& detail) {
-    return fmt::format("  {:<15} {}\n", std::string(what) + ":",
-                       ok ? std::string("ok") : "FAILED: " + detail);
+    return fmt::format("  {:<15} {}\n", std::string(what) + ":", ok ? std::string("ok") : "FAILED: " + detail);
   };
   std::string out = fmt::format("checks of {}:\n", g.name());
   out += line("accessible", r.accessible.ok(),
               fmt::format("not reachable from {}: {}", g.initial().value_or("(no initial state)"),
                           core::join(r.accessible.unreachable, ", ")));
-  out += line(
-      "co-accessible", r.coaccessible.ok(),
-      fmt::format("cannot reach a marked state: {}", core::join(r.coaccessible.cannot_reach_marked, ", ")));
+  out += line("co-accessible", r.coaccessible.ok(),
+              fmt::format("cannot reach a marked state: {}", core::join(r.coaccessible.cannot_reach_marked, ", ")));
   std::vector<std::string> choices;
   for (const auto& c : r.deterministic.choices) {
     std::vector<std::string> targets;
@@ -98,16 +93,15 @@ std::string check_text(const Generator& g, const CheckReport& r) {
   out += line("deterministic", r.deterministic.ok(), core::join(choices, "; "));
   std::vector<std::string> entering;
   for (std::size_t i : r.nonblocking.entering) entering.push_back(with_location(g.transitions()[i]));
-  out += line("non-blocking", r.nonblocking.ok(),
-              fmt::format("blocking (reachable, cannot reach a marked state): {}{}",
-                          core::join(r.nonblocking.blocking, ", "),
-                          entering.empty() ? "" : "; entered by " + core::join(entering, ", ")));
+  out += line(
+      "non-blocking", r.nonblocking.ok(),
+      fmt::format("blocking (reachable, cannot reach a marked state): {}{}", core::join(r.nonblocking.blocking, ", "),
+                  entering.empty() ? "" : "; entered by " + core::join(entering, ", ")));
   return out;
 }
 
 std::string words_text(const WordEnumeration& w) {
-  std::string out =
-      fmt::format("words of L(G) of length 1..{} (\"marked\": also in L_m(G)):\n", w.max_length);
+  std::string out = fmt::format("words of L(G) of length 1..{} (\"marked\": also in L_m(G)):\n", w.max_length);
   std::size_t next = 0;
   for (int length = 1; length <= w.max_length; ++length) {
     const auto n = w.words_per_length[static_cast<std::size_t>(length)];
@@ -120,9 +114,8 @@ std::string words_text(const WordEnumeration& w) {
     }
   }
   if (w.truncated)
-    out +=
-        fmt::format("  (listing stopped after {} words; the counts per length are exact{})\n", w.words.size(),
-                    w.counts_saturated ? " up to the saturated ones, shown as 18446744073709551615" : "");
+    out += fmt::format("  (listing stopped after {} words; the counts per length are exact{})\n", w.words.size(),
+                       w.counts_saturated ? " up to the saturated ones, shown as 18446744073709551615" : "");
   return out;
 }
 
@@ -134,12 +127,11 @@ std::string word_query_text(const std::string& text, const WordEvaluation& e) {
   return fmt::format("{}: not in L(G): {}\n", word, failure_text(e));
 }
 
-std::string coverage_text(const Generator& g, const TransitionCoverage& c,
-                          const std::vector<Trace>& traces, const std::string& file) {
+std::string coverage_text(const Generator& g, const TransitionCoverage& c, const std::vector<Trace>& traces,
+                          const std::string& file) {
   std::string out = fmt::format("transition coverage of {} from {} ({} in L(G), {} rejected):\n",
                                 plural(c.traces, "trace", "traces"), file, c.accepted, c.rejected.size());
-  out += fmt::format("  {} of {} transitions covered ({:.1f} %)\n", c.covered, c.counts.size(),
-                     100.0 * c.fraction());
+  out += fmt::format("  {} of {} transitions covered ({:.1f} %)\n", c.covered, c.counts.size(), 100.0 * c.fraction());
   if (!g.is_deterministic())
     out += "  note: the machine is non-deterministic; each trace counts its first path in file order\n";
   for (std::size_t i = 0; i < c.counts.size(); ++i)
@@ -195,11 +187,9 @@ Json check_json(const Generator& g, const CheckReport& r) {
   for (std::size_t i : r.nonblocking.entering) entering.push_back(transition_json(g.transitions()[i]));
   return {{"ok", r.ok()},
           {"accessible", {{"ok", r.accessible.ok()}, {"unreachable", r.accessible.unreachable}}},
-          {"coaccessible",
-           {{"ok", r.coaccessible.ok()}, {"cannot_reach_marked", r.coaccessible.cannot_reach_marked}}},
+          {"coaccessible", {{"ok", r.coaccessible.ok()}, {"cannot_reach_marked", r.coaccessible.cannot_reach_marked}}},
           {"deterministic", {{"ok", r.deterministic.ok()}, {"choices", choices}}},
-          {"nonblocking",
-           {{"ok", r.nonblocking.ok()}, {"blocking", r.nonblocking.blocking}, {"entering", entering}}}};
+          {"nonblocking", {{"ok", r.nonblocking.ok()}, {"blocking", r.nonblocking.blocking}, {"entering", entering}}}};
 }
 
 Json evaluation_json(const WordEvaluation& e) {
@@ -228,8 +218,8 @@ Json words_json(const WordEnumeration& w) {
           {"list", list}};
 }
 
-Json coverage_json(const Generator& g, const TransitionCoverage& c,
-                   const std::vector<Trace>& traces, const std::string& file) {
+Json coverage_json(const Generator& g, const TransitionCoverage& c, const std::vector<Trace>& traces,
+                   const std::string& file) {
   Json counts = Json::array();
   for (std::size_t i = 0; i < c.counts.size(); ++i) {
     Json t = transition_json(g.transitions()[i]);
@@ -242,10 +232,9 @@ Json coverage_json(const Generator& g, const TransitionCoverage& c,
     j.update(evaluation_json(r.evaluation));
     rejected.push_back(std::move(j));
   }
-  return {{"file", file},           {"traces", c.traces},
-          {"accepted", c.accepted}, {"transitions", c.counts.size()},
-          {"covered", c.covered},   {"fraction", c.fraction()},
-          {"counts", counts},       {"rejected", rejected}};
+  return {
+      {"file", file},         {"traces", c.traces},       {"accepted", c.accepted}, {"transitions", c.counts.size()},
+      {"covered", c.covered}, {"fraction", c.fraction()}, {"counts", counts},       {"rejected", rejected}};
 }
 
 }  // namespace
@@ -298,8 +287,7 @@ std::string to_text(const Report& report) {
   if (report.words) text += words_text(*report.words);
   for (const auto& query : report.word_queries) text += word_query_text(query.word, query.evaluation);
   if (report.coverage)
-    text += coverage_text(g, report.coverage->coverage, report.coverage->traces.traces,
-                          report.coverage->traces.file);
+    text += coverage_text(g, report.coverage->coverage, report.coverage->traces.traces, report.coverage->traces.file);
   for (const auto& path : report.written) text += fmt::format("wrote {}\n", path);
   return text;
 }

@@ -15,9 +15,9 @@
 #include <string_view>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "figure_parts.hpp"
 
@@ -25,12 +25,12 @@ namespace emrm::report {
 namespace {
 
 namespace fs = std::filesystem;
-using results::BoundaryReport;
-using results::BoundaryRow;
-using results::BoundarySlice;
 using campaign::CellRecord;
 using detail::Axis;
 using detail::distinct_values;
+using results::BoundaryReport;
+using results::BoundaryRow;
+using results::BoundarySlice;
 
 /// How one boundary's line is drawn: its colour, width and dashes, and its key label.
 struct LineStyle {
@@ -169,9 +169,8 @@ std::string held_text(const BoundarySlice& s) {
 /// "boundary_GRID", then "_FACTOR_VALUE" for each factor of the slice that varies over its grid.
 std::string slice_stem(const BoundarySlice& s, const std::vector<CellRecord>& grid_cells) {
   std::string stem = "boundary_" + detail::file_stem(s.grid);
-  const std::array<std::pair<Axis, double>, 3> held{{{Axis::kMu, s.mu},
-                                                     {Axis::kPassage, s.passage_m},
-                                                     {Axis::kTruckSpeed, s.truck_speed_kph}}};
+  const std::array<std::pair<Axis, double>, 3> held{
+      {{Axis::kMu, s.mu}, {Axis::kPassage, s.passage_m}, {Axis::kTruckSpeed, s.truck_speed_kph}}};
   constexpr std::array<std::string_view, 3> kKeys{"mu", "passage_m", "truck_speed_kph"};
   for (std::size_t i = 0; i < held.size(); ++i)
     if (distinct_values(grid_cells, held[i].first).size() > 1)

@@ -9,9 +9,9 @@
 #include <string_view>
 #include <utility>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/strategy.hpp"
 #include "figure_parts.hpp"
 
@@ -74,7 +74,8 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
     feasible = std::max(feasible, k.cells);
     core::Row row{strategy, std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
                   plot_percent(k.mean_impact_speed_kph)};
-    lines.push_back(fmt::format("{} {} {} {}", rows.size(), row[2], row[3], rgb_value(strategy_colour(strategy, strategies))));
+    lines.push_back(
+        fmt::format("{} {} {} {}", rows.size(), row[2], row[3], rgb_value(strategy_colour(strategy, strategies))));
     tics.push_back(fmt::format("{} {}", single_quoted(strategy_label(strategy)), rows.size()));
     rows.push_back(std::move(row));
   }
@@ -159,9 +160,9 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
     if (per_strategy[s].empty()) continue;
     const std::string block = fmt::format("sweep_{}", s);
     data += datablock(block, per_strategy[s]);
-    const std::string style = fmt::format("lc rgb {} lw 2 pt {} ps 0.8 dt {}",
-                                          single_quoted(strategy_colour(strategies[s], strategies)), 5 + 2 * (s % 5),
-                                          is_baseline(strategies[s]) ? 2 : 1);
+    const std::string style =
+        fmt::format("lc rgb {} lw 2 pt {} ps 0.8 dt {}", single_quoted(strategy_colour(strategies[s], strategies)),
+                    5 + 2 * (s % 5), is_baseline(strategies[s]) ? 2 : 1);
     car_plot.push_back(fmt::format("${} using 1:2 with linespoints {} notitle", block, style));
     ms_plot.push_back(fmt::format("${} using 1:3 with linespoints {} notitle", block, style));
     key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
@@ -172,12 +173,14 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
       "set tics out nomirror\nset border 3\nset key off\nset grid lc rgb '#dddddd'\n"
       "set xrange [{}:{}]\nset yrange [-2:102]\nset ytics 0,20,100\nset xlabel {}\n{}",
       single_quoted(axis.title), plot_number(axis.lo), plot_number(axis.hi), single_quoted(axis.label), axis.tics);
-  body += fmt::format("set origin 0,{0}\nset size 0.5,{1}\nset title 'Collision avoidance'\n"
-                      "set ylabel 'collision-avoidance rate (%)'\nplot {2}\n",
-                      key_h, top - key_h, core::join(car_plot, ", "));
-  body += fmt::format("set origin 0.5,{0}\nset size 0.5,{1}\nset title 'Mitigability success'\n"
-                      "set ylabel 'mitigability success (%)'\nplot {2}\n",
-                      key_h, top - key_h, core::join(ms_plot, ", "));
+  body += fmt::format(
+      "set origin 0,{0}\nset size 0.5,{1}\nset title 'Collision avoidance'\n"
+      "set ylabel 'collision-avoidance rate (%)'\nplot {2}\n",
+      key_h, top - key_h, core::join(car_plot, ", "));
+  body += fmt::format(
+      "set origin 0.5,{0}\nset size 0.5,{1}\nset title 'Mitigability success'\n"
+      "set ylabel 'mitigability success (%)'\nplot {2}\n",
+      key_h, top - key_h, core::join(ms_plot, ", "));
   body += "set key on\n" + key_strip(key_h, 1, 0, key) + "unset multiplot\n";
   render_png_and_svg(figure.png, figure.svg, data, body, 1400, 650, 13);
   return true;
@@ -281,9 +284,10 @@ Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& rep
   std::string plot;
   for (std::size_t s = 0; s < kSeries.size(); ++s) {
     const double shift = (static_cast<double>(s) - 1.0) * kWidth;
-    plot += fmt::format("$coverage using ($1+{0}):{1} with boxes lc rgb {2} title {3}, "
-                        "$coverage using ($1+{0}):{1}:(pct_label(${1})) with labels offset 0,0.7 font ',11' notitle",
-                        plot_number(shift), s + 2, single_quoted(kSeries[s].second), single_quoted(kSeries[s].first));
+    plot += fmt::format(
+        "$coverage using ($1+{0}):{1} with boxes lc rgb {2} title {3}, "
+        "$coverage using ($1+{0}):{1}:(pct_label(${1})) with labels offset 0,0.7 font ',11' notitle",
+        plot_number(shift), s + 2, single_quoted(kSeries[s].second), single_quoted(kSeries[s].first));
     plot += s + 1 < kSeries.size() ? ", " : "\n";
   }
   const double n = static_cast<double>(reports.size());
@@ -321,7 +325,8 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const fs::pa
   for (const auto& r : rows) {
     add_unique(ucas, r.uca);
     add_unique(hazards, r.hazard);
-    auto it = std::find_if(links.begin(), links.end(), [&](const Link& l) { return l.uca == r.uca && l.hazard == r.hazard; });
+    auto it =
+        std::find_if(links.begin(), links.end(), [&](const Link& l) { return l.uca == r.uca && l.hazard == r.hazard; });
     if (it == links.end()) it = links.insert(links.end(), Link{r.uca, r.hazard, {}, {}});
     if (!r.loss.empty()) add_unique(it->losses, r.loss);
     for (const auto& s : r.scenarios) add_unique(it->scenarios, s);
@@ -365,7 +370,8 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const fs::pa
       "$trace using 1:2:(sprintf('%d', $3)) with labels font ',13'\n",
       plot_number(static_cast<double>(hazards.size()) - 0.5), plot_number(static_cast<double>(ucas.size()) - 0.5),
       tic_list(hazards), longest > 6 ? " rotate by -30" : "", tic_list(ucas), std::max<std::size_t>(most, 1),
-      std::max<std::size_t>(1, (most + 9) / 10), static_cast<int>(hazards.size()) - 2, static_cast<int>(ucas.size()) - 2);
+      std::max<std::size_t>(1, (most + 9) / 10), static_cast<int>(hazards.size()) - 2,
+      static_cast<int>(ucas.size()) - 2);
   render_png_and_svg(figure.png, figure.svg, datablock("trace", lines), body, width, height, 13);
   return figure;
 }

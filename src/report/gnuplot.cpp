@@ -14,7 +14,8 @@ std::string gnuplot_terminal(const fs::path& output, int width_px, int height_px
   const std::string ext = output.extension().string();
   if (ext == ".png")
     return fmt::format("set terminal pngcairo size {},{} enhanced font 'Sans,10'", width_px, height_px);
-  if (ext == ".svg") return fmt::format("set terminal svg size {},{} dynamic enhanced font 'Sans,10'", width_px, height_px);
+  if (ext == ".svg")
+    return fmt::format("set terminal svg size {},{} dynamic enhanced font 'Sans,10'", width_px, height_px);
   throw UsageError(fmt::format("cannot draw '{}': expected a file name ending in .png or .svg", output.string()));
 }
 

@@ -22,24 +22,24 @@ namespace {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
+using detail::boundary_key_entry;
+using detail::boundary_text;
+using detail::boxes;
+using detail::cell_box;
+using detail::cell_columns;
 using detail::is_o_or_r;
-using detail::write_csv;
-using detail::region_colour;
-using detail::MapPanel;
-using detail::MapLayout;
-using detail::kMapWidthPx;
-using detail::kMapHeightPx;
 using detail::kMapFontPt;
+using detail::kMapHeightPx;
+using detail::kMapWidthPx;
 using detail::lay_out_map;
+using detail::map_script;
+using detail::MapLayout;
+using detail::MapPanel;
 using detail::no_map_note;
 using detail::panel_caption;
-using detail::cell_columns;
-using detail::cell_box;
-using detail::boxes;
-using detail::boundary_text;
 using detail::panel_script;
-using detail::boundary_key_entry;
-using detail::map_script;
+using detail::region_colour;
+using detail::write_csv;
 
 constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
 
@@ -143,9 +143,9 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs:
   const std::vector<std::string> key{fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title 'infeasible'",
                                                  single_quoted(region_colour("infeasible"))),
                                      boundary_key_entry("stop boundary " + boundary_text(latency_s))};
-  const std::string body = map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)",
-                                                          layout.total_cells),
-                                      scale + panel_plots, key, 1, 0, 0.035);
+  const std::string body =
+      map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)", layout.total_cells),
+                 scale + panel_plots, key, 1, 0, 0.035);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }

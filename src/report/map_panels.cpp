@@ -12,8 +12,8 @@
 #include <limits>
 #include <utility>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::report::detail {
@@ -122,11 +122,10 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const st
   std::vector<CellRecord> cells = results::records_of_grid(records, p.spec.grid);
   if (cells.empty()) {
     layout.missing.push_back(fmt::format("no grid '{}' in the store: panel ({}) left out", p.spec.grid, p.spec.letter));
-    layout.missing_labels += fmt::format(
-        "set label {} {} at screen {},{} center\n", 90 + i,
-        single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.spec.letter, p.spec.name,
-                                  enhanced_literal(p.spec.grid))),
-        p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
+    layout.missing_labels += fmt::format("set label {} {} at screen {},{} center\n", 90 + i,
+                                         single_quoted(fmt::format("({}) {}: no grid '{}' in the store", p.spec.letter,
+                                                                   p.spec.name, enhanced_literal(p.spec.grid))),
+                                         p.origin_x + 0.25, p.origin_y + layout.cell_h / 2.0);
     return;
   }
   layout.total_cells += cells.size();
@@ -164,8 +163,8 @@ MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& g
 }
 
 std::string no_map_note(std::string_view what, const MapPanels& grids) {
-  return fmt::format("no {}: none of the grids '{}', '{}', '{}', '{}' is in the store", what, grids.coarse,
-                     grids.fine, grids.speed_mu, grids.ttc_mu);
+  return fmt::format("no {}: none of the grids '{}', '{}', '{}', '{}' is in the store", what, grids.coarse, grids.fine,
+                     grids.speed_mu, grids.ttc_mu);
 }
 
 std::string panel_extent(const MapPanel& p) {
@@ -178,8 +177,8 @@ std::string panel_caption(const MapPanel& p, std::string_view detail) {
 }
 
 core::Row cell_columns(const MapPanel& p, const CellRecord& c) {
-  return {std::string(1, p.spec.letter), c.grid,           plot_number(c.speed_kph), plot_number(c.ttc_s),
-          plot_number(c.mu),             plot_number(c.passage_m), region_of(c)};
+  return {std::string(1, p.spec.letter), c.grid,      plot_number(c.speed_kph), plot_number(c.ttc_s), plot_number(c.mu),
+          plot_number(c.passage_m),      region_of(c)};
 }
 
 std::string cell_box(const MapPanel& p, const CellRecord& c) {
@@ -193,8 +192,7 @@ std::string boxes(std::string_view block, std::string_view colour) {
 }
 
 std::string boundary_text(double latency_s) {
-  return latency_s == 0.0 ? std::string("TTC = v/(2μg)")
-                          : fmt::format("TTC = {:.3g} s + v/(2μg)", latency_s);
+  return latency_s == 0.0 ? std::string("TTC = v/(2μg)") : fmt::format("TTC = {:.3g} s + v/(2μg)", latency_s);
 }
 
 std::string boundary_function(const MapPanel& p, double latency_s) {
@@ -221,9 +219,9 @@ std::string panel_plot(const MapLayout& layout, const MapPanel& p, std::string_v
                      double_quoted(enhanced_literal(heading) + "\n{/*0.8 " + enhanced_literal(subtitle) + "}"));
   out += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.spec.x)),
                      single_quoted(axis_label(p.spec.y)));
-  out += fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(p.xs.front() - p.hx),
-                     plot_number(p.xs.back() + p.hx), plot_number(p.ys.front() - p.hy),
-                     plot_number(p.ys.back() + p.hy));
+  out +=
+      fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(p.xs.front() - p.hx),
+                  plot_number(p.xs.back() + p.hx), plot_number(p.ys.front() - p.hy), plot_number(p.ys.back() + p.hy));
   return out + "plot " + core::join(layers, ", ") + "\n";
 }
 

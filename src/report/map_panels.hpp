@@ -129,8 +129,8 @@ inline constexpr double kMapTop = 0.955;  // below the multiplot's title
 
 /// The whole map: a multiplot titled `title` holding `panels` (panel_script), then the key strip
 /// (`key` entries in at most `key_rows` rows, `strip_h` high) with the empty slots' labels.
-[[nodiscard]] std::string map_script(const MapLayout& layout, std::string_view title,
-                                     const std::string& panels, const std::vector<std::string>& key,
-                                     int key_rows, int key_width_adjust, double strip_h);
+[[nodiscard]] std::string map_script(const MapLayout& layout, std::string_view title, const std::string& panels,
+                                     const std::vector<std::string>& key, int key_rows, int key_width_adjust,
+                                     double strip_h);
 
 }  // namespace emrm::report::detail

@@ -31,8 +31,7 @@ nlohmann::json parse_json_file(const fs::path& path) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path.string(), 1, static_cast<int>(e.byte)},
-                     fmt::format("not valid JSON: {}", e.what()));
+    throw InputError({path.string(), 1, static_cast<int>(e.byte)}, fmt::format("not valid JSON: {}", e.what()));
   } catch (const nlohmann::json::exception& e) {  // a number too large for a double: 1e999
     throw InputError({path.string(), 1, 1}, fmt::format("not valid JSON: {}", e.what()));
   }
@@ -43,10 +42,9 @@ std::vector<PlanFactor> factors_of(const nlohmann::json& list, const std::string
   std::vector<PlanFactor> factors;
   if (list.is_null()) return factors;
   const auto bad = [&](std::size_t i) {
-    return InputError({file, 1, 1},
-                      fmt::format("'factors[{}]' must be an object with a string 'name', a string "
-                                  "'unit' and 'levels' listing objects with a string 'label'",
-                                  i));
+    return InputError({file, 1, 1}, fmt::format("'factors[{}]' must be an object with a string 'name', a string "
+                                                "'unit' and 'levels' listing objects with a string 'label'",
+                                                i));
   };
   if (!list.is_array()) throw bad(0);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -79,10 +77,9 @@ std::vector<int> levels_of_key(const std::string& key, const std::vector<PlanFac
                                const SourceLocation& where) {
   std::vector<int> levels;
   const auto bad = [&] {
-    return InputError(where,
-                      fmt::format("cell '{}' is not a key of the plan's {} factors (c, then one level each, "
-                                  "separated by '.')",
-                                  key, factors.size()));
+    return InputError(where, fmt::format("cell '{}' is not a key of the plan's {} factors (c, then one level each, "
+                                         "separated by '.')",
+                                         key, factors.size()));
   };
   if (key.empty() || key[0] != 'c') throw bad();
   const char* p = key.data() + 1;
@@ -103,8 +100,7 @@ std::vector<int> levels_of_key(const std::string& key, const std::vector<PlanFac
 
 void read_outcomes(const fs::path& path, PlannedRun& run) {
   const auto records = core::parse_csv(core::read_input_file(path), path.string());
-  if (records.empty())
-    throw InputError({path.string(), 1, 1}, "expected a header: id, cell, ..., feasible, success");
+  if (records.empty()) throw InputError({path.string(), 1, 1}, "expected a header: id, cell, ..., feasible, success");
   const core::Row& header = records.front().fields;
   const auto column = [&](const char* name) {
     const auto it = std::find(header.begin(), header.end(), name);
@@ -137,8 +133,8 @@ void attach_records(const fs::path& store, PlannedRun& run) {
                                  cells.size(), campaign::kPlanGrid));
   for (auto& c : cells) {
     if (c.index < 0 || static_cast<std::size_t>(c.index) >= run.scenarios.size())
-      throw UsageError(fmt::format("{} holds a scenario index {} beyond the run's {} scenarios",
-                                   store.string(), c.index, run.scenarios.size()));
+      throw UsageError(fmt::format("{} holds a scenario index {} beyond the run's {} scenarios", store.string(),
+                                   c.index, run.scenarios.size()));
     run.scenarios[static_cast<std::size_t>(c.index)].record = std::move(c);
   }
 }
@@ -202,8 +198,7 @@ PairData pair_data(const PlannedRun& run, std::size_t a, std::size_t b) {
         const double n = static_cast<double>(c.feasible), rate = static_cast<double>(c.successes) / n;
         const auto w = scenario::wilson_interval(static_cast<double>(c.successes), n, run.confidence);
         d.rated.push_back(fmt::format("{} {}", box, plot_number(rate)));
-        d.labels.push_back(
-            fmt::format("{} {} {}/{} [{:.2f},{:.2f}]", i, k, c.successes, c.feasible, w.low, w.high));
+        d.labels.push_back(fmt::format("{} {} {}/{} [{:.2f},{:.2f}]", i, k, c.successes, c.feasible, w.low, w.high));
         row.insert(row.end(), {plot_number(rate), plot_number(w.low), plot_number(w.high)});
       } else {
         d.infeasible.push_back(fmt::format("{} {}", box, rgb_value("#bdbdbd")));
@@ -222,8 +217,7 @@ PairData pair_data(const PlannedRun& run, std::size_t a, std::size_t b) {
 }
 
 /// The gnuplot body of a pair map: one panel over a key strip.
-std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairData& d,
-                        const std::string& title) {
+std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairData& d, const std::string& title) {
   constexpr double kKeyH = 0.07, kTop = 0.955;
   std::string body = fmt::format(
       "set multiplot title {} font ',16'\nset tics out nomirror\nset border 3\nset key off\n"
@@ -239,19 +233,16 @@ std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairDa
                       plot_number(static_cast<double>(fa.levels.size()) - 0.5),
                       plot_number(static_cast<double>(fb.levels.size()) - 0.5));
   std::vector<std::string> layers;
-  if (!d.rated.empty())
-    layers.push_back("$rated using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc palette");
+  if (!d.rated.empty()) layers.push_back("$rated using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc palette");
   if (!d.infeasible.empty())
     layers.push_back("$infeasible using 1:2:3:4:5 with boxxyerror fs solid 1.0 noborder lc rgb variable");
   if (!d.labels.empty())
     layers.push_back(
         "$labels using 1:($2+0.1):3 with labels noenhanced font ',13', "
         "$labels using 1:($2-0.14):4 with labels noenhanced font ',10'");
-  if (!d.crosses.empty())
-    layers.push_back("$crosses using 1:2 with points pt 2 ps 1.5 lw 1.5 lc rgb 'black'");
+  if (!d.crosses.empty()) layers.push_back("$crosses using 1:2 with points pt 2 ps 1.5 lw 1.5 lc rgb 'black'");
   body += "plot " + core::join(layers, ", ") + "\n";
-  std::vector<std::string> key{
-      "NaN with boxes fs solid 1.0 lc rgb '#bdbdbd' title 'all its scenarios infeasible'"};
+  std::vector<std::string> key{"NaN with boxes fs solid 1.0 lc rgb '#bdbdbd' title 'all its scenarios infeasible'"};
   if (!d.crosses.empty())
     key.push_back(
         "NaN with points pt 2 ps 1.2 lw 1.5 lc rgb 'black' title 'undecided scenario (no avoidance found, "
@@ -273,13 +264,12 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
       "that succeed (red 0, yellow 0.5, green 1) and labelled successes/feasible over the Wilson interval at "
       "{:g} "
       "%; grey: only infeasible scenarios; blank: no scenario planned there.{}",
-      pair, run.acceptance.empty() ? std::string("the plan's acceptance") : run.acceptance, d.scenarios,
-      d.feasible, 100.0 * run.confidence,
-      d.undecided == 0
-          ? std::string()
-          : fmt::format(" A cross marks a pair with undecided scenarios ({} in all): a search found no "
-                        "avoidance, but nothing proves that none exists.",
-                        d.undecided));
+      pair, run.acceptance.empty() ? std::string("the plan's acceptance") : run.acceptance, d.scenarios, d.feasible,
+      100.0 * run.confidence,
+      d.undecided == 0 ? std::string()
+                       : fmt::format(" A cross marks a pair with undecided scenarios ({} in all): a search found no "
+                                     "avoidance, but nothing proves that none exists.",
+                                     d.undecided));
   detail::write_csv(figure, dir,
                     {"factor_x", "level_x", "bin_x", "factor_y", "level_y", "bin_y", "scenarios", "feasible",
                      "successes", "rate", "wilson_low", "wilson_high", "undecided"},
@@ -287,8 +277,8 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
   std::string data = datablock("rated", d.rated) + datablock("infeasible", d.infeasible) +
                      datablock("labels", d.labels) + datablock("crosses", d.crosses);
   const std::string title = fmt::format("Planned run: estimated success, {}", enhanced_literal(pair));
-  render_png_and_svg(figure.png, figure.svg, data, pair_script(fa, fb, d, title), kPlanMapWidthPx,
-                     kPlanMapHeightPx, kPlanMapFontPt);
+  render_png_and_svg(figure.png, figure.svg, data, pair_script(fa, fb, d, title), kPlanMapWidthPx, kPlanMapHeightPx,
+                     kPlanMapFontPt);
   return figure;
 }
 
@@ -297,8 +287,7 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
 std::optional<PlannedRun> read_planned_run(const fs::path& dir) {
   for (const fs::path& folder : {dir / "plan_results", dir}) {
     std::error_code ec;
-    if (!fs::is_regular_file(folder / "outcomes.csv", ec) ||
-        !fs::is_regular_file(folder / "estimates.json", ec))
+    if (!fs::is_regular_file(folder / "outcomes.csv", ec) || !fs::is_regular_file(folder / "estimates.json", ec))
       continue;
     PlannedRun run;
     run.folder = folder;
@@ -317,8 +306,7 @@ std::vector<Figure> draw_plan_maps(const PlannedRun& run, const fs::path& dir, s
       if (run.factors[a].levels.size() > 1 && run.factors[b].levels.size() > 1) pairs.emplace_back(a, b);
   std::vector<Figure> figures;
   const std::size_t drawn = std::min(pairs.size(), max_maps);
-  for (std::size_t i = 0; i < drawn; ++i)
-    figures.push_back(draw_pair_map(run, pairs[i].first, pairs[i].second, dir));
+  for (std::size_t i = 0; i < drawn; ++i) figures.push_back(draw_pair_map(run, pairs[i].first, pairs[i].second, dir));
   if (drawn < pairs.size()) {
     Figure more;
     more.name = "plan_map_more";
@@ -347,10 +335,9 @@ Figure draw_plan_sweep_curves(const PlannedRun& run, const fs::path& dir, const 
     Figure figure;
     figure.name = name;
     figure.title = "Parameter sweep of the planned run by the ODD's bins";
-    figure.note = run.factors.empty()
-                      ? "no ODD factors in estimates.json (emrm run copies them from the plan's "
-                        "scenarios.json beside scenarios.csv)"
-                      : "no factor of the ODD has two levels or more";
+    figure.note = run.factors.empty() ? "no ODD factors in estimates.json (emrm run copies them from the plan's "
+                                        "scenarios.json beside scenarios.csv)"
+                                      : "no factor of the ODD has two levels or more";
     return figure;
   }
   std::vector<CellRecord> cells;

@@ -15,10 +15,10 @@
 #include <utility>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/figures.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/vehicle.hpp"
 #include "figure_parts.hpp"
 #include "map_panels.hpp"
@@ -28,39 +28,39 @@ namespace {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
+using detail::add_panel;
 using detail::Axis;
+using detail::boundary_function;
+using detail::boundary_key_entry;
+using detail::boundary_text;
+using detail::boxes;
+using detail::cell_box;
+using detail::cell_columns;
 using detail::distinct_values;
+using detail::empty_layout;
 using detail::file_stem;
-using detail::StemSet;
+using detail::fill_panel;
+using detail::fixed_text;
 using detail::is_o_or_r;
 using detail::is_undecided;
-using detail::value_of;
-using detail::write_csv;
-using detail::kRegions;
-using detail::region_colour;
-using detail::fixed_text;
-using detail::MapPanel;
-using detail::MapLayout;
-using detail::kMapWidthPx;
-using detail::kMapHeightPx;
 using detail::kMapFontPt;
+using detail::kMapHeightPx;
 using detail::kMapTop;
-using detail::fill_panel;
-using detail::add_panel;
-using detail::empty_layout;
+using detail::kMapWidthPx;
+using detail::kRegions;
 using detail::lay_out_map;
+using detail::map_script;
+using detail::MapLayout;
+using detail::MapPanel;
 using detail::no_map_note;
-using detail::panel_extent;
 using detail::panel_caption;
-using detail::cell_columns;
-using detail::cell_box;
-using detail::boxes;
-using detail::boundary_text;
-using detail::boundary_function;
+using detail::panel_extent;
 using detail::panel_plot;
 using detail::panel_script;
-using detail::boundary_key_entry;
-using detail::map_script;
+using detail::region_colour;
+using detail::StemSet;
+using detail::value_of;
+using detail::write_csv;
 
 constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
 constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
@@ -103,10 +103,10 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
     out.layers.push_back(fmt::format("${} using 1:2 with points {} notitle", cross_block, cross_style(layout, p)));
   }
   const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
-  out.shares = regions.feasible == 0 ? std::string("no feasible cell")
-                                     : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g),
-                                                   share(regions.y), share(regions.o), share(regions.r),
-                                                   regions.feasible);
+  out.shares = regions.feasible == 0
+                   ? std::string("no feasible cell")
+                   : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
+                                 share(regions.o), share(regions.r), regions.feasible);
   if (!crosses.empty()) out.shares += fmt::format(", {} undecided", crosses.size());
   return out;
 }
@@ -117,14 +117,15 @@ struct EvidenceCounts {
   [[nodiscard]] std::string caption() const {
     std::string out;
     if (undecided > 0)
-      out = fmt::format(" A cross marks the {} undecided O/R cells: a search found no avoidance, but nothing "
-                        "proves that none exists.",
-                        undecided);
+      out = fmt::format(
+          " A cross marks the {} undecided O/R cells: a search found no avoidance, but nothing "
+          "proves that none exists.",
+          undecided);
     if (certified > 0)
-      out += unproven == 0 ? fmt::format(" {} O/R cells ({}) are certified unavoidable.",
-                                         undecided == 0 ? "All" : "The unmarked", certified)
-                           : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.", certified,
-                                         unproven);
+      out += unproven == 0
+                 ? fmt::format(" {} O/R cells ({}) are certified unavoidable.", undecided == 0 ? "All" : "The unmarked",
+                               certified)
+                 : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.", certified, unproven);
     return out;
   }
 };
@@ -147,7 +148,8 @@ std::vector<std::string> region_key(const std::string& boundary, bool undecided)
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
   if (!boundary.empty()) key.push_back(boundary_key_entry(boundary));
-  if (undecided) key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
+  if (undecided)
+    key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
   return key;
 }
 
@@ -193,9 +195,8 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
   write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
 
   const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
-  const std::string body =
-      map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells), panel_plots, key,
-                 undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
+  const std::string body = map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells),
+                                      panel_plots, key, undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }
@@ -235,8 +236,8 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
     const RegionPanel drawn = region_panel(layout, p, rows, data);
     for (std::size_t r = before; r < rows.size(); ++r) rows[r].insert(rows[r].begin() + 1, run.name);
     undecided = undecided || drawn.layers.size() > 1;
-    caption_parts.push_back(panel_caption(p, fmt::format("{}; {}; stop boundary {}", drawn.shares, a.summary(),
-                                                         boundary_text(latency_s))));
+    caption_parts.push_back(
+        panel_caption(p, fmt::format("{}; {}; stop boundary {}", drawn.shares, a.summary(), boundary_text(latency_s))));
     panel_plots += panel_script(layout, p, drawn.shares, drawn.layers, latency_s);
   }
   if (runs.size() > shown) figure.note = fmt::format("{} profiles; the first {} are drawn", runs.size(), shown);
@@ -247,9 +248,9 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
       core::join(caption_parts, "; "));
   write_csv(figure, dir, {"panel", "profile", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"},
             rows);
-  const std::string body = map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
-                                      region_key("stop boundary of the profile", undecided), 2, undecided ? 0 : -6,
-                                      layout.key_h);
+  const std::string body =
+      map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
+                 region_key("stop boundary of the profile", undecided), 2, undecided ? 0 : -6, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }
@@ -318,8 +319,8 @@ std::vector<GridSlice> slices_of(const std::vector<CellRecord>& cells, const Gri
     for (std::size_t i = 0; i < cut.held.size(); ++i) {
       const auto& values = distinct[i];
       const double v = value_of(c, cut.held[i]);
-      key.push_back(static_cast<std::size_t>(
-          std::lower_bound(values.begin(), values.end(), v - detail::kSameValue) - values.begin()));
+      key.push_back(static_cast<std::size_t>(std::lower_bound(values.begin(), values.end(), v - detail::kSameValue) -
+                                             values.begin()));
     }
     GridSlice& slice = by_key[key];
     if (slice.cells.empty())
@@ -390,10 +391,9 @@ Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSli
   write_csv(figure, dir, {"slice", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
   const std::vector<std::string> key =
       region_key(boundary ? "stop boundary " + boundary_text(latency_s) : std::string(), evidence.undecided > 0);
-  const std::string body =
-      map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
-                 panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key,
-                 evidence.undecided == 0 ? 3 : 4, 0, layout.key_h);
+  const std::string body = map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
+                                      panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key,
+                                      evidence.undecided == 0 ? 3 : 4, 0, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kSliceWidthPx, kSliceHeightPx, kMapFontPt);
   return figure;
 }
@@ -465,8 +465,9 @@ MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   std::string data = map.data;
   RegionPanel drawn = region_panel(layout, p, cell_rows, data);
   drawn.layers.insert(drawn.layers.end(), map.layers.begin(), map.layers.end());
-  const std::string body = map_script(layout, enhanced_literal(map.title), panel_plot(layout, p, drawn.shares, drawn.layers),
-                                      key, static_cast<int>(key_rows), kOverlaidKeyWidthAdjust, layout.key_h);
+  const std::string body =
+      map_script(layout, enhanced_literal(map.title), panel_plot(layout, p, drawn.shares, drawn.layers), key,
+                 static_cast<int>(key_rows), kOverlaidKeyWidthAdjust, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kOverlaidWidthPx, kOverlaidHeightPx, kMapFontPt);
   return {panel_extent(p), drawn.shares, evidence.caption()};
 }

@@ -7,34 +7,33 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <optional>
 #include <set>
 #include <sstream>
 
-#include "emrm/results/aggregate.hpp"
-#include "emrm/results/diagnostics.hpp"
-#include "emrm/results/profiles.hpp"
+#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
-#include "emrm/campaign/plan_settings.hpp"
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/trajectory_figure.hpp"
-#include "html.hpp"
-#include "side_sections.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/diagnostics.hpp"
+#include "emrm/results/profiles.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/version.hpp"
+#include "html.hpp"
+#include "side_sections.hpp"
 
 namespace emrm::report {
 namespace {
 
 namespace fs = std::filesystem;
+using detail::coverage_candidates;
 using detail::html_table;
 using detail::read_or_empty;
-using detail::coverage_candidates;
 using detail::shortfalls_html;
 using detail::side_sections_html;
 using Clock = std::chrono::steady_clock;
@@ -47,11 +46,13 @@ void check_results_dir(const fs::path& dir) {
 // Both drawing programs, found before the first figure: without one the report would stop halfway.
 void require_drawing_programs() {
   if (!core::find_program("gnuplot"))
-    throw Error("emrm report: cannot draw figures: gnuplot was not found on PATH; install it (apt-get install "
-                "gnuplot-nox)");
+    throw Error(
+        "emrm report: cannot draw figures: gnuplot was not found on PATH; install it (apt-get install "
+        "gnuplot-nox)");
   if (!fsm::dot_available())
-    throw Error("emrm report: cannot draw the FSM figures: the Graphviz program 'dot' was not found on PATH; "
-                "install Graphviz (apt-get install graphviz)");
+    throw Error(
+        "emrm report: cannot draw the FSM figures: the Graphviz program 'dot' was not found on PATH; "
+        "install Graphviz (apt-get install graphviz)");
 }
 
 // A table written by `emrm reproduce` (DIR/tables/NAME.csv with its Markdown twin): title, rows
@@ -70,8 +71,8 @@ std::vector<TableFile> read_tables(const fs::path& dir) {
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir / "tables"))
     if (entry.path().extension() == ".csv" && entry.path().stem() != "kpis") names.push_back(entry.path().stem());
-  const std::vector<std::string> order{"emrm_vs_baseline", "by_parameter", "regions", "regions_by_profile", "claims",
-                                       "coverage"};
+  const std::vector<std::string> order{"emrm_vs_baseline",   "by_parameter", "regions",
+                                       "regions_by_profile", "claims",       "coverage"};
   std::sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
     const auto rank = [&](const std::string& n) { return std::find(order.begin(), order.end(), n) - order.begin(); };
     return std::pair(rank(a), a) < std::pair(rank(b), b);
@@ -127,9 +128,9 @@ std::string figure_html(const Figure& f, const fs::path& dir) {
   out += fmt::format("<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n", base64(core::read_file(f.png)),
                      html_escape(f.title));
   const auto rel = [&](const fs::path& p) { return html_escape(fs::relative(p, dir).generic_string()); };
-  out += fmt::format("<figcaption>{}{} <span class=\"files\">{} · {} · {}</span></figcaption>\n",
-                     html_escape(f.title), f.note.empty() ? "" : " (" + html_escape(f.note) + ")",
-                     rel(f.svg), rel(f.png), f.csv.empty() ? std::string("—") : rel(f.csv));
+  out += fmt::format("<figcaption>{}{} <span class=\"files\">{} · {} · {}</span></figcaption>\n", html_escape(f.title),
+                     f.note.empty() ? "" : " (" + html_escape(f.note) + ")", rel(f.svg), rel(f.png),
+                     f.csv.empty() ? std::string("—") : rel(f.csv));
   return out + "</figure>\n";
 }
 
@@ -246,12 +247,23 @@ std::string html_escape(std::string_view text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -463,11 +475,12 @@ ReportSummary write_report(const fs::path& dir) {
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
   html += shortfalls_html(dir);
   html += actuation_html(scene.actuation, in.runs);
-  html += "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
-          "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
-          "<li><a href=\"#verification\">Verification</a></li>"
-          "<li><a href=\"#diagnostics\">Diagnostics</a></li><li><a href=\"#findings\">Findings</a></li>"
-          "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
+  html +=
+      "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
+      "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
+      "<li><a href=\"#verification\">Verification</a></li>"
+      "<li><a href=\"#diagnostics\">Diagnostics</a></li><li><a href=\"#findings\">Findings</a></li>"
+      "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
   html += "<h2 id=\"regions\">Regions per grid</h2>\n" + regions_html(records);
   html += "<h2 id=\"tables\">Tables (ours beside the paper's)</h2>\n";
   if (in.tables.empty()) html += "<p>No tables in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
@@ -480,8 +493,8 @@ ReportSummary write_report(const fs::path& dir) {
   for (const auto& f : summary.figures) html += figure_html(f, dir);
   html += side_sections_html(dir);
   html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
-  html += "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) +
-          "</pre></details>\n";
+  html +=
+      "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) + "</pre></details>\n";
   html += "<details><summary>scene</summary><pre>" + html_escape(meta.scene_yaml) + "</pre></details>\n";
   html += "</body>\n</html>\n";
   summary.html = dir / "report.html";

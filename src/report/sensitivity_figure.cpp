@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "emrm/results/sensitivity.hpp"
 #include "emrm/report/figures.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/sensitivity.hpp"
 #include "figure_parts.hpp"
 
 namespace emrm::report {

@@ -39,8 +39,7 @@ std::string findings_html(const fs::path& dir) {
   const std::string text = read_or_empty(dir / "analysis" / "findings.json");
   if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
   const auto j = nlohmann::json::parse(text, nullptr, false);
-  if (!j.is_array() && !(j.is_object() && j.contains("findings")))
-    return "<pre>" + html_escape(text) + "</pre>\n";
+  if (!j.is_array() && !(j.is_object() && j.contains("findings"))) return "<pre>" + html_escape(text) + "</pre>\n";
   const auto& list = j.is_array() ? j : j["findings"];
   if (list.empty()) return "<p class=\"ok\">No findings.</p>\n";
   try {
@@ -59,19 +58,20 @@ std::string diagnostics_table(const nlohmann::json& d) {
   const auto count = [](const nlohmann::json& j, const char* key) { return j.at(key).get<std::size_t>(); };
   core::Row header{"check", "result"};
   std::vector<core::Row> rows;
-  rows.push_back({"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
-                                               "(must be 0), {} G cells below the boundary (must be 0)",
-                                               count(stop, "stoppable"), count(stop, "feasible"),
-                                               count(stop, "stoppable_red_count"),
-                                               count(stop, "green_not_stoppable_count"))});
+  rows.push_back(
+      {"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
+                                    "(must be 0), {} G cells below the boundary (must be 0)",
+                                    count(stop, "stoppable"), count(stop, "feasible"),
+                                    count(stop, "stoppable_red_count"), count(stop, "green_not_stoppable_count"))});
   std::vector<std::string> reversals;
   for (const auto& c : mono.at("counts"))
     if (count(c, "reversals") > 0)
       reversals.push_back(fmt::format("{} {} over {}: {} of {} pairs", c.at("grid").get<std::string>(),
                                       c.at("strategy").get<std::string>(), c.at("factor").get<std::string>(),
                                       count(c, "reversals"), count(c, "pairs")));
-  rows.push_back({"monotonicity in TTC and mu", fmt::format("{} reversals{}", count(mono, "total_reversals"),
-                                                            reversals.empty() ? "" : " (" + core::join(reversals, "; ") + ")")});
+  rows.push_back(
+      {"monotonicity in TTC and mu", fmt::format("{} reversals{}", count(mono, "total_reversals"),
+                                                 reversals.empty() ? "" : " (" + core::join(reversals, "; ") + ")")});
   std::vector<std::string> planners;
   for (const auto& [name, c] : reference.items())
     if (c.is_object())
@@ -82,9 +82,9 @@ std::string diagnostics_table(const nlohmann::json& d) {
                               reference.at("seed").get<std::uint64_t>()),
                   planners.empty() ? std::string("no strategy checked") : core::join(planners, "; ")});
   for (const auto& [name, c] : d.at("fsm_coverage").items())
-    rows.push_back({"FSM transition coverage: " + name,
-                    fmt::format("{} of {} transitions exercised by {} traces", count(c, "covered"), count(c, "total"),
-                                count(c, "traces"))});
+    rows.push_back(
+        {"FSM transition coverage: " + name, fmt::format("{} of {} transitions exercised by {} traces",
+                                                         count(c, "covered"), count(c, "total"), count(c, "traces"))});
   return html_table(header, rows);
 }
 
@@ -143,17 +143,18 @@ std::string shortfalls_html(const fs::path& dir) {
       "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
       "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
   for (const auto& s : run->second["shortfalls"])
-    out += "<li>" + html_escape(s.is_object() && s.contains("message") && s["message"].is_string()
-                                    ? s["message"].get<std::string>()
-                                    : s.dump()) +
-           "</li>\n";
+    out +=
+        "<li>" +
+        html_escape(s.is_object() && s.contains("message") && s["message"].is_string() ? s["message"].get<std::string>()
+                                                                                       : s.dump()) +
+        "</li>\n";
   return out + "</ul></div>\n";
 }
 
 std::string side_sections_html(const fs::path& dir) {
-  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" +
-         detail::statistics_html(dir) + "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" +
-         verification_html(dir) + "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir) +
+  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(dir) +
+         "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir) +
+         "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir) +
          "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
 }
 

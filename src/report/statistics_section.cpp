@@ -60,8 +60,11 @@ Cells cells_table(const Json& j, double epsilon, double confidence) {
       row.push_back(c.contains("levels") ? c.at("levels").value(f, "") : "");
       bins.push_back(f + " " + row.back());
     }
-    for (const auto& field : {std::to_string(n), std::to_string(k), fixed3(rate), fixed3(low), fixed3(high),
-                              fixed3(0.5 * (high - low)), std::string(!tracked ? "no target" : met ? "yes" : "NO")})
+    for (const auto& field :
+         {std::to_string(n), std::to_string(k), fixed3(rate), fixed3(low), fixed3(high), fixed3(0.5 * (high - low)),
+          std::string(!tracked ? "no target"
+                      : met    ? "yes"
+                               : "NO")})
       row.push_back(field);
     rows.push_back(std::move(row));
     if (!tracked) continue;
@@ -86,7 +89,9 @@ std::string weighted_table(const Json& j) {
   for (const auto& item : j.at("weighted_success").items()) {  // not a structured binding: clang < 16
     const std::string& subset = item.key();                    // cannot capture one in a lambda
     const Json& e = item.value();
-    const auto num = [&](const char* key) { return e.contains(key) && e[key].is_number() ? fixed3(e[key].get<double>()) : "—"; };
+    const auto num = [&](const char* key) {
+      return e.contains(key) && e[key].is_number() ? fixed3(e[key].get<double>()) : "—";
+    };
     const auto& w = e.at("wilson");
     rows.push_back({subset, std::to_string(e.at("n").get<std::size_t>()), num("n_eff"), num("estimate"),
                     fixed3(w.at(0).get<double>()), fixed3(w.at(1).get<double>()),
@@ -101,17 +106,17 @@ std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
   const double delta = 1.0 - confidence;
   std::string criterion = "the acceptance strategy avoids the collision";
   if (const auto a = j.find("acceptance"); a != j.end())
-    criterion = fmt::format("<code>{}</code> {}", html_escape(a->at("strategy").get<std::string>()),
-                            a->at("outcome").get<std::string>() == "mitigated"
-                                ? "avoids the collision or lowers the loss level"
-                                : "avoids the collision");
+    criterion =
+        fmt::format("<code>{}</code> {}", html_escape(a->at("strategy").get<std::string>()),
+                    a->at("outcome").get<std::string>() == "mitigated" ? "avoids the collision or lowers the loss level"
+                                                                       : "avoids the collision");
   const Cells cells = cells_table(j, epsilon, confidence);
   std::string html = fmt::format(
       "<h3 id=\"statistics\">Statistics: acceptance criterion “{}”</h3>\n"
       "<p>From {}: {} scenarios. Each cell of the ODD estimates the probability that the criterion holds; "
       "its target is a Wilson interval no wider than ±{:g} at {:g} % confidence. {} of {} tracked cells meet it.</p>\n",
-      criterion, html_escape(fs::relative(file, dir).generic_string()), j.at("scenarios").get<std::size_t>(),
-      epsilon, 100.0 * confidence, cells.met, cells.tracked);
+      criterion, html_escape(fs::relative(file, dir).generic_string()), j.at("scenarios").get<std::size_t>(), epsilon,
+      100.0 * confidence, cells.met, cells.tracked);
   html += cells.table;
   if (cells.tracked > 0) {
     const double hoeffding = scenario::hoeffding_epsilon(static_cast<double>(cells.smallest_n), delta);
@@ -123,16 +128,18 @@ std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
         cells.smallest_n, hoeffding, 100.0 * confidence, epsilon, scenario::hoeffding_sample_size(epsilon, delta));
   }
   if (!cells.short_of_target.empty()) {
-    html += fmt::format("<p class=\"warning\">{} tracked {} miss the target. To meet it, <code>emrm plan</code>'s "
-                        "risk-weighted top-up would add scenarios here:</p>\n<ul>\n",
-                        cells.short_of_target.size(), cells.short_of_target.size() == 1 ? "cell" : "cells");
+    html += fmt::format(
+        "<p class=\"warning\">{} tracked {} miss the target. To meet it, <code>emrm plan</code>'s "
+        "risk-weighted top-up would add scenarios here:</p>\n<ul>\n",
+        cells.short_of_target.size(), cells.short_of_target.size() == 1 ? "cell" : "cells");
     for (const auto& line : cells.short_of_target) html += "<li>" + html_escape(line) + "</li>\n";
     html += "</ul>\n";
   }
-  html += "<p>The weighted success Ŝ(A) over the whole set and over each malfunction's region: the weights undo "
-          "the plan's risk-weighted sampling, and the Wilson interval is taken at Kish's effective sample size "
-          "n_eff.</p>\n" +
-          weighted_table(j);
+  html +=
+      "<p>The weighted success Ŝ(A) over the whole set and over each malfunction's region: the weights undo "
+      "the plan's risk-weighted sampling, and the Wilson interval is taken at Kish's effective sample size "
+      "n_eff.</p>\n" +
+      weighted_table(j);
   return html;
 }
 

@@ -42,8 +42,10 @@ std::string outcome_text(const sim::StrategyOutcome& o) {
   std::string text = o.avoided ? "avoided"
                                : fmt::format("{} at {:.1f} km/h, L{}", o.contact ? "contact" : "road departure",
                                              o.impact.impact_speed_mps * 3.6, o.impact.loss_level);
-  if (!o.chosen_strategy.empty()) text += " (chose " + o.chosen_strategy + ")";
-  else if (!o.adopted_from.empty()) text += " (as " + o.adopted_from + ")";
+  if (!o.chosen_strategy.empty())
+    text += " (chose " + o.chosen_strategy + ")";
+  else if (!o.adopted_from.empty())
+    text += " (as " + o.adopted_from + ")";
   return text;
 }
 
@@ -66,9 +68,10 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
 
   std::string script = terminal + "\n";
   script += "set output " + single_quoted(drawing_path(dir.path(), output).string()) + "\n";
-  script += fmt::format("set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n",
-                        panels, result.input.speed_kph, result.input.ttc_s, "{/Symbol m}", result.input.mu,
-                        result.input.passage_m, sim::region_name(result.region));
+  script += fmt::format(
+      "set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n", panels,
+      result.input.speed_kph, result.input.ttc_s, "{/Symbol m}", result.input.mu, result.input.passage_m,
+      sim::region_name(result.region));
   script += "set size ratio -1\nset key outside right top font ',8'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
   script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min - 1.0,
                         std::max(y_max, truck_top) + 1.0);
@@ -148,8 +151,9 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
                             const std::string& grid, const std::filesystem::path& dir) {
   Figure figure;
   figure.name = "trajectory_grid";
-  figure.title = "RRT validation scenarios: goal tree (green), fail-safe tree (orange) and the executed EMRM "
-                 "path coloured by speed, per canonical scenario";
+  figure.title =
+      "RRT validation scenarios: goal tree (green), fail-safe tree (orange) and the executed EMRM "
+      "path coloured by speed, per canonical scenario";
   struct Panel {
     const campaign::CellRecord* cell;
     const campaign::OutcomeRecord* emrm;
@@ -220,24 +224,25 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   // One frame for every panel: the widest scene of the grid.
   double x_lo = 0.0, x_hi = 0.0;
   for (const auto& p : panels) {
-    const sim::Scene scene(config, {p.cell->speed_kph, p.cell->ttc_s, p.cell->mu, p.cell->passage_m,
-                                    p.cell->truck_speed_kph});
+    const sim::Scene scene(config,
+                           {p.cell->speed_kph, p.cell->ttc_s, p.cell->mu, p.cell->passage_m, p.cell->truck_speed_kph});
     x_lo = std::min(x_lo, scene.ego_initial().x_m - config.ego.length_m);
     x_hi = std::max(x_hi, scene.truck_far_x_m() + 2.0 * config.ego.length_m);
   }
   const double y_min = config.road.drivable_min_y_m() - 1.0;
   const double y_max = config.road.drivable_max_y_m() + config.truck.length_m;
-  core::write_file(file("road.dat"), road_edges(x_lo, x_hi, config.road.drivable_min_y_m(),
-                                                config.road.drivable_max_y_m()));
+  core::write_file(file("road.dat"),
+                   road_edges(x_lo, x_hi, config.road.drivable_min_y_m(), config.road.drivable_max_y_m()));
 
   const int columns = 4;
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   for (const auto& output : {figure.png, figure.svg}) {
     std::string script = gnuplot_terminal(output, 1600, 330 * rows + 60) + "\n";
     script += "set output " + single_quoted(drawing_path(work.path(), output).string()) + "\n";
-    script += fmt::format("set multiplot layout {},{} title 'RRT validation scenarios (grid {}): goal tree, "
-                          "fail-safe tree, executed EMRM path' noenhanced\n",
-                          rows, columns, grid);
+    script += fmt::format(
+        "set multiplot layout {},{} title 'RRT validation scenarios (grid {}): goal tree, "
+        "fail-safe tree, executed EMRM path' noenhanced\n",
+        rows, columns, grid);
     script += "unset key\nset xtics font ',7'\nset ytics font ',7'\n";
     script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min, y_max);
     script += kSpeedPalette;
@@ -247,14 +252,13 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
       const std::string tag = std::to_string(k);
       // One colour bar, beside the last panel of each row.
       script += (k % columns == columns - 1 || k + 1 == panels.size()) ? "set colorbox\n" : "unset colorbox\n";
-      script += fmt::format(
-          "set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n", cell->speed_kph,
-          cell->mu, cell->passage_m, outcome_label(*emrm));
+      script += fmt::format("set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n",
+                            cell->speed_kph, cell->mu, cell->passage_m, outcome_label(*emrm));
       script += fmt::format(
           "plot '{}' w l lc 'black' lw 1.2, '{}' w l lc rgb '#2ca02c' lw 0.5, '{}' w l lc rgb '#ff7f0e' lw 0.5, "
           "'{}' w l dt 2 lc 'gray40', '{}' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 w l lw 2.5 lc palette\n",
-          file("road.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"), file("truck0_" + tag + ".dat"),
-          file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
+          file("road.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"),
+          file("truck0_" + tag + ".dat"), file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
     }
     script += "unset multiplot\n";
     run_gnuplot(script, work.path(), {output});

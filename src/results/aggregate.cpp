@@ -16,12 +16,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Grid values such as 0.25 + 0.06·k land a few ulps off their decimal; a cut must not split them.
 constexpr double kCutTolerance = 1e-9;
 
-const campaign::OutcomeRecord* outcome_of(const campaign::CellRecord& cell, std::string_view strategy) {
-  for (const auto& o : cell.outcomes)
-    if (o.strategy == strategy) return &o;
-  return nullptr;
-}
-
 double ratio_pct(std::size_t n, std::size_t total) {
   return total == 0 ? kNaN : 100.0 * static_cast<double>(n) / static_cast<double>(total);
 }
@@ -35,7 +29,8 @@ std::vector<std::string> grid_names(const std::vector<campaign::CellRecord>& rec
   return names;
 }
 
-std::vector<campaign::CellRecord> records_of_grid(const std::vector<campaign::CellRecord>& records, std::string_view grid) {
+std::vector<campaign::CellRecord> records_of_grid(const std::vector<campaign::CellRecord>& records,
+                                                  std::string_view grid) {
   std::vector<campaign::CellRecord> out;
   for (const auto& r : records)
     if (r.grid == grid) out.push_back(r);
@@ -75,9 +70,8 @@ RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std
     else if (r.region == "R")
       ++c.r;
     else
-      throw Error(
-          fmt::format("cell {} of grid '{}' is feasible but its region is '{}' (expected G, Y, O or R)",
-                      r.index, r.grid, r.region));
+      throw Error(fmt::format("cell {} of grid '{}' is feasible but its region is '{}' (expected G, Y, O or R)",
+                              r.index, r.grid, r.region));
   }
   return c;
 }
@@ -167,7 +161,7 @@ StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std
   double impact_sum = 0.0, ttc_sum = 0.0, delta_loss_sum = 0.0;
   for (const auto& cell : records) {
     if (!cell.feasible) continue;
-    const campaign::OutcomeRecord* o = outcome_of(cell, strategy);
+    const campaign::OutcomeRecord* o = cell.outcome(strategy);
     if (o == nullptr) continue;
     ++k.cells;
     if (o->avoided) {
@@ -189,8 +183,7 @@ StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std
   k.collision_avoidance_rate_pct = ratio_pct(k.avoided, k.cells);
   k.mitigability_success_pct = ratio_pct(k.mitigated, k.cells);
   k.mean_impact_speed_kph = k.cells == 0 ? kNaN : impact_sum / n;
-  k.mean_impact_speed_collisions_kph =
-      k.collisions == 0 ? kNaN : impact_sum / static_cast<double>(k.collisions);
+  k.mean_impact_speed_collisions_kph = k.collisions == 0 ? kNaN : impact_sum / static_cast<double>(k.collisions);
   k.mean_min_ttc_s = k.finite_min_ttc == 0 ? kNaN : ttc_sum / static_cast<double>(k.finite_min_ttc);
   k.mean_delta_loss = k.cells == 0 ? kNaN : delta_loss_sum / n;
   return k;

@@ -8,9 +8,9 @@
 #include <set>
 #include <tuple>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::results {
@@ -20,12 +20,6 @@ namespace {
 // share these exactly: they come from one grid's expansion of the same values.
 using SliceKey = std::tuple<double, double, double>;
 using Line = std::vector<const campaign::CellRecord*>;  // the cells of one speed, any TTC order
-
-const campaign::OutcomeRecord* outcome_of(const campaign::CellRecord& cell, std::string_view strategy) {
-  for (const auto& o : cell.outcomes)
-    if (o.strategy == strategy) return &o;
-  return nullptr;
-}
 
 std::size_t distinct_ttcs(const std::vector<const campaign::CellRecord*>& cells) {
   std::set<double> levels;
@@ -46,7 +40,7 @@ std::vector<std::pair<double, bool>> strategy_passes(const Line& line, std::stri
   std::vector<std::pair<double, bool>> out;
   for (const auto* c : line) {
     if (!c->feasible) continue;
-    if (const campaign::OutcomeRecord* o = outcome_of(*c, strategy)) out.emplace_back(c->ttc_s, o->avoided);
+    if (const campaign::OutcomeRecord* o = c->outcome(strategy)) out.emplace_back(c->ttc_s, o->avoided);
   }
   return out;
 }
@@ -151,7 +145,8 @@ std::size_t BoundaryReport::non_monotone() const noexcept {
       std::count_if(rows.begin(), rows.end(), [](const BoundaryRow& r) { return r.threshold.exceptions > 0; }));
 }
 
-BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records, const sim::ActuationConfig& actuation) {
+BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records,
+                                  const sim::ActuationConfig& actuation) {
   BoundaryReport report;
   report.actuation = actuation;
   const std::vector<std::string> strategies = strategy_names_of(records);
@@ -195,16 +190,16 @@ std::vector<std::filesystem::path> write_boundary_files(const std::filesystem::p
 }
 
 std::string summary(const BoundaryReport& report) {
-  std::string out = fmt::format("{} with boundaries ({}), {}\n",
-                                core::counted(report.grids.size(), "grid", "grids"), core::join(report.grids, ", "),
+  std::string out = fmt::format("{} with boundaries ({}), {}\n", core::counted(report.grids.size(), "grid", "grids"),
+                                core::join(report.grids, ", "),
                                 core::counted(report.skipped.size(), "grid skipped", "grids skipped"));
   for (const auto& s : report.skipped)
     out += fmt::format("  grid '{}' skipped: {} (a boundary needs at least 2)\n", s.grid,
                        core::counted(s.ttc_levels, "TTC level", "TTC levels"));
-  out += fmt::format("{} (speed × μ × passage × truck speed) in {}; {} written ({})\n",
-                     core::counted(report.lines, "line", "lines"),
-                     core::counted(report.slices.size(), "slice", "slices"),
-                     core::counted(report.rows.size(), "boundary", "boundaries"), core::join(report.boundaries, ", "));
+  out +=
+      fmt::format("{} (speed × μ × passage × truck speed) in {}; {} written ({})\n",
+                  core::counted(report.lines, "line", "lines"), core::counted(report.slices.size(), "slice", "slices"),
+                  core::counted(report.rows.size(), "boundary", "boundaries"), core::join(report.boundaries, ", "));
   const std::size_t odd = report.non_monotone();
   out += odd == 0 ? std::string("every line is monotone in TTC\n")
                   : fmt::format("{} not monotone in TTC: a cell below the threshold passes (column exceptions)\n",

@@ -12,32 +12,26 @@
 #include <thread>
 #include <tuple>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/planner.hpp"
 #include "emrm/sim/simulate.hpp"
-#include "emrm/sim/vehicle.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/vehicle.hpp"
 
 namespace emrm::results {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
-const campaign::OutcomeRecord* outcome_of(const campaign::CellRecord& cell, std::string_view strategy) {
-  for (const auto& o : cell.outcomes)
-    if (o.strategy == strategy) return &o;
-  return nullptr;
-}
-
 // Cells compared along one factor share every other factor exactly: they come from one grid's
 // expansion of the same list values, so exact equality is the right test.
 using GroupKey = std::tuple<double, double, double, double>;
 
 void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid,
-                 const std::string& factor, const std::vector<std::string>& strategies,
-                 std::size_t max_examples, MonotonicityCheck& out) {
+                 const std::string& factor, const std::vector<std::string>& strategies, std::size_t max_examples,
+                 MonotonicityCheck& out) {
   const bool along_ttc = factor == "ttc";
   std::map<GroupKey, std::vector<const campaign::CellRecord*>> groups;
   for (const auto* c : cells) {
@@ -51,8 +45,8 @@ void count_along(const std::vector<const campaign::CellRecord*>& cells, const st
     for (auto& [key, group] : groups) {
       std::sort(group.begin(), group.end(), [&](auto* a, auto* b) { return value(a) < value(b); });
       for (std::size_t i = 0; i + 1 < group.size(); ++i) {
-        const auto* lo = outcome_of(*group[i], strategy);
-        const auto* hi = outcome_of(*group[i + 1], strategy);
+        const auto* lo = group[i]->outcome(strategy);
+        const auto* hi = group[i + 1]->outcome(strategy);
         if (lo == nullptr || hi == nullptr || value(group[i]) == value(group[i + 1])) continue;
         ++count.pairs;
         if (lo->avoided && !hi->avoided) {
@@ -92,8 +86,7 @@ Json coverage_json(const FsmCoverage& c) {
   Json transitions = Json::array();
   for (std::size_t i = 0; i < c.transitions.size(); ++i) {
     const auto& t = c.transitions[i];
-    transitions.push_back(
-        {{"from", t.from}, {"event", t.event}, {"to", t.to}, {"count", c.coverage.counts[i]}});
+    transitions.push_back({{"from", t.from}, {"event", t.event}, {"to", t.to}, {"count", c.coverage.counts[i]}});
   }
   return {{"fsm", c.fsm},
           {"traces", c.coverage.traces},
@@ -117,7 +110,8 @@ StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& r
   return check_stop_boundary(records, actuation);
 }
 
-StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records, const sim::ActuationConfig& actuation) {
+StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
+                                      const sim::ActuationConfig& actuation) {
   StopBoundaryCheck c;
   c.latency_s = actuation.perception_latency_s;
   c.actuation = actuation;
@@ -172,7 +166,7 @@ ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& 
   std::vector<const campaign::CellRecord*> candidates;
   for (const auto& r : records)
     if (r.feasible && std::all_of(checked.begin(), checked.end(),
-                                  [&](const sim::StrategyInfo& s) { return outcome_of(r, s.name) != nullptr; }))
+                                  [&](const sim::StrategyInfo& s) { return r.outcome(s.name) != nullptr; }))
       candidates.push_back(&r);
   // A partial Fisher–Yates shuffle with our own generator: std::shuffle's algorithm is not
   // specified, and the sample must be the same on every standard library.
@@ -199,8 +193,7 @@ ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& 
           static_cast<char>(sim::plan_reference(cell_scene, *model, checked[k].limits).avoidance.has_value());
   };
   {
-    const int workers =
-        threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int workers = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     // An arena of our own, so the thread limit does not leak into the rest of the process.
     tbb::task_arena arena(workers);
     arena.execute([&] { tbb::parallel_for(std::size_t{0}, n, run_one); });
@@ -210,7 +203,7 @@ ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& 
     for (std::size_t k = 0; k < checked.size(); ++k) {
       ReferenceCounts& counts = check.strategies[k];
       const bool reference = reference_avoids[i * checked.size() + k] != 0;
-      const bool stored = outcome_of(r, counts.strategy)->avoided;
+      const bool stored = r.outcome(counts.strategy)->avoided;
       if (reference) ++counts.reference_avoids;
       if (reference && !stored) ++counts.missed;
       if (!reference && stored) ++counts.beyond_reference;
@@ -241,8 +234,7 @@ FsmCoverage loss_evaluation_fsm_coverage(const std::vector<campaign::CellRecord>
   for (const auto& r : records) {
     if (!r.feasible) continue;
     for (const auto& o : r.outcomes)
-      if (!o.loss_evaluation_trace.empty())
-        words.push_back(trace_events(o.loss_evaluation_trace));
+      if (!o.loss_evaluation_trace.empty()) words.push_back(trace_events(o.loss_evaluation_trace));
   }
   return coverage_of(g, words);
 }
@@ -252,8 +244,7 @@ Diagnostics run_diagnostics(const std::vector<campaign::CellRecord>& records, co
   Diagnostics d;
   d.stop_boundary = check_stop_boundary(records, scene.actuation);
   d.monotonicity = check_monotonicity(records);
-  d.reference =
-      check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
+  d.reference = check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
   d.emrm_fsm = emrm_fsm_coverage(records, sim::default_emrm_fsm());
   d.loss_evaluation_fsm = loss_evaluation_fsm_coverage(records, sim::default_loss_evaluation_fsm());
   return d;
@@ -291,8 +282,7 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
                         {"factor", e.factor},
                         {"avoided_at", cell_json(e.lower)},
                         {"not_avoided_at", cell_json(e.higher)}});
-  Json mono{{"definition",
-             "a strategy avoided at a lower TTC (mu) but not at the next higher, other factors equal"},
+  Json mono{{"definition", "a strategy avoided at a lower TTC (mu) but not at the next higher, other factors equal"},
             {"total_reversals", d.monotonicity.total_reversals},
             {"counts", counts},
             {"examples", examples}};
@@ -318,8 +308,7 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
           {"monotonicity", mono},
           {"rrt_vs_reference", reference},
           {"fsm_coverage",
-           {{"emrm_fsm", coverage_json(d.emrm_fsm)},
-            {"loss_evaluation_fsm", coverage_json(d.loss_evaluation_fsm)}}}};
+           {{"emrm_fsm", coverage_json(d.emrm_fsm)}, {"loss_evaluation_fsm", coverage_json(d.loss_evaluation_fsm)}}}};
 }
 
 std::string summary(const Diagnostics& d) {

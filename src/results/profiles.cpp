@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/json.hpp"
 
 namespace emrm::results {
@@ -59,8 +59,9 @@ std::vector<ProfileRun> read_profile_index(const fs::path& dir) {
   return runs;
 }
 
-core::Table profiles_table(const std::vector<ProfileRun>& runs, const std::vector<std::vector<campaign::CellRecord>>& records,
-                           const PaperReference& paper, const std::string& grid) {
+core::Table profiles_table(const std::vector<ProfileRun>& runs,
+                           const std::vector<std::vector<campaign::CellRecord>>& records, const PaperReference& paper,
+                           const std::string& grid) {
   core::Table t;
   t.title = fmt::format("Regions of grid '{}' under each actuation profile (percent of feasible cells)", grid);
   t.header = {"profile", "actuation", "feasible", "G (%)", "Y (%)", "O (%)", "R (%)", "O/R certified", "O/R undecided"};
@@ -73,15 +74,15 @@ core::Table profiles_table(const std::vector<ProfileRun>& runs, const std::vecto
       undecided += r.evidence == "undecided";
     }
     t.rows.push_back({runs[i].name + (runs[i].reused ? " (this scene)" : ""), runs[i].actuation.summary(),
-                      std::to_string(c.feasible), core::format_number(c.pct(c.g), 1), core::format_number(c.pct(c.y), 1),
-                      core::format_number(c.pct(c.o), 1), core::format_number(c.pct(c.r), 1), std::to_string(certified),
-                      std::to_string(undecided)});
+                      std::to_string(c.feasible), core::format_number(c.pct(c.g), 1),
+                      core::format_number(c.pct(c.y), 1), core::format_number(c.pct(c.o), 1),
+                      core::format_number(c.pct(c.r), 1), std::to_string(certified), std::to_string(undecided)});
   }
   if (paper.fine_grid.grid == grid) {
     const auto& p = paper.fine_grid.regions_pct;
-    t.rows.push_back({"the paper's map", "its own model, not stated", std::to_string(paper.fine_grid.feasible_cells), core::format_number(p.g, 1),
-                      core::format_number(p.y, 1), core::format_number(p.o, 1), core::format_number(p.r, 1),
-                      std::string(core::kNoValue), std::string(core::kNoValue)});
+    t.rows.push_back({"the paper's map", "its own model, not stated", std::to_string(paper.fine_grid.feasible_cells),
+                      core::format_number(p.g, 1), core::format_number(p.y, 1), core::format_number(p.o, 1),
+                      core::format_number(p.r, 1), std::string(core::kNoValue), std::string(core::kNoValue)});
   }
   t.notes.push_back(
       "Each profile overlays the scene's actuation (examples/tjunction/profiles/, docs/actuation.md); every other "

@@ -12,7 +12,8 @@ namespace {
 
 // The share (%) of `grid`'s feasible cells where the emergency stop avoids under `a`: the closed
 // form (docs/actuation.md), exact to one integration step.
-double green_pct(const std::vector<campaign::CellRecord>& records, std::string_view grid, const sim::ActuationConfig& a) {
+double green_pct(const std::vector<campaign::CellRecord>& records, std::string_view grid,
+                 const sim::ActuationConfig& a) {
   std::size_t feasible = 0, green = 0;
   for (const auto& r : records) {
     if (r.grid != grid || !r.feasible) continue;
@@ -47,8 +48,8 @@ core::Table brake_sensitivity_table(const std::vector<campaign::CellRecord>& rec
                                     std::string_view grid, const sim::ActuationConfig& base) {
   const BrakeSensitivity s = brake_sensitivity(records, grid, base);
   core::Table t;
-  t.title = fmt::format("G (emergency stop avoids) on grid '{}' against the brakes' dead time and peak deceleration",
-                        grid);
+  t.title =
+      fmt::format("G (emergency stop avoids) on grid '{}' against the brakes' dead time and peak deceleration", grid);
   t.header = {"brakes", "G (%)", "change (points)", "paper G (%)"};
   const double paper_g = paper.fine_grid.grid == grid ? paper.fine_grid.regions_pct.g : NAN;
   const std::string paper_text = std::isnan(paper_g) ? std::string(core::kNoValue) : core::format_number(paper_g, 1);

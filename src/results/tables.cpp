@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "emrm/core/text.hpp"
-#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::results {
 namespace {
@@ -28,15 +28,16 @@ std::string ours_beside(double ours, int decimals, std::optional<double> paper, 
   return fmt::format("{} (paper {})", format_number(ours, decimals), format_number(*paper, paper_decimals));
 }
 
-std::vector<const campaign::CellRecord*> feasible_of(const std::vector<campaign::CellRecord>& records, std::string_view grid) {
+std::vector<const campaign::CellRecord*> feasible_of(const std::vector<campaign::CellRecord>& records,
+                                                     std::string_view grid) {
   std::vector<const campaign::CellRecord*> out;
   for (const auto& r : records)
     if (r.feasible && (grid.empty() || r.grid == grid)) out.push_back(&r);
   return out;
 }
 
-std::vector<campaign::CellRecord> subset(const std::vector<campaign::CellRecord>& records, std::string_view grid, Factor f,
-                               std::string_view level, const LevelCuts& cuts) {
+std::vector<campaign::CellRecord> subset(const std::vector<campaign::CellRecord>& records, std::string_view grid,
+                                         Factor f, std::string_view level, const LevelCuts& cuts) {
   std::vector<campaign::CellRecord> out;
   for (const auto& r : records)
     if ((grid.empty() || r.grid == grid) && level_of(f, r, cuts) == level) out.push_back(r);
@@ -89,8 +90,8 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   const auto cells = records_of_grid(records, grid);
   const auto feasible = feasible_of(records, grid).size();
   Table t;
-  t.title = fmt::format("EMRM vs emergency stop (grid '{}', {} feasible cells; paper: {} cells)", grid,
-                        feasible, paper.emrm_vs_baseline.cells);
+  t.title = fmt::format("EMRM vs emergency stop (grid '{}', {} feasible cells; paper: {} cells)", grid, feasible,
+                        paper.emrm_vs_baseline.cells);
   t.header = {"Metric"};
   std::vector<StrategyKpis> kpis;
   std::vector<const PaperBaselineColumn*> columns;
@@ -103,8 +104,7 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   std::vector<std::string> ours_only;
   for (const auto& entry : sim::registered_strategies().entries()) {
     const auto& info = entry.info;
-    if (std::any_of(columns.begin(), columns.end(), [&](const auto* c) { return c->strategy == info.name; }))
-      continue;
+    if (std::any_of(columns.begin(), columns.end(), [&](const auto* c) { return c->strategy == info.name; })) continue;
     t.header.push_back(fmt::format("{} ({}, ours only)", info.title, info.name));
     kpis.push_back(strategy_kpis(cells, info.name, grid));
     ours_only.push_back(fmt::format("`{}`", info.name));
@@ -127,36 +127,34 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   row("Mitigability Success (%)", 1, 0, &StrategyKpis::mitigability_success_pct,
       &PaperBaselineColumn::mitigability_success_pct);
   row("ΔLoss (avg. level reduction)", 2, 2, &StrategyKpis::mean_delta_loss, &PaperBaselineColumn::delta_loss);
-  row("Mean impact speed, collisions only (km/h)", 1, 1, &StrategyKpis::mean_impact_speed_collisions_kph,
-      nullptr);
+  row("Mean impact speed, collisions only (km/h)", 1, 1, &StrategyKpis::mean_impact_speed_collisions_kph, nullptr);
   row("Mean minimum TTC (s)", 2, 2, &StrategyKpis::mean_min_ttc_s, nullptr);
 
   std::vector<std::string> mapping;
   for (const auto* c : columns) mapping.push_back(fmt::format("\"{}\" is our `{}`", c->label, c->strategy));
-  t.notes.push_back(
-      "Each cell reads \"ours (paper N)\". Columns: " + core::join(mapping, ", ") +
-      (ours_only.empty() ? std::string(".")
-                         : fmt::format("; {} {} ours only.", core::join(ours_only, ", "),
-                                       ours_only.size() == 1 ? "is" : "are")) +
-      " The paper's \"EMRM (All)\" is the EMRM feature choosing a strategy through the loss-evaluation "
-      "FSM, which is our `emrm`.");
+  t.notes.push_back("Each cell reads \"ours (paper N)\". Columns: " + core::join(mapping, ", ") +
+                    (ours_only.empty() ? std::string(".")
+                                       : fmt::format("; {} {} ours only.", core::join(ours_only, ", "),
+                                                     ours_only.size() == 1 ? "is" : "are")) +
+                    " The paper's \"EMRM (All)\" is the EMRM feature choosing a strategy through the loss-evaluation "
+                    "FSM, which is our `emrm`.");
   std::vector<std::string> diffs;
   for (std::size_t i = 0; i < columns.size(); ++i) {
     const auto& k = kpis[i];
     const auto& c = *columns[i];
-    diffs.push_back(fmt::format(
-        "{}: avoidance {} ({} vs {:g} %), residual impact speed {} ({} vs {:g} km/h)", c.label,
-        difference_phrase(k.collision_avoidance_rate_pct, c.collision_avoidance_rate_pct, 2.0, " points"),
-        format_number(k.collision_avoidance_rate_pct, 1), c.collision_avoidance_rate_pct,
-        difference_phrase(k.mean_impact_speed_kph, c.mean_residual_impact_speed_kph, 1.0, " km/h"),
-        format_number(k.mean_impact_speed_kph, 1), c.mean_residual_impact_speed_kph));
+    diffs.push_back(
+        fmt::format("{}: avoidance {} ({} vs {:g} %), residual impact speed {} ({} vs {:g} km/h)", c.label,
+                    difference_phrase(k.collision_avoidance_rate_pct, c.collision_avoidance_rate_pct, 2.0, " points"),
+                    format_number(k.collision_avoidance_rate_pct, 1), c.collision_avoidance_rate_pct,
+                    difference_phrase(k.mean_impact_speed_kph, c.mean_residual_impact_speed_kph, 1.0, " km/h"),
+                    format_number(k.mean_impact_speed_kph, 1), c.mean_residual_impact_speed_kph));
   }
   t.notes.push_back("Where ours differ: " + core::join(diffs, "; ") + ".");
   // ΔLoss cannot exceed the mean unmitigated level: the number that explains a ΔLoss gap.
   double unmitigated_sum = 0.0;
   for (const auto* r : feasible_of(records, grid)) unmitigated_sum += r->unmitigated_loss_level;
-  const double mean_unmitigated = feasible == 0 ? std::numeric_limits<double>::quiet_NaN()
-                                                : unmitigated_sum / static_cast<double>(feasible);
+  const double mean_unmitigated =
+      feasible == 0 ? std::numeric_limits<double>::quiet_NaN() : unmitigated_sum / static_cast<double>(feasible);
   std::string why = fmt::format(
       "Why: our grid has {} feasible cells against the paper's {} (feasibility is v·TTC within the scene's "
       "max_initial_distance_m). Our emergency stop is full ABS braking, so it avoids exactly the cells above "
@@ -206,8 +204,8 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
           if (!std::isnan(k.collision_avoidance_rate_pct) &&
               std::abs(k.collision_avoidance_rate_pct - pv) > largest.gap) {
             largest.gap = std::abs(k.collision_avoidance_rate_pct - pv);
-            largest.where = fmt::format("{} at {} {} ({} vs paper {:g})", strategy_title(s), factor_name(f),
-                                        levels[i], format_number(k.collision_avoidance_rate_pct, 0), pv);
+            largest.where = fmt::format("{} at {} {} ({} vs paper {:g})", strategy_title(s), factor_name(f), levels[i],
+                                        format_number(k.collision_avoidance_rate_pct, 0), pv);
           }
         }
       }
@@ -292,8 +290,8 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
   for (const auto& grid : grid_names(records)) {
     const auto c = count_regions(records, grid);
     t.rows.push_back({grid, std::to_string(c.cells), std::to_string(c.feasible), std::to_string(c.infeasible),
-                      format_number(c.pct(c.g), 1), format_number(c.pct(c.y), 1),
-                      format_number(c.pct(c.o), 1), format_number(c.pct(c.r), 1)});
+                      format_number(c.pct(c.g), 1), format_number(c.pct(c.y), 1), format_number(c.pct(c.o), 1),
+                      format_number(c.pct(c.r), 1)});
     if (grid == paper.fine_grid.grid) {
       fine = c;
       const auto& pr = paper.fine_grid.regions_pct;
@@ -307,8 +305,8 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
     t.rows.push_back({paper.fine_grid.grid + " (paper; not in this campaign)", std::string(kNoValue),
                       std::to_string(paper.fine_grid.feasible_cells), std::string(kNoValue), paper_number(pr.g),
                       paper_number(pr.y), paper_number(pr.o), paper_number(pr.r)});
-    t.notes.push_back(fmt::format("This campaign has no grid '{}', so the paper's regions stand alone.",
-                                  paper.fine_grid.grid));
+    t.notes.push_back(
+        fmt::format("This campaign has no grid '{}', so the paper's regions stand alone.", paper.fine_grid.grid));
     return t;
   }
   std::size_t braking_o = 0;
@@ -389,28 +387,26 @@ Table claims_table(const std::vector<campaign::CellRecord>& records, const Paper
                     fastest_stop < 0 ? std::string(kNoValue) : fmt::format("avoids up to {:g}", fastest_stop)});
   std::size_t low_mu = 0, low_mu_avoided = 0;
   for (const auto& r : records) {
-    if (!r.feasible || r.mu >= c.no_avoidance_below_mu ||
-        std::abs(r.ttc_s - c.no_avoidance_below_mu_at_ttc_s) > 1e-9)
+    if (!r.feasible || r.mu >= c.no_avoidance_below_mu || std::abs(r.ttc_s - c.no_avoidance_below_mu_at_ttc_s) > 1e-9)
       continue;
     ++low_mu;
     if (std::any_of(r.outcomes.begin(), r.outcomes.end(), [](const campaign::OutcomeRecord& o) { return o.avoided; }))
       ++low_mu_avoided;
   }
-  t.rows.push_back({fmt::format("Cells with μ < {:g} at TTC {:g} s where some strategy avoids",
-                                c.no_avoidance_below_mu, c.no_avoidance_below_mu_at_ttc_s),
-                    "none",
-                    low_mu == 0 ? std::string(kNoValue) : fmt::format("{} of {}", low_mu_avoided, low_mu)});
+  t.rows.push_back({fmt::format("Cells with μ < {:g} at TTC {:g} s where some strategy avoids", c.no_avoidance_below_mu,
+                                c.no_avoidance_below_mu_at_ttc_s),
+                    "none", low_mu == 0 ? std::string(kNoValue) : fmt::format("{} of {}", low_mu_avoided, low_mu)});
   t.rows.push_back({"Coverage: framework / HARA only / STPA only / manual (%)",
-                    fmt::format("{:g} / ≤{:g} / ≤{:g} / ≤{:g}", c.coverage_pct.framework,
-                                c.coverage_pct.hara_only, c.coverage_pct.stpa_only, c.coverage_pct.manual),
+                    fmt::format("{:g} / ≤{:g} / ≤{:g} / ≤{:g}", c.coverage_pct.framework, c.coverage_pct.hara_only,
+                                c.coverage_pct.stpa_only, c.coverage_pct.manual),
                     "measured by the minimum scenario set: tables/coverage.md"});
   if (fastest_stop > c.emergency_stop_never_avoids_above_kph)
-    t.notes.push_back(fmt::format(
-        "Our emergency stop avoids every feasible cell with TTC ≥ v/(2μg); feasibility (v·TTC within "
-        "max_initial_distance_m) still leaves cells above that line at {:g} km/h, so ours avoids above the "
-        "paper's "
-        "≈{:g} km/h.",
-        fastest_stop, c.emergency_stop_never_avoids_above_kph));
+    t.notes.push_back(
+        fmt::format("Our emergency stop avoids every feasible cell with TTC ≥ v/(2μg); feasibility (v·TTC within "
+                    "max_initial_distance_m) still leaves cells above that line at {:g} km/h, so ours avoids above the "
+                    "paper's "
+                    "≈{:g} km/h.",
+                    fastest_stop, c.emergency_stop_never_avoids_above_kph));
   if (low_mu_avoided > 0)
     t.notes.push_back(
         "At low friction some of our cells are still avoided: where the distance v·TTC is long enough to "
@@ -423,8 +419,7 @@ Table claims_table(const std::vector<campaign::CellRecord>& records, const Paper
 Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& reports, const PaperReference& paper) {
   Table t;
   t.title = "Coverage comparison: the minimum scenario set vs traditional methods (%)";
-  t.header = {"Method", "Scenarios", "Hazard", "UCA", "FSM transition", "Cell", "t-wise", "Boundary",
-              "C1-C4", "Paper"};
+  t.header = {"Method", "Scenarios", "Hazard", "UCA", "FSM transition", "Cell", "t-wise", "Boundary", "C1-C4", "Paper"};
   const auto& pc = paper.claims.coverage_pct;
   const auto paper_figure = [&](const std::string& name) -> std::string {
     if (name == "emrm plan") return fmt::format("{:g}", pc.framework);
@@ -476,12 +471,11 @@ std::string kpis_csv(const std::vector<campaign::CellRecord>& records, const Lev
   std::vector<core::Row> rows;
   for (const auto& grid : grid_names(records))
     for (const auto& k : grid_kpis(records, grid, cuts))
-      rows.push_back(
-          {k.grid, k.strategy, std::string(factor_name(k.factor)), k.level,
-           level_range(k.factor, k.level, cuts), std::to_string(k.cells), std::to_string(k.avoided),
-           std::to_string(k.collisions), std::to_string(k.mitigated), num(k.collision_avoidance_rate_pct),
-           num(k.mean_impact_speed_kph), num(k.mean_impact_speed_collisions_kph), num(k.mean_min_ttc_s),
-           std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss)});
+      rows.push_back({k.grid, k.strategy, std::string(factor_name(k.factor)), k.level,
+                      level_range(k.factor, k.level, cuts), std::to_string(k.cells), std::to_string(k.avoided),
+                      std::to_string(k.collisions), std::to_string(k.mitigated), num(k.collision_avoidance_rate_pct),
+                      num(k.mean_impact_speed_kph), num(k.mean_impact_speed_collisions_kph), num(k.mean_min_ttc_s),
+                      std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss)});
   return core::csv_table(header, rows);
 }
 

@@ -19,8 +19,8 @@
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
-#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::results {
 namespace {
@@ -127,8 +127,9 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
     const sim::PathPoint& b = path[k];
     const sim::PathPoint& a = k > 0 ? path[k - 1] : path[k];
     const bool closed_form_jump = b.t_s - a.t_s > 1.5 * config.simulation.dt_s;
-    const int samples =
-        k == 0 || closed_form_jump ? 1 : std::max(1, static_cast<int>(std::ceil((b.t_s - a.t_s) / options.check_step_s)));
+    const int samples = k == 0 || closed_form_jump
+                            ? 1
+                            : std::max(1, static_cast<int>(std::ceil((b.t_s - a.t_s) / options.check_step_s)));
     for (int i = 1; i <= samples; ++i) {
       const double t = a.t_s + (b.t_s - a.t_s) * i / samples;
       const Pose pose = closed_form_jump || k == 0 ? Pose{b.state.x_m, b.state.y_m, b.state.yaw_rad} : between(a, b, t);
@@ -151,8 +152,9 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
   if (s.speed_mps() < 0.05) return out;
   const auto& bounds = config.safe_state;
   const double heading = std::remainder(s.yaw_rad, 2.0 * std::numbers::pi);
-  if (std::abs(s.yaw_rate_radps) > bounds.max_yaw_rate_radps || std::abs(s.slip_angle_rad()) > bounds.max_slip_angle_rad ||
-      std::abs(heading) > bounds.max_heading_error_rad || std::abs(s.steer_rad) > bounds.max_steer_rad) {
+  if (std::abs(s.yaw_rate_radps) > bounds.max_yaw_rate_radps ||
+      std::abs(s.slip_angle_rad()) > bounds.max_slip_angle_rad || std::abs(heading) > bounds.max_heading_error_rad ||
+      std::abs(s.steer_rad) > bounds.max_steer_rad) {
     out.failure = fmt::format("ends unstable (yaw rate {:.3f} rad/s, slip {:.3f} rad, heading {:.3f} rad)",
                               s.yaw_rate_radps, s.slip_angle_rad(), heading);
     return out;
@@ -230,8 +232,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     if (r.method == "inferred") {  // an adaptive sweep's: its grounds must stand (docs/adaptive.md)
       ++report.inferred;
       if (r.evidence != "inferred") fail("", fmt::format("inferred cell with evidence '{}'", r.evidence));
-      if (r.inferred_from.empty() &&
-          (r.region != "G" || sim::stop_call(config, scene.cell()) != sim::StopCall::kStops))
+      if (r.inferred_from.empty() && (r.region != "G" || sim::stop_call(config, scene.cell()) != sim::StopCall::kStops))
         fail("", fmt::format("region {} inferred without grounds, and the stop boundary does not prove G", r.region));
       for (const std::int64_t from : r.inferred_from)
         if (simulated[r.grid].count(from) == 0)
@@ -290,9 +291,9 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       try {
         json = nlohmann::json::parse(o.maneuver);
       } catch (const nlohmann::json::exception& e) {
-        throw InputError(SourceLocation{results_sqlite.string()},
-                         fmt::format("cell {}#{} {}: the stored maneuver is not JSON: {}", r.grid, r.index,
-                                     o.strategy, e.what()));
+        throw InputError(
+            SourceLocation{results_sqlite.string()},
+            fmt::format("cell {}#{} {}: the stored maneuver is not JSON: {}", r.grid, r.index, o.strategy, e.what()));
       }
       const sim::Maneuver maneuver = sim::maneuver_from_json(
           json, fmt::format("{}: cell {}#{} {}", results_sqlite.string(), r.grid, r.index, o.strategy));
@@ -304,11 +305,11 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
         fail(o.strategy, fmt::format("replay {} what is stored ({} stored)",
                                      again.avoided() ? "avoids, unlike" : "does not avoid, unlike",
                                      o.avoided ? "avoided" : "not avoided"));
-      else if (!o.avoided && (again.impact.loss_level != o.loss_level ||
-                              !same(again.impact.delta_v_mps * 3.6, o.delta_v_kph)))
-        fail(o.strategy, fmt::format("replay gives L{} at {:.3f} km/h, stored L{} at {:.3f} km/h",
-                                     again.impact.loss_level, again.impact.delta_v_mps * 3.6, o.loss_level,
-                                     o.delta_v_kph));
+      else if (!o.avoided &&
+               (again.impact.loss_level != o.loss_level || !same(again.impact.delta_v_mps * 3.6, o.delta_v_kph)))
+        fail(o.strategy,
+             fmt::format("replay gives L{} at {:.3f} km/h, stored L{} at {:.3f} km/h", again.impact.loss_level,
+                         again.impact.delta_v_mps * 3.6, o.loss_level, o.delta_v_kph));
       if (o.avoided && o.evidence != "witness") fail(o.strategy, "an avoidance without a witness");
       if (!again.avoided()) continue;
       ++report.avoidances;
@@ -328,9 +329,10 @@ std::string to_text(const VerifyReport& report) {
       report.cells, report.witnesses, report.avoidances, report.least_clearance_m, report.certificates,
       report.undecided);
   if (report.inferred > 0)
-    out += fmt::format("{} cells were inferred by an adaptive sweep: their grounds (simulated cells, or the analytic "
-                       "stop boundary) checked, nothing replayed\n",
-                       report.inferred);
+    out += fmt::format(
+        "{} cells were inferred by an adaptive sweep: their grounds (simulated cells, or the analytic "
+        "stop boundary) checked, nothing replayed\n",
+        report.inferred);
   out += fmt::format("| region | witness | certificate | undecided |{}\n| --- | --- | --- | --- |{}\n",
                      report.inferred > 0 ? " inferred |" : "", report.inferred > 0 ? " --- |" : "");
   for (const char* region : {"G", "Y", "O", "R"}) {

@@ -27,8 +27,8 @@ std::optional<std::filesystem::path> fsm_file(const SafetyCase& sc) {
 std::string findings_text(const std::vector<Finding>& findings) {
   std::string out;
   for (const auto& f : findings)
-    out += fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code,
-                       f.subject, f.message);
+    out +=
+        fmt::format("  {}: {} {} [{}]: {}\n", f.where.str(), core::enum_name(f.severity), f.code, f.subject, f.message);
   return out;
 }
 

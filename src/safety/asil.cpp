@@ -8,11 +8,16 @@ Asil determine_asil(Severity s, Exposure e, Controllability c) noexcept {
   const int ci = static_cast<int>(c);
   if (si == 0 || ei == 0 || ci == 0) return Asil::kQM;
   switch (si + ei + ci) {
-    case 10: return Asil::kD;
-    case 9: return Asil::kC;
-    case 8: return Asil::kB;
-    case 7: return Asil::kA;
-    default: return Asil::kQM;
+    case 10:
+      return Asil::kD;
+    case 9:
+      return Asil::kC;
+    case 8:
+      return Asil::kB;
+    case 7:
+      return Asil::kA;
+    default:
+      return Asil::kQM;
   }
 }
 

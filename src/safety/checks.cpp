@@ -26,14 +26,14 @@ class Checker {
   }
 
  private:
-  void add(std::string code, FindingSeverity severity, std::string subject, std::string message,
-           SourceLocation where) {
+  void add(std::string code, FindingSeverity severity, std::string subject, std::string message, SourceLocation where) {
     findings_.push_back({std::move(code), severity, std::move(subject), std::move(message), std::move(where)});
   }
 
   void check_hazards() {
     for (const auto& h : sc_.hazards) {
-      if (h.losses.empty()) add("SAF002", FindingSeverity::kError, h.id, fmt::format("hazard '{}' leads to no loss", h.id), h.where);
+      if (h.losses.empty())
+        add("SAF002", FindingSeverity::kError, h.id, fmt::format("hazard '{}' leads to no loss", h.id), h.where);
       for (const auto& ref : h.losses)
         if (!sc_.find_loss(ref.id))
           add("SAF001", FindingSeverity::kError, h.id,
@@ -48,7 +48,8 @@ class Checker {
       if (h.smil && sc_.smil) {
         if (const SmilRule* rule = find_smil_rule(*sc_.smil, h); !rule)
           add("SAF010", FindingSeverity::kWarning, h.id,
-              fmt::format("hazard '{}' states SMIL {} but no rule of the SMIL table matches its ratings", h.id, *h.smil),
+              fmt::format("hazard '{}' states SMIL {} but no rule of the SMIL table matches its ratings", h.id,
+                          *h.smil),
               h.where);
         else if (rule->smil != *h.smil)
           add("SAF009", FindingSeverity::kError, h.id,
@@ -72,9 +73,8 @@ class Checker {
   void check_control_actions() {
     for (const auto& ca : sc_.control_actions) {
       for (UcaType type : kAllUcaTypes) {
-        const bool present = std::any_of(sc_.ucas.begin(), sc_.ucas.end(), [&](const Uca& u) {
-          return u.control_action.id == ca.id && u.type == type;
-        });
+        const bool present = std::any_of(sc_.ucas.begin(), sc_.ucas.end(),
+                                         [&](const Uca& u) { return u.control_action.id == ca.id && u.type == type; });
         if (!present)
           add("SAF005", FindingSeverity::kWarning, ca.id,
               fmt::format("control action '{}' has no UCA of type {}", ca.id, core::enum_name(type)), ca.where);

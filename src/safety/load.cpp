@@ -32,8 +32,8 @@ void validate(SafetyCase& sc, const core::YamlNode& root) {
     if (!factor_names.emplace(f.name, f.where).second)
       throw InputError(f.where, fmt::format("duplicate factor '{}'", f.name));
     if (f.min && f.max && *f.min > *f.max)
-      throw InputError(f.where, fmt::format("factor '{}': expected min <= max, got min {} > max {}", f.name,
-                                            *f.min, *f.max));
+      throw InputError(f.where,
+                       fmt::format("factor '{}': expected min <= max, got min {} > max {}", f.name, *f.min, *f.max));
   }
   for (const auto& l : sc.losses) ids.add(l.id, l.where, "loss");
   for (const auto& h : sc.hazards) ids.add(h.id, h.where, "hazard");

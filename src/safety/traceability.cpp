@@ -79,13 +79,23 @@ std::vector<TraceRow> traceability_matrix(const SafetyCase& sc) {
 }
 
 core::Row traceability_header() {
-  return {"uca",  "uca_type",  "control_action", "hazard",         "asil",   "smil",
+  return {"uca",  "uca_type",  "control_action", "hazard",          "asil",   "smil",
           "loss", "loss_name", "reversible",     "fsm_transitions", "region", "scenarios"};
 }
 
 core::Row to_row(const TraceRow& r) {
-  return {r.uca,       r.uca_type, r.control_action, r.hazard, r.asil, r.smil, r.loss, r.loss_name,
-          r.loss_reversible ? "yes" : "no", core::join(r.transitions, "; "), r.region, core::join(r.scenarios, " ")};
+  return {r.uca,
+          r.uca_type,
+          r.control_action,
+          r.hazard,
+          r.asil,
+          r.smil,
+          r.loss,
+          r.loss_name,
+          r.loss_reversible ? "yes" : "no",
+          core::join(r.transitions, "; "),
+          r.region,
+          core::join(r.scenarios, " ")};
 }
 
 namespace {
@@ -121,9 +131,8 @@ std::vector<core::FileContent> traceability_files(const std::filesystem::path& d
 }
 
 core::Row asil_header() {
-  return {"hazard",          "severity",     "exposure",     "controllability", "asil",
-          "asil_stated",     "maneuverability", "avoidability", "mitigability",    "smil_table",
-          "smil_stated"};
+  return {"hazard",          "severity",     "exposure",     "controllability", "asil",       "asil_stated",
+          "maneuverability", "avoidability", "mitigability", "smil_table",      "smil_stated"};
 }
 
 std::vector<core::Row> asil_rows(const SafetyCase& sc) {

@@ -45,8 +45,7 @@ bool in_domain(const OddFactor& f, double v) {
     case FactorType::kInteger:
       return v == std::round(v) && v >= f.domain_min() && v <= f.domain_max();
     case FactorType::kCategorical:
-      return std::any_of(f.class_values.begin(), f.class_values.end(),
-                         [&](double c) { return same_value(v, c); });
+      return std::any_of(f.class_values.begin(), f.class_values.end(), [&](double c) { return same_value(v, c); });
     case FactorType::kConstant:
       return same_value(v, f.nominal);
   }
@@ -89,9 +88,8 @@ double draw(const OddFactor& f, LevelRange r, std::mt19937_64& rng) {
 // of the cell nearest the nominal point, the corners (when at most kMaxCornerFactors factors are
 // ranged) and `random_points` uniform draws. Calls `visit` on each until it returns true.
 template <class Visit>
-bool probe_cell(const Odd& odd, const std::vector<int>& cell,
-                std::optional<std::pair<std::size_t, double>> fixed, int random_points, std::mt19937_64& rng,
-                Visit visit) {
+bool probe_cell(const Odd& odd, const std::vector<int>& cell, std::optional<std::pair<std::size_t, double>> fixed,
+                int random_points, std::mt19937_64& rng, Visit visit) {
   const std::size_t n = odd.factors.size();
   std::vector<LevelRange> ranges(n);
   std::vector<std::size_t> ranged;
@@ -135,16 +133,14 @@ bool level_contains(const OddFactor& f, int level, double v) {
 }
 
 std::string target_label(const OddFactor& f, double v) {
-  if (f.type == FactorType::kCategorical)
-    return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(v))];
+  if (f.type == FactorType::kCategorical) return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(v))];
   return fmt::format("{} = {:g}", f.name, v);
 }
 
 // Can the checker itself find an admissible point with factor j at v?
 bool boundary_feasible(const Odd& odd, const std::vector<RelevantCell>& cells, const BoundaryTarget& t) {
   const OddFactor& f = odd.factors[t.factor];
-  std::mt19937_64 rng(
-      core::derive_seed(odd.seed, fmt::format("coverage boundary {} {:.17g}", f.name, t.value)));
+  std::mt19937_64 rng(core::derive_seed(odd.seed, fmt::format("coverage boundary {} {:.17g}", f.name, t.value)));
   for (const RelevantCell& c : cells) {
     if (!level_contains(f, c.levels[t.factor], t.value)) continue;
     if (probe_cell(odd, c.levels, std::pair{t.factor, t.value}, kFeasibilityProbes, rng,
@@ -160,11 +156,10 @@ CoverageCount count_hazards(const Odd& odd, const std::vector<const Point*>& poi
   CoverageCount count;
   count.total = total.size();
   for (const auto& h : total) {
-    const bool covered =
-        std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
-          return std::find(m.hazards.begin(), m.hazards.end(), h) != m.hazards.end() &&
-                 std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
-        });
+    const bool covered = std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
+      return std::find(m.hazards.begin(), m.hazards.end(), h) != m.hazards.end() &&
+             std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
+    });
     if (covered) {
       ++count.covered;
     } else {
@@ -185,11 +180,10 @@ CoverageCount count_transitions(const Odd& odd, const std::vector<const Point*>&
   CoverageCount count;
   count.total = total.size();
   for (const auto& t : total) {
-    const bool covered =
-        std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
-          return std::find(m.transitions.begin(), m.transitions.end(), t) != m.transitions.end() &&
-                 std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
-        });
+    const bool covered = std::any_of(odd.malfunctions.begin(), odd.malfunctions.end(), [&](const Malfunction& m) {
+      return std::find(m.transitions.begin(), m.transitions.end(), t) != m.transitions.end() &&
+             std::any_of(points.begin(), points.end(), [&](const Point* p) { return in_region(m, *p); });
+    });
     if (covered) {
       ++count.covered;
     } else {
@@ -217,9 +211,8 @@ void for_each_subset(std::size_t n, std::size_t t, Visit visit) {
 
 // The level combinations of `factors` that some relevant cell has, and of those, the ones some
 // admissible point realises (every combination is enumerated, in odometer order).
-void count_tuples(const Odd& odd, const std::vector<std::size_t>& factors,
-                  const std::vector<RelevantCell>& cells, const std::vector<std::vector<int>>& point_cells,
-                  CoverageCount& count) {
+void count_tuples(const Odd& odd, const std::vector<std::size_t>& factors, const std::vector<RelevantCell>& cells,
+                  const std::vector<std::vector<int>>& point_cells, CoverageCount& count) {
   const auto project = [&](const std::vector<int>& cell) {
     std::vector<int> tuple;
     tuple.reserve(factors.size());
@@ -261,13 +254,12 @@ CoverageCount count_twise(const Odd& odd, const std::vector<RelevantCell>& cells
   CoverageCount count;
   const std::vector<std::size_t> q = odd.influential();
   if (odd.strength <= 0) return count;
-  for_each_subset(q.size(), static_cast<std::size_t>(odd.strength),
-                  [&](const std::vector<std::size_t>& pick) {
-                    std::vector<std::size_t> factors;
-                    factors.reserve(pick.size());
-                    for (std::size_t k : pick) factors.push_back(q[k]);
-                    count_tuples(odd, factors, cells, point_cells, count);
-                  });
+  for_each_subset(q.size(), static_cast<std::size_t>(odd.strength), [&](const std::vector<std::size_t>& pick) {
+    std::vector<std::size_t> factors;
+    factors.reserve(pick.size());
+    for (std::size_t k : pick) factors.push_back(q[k]);
+    count_tuples(odd, factors, cells, point_cells, count);
+  });
   return count;
 }
 
@@ -286,8 +278,8 @@ nlohmann::ordered_json count_json(const CoverageCount& c) {
   throw InputError({file, 0, 0}, fmt::format("{}: expected {}", where, expected));
 }
 
-const nlohmann::ordered_json& field_of(const nlohmann::ordered_json& j, const std::string& key,
-                                       const std::string& file, const std::string& where) {
+const nlohmann::ordered_json& field_of(const nlohmann::ordered_json& j, const std::string& key, const std::string& file,
+                                       const std::string& where) {
   if (!j.is_object()) malformed(file, where, "an object");
   const auto it = j.find(key);
   if (it == j.end()) malformed(file, where + "." + key, "a value, found none");
@@ -296,8 +288,7 @@ const nlohmann::ordered_json& field_of(const nlohmann::ordered_json& j, const st
 
 // The field `key` of `j` as a T (a count, a flag or a name).
 template <class T>
-T value_of(const nlohmann::ordered_json& j, const std::string& key, const std::string& file,
-           const std::string& where) {
+T value_of(const nlohmann::ordered_json& j, const std::string& key, const std::string& file, const std::string& where) {
   const auto& v = field_of(j, key, file, where);
   if constexpr (std::is_same_v<T, bool>) {
     if (!v.is_boolean()) malformed(file, where + "." + key, "true or false");
@@ -328,8 +319,7 @@ CoverageCount count_from_json(const nlohmann::ordered_json& parent, const std::s
 
 }  // namespace
 
-CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points,
-                                std::string name) {
+CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<double>>& points, std::string name) {
   // Validates the ODD first; its relevant cells are those the coverage of cells is measured over.
   const std::vector<RelevantCell> cells = detail::validated_relevant_cells(odd);
   CoverageReport report;
@@ -340,8 +330,8 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   std::vector<std::vector<int>> valid_cells;
   for (const Point& p : points) {
     if (p.size() != odd.factors.size())
-      throw std::invalid_argument(fmt::format("measure_coverage: a point has {} values, the ODD {} factors",
-                                              p.size(), odd.factors.size()));
+      throw std::invalid_argument(
+          fmt::format("measure_coverage: a point has {} values, the ODD {} factors", p.size(), odd.factors.size()));
     if (!admissible(odd, p)) {
       ++report.inadmissible;
       continue;
@@ -356,8 +346,7 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   report.c4 = true;
   report.malfunctions.total = odd.malfunctions.size();
   for (const Malfunction& m : odd.malfunctions) {
-    const auto inside =
-        std::count_if(valid.begin(), valid.end(), [&](const Point* p) { return in_region(m, *p); });
+    const auto inside = std::count_if(valid.begin(), valid.end(), [&](const Point* p) { return in_region(m, *p); });
     report.tests_per_malfunction.emplace_back(m.id, static_cast<std::size_t>(inside));
     if (inside > 0) {
       ++report.malfunctions.covered;
@@ -380,8 +369,8 @@ CoverageReport measure_coverage(const Odd& odd, const std::vector<std::vector<do
   }
 
   for (const BoundaryTarget& t : boundary_targets(odd)) {
-    const bool hit = std::any_of(valid.begin(), valid.end(),
-                                 [&](const Point* p) { return same_value((*p)[t.factor], t.value); });
+    const bool hit =
+        std::any_of(valid.begin(), valid.end(), [&](const Point* p) { return same_value((*p)[t.factor], t.value); });
     if (!hit && !boundary_feasible(odd, cells, t)) continue;  // infeasible targets do not count
     ++report.boundaries.total;
     if (hit) {
@@ -450,8 +439,7 @@ std::vector<std::vector<double>> manual_baseline(const Odd& odd) {
   std::vector<std::size_t> index(odd.manual_grid.size(), 0);
   for (bool more = true; more;) {
     Point p = nominal_point(odd);
-    for (std::size_t k = 0; k < index.size(); ++k)
-      p[odd.manual_grid[k].first] = odd.manual_grid[k].second[index[k]];
+    for (std::size_t k = 0; k < index.size(); ++k) p[odd.manual_grid[k].first] = odd.manual_grid[k].second[index[k]];
     scenarios.push_back(std::move(p));
     // Odometer: the last listed factor varies fastest.
     more = false;

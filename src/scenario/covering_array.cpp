@@ -36,14 +36,12 @@ bool complete_from(const std::vector<int>& levels, Row& row, std::size_t from, c
   return false;
 }
 
-Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& levels,
-                           const RowViolates& violates, SearchBudget& budget) {
+Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& levels, const RowViolates& violates,
+                           SearchBudget& budget) {
   Feasibility f{Bitset(space.total()), 0};
   if (!violates) return f;
   Bitset feasible(space.total());
-  auto mark_feasible = [&](const Row& r) {
-    space.for_each_tuple(r, [&](std::size_t i) { feasible.set(i); });
-  };
+  auto mark_feasible = [&](const Row& r) { space.for_each_tuple(r, [&](std::size_t i) { feasible.set(i); }); };
   auto any = complete_row(levels, Row(levels.size(), kDontCare), violates, budget);
   if (!any) throw std::domain_error("the constraints exclude every row");
   mark_feasible(*any);
@@ -68,8 +66,8 @@ Feasibility find_forbidden(const TupleSpace& space, const std::vector<int>& leve
 // One greedy construction of a whole array.
 class Builder {
  public:
-  Builder(const TupleSpace& space, const Feasibility& feasibility, const RowViolates& violates,
-          SearchBudget& budget, const CoveringArrayOptions& options, std::uint64_t seed)
+  Builder(const TupleSpace& space, const Feasibility& feasibility, const RowViolates& violates, SearchBudget& budget,
+          const CoveringArrayOptions& options, std::uint64_t seed)
       : space_(space),
         violates_(violates),
         budget_(budget),
@@ -80,8 +78,7 @@ class Builder {
     const int n = space.columns();
     value_base_.resize(static_cast<std::size_t>(n) + 1, 0);
     for (int c = 0; c < n; ++c)
-      value_base_[static_cast<std::size_t>(c) + 1] =
-          value_base_[static_cast<std::size_t>(c)] + space.level(c);
+      value_base_[static_cast<std::size_t>(c) + 1] = value_base_[static_cast<std::size_t>(c)] + space.level(c);
     value_uncovered_.assign(static_cast<std::size_t>(value_base_.back()) * static_cast<std::size_t>(n), 0);
     Row row(static_cast<std::size_t>(n), 0);
     for (std::size_t k = 0; k < space.combo_count(); ++k)
@@ -283,7 +280,8 @@ double tuple_count(const std::vector<int>& levels, int strength) {
   for (std::size_t a = 0; a < k; ++a)
     for (std::size_t b = a + 1; b < k; ++b) {
       const double pair = static_cast<double>(levels[a]) * levels[b];
-      if (strength == 2) total += pair;
+      if (strength == 2)
+        total += pair;
       else
         for (std::size_t c = b + 1; c < k; ++c) total += pair * levels[c];
     }
@@ -300,13 +298,13 @@ void validate(const std::vector<int>& levels, const CoveringArrayOptions& option
     if (l < 1) throw std::invalid_argument("every factor needs at least one level");
   if (options.candidates_per_row < 1 || options.restarts < 1)
     throw std::invalid_argument("candidates_per_row and restarts must be positive");
-  if (!(options.improvement_effort >= 0.0 && options.improvement_effort <= 1e6) ||
-      options.improvement_max_moves < 0)
+  if (!(options.improvement_effort >= 0.0 && options.improvement_effort <= 1e6) || options.improvement_max_moves < 0)
     throw std::invalid_argument("improvement_effort must be in [0, 1e6] and improvement_max_moves >= 0");
   if (const double tuples = tuple_count(levels, options.strength); tuples > static_cast<double>(options.max_tuples))
-    throw UsageError(fmt::format("the covering array has {:.3g} {}-tuples to cover, more than the limit of {} "
-                                 "(ca --max-tuples raises it; memory grows with it)",
-                                 tuples, options.strength, options.max_tuples));
+    throw UsageError(
+        fmt::format("the covering array has {:.3g} {}-tuples to cover, more than the limit of {} "
+                    "(ca --max-tuples raises it; memory grows with it)",
+                    tuples, options.strength, options.max_tuples));
   for (const Row& r : options.seed_rows) {
     if (r.size() != levels.size()) throw std::invalid_argument("a seed row has the wrong number of entries");
     for (std::size_t c = 0; c < r.size(); ++c)
@@ -319,9 +317,10 @@ void validate(const std::vector<int>& levels, const CoveringArrayOptions& option
 
 void SearchBudget::spend() {
   if (used_ >= limit_)
-    throw UsageError(fmt::format("the constraints took more than {} search steps to satisfy "
-                                 "(ca --max-search-steps raises it)",
-                                 limit_));
+    throw UsageError(
+        fmt::format("the constraints took more than {} search steps to satisfy "
+                    "(ca --max-search-steps raises it)",
+                    limit_));
   ++used_;
 }
 
@@ -361,9 +360,8 @@ CoveringArray generate_covering_array(const std::vector<int>& levels, const Cove
   return best;
 }
 
-ArrayCheck check_covering_array(const std::vector<int>& levels, int strength,
-                                const std::vector<std::vector<int>>& rows, const RowViolates& violates,
-                                std::uint64_t max_search_steps) {
+ArrayCheck check_covering_array(const std::vector<int>& levels, int strength, const std::vector<std::vector<int>>& rows,
+                                const RowViolates& violates, std::uint64_t max_search_steps) {
   ArrayCheck report;
   SearchBudget budget(max_search_steps);
   const std::size_t n = levels.size();

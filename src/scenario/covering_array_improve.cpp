@@ -200,8 +200,7 @@ class Improver {
     const auto old_value = static_cast<std::size_t>(values[c]);
     const auto new_value = static_cast<std::size_t>(v);
     for (const Incidence& inc : incidence_[c]) {
-      const std::size_t base = inc.offset +
-                               static_cast<std::size_t>(values[inc.other_col[0]]) * inc.other_place[0] +
+      const std::size_t base = inc.offset + static_cast<std::size_t>(values[inc.other_col[0]]) * inc.other_place[0] +
                                static_cast<std::size_t>(values[inc.other_col[1]]) * inc.other_place[1];
       const std::array<std::size_t, 3> cols{c, inc.other_col[0], inc.other_col[1]};
       lose(base + old_value * inc.self_place, cols, r);
@@ -361,8 +360,7 @@ class Improver {
     for (std::size_t j = 0; j < move.changes; ++j) gainable += through_[move.target_index[j]].size();
     if (lost_at_least - static_cast<std::int64_t>(gainable) > bound) return std::nullopt;
     std::array<int, 3> old_values{};
-    for (std::size_t j = 0; j < move.changes; ++j)
-      old_values[j] = std::exchange(cell(r, move.cols[j]), move.values[j]);
+    for (std::size_t j = 0; j < move.changes; ++j) old_values[j] = std::exchange(cell(r, move.cols[j]), move.values[j]);
     const std::int64_t gained = uncovered_in_row(move);
     for (std::size_t j = 0; j < move.changes; ++j) cell(r, move.cols[j]) = old_values[j];
     if (lost_at_least - gained > bound) return std::nullopt;
@@ -419,8 +417,7 @@ class Improver {
         for (std::size_t b = 0; b < a; ++b)
           seen = seen || inc.other_col[0] == move.cols[b] || inc.other_col[1] == move.cols[b];
         if (seen) continue;
-        const std::size_t i = inc.offset +
-                              static_cast<std::size_t>(values[inc.other_col[0]]) * inc.other_place[0] +
+        const std::size_t i = inc.offset + static_cast<std::size_t>(values[inc.other_col[0]]) * inc.other_place[0] +
                               static_cast<std::size_t>(values[inc.other_col[1]]) * inc.other_place[1] +
                               static_cast<std::size_t>(values[move.cols[a]]) * inc.self_place;
         n += position_[i] != kNone ? 1 : 0;

@@ -21,8 +21,7 @@ using Row = std::vector<int>;
 // bitset over all t-tuples and a tuple's index is a few multiplications.
 class TupleSpace {
  public:
-  TupleSpace(const std::vector<int>& levels, int t)
-      : t_(t), n_(static_cast<int>(levels.size())), levels_(levels) {
+  TupleSpace(const std::vector<int>& levels, int t) : t_(t), n_(static_cast<int>(levels.size())), levels_(levels) {
     const std::size_t n = levels.size();
     combo_of_.assign(t == 2 ? n * n : n * n * n, -1);
     auto add = [&](std::array<int, 3> cols) {
@@ -55,8 +54,7 @@ class TupleSpace {
   [[nodiscard]] std::size_t offset(std::size_t k) const { return offset_[k]; }
   // Combo owning tuple `i`.
   [[nodiscard]] std::size_t combo_of_tuple(std::size_t i) const {
-    return static_cast<std::size_t>(std::upper_bound(offset_.begin(), offset_.end(), i) - offset_.begin()) -
-           1;
+    return static_cast<std::size_t>(std::upper_bound(offset_.begin(), offset_.end(), i) - offset_.begin()) - 1;
   }
 
   // Combo of columns a < b (< c).

@@ -151,10 +151,8 @@ void check_compiled_over(core::Validator& v, const core::Expression& e, const st
 
 void check_factor_domain(core::Validator& v, const OddFactor& f) {
   if (!valid_identifier(f.name))
-    v.fail(
-        "name",
-        fmt::format("factor name '{}' is not an identifier (letters, digits and _, starting with a letter)",
-                    f.name));
+    v.fail("name", fmt::format("factor name '{}' is not an identifier (letters, digits and _, starting with a letter)",
+                               f.name));
   switch (f.type) {
     case FactorType::kContinuous:
     case FactorType::kInteger: {
@@ -162,18 +160,17 @@ void check_factor_domain(core::Validator& v, const OddFactor& f) {
         v.fail("bins", fmt::format("'bins' needs at least two edges (one bin), got {}", f.edges.size()));
       for (std::size_t k = 1; k < f.edges.size(); ++k)
         if (!(f.edges[k] > f.edges[k - 1]))
-          v.fail("bins",
-                 fmt::format("bin edges must increase strictly, but {:g} follows {:g} (position {}); bins "
-                             "may not overlap or be unsorted",
-                             f.edges[k], f.edges[k - 1], k + 1));
+          v.fail("bins", fmt::format("bin edges must increase strictly, but {:g} follows {:g} (position {}); bins "
+                                     "may not overlap or be unsorted",
+                                     f.edges[k], f.edges[k - 1], k + 1));
       if (f.type == FactorType::kInteger)
         for (double e : f.edges)
           if (e != std::round(e))
             v.fail("bins", fmt::format("bin edges of an integer factor must be integers, got {:g}", e));
       for (double k : f.kinks)
         if (!(k > f.edges.front() && k < f.edges.back()))
-          v.fail("kinks", fmt::format("kink {:g} lies outside the open domain ({:g}, {:g})", k,
-                                      f.edges.front(), f.edges.back()));
+          v.fail("kinks", fmt::format("kink {:g} lies outside the open domain ({:g}, {:g})", k, f.edges.front(),
+                                      f.edges.back()));
       break;
     }
     case FactorType::kCategorical: {
@@ -182,8 +179,8 @@ void check_factor_domain(core::Validator& v, const OddFactor& f) {
       for (const auto& c : f.classes)
         if (!seen.insert(c).second) v.fail("classes", fmt::format("duplicate class '{}'", c));
       if (f.class_values.size() != f.classes.size())
-        v.fail("values", fmt::format("'values' has {} numbers for {} classes", f.class_values.size(),
-                                     f.classes.size()));
+        v.fail("values",
+               fmt::format("'values' has {} numbers for {} classes", f.class_values.size(), f.classes.size()));
       const std::set<double> distinct(f.class_values.begin(), f.class_values.end());
       if (distinct.size() != f.class_values.size()) v.fail("values", "the classes' values must differ");
       break;
@@ -202,23 +199,22 @@ void check_factor_prior(core::Validator& v, const OddFactor& f) {
     sum += p;
   }
   if (std::abs(sum - 1.0) > 1e-6)
-    v.fail("prior",
-           fmt::format("prior does not normalise: its probabilities sum to {:.9g}, expected 1", sum));
+    v.fail("prior", fmt::format("prior does not normalise: its probabilities sum to {:.9g}, expected 1", sum));
 }
 
 void check_factor_nominal(core::Validator& v, const OddFactor& f) {
   if (f.type == FactorType::kCategorical) {
     if (std::find(f.class_values.begin(), f.class_values.end(), f.nominal) == f.class_values.end())
-      v.fail("nominal", fmt::format("nominal {:g} is not the number of a class of '{}' ({})", f.nominal,
-                                    f.name, core::join(f.classes, ", ")));
+      v.fail("nominal", fmt::format("nominal {:g} is not the number of a class of '{}' ({})", f.nominal, f.name,
+                                    core::join(f.classes, ", ")));
     return;
   }
   if (f.type == FactorType::kInteger && f.nominal != std::round(f.nominal))
-    v.fail("nominal", fmt::format("nominal of the integer factor '{}' must be a whole number, got {:g}",
-                                  f.name, f.nominal));
+    v.fail("nominal",
+           fmt::format("nominal of the integer factor '{}' must be a whole number, got {:g}", f.name, f.nominal));
   if (f.nominal < f.domain_min() || f.nominal > f.domain_max())
-    v.fail("nominal", fmt::format("nominal {:g} lies outside the domain [{:g}, {:g}]", f.nominal,
-                                  f.domain_min(), f.domain_max()));
+    v.fail("nominal",
+           fmt::format("nominal {:g} lies outside the domain [{:g}, {:g}]", f.nominal, f.domain_min(), f.domain_max()));
 }
 
 void check_factor_unique(core::Validator& v, const Odd& odd, std::size_t i) {
@@ -241,10 +237,9 @@ void check_coverage(core::Validator& v, const Odd& odd) {
   if (static_cast<std::size_t>(odd.strength) > q.size()) {
     std::vector<std::string> names;
     for (auto i : q) names.push_back(odd.factors[i].name);
-    v.fail("strength",
-           fmt::format("strength {} is larger than the number of influential factors with more than one "
-                       "level ({}: {})",
-                       odd.strength, q.size(), names.empty() ? "none" : core::join(names, ", ")));
+    v.fail("strength", fmt::format("strength {} is larger than the number of influential factors with more than one "
+                                   "level ({}: {})",
+                                   odd.strength, q.size(), names.empty() ? "none" : core::join(names, ", ")));
   }
   if (odd.n_c < 1) v.fail("n_c", fmt::format("n_c must be >= 1, got {}", odd.n_c));
   if (odd.n_m < 0) v.fail("n_m", fmt::format("n_m must be >= 0, got {}", odd.n_m));
@@ -264,8 +259,8 @@ void check_malfunction(core::Validator& v, const Odd& odd, std::size_t k) {
 
 void check_domain_size(core::Validator& v, const Odd& odd) {
   if (odd.cell_count() > 200000)
-    v.fail("factors", fmt::format("the factors' levels make {:.0f} cells, more than 200000; use fewer bins",
-                                  odd.cell_count()));
+    v.fail("factors",
+           fmt::format("the factors' levels make {:.0f} cells, more than 200000; use fewer bins", odd.cell_count()));
 }
 
 void check_satisfiable(core::Validator& v, const Odd& odd) {
@@ -274,17 +269,15 @@ void check_satisfiable(core::Validator& v, const Odd& odd) {
   // relevant cell is the culprit.
   Odd partial = odd;
   partial.constraints.clear();
-  if (relevant_cells(partial).empty())
-    v.fail("relevance", "no point of the domain satisfies the relevance predicate");
+  if (relevant_cells(partial).empty()) v.fail("relevance", "no point of the domain satisfies the relevance predicate");
   const core::Validator::Scope constraints(v, "constraints");
   for (std::size_t i = 0; i < odd.constraints.size(); ++i) {
     partial.constraints.push_back(odd.constraints[i]);
     if (relevant_cells(partial).empty()) {
       const core::Validator::Scope at(v, i);
-      v.fail(
-          {},
-          "the constraints are unsatisfiable: with this one, no point of the domain satisfies the relevance "
-          "predicate and every constraint");
+      v.fail({},
+             "the constraints are unsatisfiable: with this one, no point of the domain satisfies the relevance "
+             "predicate and every constraint");
     }
   }
 }

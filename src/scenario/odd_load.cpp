@@ -187,8 +187,7 @@ std::vector<SourceLocation> value_locations(const core::YamlNode& node) {
 
 // A factor as an OddFactor: first the keys its type takes and needs, then, at factors[index], its
 // domain, its prior and its nominal value, each checked before the next is derived from it.
-OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root,
-                      std::size_t index) {
+OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root, std::size_t index) {
   OddFactor f;
   f.name = y.name;
   f.unit = y.unit;
@@ -250,8 +249,7 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
       const std::string name = n.as_string();
       const auto it = std::find(f.classes.begin(), f.classes.end(), name);
       if (it == f.classes.end())
-        n.fail(fmt::format("nominal '{}' is not a class of '{}' ({})", name, f.name,
-                           core::join(f.classes, ", ")));
+        n.fail(fmt::format("nominal '{}' is not a class of '{}' ({})", name, f.name, core::join(f.classes, ", ")));
       f.nominal = f.class_values[static_cast<std::size_t>(it - f.classes.begin())];
     } else {
       f.nominal = core::scalar_number(n);
@@ -273,16 +271,14 @@ void add_unique(std::vector<std::string>& list, const std::string& item) {
 
 }  // namespace
 
-std::vector<Malfunction> malfunctions_from(const safety::SafetyCase& sc,
-                                           const std::vector<std::string>& factors) {
+std::vector<Malfunction> malfunctions_from(const safety::SafetyCase& sc, const std::vector<std::string>& factors) {
   std::vector<Malfunction> out;
   for (const auto& uca : sc.ucas) {
     Malfunction m;
     m.id = uca.id;
     m.description = uca.context;
     m.where = uca.where;
-    if (uca.region_expression)
-      m.region.emplace(uca.region_expression->text(), factors, uca.region_expression->where());
+    if (uca.region_expression) m.region.emplace(uca.region_expression->text(), factors, uca.region_expression->where());
     for (const auto& h : uca.hazards) m.hazards.push_back(h.id);
     m.transitions = split_transitions(uca.fsm_transitions);
     out.push_back(std::move(m));
@@ -338,10 +334,9 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     } else if (k == "strategies") {
       for (const auto& s : value.elements()) odd.strategies.push_back(s.as_string());
     } else {
-      key.fail(
-          "unknown field '" + k +
-          "'; expected name, description, seed, safety, scene, strategies, factors, relevance, constraints, "
-          "tracked, malfunctions, hazards, coverage, acceptance or baselines");
+      key.fail("unknown field '" + k +
+               "'; expected name, description, seed, safety, scene, strategies, factors, relevance, constraints, "
+               "tracked, malfunctions, hazards, coverage, acceptance or baselines");
     }
   }
 
@@ -366,8 +361,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   if (coverage_node) {
     CoverageYaml c;
     core::read_yaml(*coverage_node, c);
-    if (c.budget < 0)
-      field(*coverage_node, "budget").fail(detail::budget_message(c.budget));  // no size_t holds it
+    if (c.budget < 0) field(*coverage_node, "budget").fail(detail::budget_message(c.budget));  // no size_t holds it
     odd.strength = c.strength;
     odd.n_c = c.n_c;
     odd.n_m = c.n_m;
@@ -434,13 +428,11 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   if (baselines_node) {
     double points = 1.0;
     for (const auto& [key, value] : baselines_node->entries()) {
-      if (key.as_string() != "manual")
-        key.fail("unknown baseline '" + key.as_string() + "'; expected manual");
+      if (key.as_string() != "manual") key.fail("unknown baseline '" + key.as_string() + "'; expected manual");
       for (const auto& [fkey, fvalue] : value.entries()) {
         const auto i = odd.factor_index(fkey.as_string());
         if (!i)
-          fkey.fail(fmt::format("unknown factor '{}'; expected one of {}", fkey.as_string(),
-                                core::join(names, ", ")));
+          fkey.fail(fmt::format("unknown factor '{}'; expected one of {}", fkey.as_string(), core::join(names, ", ")));
         odd.manual_grid.emplace_back(*i, core::expand_values(fvalue));
         points *= static_cast<double>(odd.manual_grid.back().second.size());
         if (points > static_cast<double>(kMaxManualGridPoints))

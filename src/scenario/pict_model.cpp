@@ -52,7 +52,7 @@ struct PictModel::Constraint {
   std::vector<std::shared_ptr<const Constraint>> children;  // kIf: condition, then, [else]
   int p = 0;                                                // kUnary, kBinary
   int q = 0;                                                // kBinary
-  std::vector<char> table;  // kUnary: [v of p]; kBinary: [v_p * levels(q) + v_q]
+  std::vector<char> table;                                  // kUnary: [v of p]; kBinary: [v_p * levels(q) + v_q]
   int q_levels = 0;
   SourceLocation where;
 
@@ -267,8 +267,8 @@ class ConstraintParser {
       ~Depth() { --d; }
     } depth(depth_);
     if (depth_ > kMaxNesting)
-      fail(peek(), fmt::format("parentheses and NOTs nested more than {} deep; expected a flatter constraint",
-                               kMaxNesting));
+      fail(peek(),
+           fmt::format("parentheses and NOTs nested more than {} deep; expected a flatter constraint", kMaxNesting));
     if (is_word("NOT")) {
       next();
       auto n = std::make_shared<Node>();
@@ -302,8 +302,7 @@ class ConstraintParser {
     if (op == "<>") return numeric ? *a != *b : v != lit.text;
     if (!b) fail(lit, "ordering comparison '" + op + "' needs a number, found '" + lit.text + "'");
     if (!a)
-      fail(op_token,
-           "ordering comparison '" + op + "' needs numeric values, but [" + param + "] has '" + v + "'");
+      fail(op_token, "ordering comparison '" + op + "' needs numeric values, but [" + param + "] has '" + v + "'");
     if (op == "<") return *a < *b;
     if (op == "<=") return *a <= *b;
     if (op == ">") return *a > *b;
@@ -382,8 +381,8 @@ class ConstraintParser {
 
 bool starts_constraint(const std::string& line) {
   const std::string u = upper(line);
-  return !u.empty() && (u[0] == '[' || u[0] == '(' || u.rfind("IF ", 0) == 0 || u.rfind("IF[", 0) == 0 ||
-                        u.rfind("NOT ", 0) == 0);
+  return !u.empty() &&
+         (u[0] == '[' || u[0] == '(' || u.rfind("IF ", 0) == 0 || u.rfind("IF[", 0) == 0 || u.rfind("NOT ", 0) == 0);
 }
 
 // Throws InputError when no row satisfies `model`'s constraints, at the first constraint that with
@@ -403,8 +402,8 @@ void check_satisfiable(const PictModel& model, const std::vector<NodePtr>& const
   const std::string unsatisfiable = "the constraints are unsatisfiable: no row satisfies them all";
   try {
     for (std::size_t k = 1; k <= constraints.size(); ++k) {
-      const PictModel prefix(params, std::vector<NodePtr>(constraints.begin(),
-                                                          constraints.begin() + static_cast<std::ptrdiff_t>(k)));
+      const PictModel prefix(
+          params, std::vector<NodePtr>(constraints.begin(), constraints.begin() + static_cast<std::ptrdiff_t>(k)));
       if (!complete_row(prefix.levels(), empty, prefix.row_violates(), budget))
         throw InputError(constraints[k - 1]->where, unsatisfiable);
     }
@@ -418,8 +417,7 @@ void check_satisfiable(const PictModel& model, const std::vector<NodePtr>& const
 
 }  // namespace
 
-PictModel::PictModel(std::vector<PictParameter> parameters,
-                     std::vector<std::shared_ptr<const Constraint>> constraints)
+PictModel::PictModel(std::vector<PictParameter> parameters, std::vector<std::shared_ptr<const Constraint>> constraints)
     : parameters_(std::move(parameters)), constraints_(std::move(constraints)) {}
 
 std::vector<int> PictModel::levels() const {
@@ -484,8 +482,7 @@ PictModel parse_pict_model(std::string_view text, const std::string& file, std::
         throw InputError({file, line_no, col}, "empty value in parameter '" + p.name + "'");
       }
       if (std::find(p.values.begin(), p.values.end(), value) != p.values.end())
-        throw InputError({file, line_no, col},
-                         "duplicate value '" + value + "' in parameter '" + p.name + "'");
+        throw InputError({file, line_no, col}, "duplicate value '" + value + "' in parameter '" + p.name + "'");
       p.values.push_back(value);
       if (comma == raw.size()) break;
       start = comma + 1;

@@ -97,9 +97,7 @@ std::string point_key(const std::vector<double>& values) {
   return core::join(parts, " ");
 }
 
-bool in_region(const Malfunction& m, const std::vector<double>& values) {
-  return !m.region || m.region->holds(values);
-}
+bool in_region(const Malfunction& m, const std::vector<double>& values) { return !m.region || m.region->holds(values); }
 
 // The builder's state: the scenarios so far, their count per relevant cell, a random stream.
 class PlanBuilder {
@@ -192,7 +190,8 @@ constexpr auto kAnyPoint = [](const std::vector<double>&) { return true; };
 
 std::string target_label(const Odd& odd, const BoundaryTarget& t) {
   const OddFactor& f = odd.factors[t.factor];
-  if (f.type == FactorType::kCategorical) return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(t.value))];
+  if (f.type == FactorType::kCategorical)
+    return f.name + " = " + f.classes[static_cast<std::size_t>(f.level_of(t.value))];
   return fmt::format("{} = {:g}", f.name, t.value);
 }
 
@@ -341,8 +340,7 @@ std::optional<std::string> why_region_empty(const Odd& odd, const Malfunction& m
   if (!in_domain)
     return fmt::format("{} holds nowhere in the factors' domains ({})", region,
                        domains_text(odd, m.region->used_variables()));
-  if (!relevant)
-    return fmt::format("{} holds only where the relevance rule '{}' fails", region, odd.relevance->text());
+  if (!relevant) return fmt::format("{} holds only where the relevance rule '{}' fails", region, odd.relevance->text());
   for (std::size_t k = 0; k < kept.size(); ++k)
     if (!kept[k])
       return fmt::format("{} holds only where the constraint '{}' fails", region, odd.constraints[k].text());
@@ -351,16 +349,14 @@ std::optional<std::string> why_region_empty(const Odd& odd, const Malfunction& m
 
 // The shortfall of mode `m` with `have` tests after the allocation gave up: an empty region when
 // no cell had a point of it and the probes say why.
-Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_t have,
-                                bool searched_everywhere) {
+Shortfall malfunction_shortfall(const Odd& odd, const Malfunction& m, std::size_t have, bool searched_everywhere) {
   const auto needed = static_cast<std::size_t>(odd.n_m);
   if (have == 0 && searched_everywhere)
     if (auto why = why_region_empty(odd, m))
-      return {
-          ShortfallKind::kEmptyRegion, m.id, have, needed,
-          fmt::format("malfunction {}: its region is empty inside the ODD: {}; no test can exercise it (C4 "
-                      "needs {})",
-                      m.id, *why, needed)};
+      return {ShortfallKind::kEmptyRegion, m.id, have, needed,
+              fmt::format("malfunction {}: its region is empty inside the ODD: {}; no test can exercise it (C4 "
+                          "needs {})",
+                          m.id, *why, needed)};
   return {ShortfallKind::kTooFewTests, m.id, have, needed,
           fmt::format("malfunction {}: only {} of {} tests found in its region", m.id, have, needed)};
 }
@@ -371,8 +367,8 @@ std::size_t malfunction_allocation(const Odd& odd, PlanBuilder& b, Plan& plan) {
   for (const auto& m : odd.malfunctions) {
     const auto in_m = [&m](const std::vector<double>& p) { return in_region(m, p); };
     const auto count_in = [&] {
-      return static_cast<int>(std::count_if(b.scenarios().begin(), b.scenarios().end(),
-                                            [&](const Scenario& s) { return in_m(s.values); }));
+      return static_cast<int>(
+          std::count_if(b.scenarios().begin(), b.scenarios().end(), [&](const Scenario& s) { return in_m(s.values); }));
     };
     std::set<std::size_t> outside;  // cells where no point of the region was found
     for (int have = count_in(); have < odd.n_m; have = count_in()) {
@@ -387,8 +383,8 @@ std::size_t malfunction_allocation(const Odd& odd, PlanBuilder& b, Plan& plan) {
         outside.insert(c);
       }
       if (!placed) {
-        plan.shortfalls.push_back(malfunction_shortfall(odd, m, static_cast<std::size_t>(have),
-                                                        outside.size() == b.cells().size()));
+        plan.shortfalls.push_back(
+            malfunction_shortfall(odd, m, static_cast<std::size_t>(have), outside.size() == b.cells().size()));
         break;
       }
     }
@@ -519,8 +515,8 @@ Plan build_plan(const Odd& odd) {
   plan.relevant_cells = b.cells().size();
   plan.tracked_cells = static_cast<std::size_t>(
       std::count_if(b.cells().begin(), b.cells().end(), [](const RelevantCell& c) { return c.tracked; }));
-  plan.tests_per_tracked_cell = std::max<std::size_t>(wilson_sample_size(odd.epsilon, 1.0 - odd.delta),
-                                                      static_cast<std::size_t>(odd.n_c));
+  plan.tests_per_tracked_cell =
+      std::max<std::size_t>(wilson_sample_size(odd.epsilon, 1.0 - odd.delta), static_cast<std::size_t>(odd.n_c));
 
   plan.steps.push_back({"boundary", boundary_seed(odd, b, plan), "bin edges, kinks and classes (C2)"});
   plan.steps.push_back({"covering_array", combinatorial_core(odd, b),
@@ -532,11 +528,11 @@ Plan build_plan(const Odd& odd) {
   const std::size_t coverage_size = b.scenarios().size();
   std::size_t added = 0;
   const std::size_t short_cells = top_up(odd, b, plan.tests_per_tracked_cell, added);
-  plan.steps.push_back({"top_up", added,
-                        fmt::format("q ∝ √π over {} tracked cells to {} tests each (worst-case Wilson half-width "
-                                    "≤ {:g} at {:g} %)",
-                                    plan.tracked_cells, plan.tests_per_tracked_cell, odd.epsilon,
-                                    100.0 * (1.0 - odd.delta))});
+  plan.steps.push_back(
+      {"top_up", added,
+       fmt::format("q ∝ √π over {} tracked cells to {} tests each (worst-case Wilson half-width "
+                   "≤ {:g} at {:g} %)",
+                   plan.tracked_cells, plan.tests_per_tracked_cell, odd.epsilon, 100.0 * (1.0 - odd.delta))});
 
   // Step 5: why the construction stopped.
   plan.targets_met = plan.shortfalls.empty() && short_cells == 0;
@@ -551,8 +547,8 @@ Plan build_plan(const Odd& odd) {
   else
     plan.stop_reason =
         fmt::format("targets not met: {}{}",
-                    short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}",
-                                              short_cells, plan.shortfalls.empty() ? "" : "; ")
+                    short_cells ? fmt::format("{} tracked cells have too few distinct admissible points{}", short_cells,
+                                              plan.shortfalls.empty() ? "" : "; ")
                                 : std::string(),
                     shortfall_messages(plan));
 

@@ -143,7 +143,8 @@ nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan, const st
   nlohmann::ordered_json cells = nlohmann::ordered_json::array();
   for (const auto& c : plan.cells) {
     nlohmann::ordered_json levels;
-    for (std::size_t i = 0; i < odd.factors.size(); ++i) levels[odd.factors[i].name] = odd.factors[i].level_label(c.levels[i]);
+    for (std::size_t i = 0; i < odd.factors.size(); ++i)
+      levels[odd.factors[i].name] = odd.factors[i].level_label(c.levels[i]);
     cells.push_back({{"cell", cell_key(c.levels)},
                      {"levels", levels},
                      {"prior", c.prior},
@@ -259,29 +260,25 @@ void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& pl
 }
 
 std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan& plan,
-                         const std::vector<CoverageReport>& reports, double seconds,
-                         const std::filesystem::path& dir) {
+                         const std::vector<CoverageReport>& reports, double seconds, const std::filesystem::path& dir) {
   std::string out;
-  out += fmt::format(
-      "plan      {}: {} factors, {:.0f} cells, {} relevant, {} tracked, {} malfunction modes\n", odd_file,
-      odd.factors.size(), odd.cell_count(), plan.relevant_cells, plan.tracked_cells, odd.malfunctions.size());
-  for (const auto& step : plan.steps)
-    out += fmt::format("  {:<15} +{:<4} {}\n", step.name, step.added, step.note);
+  out += fmt::format("plan      {}: {} factors, {:.0f} cells, {} relevant, {} tracked, {} malfunction modes\n",
+                     odd_file, odd.factors.size(), odd.cell_count(), plan.relevant_cells, plan.tracked_cells,
+                     odd.malfunctions.size());
+  for (const auto& step : plan.steps) out += fmt::format("  {:<15} +{:<4} {}\n", step.name, step.added, step.note);
   out += fmt::format("  {} scenarios in {:.2f} s; {}\n", plan.scenarios.size(), seconds, plan.stop_reason);
-  for (const auto& note : plan.infeasible)
-    out += fmt::format("  no admissible point (exempt from C2): {}\n", note);
+  for (const auto& note : plan.infeasible) out += fmt::format("  no admissible point (exempt from C2): {}\n", note);
   for (const auto& s : plan.shortfalls) out += fmt::format("  shortfall: {}\n", s.message);
   const auto& ours = reports.front();
   out += fmt::format("  coverage: hazards {}, UCAs {}, transitions {}, cells {}, {}-wise {}, boundaries {}\n",
-                     percent_text(ours.hazards), percent_text(ours.malfunctions),
-                     percent_text(ours.transitions), percent_text(ours.cells), odd.strength,
-                     percent_text(ours.twise), percent_text(ours.boundaries));
+                     percent_text(ours.hazards), percent_text(ours.malfunctions), percent_text(ours.transitions),
+                     percent_text(ours.cells), odd.strength, percent_text(ours.twise), percent_text(ours.boundaries));
   out += fmt::format("  independent check: C1 {}, C2 {}, C3 {}, C4 {}\n", ours.c1 ? "holds" : "FAILS",
                      ours.c2 ? "holds" : "FAILS", ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS");
   for (std::size_t i = 1; i < reports.size(); ++i)
     out += fmt::format("  baseline {:<12} {:>3} scenarios: hazards {}, UCAs {}, cells {}\n", reports[i].name,
-                       reports[i].scenarios, percent_text(reports[i].hazards),
-                       percent_text(reports[i].malfunctions), percent_text(reports[i].cells));
+                       reports[i].scenarios, percent_text(reports[i].hazards), percent_text(reports[i].malfunctions),
+                       percent_text(reports[i].cells));
   out += fmt::format("  -> {}\n", (dir / "scenarios.csv").string());
   return out;
 }

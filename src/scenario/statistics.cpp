@@ -99,22 +99,19 @@ double effective_sample_size(std::span<const double> weights) {
   return sum_of_squares > 0.0 ? sum * sum / sum_of_squares : 0.0;
 }
 
-WeightedEstimate weighted_success(std::span<const double> weights, std::span<const int> outcomes,
-                                  double confidence) {
+WeightedEstimate weighted_success(std::span<const double> weights, std::span<const int> outcomes, double confidence) {
   require(weights.size() == outcomes.size(), "weighted_success: weights and outcomes differ in length");
   require(is_confidence(confidence), "weighted_success: confidence must be in (0, 1)");
   WeightedEstimate result;
   double weighted_successes = 0.0;
   for (std::size_t i = 0; i < weights.size(); ++i) {
-    require(std::isfinite(weights[i]) && weights[i] >= 0.0,
-            "weighted_success: weights must be finite and >= 0");
+    require(std::isfinite(weights[i]) && weights[i] >= 0.0, "weighted_success: weights must be finite and >= 0");
     require(outcomes[i] == 0 || outcomes[i] == 1, "weighted_success: outcomes must be 0 or 1");
     result.weight += weights[i];
     weighted_successes += weights[i] * outcomes[i];
   }
   result.n = weights.size();
-  result.estimate =
-      result.weight > 0.0 ? weighted_successes / result.weight : std::numeric_limits<double>::quiet_NaN();
+  result.estimate = result.weight > 0.0 ? weighted_successes / result.weight : std::numeric_limits<double>::quiet_NaN();
   result.n_eff = effective_sample_size(weights);
   if (result.n_eff > 0.0) {
     // n_eff·Ŝ can overshoot n_eff in the last bit when every test succeeded.

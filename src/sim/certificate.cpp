@@ -24,8 +24,8 @@
 #include <span>
 #include <vector>
 
-#include "emrm/sim/vehicle.hpp"
 #include "certificate_bounds.hpp"
+#include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -127,9 +127,8 @@ Evaluation evaluate(const Setup& c, Bounder& b, const Braking& braking, const Wi
     // route is convex in a) of each route, the least over routes.
     const auto route = [&](auto&& at) { return std::max(at(a_lo), at(a_hi)); };
     const double l = c.wheelbase;
-    const double by_axles = route([&](double a) {
-      return std::abs(a + c.lr) / l * front + std::abs(c.lf - a) / l * rear;
-    });
+    const double by_axles =
+        route([&](double a) { return std::abs(a + c.lr) / l * front + std::abs(c.lf - a) / l * rear; });
     const double by_cg = route([&](double a) { return cg + std::abs(a) * sin_cap; });
     const double by_front = route([&](double a) { return front + std::abs(a - c.lf) * sin_cap; });
     const double by_rear = route([&](double a) { return rear + std::abs(a + c.lr) * sin_cap; });
@@ -235,8 +234,9 @@ std::optional<std::string> no_certificate_bound(const SceneConfig& config) {
     return fmt::format("vehicle model '{}' has no certificate bound: no cell is certified unavoidable",
                        config.simulation.vehicle_model);
   if (config.simulation.dt_s > kMaxSceneStep_s)
-    return fmt::format("a time step of {:g} s is above the certificate bound's {:g} s: no cell is certified unavoidable",
-                       config.simulation.dt_s, kMaxSceneStep_s);
+    return fmt::format(
+        "a time step of {:g} s is above the certificate bound's {:g} s: no cell is certified unavoidable",
+        config.simulation.dt_s, kMaxSceneStep_s);
   return std::nullopt;
 }
 

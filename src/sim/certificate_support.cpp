@@ -15,7 +15,10 @@ double fiala_cap(double grip_n, double slope_n_per_rad, double tan_bound) {
 }
 
 AxleSupport::AxleSupport(double a_in, double b_in, double cap_in)
-    : a(a_in), b(b_in), s(std::sqrt(a_in * a_in + b_in * b_in)), cap(cap_in),
+    : a(a_in),
+      b(b_in),
+      s(std::sqrt(a_in * a_in + b_in * b_in)),
+      cap(cap_in),
       switch_n(a_in > 0.0 ? cap_in * s / a_in : std::numeric_limits<double>::infinity()) {}
 
 double AxleSupport::value(double n) const {
@@ -40,8 +43,8 @@ double AxleSupport::value_minus(double n_max, double nu) const {
 
 // For every nu ≥ 0 the value is ≤ nu·S + Σ max_N(support − nu·N) (weak duality over the sum of the
 // radii); a few nu are tried.
-double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f,
-                         double cap_r, double total_n) {
+double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f, double cap_r,
+                         double total_n) {
   const AxleSupport front(a_f, b, cap_f);
   const AxleSupport rear(a_r, b, cap_r);
   double best = front.value(grip_f) + rear.value(grip_r);

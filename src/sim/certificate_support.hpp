@@ -28,7 +28,7 @@ struct AxleSupport {
 /// Both axles (C10): max of a_f|q_f| + b|p_f| + a_r|q_r| + b|p_r| with each axle in its friction
 /// disc (radius ≤ its grip), its body-lateral component within its cap, and the two radii summing
 /// to at most total_n. Bounded from above by weak duality over the sum constraint.
-[[nodiscard]] double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r,
-                                       double cap_f, double cap_r, double total_n);
+[[nodiscard]] double axle_pair_support(double a_f, double a_r, double b, double grip_f, double grip_r, double cap_f,
+                                       double cap_r, double total_n);
 
 }  // namespace emrm::sim::certificate_support

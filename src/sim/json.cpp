@@ -52,8 +52,8 @@ Control control_from(const nlohmann::json& j, const std::string& where) {
 std::optional<core::Vec2> point_from(const nlohmann::json& j, const char* key, const std::string& where) {
   const auto& v = member(j, key, where);
   if (v.is_null()) return std::nullopt;
-  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() ||
-      !std::isfinite(v[0].get<double>()) || !std::isfinite(v[1].get<double>()))
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() || !std::isfinite(v[0].get<double>()) ||
+      !std::isfinite(v[1].get<double>()))
     throw InputError(SourceLocation{}, fmt::format("{}: '{}' must be null or [x, y] in metres", where, key));
   return core::Vec2{v[0].get<double>(), v[1].get<double>()};
 }
@@ -61,8 +61,8 @@ std::optional<core::Vec2> point_from(const nlohmann::json& j, const char* key, c
 nlohmann::json trajectory_json(const std::vector<PathPoint>& path) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : path)
-    out.push_back({{"t", p.t_s}, {"x", p.state.x_m}, {"y", p.state.y_m}, {"psi", p.state.yaw_rad},
-                   {"v", p.state.speed_mps()}});
+    out.push_back(
+        {{"t", p.t_s}, {"x", p.state.x_m}, {"y", p.state.y_m}, {"psi", p.state.yaw_rad}, {"v", p.state.speed_mps()}});
   return out;
 }
 
@@ -128,9 +128,12 @@ Certificate certificate_from_json(const nlohmann::json& j, const std::string& wh
 }
 
 nlohmann::json to_json(const ActuationConfig& a) {
-  return {{"perception_latency_s", a.perception_latency_s}, {"brake_dead_time_s", a.brake_dead_time_s},
-          {"brake_ramp_s", a.brake_ramp_s},                 {"max_decel_mps2", a.max_decel_mps2},
-          {"steer_dead_time_s", a.steer_dead_time_s},       {"steer_time_constant_s", a.steer_time_constant_s}};
+  return {{"perception_latency_s", a.perception_latency_s},
+          {"brake_dead_time_s", a.brake_dead_time_s},
+          {"brake_ramp_s", a.brake_ramp_s},
+          {"max_decel_mps2", a.max_decel_mps2},
+          {"steer_dead_time_s", a.steer_dead_time_s},
+          {"steer_time_constant_s", a.steer_time_constant_s}};
 }
 
 ActuationConfig actuation_from_json(const nlohmann::json& a, const std::string& where) {
@@ -159,7 +162,8 @@ nlohmann::json to_json(const Maneuver& maneuver) {
 Maneuver maneuver_from_json(const nlohmann::json& j, const std::string& where) {
   Maneuver m;
   const auto& plan = member(j, "plan", where);
-  if (!plan.is_array()) throw InputError(SourceLocation{}, fmt::format("{}: 'plan' must be an array of segments", where));
+  if (!plan.is_array())
+    throw InputError(SourceLocation{}, fmt::format("{}: 'plan' must be an array of segments", where));
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const std::string at = fmt::format("{}: plan[{}]", where, i);
     ControlSegment s;

@@ -37,8 +37,7 @@ VehicleState KinematicBicycle::derivative(const VehicleState& s, const Control& 
   return d;
 }
 
-TireForces KinematicBicycle::tire_forces(const VehicleState& /*s*/, const Control& /*u*/,
-                                         double /*mu*/) const {
+TireForces KinematicBicycle::tire_forces(const VehicleState& /*s*/, const Control& /*u*/, double /*mu*/) const {
   return {};
 }
 

@@ -35,8 +35,7 @@ ImpactAssessment with_risks(ImpactAssessment out, const SeverityConfig& c) noexc
 
 double central_delta_v_mps(double ego_mass_kg, double other_mass_kg, double relative_normal_speed_mps,
                            double restitution) noexcept {
-  return (1.0 + restitution) * other_mass_kg / (ego_mass_kg + other_mass_kg) *
-         std::abs(relative_normal_speed_mps);
+  return (1.0 + restitution) * other_mass_kg / (ego_mass_kg + other_mass_kg) * std::abs(relative_normal_speed_mps);
 }
 
 double p_mais3(double delta_v_mps, const SeverityConfig& c) noexcept {
@@ -83,6 +82,5 @@ ImpactAssessment assess_impact(const ImpactBody& ego, const ImpactBody& other, c
   }
   return with_risks(out, c);
 }
-
 
 }  // namespace emrm::sim

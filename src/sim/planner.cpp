@@ -11,9 +11,9 @@ namespace {
 using PlannerPtr = std::shared_ptr<const Planner>;
 
 core::Registry<PlannerPtr>& registry() {
-  static core::Registry<PlannerPtr> planners(
-      "planner", {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>()},
-      [](const PlannerPtr& p) { return p->name(); });
+  static core::Registry<PlannerPtr> planners("planner",
+                                             {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>()},
+                                             [](const PlannerPtr& p) { return p->name(); });
   return planners;
 }
 

@@ -69,13 +69,10 @@ PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const C
             }
   }
   result.stats.nodes = result.stats.rollouts;
-  result.stats.time_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  result.stats.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
 
-PlanResult ReferencePlanner::plan(const PlanningProblem& p) const {
-  return plan_reference(p.scene, p.model, p.limits);
-}
+PlanResult ReferencePlanner::plan(const PlanningProblem& p) const { return plan_reference(p.scene, p.model, p.limits); }
 
 }  // namespace emrm::sim

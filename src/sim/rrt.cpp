@@ -16,7 +16,7 @@ struct Node {
   ActuatorState actuators;  // where the actuators are at `state` (commands still in flight)
   double t_s = 0.0;
   int parent = -1;
-  std::vector<PathPoint> edge;  // the path that led here from the parent
+  std::vector<PathPoint> edge;       // the path that led here from the parent
   std::vector<ControlSegment> plan;  // the controls of that edge
 };
 
@@ -52,8 +52,10 @@ class Rrt {
           roller_.roll(root.state, 0.0, {hold(Control{}, cfg.actuation.perception_latency_s)}, std::nullopt, 5);
       ++result_.stats.rollouts;
       if (coast.termination != Termination::kOpen) {
-        if (coast.avoided()) result_.avoidance = std::move(coast);
-        else result_.collision = std::move(coast);
+        if (coast.avoided())
+          result_.avoidance = std::move(coast);
+        else
+          result_.collision = std::move(coast);
         return finish(started);
       }
       root.state = coast.end_state;
@@ -333,8 +335,8 @@ class Rrt {
   std::vector<Node> nodes_;
   PlanResult result_;
   std::optional<std::pair<double, double>> passage_band_;  // y range the ego's CG may use beside the truck
-  std::vector<NodeSummary> summaries_;  // per node, what random_moving_node and nearest read
-  int iterations_ = 0;  // extension attempts, some of which add no node
+  std::vector<NodeSummary> summaries_;                     // per node, what random_moving_node and nearest read
+  int iterations_ = 0;                                     // extension attempts, some of which add no node
 };
 
 }  // namespace
@@ -347,6 +349,5 @@ PlanResult plan_rrt(const Scene& scene, const VehicleModel& model, const Control
 PlanResult RrtPlanner::plan(const PlanningProblem& p) const {
   return plan_rrt(p.scene, p.model, p.limits, p.seed, p.keep_tree);
 }
-
 
 }  // namespace emrm::sim

@@ -37,9 +37,7 @@ void validate(const RoadsideConfig& roadside) { core::validate_fields("roadside"
 void validate(const SafeStateConfig& safe_state) { core::validate_fields("safe_state", safe_state); }
 void validate(const ActuationConfig& actuation) { core::validate_fields("actuation", actuation); }
 
-SceneConfig load_scene_config(const std::filesystem::path& path) {
-  return read_scene(core::YamlNode::load_file(path));
-}
+SceneConfig load_scene_config(const std::filesystem::path& path) { return read_scene(core::YamlNode::load_file(path)); }
 
 SceneConfig parse_scene_config(const std::string& text, const std::string& file_name) {
   return read_scene(core::YamlNode::parse(text, file_name));
@@ -111,8 +109,7 @@ std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config) {
       {"ttc_s", "s", "time to collision", 0.0, false, kUnbounded, ""},
       {"mu", "1", "friction coefficient", 0.0, false, 2.0, ""},
       {"passage_m", "m", "passage width", 0.0, false, drivable_width_m,
-       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road",
-                   drivable_width_m)},
+       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", drivable_width_m)},
       {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kMaxSpeed_kph,
        "faster than any road vehicle drives; the speed is in km/h"},
   };
@@ -124,10 +121,9 @@ void validate_cell(const SceneConfig& config, const CellInput& cell) {
   for (std::size_t i = 0; i < limits.size(); ++i) {
     const CellFactorLimit& l = limits[i];
     if (l.accepts(values[i])) continue;
-    throw UsageError(
-        fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
-                    l.unit == "1" ? "" : " " + l.unit, values[i],
-                    values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
+    throw UsageError(fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
+                                 l.unit == "1" ? "" : " " + l.unit, values[i],
+                                 values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
   }
 }
 
@@ -139,8 +135,7 @@ Scene::Scene(const SceneConfig& config, const CellInput& cell)
   // passage_m is the gap once the truck stands (or, never stopping, at t = TTC): the truck
   // starts that far plus its travel until then above the right edge of the drivable area.
   const double a = config.truck.decel_mps2;
-  const double travel_m =
-      a > 0.0 ? truck_speed_mps_ * truck_speed_mps_ / (2.0 * a) : truck_speed_mps_ * cell.ttc_s;
+  const double travel_m = a > 0.0 ? truck_speed_mps_ * truck_speed_mps_ / (2.0 * a) : truck_speed_mps_ * cell.ttc_s;
   truck_front_y0_m_ = config.road.drivable_min_y_m() + cell.passage_m + travel_m;
 }
 

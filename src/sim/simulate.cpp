@@ -26,20 +26,28 @@ extern const char* const kShippedLossEvaluationFsmYaml;
 
 std::string_view region_name(Region r) noexcept {
   switch (r) {
-    case Region::kG: return "G";
-    case Region::kY: return "Y";
-    case Region::kO: return "O";
-    case Region::kR: return "R";
-    case Region::kInfeasible: return "infeasible";
+    case Region::kG:
+      return "G";
+    case Region::kY:
+      return "Y";
+    case Region::kO:
+      return "O";
+    case Region::kR:
+      return "R";
+    case Region::kInfeasible:
+      return "infeasible";
   }
   return "?";
 }
 
 std::string_view evidence_name(Evidence e) noexcept {
   switch (e) {
-    case Evidence::kWitness: return "witness";
-    case Evidence::kCertificate: return "certificate";
-    case Evidence::kUndecided: return "undecided";
+    case Evidence::kWitness:
+      return "witness";
+    case Evidence::kCertificate:
+      return "certificate";
+    case Evidence::kUndecided:
+      return "undecided";
   }
   return "?";
 }
@@ -60,8 +68,8 @@ std::vector<std::string> strategy_names() { return registered_strategies().names
 void validate_strategy(std::string_view name) {
   const StrategyTable strategies = registered_strategies();
   if (strategies.find(name) == nullptr)
-    throw UsageError(fmt::format("unknown strategy '{}'; expected one of: {}, or all", name,
-                                 core::join(strategies.names(), ", ")));
+    throw UsageError(
+        fmt::format("unknown strategy '{}'; expected one of: {}, or all", name, core::join(strategies.names(), ", ")));
 }
 
 namespace {
@@ -151,9 +159,9 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
   const Planner* own = find_planner(info.planner);
   if (own == nullptr) return std::nullopt;
   const CellInput& c = scene.cell();
-  const std::uint64_t cell_key = derive_seed(
-      0x5eed5eed5eed5eedULL,
-      fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph));
+  const std::uint64_t cell_key =
+      derive_seed(0x5eed5eed5eed5eedULL, fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s,
+                                                     c.mu, c.passage_m, c.truck_speed_kph));
   // The restarts are independent: they run side by side where a worker is free (a sweep's other
   // cells keep the workers busy, a lone cell or the tail of a sweep does not), and the outcome is
   // the first in order that avoids, counted as if they had run one after another: a restart after
@@ -229,8 +237,18 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   };
   const auto run = [&](const RegisteredStrategy& entry) {
     const std::string& name = entry.info.name;
-    const StrategyContext context{scene,    *model,  strategies, derive_seed(options.seed, name), options.keep_trees,
-                                  result.unmitigated, no_action, at_risk, outcomes, emrm_fsm, loss_fsm, certified};
+    const StrategyContext context{scene,
+                                  *model,
+                                  strategies,
+                                  derive_seed(options.seed, name),
+                                  options.keep_trees,
+                                  result.unmitigated,
+                                  no_action,
+                                  at_risk,
+                                  outcomes,
+                                  emrm_fsm,
+                                  loss_fsm,
+                                  certified};
     StrategyOutcome o = entry.strategy->run(entry.info, context);
     o.fsm_trace = trace_for(o.avoided);
     if (o.avoided && o.adopted_from.empty() && entry.info.role != StrategyRole::kChooser)

@@ -58,8 +58,7 @@ struct AbsBraking {
 // braking force is capped at sqrt(grip^2 - Fy_abs^2), Fy_abs = min(grip, C |tan(alpha)| / 3). Below the
 // cap this is the plain friction circle with Fiala; at the cap the Fiala force under the remaining
 // limit would be below Fy_abs, so the axle slides at Fy_abs (continuous in the brake: both meet there).
-[[gnu::always_inline]] inline AbsBraking abs_braking(double commanded_n, const AxleSlip& slip,
-                                                     double grip_n) {
+[[gnu::always_inline]] inline AbsBraking abs_braking(double commanded_n, const AxleSlip& slip, double grip_n) {
   if (commanded_n != 0.0) {  // without brake pressure there is nothing for the ABS to release
     const double floor_n = std::min(grip_n, slip.stiffness_tan_n / 3.0);
     const double cap_n = std::sqrt(std::max(0.0, grip_n * grip_n - floor_n * floor_n));
@@ -71,8 +70,8 @@ struct AbsBraking {
 // The wheel-frame forces of a rolling axle with its braking settled: at the cap it slides at the
 // floor, below it the Fiala force under what the friction circle leaves. These helpers are inlined
 // so that the two axles' chains of square roots and divisions overlap.
-[[gnu::always_inline]] inline void set_rolling(AxleForces& axle, const AbsBraking& braking,
-                                               const AxleSlip& slip, double grip_n) {
+[[gnu::always_inline]] inline void set_rolling(AxleForces& axle, const AbsBraking& braking, const AxleSlip& slip,
+                                               double grip_n) {
   axle.longitudinal_n = braking.longitudinal_n;
   if (braking.capped) {
     axle.lateral_n = -std::copysign(braking.floor_n, slip.tan_alpha);
@@ -102,8 +101,8 @@ struct AxleSolution {
 
 // Inlined into each caller: the derivative uses only the body-frame sums, and the compiler drops
 // the rest.
-[[gnu::always_inline]] inline AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s,
-                                                       const Control& u, double mu) {
+[[gnu::always_inline]] inline AxleSolution solve_axles(const VehicleParams& p, const VehicleState& s, const Control& u,
+                                                       double mu) {
   const double lf = p.cg_to_front_axle_m;
   const double lr = p.cg_to_rear_axle_m;
   const double wheelbase = lf + lr;
@@ -136,8 +135,8 @@ struct AxleSolution {
   }
   // m ax = a_f Fzf + a_r Fzr, Fzf = m (g lr - ax h) / L, Fzr = m g - Fzf.
   const double split = front_per_load - rear_per_load;
-  const double accel = g * (rear_per_load * wheelbase + split * lr) /
-                       std::max(wheelbase + split * p.cg_height_m, 0.25 * wheelbase);
+  const double accel =
+      g * (rear_per_load * wheelbase + split * lr) / std::max(wheelbase + split * p.cg_height_m, 0.25 * wheelbase);
   const auto front_load_at = [&](double accel_mps2) {
     return std::clamp(m * (g * lr - accel_mps2 * p.cg_height_m) / wheelbase, 0.0, m * g);
   };
@@ -166,8 +165,10 @@ struct AxleSolution {
     b.load_rear_n = m * g - load_front;
     b.front = abs_braking(-brake * mu * load_front * front_sign, front_slip, mu * load_front);
     const double rear_grip = mu * b.load_rear_n;
-    if (u.rear_lock) b.rear_locked_x_n = -rear_grip * s.vx_mps * rear_inv_speed;
-    else b.rear = abs_braking(-brake * rear_grip * rear_rolling_sign, rear_slip, rear_grip);
+    if (u.rear_lock)
+      b.rear_locked_x_n = -rear_grip * s.vx_mps * rear_inv_speed;
+    else
+      b.rear = abs_braking(-brake * rear_grip * rear_rolling_sign, rear_slip, rear_grip);
     return b;
   };
   // Where the ABS brakes less than commanded, the loads are taken once more from the braking it applies
@@ -187,8 +188,7 @@ struct AxleSolution {
     // A locked axle slides: mu Fz against its velocity, in both directions; no cornering grip.
     rear.longitudinal_n = b.rear_locked_x_n;
     rear.lateral_n = -rear_grip * vy_rear * rear_inv_speed;
-    rear.lateral_limit_n =
-        std::sqrt(std::max(0.0, rear_grip * rear_grip - rear.longitudinal_n * rear.longitudinal_n));
+    rear.lateral_limit_n = std::sqrt(std::max(0.0, rear_grip * rear_grip - rear.longitudinal_n * rear.longitudinal_n));
     rear.saturated = true;
   } else {
     set_rolling(rear, b.rear, rear_slip, rear_grip);
@@ -245,8 +245,7 @@ TireForces SingleTrackFiala::tire_forces(const VehicleState& s, const Control& u
   const AxleSolution axles = solve_axles(params_, s, u, mu);
   TireForces out = axles.tires;
   // atan2(lateral, |rolling|): equal to atan2(vy + lf r, vx) - delta for a wheel rolling forwards.
-  out.front.slip_angle_rad =
-      std::atan2(axles.front_lateral_velocity_mps, std::abs(axles.front_rolling_velocity_mps));
+  out.front.slip_angle_rad = std::atan2(axles.front_lateral_velocity_mps, std::abs(axles.front_rolling_velocity_mps));
   out.rear.slip_angle_rad = std::atan2(axles.rear_lateral_velocity_mps, std::abs(s.vx_mps));
   return out;
 }

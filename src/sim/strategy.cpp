@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <utility>
 
+#include "builtin_strategies.hpp"
 #include "emrm/core/registry.hpp"
 #include "emrm/core/text.hpp"
-#include "builtin_strategies.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -93,8 +93,8 @@ class PlannedStrategy final : public Strategy {
 
 }  // namespace
 
-StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout,
-                           const ImpactAssessment& unmitigated, const Scene& scene) {
+StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollout, const ImpactAssessment& unmitigated,
+                           const Scene& scene) {
   StrategyOutcome o;
   o.strategy = strategy;
   o.avoided = rollout.avoided();
@@ -171,13 +171,13 @@ StrategyRegistration::StrategyRegistration(StrategyInfo info, std::shared_ptr<co
     : name_(info.name) {
   if (!strategy) throw UsageError(fmt::format("strategy '{}' has no implementation", info.name));
   if (!info.planner.empty() && find_planner(info.planner) == nullptr)
-    throw UsageError(fmt::format("strategy '{}': unknown planner '{}'; expected one of: {}", info.name,
-                                 info.planner, core::join(planner_names(), ", ")));
+    throw UsageError(fmt::format("strategy '{}': unknown planner '{}'; expected one of: {}", info.name, info.planner,
+                                 core::join(planner_names(), ", ")));
   const StrategyTable table = registered_strategies();
   for (const auto& other : info.may_adopt)
     if (const StrategyInfo* o = table.info(other); o == nullptr || o->order >= info.order)
-      throw UsageError(fmt::format("strategy '{}' may adopt '{}', which is not a strategy evaluated before it",
-                                   info.name, other));
+      throw UsageError(
+          fmt::format("strategy '{}' may adopt '{}', which is not a strategy evaluated before it", info.name, other));
   registry().add({std::move(info), std::move(strategy)});
 }
 

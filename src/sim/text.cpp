@@ -48,7 +48,8 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
                               rows);
   const StrategyTable strategies = registered_strategies();
   for (const auto& o : r.strategies)
-    if (const StrategyInfo* info = strategies.info(o.strategy); info != nullptr && info->role == StrategyRole::kChooser) {
+    if (const StrategyInfo* info = strategies.info(o.strategy);
+        info != nullptr && info->role == StrategyRole::kChooser) {
       out += "\nEMRM FSM trace: " + core::join(o.fsm_trace, " ") + "\n";
       if (!o.loss_evaluation_trace.empty())
         out += "Loss-evaluation FSM trace: " + core::join(o.loss_evaluation_trace, " ") + "\n";

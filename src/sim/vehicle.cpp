@@ -135,8 +135,7 @@ std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const Ve
   const auto table = registry().table();
   for (const auto& m : *table)
     if (m.name == name) return m.make(params);
-  throw Error(
-      fmt::format("unknown vehicle model '{}' (known: {})", name, fmt::join(vehicle_model_names(), ", ")));
+  throw Error(fmt::format("unknown vehicle model '{}' (known: {})", name, fmt::join(vehicle_model_names(), ", ")));
 }
 
 std::vector<std::string> vehicle_model_names() {
@@ -151,14 +150,12 @@ namespace detail {
 
 double limited_steer_rate(const VehicleParams& p, const VehicleState& s, const Control& u) {
   const double rate = std::clamp(u.steer_rate_radps, -p.max_steer_rate_radps, p.max_steer_rate_radps);
-  if ((s.steer_rad >= p.max_steer_rad && rate > 0.0) || (s.steer_rad <= -p.max_steer_rad && rate < 0.0))
-    return 0.0;
+  if ((s.steer_rad >= p.max_steer_rad && rate > 0.0) || (s.steer_rad <= -p.max_steer_rad && rate < 0.0)) return 0.0;
   return rate;
 }
 
-KinematicBodyRates kinematic_body_rates(const VehicleParams& p, const VehicleState& s,
-                                        double steer_rate_radps, double speed_rate_mps2,
-                                        double max_correction_mps2) {
+KinematicBodyRates kinematic_body_rates(const VehicleParams& p, const VehicleState& s, double steer_rate_radps,
+                                        double speed_rate_mps2, double max_correction_mps2) {
   const double wheelbase = p.wheelbase_m();
   const double rear_share = p.cg_to_rear_axle_m / wheelbase;
   const double tan_steer = std::tan(std::clamp(s.steer_rad, -p.max_steer_rad, p.max_steer_rad));

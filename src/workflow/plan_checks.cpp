@@ -46,8 +46,7 @@ std::string located_warning(const SourceLocation& where, const std::string& mess
   return fmt::format("{}: warning: {}", where.str(), message);
 }
 
-const sim::CellFactorLimit* limit_of(const std::vector<sim::CellFactorLimit>& limits,
-                                     const std::string& name) {
+const sim::CellFactorLimit* limit_of(const std::vector<sim::CellFactorLimit>& limits, const std::string& name) {
   const auto it = std::find_if(limits.begin(), limits.end(), [&](const auto& l) { return l.name == name; });
   return it == limits.end() ? nullptr : &*it;
 }
@@ -58,8 +57,7 @@ std::string expected_text(const sim::CellFactorLimit& l) {
   const std::string unit = l.unit == "1" ? "" : " " + l.unit;
   if (std::isinf(l.high))
     return fmt::format("{} {} {} {:g}{}", article, l.what, l.low_inclusive ? ">=" : ">", l.low, unit);
-  return fmt::format("{} {} in {}{:g}, {:g}]{}", article, l.what, l.low_inclusive ? "[" : "(", l.low, l.high,
-                     unit);
+  return fmt::format("{} {} in {}{:g}, {:g}]{}", article, l.what, l.low_inclusive ? "[" : "(", l.low, l.high, unit);
 }
 
 // A likely slip behind a rejected value: a percentage for a plain number, a wider road than the scene's.
@@ -71,11 +69,10 @@ std::string hint(const sim::CellFactorLimit& l, double v) {
 
 void check_factor(const OddFactor& f, const sim::CellFactorLimit& l) {
   if (!f.unit.empty() && canonical_unit(f.unit) != canonical_unit(l.unit))
-    throw InputError(f.unit_where,
-                     fmt::format("{}: unit '{}': expected {} (the simulator reads {} as {}); convert "
-                                 "the values or rename the factor",
-                                 f.name, f.unit, l.unit == "1" ? "a plain number ('1')" : l.unit, f.name,
-                                 expected_text(l)));
+    throw InputError(f.unit_where, fmt::format("{}: unit '{}': expected {} (the simulator reads {} as {}); convert "
+                                               "the values or rename the factor",
+                                               f.name, f.unit, l.unit == "1" ? "a plain number ('1')" : l.unit, f.name,
+                                               expected_text(l)));
   for (double v : written_values(f))
     if (!l.accepts(v))
       throw InputError(value_location(f, v),
@@ -109,19 +106,18 @@ std::vector<std::string> safety_range_warnings(const scenario::Odd& odd, const s
     const OddFactor& f = odd.factors[*i];
     if (!f.unit.empty() && !sf.unit.empty() && canonical_unit(f.unit) != canonical_unit(sf.unit))
       warnings.push_back(
-          located_warning(f.unit_where, fmt::format("{}: unit '{}' in the ODD, '{}' in the safety case ({})",
-                                                    f.name, f.unit, sf.unit, sf.where.str())));
+          located_warning(f.unit_where, fmt::format("{}: unit '{}' in the ODD, '{}' in the safety case ({})", f.name,
+                                                    f.unit, sf.unit, sf.where.str())));
     const bool below = sf.min && f.domain_min() < *sf.min;
     const bool above = sf.max && f.domain_max() > *sf.max;
     if (!below && !above) continue;
     const double beyond = above ? f.domain_max() : f.domain_min();
     warnings.push_back(located_warning(
         value_location(f, beyond),
-        fmt::format(
-            "{} spans [{:g}, {:g}] in the ODD, beyond [{}, {}] of the safety case ({}); its UCA regions and "
-            "ratings were written for that range",
-            f.name, f.domain_min(), f.domain_max(), sf.min ? fmt::format("{:g}", *sf.min) : "-inf",
-            sf.max ? fmt::format("{:g}", *sf.max) : "inf", sf.where.str())));
+        fmt::format("{} spans [{:g}, {:g}] in the ODD, beyond [{}, {}] of the safety case ({}); its UCA regions and "
+                    "ratings were written for that range",
+                    f.name, f.domain_min(), f.domain_max(), sf.min ? fmt::format("{:g}", *sf.min) : "-inf",
+                    sf.max ? fmt::format("{:g}", *sf.max) : "inf", sf.where.str())));
   }
   return warnings;
 }
@@ -141,17 +137,15 @@ std::vector<std::string> placement_warnings(const scenario::Odd& odd, const scen
   }
   if (beyond == 0) return {};
   const SourceLocation where = odd.relevance ? odd.relevance->where() : SourceLocation{odd.file, 1, 1};
-  const std::string rule = odd.relevance
-                               ? fmt::format("the relevance rule '{}' admits them", odd.relevance->text())
-                               : std::string("the ODD has no relevance rule");
+  const std::string rule = odd.relevance ? fmt::format("the relevance rule '{}' admits them", odd.relevance->text())
+                                         : std::string("the ODD has no relevance rule");
   return {located_warning(
       where,
-      fmt::format(
-          "{} of {} planned scenarios lie beyond the scene's max_initial_distance_m = {:g} m ({}): their "
-          "initial distance v·TTC reaches {:.3g} m, so `emrm run` finds them infeasible; {}: make it "
-          "agree with the scene",
-          beyond, plan.scenarios.size(), scene.max_initial_distance_m, distance_limit_place(odd), farthest_m,
-          rule))};
+      fmt::format("{} of {} planned scenarios lie beyond the scene's max_initial_distance_m = {:g} m ({}): their "
+                  "initial distance v·TTC reaches {:.3g} m, so `emrm run` finds them infeasible; {}: make it "
+                  "agree with the scene",
+                  beyond, plan.scenarios.size(), scene.max_initial_distance_m, distance_limit_place(odd), farthest_m,
+                  rule))};
 }
 
 }  // namespace emrm::workflow

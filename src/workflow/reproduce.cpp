@@ -16,17 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/results/diagnostics.hpp"
-#include "emrm/results/verify.hpp"
-#include "emrm/results/paper_reference.hpp"
-#include "emrm/workflow/profiles.hpp"
-#include "emrm/workflow/run.hpp"
-#include "emrm/results/sensitivity.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
-#include "emrm/results/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/table.hpp"
@@ -34,12 +26,19 @@
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/report.hpp"
 #include "emrm/report/report.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/diagnostics.hpp"
+#include "emrm/results/paper_reference.hpp"
+#include "emrm/results/sensitivity.hpp"
+#include "emrm/results/tables.hpp"
+#include "emrm/results/verify.hpp"
 #include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
-
+#include "emrm/workflow/profiles.hpp"
+#include "emrm/workflow/run.hpp"
 #include "emrm/workflow/safety_case.hpp"
 
 namespace emrm::workflow {
@@ -64,12 +63,11 @@ bool run_analysis(const fs::path& examples, const fs::path& out) {
   const auto dir = out / "analysis";
   safety::write_analysis(dir, analysis);
   const auto& c = analysis.safety_case;
-  fmt::print(
-      "analysis  {}: {}, {}, {}; {}, {}; {} -> {}\n", safety_file.string(),
-      core::counted(c.losses.size(), "loss", "losses"), core::counted(c.hazards.size(), "hazard", "hazards"),
-      core::counted(c.ucas.size(), "UCA", "UCAs"), core::counted(analysis.errors(), "error", "errors"),
-      core::counted(analysis.warnings(), "warning", "warnings"),
-      core::counted(analysis.matrix.size(), "traceability row", "traceability rows"), dir.string());
+  fmt::print("analysis  {}: {}, {}, {}; {}, {}; {} -> {}\n", safety_file.string(),
+             core::counted(c.losses.size(), "loss", "losses"), core::counted(c.hazards.size(), "hazard", "hazards"),
+             core::counted(c.ucas.size(), "UCA", "UCAs"), core::counted(analysis.errors(), "error", "errors"),
+             core::counted(analysis.warnings(), "warning", "warnings"),
+             core::counted(analysis.matrix.size(), "traceability row", "traceability rows"), dir.string());
   return analysis.errors() == 0;
 }
 
@@ -121,8 +119,7 @@ fs::path find_examples(const fs::path& examples_dir) {
   throw UsageError(fmt::format(
       "cannot find the shipped example folder examples/tjunction (looked in the current folder, its parents "
       "and {}); run from the repository or pass --examples DIR",
-      tried.empty() ? std::string("nowhere")
-                    : (exe.parent_path() / ".." / "share" / "emrm" / "examples").string()));
+      tried.empty() ? std::string("nowhere") : (exe.parent_path() / ".." / "share" / "emrm" / "examples").string()));
 }
 
 bool reproduce(const ReproduceOptions& options, campaign::Distributor* distributor) {
@@ -147,17 +144,18 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   sweep_options.distributor = distributor;
   const auto s = campaign::sweep(plan, sweep_options);
   fmt::print("sweep     {}: {} cells, {} already stored, {} simulated in {:.1f} s -> {}\n",
-             (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated,
-             s.seconds, (out / "results.sqlite").string());
+             (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated, s.seconds,
+             (out / "results.sqlite").string());
 
   // Every claim of the store re-checked without trusting the sweep (docs/verify.md).
   const auto verified = results::verify_results(out / "results.sqlite");
   results::write_verify_report(out, verified);
-  fmt::print("verify    {} cells, {} maneuvers replayed, {} avoidances re-checked every ms, {} certificates, {} undecided: "
-             "{} -> {}\n",
-             verified.cells, verified.witnesses, verified.avoidances, verified.certificates, verified.undecided,
-             verified.ok() ? "all claims hold" : fmt::format("{} claims FAIL", verified.failures.size()),
-             (out / "verify.json").string());
+  fmt::print(
+      "verify    {} cells, {} maneuvers replayed, {} avoidances re-checked every ms, {} certificates, {} undecided: "
+      "{} -> {}\n",
+      verified.cells, verified.witnesses, verified.avoidances, verified.certificates, verified.undecided,
+      verified.ok() ? "all claims hold" : fmt::format("{} claims FAIL", verified.failures.size()),
+      (out / "verify.json").string());
   ok = verified.ok() && ok;
 
   const auto records = campaign::read_results(out / "results.sqlite");
@@ -177,9 +175,9 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
     for (const auto& run : runs) {
       per_profile.push_back(campaign::read_results(out / run.store));
       const auto c = results::count_regions(per_profile.back(), table_options.grid);
-      parts.push_back(fmt::format("{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)),
-                                  pct(c.pct(c.o)), pct(c.pct(c.r)),
-                                  run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
+      parts.push_back(fmt::format(
+          "{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)), pct(c.pct(c.o)), pct(c.pct(c.r)),
+          run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
     }
     core::write_table(out / "tables", "regions_by_profile",
                       results::profiles_table(runs, per_profile, paper, table_options.grid));
@@ -209,8 +207,7 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
       "{}\n",
       (examples / "odd.yaml").string(), scenario_plan.scenarios.size(), scenario_plan.relevant_cells,
       scenario_plan.tracked_cells, plan_seconds, ours.c1 ? "holds" : "FAILS", ours.c2 ? "holds" : "FAILS",
-      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason,
-      (out / "plan").string());
+      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason, (out / "plan").string());
   workflow::RunOptions run_options;
   run_options.scenarios_csv = out / "plan" / "scenarios.csv";
   run_options.output_dir = out / "plan_results";
@@ -223,25 +220,26 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   fmt::print(
       "run       {} scenarios in {:.1f} s: S(all) = {:.3f} (Wilson [{:.3f}, {:.3f}] at n_eff {:.1f}); widest "
       "half-width {:.3f} in a tracked cell (target {:g}); EMRM FSM transitions exercised {}/{} -> {}\n",
-      run.outcomes.size(), run.sweep.seconds, all.estimate, all.wilson.low, all.wilson.high, all.n_eff, run.widest_tracked_half_width, run.epsilon,
-      run.transitions_exercised, run.transitions_total, run_options.output_dir.string());
+      run.outcomes.size(), run.sweep.seconds, all.estimate, all.wilson.low, all.wilson.high, all.n_eff,
+      run.widest_tracked_half_width, run.epsilon, run.transitions_exercised, run.transitions_total,
+      run_options.output_dir.string());
   fmt::print("\n{}\n{}", coverage_table.title, core::markdown_table(coverage_table.header, coverage_table.rows));
 
   // The summary: the headline numbers, ours beside the paper's.
   const auto regions = results::count_regions(records, table_options.grid);
   const auto& pr = paper.fine_grid.regions_pct;
   fmt::print("\nRegions of grid '{}' (% of feasible cells), ours vs paper:\n", table_options.grid);
-  fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n",
-             regions.feasible, paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g,
-             pct(regions.pct(regions.y)), pr.y, pct(regions.pct(regions.o)), pr.o,
-             pct(regions.pct(regions.r)), pr.r);
+  fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n", regions.feasible,
+             paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g, pct(regions.pct(regions.y)), pr.y,
+             pct(regions.pct(regions.o)), pr.o, pct(regions.pct(regions.r)), pr.r);
   const auto table = results::emrm_vs_baseline_table(records, paper, table_options.grid);
   fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
   fmt::print("\nDiagnostics: {}\n", results::summary(diagnostics));
   const auto report = report::write_report(out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
-      "\nTables: {}/tables/{{emrm_vs_baseline,by_parameter,regions,regions_by_profile,claims,coverage,brake_sensitivity}}"
+      "\nTables: "
+      "{}/tables/{{emrm_vs_baseline,by_parameter,regions,regions_by_profile,claims,coverage,brake_sensitivity}}"
       ".{{md,csv,tex}}, kpis.csv; "
       "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
       out.string(), out.string(), out.string(), out.string(), seconds);
@@ -255,4 +253,3 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
 }
 
 }  // namespace emrm::workflow
-

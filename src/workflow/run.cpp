@@ -8,9 +8,9 @@
 #include <optional>
 
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/results/diagnostics.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/diagnostics.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -60,8 +60,7 @@ std::vector<SubsetEstimate> subset_estimates(const std::vector<ScenarioOutcome>&
     std::vector<int> y;
     for (const auto& o : outcomes) {
       if (!o.feasible) continue;
-      if (subset != "all" &&
-          std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
+      if (subset != "all" && std::find(o.malfunctions.begin(), o.malfunctions.end(), subset) == o.malfunctions.end())
         continue;
       w.push_back(o.weight);
       y.push_back(o.success);
@@ -112,16 +111,17 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
   for (const auto& o : result.outcomes) {
     core::Row row{o.id, o.cell};
     for (const double v : o.factor_values) row.push_back(number(v));
-    for (const auto& field : {core::join(o.malfunctions, " "), number(o.weight), std::string(o.feasible ? "yes" : "no"),
-                              o.region, o.feasible ? std::to_string(o.success) : "", o.chosen_strategy,
-                              o.feasible ? number(o.impact_speed_kph) : "", o.feasible ? std::to_string(o.loss_level) : ""})
+    for (const auto& field :
+         {core::join(o.malfunctions, " "), number(o.weight), std::string(o.feasible ? "yes" : "no"), o.region,
+          o.feasible ? std::to_string(o.success) : "", o.chosen_strategy, o.feasible ? number(o.impact_speed_kph) : "",
+          o.feasible ? std::to_string(o.loss_level) : ""})
       row.push_back(field);
     rows.push_back(std::move(row));
   }
   core::Row header{"id", "cell"};
   header.insert(header.end(), result.factors.begin(), result.factors.end());
-  for (const char* name : {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy",
-                           "impact_speed_kph", "loss_level"})
+  for (const char* name :
+       {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy", "impact_speed_kph", "loss_level"})
     header.emplace_back(name);
   std::vector<core::FileContent> files{{dir / "outcomes.csv", core::csv_table(header, rows)}};
 
@@ -130,10 +130,10 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
   for (const auto& c : result.cells) {
     core::Row row{c.cell};
     for (const auto& f : factors) row.push_back(level_of(c, f));
-    for (const auto& field :
-         {std::to_string(c.n), std::to_string(c.successes), number(static_cast<double>(c.successes) / static_cast<double>(c.n)),
-          number(c.wilson.low), number(c.wilson.high), number(c.wilson.half_width()), number(c.hoeffding_epsilon),
-          std::string(c.tracked ? "yes" : "no")})
+    for (const auto& field : {std::to_string(c.n), std::to_string(c.successes),
+                              number(static_cast<double>(c.successes) / static_cast<double>(c.n)), number(c.wilson.low),
+                              number(c.wilson.high), number(c.wilson.half_width()), number(c.hoeffding_epsilon),
+                              std::string(c.tracked ? "yes" : "no")})
       row.push_back(field);
     rows.push_back(std::move(row));
   }
@@ -151,13 +151,13 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
 RunResult run_scenarios(const RunOptions& options) {
   const scenario::ScenarioFile file = scenario::read_scenarios_csv(options.scenarios_csv);
   const fs::path settings_file = options.scenarios_csv.parent_path() / "scenarios.json";
-  campaign::PlanSettings settings = fs::is_regular_file(settings_file) ? campaign::read_plan_settings(settings_file) : campaign::PlanSettings{};
+  campaign::PlanSettings settings =
+      fs::is_regular_file(settings_file) ? campaign::read_plan_settings(settings_file) : campaign::PlanSettings{};
   if (settings.acceptance_strategy.empty()) settings.acceptance_strategy = campaign::default_acceptance_strategy();
   if (options.safety_file) settings.safety_file = options.safety_file;
   // The acceptance strategy is simulated even when the plan lists strategies without it.
-  if (!settings.strategies.empty() &&
-      std::find(settings.strategies.begin(), settings.strategies.end(), settings.acceptance_strategy) ==
-          settings.strategies.end())
+  if (!settings.strategies.empty() && std::find(settings.strategies.begin(), settings.strategies.end(),
+                                                settings.acceptance_strategy) == settings.strategies.end())
     settings.strategies.push_back(settings.acceptance_strategy);
 
   RunResult result;
@@ -194,7 +194,8 @@ RunResult run_scenarios(const RunOptions& options) {
   }
   for (const auto& row : file.rows) {
     sim::CellInput cell;
-    for (std::size_t i = 0; i < file.factors.size(); ++i) (void)campaign::set_cell_factor(cell, file.factors[i], row.values[i]);
+    for (std::size_t i = 0; i < file.factors.size(); ++i)
+      (void)campaign::set_cell_factor(cell, file.factors[i], row.values[i]);
     try {
       sim::validate_cell(campaign.scene, cell);
     } catch (const UsageError& e) {
@@ -256,7 +257,8 @@ RunResult run_scenarios(const RunOptions& options) {
       const auto rank = [&](const auto& level) {
         return std::find(file.factors.begin(), file.factors.end(), level.first) - file.factors.begin();
       };
-      std::stable_sort(c.levels.begin(), c.levels.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+      std::stable_sort(c.levels.begin(), c.levels.end(),
+                       [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
     }
     if (c.tracked) result.widest_tracked_half_width = std::max(result.widest_tracked_half_width, c.wilson.half_width());
     result.cells.push_back(c);
@@ -300,36 +302,30 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
   out += fmt::format("run       {}: {} scenarios ({} feasible), {} simulated, {} already stored, {:.1f} s\n",
                      scenarios_file, result.outcomes.size(), feasible, result.sweep.cells_simulated,
                      result.sweep.cells_done_before, result.sweep.seconds);
-  for (const auto& s : result.plan_shortfalls)
-    out += fmt::format("warning: the plan fell short: {}\n", s.message);
+  for (const auto& s : result.plan_shortfalls) out += fmt::format("warning: the plan fell short: {}\n", s.message);
   if (!result.unsimulated_factors.empty())
-    out += fmt::format("  not simulated (carried through only): {}\n",
-                       core::join(result.unsimulated_factors, ", "));
-  const auto tracked =
-      std::count_if(result.cells.begin(), result.cells.end(), [](const auto& c) { return c.tracked; });
+    out += fmt::format("  not simulated (carried through only): {}\n", core::join(result.unsimulated_factors, ", "));
+  const auto tracked = std::count_if(result.cells.begin(), result.cells.end(), [](const auto& c) { return c.tracked; });
   out += fmt::format(
       "  {} cells, {} tracked; widest Wilson {:.0f} % half-width in a tracked cell {:.3f} (target {:g})\n",
-      result.cells.size(), tracked, 100.0 * result.confidence, result.widest_tracked_half_width,
-      result.epsilon);
+      result.cells.size(), tracked, 100.0 * result.confidence, result.widest_tracked_half_width, result.epsilon);
   for (const auto& s : result.subsets) {
     const auto& e = s.estimate;
     if (e.n == 0) {
-      out += fmt::format("  S({}): no tests{}\n", s.subset,
-                         s.shortfall.empty() ? "" : " (a plan shortfall, above)");
+      out += fmt::format("  S({}): no tests{}\n", s.subset, s.shortfall.empty() ? "" : " (a plan shortfall, above)");
       continue;
     }
-    out += fmt::format("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset,
-                       e.estimate, e.n, e.n_eff, e.wilson.low, e.wilson.high);
+    out += fmt::format("  S({}) = {:.3f}  ({} tests, n_eff {:.1f}, Wilson [{:.3f}, {:.3f}])\n", s.subset, e.estimate,
+                       e.n, e.n_eff, e.wilson.low, e.wilson.high);
   }
-  out += fmt::format(
-      "  EMRM FSM transitions exercised: {}/{}{}\n", result.transitions_exercised, result.transitions_total,
-      result.transitions_missed.empty() ? std::string()
-                                        : " (never: " + core::join(result.transitions_missed, ", ") + ")");
+  out +=
+      fmt::format("  EMRM FSM transitions exercised: {}/{}{}\n", result.transitions_exercised, result.transitions_total,
+                  result.transitions_missed.empty() ? std::string()
+                                                    : " (never: " + core::join(result.transitions_missed, ", ") + ")");
   if (result.traceability_rows > 0)
     out += fmt::format("  traceability: {} rows with their scenarios -> {}\n", result.traceability_rows,
                        (output_dir / "traceability.csv").string());
-  out += fmt::format("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n",
-                     output_dir.string());
+  out += fmt::format("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n", output_dir.string());
   if (!result.plan_shortfalls.empty())
     out += fmt::format("run       {} of the plan (scenarios.json): the estimates above lack them\n",
                        core::counted(result.plan_shortfalls.size(), "shortfall", "shortfalls"));
@@ -367,9 +363,8 @@ Json to_json(const RunResult& r) {
   j["widest_tracked_wilson_half_width"] = r.widest_tracked_half_width;
   j["epsilon"] = r.epsilon;
   j["cells"] = cells;
-  j["fsm_transitions"] = {{"exercised", r.transitions_exercised},
-                          {"total", r.transitions_total},
-                          {"missed", r.transitions_missed}};
+  j["fsm_transitions"] = {
+      {"exercised", r.transitions_exercised}, {"total", r.transitions_total}, {"missed", r.transitions_missed}};
   j["traceability_rows"] = r.traceability_rows;
   Json shortfalls = Json::array();
   for (const auto& s : r.plan_shortfalls)

@@ -12,8 +12,7 @@ safety::Analysis analyze_safety_file(const std::filesystem::path& file,
   safety::SafetyCase sc = safety::load_safety_case(file);
   std::optional<safety::FsmTransitions> known;
   const auto path = fsm_file ? fsm_file : safety::fsm_file(sc);
-  if (path && !no_fsm)
-    known = safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
+  if (path && !no_fsm) known = safety::fsm_transitions(path->string(), fsm::load_generator(*path).transitions());
   return safety::analyze(std::move(sc), std::move(known));
 }
 

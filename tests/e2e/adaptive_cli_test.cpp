@@ -98,7 +98,8 @@ TEST(AdaptiveCli, SimulatesAFractionAndSaysWhichCellsWereInferred) {
   EXPECT_THAT(read_text(out / "cells.json"), HasSubstr("\"inferred_from\""));
   // Resumed: the rerun simulates nothing and writes the same map.
   const std::string before = read_text(out / "regions.csv");
-  const RunResult again = run_emrm("sweep " + quoted(campaign) + " -o " + quoted(out) + " --adaptive --verify-sample 3");
+  const RunResult again =
+      run_emrm("sweep " + quoted(campaign) + " -o " + quoted(out) + " --adaptive --verify-sample 3");
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_THAT(again.out, HasSubstr(": 0 simulated,"));
   EXPECT_EQ(read_text(out / "regions.csv"), before);

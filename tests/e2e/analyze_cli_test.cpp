@@ -2,6 +2,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include "run_emrm.hpp"
@@ -113,9 +114,8 @@ TEST(AnalyzeCli, DuplicateIdExitsTwo) {
 }
 
 TEST(AnalyzeCli, UnknownUcaTypeExitsTwo) {
-  expect_bad_input(
-      run_emrm("analyze " + quoted(edited_case("uca-type", "type: not_provided", "type: not_provide"))),
-      "got 'not_provide'");
+  expect_bad_input(run_emrm("analyze " + quoted(edited_case("uca-type", "type: not_provided", "type: not_provide"))),
+                   "got 'not_provide'");
 }
 
 TEST(AnalyzeCli, RatingOutOfRangeExitsTwo) {
@@ -128,15 +128,16 @@ TEST(AnalyzeCli, NanInAFactorRangeExitsTwo) {
 }
 
 TEST(AnalyzeCli, UnknownFactorInARegionExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("factor", "region: \"ttc_s < 0.7\"",
-                                                            "region: \"ttc < 0.7\""))),
-                   "unknown name 'ttc'");
+  expect_bad_input(
+      run_emrm("analyze " + quoted(edited_case("factor", "region: \"ttc_s < 0.7\"", "region: \"ttc < 0.7\""))),
+      "unknown name 'ttc'");
 }
 
 TEST(AnalyzeCli, BrokenFsmNamedByTheCaseExitsTwoNamingTheFsmFile) {
   const auto file = edited_case("broken-fsm", "name: EMRM T-junction", "name: EMRM T-junction");
-  write_text(file.parent_path() / "emrm_fsm.yaml", "name: x\nstates: [S1]\nevents: [e]\ninitial: S9\nmarked: []\n"
-                                                   "transitions: []\n");
+  write_text(file.parent_path() / "emrm_fsm.yaml",
+             "name: x\nstates: [S1]\nevents: [e]\ninitial: S9\nmarked: []\n"
+             "transitions: []\n");
   const auto r = run_emrm("analyze " + quoted(file));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, MatchesRegex(".*emrm_fsm\\.yaml:4:[0-9]+: error: .*\n"));

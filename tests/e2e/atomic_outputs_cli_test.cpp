@@ -85,8 +85,8 @@ TEST_F(AtomicOutputs, AnalyzeWritesAllFourFilesOrNone) {
 TEST_F(AtomicOutputs, FsmWritesItsDiagramsBothOrNeither) {
   const auto out = scratch("fsm");
   fs::create_directories(out / "g.svg" / "inside");
-  const auto r = run_emrm("fsm " + quoted(*example_ / "emrm_fsm.yaml") + " --dot " + quoted(out / "g.dot") +
-                          " --svg " + quoted(out / "g.svg"));
+  const auto r = run_emrm("fsm " + quoted(*example_ / "emrm_fsm.yaml") + " --dot " + quoted(out / "g.dot") + " --svg " +
+                          quoted(out / "g.svg"));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_EQ(files_under(out), Names{});
   EXPECT_EQ(temporaries_under(out), Names{});

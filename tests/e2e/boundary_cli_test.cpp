@@ -56,8 +56,8 @@ class BoundaryCli : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(scratch_dir("boundary"));
     write_text(*dir_ / "campaign.yaml", campaign_text());
-    const auto r = run_emrm("sweep " + quoted(*dir_ / "campaign.yaml") + " -o " + quoted(*dir_ / "out") +
-                            " --threads 2");
+    const auto r =
+        run_emrm("sweep " + quoted(*dir_ / "campaign.yaml") + " -o " + quoted(*dir_ / "out") + " --threads 2");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     run_ = new RunResult(run_emrm("boundary " + quoted(*dir_ / "out")));
   }
@@ -148,8 +148,8 @@ TEST_F(BoundaryCli, DrawsOneFigurePerCombinationOfTheOtherFactors) {
 }
 
 TEST_F(BoundaryCli, CapsTheFiguresAndWritesCsvAloneOnRequest) {
-  const auto capped = run_emrm("boundary " + quoted(*dir_ / "out") + " -o " + quoted(*dir_ / "capped") +
-                               " --max-figures 1");
+  const auto capped =
+      run_emrm("boundary " + quoted(*dir_ / "out") + " -o " + quoted(*dir_ / "capped") + " --max-figures 1");
   ASSERT_EQ(capped.exit_code, 0) << capped.err;
   EXPECT_THAT(capped.out, HasSubstr("Drew 1 figure (.png, .svg, .csv) in"));
   EXPECT_THAT(capped.out, HasSubstr("the first 1 of 2 slices"));

@@ -58,8 +58,8 @@ TEST(CaCli, PictModelWithCheck) {
 }
 
 TEST(CaCli, BadInputExitsTwo) {
-  for (const char* args : {"ca --levels 3,3,3 --strength 4", "ca --levels 3,3 --strength 3",
-                           "ca --levels 3,0,2", "ca --levels 3,x", "ca"}) {
+  for (const char* args : {"ca --levels 3,3,3 --strength 4", "ca --levels 3,3 --strength 3", "ca --levels 3,0,2",
+                           "ca --levels 3,x", "ca"}) {
     const auto r = run_emrm(args);
     EXPECT_EQ(r.exit_code, 2) << args << r.out << r.err;
     EXPECT_FALSE(r.err.empty()) << args;
@@ -92,8 +92,7 @@ TEST(CaCli, HopelessConstraintsStopAtTheSearchBudget) {
   EXPECT_THAT(small.err, HasSubstr("more than 5000 search steps"));
 
   // Satisfiable (X1 = 0 works at once), but X1 = 1 is impossible and only X30 shows it.
-  write_text(dir / "forbidden.txt",
-             thirty_parameters("IF [X1] = 1 THEN [X30] = 0;\nIF [X1] = 1 THEN [X30] = 1;\n"));
+  write_text(dir / "forbidden.txt", thirty_parameters("IF [X1] = 1 THEN [X30] = 0;\nIF [X1] = 1 THEN [X30] = 1;\n"));
   const auto gen = run_emrm("ca " + quoted(dir / "forbidden.txt"));
   EXPECT_EQ(gen.exit_code, 2) << gen.err;
   EXPECT_THAT(gen.err, HasSubstr("more than 10000000 search steps to satisfy (ca --max-search-steps raises it)"));

@@ -3,10 +3,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "run_emrm.hpp"
@@ -40,7 +40,8 @@ TEST(CalibrateCli, FitsStopsAndWritesAProfileThatSimulateTakes) {
   for (const char* key : {"value", "ci_low", "ci_high"}) EXPECT_TRUE(j["fitted"]["max_decel_mps2"].contains(key));
   EXPECT_TRUE(j["converged"].get<bool>());
   EXPECT_LT(j["residual_rms"].get<double>(), 1e-3);
-  const auto use = run_emrm("simulate --speed-kph 50 --ttc-s 1.0 --strategy emergency_stop --profile " + quoted(profile));
+  const auto use =
+      run_emrm("simulate --speed-kph 50 --ttc-s 1.0 --strategy emergency_stop --profile " + quoted(profile));
   EXPECT_EQ(use.exit_code, 0) << use.err;
 }
 
@@ -82,9 +83,12 @@ TEST(CalibrateCli, ThePaperProfileIsWhatItsCommandMakes) {
   std::istringstream words(command);
   bool output = false;
   for (std::string w; words >> w; output = w == "--output" || w == "-o") {
-    if (output) args += " " + quoted(dir / "paper.yaml");
-    else if (w.rfind("examples/", 0) == 0) args += " " + quoted(std::string(EMRM_SOURCE_DIR) + "/" + w);
-    else args += " " + w;
+    if (output)
+      args += " " + quoted(dir / "paper.yaml");
+    else if (w.rfind("examples/", 0) == 0)
+      args += " " + quoted(std::string(EMRM_SOURCE_DIR) + "/" + w);
+    else
+      args += " " + w;
   }
   const auto r = run_emrm(args + " --json");
   ASSERT_EQ(r.exit_code, 0) << args << r.out << r.err;
@@ -113,15 +117,18 @@ TEST(CalibrateCli, RegionTargetsAndTheirCampaignAreChecked) {
   const std::string campaign = " --campaign " + quoted(example("campaign.yaml"));
   const std::string out = " -o " + quoted(dir / "p.yaml");
   write_text(dir / "t.yaml", "grid: fine\nregions_pct: {G: 40, Q: 3}\n");
-  const auto bad = run_emrm("calibrate --regions " + quoted(dir / "t.yaml") + campaign + " --fit brake_dead_time_s" + out);
+  const auto bad =
+      run_emrm("calibrate --regions " + quoted(dir / "t.yaml") + campaign + " --fit brake_dead_time_s" + out);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_THAT(bad.err, HasSubstr("t.yaml:2:22: error: regions_pct: unknown region 'Q'"));
   write_text(dir / "g.yaml", "grid: nowhere\nregions_pct: {G: 40}\n");
-  const auto grid = run_emrm("calibrate --regions " + quoted(dir / "g.yaml") + campaign + " --fit brake_dead_time_s" + out);
+  const auto grid =
+      run_emrm("calibrate --regions " + quoted(dir / "g.yaml") + campaign + " --fit brake_dead_time_s" + out);
   EXPECT_EQ(grid.exit_code, 2);
   EXPECT_THAT(grid.err, HasSubstr("g.yaml:1:7: error: grid 'nowhere' is not in the campaign"));
   write_text(dir / "ok.yaml", "grid: fine\nregions_pct: {G: 40}\n");
-  const auto no_campaign = run_emrm("calibrate --regions " + quoted(dir / "ok.yaml") + " --fit brake_dead_time_s" + out);
+  const auto no_campaign =
+      run_emrm("calibrate --regions " + quoted(dir / "ok.yaml") + " --fit brake_dead_time_s" + out);
   EXPECT_EQ(no_campaign.exit_code, 2);
   EXPECT_THAT(no_campaign.err, HasSubstr("--regions needs --campaign"));
   const auto match = run_emrm("calibrate --regions " + quoted(dir / "ok.yaml") + campaign +

@@ -23,25 +23,55 @@ std::string word(const std::string& text) { return text.rfind("--", 0) == 0 ? te
 
 TEST(CliRandomArguments, ExitCodesAreOnlyZeroOneOrTwo) {
   const auto dir = small_example("random_args");
-  write_text(dir / "tiny.yaml", "scene: scene.yaml\nstrategies: [emergency_stop]\ngrids:\n  - name: g\n    speed_kph: 40\n    ttc_s: 2.0\n");
-  const std::vector<std::string> commands{"analyze", "fsm",    "simulate", "sweep",  "merge",    "reproduce",
-                                          "ca",      "plan",   "run",      "report", "verify",   "diagnose",
-                                          "calibrate", "boundary", "export", "assess", "nosuch", "--help",
-                                          "--version"};
+  write_text(
+      dir / "tiny.yaml",
+      "scene: scene.yaml\nstrategies: [emergency_stop]\ngrids:\n  - name: g\n    speed_kph: 40\n    ttc_s: 2.0\n");
+  const std::vector<std::string> commands{
+      "analyze", "fsm",      "simulate",  "sweep",    "merge",  "reproduce", "ca",     "plan",   "run",      "report",
+      "verify",  "diagnose", "calibrate", "boundary", "export", "assess",    "nosuch", "--help", "--version"};
   const std::vector<std::string> options{
-      "--speed-kph", "--ttc-s",  "--mu",     "--passage-m", "--truck-speed-kph", "--seed",   "--threads",
-      "--output",    "-o",       "--levels", "--strength",  "--effort",          "--sample", "--profile",
-      "--format",    "--words",  "--json",   "--shard",     "--force",           "--scene",  "--strategy",
-      "--fit",       "--stops",  "--match",  "--examples",  "--no-certify",      "--check",  "--bogus",
-      "--adaptive",  "--verify-sample", "--initial-levels", "--stride", "--brackets", "--spread", "--max-figures", "--no-figures",
-      "--plan",      "--tolerance-m"};
+      "--speed-kph",      "--ttc-s",   "--mu",         "--passage-m", "--truck-speed-kph",
+      "--seed",           "--threads", "--output",     "-o",          "--levels",
+      "--strength",       "--effort",  "--sample",     "--profile",   "--format",
+      "--words",          "--json",    "--shard",      "--force",     "--scene",
+      "--strategy",       "--fit",     "--stops",      "--match",     "--examples",
+      "--no-certify",     "--check",   "--bogus",      "--adaptive",  "--verify-sample",
+      "--initial-levels", "--stride",  "--brackets",   "--spread",    "--max-figures",
+      "--no-figures",     "--plan",    "--tolerance-m"};
   const std::string out = (dir.parent_path() / "out").string();
-  const std::vector<std::string> values{
-      "nan", "-nan", "inf", "-1", "0", "1", "3", "0.5", "1e300", "-1e300", "18446744073709551616",
-      std::string(10000, '9'), "3,3", "2/1", "0/0", "1/2", "\xff\xfe", "", "x", "ideal", "emrm", "all", "openscenario", "esmini",
-      (dir / "safety.yaml").string(), (dir / "emrm_fsm.yaml").string(), (dir / "odd.yaml").string(),
-      (dir / "tiny.yaml").string(), (dir / "scene.yaml").string(), (dir / "nosuch.yaml").string(),
-      dir.string(), "/dev/zero", out};
+  const std::vector<std::string> values{"nan",
+                                        "-nan",
+                                        "inf",
+                                        "-1",
+                                        "0",
+                                        "1",
+                                        "3",
+                                        "0.5",
+                                        "1e300",
+                                        "-1e300",
+                                        "18446744073709551616",
+                                        std::string(10000, '9'),
+                                        "3,3",
+                                        "2/1",
+                                        "0/0",
+                                        "1/2",
+                                        "\xff\xfe",
+                                        "",
+                                        "x",
+                                        "ideal",
+                                        "emrm",
+                                        "all",
+                                        "openscenario",
+                                        "esmini",
+                                        (dir / "safety.yaml").string(),
+                                        (dir / "emrm_fsm.yaml").string(),
+                                        (dir / "odd.yaml").string(),
+                                        (dir / "tiny.yaml").string(),
+                                        (dir / "scene.yaml").string(),
+                                        (dir / "nosuch.yaml").string(),
+                                        dir.string(),
+                                        "/dev/zero",
+                                        out};
   std::mt19937_64 random(20261124);
   const auto pick = [&](const std::vector<std::string>& from) {
     return from[std::uniform_int_distribution<std::size_t>(0, from.size() - 1)(random)];
@@ -52,7 +82,9 @@ TEST(CliRandomArguments, ExitCodesAreOnlyZeroOneOrTwo) {
     for (int w = 0; w < words; ++w)
       args += " " + word(std::uniform_int_distribution<int>(0, 2)(random) == 0 ? pick(options) : pick(values));
     const auto r = run_emrm(args);
-    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1 || r.exit_code == 2) << r.exit_code << ": emrm " << args.substr(0, 300) << "\n" << r.err.substr(0, 500);
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1 || r.exit_code == 2)
+        << r.exit_code << ": emrm " << args.substr(0, 300) << "\n"
+        << r.err.substr(0, 500);
     if (r.exit_code == 2) {
       EXPECT_FALSE(r.err.empty()) << args.substr(0, 300);
     }

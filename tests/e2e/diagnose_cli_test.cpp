@@ -60,7 +60,8 @@ TEST_F(DiagnoseCli, ARegionAgainstTheStopBoundaryIsExitOne) {
   const fs::path dir = *dir_ / "tampered";
   fs::create_directories(dir);
   fs::copy_file(*dir_ / "out" / "results.sqlite", dir / "results.sqlite", fs::copy_options::overwrite_existing);
-  const std::string sql = "sqlite3 " + quoted(dir / "results.sqlite") + " \"UPDATE cells SET region = 'R' WHERE region = 'G'\"";
+  const std::string sql =
+      "sqlite3 " + quoted(dir / "results.sqlite") + " \"UPDATE cells SET region = 'R' WHERE region = 'G'\"";
   ASSERT_EQ(std::system(sql.c_str()), 0);
   const auto r = run_emrm("diagnose " + quoted(dir) + " --sample 0");
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;

@@ -21,8 +21,8 @@ namespace fs = std::filesystem;
 /// --check --format json` prints for the same file; returns the parsed check of emrm_fsm.yaml.
 nlohmann::json expect_same_check_json(const fs::path& example_dir, int expected_exit) {
   const auto out = example_dir.parent_path() / "out";
-  const auto reproduce = run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) +
-                                  " --sample 1 --threads 2");
+  const auto reproduce =
+      run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 1 --threads 2");
   EXPECT_EQ(reproduce.exit_code, expected_exit) << reproduce.out << reproduce.err;
   for (const char* stem : {"emrm_fsm", "loss_evaluation_fsm"}) {
     const fs::path fsm = example_dir / (std::string(stem) + ".yaml");

@@ -71,9 +71,8 @@ TEST(FsmCli, WithoutOptionsPrintsASummary) {
 
 TEST(FsmCli, BlockingCopyFailsNamingTheStatesAndTheEventIntoThem) {
   // S6 no longer leads back and is no longer marked: after timeout_error the machine is trapped.
-  const auto fsm =
-      broken_copy("blocking", {{"marked: [S1, S6]", "marked: [S1]"},
-                               {"{from: S6, event: safe, to: S1}", "{from: S6, event: safe, to: S6}"}});
+  const auto fsm = broken_copy("blocking", {{"marked: [S1, S6]", "marked: [S1]"},
+                                            {"{from: S6, event: safe, to: S1}", "{from: S6, event: safe, to: S6}"}});
   const auto r = run_emrm("fsm " + arg(fsm) + " --check");
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("co-accessible:  FAILED: cannot reach a marked state: S5, S6"));
@@ -87,8 +86,7 @@ TEST(FsmCli, MarkedTerminalStateIsNotBlockingButAnUnmarkedDeadEndIs) {
   const auto fsm = broken_copy("terminal", {{"  - {from: S6, event: safe, to: S1}\n", ""}});
   const auto r = run_emrm("fsm " + arg(fsm) + " --check");
   EXPECT_EQ(r.exit_code, 0) << r.out;
-  const auto unmarked =
-      broken_copy("dead_end", {{"  - {from: S5, event: post_incident_response, to: S6}", ""}});
+  const auto unmarked = broken_copy("dead_end", {{"  - {from: S5, event: post_incident_response, to: S6}", ""}});
   const auto r2 = run_emrm("fsm " + arg(unmarked) + " --check");
   EXPECT_EQ(r2.exit_code, 1);
   EXPECT_THAT(r2.out, HasSubstr("blocking (reachable, cannot reach a marked state): S5"));
@@ -106,15 +104,13 @@ TEST(FsmCli, NonDeterministicCopyFailsNamingTheStateAndEvent) {
 }
 
 TEST(FsmCli, WordQueriesReportMembershipAndWhereAWordFails) {
-  const auto r =
-      run_emrm("fsm " + emrm_fsm() + " --word 'hazard_detected high_risk' --word 'hazard_detected no_risk'" +
-               " --word 'hazard_detected safe'");
+  const auto r = run_emrm("fsm " + emrm_fsm() + " --word 'hazard_detected high_risk' --word 'hazard_detected no_risk'" +
+                          " --word 'hazard_detected safe'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("word \"hazard_detected high_risk\": in L(G), not in L_m(G); reaches S3"));
   EXPECT_THAT(r.out, HasSubstr("word \"hazard_detected no_risk\": in L(G), in L_m(G); reaches S1"));
-  EXPECT_THAT(
-      r.out,
-      HasSubstr("word \"hazard_detected safe\": not in L(G): no transition on 'safe' (event 2) from S2"));
+  EXPECT_THAT(r.out,
+              HasSubstr("word \"hazard_detected safe\": not in L(G): no transition on 'safe' (event 2) from S2"));
 }
 
 TEST(FsmCli, TracesReportCoverageAndRejectedTracesFailTheRun) {
@@ -138,8 +134,7 @@ TEST(FsmCli, TracesReportCoverageAndRejectedTracesFailTheRun) {
 
 TEST(FsmCli, SvgFileStartsWithAnSvgHeader) {
   const auto dir = scratch_dir("svg");
-  const auto r =
-      run_emrm("fsm " + emrm_fsm() + " --svg " + arg(dir / "emrm.svg") + " --dot " + arg(dir / "emrm.dot"));
+  const auto r = run_emrm("fsm " + emrm_fsm() + " --svg " + arg(dir / "emrm.svg") + " --dot " + arg(dir / "emrm.dot"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string svg = read_text(dir / "emrm.svg");
   EXPECT_THAT(svg, StartsWith("<?xml"));
@@ -150,8 +145,7 @@ TEST(FsmCli, SvgFileStartsWithAnSvgHeader) {
 TEST(FsmCli, DiagramWithTracesColoursTheUncoveredTransitions) {
   const auto dir = scratch_dir("dot_traces");
   write_text(dir / "t.txt", "hazard_detected no_risk\n");
-  const auto r =
-      run_emrm("fsm " + emrm_fsm() + " --traces " + arg(dir / "t.txt") + " --dot " + arg(dir / "g.dot"));
+  const auto r = run_emrm("fsm " + emrm_fsm() + " --traces " + arg(dir / "t.txt") + " --dot " + arg(dir / "g.dot"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string dot = read_text(dir / "g.dot");
   EXPECT_THAT(dot, HasSubstr("label=\"no_risk (1)\""));
@@ -179,8 +173,7 @@ TEST(FsmCli, ComposeWorksOnTheProduct) {
 }
 
 TEST(FsmCli, JsonOutputCarriesTheSameResults) {
-  const auto r =
-      run_emrm("fsm " + emrm_fsm() + " --check --words 2 --word 'hazard_detected high_risk' --format json");
+  const auto r = run_emrm("fsm " + emrm_fsm() + " --check --words 2 --word 'hazard_detected high_risk' --format json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, StartsWith("{"));
   EXPECT_THAT(r.out, HasSubstr("\"name\": \"emrm\""));
@@ -190,8 +183,8 @@ TEST(FsmCli, JsonOutputCarriesTheSameResults) {
 }
 
 TEST(FsmCli, BadInputFilesExitTwoWithFileLineAndColumn) {
-  const auto unknown_state = broken_copy("bad_state", {{"{from: S3, event: execute_maneuver, to: S4}",
-                                                        "{from: S3, event: execute_maneuver, to: S7}"}});
+  const auto unknown_state = broken_copy(
+      "bad_state", {{"{from: S3, event: execute_maneuver, to: S4}", "{from: S3, event: execute_maneuver, to: S7}"}});
   auto r = run_emrm("fsm " + arg(unknown_state) + " --check");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr(unknown_state.string() + ":"));

@@ -80,9 +80,8 @@ TEST(Cli, ABytesThatIsNotUtf8IsBadInputAtItsPlaceAndWritesNothing) {
     std::filesystem::copy_file(example(name), dir / name, std::filesystem::copy_options::overwrite_existing);
   const auto odd = broken("odd.yaml", "\nname:");
   const auto fsm = broken("emrm_fsm.yaml", "\nname:");
-  for (const auto& [command, file] :
-       {std::pair{"plan " + odd.string() + " -o " + (dir / "plan").string(), odd},
-        std::pair{"fsm " + fsm.string() + " --format json", fsm}}) {
+  for (const auto& [command, file] : {std::pair{"plan " + odd.string() + " -o " + (dir / "plan").string(), odd},
+                                      std::pair{"fsm " + fsm.string() + " --format json", fsm}}) {
     const auto r = run_emrm(command);
     EXPECT_EQ(r.exit_code, 2) << command << r.err;
     EXPECT_THAT(r.err, ::testing::MatchesRegex(file.string() + ":[0-9]+:7: error: byte 0xC3 is not UTF-8.*\n"));

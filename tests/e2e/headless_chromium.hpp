@@ -16,7 +16,7 @@ struct BrowserView {
   bool available = false;  ///< Chromium is installed
   bool loaded = false;     ///< the page's load handler ran
   int images = 0, broken_images = 0, errors = 0;
-  std::string log;         ///< Chromium's stderr with console logging
+  std::string log;  ///< Chromium's stderr with console logging
   std::filesystem::path screenshot;
 };
 
@@ -44,8 +44,8 @@ inline BrowserView open_in_chromium(const std::filesystem::path& html, const std
   if (std::system((chromium + " " + flags + "--window-size=1280,2000 --screenshot=" + quoted(view.screenshot) + " " +
                    url + " > /dev/null 2> " + quoted(log))
                       .c_str()) != 0 ||
-      std::system((chromium + " " + flags + "--enable-logging=stderr --dump-dom " + url + " > " + quoted(dom) +
-                   " 2> " + quoted(log))
+      std::system((chromium + " " + flags + "--enable-logging=stderr --dump-dom " + url + " > " + quoted(dom) + " 2> " +
+                   quoted(log))
                       .c_str()) != 0) {
     view.log = read_text(log);
     return view;

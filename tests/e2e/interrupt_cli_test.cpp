@@ -39,8 +39,7 @@ RunResult interrupted_emrm(const std::vector<std::string>& args, const fs::path&
 // 240 cells; 64 under the sanitizers, which run every cell five to ten times slower.
 const std::string kCampaign = std::string("seed: 5\ngrids:\n  - name: map\n") +
                               "    speed_kph: {from: 30, to: 72, step: " + test::sample("3", "6") + "}\n" +
-                              "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.08", "0.16") +
-                              "}\n";
+                              "    ttc_s: {from: 0.25, to: 1.45, step: " + test::sample("0.08", "0.16") + "}\n";
 
 TEST(InterruptCli, SigintDuringSweepKeepsWhatIsDoneAndTheRerunCompletesIt) {
   const auto dir = scratch_dir("interrupt-sweep");
@@ -56,7 +55,8 @@ TEST(InterruptCli, SigintDuringSweepKeepsWhatIsDoneAndTheRerunCompletesIt) {
   const auto resumed = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --threads 2");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_THAT(resumed.out, HasSubstr("already stored"));
-  const auto fresh = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "fresh") + " --threads 2");
+  const auto fresh =
+      run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "fresh") + " --threads 2");
   ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
   EXPECT_EQ(read_text(out / "regions.csv"), read_text(dir / "fresh" / "regions.csv"));  // none lost, none twice
   EXPECT_EQ(read_text(out / "cells.csv"), read_text(dir / "fresh" / "cells.csv"));
@@ -68,9 +68,9 @@ TEST(InterruptCli, SigintDuringRunSaysScenariosAndResumes) {
   const auto plan = run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(dir / "plan"));
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
   const auto out = dir / "results";
-  const auto r = interrupted_emrm({"run", (dir / "plan" / "scenarios.csv").string(), "-o", out.string(), "--threads",
-                                   "1"},
-                                  out / "results.sqlite", std::chrono::milliseconds(0), SIGINT, dir);
+  const auto r =
+      interrupted_emrm({"run", (dir / "plan" / "scenarios.csv").string(), "-o", out.string(), "--threads", "1"},
+                       out / "results.sqlite", std::chrono::milliseconds(0), SIGINT, dir);
   if (r.exit_code == 0) GTEST_SKIP() << "the run ended before the interrupt";
   EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
   EXPECT_THAT(r.err, HasSubstr("scenarios stored in"));

@@ -43,8 +43,15 @@ const std::string kLonger = std::string("seed: 5\ngrids:\n  - name: map\n") +
 // shared-memory messages copied through a buffer, since a container's seccomp profile may forbid
 // one process reading another's memory (Open MPI's single copy).
 std::vector<std::string> mpirun_words(int ranks) {
-  return {EMRM_MPIEXEC, "--oversubscribe", "--allow-run-as-root", "--mca", "btl_vader_single_copy_mechanism", "none",
-          "-n", std::to_string(ranks), EMRM_BINARY};
+  return {EMRM_MPIEXEC,
+          "--oversubscribe",
+          "--allow-run-as-root",
+          "--mca",
+          "btl_vader_single_copy_mechanism",
+          "none",
+          "-n",
+          std::to_string(ranks),
+          EMRM_BINARY};
 }
 
 std::string mpirun(int ranks) {
@@ -91,7 +98,8 @@ RunResult run_mpi(int ranks, const std::string& args, const fs::path& dir) {
 // The number of cells in a store, as text; empty while there is no store.
 std::string stored_cells(const fs::path& store) {
   if (!fs::exists(store)) return {};
-  std::FILE* count = ::popen(("sqlite3 '" + store.string() + "' 'SELECT count(*) FROM cells' 2>/dev/null").c_str(), "r");
+  std::FILE* count =
+      ::popen(("sqlite3 '" + store.string() + "' 'SELECT count(*) FROM cells' 2>/dev/null").c_str(), "r");
   std::string text;
   for (int c = std::fgetc(count); c != EOF; c = std::fgetc(count)) text += static_cast<char>(c);
   return ::pclose(count) == 0 ? text : std::string();
@@ -103,7 +111,8 @@ std::string store_rows(const fs::path& store) {
   const fs::path dump = store.string() + ".rows";
   const std::string command = "sqlite3 '" + store.string() +
                               "' 'SELECT * FROM cells ORDER BY grid, cell_index; SELECT * FROM outcomes ORDER BY "
-                              "grid, cell_index, position' > '" + dump.string() + "'";
+                              "grid, cell_index, position' > '" +
+                              dump.string() + "'";
   EXPECT_EQ(std::system(command.c_str()), 0);
   return read_text(dump);
 }
@@ -133,8 +142,8 @@ std::map<int, pid_t> rank_pids(pid_t mpirun_pid) {
 
 // Starts `mpirun -n RANKS emrm ARGS`; once the store holds a cell, sends `signal` to rank `victim`,
 // or SIGKILL to every rank and mpirun when `victim` < 0; waits for mpirun.
-RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim,
-                        int signal, const fs::path& dir) {
+RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const fs::path& store, int victim, int signal,
+                        const fs::path& dir) {
   std::vector<std::string> words = mpirun_words(ranks);
   words.insert(words.end(), args.begin(), args.end());
   const pid_t pid = spawn_process(words, dir);
@@ -156,8 +165,8 @@ RunResult signalled_mpi(int ranks, const std::vector<std::string>& args, const f
 // The folder of a plain sweep of `campaign` (2 threads): what every MPI run must write.
 fs::path plain_sweep(const fs::path& dir, const std::string& campaign) {
   write_campaign(dir / "campaign.yaml", campaign);
-  const auto plain = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") +
-                              " --threads 2");
+  const auto plain =
+      run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") + " --threads 2");
   EXPECT_EQ(plain.exit_code, 0) << plain.err;
   return dir / "plain";
 }
@@ -173,8 +182,8 @@ TEST(MpiCli, OneTwoAndFourRanksWriteWhatOneProcessWrites) {
   const auto plain = plain_sweep(dir, kSmall);
   for (int ranks : {1, 2, 4}) {
     const auto out = dir / ("ranks" + std::to_string(ranks));
-    const auto r = run_mpi(ranks, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1",
-                           dir);
+    const auto r =
+        run_mpi(ranks, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(out) + " --mpi --threads 1", dir);
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_THAT(r.out, HasSubstr("on " + std::to_string(ranks) + " MPI rank"));
     EXPECT_THAT(r.out, HasSubstr("Simulation seconds per rank: "));
@@ -190,8 +199,8 @@ TEST(MpiCli, OneTwoAndFourRanksWriteWhatOneProcessWrites) {
 // once the store holds a cell (every rank and mpirun killed when `victim` < 0): what it printed.
 RunResult signalled_sweep(const fs::path& dir, int ranks, int victim, int signal,
                           const std::vector<std::string>& more_args = {}) {
-  std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(), "--mpi",
-                                "--threads", "1"};
+  std::vector<std::string> args{
+      "sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(), "--mpi", "--threads", "1"};
   args.insert(args.end(), more_args.begin(), more_args.end());
   return signalled_mpi(ranks, args, dir / "out" / "results.sqlite", victim, signal, dir);
 }
@@ -258,29 +267,31 @@ const std::string kAdaptive = std::string("seed: 5\ngrids:\n  - name: map\n") +
 TEST(MpiCli, TheAdaptiveSearchOnTwoRanksWritesWhatOneProcessWrites) {
   const auto dir = scratch_dir("mpi-adaptive");
   write_campaign(dir / "campaign.yaml", kAdaptive);
-  const auto plain = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") +
-                              " --adaptive --threads 2");
+  const auto plain =
+      run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") + " --adaptive --threads 2");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  const auto r = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") +
-                                " --adaptive --mpi --threads 1", dir);
+  const auto r = run_mpi(
+      2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") + " --adaptive --mpi --threads 1",
+      dir);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string search = plain.out.substr(plain.out.find("grid 'map'"));
   EXPECT_THAT(r.out, HasSubstr(search.substr(0, search.find("Wrote"))));  // simulated, inferred, verified alike
-  EXPECT_THAT(r.out, HasSubstr("Coordination on rank 0: "));  // rank 1 simulated some of them
+  EXPECT_THAT(r.out, HasSubstr("Coordination on rank 0: "));              // rank 1 simulated some of them
   expect_same_results(dir / "out", dir / "plain");
 }
 
 TEST(MpiCli, TheAdaptiveSearchKilledResumesToTheSameMap) {
   const auto dir = scratch_dir("mpi-adaptive-kill");
   write_campaign(dir / "campaign.yaml", kAdaptive);
-  ASSERT_EQ(run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") + " --adaptive").exit_code,
-            0);
-  const std::vector<std::string> args{"sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(),
-                                      "--adaptive", "--mpi", "--threads", "1"};
+  ASSERT_EQ(
+      run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "plain") + " --adaptive").exit_code, 0);
+  const std::vector<std::string> args{
+      "sweep", (dir / "campaign.yaml").string(), "-o", (dir / "out").string(), "--adaptive", "--mpi", "--threads", "1"};
   if (signalled_mpi(2, args, dir / "out" / "results.sqlite", -1, SIGKILL, dir).exit_code == 0)
     GTEST_SKIP() << "the search ended before the kill";
-  const auto resumed = run_mpi(2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") +
-                                      " --adaptive --mpi --threads 1", dir);
+  const auto resumed = run_mpi(
+      2, "sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out") + " --adaptive --mpi --threads 1",
+      dir);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
   expect_same_results(dir / "out", dir / "plain");
 }
@@ -326,8 +337,9 @@ TEST(MpiCli, ReproduceOnTwoRanksWritesWhatOneProcessWrites) {
     if (profile.is_directory())
       expect_same_results(dir / "out" / "profiles" / profile.path().filename(), profile.path());
 
-  expect_one_message(run_mpi(3, "reproduce --examples " + quoted(dir / "nowhere") + " --mpi -o " + quoted(dir / "x"), dir),
-                     "is not a folder");
+  expect_one_message(
+      run_mpi(3, "reproduce --examples " + quoted(dir / "nowhere") + " --mpi -o " + quoted(dir / "x"), dir),
+      "is not a folder");
   EXPECT_FALSE(fs::exists(dir / "x"));
 }
 

@@ -112,8 +112,9 @@ TEST(PlanCli, ShippedExampleWritesEveryFileAndHoldsC1ToC4) {
 
   // scenarios.csv and scenarios.json agree on the scenarios.
   const std::string csv = read_text(dir / "scenarios.csv");
-  EXPECT_EQ(csv.rfind("id,step,speed_kph,truck_speed_kph,ttc_s,mu,passage_m,cell,malfunctions,transitions,weight,seed\n", 0),
-            0u);
+  EXPECT_EQ(
+      csv.rfind("id,step,speed_kph,truck_speed_kph,ttc_s,mu,passage_m,cell,malfunctions,transitions,weight,seed\n", 0),
+      0u);
   const auto rows = std::count(csv.begin(), csv.end(), '\n') - 1;
   const auto scenarios = nlohmann::json::parse(read_text(dir / "scenarios.json"));
   EXPECT_EQ(static_cast<long>(scenarios.at("scenarios").size()), rows);
@@ -127,7 +128,8 @@ TEST(PlanCli, ShippedExampleWritesEveryFileAndHoldsC1ToC4) {
   const std::string table = read_text(dir / "coverage.csv");
   EXPECT_EQ(table.rfind("metric,emrm plan,HARA only,STPA only,manual grid\n", 0), 0u) << table;
   EXPECT_THAT(table, HasSubstr("C1 cells,holds,"));
-  EXPECT_THAT(read_text(dir / "coverage.md"), HasSubstr("| metric | emrm plan | HARA only | STPA only | manual grid |"));
+  EXPECT_THAT(read_text(dir / "coverage.md"),
+              HasSubstr("| metric | emrm plan | HARA only | STPA only | manual grid |"));
 }
 
 TEST(PlanCli, SameCommandTwiceGivesIdenticalScenarios) {
@@ -199,26 +201,25 @@ TEST(PlanCli, StrengthLargerThanTheFactors) {
 }
 
 TEST(PlanCli, UnsatisfiableConstraintSet) {
-  const std::string text = replaced(odd_text(), "\ntracked:", "\nconstraints:\n  - \"mu >= 0.1\"\n  - \"speed_kph > 80\"\ntracked:");
+  const std::string text =
+      replaced(odd_text(), "\ntracked:", "\nconstraints:\n  - \"mu >= 0.1\"\n  - \"speed_kph > 80\"\ntracked:");
   expect_bad_odd("unsatisfiable", text, "\"speed_kph > 80\"", 0, "unsatisfiable");
 }
 
 // ---- checks across files: the safety case as `emrm analyze` checks it ------------------------------
 
 TEST(PlanCli, SafetyCaseWithErrorFindingsIsRefusedUnlessAllowed) {
-  const fs::path dir = edited_small_example("plan-findings", "safety.yaml", "hazards: [H8, H1, H9]",
-                                            "hazards: [H8, H1, H9, H99]");
+  const fs::path dir =
+      edited_small_example("plan-findings", "safety.yaml", "hazards: [H8, H1, H9]", "hazards: [H8, H1, H9, H99]");
   const auto refused = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "refused"));
   EXPECT_EQ(refused.exit_code, 1) << refused.out << refused.err;
   EXPECT_THAT(refused.out, HasSubstr("1 error, "));
-  EXPECT_THAT(refused.out,
-              HasSubstr("error SAF001 [UCA1]: UCA 'UCA1' refers to hazard 'H99', which does not exist"));
+  EXPECT_THAT(refused.out, HasSubstr("error SAF001 [UCA1]: UCA 'UCA1' refers to hazard 'H99', which does not exist"));
   EXPECT_THAT(refused.out, HasSubstr("--allow-findings"));
   EXPECT_FALSE(fs::exists(dir / "refused" / "scenarios.csv"));
 
   // Allowed, the plan is built, but the phantom hazard is not one to cover: the case's hazards are.
-  const auto allowed =
-      run_emrm("plan " + quoted(dir / "odd.yaml") + " --allow-findings -o " + quoted(dir / "allowed"));
+  const auto allowed = run_emrm("plan " + quoted(dir / "odd.yaml") + " --allow-findings -o " + quoted(dir / "allowed"));
   EXPECT_EQ(allowed.exit_code, 0) << allowed.out << allowed.err;
   EXPECT_THAT(allowed.out, HasSubstr((dir / "safety.yaml").string() +
                                      ": warning: planned despite 1 error finding (--allow-findings)"));
@@ -232,9 +233,8 @@ TEST(PlanCli, SafetyCaseWithErrorFindingsIsRefusedUnlessAllowed) {
 }
 
 TEST(PlanCli, UcaNamingATransitionTheFsmLacksIsRefused) {
-  const fs::path dir =
-      edited_small_example("plan-transition", "safety.yaml", "{from: S4, event: emrm_done, to: S1}",
-                           "{from: S4, event: emrm_finished, to: S1}");
+  const fs::path dir = edited_small_example("plan-transition", "safety.yaml", "{from: S4, event: emrm_done, to: S1}",
+                                            "{from: S4, event: emrm_finished, to: S1}");
   const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("error SAF011 [UCA4]"));
@@ -266,27 +266,24 @@ TEST(PlanCli, WarnsWhereTheRelevanceRuleAdmitsWhatTheSceneCannotPlace) {
   EXPECT_NE(r.exit_code, 2) << r.out << r.err;
   const std::string at_relevance =
       (dir / "odd.yaml").string() + ":" + line_col(odd, "speed_kph / 3.6 * ttc_s <= 40") + ": warning: ";
-  const std::string at_limit = (dir / "scene.yaml").string() + ":" +
-                               line_col(read_text(dir / "scene.yaml"), "max_initial_distance_m: 24.5", 24);
+  const std::string at_limit =
+      (dir / "scene.yaml").string() + ":" + line_col(read_text(dir / "scene.yaml"), "max_initial_distance_m: 24.5", 24);
   EXPECT_THAT(r.out, HasSubstr(at_relevance)) << r.out;
-  EXPECT_THAT(r.out, HasSubstr(" planned scenarios lie beyond the scene's max_initial_distance_m = 24.5 m (" +
-                               at_limit + ")"));
+  EXPECT_THAT(
+      r.out, HasSubstr(" planned scenarios lie beyond the scene's max_initial_distance_m = 24.5 m (" + at_limit + ")"));
   EXPECT_THAT(r.out, HasSubstr("the relevance rule 'speed_kph / 3.6 * ttc_s <= 40' admits them"));
   EXPECT_THAT(r.out, HasSubstr("plan      1 warning\n"));
 }
 
 TEST(PlanCli, WarnsWhereTheOddReachesBeyondTheSafetyCasesRange) {
-  const fs::path dir =
-      edited_small_example("plan-ranges", "odd.yaml", "bins: [30, 51, 72]", "bins: [30, 51, 100]");
+  const fs::path dir = edited_small_example("plan-ranges", "odd.yaml", "bins: [30, 51, 72]", "bins: [30, 51, 100]");
   const std::string odd = read_text(dir / "odd.yaml");
   const auto r = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "out"));
   EXPECT_NE(r.exit_code, 2) << r.out << r.err;
   const std::string safety = read_text(dir / "safety.yaml");
-  EXPECT_THAT(
-      r.out,
-      HasSubstr((dir / "odd.yaml").string() + ":" + line_col(odd, "100]") +
-                ": warning: speed_kph spans [30, 100] in the ODD, beyond [30, 72] of the safety case (" +
-                (dir / "safety.yaml").string() + ":" + line_col(safety, "{name: speed_kph") + ")"))
+  EXPECT_THAT(r.out, HasSubstr((dir / "odd.yaml").string() + ":" + line_col(odd, "100]") +
+                               ": warning: speed_kph spans [30, 100] in the ODD, beyond [30, 72] of the safety case (" +
+                               (dir / "safety.yaml").string() + ":" + line_col(safety, "{name: speed_kph") + ")"))
       << r.out;
 }
 

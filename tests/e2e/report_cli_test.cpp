@@ -70,9 +70,9 @@ TEST_F(ReportCli, ReproduceEndsWithTheReport) {
 TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
   const auto r = run_emrm("report " + quoted(*out_));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  for (const char* name : {"mitigability_map", "harm_reduction_map", "trajectory_grid", "loss_comparison",
-                           "sweep_curves", "coverage_comparison", "emrm_fsm", "loss_evaluation_fsm",
-                           "traceability_matrix"}) {
+  for (const char* name :
+       {"mitigability_map", "harm_reduction_map", "trajectory_grid", "loss_comparison", "sweep_curves",
+        "coverage_comparison", "emrm_fsm", "loss_evaluation_fsm", "traceability_matrix"}) {
     const fs::path base = *out_ / "figures" / name;
     EXPECT_TRUE(is_png(base.string() + ".png")) << name;
     EXPECT_TRUE(is_svg(base.string() + ".svg")) << name;

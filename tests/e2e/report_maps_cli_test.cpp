@@ -79,8 +79,7 @@ class ReportMapsOfAGrid : public ReportFolder {
     const auto example_dir = small_example("report_maps_grid");
     write_text(example_dir / "wet.yaml", kWetCampaign);
     const fs::path out = example_dir.parent_path() / "out";
-    const auto sweep =
-        run_emrm("sweep " + quoted(example_dir / "wet.yaml") + " -o " + quoted(out) + " --threads 2");
+    const auto sweep = run_emrm("sweep " + quoted(example_dir / "wet.yaml") + " -o " + quoted(out) + " --threads 2");
     ASSERT_EQ(sweep.exit_code, 0) << sweep.out << sweep.err;
     report(out);
   }
@@ -100,8 +99,8 @@ TEST_F(ReportMapsOfAGrid, AGridOfItsOwnNameGetsAMapInTheReport) {
   std::map<std::string, std::string> region_of;  // "speed ttc" -> region
   for (std::size_t i = 1; i < regions.size(); ++i)
     if (regions[i][column_of(regions[0], "grid")] == "wet")
-      region_of[regions[i][column_of(regions[0], "speed_kph")] + " " +
-                regions[i][column_of(regions[0], "ttc_s")]] = regions[i][column_of(regions[0], "region")];
+      region_of[regions[i][column_of(regions[0], "speed_kph")] + " " + regions[i][column_of(regions[0], "ttc_s")]] =
+          regions[i][column_of(regions[0], "region")];
   const auto map = csv_rows(*out_ / "figures" / "map_wet.csv");
   ASSERT_EQ(map.size(), 1 + region_of.size());
   for (std::size_t i = 1; i < map.size(); ++i) {
@@ -116,8 +115,7 @@ TEST_F(ReportMapsOfAGrid, AThreeFactorGridGetsOneNamedMapPerSlice) {
   for (const auto& [stem, mu] :
        std::map<std::string, std::string>{{"map_wet3_mu_0.5", "0.5"}, {"map_wet3_mu_1", "1"}}) {
     EXPECT_TRUE(is_png(*out_ / "figures" / (stem + ".png"))) << stem;
-    EXPECT_THAT(caption_of(*html_, stem),
-                HasSubstr("grid &#39;wet3&#39;, slice μ = " + mu + ": 2 speeds × 2 TTCs"));
+    EXPECT_THAT(caption_of(*html_, stem), HasSubstr("grid &#39;wet3&#39;, slice μ = " + mu + ": 2 speeds × 2 TTCs"));
     const auto map = csv_rows(*out_ / "figures" / (stem + ".csv"));
     ASSERT_EQ(map.size(), 5u) << stem;  // the slice's four cells, none of the other's
     for (std::size_t i = 1; i < map.size(); ++i) {
@@ -152,14 +150,13 @@ TEST_F(ReportOfAPlannedRun, APlannedRunGetsAMapPerPairOfOddFactors) {
     EXPECT_TRUE(is_png(*out_ / "figures" / (stem + ".png"))) << stem;
     const auto map = csv_rows(*out_ / "figures" / (stem + ".csv"));
     const auto& h = map.front();
-    EXPECT_THAT(caption_of(*html_, stem), HasSubstr("Planned run, " + map[1][column_of(h, "factor_x")] +
-                                                    " × " + map[1][column_of(h, "factor_y")]));
+    EXPECT_THAT(caption_of(*html_, stem), HasSubstr("Planned run, " + map[1][column_of(h, "factor_x")] + " × " +
+                                                    map[1][column_of(h, "factor_y")]));
     // Each pair of levels once, and every scenario in exactly one of them.
     std::set<std::string> cells;
     std::size_t scenarios = 0;
     for (std::size_t i = 1; i < map.size(); ++i) {
-      EXPECT_TRUE(
-          cells.insert(map[i][column_of(h, "level_x")] + " " + map[i][column_of(h, "level_y")]).second);
+      EXPECT_TRUE(cells.insert(map[i][column_of(h, "level_x")] + " " + map[i][column_of(h, "level_y")]).second);
       scenarios += std::stoul(map[i][column_of(h, "scenarios")]);
       EXPECT_LE(std::stoul(map[i][column_of(h, "successes")]), std::stoul(map[i][column_of(h, "feasible")]));
     }
@@ -194,9 +191,8 @@ TEST_F(ReportOfAPlannedRun, SweepCurvesHaveOnePointPerOddBinNotPerExactSpeed) {
   }
   ASSERT_FALSE(bins_of.empty());
   for (const auto& [strategy, bins] : bins_of) {
-    EXPECT_EQ(bins, (std::set<std::string>{"[30, 51)", "[51, 72]"}))
-        << strategy;                                      // the small ODD's speed bins
-    EXPECT_EQ(cells_of[strategy], feasible) << strategy;  // every feasible scenario in one bin
+    EXPECT_EQ(bins, (std::set<std::string>{"[30, 51)", "[51, 72]"})) << strategy;  // the small ODD's speed bins
+    EXPECT_EQ(cells_of[strategy], feasible) << strategy;                           // every feasible scenario in one bin
   }
   EXPECT_THAT(caption_of(*html_, "sweep_curves"), HasSubstr("by the ODD&#39;s 2 bins of speed_kph"));
 }

@@ -21,20 +21,33 @@ namespace fs = std::filesystem;
 TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
   const auto example_dir = small_example("reproduce");
   const auto out = example_dir.parent_path() / "out";
-  const auto r = run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) +
-                          " --sample 3 --threads 2");
+  const auto r =
+      run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 3 --threads 2");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("G "));
   EXPECT_THAT(r.out, HasSubstr("vs 44.5"));
   EXPECT_THAT(r.out, HasSubstr("(paper 45)"));
 
-  for (const char* f :
-       {"tables/emrm_vs_baseline.md", "tables/emrm_vs_baseline.csv", "tables/emrm_vs_baseline.tex",
-        "tables/by_parameter.md", "tables/regions.md", "tables/kpis.csv", "diagnostics.json",
-        "analysis/traceability.csv", "fsm/emrm_fsm_check.json", "fsm/emrm_fsm.dot",
-        "fsm/loss_evaluation_fsm.dot", "results.sqlite", "tables/coverage.md", "tables/coverage.tex",
-        "plan/scenarios.csv", "plan/scenarios.json", "plan/coverage.json", "plan_results/estimates.json",
-        "plan_results/outcomes.csv", "plan_results/traceability.csv"})
+  for (const char* f : {"tables/emrm_vs_baseline.md",
+                        "tables/emrm_vs_baseline.csv",
+                        "tables/emrm_vs_baseline.tex",
+                        "tables/by_parameter.md",
+                        "tables/regions.md",
+                        "tables/kpis.csv",
+                        "diagnostics.json",
+                        "analysis/traceability.csv",
+                        "fsm/emrm_fsm_check.json",
+                        "fsm/emrm_fsm.dot",
+                        "fsm/loss_evaluation_fsm.dot",
+                        "results.sqlite",
+                        "tables/coverage.md",
+                        "tables/coverage.tex",
+                        "plan/scenarios.csv",
+                        "plan/scenarios.json",
+                        "plan/coverage.json",
+                        "plan_results/estimates.json",
+                        "plan_results/outcomes.csv",
+                        "plan_results/traceability.csv"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
 
   // The minimum scenario set: C1–C4 hold, baselines measured, the paper's figures beside ours.
@@ -116,8 +129,7 @@ TEST(ReproduceCli, RunsEveryStepAndShowsOursBesideThePapers) {
 
   // A rerun resumes: nothing is simulated again, and the plan is the same.
   const std::string planned = read_text(out / "plan/scenarios.csv");
-  const auto again =
-      run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 1");
+  const auto again = run_emrm("reproduce -o " + quoted(out) + " --examples " + quoted(example_dir) + " --sample 1");
   ASSERT_EQ(again.exit_code, 0) << again.out << again.err;
   EXPECT_THAT(again.out, HasSubstr("11 already stored, 0 simulated"));
   EXPECT_EQ(read_text(out / "plan/scenarios.csv"), planned);
@@ -133,8 +145,8 @@ TEST(ReproduceCli, MissingExamplesFolderIsBadInput) {
 TEST(ReproduceCli, BadPaperReferenceIsBadInputWithLocation) {
   const auto example_dir = small_example("reproduce-bad-reference");
   write_text(example_dir / "paper_reference.yaml", "version: 7\n");
-  const auto r = run_emrm("reproduce -o " + quoted(example_dir.parent_path() / "out") + " --examples " +
-                          quoted(example_dir));
+  const auto r =
+      run_emrm("reproduce -o " + quoted(example_dir.parent_path() / "out") + " --examples " + quoted(example_dir));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_THAT(r.err, HasSubstr("paper_reference.yaml:1:10"));
 }

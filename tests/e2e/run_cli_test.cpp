@@ -30,7 +30,8 @@ std::pair<double, double> wilson(double k, double n, double z) {
 
 // "…): n = N → M at the observed rate (+M−N)", the tail of a shortfall line of the report.
 std::string fmt_count(int n, int m) {
-  return "n = " + std::to_string(n) + " → " + std::to_string(m) + " at the observed rate (+" + std::to_string(m - n) + ")";
+  return "n = " + std::to_string(n) + " → " + std::to_string(m) + " at the observed rate (+" + std::to_string(m - n) +
+         ")";
 }
 
 class RunCli : public ::testing::Test {
@@ -169,7 +170,8 @@ TEST_F(RunCli, EstimatesFollowFromTheOutcomes) {
     EXPECT_NEAR(std::stod(estimates[i][column_of(h, "wilson_low")]), low, 1e-5);
     EXPECT_NEAR(std::stod(estimates[i][column_of(h, "wilson_high")]), high, 1e-5);
     // Hoeffding: eps = sqrt(ln(2/delta) / (2n)) at delta 0.05.
-    EXPECT_NEAR(std::stod(estimates[i][column_of(h, "hoeffding_epsilon")]), std::sqrt(std::log(40.0) / (2.0 * n)), 1e-5);
+    EXPECT_NEAR(std::stod(estimates[i][column_of(h, "hoeffding_epsilon")]), std::sqrt(std::log(40.0) / (2.0 * n)),
+                1e-5);
   }
   // S(all) is the weighted success rate.
   const auto j = nlohmann::json::parse(read_text(out / "estimates.json"));

@@ -56,8 +56,8 @@ inline RunResult run_emrm(const std::string& args) {
   std::filesystem::create_directories(dir);
   const auto out_path = dir / ("out" + std::to_string(counter));
   const auto err_path = dir / ("err" + std::to_string(counter++));
-  const std::string command =
-      std::string("'") + EMRM_BINARY + "' " + args + " >'" + out_path.string() + "' 2>'" + err_path.string() + "' </dev/null";
+  const std::string command = std::string("'") + EMRM_BINARY + "' " + args + " >'" + out_path.string() + "' 2>'" +
+                              err_path.string() + "' </dev/null";
   const int status = std::system(command.c_str());
   RunResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -96,9 +96,12 @@ inline std::vector<std::vector<std::string>> csv_rows(const std::filesystem::pat
     std::string field;
     bool in_quotes = false;
     for (char c : line) {
-      if (c == '"') in_quotes = !in_quotes;
-      else if (c == ',' && !in_quotes) fields.push_back(std::exchange(field, {}));
-      else field += c;
+      if (c == '"')
+        in_quotes = !in_quotes;
+      else if (c == ',' && !in_quotes)
+        fields.push_back(std::exchange(field, {}));
+      else
+        field += c;
     }
     fields.push_back(field);
     rows.push_back(std::move(fields));

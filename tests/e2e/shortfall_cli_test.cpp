@@ -38,8 +38,7 @@ class ShortfallCli : public ::testing::Test {
     safety.insert(safety.find("\n# SMIL lookup") + 1, kIceUca);
     write_text(example_dir / "safety.yaml", safety);
     root_ = new fs::path(example_dir.parent_path());
-    plan_ = new RunResult(
-        run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(*root_ / "plan")));
+    plan_ = new RunResult(run_emrm("plan " + quoted(example_dir / "odd.yaml") + " -o " + quoted(*root_ / "plan")));
     run_ = new RunResult(run_emrm("run " + quoted(*root_ / "plan" / "scenarios.csv") + " -o " +
                                   quoted(*root_ / "results") + " --threads 2"));
   }

@@ -2,10 +2,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "run_emrm.hpp"
 
@@ -33,7 +33,8 @@ TEST(SimulateCli, JsonHasTheDocumentedShape) {
   const auto r = run_emrm("simulate --speed-kph 60 --ttc-s 0.6 --mu 0.8 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  for (const char* key : {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"}) EXPECT_TRUE(j["input"].contains(key));
+  for (const char* key : {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"})
+    EXPECT_TRUE(j["input"].contains(key));
   EXPECT_TRUE(j["feasible"].get<bool>());
   EXPECT_THAT(std::string("G Y O R"), HasSubstr(j["region"].get<std::string>()));
   for (const char* key : {"impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level"})
@@ -102,7 +103,8 @@ TEST(SimulateCli, FiguresAreWrittenAsSvgAndPng) {
   EXPECT_THAT(read_text(svg), HasSubstr("<svg"));
   const std::string header = read_text(png).substr(0, 8);
   EXPECT_EQ(header, std::string("\x89PNG\r\n\x1a\n", 8));
-  expect_bad_input(run_emrm("simulate --speed-kph 60 --ttc-s 0.8 --figure " + quoted(dir / "cell.gif")), ".png or .svg");
+  expect_bad_input(run_emrm("simulate --speed-kph 60 --ttc-s 0.8 --figure " + quoted(dir / "cell.gif")),
+                   ".png or .svg");
 }
 
 TEST(SimulateCli, BadCellsExitTwoWithOneMessage) {

@@ -138,14 +138,14 @@ TEST(SweepCli, ThreadCountAndShardingDoNotChangeTheResults) {
   EXPECT_EQ(count_lines(read_text(dir / "one" / "regions.csv")), 14u);
 
   for (const char* shard : {"1/2", "2/2"}) {
-    const auto r = run_emrm("sweep " + quoted(campaign) + " -o " +
-                            quoted(dir / ("shard" + std::string(1, shard[0]))) + " --shard " + shard);
+    const auto r = run_emrm("sweep " + quoted(campaign) + " -o " + quoted(dir / ("shard" + std::string(1, shard[0]))) +
+                            " --shard " + shard);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_THAT(r.out, HasSubstr(std::string("(shard ") + shard + ")"));
   }
   EXPECT_EQ(count_lines(read_text(dir / "shard1" / "regions.csv")), 8u);  // 7 of 13 cells + header
-  const auto merged = run_emrm("merge -o " + quoted(dir / "merged") + " " + quoted(dir / "shard1") + " " +
-                               quoted(dir / "shard2"));
+  const auto merged =
+      run_emrm("merge -o " + quoted(dir / "merged") + " " + quoted(dir / "shard1") + " " + quoted(dir / "shard2"));
   ASSERT_EQ(merged.exit_code, 0) << merged.err;
   EXPECT_THAT(merged.out, HasSubstr("13 cells"));
   for (const char* file : {"cells.csv", "regions.csv"})
@@ -192,16 +192,12 @@ TEST(SweepCli, BadCampaignFilesExit2WithLineAndColumn) {
   check("grids:\n  - name: g\n    sped_kph: 30\n", "bad.yaml:3:5: error: unknown grid field 'sped_kph'");
   check("strategies: [dodge, swerve]\ngrids:\n  - name: g\n", "bad.yaml:1:21: error: ");
   check("grids:\n  - name: g\n    ttc_s: []\n", "bad.yaml:3:12: error: empty list");
-  check("grids:\n  - name: g\n    ttc_s: {from: 2, to: 1, step: 0.1}\n",
-        "bad.yaml:3:12: error: reversed range");
-  check("grids:\n  - name: g\n    ttc_s: {from: 1, to: 2, step: 0}\n",
-        "bad.yaml:3:35: error: step must be > 0");
-  check("grids:\n  - name: g\n    ttc_s: {from: 1, to: 2, levels: 0}\n",
-        "bad.yaml:3:37: error: levels must be >= 1");
+  check("grids:\n  - name: g\n    ttc_s: {from: 2, to: 1, step: 0.1}\n", "bad.yaml:3:12: error: reversed range");
+  check("grids:\n  - name: g\n    ttc_s: {from: 1, to: 2, step: 0}\n", "bad.yaml:3:35: error: step must be > 0");
+  check("grids:\n  - name: g\n    ttc_s: {from: 1, to: 2, levels: 0}\n", "bad.yaml:3:37: error: levels must be >= 1");
   check("grids: [\n", "bad.yaml:");
-  check(
-      "max_cells: 3\ngrids:\n  - name: g\n    speed_kph: 72\n    ttc_s: [2.0, 2.3, 2.6, 2.9]\n",
-      "bad.yaml:3:5: error: grid 'g' has 4 cells, more than the maximum 3; raise max_cells or pass --force");
+  check("max_cells: 3\ngrids:\n  - name: g\n    speed_kph: 72\n    ttc_s: [2.0, 2.3, 2.6, 2.9]\n",
+        "bad.yaml:3:5: error: grid 'g' has 4 cells, more than the maximum 3; raise max_cells or pass --force");
   EXPECT_FALSE(fs::exists(dir / "out" / "results.sqlite"));
 
   // The same grid goes through with --force (infeasible cells: nothing to simulate).
@@ -215,8 +211,7 @@ TEST(SweepCli, BadShardsExit2) {
   const auto file = dir / "c.yaml";
   write_text(file, "grids:\n  - name: far\n    speed_kph: 72\n    ttc_s: 2.9\n");
   for (const char* shard : {"0/2", "3/2", "x", "1/0"})
-    expect_bad_input(run_emrm("sweep " + quoted(file) + " -o " + quoted(dir / "out") + " --shard " + shard),
-                     "--shard");
+    expect_bad_input(run_emrm("sweep " + quoted(file) + " -o " + quoted(dir / "out") + " --shard " + shard), "--shard");
 }
 
 }  // namespace sweep_cli_test

@@ -5,11 +5,10 @@
 // cannot tell the parameters apart.
 
 #include <filesystem>
-#include <string_view>
-
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
@@ -58,16 +57,16 @@ struct FittedValue {
 struct CalibrationResult {
   std::map<std::string, FittedValue> fitted;
   sim::ActuationConfig actuation;  ///< the starting actuation with the fitted values
-  double residual_rms = 0.0;  ///< in the data's unit (m for stops, m/s for a trace, points for regions)
+  double residual_rms = 0.0;       ///< in the data's unit (m for stops, m/s for a trace, points for regions)
   std::size_t observations = 0;
   bool converged = false;
   std::vector<std::string> warnings;  ///< not identifiable parameters, strong correlations, bounds hit
 };
 
 struct CalibrationRequest {
-  std::vector<std::string> fit;               ///< parameter names
-  std::map<std::string, FitBounds> bounds;    ///< overrides of the defaults
-  sim::ActuationConfig start;                 ///< the scene's (or profile's) actuation
+  std::vector<std::string> fit;             ///< parameter names
+  std::map<std::string, FitBounds> bounds;  ///< overrides of the defaults
+  sim::ActuationConfig start;               ///< the scene's (or profile's) actuation
 };
 
 /// The default search bounds of a parameter.
@@ -76,10 +75,12 @@ struct CalibrationRequest {
 /// Fits to stops (the closed-form stopping distance of sim::ActuationConfig, and the stopping time
 /// where given). Throws UsageError for an unknown or unidentifiable-by-stops parameter name, or
 /// bounds that are empty or outside the parameter's domain.
-[[nodiscard]] CalibrationResult calibrate_stops(const std::vector<StopRecord>& stops, const CalibrationRequest& request);
+[[nodiscard]] CalibrationResult calibrate_stops(const std::vector<StopRecord>& stops,
+                                                const CalibrationRequest& request);
 /// Fits to speed traces (dead time, then the ramp, then the full deceleration; each run's initial
 /// speed a nuisance parameter).
-[[nodiscard]] CalibrationResult calibrate_trace(const std::vector<TraceSample>& trace, const CalibrationRequest& request);
+[[nodiscard]] CalibrationResult calibrate_trace(const std::vector<TraceSample>& trace,
+                                                const CalibrationRequest& request);
 
 /// Target region fractions of one campaign grid (`--regions`): paper_reference.yaml's `fine_grid`
 /// mapping, or the same keys at a file's top level (`grid`, `regions_pct`, optional `feasible_cells`).
@@ -94,10 +95,10 @@ struct RegionTarget {
 [[nodiscard]] RegionTarget read_region_target(const std::filesystem::path& file);
 
 struct RegionCalibration {
-  CalibrationResult calibration;            ///< residual_rms in percentage points
+  CalibrationResult calibration;  ///< residual_rms in percentage points
   std::string grid;
   std::size_t feasible_cells = 0;
-  std::size_t sweeps = 0;                   ///< simulations of the grid (0 for a fit to G alone)
+  std::size_t sweeps = 0;                    ///< simulations of the grid (0 for a fit to G alone)
   std::map<std::string, double> target_pct;  ///< the matched fractions
   std::map<std::string, double> fitted_pct;  ///< at the fitted values: G, and Y/O/R when simulated
 };

@@ -10,9 +10,9 @@
 // more time or more grip — so each line of cells along it is settled by two thresholds and the
 // O/R labels below them; where the truck is still moving, a line may also start with an early run
 // (the car passing in front of the truck at the lowest TTCs: sooner is better there), settled by
-// two more thresholds, where G and avoidance end; lines are inferred from the lines at the corners of boxes of the other
-// factors when those corners agree, and boxes whose corners disagree are split in two along
-// every factor. Whatever the simulations show against monotonicity is reported and resolved.
+// two more thresholds, where G and avoidance end; lines are inferred from the lines at the corners of boxes of the
+// other factors when those corners agree, and boxes whose corners disagree are split in two along every factor.
+// Whatever the simulations show against monotonicity is reported and resolved.
 
 #include <array>
 #include <cstddef>
@@ -94,8 +94,8 @@ struct Options {
   /// Inferred cells re-simulated at random at the end to measure the disagreement rate; none: 0.5 %
   /// of the feasible cells, at least 20 and at most 500 (never more than were inferred).
   std::optional<std::size_t> verify_sample;
-  std::uint64_t seed = 1;         ///< of the verification sample
-  double confidence = 0.95;       ///< of the disagreement rate's Wilson interval
+  std::uint64_t seed = 1;    ///< of the verification sample
+  double confidence = 0.95;  ///< of the disagreement rate's Wilson interval
 };
 
 /// How a cell's region was found.
@@ -128,20 +128,20 @@ struct Violation {
 
 /// What a simulation was for (the stages of the search, in order).
 enum class Purpose : std::uint8_t {
-  kThresholdCorners,  ///< a corner line's stop boundary, avoidance threshold and early run
-  kThresholdBrackets, ///< a line between agreeing corners, within their bracket
-  kLabels,            ///< a corner line's O/R labels
-  kLabelBrackets,     ///< a line between corners whose labels change alike: its own changes
-  kViolations,        ///< after a contradiction: lines resolved in full, thresholds searched again
-  kVerification,      ///< the random sample of inferred cells
+  kThresholdCorners,   ///< a corner line's stop boundary, avoidance threshold and early run
+  kThresholdBrackets,  ///< a line between agreeing corners, within their bracket
+  kLabels,             ///< a corner line's O/R labels
+  kLabelBrackets,      ///< a line between corners whose labels change alike: its own changes
+  kViolations,         ///< after a contradiction: lines resolved in full, thresholds searched again
+  kVerification,       ///< the random sample of inferred cells
 };
 inline constexpr std::size_t kPurposes = 6;
 [[nodiscard]] std::string_view purpose_name(Purpose p) noexcept;  ///< "threshold_corners", …
 
 struct Result {
-  std::vector<Cell> cells;          ///< one per cell of the lattice
-  std::size_t feasible = 0;         ///< M
-  std::size_t simulated = 0;        ///< N: every cell simulated, the verification sample included
+  std::vector<Cell> cells;                             ///< one per cell of the lattice
+  std::size_t feasible = 0;                            ///< M
+  std::size_t simulated = 0;                           ///< N: every cell simulated, the verification sample included
   std::array<std::size_t, kPurposes> simulated_for{};  ///< N by Purpose (they sum to N)
   std::size_t rounds = 0;
   std::size_t lines = 0, lines_resolved = 0, lines_inferred = 0;
@@ -151,7 +151,7 @@ struct Result {
   std::size_t verify_population = 0;  ///< inferred cells the sample was drawn from
   std::size_t verify_sampled = 0;
   std::vector<std::uint32_t> verify_disagreements;  ///< cells whose simulation differed
-  scenario::Interval disagreement;                 ///< Wilson interval of the disagreement rate
+  scenario::Interval disagreement;                  ///< Wilson interval of the disagreement rate
 };
 
 /// Throws std::invalid_argument for a factor without levels, initial_levels 1, or stride 0.

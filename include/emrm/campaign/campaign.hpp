@@ -25,8 +25,8 @@ struct GridSpec {
   std::string name;
   std::vector<sim::CellInput> cells;
   std::vector<std::uint64_t> seeds;  ///< one per cell (a planned scenario's own); empty: cell_seed()
-  bool keep_trees = false;  ///< store paths and planner trees of every strategy (trajectory figure)
-  SourceLocation where;  ///< the grid's mapping in the campaign file
+  bool keep_trees = false;           ///< store paths and planner trees of every strategy (trajectory figure)
+  SourceLocation where;              ///< the grid's mapping in the campaign file
   /// A product grid's levels per factor (speed, TTC, mu, passage, truck speed), in expansion order;
   /// all empty for a grid that lists its cells.
   std::array<std::vector<double>, 5> levels;
@@ -62,9 +62,9 @@ void validate(const Campaign& campaign, bool force = false);
 /// Loads and expands a campaign file, then validate(campaign, force). Throws InputError
 /// (file:line:column) for malformed YAML, unknown fields or factors, a negative seed, empty or
 /// reversed ranges, non-positive steps, levels < 1, a product grid of more than max_cells cells
-/// (unless `force`) or taking the campaign past kMaxCampaignCells (checked before it is expanded), and what validate() rejects, at the node it
-/// names: a cell of a product grid at the first factor value the simulator rejects on its own. A
-/// missing or bad scene file is reported at the `scene:` entry or inside the scene file.
+/// (unless `force`) or taking the campaign past kMaxCampaignCells (checked before it is expanded), and what validate()
+/// rejects, at the node it names: a cell of a product grid at the first factor value the simulator rejects on its own.
+/// A missing or bad scene file is reported at the `scene:` entry or inside the scene file.
 [[nodiscard]] Campaign load_campaign(const std::filesystem::path& path, bool force = false);
 
 /// The folder of the campaign's scene file (the campaign file's when it names none): where its
@@ -85,8 +85,7 @@ void apply_profile(Campaign& campaign, const std::string& profile);
 /// The key of a cell: the grid name and the factor values formatted with %.9g.
 [[nodiscard]] std::string cell_key(const std::string& grid, const sim::CellInput& cell);
 /// sim::derive_seed(campaign.seed, cell_key(grid, cell)): the same on every run, thread and shard.
-[[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid,
-                                      const sim::CellInput& cell);
+[[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const sim::CellInput& cell);
 /// The seed cell `index` of `grid` is simulated with: the grid's own (a planned scenario's) when it
 /// lists them, else the one above.
 [[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const GridSpec& grid, std::size_t index);

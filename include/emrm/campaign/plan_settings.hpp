@@ -7,13 +7,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace emrm::campaign {
 
@@ -31,8 +30,8 @@ struct PlanShortfall {
 struct PlanSettings {
   std::optional<std::filesystem::path> safety_file;
   std::optional<std::filesystem::path> scene_file;
-  std::vector<std::string> strategies;  ///< empty: all
-  std::string acceptance_strategy;  ///< empty: the registered chooser (EMRM)
+  std::vector<std::string> strategies;         ///< empty: all
+  std::string acceptance_strategy;             ///< empty: the registered chooser (EMRM)
   std::string acceptance_outcome = "avoided";  ///< avoided or mitigated
   double delta = 0.05;
   double epsilon = 0.25;

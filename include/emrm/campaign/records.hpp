@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace emrm::campaign {
@@ -63,12 +64,12 @@ struct CellRecord {
   double unmitigated_p_mais3 = 0.0;
   double unmitigated_p_fatal = 0.0;
   int unmitigated_loss_level = 0;
-  std::string evidence;             ///< of the region: witness, certificate or undecided
-  std::string mitigation_evidence;  ///< O and R: witness, proof or search (sim::CellResult)
-  bool strengthened = false;        ///< the searches were strengthened
-  std::string certificate;          ///< the unavoidability certificate as JSON text, when there is one
-  double p_mais3_reduction = 0.0;   ///< unmitigated P(MAIS3+) minus the best strategy's
-  double p_fatal_reduction = 0.0;   ///< the same for P(fatal)
+  std::string evidence;                 ///< of the region: witness, certificate or undecided
+  std::string mitigation_evidence;      ///< O and R: witness, proof or search (sim::CellResult)
+  bool strengthened = false;            ///< the searches were strengthened
+  std::string certificate;              ///< the unavoidability certificate as JSON text, when there is one
+  double p_mais3_reduction = 0.0;       ///< unmitigated P(MAIS3+) minus the best strategy's
+  double p_fatal_reduction = 0.0;       ///< the same for P(fatal)
   std::vector<OutcomeRecord> outcomes;  ///< in the campaign's strategy order; none for an inferred cell
   /// "simulated", or "inferred" by an adaptive sweep (docs/adaptive.md): then only the region is
   /// known (evidence "inferred", no outcomes, the unmitigated reference not computed).
@@ -79,6 +80,12 @@ struct CellRecord {
 
   /// Feasible and simulated, not inferred: the unmitigated reference and the harm reduction are known.
   [[nodiscard]] bool simulated() const noexcept { return feasible && method == "simulated"; }
+  /// The outcome of `strategy`, or null when the cell has none (an inferred cell, a strategy not run).
+  [[nodiscard]] const OutcomeRecord* outcome(std::string_view strategy) const noexcept {
+    for (const auto& o : outcomes)
+      if (o.strategy == strategy) return &o;
+    return nullptr;
+  }
 };
 
 }  // namespace emrm::campaign

@@ -21,7 +21,7 @@ struct SweepOptions {
   int threads = 0;      ///< 0 = all cores
   int shard_index = 1;  ///< 1-based: this run takes the cells whose global position % count == index − 1
   int shard_count = 1;
-  bool progress = true;  ///< a progress bar on stderr, only when stderr is a terminal
+  bool progress = true;        ///< a progress bar on stderr, only when stderr is a terminal
   std::string unit = "cells";  ///< what the progress bar and messages count ("scenarios" for a planned run)
   /// When set, one JSON line per commit ({"done", "total", "elapsed_s", "eta_s"}), terminal or not.
   std::filesystem::path progress_log;
@@ -51,7 +51,7 @@ struct AdaptiveSummary {
   std::size_t violations = 0;  ///< monotonicity violations found (each resolved in full around it)
   std::size_t verify_population = 0, verify_sampled = 0, verify_disagreements = 0;
   double disagreement_low = 0.0, disagreement_high = 1.0;  ///< Wilson 95 % interval of the rate
-  std::string json;  ///< the whole summary, as stored
+  std::string json;                                        ///< the whole summary, as stored
 };
 
 struct SweepSummary {
@@ -59,7 +59,7 @@ struct SweepSummary {
   std::size_t cells_done_before = 0;  ///< found in the store and skipped
   std::size_t cells_simulated = 0;
   double seconds = 0.0;
-  double simulation_seconds = 0.0;  ///< thread-seconds this process's threads spent simulating cells
+  double simulation_seconds = 0.0;        ///< thread-seconds this process's threads spent simulating cells
   std::vector<AdaptiveSummary> adaptive;  ///< one per grid swept adaptively, in grid order
 };
 
@@ -68,14 +68,12 @@ void parse_shard(const std::string& text, int& index, int& count);
 
 /// Simulates the cells of `campaign` (of this shard) that OUTPUT_DIR/results.sqlite does not
 /// hold yet (for a grid swept adaptively: those the search asks for, then stores the others as
-/// inferred, replacing the inferred cells of an earlier run), committing a transaction about every 0.5 s or 64 cells, then writes
-/// OUTPUT_DIR/regions.csv, cells.csv and cells.json from the store. Results do not depend on the
-/// thread count. Throws core::ConfigError (an InputError) for a campaign validate(campaign, true)
-/// rejects (max_cells is not applied: the cells are already expanded); UsageError (exit 2) when
-/// the store holds another configuration or shard, the shard is invalid, or an adaptive sweep is
-/// sharded; emrm::Error when the
-/// store cannot be written; core::Interrupted after an interrupt (core/interrupt.hpp), once the
-/// cells in flight are stored.
+/// inferred, replacing the inferred cells of an earlier run), committing a transaction about every 0.5 s or 64 cells,
+/// then writes OUTPUT_DIR/regions.csv, cells.csv and cells.json from the store. Results do not depend on the thread
+/// count. Throws core::ConfigError (an InputError) for a campaign validate(campaign, true) rejects (max_cells is not
+/// applied: the cells are already expanded); UsageError (exit 2) when the store holds another configuration or shard,
+/// the shard is invalid, or an adaptive sweep is sharded; emrm::Error when the store cannot be written;
+/// core::Interrupted after an interrupt (core/interrupt.hpp), once the cells in flight are stored.
 SweepSummary sweep(const Campaign& campaign, const SweepOptions& options);
 
 }  // namespace emrm::campaign

@@ -27,8 +27,7 @@ namespace emrm::cluster {
 /// Why --mpi cannot run in this process, or none: not built with MPI, or not started by an MPI
 /// launcher (mpirun, mpiexec, srun: they set OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_RANK).
 /// `environment` looks a variable up (std::getenv; a test passes its own).
-[[nodiscard]] std::optional<std::string> mpi_unavailable(
-    const std::function<const char*(const char*)>& environment);
+[[nodiscard]] std::optional<std::string> mpi_unavailable(const std::function<const char*(const char*)>& environment);
 
 /// MPI for the life of the object (MPI_Init_thread, funneled: only this thread calls MPI;
 /// MPI_Finalize when destroyed). One per process. Throws UsageError (exit 2) with
@@ -53,16 +52,16 @@ class MpiSession {
 
 /// What each rank did, gathered on rank 0: the load-balance and overhead figures of the summary.
 struct RankStats {
-  std::size_t cells = 0;             ///< cells it simulated
-  double simulation_seconds = 0.0;   ///< thread-seconds spent simulating them
+  std::size_t cells = 0;            ///< cells it simulated
+  double simulation_seconds = 0.0;  ///< thread-seconds spent simulating them
   int threads = 0;
 };
 
 struct ClusterSummary {
   campaign::SweepSummary sweep;
-  std::vector<RankStats> ranks;       ///< by rank; rank 0's own threads first
-  std::size_t chunks = 0;             ///< chunks handed to other ranks
-  std::size_t cells_sent = 0;         ///< cells in them
+  std::vector<RankStats> ranks;  ///< by rank; rank 0's own threads first
+  std::size_t chunks = 0;        ///< chunks handed to other ranks
+  std::size_t cells_sent = 0;    ///< cells in them
   /// CPU seconds of rank 0's coordinating thread, without its commits: answering messages
   /// (receiving, decoding, choosing and sending chunks) plus probing for them between messages.
   double coordination_seconds = 0.0;

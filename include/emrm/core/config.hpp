@@ -42,8 +42,7 @@ class MessageArg {
  public:
   MessageArg(double value) : value_(value) {}  // NOLINT(google-explicit-constructor)
   template <std::integral I>
-    requires(!std::same_as<I, bool>)
-  MessageArg(I value) {  // NOLINT(google-explicit-constructor)
+  requires(!std::same_as<I, bool>) MessageArg(I value) {  // NOLINT(google-explicit-constructor)
     if constexpr (std::is_signed_v<I>)
       value_ = static_cast<long long>(value);
     else
@@ -120,9 +119,7 @@ struct AtLeast {
   [[nodiscard]] std::string message(long long v) const;
 };
 /// An integer count of at least `minimum` `noun`s.
-[[nodiscard]] constexpr AtLeast at_least(long long minimum, std::string_view noun) noexcept {
-  return {minimum, noun};
-}
+[[nodiscard]] constexpr AtLeast at_least(long long minimum, std::string_view noun) noexcept { return {minimum, noun}; }
 
 struct OneOf {
   std::vector<std::string> (*names)() = nullptr;  ///< the names allowed, asked when checking
@@ -219,10 +216,10 @@ class Validator {
  private:
   template <class T, class... Constraints>
   void visit(const T& value, const Constraints&... constraints) {
-    if constexpr (requires(T& t, Validator& v) { t.serialize(v); }) {
+    if constexpr (requires(T & t, Validator & v) { t.serialize(v); }) {
       static_assert(sizeof...(Constraints) == 0, "constraints apply to values, not to structs");
       const_cast<T&>(value).serialize(*this);  // serialize() only reads fields when not reading
-    } else if constexpr (requires(T& list, Validator& v) {
+    } else if constexpr (requires(T & list, Validator & v) {
                            list.size();
                            list[0].serialize(v);
                          }) {

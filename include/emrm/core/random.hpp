@@ -70,7 +70,7 @@ class SplitMix64 {
 /// Shuffles `items` in place (Fisher-Yates from the back: item i - 1 swaps with index_below(i),
 /// for i from the size down to 2): the same order on every platform for the same stream.
 template <std::ranges::random_access_range R>
-  requires std::ranges::sized_range<R>
+requires std::ranges::sized_range<R>
 void shuffle(R&& items, SplitMix64& rng) {
   using Offset = std::ranges::range_difference_t<R>;
   const auto first = std::ranges::begin(items);

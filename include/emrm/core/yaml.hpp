@@ -95,7 +95,9 @@ template <class E>
 struct EnumNames;
 
 template <class E>
-concept NamedEnum = std::is_enum_v<E> && requires { EnumNames<E>::kNames; };
+concept NamedEnum = std::is_enum_v<E> && requires {
+  EnumNames<E>::kNames;
+};
 
 /// The name of an enum value from its EnumNames table.
 template <NamedEnum E>
@@ -128,7 +130,9 @@ template <NamedEnum E>
 class YamlReader;
 
 template <class T>
-concept YamlSerializable = requires(T& value, YamlReader& reader) { value.serialize(reader); };
+concept YamlSerializable = requires(T& value, YamlReader& reader) {
+  value.serialize(reader);
+};
 
 /// Fills a struct from one YAML mapping. Fields not visited are rejected by finish(), so a
 /// misspelt key is an error and not a silently ignored default.
@@ -153,8 +157,7 @@ class YamlReader {
   void location(SourceLocation& where) const { where = node_.location(); }
   /// Rules are checked by Validator once the whole configuration is read.
   template <class... Args>
-  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/,
-              const Args&... /*args*/) const {}
+  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/, const Args&... /*args*/) const {}
   /// Throws InputError for the first key that no field claimed, listing the expected keys.
   void finish() const;
   [[nodiscard]] const YamlNode& node() const noexcept { return node_; }
@@ -179,8 +182,7 @@ class YamlWriter {
   }
   void location(const SourceLocation& /*where*/) const {}
   template <class... Args>
-  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/,
-              const Args&... /*args*/) const {}
+  void ensure(bool /*ok*/, std::string_view /*field*/, std::string_view /*format*/, const Args&... /*args*/) const {}
   [[nodiscard]] YAML::Node node() const { return node_; }
 
  private:
@@ -232,8 +234,7 @@ struct YamlCodec<bool> {
   static YAML::Node write(bool v) { return YAML::Node(v); }
 };
 template <std::integral T>
-  requires(!std::same_as<T, bool>)
-struct YamlCodec<T> {
+requires(!std::same_as<T, bool>) struct YamlCodec<T> {
   static void read(const YamlNode& n, T& v) {
     const long long x = n.as_int();
     if (!std::in_range<T>(x)) n.fail("integer out of range");

@@ -101,8 +101,7 @@ class Generator {
   [[nodiscard]] bool has_state(const std::string& id) const { return state_index_.contains(id); }
   [[nodiscard]] bool has_event(const std::string& id) const { return event_index_.contains(id); }
   /// True when from --event--> to is one of the transitions.
-  [[nodiscard]] bool has_transition(const std::string& from, const std::string& event,
-                                    const std::string& to) const;
+  [[nodiscard]] bool has_transition(const std::string& from, const std::string& event, const std::string& to) const;
   /// True when `state` is a state in S_M (false for unknown names).
   [[nodiscard]] bool is_marked(const std::string& state) const;
   /// True when no state has two transitions on the same event.
@@ -115,8 +114,7 @@ class Generator {
   [[nodiscard]] std::optional<std::string> step(const std::string& state, const std::string& event) const;
   /// δ*(state, word), with δ*(s, ε) = s; nothing as soon as one step is undefined. Same rule as
   /// step() on non-deterministic pairs.
-  [[nodiscard]] std::optional<std::string> run(const std::string& state,
-                                               const std::vector<std::string>& word) const;
+  [[nodiscard]] std::optional<std::string> run(const std::string& state, const std::vector<std::string>& word) const;
   /// word ∈ L(G). On a non-deterministic machine: some path from s0 reads the whole word.
   [[nodiscard]] bool generates(const std::vector<std::string>& word) const;
   /// word ∈ L_m(G). On a non-deterministic machine: some path from s0 reads it and ends marked.
@@ -141,9 +139,7 @@ class Generator {
   /// The index (into transitions()) of the transition δ takes from `state` on `event`, or kNone. O(1).
   [[nodiscard]] int transition_index(int state, int event) const { return delta_[slot(state, event)]; }
   /// Indices (into transitions()) of every transition leaving `state`, in insertion order.
-  [[nodiscard]] const std::vector<int>& outgoing(int state) const {
-    return outgoing_[static_cast<std::size_t>(state)];
-  }
+  [[nodiscard]] const std::vector<int>& outgoing(int state) const { return outgoing_[static_cast<std::size_t>(state)]; }
 
  private:
   [[nodiscard]] std::size_t slot(int state, int event) const {

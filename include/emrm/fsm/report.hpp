@@ -56,9 +56,7 @@ struct Report {
   std::vector<std::string> written;  ///< files the caller wrote (diagrams); shown last
 
   /// True when any operation was asked (then the text form leaves the summary out).
-  [[nodiscard]] bool has_operations() const noexcept {
-    return check || words || !word_queries.empty() || coverage;
-  }
+  [[nodiscard]] bool has_operations() const noexcept { return check || words || !word_queries.empty() || coverage; }
   /// False when a check failed or a trace is not in L(G): `emrm fsm` then exits 1.
   [[nodiscard]] bool ok() const noexcept {
     return (!check || check->ok()) && (!coverage || coverage->coverage.rejected.empty());

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "emrm/results/boundary.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/report/figures.hpp"
+#include "emrm/results/boundary.hpp"
 
 namespace emrm::report {
 

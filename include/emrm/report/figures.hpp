@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "emrm/results/profiles.hpp"
 #include "emrm/campaign/records.hpp"
+#include "emrm/results/profiles.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/sim/actuation.hpp"
@@ -18,9 +18,9 @@ namespace emrm::report {
 
 /// A figure as written: its files and what it shows.
 struct Figure {
-  std::string name;     ///< file stem, e.g. "mitigability_map"
-  std::string title;    ///< a caption for the report
-  std::string note;     ///< empty, or why something is missing (e.g. "no grid 'ttc_mu' in the store")
+  std::string name;   ///< file stem, e.g. "mitigability_map"
+  std::string title;  ///< a caption for the report
+  std::string note;   ///< empty, or why something is missing (e.g. "no grid 'ttc_mu' in the store")
   std::filesystem::path png, svg, csv;
 };
 
@@ -56,9 +56,9 @@ Figure draw_harm_reduction_map(const std::vector<campaign::CellRecord>& records,
 
 /// What draw_grid_maps draws.
 struct GridMapOptions {
-  std::vector<std::string> skip;       ///< grids drawn elsewhere (the paper map's panels)
+  std::vector<std::string> skip;         ///< grids drawn elsewhere (the paper map's panels)
   std::size_t max_slices_per_grid = 12;  ///< further slices are listed in a note, not drawn
-  double latency_s = 0.0;              ///< of the dashed stop boundary, as draw_mitigability_map
+  double latency_s = 0.0;                ///< of the dashed stop boundary, as draw_mitigability_map
 };
 
 /// (1d) A map of every grid of `records` but those in `options.skip`, whatever its name: the
@@ -72,8 +72,8 @@ struct GridMapOptions {
 /// drawn; then one more Figure, map_GRID_more, has no files and a note listing the slices left out.
 /// Each caption names the grid, the slice and the region shares. CSV columns: slice, grid,
 /// speed_kph, ttc_s, mu, passage_m, region, evidence.
-std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records,
-                                   const std::filesystem::path& dir, const GridMapOptions& options = {});
+std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
+                                   const GridMapOptions& options = {});
 
 /// (3) Loss comparison on `grid`: collision-avoidance rate (%) and mean residual impact speed (km/h)
 /// per strategy, as two bar panels. CSV: strategy, cells, collision_avoidance_rate_pct,
@@ -110,8 +110,7 @@ Figure draw_binned_sweep_curves(const std::vector<campaign::CellRecord>& cells, 
 /// them: scenario::read_coverage_json): hazard, UCA and cell coverage (%) per method as grouped
 /// bars. CSV: method, scenarios, hazard_pct, uca_pct, transition_pct, cell_pct, twise_pct. With no
 /// report, no files are written and `note` says why.
-Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& reports,
-                                const std::filesystem::path& dir);
+Figure draw_coverage_comparison(const std::vector<scenario::CoverageReport>& reports, const std::filesystem::path& dir);
 
 /// (7) The traceability matrix as a chart: UCAs (rows) × hazards (columns), each entry the number
 /// of scenarios that trace to it (or a mark when the link exists and no scenario is known).

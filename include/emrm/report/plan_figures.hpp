@@ -48,8 +48,7 @@ struct PlannedRun {
 /// scenarios are infeasible, blank when the plan put none there; a cross when one of them is
 /// undecided. Stems plan_map_A_B. CSV columns: factor_x, level_x, bin_x, factor_y, level_y, bin_y,
 /// scenarios, feasible, successes, rate, wilson_low, wilson_high, undecided.
-std::vector<Figure> draw_plan_maps(const PlannedRun& run, const std::filesystem::path& dir,
-                                   std::size_t max_maps = 15);
+std::vector<Figure> draw_plan_maps(const PlannedRun& run, const std::filesystem::path& dir, std::size_t max_maps = 15);
 
 /// (4b) The run's sweep curves by the ODD's bins (draw_binned_sweep_curves) of speed_kph, or of the
 /// first factor with two levels or more when the ODD has no speed factor. A note instead when the

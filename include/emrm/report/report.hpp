@@ -25,9 +25,9 @@ Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& 
 [[nodiscard]] std::vector<safety::TraceRow> read_traceability_csv(const std::filesystem::path& path);
 
 struct ReportSummary {
-  std::vector<Figure> figures;     ///< every figure attempted (with a note when it has no files)
+  std::vector<Figure> figures;  ///< every figure attempted (with a note when it has no files)
   std::filesystem::path html;
-  double figure_seconds = 0.0;     ///< wall time spent rendering figures
+  double figure_seconds = 0.0;  ///< wall time spent rendering figures
 };
 
 /// Writes DIR/figures/* and DIR/report.html. Every input is read, and gnuplot and Graphviz are

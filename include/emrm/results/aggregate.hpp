@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "emrm/campaign/records.hpp"
-#include "emrm/sim/actuation.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/sim/actuation.hpp"
 
 namespace emrm::results {
 
@@ -20,11 +20,12 @@ namespace emrm::results {
 [[nodiscard]] std::vector<std::string> grid_names(const std::vector<campaign::CellRecord>& records);
 /// The records of one grid, in their stored order.
 [[nodiscard]] std::vector<campaign::CellRecord> records_of_grid(const std::vector<campaign::CellRecord>& records,
-                                                      std::string_view grid);
+                                                                std::string_view grid);
 
 /// The grid headline tables and figures read: `wanted` when the records have it, else the grid
 /// with the most cells (the first of equals); empty when there are no records.
-[[nodiscard]] std::string headline_grid(const std::vector<campaign::CellRecord>& records, std::string_view wanted = "fine");
+[[nodiscard]] std::string headline_grid(const std::vector<campaign::CellRecord>& records,
+                                        std::string_view wanted = "fine");
 
 /// Region counts of one grid. Percentages are over the feasible cells.
 struct RegionCounts {

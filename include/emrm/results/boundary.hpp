@@ -75,13 +75,13 @@ struct BoundarySlice {
 
 /// Every boundary of a store.
 struct BoundaryReport {
-  sim::ActuationConfig actuation;       ///< of the analytic stop boundary
-  std::vector<std::string> grids;       ///< grids with boundaries, in store order
-  std::vector<SkippedGrid> skipped;     ///< grids with fewer than two TTC levels
-  std::vector<std::string> boundaries;  ///< stop, avoid, mitigate, then strategy:NAME per stored strategy
-  std::vector<BoundarySlice> slices;    ///< per grid, μ, passage, truck speed ascending
-  std::size_t lines = 0;                ///< (grid, μ, passage, truck speed, speed) with a cell
-  std::vector<BoundaryRow> rows;        ///< per slice, boundary (in `boundaries` order), speed ascending
+  sim::ActuationConfig actuation;         ///< of the analytic stop boundary
+  std::vector<std::string> grids;         ///< grids with boundaries, in store order
+  std::vector<SkippedGrid> skipped;       ///< grids with fewer than two TTC levels
+  std::vector<std::string> boundaries;    ///< stop, avoid, mitigate, then strategy:NAME per stored strategy
+  std::vector<BoundarySlice> slices;      ///< per grid, μ, passage, truck speed ascending
+  std::size_t lines = 0;                  ///< (grid, μ, passage, truck speed, speed) with a cell
+  std::vector<BoundaryRow> rows;          ///< per slice, boundary (in `boundaries` order), speed ascending
   std::vector<AnalyticStopRow> analytic;  ///< per grid, μ, speed ascending
 
   /// Rows whose line is not monotone (exceptions > 0).

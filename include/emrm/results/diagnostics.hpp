@@ -133,8 +133,7 @@ struct Diagnostics {
 /// All four diagnostics, with the shipped FSMs (sim::default_emrm_fsm(),
 /// sim::default_loss_evaluation_fsm()) and the scene's latency.
 [[nodiscard]] Diagnostics run_diagnostics(const std::vector<campaign::CellRecord>& records,
-                                          const sim::SceneConfig& scene,
-                                          const DiagnosticsOptions& options = {});
+                                          const sim::SceneConfig& scene, const DiagnosticsOptions& options = {});
 
 [[nodiscard]] nlohmann::ordered_json to_json(const Diagnostics& d);
 

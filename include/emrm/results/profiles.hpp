@@ -10,18 +10,18 @@
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/results/paper_reference.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/core/table.hpp"
+#include "emrm/results/paper_reference.hpp"
 #include "emrm/sim/actuation.hpp"
 
 namespace emrm::results {
 
 /// One profile's sweep of the grid.
 struct ProfileRun {
-  std::string name;         ///< the profile file's stem
-  std::string description;  ///< its `description:`
+  std::string name;                ///< the profile file's stem
+  std::string description;         ///< its `description:`
   sim::ActuationConfig actuation;  ///< the scene's actuation with the profile over it
   std::filesystem::path store;     ///< its results.sqlite, relative to the output folder
   bool reused = false;             ///< the campaign's own store (the profile changes nothing)

@@ -6,9 +6,9 @@
 #include <string_view>
 #include <vector>
 
-#include "emrm/results/paper_reference.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/core/table.hpp"
+#include "emrm/results/paper_reference.hpp"
 #include "emrm/sim/actuation.hpp"
 
 namespace emrm::results {
@@ -21,13 +21,14 @@ struct BrakeSensitivity {
   std::vector<double> peak_decels_mps2;  ///< 10, 9, …, 4
   std::vector<double> peak_decel_g_pct;
 };
-[[nodiscard]] BrakeSensitivity brake_sensitivity(const std::vector<campaign::CellRecord>& records, std::string_view grid,
-                                                 const sim::ActuationConfig& base);
+[[nodiscard]] BrakeSensitivity brake_sensitivity(const std::vector<campaign::CellRecord>& records,
+                                                 std::string_view grid, const sim::ActuationConfig& base);
 
 /// Rows: the scene's own brakes, then brake dead time 0–0.6 s in 0.1 s steps, then peak
 /// deceleration 10 to 4 m/s² (each row changes one parameter of `base`); columns: G %, the change
 /// from the scene's, and the paper's G where `grid` is the paper's fine grid.
-[[nodiscard]] core::Table brake_sensitivity_table(const std::vector<campaign::CellRecord>& records, const PaperReference& paper,
-                                                  std::string_view grid, const sim::ActuationConfig& base);
+[[nodiscard]] core::Table brake_sensitivity_table(const std::vector<campaign::CellRecord>& records,
+                                                  const PaperReference& paper, std::string_view grid,
+                                                  const sim::ActuationConfig& base);
 
 }  // namespace emrm::results

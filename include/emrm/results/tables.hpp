@@ -9,10 +9,10 @@
 #include <string_view>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
-#include "emrm/results/paper_reference.hpp"
 #include "emrm/campaign/records.hpp"
 #include "emrm/core/table.hpp"
+#include "emrm/results/aggregate.hpp"
+#include "emrm/results/paper_reference.hpp"
 #include "emrm/scenario/coverage.hpp"
 
 namespace emrm::results {
@@ -61,7 +61,6 @@ struct TableOptions {
 /// Returns the files written. Throws emrm::Error when a file cannot be written.
 std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir,
                                                 const std::vector<campaign::CellRecord>& records,
-                                                const PaperReference& paper,
-                                                const TableOptions& options = {});
+                                                const PaperReference& paper, const TableOptions& options = {});
 
 }  // namespace emrm::results

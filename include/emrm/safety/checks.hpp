@@ -27,7 +27,7 @@ namespace emrm::safety {
 enum class FindingSeverity { kError, kWarning };
 
 struct Finding {
-  std::string code;     ///< stable, e.g. "SAF001"
+  std::string code;  ///< stable, e.g. "SAF001"
   FindingSeverity severity = FindingSeverity::kError;
   std::string subject;  ///< id of the entity concerned
   std::string message;

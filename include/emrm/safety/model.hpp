@@ -29,9 +29,8 @@ enum class Avoidability { kA1, kA2, kA3 };
 enum class Mitigability { kMT1, kMT2, kMT3 };
 /// The four STPA ways a control action can be unsafe.
 enum class UcaType { kNotProvided, kProvided, kWrongTimingOrOrder, kStoppedTooSoonOrAppliedTooLong };
-inline constexpr std::array<UcaType, 4> kAllUcaTypes{UcaType::kNotProvided, UcaType::kProvided,
-                                                      UcaType::kWrongTimingOrOrder,
-                                                      UcaType::kStoppedTooSoonOrAppliedTooLong};
+inline constexpr std::array<UcaType, 4> kAllUcaTypes{
+    UcaType::kNotProvided, UcaType::kProvided, UcaType::kWrongTimingOrOrder, UcaType::kStoppedTooSoonOrAppliedTooLong};
 
 using core::Ref;
 
@@ -130,7 +129,7 @@ struct Uca {
   std::string context;
   std::vector<Ref> hazards;
   std::vector<TransitionRef> fsm_transitions;
-  std::optional<std::string> region;      ///< predicate over the declared factors
+  std::optional<std::string> region;                  ///< predicate over the declared factors
   std::optional<core::Expression> region_expression;  ///< compiled at load time
   SourceLocation where;
 
@@ -249,11 +248,10 @@ struct EnumNames<safety::Controllability> {
 };
 template <>
 struct EnumNames<safety::Asil> {
-  static constexpr std::array kNames{std::pair{safety::Asil::kQM, std::string_view("QM")},
-                                     std::pair{safety::Asil::kA, std::string_view("A")},
-                                     std::pair{safety::Asil::kB, std::string_view("B")},
-                                     std::pair{safety::Asil::kC, std::string_view("C")},
-                                     std::pair{safety::Asil::kD, std::string_view("D")}};
+  static constexpr std::array kNames{
+      std::pair{safety::Asil::kQM, std::string_view("QM")}, std::pair{safety::Asil::kA, std::string_view("A")},
+      std::pair{safety::Asil::kB, std::string_view("B")}, std::pair{safety::Asil::kC, std::string_view("C")},
+      std::pair{safety::Asil::kD, std::string_view("D")}};
 };
 template <>
 struct EnumNames<safety::Maneuverability> {

@@ -3,9 +3,8 @@
 // The integrated mapping M_HARA-STPA : C × UCA → {H, L, R} (paper eq. 2) and the traceability
 // matrix UCA × hazard × loss × FSM transition × scenarios built from it.
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

@@ -6,11 +6,10 @@
 // measures the baselines of docs/plan.md: HARA only, STPA only and a manual sparse grid.
 
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "emrm/scenario/odd.hpp"
 
@@ -27,20 +26,20 @@ struct CoverageCount {
 };
 
 struct CoverageReport {
-  std::string name;                 ///< "emrm plan", "HARA only", "STPA only", "manual grid"
+  std::string name;  ///< "emrm plan", "HARA only", "STPA only", "manual grid"
   std::size_t scenarios = 0;
-  std::size_t inadmissible = 0;     ///< points outside the domain or R_f, or breaking a constraint (not counted)
-  CoverageCount hazards;            ///< hazards some admissible test's malfunction leads to
-  CoverageCount malfunctions;       ///< modes with ≥ 1 test in their region (UCA coverage)
+  std::size_t inadmissible = 0;  ///< points outside the domain or R_f, or breaking a constraint (not counted)
+  CoverageCount hazards;         ///< hazards some admissible test's malfunction leads to
+  CoverageCount malfunctions;    ///< modes with ≥ 1 test in their region (UCA coverage)
   std::vector<std::pair<std::string, std::size_t>> tests_per_malfunction;  ///< admissible tests per region (C4)
-  CoverageCount transitions;        ///< FSM transitions some test's malfunctions exercise
-  CoverageCount cells;              ///< relevant cells with ≥ 1 test
-  CoverageCount boundaries;         ///< feasible boundary targets hit exactly
-  CoverageCount twise;              ///< admissible t-tuples of influential levels realised
-  bool c1 = false;                  ///< every relevant cell has ≥ n_c tests
-  bool c2 = false;                  ///< every feasible boundary target is hit
-  bool c3 = false;                  ///< every admissible t-tuple is realised
-  bool c4 = false;                  ///< every mode has ≥ n_m tests in its region
+  CoverageCount transitions;  ///< FSM transitions some test's malfunctions exercise
+  CoverageCount cells;        ///< relevant cells with ≥ 1 test
+  CoverageCount boundaries;   ///< feasible boundary targets hit exactly
+  CoverageCount twise;        ///< admissible t-tuples of influential levels realised
+  bool c1 = false;            ///< every relevant cell has ≥ n_c tests
+  bool c2 = false;            ///< every feasible boundary target is hit
+  bool c3 = false;            ///< every admissible t-tuple is realised
+  bool c4 = false;            ///< every mode has ≥ n_m tests in its region
   [[nodiscard]] bool all() const noexcept { return c1 && c2 && c3 && c4; }
 };
 

@@ -52,10 +52,10 @@ class SearchBudget {
 };
 
 struct CoveringArrayOptions {
-  int strength = 2;                   ///< t, 2 or 3
-  std::uint64_t seed = 1;             ///< same seed, same array
-  int candidates_per_row = 24;        ///< candidate rows built per emitted row
-  int restarts = 2;                   ///< whole-array greedy attempts; the smallest is kept
+  int strength = 2;             ///< t, 2 or 3
+  std::uint64_t seed = 1;       ///< same seed, same array
+  int candidates_per_row = 24;  ///< candidate rows built per emitted row
+  int restarts = 2;             ///< whole-array greedy attempts; the smallest is kept
   /// Most t-tuples (summed over every t-subset of the factors) the generator takes on: its tables
   /// grow with them. More is refused with emrm::UsageError naming the limit.
   std::size_t max_tuples = 20'000'000;
@@ -90,20 +90,17 @@ struct CoveringArray {
 /// outside [0, 1e6] or improvement_max_moves negative; throws std::domain_error when no valid row
 /// exists or a seed row cannot be completed without breaking a constraint, and UsageError when the
 /// constraint search takes more than max_search_steps.
-[[nodiscard]] CoveringArray generate_covering_array(const std::vector<int>& levels,
-                                                    const CoveringArrayOptions& options,
+[[nodiscard]] CoveringArray generate_covering_array(const std::vector<int>& levels, const CoveringArrayOptions& options,
                                                     const RowViolates& violates = {});
 
 /// A complete row extending `partial` (kDontCare entries filled) that breaks no constraint, or
 /// nothing when there is none. Depth-first search, exponential in the worst case; it spends one
 /// step of `budget` per node and throws UsageError when the budget runs out.
-[[nodiscard]] std::optional<std::vector<int>> complete_row(const std::vector<int>& levels,
-                                                           std::vector<int> partial,
+[[nodiscard]] std::optional<std::vector<int>> complete_row(const std::vector<int>& levels, std::vector<int> partial,
                                                            const RowViolates& violates, SearchBudget& budget);
 
 /// As above, with a budget of its own of kDefaultMaxSearchSteps.
-[[nodiscard]] std::optional<std::vector<int>> complete_row(const std::vector<int>& levels,
-                                                           std::vector<int> partial,
+[[nodiscard]] std::optional<std::vector<int>> complete_row(const std::vector<int>& levels, std::vector<int> partial,
                                                            const RowViolates& violates);
 
 struct ArrayCheck {

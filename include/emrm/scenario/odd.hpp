@@ -30,17 +30,16 @@ struct OddFactor {
   std::string name;
   std::string unit;
   FactorType type = FactorType::kContinuous;
-  std::vector<double> edges;          ///< continuous and integer
-  std::vector<double> kinks;          ///< safety-relevant values inside the domain (boundary seeds)
-  std::vector<std::string> classes;   ///< categorical
-  std::vector<double> class_values;   ///< categorical: the number of each class
-  std::vector<double> prior;          ///< exposure per level, sums to 1
-  bool influential = true;            ///< part of Q_f (t-wise coverage)
-  double nominal = 0.0;               ///< value of the nominal scenario (HARA baseline)
+  std::vector<double> edges;         ///< continuous and integer
+  std::vector<double> kinks;         ///< safety-relevant values inside the domain (boundary seeds)
+  std::vector<std::string> classes;  ///< categorical
+  std::vector<double> class_values;  ///< categorical: the number of each class
+  std::vector<double> prior;         ///< exposure per level, sums to 1
+  bool influential = true;           ///< part of Q_f (t-wise coverage)
+  double nominal = 0.0;              ///< value of the nominal scenario (HARA baseline)
   SourceLocation where;
-  SourceLocation unit_where;  ///< the `unit:` entry as written (else `where`)
-  std::vector<SourceLocation>
-      value_where;  ///< each bin edge, class value (or name) or the constant value as written
+  SourceLocation unit_where;                ///< the `unit:` entry as written (else `where`)
+  std::vector<SourceLocation> value_where;  ///< each bin edge, class value (or name) or the constant value as written
 
   [[nodiscard]] int levels() const noexcept;
   /// Level of a value: its bin (values outside the domain are clamped into the first or last
@@ -80,9 +79,9 @@ struct Odd {
   std::string name;
   std::string description;
   std::vector<OddFactor> factors;
-  std::optional<core::Expression> relevance;      ///< R_f; none = every point is relevant
-  std::vector<core::Expression> constraints;      ///< every scenario satisfies all of them
-  std::optional<core::Expression> tracked;        ///< cells with a precision target; none = all
+  std::optional<core::Expression> relevance;  ///< R_f; none = every point is relevant
+  std::vector<core::Expression> constraints;  ///< every scenario satisfies all of them
+  std::optional<core::Expression> tracked;    ///< cells with a precision target; none = all
   std::vector<Malfunction> malfunctions;
   /// Every hazard of the safety case; without one, the ODD's `hazards:` and those its modes name. A
   /// hazard a UCA names but the safety case lacks (a finding of `emrm analyze`) is not counted.
@@ -90,14 +89,14 @@ struct Odd {
   std::optional<std::filesystem::path> safety_file;  ///< as resolved against the ODD file
   std::optional<std::filesystem::path> scene_file;
   std::vector<std::string> strategies;  ///< for `emrm run`; empty = all
-  std::string acceptance_strategy;  ///< empty = the registered chooser (resolved by `emrm run`)
+  std::string acceptance_strategy;      ///< empty = the registered chooser (resolved by `emrm run`)
   Acceptance acceptance = Acceptance::kAvoided;
-  int strength = 2;              ///< t
-  int n_c = 1;                   ///< tests per cell (C1)
-  int n_m = 3;                   ///< tests per malfunction region (C4)
-  double epsilon = 0.25;         ///< target Wilson half-width in tracked cells
-  double delta = 0.05;           ///< 1 − confidence
-  std::size_t budget = 1000;     ///< most scenarios the plan may hold
+  int strength = 2;           ///< t
+  int n_c = 1;                ///< tests per cell (C1)
+  int n_m = 3;                ///< tests per malfunction region (C4)
+  double epsilon = 0.25;      ///< target Wilson half-width in tracked cells
+  double delta = 0.05;        ///< 1 − confidence
+  std::size_t budget = 1000;  ///< most scenarios the plan may hold
   std::uint64_t seed = 1;
   /// Manual baseline: the values of some factors (others at their nominal value); at most
   /// kMaxManualGridPoints points in all.

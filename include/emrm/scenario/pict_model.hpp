@@ -36,8 +36,7 @@ class PictModel {
  public:
   struct Constraint;  // opaque: a compiled predicate tree
 
-  PictModel(std::vector<PictParameter> parameters,
-            std::vector<std::shared_ptr<const Constraint>> constraints);
+  PictModel(std::vector<PictParameter> parameters, std::vector<std::shared_ptr<const Constraint>> constraints);
 
   [[nodiscard]] const std::vector<PictParameter>& parameters() const noexcept { return parameters_; }
   [[nodiscard]] std::size_t constraint_count() const noexcept { return constraints_.size(); }

@@ -77,13 +77,13 @@ struct PlanStep {
 struct Plan {
   std::vector<Scenario> scenarios;
   std::vector<PlanStep> steps;
-  std::vector<RelevantCell> cells;            ///< 𝒞_f with priors and tracked flags
+  std::vector<RelevantCell> cells;  ///< 𝒞_f with priors and tracked flags
   std::size_t relevant_cells = 0;
   std::size_t tracked_cells = 0;
-  std::size_t tests_per_tracked_cell = 0;     ///< from ε and δ (worst-case Wilson)
-  std::vector<std::string> infeasible;        ///< boundary targets no admissible point reaches (C2 exempts them)
-  std::vector<Shortfall> shortfalls;          ///< modes or cells that could not get enough distinct tests
-  bool targets_met = false;                   ///< C1–C4 and the precision target
+  std::size_t tests_per_tracked_cell = 0;  ///< from ε and δ (worst-case Wilson)
+  std::vector<std::string> infeasible;     ///< boundary targets no admissible point reaches (C2 exempts them)
+  std::vector<Shortfall> shortfalls;       ///< modes or cells that could not get enough distinct tests
+  bool targets_met = false;                ///< C1–C4 and the precision target
   std::string stop_reason;
 };
 

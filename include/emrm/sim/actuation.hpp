@@ -100,7 +100,7 @@ class Actuators {
   double max_steer_rate_radps_;
   double brake_scale_;  ///< the cap's share of mu·g
   double dt_s_;
-  double memory_s_;     ///< how far back commands are kept
+  double memory_s_;  ///< how far back commands are kept
 };
 
 }  // namespace emrm::sim

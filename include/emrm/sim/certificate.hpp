@@ -31,15 +31,15 @@ struct Certificate {
   /// "side": the car's cross-section at the truck's near side, with the heading bounded;
   /// "flank": the same at the truck's far side (a truck that comes down onto the car's flank).
   std::string witness;
-  double crossing_x_m = 0.0;      ///< x of the CG at the crossing event
-  double heading_cap_rad = 0.0;   ///< "side", "flank": |heading| at the crossing is shown to be at most this
-  double window_start_s = 0.0;    ///< earliest time the CG can reach crossing_x_m
-  double window_end_s = 0.0;      ///< latest (braking at mu·g from the end of the latency)
-  double stop_reach_x_m = 0.0;    ///< least x the CG reaches before its speed can fall to the stop threshold
-  double step_s = 0.0;            ///< time step of the bound's integration
-  CellInput cell;                 ///< the cell it was made for
-  double latency_s = 0.0;         ///< the scene's perception latency it was made for
-  ActuationConfig actuation;      ///< the scene's actuators it was made for (latency_s included)
+  double crossing_x_m = 0.0;     ///< x of the CG at the crossing event
+  double heading_cap_rad = 0.0;  ///< "side", "flank": |heading| at the crossing is shown to be at most this
+  double window_start_s = 0.0;   ///< earliest time the CG can reach crossing_x_m
+  double window_end_s = 0.0;     ///< latest (braking at mu·g from the end of the latency)
+  double stop_reach_x_m = 0.0;   ///< least x the CG reaches before its speed can fall to the stop threshold
+  double step_s = 0.0;           ///< time step of the bound's integration
+  CellInput cell;                ///< the cell it was made for
+  double latency_s = 0.0;        ///< the scene's perception latency it was made for
+  ActuationConfig actuation;     ///< the scene's actuators it was made for (latency_s included)
 };
 
 /// A certificate for the cell, or nothing when the bound cannot prove unavoidability (always

@@ -1,7 +1,7 @@
 #pragma once
 
-// Energy-based loss assessment (docs/physics.md, "Impacts and losses"): Δv of the ego from momentum conservation, injury
-// and fatality risk curves, and the loss level of an outcome.
+// Energy-based loss assessment (docs/physics.md, "Impacts and losses"): Δv of the ego from momentum conservation,
+// injury and fatality risk curves, and the loss level of an outcome.
 
 #include "emrm/core/geometry.hpp"
 #include "emrm/sim/scene.hpp"
@@ -28,8 +28,8 @@ struct ImpactAssessment {
 };
 
 /// Central impact: Δv = (1 + e) · m_other / (m_ego + m_other) · |v_rel,n|.
-[[nodiscard]] double central_delta_v_mps(double ego_mass_kg, double other_mass_kg,
-                                         double relative_normal_speed_mps, double restitution) noexcept;
+[[nodiscard]] double central_delta_v_mps(double ego_mass_kg, double other_mass_kg, double relative_normal_speed_mps,
+                                         double restitution) noexcept;
 /// P(MAIS3+) = 1 / (1 + exp(a − b·Δv)).
 [[nodiscard]] double p_mais3(double delta_v_mps, const SeverityConfig& c) noexcept;
 /// P(fatal) = min(1, (Δv / ref)^n).

@@ -18,8 +18,8 @@ namespace emrm::sim {
 
 struct RoadConfig {
   double lane_width_m = 3.5;
-  int lanes = 2;               ///< the main road spans y ∈ [-lanes/2·w, lanes/2·w]
-  double shoulder_m = 1.5;     ///< paved shoulder on the right: drivable down to -(lanes/2·w + shoulder)
+  int lanes = 2;                     ///< the main road spans y ∈ [-lanes/2·w, lanes/2·w]
+  double shoulder_m = 1.5;           ///< paved shoulder on the right: drivable down to -(lanes/2·w + shoulder)
   double ego_lane_center_m = -1.75;  ///< checked against the ego's width by SceneConfig
 
   [[nodiscard]] double drivable_min_y_m() const { return -(lanes * lane_width_m / 2.0) - shoulder_m; }
@@ -58,7 +58,7 @@ struct SimulationConfig {
   static constexpr double kMinStep_s = 1e-4, kMaxStep_s = 0.1, kMaxHorizon_s = 60.0;
   std::string vehicle_model = "single_track_fiala";
   double dt_s = 0.01;
-  double horizon_s = 4.0;   ///< longest simulated time after t = 0
+  double horizon_s = 4.0;  ///< longest simulated time after t = 0
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, vehicle_model, core::one_of(vehicle_model_names, "vehicle model"));
@@ -67,8 +67,8 @@ struct SimulationConfig {
     EMRM_FIELD(a, dt_s, core::within(kMinStep_s, kMaxStep_s));
     EMRM_FIELD(a, horizon_s, core::within(kMinStep_s, kMaxHorizon_s));
     if constexpr (requires { a.moved("", ""); }) a.moved("latency_s", "actuation.perception_latency_s");
-    a.ensure(!(dt_s > horizon_s), "dt_s", "expected a time step no longer than the horizon ({} s), got {} s",
-             horizon_s, dt_s);
+    a.ensure(!(dt_s > horizon_s), "dt_s", "expected a time step no longer than the horizon ({} s), got {} s", horizon_s,
+             dt_s);
   }
 };
 
@@ -91,11 +91,11 @@ struct RoadsideConfig {
 /// reaches a safe state on the drivable area: stopped, or stable with room to stop
 /// (docs/physics.md, "Safe state").
 struct SafeStateConfig {
-  double horizon_s = 8.0;                ///< longest recovery after passing the truck
-  double max_yaw_rate_radps = 0.05;      ///< stable: |r| at most this
-  double max_slip_angle_rad = 0.02;      ///< stable: |β| at most this
-  double max_heading_error_rad = 0.1;    ///< stable: |ψ| (against the road's direction) at most this
-  double max_steer_rad = 0.02;           ///< stable: the wheels (nearly) straight
+  double horizon_s = 8.0;              ///< longest recovery after passing the truck
+  double max_yaw_rate_radps = 0.05;    ///< stable: |r| at most this
+  double max_slip_angle_rad = 0.02;    ///< stable: |β| at most this
+  double max_heading_error_rad = 0.1;  ///< stable: |ψ| (against the road's direction) at most this
+  double max_steer_rad = 0.02;         ///< stable: the wheels (nearly) straight
 
   template <class A>
   void serialize(A& a) {
@@ -136,7 +136,7 @@ struct PlannerConfig {
   double max_time_ms = 5000.0;  ///< wall-clock guard; the node budget is what makes runs repeatable
   double min_duration_s = 0.1;  ///< control intervals are sampled in [min, max]
   double max_duration_s = 0.4;
-  double goal_bias = 0.3;       ///< probability of extending towards the passage
+  double goal_bias = 0.3;  ///< probability of extending towards the passage
   /// Restarts of the strengthened search, each with the full budget and a seed from the cell alone
   /// (docs/planner.md, "A region that does not depend on the seed").
   int restarts = 6;
@@ -191,8 +191,8 @@ struct SceneConfig {
     const double half_width = ego.width_m / 2.0;
     a.ensure(road.ego_lane_center_m - half_width >= low && road.ego_lane_center_m + half_width <= high,
              "road.ego_lane_center_m",
-             "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m",
-             ego.width_m, road.ego_lane_center_m, low, high);
+             "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m", ego.width_m,
+             road.ego_lane_center_m, low, high);
   }
 };
 
@@ -236,8 +236,8 @@ struct ActuationProfile {
 };
 
 /// Where a profile's file is: `profile` itself when it names a file (it contains a '/' or ends in
-/// .yaml), else `scene_dir`/profiles/`profile`.yaml (an empty `scene_dir` is the current folder). Throws UsageError for a NAME with no such file
-/// (listing the names in that folder).
+/// .yaml), else `scene_dir`/profiles/`profile`.yaml (an empty `scene_dir` is the current folder). Throws UsageError for
+/// a NAME with no such file (listing the names in that folder).
 [[nodiscard]] std::filesystem::path profile_path(const std::string& profile, const std::filesystem::path& scene_dir);
 /// Overlays the profile on `config`'s actuation (keys it does not give keep the scene's values) and
 /// validates the result; returns the profile's `description:`. Throws InputError (file:line:column)

@@ -41,13 +41,13 @@ struct StrategyOutcome {
   std::vector<std::string> fsm_trace;              ///< EMRM FSM: s0 e1 s1 e2 s2 …
   std::vector<std::string> loss_evaluation_trace;  ///< emrm only
   std::string chosen_strategy;                     ///< emrm only
-  std::string adopted_from;  ///< set when the outcome is another strategy's (see docs)
+  std::string adopted_from;                        ///< set when the outcome is another strategy's (see docs)
   Evidence evidence = Evidence::kWitness;
   PlannerStats planner;
   /// The executed trajectory at every integration step, from t = 0 (the witness's trajectory).
   std::vector<PathPoint> path;
-  Maneuver maneuver;  ///< the controls that drove it: replay() reproduces `path`
-  std::vector<TreeEdge> tree;   ///< when trees are kept
+  Maneuver maneuver;           ///< the controls that drove it: replay() reproduces `path`
+  std::vector<TreeEdge> tree;  ///< when trees are kept
 };
 
 struct CellResult {

@@ -22,7 +22,8 @@ inline constexpr double kStopAgreement_m = 0.1;
 
 /// What braking straight through `actuation` leaves before the truck's near side: v·TTC minus the
 /// stopping distance (perception included); negative when the car does not stop in time.
-[[nodiscard]] double stop_margin_m(double speed_kph, double ttc_s, double mu, const ActuationConfig& actuation) noexcept;
+[[nodiscard]] double stop_margin_m(double speed_kph, double ttc_s, double mu,
+                                   const ActuationConfig& actuation) noexcept;
 
 /// The analytic stop boundary as a claim about a grid's cell: v·TTC at least the stopping distance
 /// through `actuation` (perception latency, brake dead time, ramp, cap). A TTC within 1e-9 s of the

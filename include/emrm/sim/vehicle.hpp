@@ -10,8 +10,8 @@
 #include <cmath>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,7 +33,7 @@ struct VehicleParams {
   double cg_to_front_axle_m = 1.156;  ///< l_f
   double cg_to_rear_axle_m = 1.423;   ///< l_r
   double cg_height_m = 0.575;
-  double max_steer_rad = 0.6;          ///< road-wheel angle
+  double max_steer_rad = 0.6;  ///< road-wheel angle
   double max_steer_rate_radps = 0.8;
   double front_cornering_stiffness_n_per_rad = 70000.0;  ///< effective axle value; independent of mu
   double rear_cornering_stiffness_n_per_rad = 105000.0;
@@ -60,8 +60,7 @@ struct VehicleParams {
     EMRM_FIELD(a, kinematic_blend_speed_mps, core::non_negative);
     // Overhangs are (length − wheelbase)/2 each; a negative one would put the bumper behind the axle.
     a.ensure(!(wheelbase_m() > length_m), "length_m",
-             "expected the car to be at least as long as its wheelbase ({} m), got {} m", wheelbase_m(),
-             length_m);
+             "expected the car to be at least as long as its wheelbase ({} m), got {} m", wheelbase_m(), length_m);
   }
 };
 
@@ -92,12 +91,12 @@ struct Control {
   /// 0…1, fraction of the friction limit mu F_z commanded on each rolling axle; the ABS caps it so that
   /// a cornering axle keeps its combined-slip lateral force (docs/physics.md)
   double brake = 0.0;
-  bool rear_lock = false;         ///< rear wheels locked: the rear axle slides at mu·F_z against its velocity
+  bool rear_lock = false;  ///< rear wheels locked: the rear axle slides at mu·F_z against its velocity
 };
 
 /// Forces and state of one axle, for diagnostics and constraints.
 struct AxleForces {
-  double normal_load_n = 0.0;    ///< F_z after load transfer
+  double normal_load_n = 0.0;  ///< F_z after load transfer
   double slip_angle_rad = 0.0;
   double longitudinal_n = 0.0;   ///< F_x in the wheel frame
   double lateral_n = 0.0;        ///< F_y in the wheel frame

@@ -26,13 +26,11 @@ void check_odd_against_scene(const scenario::Odd& odd, const sim::SceneConfig& s
 
 /// "FILE:LINE:COL: warning: …" for each factor whose ODD domain reaches beyond the safety case's
 /// `min`/`max` for it, or whose unit differs; each names both places.
-[[nodiscard]] std::vector<std::string> safety_range_warnings(const scenario::Odd& odd,
-                                                             const safety::SafetyCase& sc);
+[[nodiscard]] std::vector<std::string> safety_range_warnings(const scenario::Odd& odd, const safety::SafetyCase& sc);
 
 /// A warning (at the ODD's relevance rule) when planned scenarios lie where the scene cannot place
 /// the truck (v·TTC beyond its max_initial_distance_m): `emrm run` would find them infeasible.
-[[nodiscard]] std::vector<std::string> placement_warnings(const scenario::Odd& odd,
-                                                          const scenario::Plan& plan,
+[[nodiscard]] std::vector<std::string> placement_warnings(const scenario::Odd& odd, const scenario::Plan& plan,
                                                           const sim::SceneConfig& scene);
 
 }  // namespace emrm::workflow

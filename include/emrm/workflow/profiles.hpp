@@ -18,7 +18,7 @@ namespace emrm::workflow {
 /// options.output_dir/results.sqlite, which must hold the grid. Writes profiles/index.json.
 /// Throws as sweep() and sim::apply_profile (a malformed profile: InputError at its line).
 std::vector<results::ProfileRun> sweep_profiles(const campaign::Campaign& campaign, const std::string& grid,
-                                       const std::vector<std::filesystem::path>& profiles,
-                                       const campaign::SweepOptions& options);
+                                                const std::vector<std::filesystem::path>& profiles,
+                                                const campaign::SweepOptions& options);
 
 }  // namespace emrm::workflow

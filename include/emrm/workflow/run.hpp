@@ -8,13 +8,12 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <optional>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "emrm/campaign/plan_settings.hpp"
 #include "emrm/campaign/sweep.hpp"
@@ -69,18 +68,18 @@ struct SubsetEstimate {
 
 struct RunResult {
   campaign::SweepSummary sweep;
-  std::vector<std::string> factors;              ///< the scenario file's factor columns
-  std::vector<std::string> unsimulated_factors;  ///< factor columns the simulator has no use for
-  std::vector<ScenarioOutcome> outcomes;         ///< in file order
-  std::vector<CellEstimate> cells;               ///< by cell key
-  double widest_tracked_half_width = 0.0;        ///< largest Wilson half-width over tracked cells
-  double epsilon = 0.25;                         ///< the plan's target for it
-  std::vector<SubsetEstimate> subsets;         ///< Ŝ(A): all, then each malfunction (every mode of the plan)
+  std::vector<std::string> factors;                      ///< the scenario file's factor columns
+  std::vector<std::string> unsimulated_factors;          ///< factor columns the simulator has no use for
+  std::vector<ScenarioOutcome> outcomes;                 ///< in file order
+  std::vector<CellEstimate> cells;                       ///< by cell key
+  double widest_tracked_half_width = 0.0;                ///< largest Wilson half-width over tracked cells
+  double epsilon = 0.25;                                 ///< the plan's target for it
+  std::vector<SubsetEstimate> subsets;                   ///< Ŝ(A): all, then each malfunction (every mode of the plan)
   std::vector<campaign::PlanShortfall> plan_shortfalls;  ///< the plan's, repeated as warnings
-  std::size_t transitions_exercised = 0;         ///< EMRM FSM transitions the traces took
+  std::size_t transitions_exercised = 0;                 ///< EMRM FSM transitions the traces took
   std::size_t transitions_total = 0;
   std::vector<std::string> transitions_missed;
-  std::size_t traceability_rows = 0;             ///< 0 when no safety case is known
+  std::size_t traceability_rows = 0;  ///< 0 when no safety case is known
   double confidence = 0.95;
 };
 

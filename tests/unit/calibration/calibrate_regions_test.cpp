@@ -7,9 +7,9 @@
 
 #include <string>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/calibration/calibrate.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/stop_physics.hpp"

@@ -1,6 +1,8 @@
 // Calibration (docs/actuation.md, "Calibration"): synthetic brake tests made from hidden
 // parameters and noise; the fit must recover them, and say when the data cannot.
 
+#include "emrm/calibration/calibrate.hpp"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,7 +11,6 @@
 #include <random>
 #include <string>
 
-#include "emrm/calibration/calibrate.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
@@ -103,8 +104,8 @@ TEST(Calibrate, BoundsThatExcludeTheSolutionAreSaid) {
   sim::ActuationConfig hidden;
   hidden.brake_dead_time_s = 0.2;
   hidden.max_decel_mps2 = 8.0;
-  const CalibrationResult r = calibrate_stops(synthetic_stops(hidden, 8),
-                                              {{"brake_dead_time_s", "max_decel_mps2"}, {{"max_decel_mps2", {2.0, 5.0}}}, {}});
+  const CalibrationResult r = calibrate_stops(
+      synthetic_stops(hidden, 8), {{"brake_dead_time_s", "max_decel_mps2"}, {{"max_decel_mps2", {2.0, 5.0}}}, {}});
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_THAT(r.warnings.front(), HasSubstr("lies on its bound"));
 }
@@ -115,8 +116,7 @@ TEST(Calibrate, BadRequestsAreUsageErrors) {
   EXPECT_THROW((void)calibrate_stops(stops, {{}, {}, {}}), UsageError);
   EXPECT_THROW((void)calibrate_stops(stops, {{"brake_dead_time_s"}, {{"brake_dead_time_s", {0.5, 0.1}}}, {}}),
                UsageError);
-  EXPECT_THROW((void)calibrate_stops(stops, {{"brake_dead_time_s"}, {{"max_decel_mps2", {1.0, 9.0}}}, {}}),
-               UsageError);
+  EXPECT_THROW((void)calibrate_stops(stops, {{"brake_dead_time_s"}, {{"max_decel_mps2", {1.0, 9.0}}}, {}}), UsageError);
 }
 
 // The closed form the calibration fits is the simulator's emergency stop.
@@ -128,8 +128,8 @@ TEST(Calibrate, TheFittedSpeedModelIsTheSimulatorsStop) {
   const double v0 = 22.0;
   const sim::Scene scene(config, {v0 * 3.6, 6.0, 1.0, 3.0, 0.0});
   const auto model = sim::make_vehicle_model("single_track_fiala", config.ego);
-  const auto run = sim::Roller(scene, *model, sim::ControlLimits{})
-                       .roll(scene.ego_initial(), 0.0, {}, sim::Tail::full_stop(), 1);
+  const auto run =
+      sim::Roller(scene, *model, sim::ControlLimits{}).roll(scene.ego_initial(), 0.0, {}, sim::Tail::full_stop(), 1);
   int compared = 0;
   for (const auto& p : run.path) {
     if (p.state.speed_mps() < 1.0) break;
@@ -186,7 +186,8 @@ TEST_F(CalibrateFiles, RegionTargetsOfBothShapesAreRead) {
   EXPECT_EQ(own.pct.size(), 2u);
   EXPECT_DOUBLE_EQ(own.pct.at("R"), 20.0);
   const RegionTarget paper = read_region_target(write(
-      "paper.yaml", "version: 1\nfine_grid:\n  grid: fine\n  feasible_cells: 10\n  regions_pct: {G: 40, Y: 30, O: 10, R: 20}\n"));
+      "paper.yaml",
+      "version: 1\nfine_grid:\n  grid: fine\n  feasible_cells: 10\n  regions_pct: {G: 40, Y: 30, O: 10, R: 20}\n"));
   EXPECT_EQ(paper.pct.size(), 4u);
   EXPECT_EQ(paper.grid_at.line, 3);
 }

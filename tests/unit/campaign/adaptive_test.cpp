@@ -185,10 +185,13 @@ TEST(AdaptiveSearch, TheStopBoundaryIsExactInEveryDimensionCount) {
     SyntheticMap map;
     std::uniform_real_distribution<double> jitter(-0.03, 0.03);
     const double slope = 0.002 + 0.002 * trial;
-    map.lattice.levels = {range(30, 72, 3), range(0.25, 2.95, 0.09), trial % 2 ? range(0.3, 1.0, 0.35) : std::vector{0.8},
-                          trial % 3 ? std::vector{2.0, 3.0} : std::vector{3.0}, trial > 3 ? std::vector{0.0, 10.0} : std::vector{10.0}};
+    map.lattice.levels = {
+        range(30, 72, 3), range(0.25, 2.95, 0.09), trial % 2 ? range(0.3, 1.0, 0.35) : std::vector{0.8},
+        trial % 3 ? std::vector{2.0, 3.0} : std::vector{3.0}, trial > 3 ? std::vector{0.0, 10.0} : std::vector{10.0}};
     std::map<std::size_t, double> noise;
-    map.avoid_ttc = [slope](double v, double mu, double passage, double) { return 0.5 + slope * v / mu + 0.1 / passage; };
+    map.avoid_ttc = [slope](double v, double mu, double passage, double) {
+      return 0.5 + slope * v / mu + 0.1 / passage;
+    };
     std::uniform_int_distribution<std::size_t> pick(0, map.lattice.size() - 1);
     for (int k = 0; k < 10; ++k) map.flipped.insert(pick(random));
     MapOracle oracle(map);
@@ -316,7 +319,8 @@ TEST(AdaptiveSearch, FindsTheEarlyRunOfATruckStillOnItsWay) {
   EXPECT_GT(early_y, 100U);
   std::size_t lines_without_gap = 0;
   for (double v : map.lattice.levels[0])
-    for (double mu : map.lattice.levels[2]) lines_without_gap += map.avoid_ttc(v, mu, 3.4, 20.0) <= map.early_ttc(v, mu);
+    for (double mu : map.lattice.levels[2])
+      lines_without_gap += map.avoid_ttc(v, mu, 3.4, 20.0) <= map.early_ttc(v, mu);
   EXPECT_GT(lines_without_gap, 10U);
   // Where a line's gap closes to one or two cells, the walk up the early run (steps of up to the
   // stride) can step over it: such cells are wrong, within the 0.5 % the search is held to.
@@ -412,7 +416,9 @@ TEST(AdaptiveSearch, PredictedBracketsMissByOneLevelAtMost) {
 // of the others) give the lines between them their runs, each change found by its own simulation.
 TEST(AdaptiveSearch, LinesBetweenCornersWhoseLabelsChangeAlikeFindTheirOwnChange) {
   SyntheticMap map = fine_map();
-  map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+  map.unavoidable = [](double v, double ttc, double) {
+    return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR;
+  };
   MapOracle oracle(map);
   const Result result = search(map.lattice, oracle, Options{});
   const Comparison c = compare(map, result);
@@ -471,7 +477,9 @@ TEST(AdaptiveSearch, FromFourFactorsLabelChangesArePredictedToo) {
   map.avoid_ttc = [](double v, double mu, double passage, double) {
     return 0.55 + 0.003 * v / mu - 0.1 * (passage - 2.2);
   };
-  map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+  map.unavoidable = [](double v, double ttc, double) {
+    return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR;
+  };
   const std::array<Result, 2> results = searched_and_predicted(map);
   const auto label_brackets = [](const Result& r) {
     return r.simulated_for[static_cast<std::size_t>(Purpose::kLabelBrackets)];
@@ -532,7 +540,9 @@ TEST(AdaptiveSearch, AThresholdALaterSimulationContradictsIsSearchedAgain) {
     map.avoid_ttc = [width](double v, double mu, double passage, double) {
       return 1.6 + 0.2 * mu - 0.05 * passage - 0.8 * std::exp(-std::pow((v - 35.0) / width, 2.0));
     };
-    map.unavoidable = [](double v, double ttc, double) { return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR; };
+    map.unavoidable = [](double v, double ttc, double) {
+      return ttc >= 0.3 + 0.004 * (v - 30.0) ? Region::kO : Region::kR;
+    };
     const std::array<Result, 2> results = searched_and_predicted(map);
     for (const Result& result : results) {
       EXPECT_TRUE(result.violations.empty()) << width;

@@ -30,7 +30,7 @@ TEST(EtaModel, ExactForConstantCostsPerClassWhateverTheOrder) {
 TEST(EtaModel, AClassNotSeenYetCostsTheMeanOfThoseSeen) {
   EtaModel eta({4, 0, 2});
   eta.record(2, 3.0);
-  eta.record(2, 1.0);  // mean 2 s
+  eta.record(2, 1.0);                                        // mean 2 s
   EXPECT_NEAR(*eta.remaining_seconds(4.0), 4 * 2.0, 1e-12);  // one worker: wall time = busy time
 }
 

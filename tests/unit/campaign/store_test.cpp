@@ -148,8 +148,7 @@ void expect_equal(const CellRecord& a, const CellRecord& b) {
 
 TEST(ResultStore, RecordsRoundTripInGridThenIndexOrder) {
   const auto path = scratch("round_trip") / "results.sqlite";
-  const std::vector<CellRecord> written{record("second", 0, true), record("first", 2, false),
-                                        record("first", 0, true)};
+  const std::vector<CellRecord> written{record("second", 0, true), record("first", 2, false), record("first", 0, true)};
   {
     ResultStore store = ResultStore::open_for_writing(path, test_meta());
     store.insert({written[0], written[1]});

@@ -75,8 +75,7 @@ TEST(Sweep, StoresEveryCellOnceAndResumesWithNothingToDo) {
   EXPECT_EQ(records[6].grid, "b");
   EXPECT_EQ(records[6].index, 2);
   for (const auto& r : records) {
-    EXPECT_EQ(r.seed,
-              cell_seed(c, r.grid, c.grids[r.grid == "a" ? 0 : 1].cells[static_cast<std::size_t>(r.index)]));
+    EXPECT_EQ(r.seed, cell_seed(c, r.grid, c.grids[r.grid == "a" ? 0 : 1].cells[static_cast<std::size_t>(r.index)]));
     EXPECT_EQ(r.outcomes.size(), r.feasible ? c.strategies.size() : 0u);
   }
   const SweepSummary second = sweep(c, options);

@@ -45,7 +45,7 @@ TEST(BusiestAboveMean, ComparesSimulationTimePerThread) {
   EXPECT_DOUBLE_EQ(busiest_above_mean({{10, 4.0, 1}}), 0.0);
   EXPECT_DOUBLE_EQ(busiest_above_mean({{10, 4.0, 1}, {10, 4.0, 1}}), 0.0);
   EXPECT_NEAR(busiest_above_mean({{10, 3.0, 1}, {10, 5.0, 1}}), 0.25, 1e-12);  // 5 against a mean of 4
-  EXPECT_DOUBLE_EQ(busiest_above_mean({{10, 8.0, 2}, {10, 4.0, 1}}), 0.0);   // the same time per thread
+  EXPECT_DOUBLE_EQ(busiest_above_mean({{10, 8.0, 2}, {10, 4.0, 1}}), 0.0);     // the same time per thread
 }
 
 }  // namespace mpi_sweep_test

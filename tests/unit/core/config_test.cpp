@@ -41,8 +41,8 @@ struct Bike {
     EMRM_FIELD(a, colour, one_of(colours, "colour"));
     EMRM_FIELD(a, min_speed_mps, non_negative);
     EMRM_FIELD(a, max_speed_mps, positive);
-    a.ensure(min_speed_mps <= max_speed_mps, "min_speed_mps",
-             "expected at most max_speed_mps ({} m/s), got {} m/s", max_speed_mps, min_speed_mps);
+    a.ensure(min_speed_mps <= max_speed_mps, "min_speed_mps", "expected at most max_speed_mps ({} m/s), got {} m/s",
+             max_speed_mps, min_speed_mps);
     EMRM_FIELD(a, share, probability, within(0.0, 0.9));
     EMRM_FIELD(a, tilt_rad, open_interval(-1.0, 1.0, "(-1, 1)"));
     EMRM_FIELD(a, front);
@@ -87,8 +87,7 @@ TEST(Validator, EachConstraintSaysWhatItExpected) {
   EXPECT_EQ(detail([](Bike& b) { b.tilt_rad = 1; }), "expected a value in (-1, 1), got 1");
   EXPECT_EQ(detail([](Bike& b) { b.front.spokes = 2; }), "expected at least 3 spoke, got 2");
   EXPECT_EQ(detail([](Bike& b) { b.colour = "blue"; }), "unknown colour 'blue'; expected one of: red, green");
-  EXPECT_EQ(detail([](Bike& b) { b.min_speed_mps = 11; }),
-            "expected at most max_speed_mps (10 m/s), got 11 m/s");
+  EXPECT_EQ(detail([](Bike& b) { b.min_speed_mps = 11; }), "expected at most max_speed_mps (10 m/s), got 11 m/s");
 }
 
 TEST(Validator, NanBreaksEveryNumericConstraint) {

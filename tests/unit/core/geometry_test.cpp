@@ -1,5 +1,4 @@
 #include "emrm/core/geometry.hpp"
-#include "emrm/core/trig.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +7,8 @@
 #include <optional>
 #include <random>
 #include <vector>
+
+#include "emrm/core/trig.hpp"
 
 namespace emrm::core {
 namespace geometry_test {
@@ -88,8 +89,7 @@ bool inside_or_on(const OrientedBox& b, Vec2 p, double tolerance_m) {
   const Vec2 u = Vec2::unit(b.heading_rad);
   const Vec2 n{-u.y, u.x};
   const Vec2 d = p - b.center;
-  return std::abs(d.dot(u)) <= b.length_m / 2 + tolerance_m &&
-         std::abs(d.dot(n)) <= b.width_m / 2 + tolerance_m;
+  return std::abs(d.dot(u)) <= b.length_m / 2 + tolerance_m && std::abs(d.dot(n)) <= b.width_m / 2 + tolerance_m;
 }
 
 // ---- corners -------------------------------------------------------------------------------------
@@ -228,8 +228,7 @@ TEST(Overlaps, IsInvariantUnderACommonRigidMotion) {
     if (!clear_verdict(a, b)) continue;
     const double rotation = angle(random.rng);
     const Vec2 offset{shift(random.rng), shift(random.rng)};
-    ASSERT_EQ(overlaps(a, b), overlaps(moved(a, rotation, offset), moved(b, rotation, offset)))
-        << "case " << i;
+    ASSERT_EQ(overlaps(a, b), overlaps(moved(a, rotation, offset), moved(b, rotation, offset))) << "case " << i;
   }
 }
 
@@ -393,8 +392,8 @@ TEST(TimeToOverlap, HeadOnClosingGivesGapOverClosingSpeed) {
 TEST(TimeToOverlap, MissesBeyondTheHorizonOrSidewaysAreNothing) {
   const OrientedBox a{{0.0, 0.0}, 0.0, 2.0, 1.0};
   const OrientedBox b{{10.0, 3.0}, 0.0, 2.0, 1.0};
-  EXPECT_FALSE(time_to_overlap(a, {4.0, 0.0}, b, {0.0, 0.0}, 10.0).has_value());  // passes beside
-  EXPECT_FALSE(time_to_overlap(a, {1.0, 0.3}, b, {0.0, 0.0}, 5.0).has_value());   // too late
+  EXPECT_FALSE(time_to_overlap(a, {4.0, 0.0}, b, {0.0, 0.0}, 10.0).has_value());   // passes beside
+  EXPECT_FALSE(time_to_overlap(a, {1.0, 0.3}, b, {0.0, 0.0}, 5.0).has_value());    // too late
   EXPECT_FALSE(time_to_overlap(a, {-4.0, 0.0}, b, {0.0, 0.0}, 10.0).has_value());  // moving away
 }
 

@@ -1,7 +1,5 @@
 #include "emrm/core/text.hpp"
 
-#include "emrm/core/error.hpp"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "emrm/core/error.hpp"
 
 namespace emrm::core {
 namespace text_test {
@@ -162,19 +162,20 @@ TEST(Utf8, FindsTheFirstByteThatIsNotUtf8) {
   EXPECT_EQ(first_invalid_utf8("plain ASCII"), std::nullopt);
   EXPECT_EQ(first_invalid_utf8("μ Δv → 𝜇"), std::nullopt);  // 2-, 3- and 4-byte sequences
   EXPECT_EQ(first_invalid_utf8(std::string("ab\xFF")), 2u);
-  EXPECT_EQ(first_invalid_utf8(std::string("a\x80")), 1u);                // a continuation alone
-  EXPECT_EQ(first_invalid_utf8(std::string("\xC0\xAF")), 0u);            // overlong '/'
-  EXPECT_EQ(first_invalid_utf8(std::string("\xE0\x80\xAF")), 0u);       // overlong, 3 bytes
-  EXPECT_EQ(first_invalid_utf8(std::string("x\xED\xA0\x80")), 1u);      // a surrogate
+  EXPECT_EQ(first_invalid_utf8(std::string("a\x80")), 1u);             // a continuation alone
+  EXPECT_EQ(first_invalid_utf8(std::string("\xC0\xAF")), 0u);          // overlong '/'
+  EXPECT_EQ(first_invalid_utf8(std::string("\xE0\x80\xAF")), 0u);      // overlong, 3 bytes
+  EXPECT_EQ(first_invalid_utf8(std::string("x\xED\xA0\x80")), 1u);     // a surrogate
   EXPECT_EQ(first_invalid_utf8(std::string("\xF4\x90\x80\x80")), 0u);  // above U+10FFFF
-  EXPECT_EQ(first_invalid_utf8(std::string("ok \xE2\x82")), 3u);         // cut short at the end
-  EXPECT_EQ(first_invalid_utf8(std::string("\xC3(")), 0u);                // a bad second byte
+  EXPECT_EQ(first_invalid_utf8(std::string("ok \xE2\x82")), 3u);       // cut short at the end
+  EXPECT_EQ(first_invalid_utf8(std::string("\xC3(")), 0u);             // a bad second byte
 }
 
 TEST(ReadInputFile, NamesTheLineAndColumnOfABadByteAndDropsAByteOrderMark) {
   const auto dir = std::filesystem::temp_directory_path() / "emrm-read-input";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "bad.yaml", std::ios::binary) << "name: ok\nstates: [S\xFF" "1]\n";
+  std::ofstream(dir / "bad.yaml", std::ios::binary) << "name: ok\nstates: [S\xFF"
+                                                       "1]\n";
   try {
     (void)read_input_file(dir / "bad.yaml");
     FAIL();

@@ -1,8 +1,10 @@
 #include "emrm/core/yaml.hpp"
 
-#include <filesystem>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <filesystem>
+
 #include "input_error.hpp"
 
 namespace emrm::core {

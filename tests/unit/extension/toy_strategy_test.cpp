@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "emrm/campaign/campaign.hpp"
-#include "emrm/results/paper_reference.hpp"
-#include "emrm/results/tables.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/figures.hpp"
+#include "emrm/results/paper_reference.hpp"
+#include "emrm/results/tables.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/strategy.hpp"
 
@@ -31,8 +31,7 @@ class HalfBrake final : public sim::Strategy {
     std::vector<sim::ControlSegment> plan;
     if (latency > 0.0) plan.push_back(sim::hold(sim::Control{}, latency));
     const sim::Tail tail{sim::Control{0.0, 0.5, false}, true, false, std::nullopt};
-    return sim::outcome_of(self.name, roller.roll(c.scene.ego_initial(), 0.0, plan, tail, 1), c.unmitigated,
-                           c.scene);
+    return sim::outcome_of(self.name, roller.roll(c.scene.ego_initial(), 0.0, plan, tail, 1), c.unmitigated, c.scene);
   }
 };
 
@@ -153,7 +152,7 @@ TEST(ToyStrategy, IsDrawnInItsColourWithItsLabel) {
   const std::string csv = core::read_file(f.csv);
   EXPECT_NE(csv.find("\nhalf_brake,"), std::string::npos) << csv;
   const std::string svg = core::read_file(f.svg);
-  EXPECT_NE(svg.find("half brake"), std::string::npos);  // its label under its bar
+  EXPECT_NE(svg.find("half brake"), std::string::npos);          // its label under its bar
   EXPECT_NE(svg.find("rgb( 23, 190, 207)"), std::string::npos);  // #17becf, its registered colour
 }
 

@@ -14,9 +14,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 using ::testing::StartsWith;
 
-Generator shipped_emrm() {
-  return load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/emrm_fsm.yaml");
-}
+Generator shipped_emrm() { return load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/emrm_fsm.yaml"); }
 
 TEST(Dot, DrawsInitialArrowAndMarkedStatesAsDoubleCircles) {
   const std::string dot = to_dot(shipped_emrm());
@@ -30,15 +28,12 @@ TEST(Dot, DrawsInitialArrowAndMarkedStatesAsDoubleCircles) {
 }
 
 TEST(Dot, MergesParallelTransitionsIntoOneEdge) {
-  const Generator g =
-      load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/loss_evaluation_fsm.yaml");
+  const Generator g = load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/loss_evaluation_fsm.yaml");
   const std::string merged = to_dot(g);
-  EXPECT_THAT(merged,
-              HasSubstr("\"evaluate_severity\" -> \"severe_evaluate_exposure\" [label=\"Se2, Se3\"];"));
+  EXPECT_THAT(merged, HasSubstr("\"evaluate_severity\" -> \"severe_evaluate_exposure\" [label=\"Se2, Se3\"];"));
   DotOptions separate;
   separate.merge_parallel_edges = false;
-  EXPECT_THAT(to_dot(g, separate),
-              HasSubstr("\"evaluate_severity\" -> \"severe_evaluate_exposure\" [label=\"Se3\"];"));
+  EXPECT_THAT(to_dot(g, separate), HasSubstr("\"evaluate_severity\" -> \"severe_evaluate_exposure\" [label=\"Se3\"];"));
 }
 
 TEST(Dot, TransitionCountsLabelAndColourEdges) {
@@ -49,8 +44,7 @@ TEST(Dot, TransitionCountsLabelAndColourEdges) {
   EXPECT_THAT(dot, HasSubstr("label=\"timeout_error (0)\", color=\"#d62728\""));
   EXPECT_THAT(dot, HasSubstr("style=dashed"));
   // The most-taken transition is drawn thicker than a rarely taken one.
-  EXPECT_THAT(dot,
-              HasSubstr("hazard_detected (10)\", colorscheme=blues9, color=9, fontcolor=9, penwidth=3.50"));
+  EXPECT_THAT(dot, HasSubstr("hazard_detected (10)\", colorscheme=blues9, color=9, fontcolor=9, penwidth=3.50"));
   EXPECT_THAT(dot, Not(HasSubstr("no_risk (1)\", colorscheme=blues9, color=9")));
 }
 

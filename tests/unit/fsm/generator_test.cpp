@@ -12,9 +12,7 @@ namespace generator_test {
 
 using Word = std::vector<std::string>;
 
-Generator shipped_emrm() {
-  return load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/emrm_fsm.yaml");
-}
+Generator shipped_emrm() { return load_generator(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/emrm_fsm.yaml"); }
 
 /// s0 --a--> s1 and s0 --a--> s2 (non-deterministic), s2 --b--> s3; s3 marked.
 Generator forked() {
@@ -44,9 +42,9 @@ TEST(Generator, ExtendedTransitionFollowsWord) {
   const Generator g = shipped_emrm();
   EXPECT_EQ(g.run("S1", {}), "S1");  // δ*(s, ε) = s
   EXPECT_EQ(g.run("S1", {"hazard_detected", "high_risk", "execute_maneuver"}), "S4");
-  EXPECT_EQ(g.run("S1", {"hazard_detected", "high_risk", "execute_maneuver", "timeout_error",
-                         "post_incident_response"}),
-            "S6");
+  EXPECT_EQ(
+      g.run("S1", {"hazard_detected", "high_risk", "execute_maneuver", "timeout_error", "post_incident_response"}),
+      "S6");
   EXPECT_EQ(g.run("S3", {"execute_maneuver", "emrm_done"}), "S1");
   EXPECT_EQ(g.run("S1", {"hazard_detected", "high_risk", "emrm_done"}), std::nullopt);  // S3 has no emrm_done
 }
@@ -57,8 +55,7 @@ TEST(Generator, HighRiskPrefixIsGeneratedButNotMarked) {
   EXPECT_FALSE(g.marks({"hazard_detected", "high_risk"}));
   EXPECT_TRUE(g.generates({"hazard_detected", "no_risk"}));
   EXPECT_TRUE(g.marks({"hazard_detected", "no_risk"}));
-  const Word loss{"hazard_detected", "high_risk", "execute_maneuver", "timeout_error",
-                  "post_incident_response"};
+  const Word loss{"hazard_detected", "high_risk", "execute_maneuver", "timeout_error", "post_incident_response"};
   EXPECT_TRUE(g.marks(loss));  // S6 is marked: the loss was responded to
   EXPECT_TRUE(g.marks({}));    // ε reaches S1, which is marked
 }

@@ -11,9 +11,7 @@ namespace load_test {
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-std::string example(const std::string& name) {
-  return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name;
-}
+std::string example(const std::string& name) { return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name; }
 
 /// Parses `text` as "fsm.yaml" and returns the InputError's message ("" if it loaded).
 std::string load_error(const std::string& text) {
@@ -82,8 +80,7 @@ TEST(Load, ShippedEmrmFsmIsTheDesignedMachine) {
 
 TEST(Load, ShippedLossEvaluationFsmHasTheStrategiesAsMarkedStates) {
   const Generator g = load_generator(example("loss_evaluation_fsm.yaml"));
-  EXPECT_THAT(g.marked_states(),
-              ElementsAre("emergency_stop", "dodge", "drift_to_avoid", "drift_to_accident"));
+  EXPECT_THAT(g.marked_states(), ElementsAre("emergency_stop", "dodge", "drift_to_avoid", "drift_to_accident"));
   EXPECT_EQ(g.events().size(), 12U);
   EXPECT_EQ(g.transitions().size(), 27U);
 }
@@ -145,8 +142,7 @@ TEST(Load, DuplicateEventIdIsRejected) {
 TEST(Load, UnknownEventInTransitionListsTheDeclaredEvents) {
   const auto message = load_error(replace(kValid, "event: pull", "event: slam"));
   EXPECT_THAT(message, HasSubstr("fsm.yaml:12:25"));
-  EXPECT_THAT(message,
-              HasSubstr("transition event 'slam' is not a declared event; expected one of: push, pull"));
+  EXPECT_THAT(message, HasSubstr("transition event 'slam' is not a declared event; expected one of: push, pull"));
 }
 
 TEST(Load, UnknownStateInTransitionIsRejected) {

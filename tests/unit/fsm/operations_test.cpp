@@ -20,18 +20,15 @@ using ::testing::ElementsAre;
 using ::testing::IsEmpty;
 using Word = std::vector<std::string>;
 
-std::string example(const std::string& name) {
-  return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name;
-}
+std::string example(const std::string& name) { return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name; }
 
 struct Edge {
   std::string from, event, to;
 };
 
 /// A machine from lists, with events in the given order.
-Generator make(const std::string& name, const std::vector<std::string>& states,
-               const std::vector<std::string>& events, const std::vector<Edge>& edges,
-               const std::string& initial, const std::vector<std::string>& marked) {
+Generator make(const std::string& name, const std::vector<std::string>& states, const std::vector<std::string>& events,
+               const std::vector<Edge>& edges, const std::string& initial, const std::vector<std::string>& marked) {
   Generator g(name);
   for (const auto& e : events) g.add_event(e);
   for (const auto& s : states) g.add_state(s);
@@ -163,9 +160,8 @@ TEST(Operations, WordCountsSaturateInsteadOfOverflowing) {
 
 TEST(Operations, NonDeterministicWordsAreCountedOnce) {
   // Two paths read "a b"; it is one word.
-  const Generator g =
-      make("nd", {"s0", "s1", "s2", "s3"}, {"a", "b"},
-           {{"s0", "a", "s1"}, {"s0", "a", "s2"}, {"s1", "b", "s3"}, {"s2", "b", "s3"}}, "s0", {"s3"});
+  const Generator g = make("nd", {"s0", "s1", "s2", "s3"}, {"a", "b"},
+                           {{"s0", "a", "s1"}, {"s0", "a", "s2"}, {"s1", "b", "s3"}, {"s2", "b", "s3"}}, "s0", {"s3"});
   const auto w = enumerate_words(g, 3);
   EXPECT_THAT(w.words_per_length, ElementsAre(1, 1, 1, 0));
   EXPECT_THAT(w.marked_per_length, ElementsAre(0, 0, 1, 0));
@@ -218,8 +214,7 @@ TEST(Operations, CoaccessiblePartDropsAnInitialStateThatCannotFinish) {
 TEST(Operations, TrimKeepsOnlyStatesOnAPathToAMarkedState) {
   const Generator t = trim(with_dead_end());
   EXPECT_THAT(state_ids(t), ElementsAre("s0", "ok"));
-  EXPECT_EQ(transition_set(t),
-            (std::set<std::tuple<std::string, std::string, std::string>>{{"s0", "go", "ok"}}));
+  EXPECT_EQ(transition_set(t), (std::set<std::tuple<std::string, std::string, std::string>>{{"s0", "go", "ok"}}));
   EXPECT_TRUE(check_all(t).ok());
 }
 
@@ -279,10 +274,8 @@ TEST(Operations, ShippedMachinesPassEveryCheck) {
 
 TEST(Operations, ComposeSynchronisesSharedEventsAndInterleavesPrivateOnes) {
   // G1: x0 --a--> x1 --c--> x0, x0 marked.   G2: y0 --b--> y1 --c--> y0, y0 marked.   c is shared.
-  const Generator g1 =
-      make("G1", {"x0", "x1"}, {"a", "c"}, {{"x0", "a", "x1"}, {"x1", "c", "x0"}}, "x0", {"x0"});
-  const Generator g2 =
-      make("G2", {"y0", "y1"}, {"b", "c"}, {{"y0", "b", "y1"}, {"y1", "c", "y0"}}, "y0", {"y0"});
+  const Generator g1 = make("G1", {"x0", "x1"}, {"a", "c"}, {{"x0", "a", "x1"}, {"x1", "c", "x0"}}, "x0", {"x0"});
+  const Generator g2 = make("G2", {"y0", "y1"}, {"b", "c"}, {{"y0", "b", "y1"}, {"y1", "c", "y0"}}, "y0", {"y0"});
   const Generator p = compose(g1, g2);
   // Expected product, built by hand: a and b interleave, c needs both machines ready.
   EXPECT_EQ(p.name(), "G1||G2");
@@ -367,10 +360,10 @@ TEST(Operations, CoverageCountsTransitionsAndTheCoveredFraction) {
 
 TEST(Operations, FullCoverageOfTheShippedMachine) {
   const Generator g = load_generator(example("emrm_fsm.yaml"));
-  const auto c = transition_coverage(g, {{"hazard_detected", "no_risk"},
-                                         {"hazard_detected", "high_risk", "execute_maneuver", "emrm_done"},
-                                         {"hazard_detected", "high_risk", "execute_maneuver", "timeout_error",
-                                          "post_incident_response", "safe"}});
+  const auto c = transition_coverage(
+      g, {{"hazard_detected", "no_risk"},
+          {"hazard_detected", "high_risk", "execute_maneuver", "emrm_done"},
+          {"hazard_detected", "high_risk", "execute_maneuver", "timeout_error", "post_incident_response", "safe"}});
   EXPECT_EQ(c.covered, 8U);
   EXPECT_DOUBLE_EQ(c.fraction(), 1.0);
   EXPECT_THAT(c.rejected, IsEmpty());
@@ -414,8 +407,7 @@ TEST(Operations, LossEvaluationDecisionTableIsExhaustive) {
                        "Mi" + std::to_string(mi)};
           const auto reached = g.run(*g.initial(), w);
           ASSERT_TRUE(reached.has_value()) << w[0] << w[1] << w[2] << w[3];
-          EXPECT_EQ(*reached, expected_strategy(se, c, mi))
-              << w[0] << " " << w[1] << " " << w[2] << " " << w[3];
+          EXPECT_EQ(*reached, expected_strategy(se, c, mi)) << w[0] << " " << w[1] << " " << w[2] << " " << w[3];
           EXPECT_TRUE(g.marks(w));
           ++per_strategy[*reached];
           ++checked;

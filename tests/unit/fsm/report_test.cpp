@@ -19,9 +19,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 namespace fs = std::filesystem;
 
-std::string example(const std::string& name) {
-  return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name;
-}
+std::string example(const std::string& name) { return std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/" + name; }
 
 std::string read(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

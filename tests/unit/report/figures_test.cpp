@@ -1,5 +1,4 @@
 #include "emrm/report/figures.hpp"
-#include "emrm/report/plan_figures.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -13,9 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/report/plan_figures.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/stop_physics.hpp"
 
@@ -100,7 +100,8 @@ std::vector<CellRecord> synthetic_campaign() {
     for (int m = 0; m < 10; ++m) records.push_back(synthetic_cell("speed_mu", i++, 30.0 + s, 1.0, 0.1 + 0.1 * m));
   i = 0;
   for (int t = 0; t < 26; ++t)
-    for (int m = 0; m < 10; ++m) records.push_back(synthetic_cell("ttc_mu", i++, 50.0, 0.25 + 0.108 * t, 0.1 + 0.1 * m));
+    for (int m = 0; m < 10; ++m)
+      records.push_back(synthetic_cell("ttc_mu", i++, 50.0, 0.25 + 0.108 * t, 0.1 + 0.1 * m));
   return records;
 }
 
@@ -163,8 +164,7 @@ struct Rates {
   double car_pct = 0.0, impact_kph = 0.0, mitigated_pct = 0.0;
 };
 
-Rates rates_of(const std::vector<CellRecord>& records, const std::string& strategy,
-               double speed_kph = std::nan("")) {
+Rates rates_of(const std::vector<CellRecord>& records, const std::string& strategy, double speed_kph = std::nan("")) {
   Rates r;
   std::size_t avoided = 0, mitigated = 0;
   double impact = 0.0;
@@ -211,8 +211,7 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
   EXPECT_TRUE(f.note.empty()) << f.note;
 
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(),
-            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}));
+  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}));
   ASSERT_EQ(csv.size(), 1 + 30 + 1978 + 430 + 260);
   std::size_t line = 1;
   for (const auto& [panel, grid] : {std::pair{"a", "coarse"}, {"b", "fine"}, {"c", "speed_mu"}, {"d", "ttc_mu"}}) {
@@ -292,8 +291,8 @@ TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
 
   // The CSV has every cell's evidence; the undecided rows are exactly the crosses.
   const auto csv = csv_of(f.csv);
-  EXPECT_EQ(static_cast<std::size_t>(std::count_if(csv.begin(), csv.end(),
-                                                   [](const core::Row& r) { return r[7] == "undecided"; })),
+  EXPECT_EQ(static_cast<std::size_t>(
+                std::count_if(csv.begin(), csv.end(), [](const core::Row& r) { return r[7] == "undecided"; })),
             undecided);
   EXPECT_EQ(crosses_in(f.svg), undecided + 1);
   const std::string svg = core::read_file(f.svg);
@@ -319,8 +318,8 @@ TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
   EXPECT_EQ(core::read_file(a.svg).find("undecided"), std::string::npos);
   // Nothing on the picture depends on the evidence then; only the CSV and the caption tell it.
   EXPECT_EQ(core::read_file(a.svg), core::read_file(b.svg));
-  EXPECT_NE(a.title.find(fmt::format("All O/R cells ({}) are certified unavoidable",
-                                     count_evidence(certified, "certificate"))),
+  EXPECT_NE(a.title.find(
+                fmt::format("All O/R cells ({}) are certified unavoidable", count_evidence(certified, "certificate"))),
             std::string::npos)
       << a.title;
   EXPECT_EQ(b.title.find("certified"), std::string::npos) << b.title;
@@ -466,9 +465,9 @@ TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
   expect_drawn(f, out(), "harm_reduction_map");
   EXPECT_TRUE(f.note.empty()) << f.note;
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region",
-                                    "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal",
-                                    "p_fatal_reduction"}));
+  ASSERT_EQ(csv.front(),
+            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "unmitigated_p_mais3",
+                       "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}));
   // The same cells in the same order as the mitigability map: one layout for both.
   const auto map = csv_of(draw_mitigability_map(campaign_records(), out() / "map").csv);
   ASSERT_EQ(csv.size(), map.size());
@@ -584,8 +583,8 @@ TEST_F(FigureSweep, OneRowPerSpeedAndStrategyWithTheRatesAtThatSpeed) {
   const auto f = draw_sweep_curves(campaign_records(), "fine", out());
   expect_drawn(f, out(), "sweep_curves");
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct",
-                                    "mitigability_success_pct"}));
+  ASSERT_EQ(csv.front(),
+            (core::Row{"speed_kph", "strategy", "cells", "collision_avoidance_rate_pct", "mitigability_success_pct"}));
   ASSERT_EQ(csv.size(), 1 + 43 * kStrategies.size());  // every speed has a feasible cell
   const auto fine = results::records_of_grid(campaign_records(), "fine");
   std::size_t line = 1;
@@ -654,8 +653,8 @@ scenario::CoverageCount count(std::size_t covered, std::size_t total) {
   return c;
 }
 
-scenario::CoverageReport coverage_report(std::string name, std::size_t scenarios, std::size_t hazards,
-                                         std::size_t ucas, std::size_t cells) {
+scenario::CoverageReport coverage_report(std::string name, std::size_t scenarios, std::size_t hazards, std::size_t ucas,
+                                         std::size_t cells) {
   scenario::CoverageReport r;
   r.name = std::move(name);
   r.scenarios = scenarios;
@@ -685,8 +684,8 @@ TEST_F(FigureCoverage, OneRowPerMethodWithItsPercentages) {
   ASSERT_EQ(csv.front(),
             (core::Row{"method", "scenarios", "hazard_pct", "uca_pct", "transition_pct", "cell_pct", "twise_pct"}));
   ASSERT_EQ(csv.size(), 5u);
-  const std::vector<core::Row> expected{{"emrm plan", "212"}, {"HARA only", "8"}, {"STPA only", "4"},
-                                        {"manual grid", "30"}};
+  const std::vector<core::Row> expected{
+      {"emrm plan", "212"}, {"HARA only", "8"}, {"STPA only", "4"}, {"manual grid", "30"}};
   const double hazard[] = {100.0, 75.0, 100.0, 62.5};
   const double uca[] = {100.0, 25.0, 100.0, 50.0};
   const double cell[] = {100.0, 0.5, 2.0, 15.0};
@@ -722,16 +721,23 @@ using FigureTraceability = FigureTest;
 TEST_F(FigureTraceability, OneRowPerUcaAndHazardWithItsScenarioCount) {
   // As traceability_matrix gives them: a row per (UCA, hazard, loss), the UCA's scenarios on each.
   const std::vector<safety::TraceRow> rows{
-      trace("UCA1", "H8", "L1", {"S001", "S002", "S003"}), trace("UCA1", "H8", "L2", {"S001", "S002", "S003"}),
-      trace("UCA1", "H1", "L3", {"S001", "S002", "S003"}), trace("UCA2", "H2", "L3", {}),
-      trace("UCA2", "H1", "L3", {}),                       trace("UCA3", "H9", "L7", {"S010"}),
+      trace("UCA1", "H8", "L1", {"S001", "S002", "S003"}),
+      trace("UCA1", "H8", "L2", {"S001", "S002", "S003"}),
+      trace("UCA1", "H1", "L3", {"S001", "S002", "S003"}),
+      trace("UCA2", "H2", "L3", {}),
+      trace("UCA2", "H1", "L3", {}),
+      trace("UCA3", "H9", "L7", {"S010"}),
   };
   const auto f = draw_traceability(rows, out());
   expect_drawn(f, out(), "traceability_matrix");
   const auto csv = csv_of(f.csv);
   const std::vector<core::Row> expected{
-      {"uca", "hazard", "losses", "scenarios"}, {"UCA1", "H8", "L1 L2", "3"}, {"UCA1", "H1", "L3", "3"},
-      {"UCA2", "H2", "L3", "0"},                {"UCA2", "H1", "L3", "0"},    {"UCA3", "H9", "L7", "1"},
+      {"uca", "hazard", "losses", "scenarios"},
+      {"UCA1", "H8", "L1 L2", "3"},
+      {"UCA1", "H1", "L3", "3"},
+      {"UCA2", "H2", "L3", "0"},
+      {"UCA2", "H1", "L3", "0"},
+      {"UCA3", "H9", "L7", "1"},
   };
   EXPECT_EQ(csv, expected);
 }
@@ -760,16 +766,15 @@ TEST_F(FigureCampaign, DrawsAllSixFiguresOfAShippedSizeCampaign) {
 
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Figure> figures{
-      draw_mitigability_map(records, out()), draw_harm_reduction_map(records, out()),
-      draw_loss_comparison(records, "fine", out()),
-      draw_sweep_curves(records, "fine", out()), draw_coverage_comparison(coverage, out()),
-      draw_traceability(rows, out())};
+      draw_mitigability_map(records, out()),        draw_harm_reduction_map(records, out()),
+      draw_loss_comparison(records, "fine", out()), draw_sweep_curves(records, "fine", out()),
+      draw_coverage_comparison(coverage, out()),    draw_traceability(rows, out())};
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RecordProperty("render_seconds", std::to_string(seconds));
   std::cout << "[ figures  ] six figures of " << records.size() << " cells rendered in " << seconds << " s\n";
 
-  const std::vector<std::string> names{"mitigability_map", "harm_reduction_map", "loss_comparison", "sweep_curves",
-                                       "coverage_comparison", "traceability_matrix"};
+  const std::vector<std::string> names{"mitigability_map", "harm_reduction_map",  "loss_comparison",
+                                       "sweep_curves",     "coverage_comparison", "traceability_matrix"};
   for (std::size_t i = 0; i < figures.size(); ++i) {
     expect_drawn(figures[i], out(), names[i]);
     EXPECT_TRUE(figures[i].note.empty()) << figures[i].note;

@@ -9,7 +9,7 @@ namespace emrm::results {
 namespace aggregate_test {
 
 campaign::OutcomeRecord outcome(std::string strategy, bool avoided, double impact_kph, int level, int unmitigated,
-                      double min_ttc = 1.0) {
+                                double min_ttc = 1.0) {
   campaign::OutcomeRecord o;
   o.strategy = std::move(strategy);
   o.avoided = avoided;
@@ -22,7 +22,7 @@ campaign::OutcomeRecord outcome(std::string strategy, bool avoided, double impac
 }
 
 campaign::CellRecord cell(std::string grid, std::int64_t index, double speed, double ttc, double mu, double passage,
-                std::string region, int unmitigated) {
+                          std::string region, int unmitigated) {
   campaign::CellRecord c;
   c.grid = std::move(grid);
   c.index = index;
@@ -44,14 +44,11 @@ campaign::CellRecord cell(std::string grid, std::int64_t index, double speed, do
 std::vector<campaign::CellRecord> four_cells() {
   std::vector<campaign::CellRecord> cells;
   cells.push_back(cell("fine", 0, 40, 0.7, 1.0, 3.0, "G", 7));
-  cells.back().outcomes = {outcome("emergency_stop", true, 0, 0, 7, 0.5),
-                           outcome("dodge", true, 0, 0, 7, 0.9)};
+  cells.back().outcomes = {outcome("emergency_stop", true, 0, 0, 7, 0.5), outcome("dodge", true, 0, 0, 7, 0.9)};
   cells.push_back(cell("fine", 1, 41, 1.3, 1.0, 3.0, "Y", 7));
-  cells.back().outcomes = {outcome("emergency_stop", false, 20, 6, 7, 0.0),
-                           outcome("dodge", true, 0, 0, 7, 0.7)};
+  cells.back().outcomes = {outcome("emergency_stop", false, 20, 6, 7, 0.0), outcome("dodge", true, 0, 0, 7, 0.7)};
   cells.push_back(cell("fine", 2, 56, 1.31, 1.0, 3.0, "O", 7));
-  cells.back().outcomes = {outcome("emergency_stop", false, 30, 7, 7, 0.0),
-                           outcome("dodge", false, 10, 4, 7, 0.0)};
+  cells.back().outcomes = {outcome("emergency_stop", false, 30, 7, 7, 0.0), outcome("dodge", false, 10, 4, 7, 0.0)};
   cells.push_back(cell("fine", 3, 57, 0.2, 1.0, 3.0, "R", 7));
   cells.back().outcomes = {outcome("emergency_stop", false, 50, 7, 7, 0.0),
                            outcome("dodge", false, 40, 7, 7, std::numeric_limits<double>::infinity())};
@@ -60,9 +57,10 @@ std::vector<campaign::CellRecord> four_cells() {
 }
 
 TEST(HeadlineGrid, IsTheWantedGridWhenPresentElseTheLargest) {
-  std::vector<campaign::CellRecord> records{cell("coarse", 0, 30, 1, 1, 3, "G", 7), cell("wide", 0, 30, 1, 1, 3, "G", 7),
-                                  cell("wide", 1, 50, 1, 1, 3, "Y", 7), cell("coarse", 1, 50, 1, 1, 3, "Y", 7),
-                                  cell("wide", 2, 70, 1, 1, 3, "R", 7)};
+  std::vector<campaign::CellRecord> records{cell("coarse", 0, 30, 1, 1, 3, "G", 7),
+                                            cell("wide", 0, 30, 1, 1, 3, "G", 7), cell("wide", 1, 50, 1, 1, 3, "Y", 7),
+                                            cell("coarse", 1, 50, 1, 1, 3, "Y", 7),
+                                            cell("wide", 2, 70, 1, 1, 3, "R", 7)};
   EXPECT_EQ(headline_grid(records), "wide");  // no "fine": the grid with the most cells
   EXPECT_EQ(headline_grid(records, "coarse"), "coarse");
   records.push_back(cell("fine", 0, 30, 1, 1, 3, "G", 7));

@@ -1,16 +1,16 @@
 #include "emrm/results/boundary.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
-#include "emrm/results/aggregate.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::results {
@@ -19,7 +19,7 @@ namespace boundary_test {
 // A feasible cell of grid `grid` in `region`; the emergency stop avoids exactly in G, dodge in G
 // and Y (a cell stored without outcomes has none: an adaptive sweep's inferred cell).
 campaign::CellRecord cell(double speed, double ttc, std::string region, double mu = 1.0, std::string grid = "g",
-                bool with_outcomes = true) {
+                          bool with_outcomes = true) {
   campaign::CellRecord c;
   c.grid = std::move(grid);
   c.speed_kph = speed;
@@ -115,12 +115,12 @@ TEST(RegionRank, GYORInOrderAndAnythingElseIsAnError) {
 // Grid g at mu 1: at 30 km/h Y G G G (stop from 1.0, avoid and mitigate from 0.5); at 50 km/h
 // R O Y G, then an infeasible cell at 2.5 s (stop from 2.0, avoid from 1.5, mitigate from 1.0).
 std::vector<campaign::CellRecord> known_grid() {
-  return {cell(30, 0.5, "Y"), cell(30, 1.0, "G"), cell(30, 1.5, "G"), cell(30, 2.0, "G"),
-          cell(50, 0.5, "R"), cell(50, 1.0, "O"), cell(50, 1.5, "Y"), cell(50, 2.0, "G"), infeasible(50, 2.5)};
+  return {cell(30, 0.5, "Y"), cell(30, 1.0, "G"), cell(30, 1.5, "G"), cell(30, 2.0, "G"), cell(50, 0.5, "R"),
+          cell(50, 1.0, "O"), cell(50, 1.5, "Y"), cell(50, 2.0, "G"), infeasible(50, 2.5)};
 }
 
-void expect_bracket(const BoundaryRow& r, std::optional<double> below, std::optional<double> at,
-                    std::size_t exceptions, std::size_t used) {
+void expect_bracket(const BoundaryRow& r, std::optional<double> below, std::optional<double> at, std::size_t exceptions,
+                    std::size_t used) {
   EXPECT_EQ(r.threshold.below, below) << r.boundary << " at " << r.speed_kph;
   EXPECT_EQ(r.threshold.at, at) << r.boundary << " at " << r.speed_kph;
   EXPECT_EQ(r.threshold.exceptions, exceptions) << r.boundary << " at " << r.speed_kph;
@@ -130,8 +130,8 @@ void expect_bracket(const BoundaryRow& r, std::optional<double> below, std::opti
 TEST(ComputeBoundaries, EachRegionBoundaryIsTheKnownThreshold) {
   const BoundaryReport r = compute_boundaries(known_grid(), sim::ActuationConfig{});
   EXPECT_EQ(r.grids, (std::vector<std::string>{"g"}));
-  EXPECT_EQ(r.boundaries, (std::vector<std::string>{"stop", "avoid", "mitigate", "strategy:emergency_stop",
-                                                    "strategy:dodge"}));
+  EXPECT_EQ(r.boundaries,
+            (std::vector<std::string>{"stop", "avoid", "mitigate", "strategy:emergency_stop", "strategy:dodge"}));
   ASSERT_EQ(r.slices.size(), 1u);
   EXPECT_EQ(r.lines, 2u);
   EXPECT_EQ(r.rows.size(), 10u);  // 5 boundaries × 2 speeds
@@ -170,7 +170,7 @@ TEST(ComputeBoundaries, RowsComeBySliceThenBoundaryThenSpeed) {
 TEST(ComputeBoundaries, ANonMonotoneLineIsReportedWithItsExceptions) {
   // At 40 km/h: G at 0.5 s, Y at 1.0 s, G above: the stop boundary is 1.5 s with one exception.
   const std::vector<campaign::CellRecord> records{cell(40, 0.5, "G"), cell(40, 1.0, "Y"), cell(40, 1.5, "G"),
-                                        cell(40, 2.0, "G")};
+                                                  cell(40, 2.0, "G")};
   const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
   expect_bracket(row_of(r, "stop", 40), 1.0, 1.5, 1, 4);
   expect_bracket(row_of(r, "strategy:emergency_stop", 40), 1.0, 1.5, 1, 4);
@@ -182,7 +182,7 @@ TEST(ComputeBoundaries, ANonMonotoneLineIsReportedWithItsExceptions) {
 TEST(ComputeBoundaries, AStrategyUsesOnlyTheCellsWithItsOutcome) {
   // 1.0 s is an inferred cell without outcomes: the regions use it, the strategies do not.
   std::vector<campaign::CellRecord> records{cell(30, 0.5, "R"), cell(30, 1.0, "Y", 1.0, "g", false), cell(30, 1.5, "G"),
-                                  cell(30, 2.0, "G")};
+                                            cell(30, 2.0, "G")};
   // dodge was not run at 2.0 s either (a store of another strategy list there).
   records[3].outcomes.pop_back();
   const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});

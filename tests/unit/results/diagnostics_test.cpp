@@ -34,7 +34,7 @@ campaign::CellRecord cell(double speed, double ttc, double mu, std::string regio
 TEST(StopBoundaryCheck, FlagsAnAnalyticallyStoppableRedCell) {
   // 72 km/h at mu 1 needs 1.019 s: TTC 2.0 is stoppable, 0.5 is not.
   std::vector<campaign::CellRecord> cells{cell(72, 2.0, 1.0, "R"), cell(72, 2.0, 1.0, "G"), cell(72, 0.5, 1.0, "G"),
-                                cell(72, 0.5, 1.0, "R"), cell(72, 2.0, 1.0, "Y")};
+                                          cell(72, 0.5, 1.0, "R"), cell(72, 2.0, 1.0, "Y")};
   cells.push_back(cell(72, 2.0, 1.0, "G"));
   cells.back().feasible = false;
   const auto c = check_stop_boundary(cells);
@@ -53,9 +53,9 @@ TEST(MonotonicityCheck, CountsReversalsAlongTtcAndMu) {
   // Along TTC at 50 km/h, mu 1 (dodge): avoided at 0.5, not at 1.0, avoided at 1.5, not at 2.0 → 2
   // reversals; the stop is monotone (no, no, yes, yes). Along mu at TTC 1.0: avoided at 0.5, not at 1.0 → 1.
   std::vector<campaign::CellRecord> cells{cell(50, 1.0, 1.0, "Y", {false, false}),
-                                cell(50, 0.5, 1.0, "Y", {false, true}),
-                                cell(50, 2.0, 1.0, "G", {true, false}), cell(50, 1.5, 1.0, "G", {true, true}),
-                                cell(50, 1.0, 0.5, "Y", {false, true})};
+                                          cell(50, 0.5, 1.0, "Y", {false, true}),
+                                          cell(50, 2.0, 1.0, "G", {true, false}), cell(50, 1.5, 1.0, "G", {true, true}),
+                                          cell(50, 1.0, 0.5, "Y", {false, true})};
   // Another speed: a separate group with no reversal.
   cells.push_back(cell(60, 0.5, 1.0, "R", {false, false}));
   cells.push_back(cell(60, 1.0, 1.0, "Y", {false, true}));
@@ -162,8 +162,7 @@ TEST(Diagnostics, WritesJsonAndColouredDiagrams) {
   d.loss_evaluation_fsm = loss_evaluation_fsm_coverage(cells, sim::default_loss_evaluation_fsm());
   const auto j = to_json(d);
   EXPECT_TRUE(j["stop_boundary"]["ok"].get<bool>());
-  EXPECT_EQ(j["fsm_coverage"]["emrm_fsm"]["total"].get<std::size_t>(),
-            sim::default_emrm_fsm().transitions().size());
+  EXPECT_EQ(j["fsm_coverage"]["emrm_fsm"]["total"].get<std::size_t>(), sim::default_emrm_fsm().transitions().size());
   const auto dir = std::filesystem::temp_directory_path() / "emrm-diagnostics-test";
   std::filesystem::remove_all(dir);
   const auto files = write_diagnostics(dir, d);

@@ -1,11 +1,12 @@
 // The brakes' sensitivity table: the G share from the stop's closed form, one parameter at a time.
 
+#include "emrm/results/sensitivity.hpp"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "emrm/results/aggregate.hpp"
-#include "emrm/results/sensitivity.hpp"
 #include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::results {

@@ -30,8 +30,7 @@ campaign::OutcomeRecord outcome(std::string strategy, bool avoided, double impac
 // Two fine cells: 30 km/h avoided by everyone (G); 60 km/h avoided only by the evasive ones (Y).
 std::vector<campaign::CellRecord> two_cells() {
   std::vector<campaign::CellRecord> cells(2);
-  const std::vector<std::string> names{"emergency_stop", "dodge", "drift_to_avoid", "drift_to_accident",
-                                       "emrm"};
+  const std::vector<std::string> names{"emergency_stop", "dodge", "drift_to_avoid", "drift_to_accident", "emrm"};
   for (int i = 0; i < 2; ++i) {
     auto& c = cells[static_cast<std::size_t>(i)];
     c.grid = "fine";

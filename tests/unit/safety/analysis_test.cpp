@@ -31,8 +31,8 @@ TEST(Analysis, FsmFileIsTheCasesEntryBesideTheCaseFile) {
   const auto sc = parse_safety_case(testing::example_text(), "cases/tjunction/safety.yaml");
   ASSERT_TRUE(fsm_file(sc).has_value());
   EXPECT_EQ(*fsm_file(sc), fs::path("cases/tjunction/emrm_fsm.yaml"));
-  const auto without = parse_safety_case(testing::replace_once(testing::example_text(), "fsm: emrm_fsm.yaml\n", ""),
-                                         "safety.yaml");
+  const auto without =
+      parse_safety_case(testing::replace_once(testing::example_text(), "fsm: emrm_fsm.yaml\n", ""), "safety.yaml");
   EXPECT_FALSE(fsm_file(without).has_value());
 }
 
@@ -47,12 +47,11 @@ TEST(Analysis, FsmTransitionsTakeAnyRangeOfFromEventTo) {
 TEST(Analysis, MissingFsmTransitionIsAnErrorAndJsonNamesTheFsmOnlyWhenChecked) {
   // Only one of the transitions the UCAs name: SAF011 errors.
   const std::vector<Edge> edges{{"S1", "hazard_detected", "S2"}};
-  const auto checked = analyze(parse_safety_case(testing::example_text(), "safety.yaml"),
-                               fsm_transitions("emrm_fsm.yaml", edges));
+  const auto checked =
+      analyze(parse_safety_case(testing::example_text(), "safety.yaml"), fsm_transitions("emrm_fsm.yaml", edges));
   EXPECT_GT(checked.errors(), 0U);
   EXPECT_EQ(to_json(checked)["fsm"], "emrm_fsm.yaml");
-  EXPECT_NE(to_text(checked).find("FSM transitions checked against emrm_fsm.yaml (1 transitions)"),
-            std::string::npos);
+  EXPECT_NE(to_text(checked).find("FSM transitions checked against emrm_fsm.yaml (1 transitions)"), std::string::npos);
 
   const auto unchecked = analyze(parse_safety_case(testing::example_text(), "safety.yaml"));
   EXPECT_EQ(unchecked.errors(), 0U);

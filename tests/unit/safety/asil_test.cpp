@@ -18,8 +18,8 @@ TEST(Asil, MatchesIso26262Table4ForEveryRatedCombination) {
   for (int s = 1; s <= 3; ++s)
     for (int e = 1; e <= 4; ++e)
       for (int c = 1; c <= 3; ++c) {
-        const Asil asil = determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e),
-                                         static_cast<Controllability>(c));
+        const Asil asil =
+            determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e), static_cast<Controllability>(c));
         EXPECT_EQ(core::enum_name(asil), kIsoTable[s - 1][e - 1][c - 1]) << "S" << s << " E" << e << " C" << c;
         ++checked;
       }
@@ -46,19 +46,19 @@ TEST(Asil, RaisingAnyRatingNeverLowersTheAsil) {
         const Asil base =
             determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e), static_cast<Controllability>(c));
         if (s < 3) {
-          EXPECT_GE(determine_asil(static_cast<Severity>(s + 1), static_cast<Exposure>(e),
-                                   static_cast<Controllability>(c)),
-                    base);
+          EXPECT_GE(
+              determine_asil(static_cast<Severity>(s + 1), static_cast<Exposure>(e), static_cast<Controllability>(c)),
+              base);
         }
         if (e < 4) {
-          EXPECT_GE(determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e + 1),
-                                   static_cast<Controllability>(c)),
-                    base);
+          EXPECT_GE(
+              determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e + 1), static_cast<Controllability>(c)),
+              base);
         }
         if (c < 3) {
-          EXPECT_GE(determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e),
-                                   static_cast<Controllability>(c + 1)),
-                    base);
+          EXPECT_GE(
+              determine_asil(static_cast<Severity>(s), static_cast<Exposure>(e), static_cast<Controllability>(c + 1)),
+              base);
         }
       }
 }

@@ -11,8 +11,8 @@
 namespace emrm::safety {
 namespace checks_test {
 
-using ::testing::HasSubstr;
 using testing::example_text;
+using ::testing::HasSubstr;
 using testing::line_of;
 using testing::replace_once;
 
@@ -117,7 +117,8 @@ TEST(SafetyChecks, StatedSmilThatDisagreesWithTheTableIsAnError) {
 }
 
 TEST(SafetyChecks, SmilWithoutAMatchingRuleIsAWarning) {
-  const std::string text = replace_once(example_text(), "    - {maneuverability: M2, avoidability: A1, mitigability: MT1, smil: F}\n", "");
+  const std::string text =
+      replace_once(example_text(), "    - {maneuverability: M2, avoidability: A1, mitigability: MT1, smil: F}\n", "");
   const auto f = with_code(findings_of(text), "SAF010");
   ASSERT_EQ(f.size(), 1u);
   EXPECT_EQ(f[0].subject, "H6");

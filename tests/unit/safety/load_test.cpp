@@ -9,8 +9,8 @@
 namespace emrm::safety {
 namespace load_test {
 
-using ::testing::HasSubstr;
 using testing::example_text;
+using ::testing::HasSubstr;
 using testing::line_of;
 using testing::replace_once;
 
@@ -73,9 +73,7 @@ TEST(SafetyLoad, MalformedYamlNamesLineAndColumn) {
   EXPECT_THAT(e.message(), HasSubstr("malformed YAML"));
 }
 
-TEST(SafetyLoad, EmptyFileIsAnError) {
-  EXPECT_THAT(parse_error("# nothing here\n").message(), HasSubstr("empty"));
-}
+TEST(SafetyLoad, EmptyFileIsAnError) { EXPECT_THAT(parse_error("# nothing here\n").message(), HasSubstr("empty")); }
 
 TEST(SafetyLoad, WrongTypeNamesTheField) {
   const std::string text = replace_once(example_text(), "reversible: false", "reversible: sometimes");
@@ -138,7 +136,8 @@ TEST(SafetyLoad, UnknownFieldIsRejectedWithTheExpectedOnes) {
 }
 
 TEST(SafetyLoad, RegionNamingAnUndeclaredFactorPointsAtTheName) {
-  const std::string text = replace_once(example_text(), "region: \"ttc_s < 0.7\"", "region: \"ttc_s < 0.7 && rain > 1\"");
+  const std::string text =
+      replace_once(example_text(), "region: \"ttc_s < 0.7\"", "region: \"ttc_s < 0.7 && rain > 1\"");
   const auto e = parse_error(text);
   EXPECT_EQ(e.where().line, line_of(text, "rain > 1"));
   EXPECT_EQ(e.where().column, testing::column_of(text, "rain > 1"));
@@ -163,9 +162,9 @@ TEST(SafetyLoad, FactorRangeMustNotBeReversed) {
 }
 
 TEST(SafetyLoad, SmilLevelsMustBeDeclared) {
-  EXPECT_THAT(parse_error(replace_once(example_text(), "mitigability: MT1, smil: F}", "mitigability: MT1, smil: Z}"))
-                  .message(),
-              HasSubstr("SMIL level 'Z' is not one of the declared levels"));
+  EXPECT_THAT(
+      parse_error(replace_once(example_text(), "mitigability: MT1, smil: F}", "mitigability: MT1, smil: Z}")).message(),
+      HasSubstr("SMIL level 'Z' is not one of the declared levels"));
   EXPECT_THAT(parse_error(replace_once(example_text(), "    smil: B\n", "    smil: Q\n")).message(),
               HasSubstr("hazard 'H2': SMIL level 'Q'"));
 }

@@ -22,10 +22,16 @@ std::string mutate(std::string text, std::mt19937& rng) {
     std::uniform_int_distribution<std::size_t> at(0, text.size() - 1);
     const std::size_t pos = at(rng);
     switch (kind(rng)) {
-      case 0: text[pos] = kAlphabet[pick(rng)]; break;                        // replace a byte
-      case 1: text.erase(pos, 1 + rng() % 8); break;                          // delete a run
-      case 2: text.insert(pos, 1, kAlphabet[pick(rng)]); break;               // insert a byte
-      default: {                                                              // swap two lines' worth
+      case 0:
+        text[pos] = kAlphabet[pick(rng)];
+        break;  // replace a byte
+      case 1:
+        text.erase(pos, 1 + rng() % 8);
+        break;  // delete a run
+      case 2:
+        text.insert(pos, 1, kAlphabet[pick(rng)]);
+        break;    // insert a byte
+      default: {  // swap two lines' worth
         const std::size_t len = std::min<std::size_t>(40, text.size() - pos);
         text.insert(at(rng) % text.size(), text.substr(pos, len));
       }

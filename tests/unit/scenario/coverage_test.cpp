@@ -455,9 +455,7 @@ TEST(CoverageBaselines, ManualIsTheProductGridWithOtherFactorsNominal) {
   EXPECT_EQ(r.cells.total, 12U);
 }
 
-TEST(CoverageBaselines, ManualIsEmptyWithoutAGrid) {
-  EXPECT_TRUE(manual_baseline(odd_from(kHazardOdd)).empty());
-}
+TEST(CoverageBaselines, ManualIsEmptyWithoutAGrid) { EXPECT_TRUE(manual_baseline(odd_from(kHazardOdd)).empty()); }
 
 TEST(CoverageJson, ListsEveryCountAndConstraintInOrder) {
   const Odd odd = odd_from(kHazardOdd);

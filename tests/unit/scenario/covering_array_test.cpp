@@ -29,8 +29,7 @@ std::vector<int> levels_of(std::initializer_list<std::pair<int, int>> groups) {
 }
 
 // Can `row` (with -1 for free entries) be completed into a row no constraint rejects?
-bool extendable(const std::vector<int>& levels, std::vector<int> row, const RowViolates& violates,
-                std::size_t c = 0) {
+bool extendable(const std::vector<int>& levels, std::vector<int> row, const RowViolates& violates, std::size_t c = 0) {
   if (c == row.size()) return !violates || !violates(row);
   if (row[c] >= 0) return extendable(levels, row, violates, c + 1);
   for (int v = 0; v < levels[c]; ++v) {
@@ -103,14 +102,12 @@ TEST_P(ReferenceModel, MeetsTheRequiredSizeAndCoversEveryTuple) {
 
 INSTANTIATE_TEST_SUITE_P(
     Issue, ReferenceModel,
-    ::testing::Values(Reference{"t2_3pow4", levels_of({{3, 4}}), 2, 9},
-                      Reference{"t2_3pow13", levels_of({{3, 13}}), 2, 17},
-                      Reference{"t2_2pow100", levels_of({{2, 100}}), 2, 14},
-                      Reference{"t2_10pow20", levels_of({{10, 20}}), 2, 200},
-                      Reference{"t2_4pow15_3pow17_2pow29", levels_of({{4, 15}, {3, 17}, {2, 29}}), 2, 35},
-                      Reference{"t2_4pow1_3pow39_2pow35", levels_of({{4, 1}, {3, 39}, {2, 35}}), 2, 26},
-                      Reference{"t3_3pow4", levels_of({{3, 4}}), 3, 30},
-                      Reference{"t3_5pow10", levels_of({{5, 10}}), 3, 260}),
+    ::testing::Values(
+        Reference{"t2_3pow4", levels_of({{3, 4}}), 2, 9}, Reference{"t2_3pow13", levels_of({{3, 13}}), 2, 17},
+        Reference{"t2_2pow100", levels_of({{2, 100}}), 2, 14}, Reference{"t2_10pow20", levels_of({{10, 20}}), 2, 200},
+        Reference{"t2_4pow15_3pow17_2pow29", levels_of({{4, 15}, {3, 17}, {2, 29}}), 2, 35},
+        Reference{"t2_4pow1_3pow39_2pow35", levels_of({{4, 1}, {3, 39}, {2, 35}}), 2, 26},
+        Reference{"t3_3pow4", levels_of({{3, 4}}), 3, 30}, Reference{"t3_5pow10", levels_of({{5, 10}}), 3, 260}),
     [](const ::testing::TestParamInfo<Reference>& model) { return model.param.name; });
 
 TEST(CoveringArray, FindsTheOrthogonalArrayOfSmallModelsThatHaveOne) {
@@ -134,8 +131,7 @@ TEST(CoveringArray, FindsTheOrthogonalArrayOfSmallModelsThatHaveOne) {
 }
 
 TEST(CoveringArray, OptimisationNeverLengthensTheGreedyArray) {
-  for (const auto& levels :
-       {levels_of({{3, 13}}), levels_of({{4, 3}, {3, 5}, {2, 4}}), levels_of({{6, 7}})}) {
+  for (const auto& levels : {levels_of({{3, 13}}), levels_of({{4, 3}, {3, 5}, {2, 4}}), levels_of({{6, 7}})}) {
     CoveringArrayOptions greedy;
     greedy.improvement_effort = 0.0;
     CoveringArrayOptions optimised;
@@ -160,16 +156,14 @@ TEST(CoveringArray, RandomConstrainedModelsAreCoveredAndValid) {
     for (int k = 0; k < count; ++k) {
       const int a = static_cast<int>(rng() % static_cast<unsigned>(n));
       const int b = (a + 1 + static_cast<int>(rng() % static_cast<unsigned>(n - 1))) % n;
-      forbidden.push_back(
-          {a, static_cast<int>(rng() % static_cast<unsigned>(levels[static_cast<std::size_t>(a)])), b,
-           static_cast<int>(rng() % static_cast<unsigned>(levels[static_cast<std::size_t>(b)]))});
+      forbidden.push_back({a, static_cast<int>(rng() % static_cast<unsigned>(levels[static_cast<std::size_t>(a)])), b,
+                           static_cast<int>(rng() % static_cast<unsigned>(levels[static_cast<std::size_t>(b)]))});
     }
     RowViolates violates;
     if (!forbidden.empty())
       violates = [forbidden](std::span<const int> row) {
         for (const auto& f : forbidden)
-          if (row[static_cast<std::size_t>(f[0])] == f[1] && row[static_cast<std::size_t>(f[2])] == f[3])
-            return true;
+          if (row[static_cast<std::size_t>(f[0])] == f[1] && row[static_cast<std::size_t>(f[2])] == f[3]) return true;
         return false;
       };
     CoveringArrayOptions options;
@@ -189,8 +183,7 @@ struct ConstrainedModel {
   std::vector<int> levels = levels_of({{4, 2}, {3, 8}});
   RowViolates violates = [](std::span<const int> r) {
     // p1 = 3 rules out p2 = 3; p3 = 0 and p4 = 0 never meet; p5 = 2 needs p6 = 1 (known or not).
-    return (r[0] == 3 && r[1] == 3) || (r[2] == 0 && r[3] == 0) ||
-           (r[4] == 2 && r[5] != kDontCare && r[5] != 1);
+    return (r[0] == 3 && r[1] == 3) || (r[2] == 0 && r[3] == 0) || (r[4] == 2 && r[5] != kDontCare && r[5] != 1);
   };
   Rows seed_rows = {{3, kDontCare, 1, kDontCare, 2, kDontCare, 0, 0, 0, 0}, {0, 1, 2, 2, 1, 0, 1, 2, 0, 1}};
 };
@@ -326,7 +319,7 @@ TEST(CoveringArray, BudgetWithinReachLeavesTheArrayUnchanged) {
   const RowViolates violates = [](std::span<const int> r) { return r[0] == 0 && r[1] == 0; };
   const std::vector<int> levels{2, 2, 2, 3};
   const auto reference = generate_covering_array(levels, {}, violates);
-  std::uint64_t low = 0;  // fails
+  std::uint64_t low = 0;                        // fails
   std::uint64_t high = kDefaultMaxSearchSteps;  // works
   CoveringArrayOptions options;
   auto works = [&](std::uint64_t steps) {

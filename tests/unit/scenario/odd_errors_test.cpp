@@ -39,8 +39,7 @@ TEST(OddErrors, WrongTypes) {
   expect_error_at(replace_once(kGood, "    type: integer\n", "    type: fuzzy\n"), "fuzzy", 0, "fuzzy");
   expect_error_at(replace_once(kGood, "  budget: 100\n", "  budget: lots\n"), "lots", 0, "lots");
   expect_error_at(replace_once(kGood, "  n_c: 1\n", "  n_c: 1.5\n"), "1.5", 0, "1.5");
-  expect_error_at(replace_once(kGood, "    influential: false\n", "    influential: maybe\n"), "maybe", 0,
-                  "maybe");
+  expect_error_at(replace_once(kGood, "    influential: false\n", "    influential: maybe\n"), "maybe", 0, "maybe");
 }
 
 TEST(OddErrors, MissingBins) {
@@ -50,13 +49,11 @@ TEST(OddErrors, MissingBins) {
 }
 
 TEST(OddErrors, UnsortedBinEdges) {
-  expect_error_at(replace_once(kGood, "bins: [10, 20, 40]", "bins: [10, 40, 20]"), "[10, 40, 20]", 0,
-                  "increase");
+  expect_error_at(replace_once(kGood, "bins: [10, 20, 40]", "bins: [10, 40, 20]"), "[10, 40, 20]", 0, "increase");
 }
 
 TEST(OddErrors, OverlappingBinEdges) {
-  expect_error_at(replace_once(kGood, "bins: [0, 1, 2, 3]", "bins: [0, 1, 1, 3]"), "[0, 1, 1, 3]", 0,
-                  "increase");
+  expect_error_at(replace_once(kGood, "bins: [0, 1, 2, 3]", "bins: [0, 1, 1, 3]"), "[0, 1, 1, 3]", 0, "increase");
 }
 
 TEST(OddErrors, OneEdgeIsNoBin) {
@@ -78,13 +75,12 @@ TEST(OddErrors, PriorOfTheWrongLength) {
 }
 
 TEST(OddErrors, PriorThatDoesNotNormalise) {
-  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [0.2, 0.5, 0.4]"), "[0.2, 0.5, 0.4]",
-                  0, "normalise");
+  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [0.2, 0.5, 0.4]"), "[0.2, 0.5, 0.4]", 0,
+                  "normalise");
 }
 
 TEST(OddErrors, NegativePrior) {
-  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [-0.2, 0.9, 0.3]"), "[-0.2", 0,
-                  ">= 0");
+  expect_error_at(replace_once(kGood, "prior: [0.2, 0.5, 0.3]", "prior: [-0.2, 0.9, 0.3]"), "[-0.2", 0, ">= 0");
 }
 
 TEST(OddErrors, NanInBins) {
@@ -110,16 +106,15 @@ TEST(OddErrors, UnknownFactorInTrackedPointsIntoThePredicate) {
 }
 
 TEST(OddErrors, UnknownFactorInAMalfunctionRegionPointsIntoThePredicate) {
-  const std::string text =
-      std::string(kGood) + "malfunctions:\n  - id: M1\n    region: \"v > 15 && qq < 1\"\n";
+  const std::string text = std::string(kGood) + "malfunctions:\n  - id: M1\n    region: \"v > 15 && qq < 1\"\n";
   expect_error_at(text, "qq", 0, "qq");
 }
 
 TEST(OddErrors, StrengthLargerThanTheInfluentialFactors) {
   // Only v and n stay influential.
-  const std::string text = replace_once(replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n",
-                                                     "    values: [1.0, 0.6, 0.2]\n    influential: false\n"),
-                                        "  strength: 2\n", "  strength: 3\n");
+  const std::string text = replace_once(
+      replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    influential: false\n"),
+      "  strength: 2\n", "  strength: 3\n");
   expect_error_at(text, "strength: 3", 10, "strength 3");
   EXPECT_NO_THROW((void)parse(replace_once(text, "  strength: 3\n", "  strength: 2\n")));
   // Strength 3 is fine with three influential factors.
@@ -127,8 +122,8 @@ TEST(OddErrors, StrengthLargerThanTheInfluentialFactors) {
 }
 
 TEST(OddErrors, DefaultStrengthNeedsTwoInfluentialFactors) {
-  std::string text = replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n",
-                                  "    values: [1.0, 0.6, 0.2]\n    influential: false\n");
+  std::string text =
+      replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    influential: false\n");
   text = replace_once(text, "    type: integer\n", "    type: integer\n    influential: false\n");
   text = text.substr(0, text.find("coverage:"));
   EXPECT_THAT(parse_error(text).what(), HasSubstr("strength"));
@@ -138,9 +133,7 @@ TEST(OddErrors, StrengthFour) {
   expect_error_at(replace_once(kGood, "  strength: 2\n", "  strength: 4\n"), "strength: 4", 10, "2 or 3");
 }
 
-TEST(OddErrors, NcZero) {
-  expect_error_at(replace_once(kGood, "  n_c: 1\n", "  n_c: 0\n"), "n_c: 0", 5, "n_c");
-}
+TEST(OddErrors, NcZero) { expect_error_at(replace_once(kGood, "  n_c: 1\n", "  n_c: 0\n"), "n_c: 0", 5, "n_c"); }
 
 TEST(OddErrors, EpsilonAboveOneHalf) {
   expect_error_at(replace_once(kGood, "  epsilon: 0.3\n", "  epsilon: 0.6\n"), "epsilon: 0.6", 9, "epsilon");
@@ -192,8 +185,8 @@ TEST(OddErrors, DuplicateFactor) {
 }
 
 TEST(OddErrors, DuplicateClass) {
-  expect_error_at(replace_once(kGood, "classes: [dry, wet, icy]", "classes: [dry, wet, dry]"),
-                  "[dry, wet, dry]", 0, "duplicate class 'dry'");
+  expect_error_at(replace_once(kGood, "classes: [dry, wet, icy]", "classes: [dry, wet, dry]"), "[dry, wet, dry]", 0,
+                  "duplicate class 'dry'");
 }
 
 TEST(OddErrors, FactorNameThatIsNotAnIdentifier) {
@@ -212,11 +205,11 @@ TEST(OddErrors, SafetyFileThatDoesNotExist) {
 }
 
 TEST(OddErrors, NominalOutsideTheDomainOrNotAClass) {
-  expect_error_at(replace_once(kGood, "    kinks: [15]\n", "    kinks: [15]\n    nominal: 50\n"),
-                  "nominal: 50", 9, "outside");
-  expect_error_at(replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n",
-                               "    values: [1.0, 0.6, 0.2]\n    nominal: snow\n"),
-                  "snow", 0, "not a class");
+  expect_error_at(replace_once(kGood, "    kinks: [15]\n", "    kinks: [15]\n    nominal: 50\n"), "nominal: 50", 9,
+                  "outside");
+  expect_error_at(
+      replace_once(kGood, "    values: [1.0, 0.6, 0.2]\n", "    values: [1.0, 0.6, 0.2]\n    nominal: snow\n"), "snow",
+      0, "not a class");
 }
 
 TEST(OddErrors, InfiniteNumber) {
@@ -242,9 +235,7 @@ TEST(OddErrors, DuplicateTopLevelKey) {
   EXPECT_EQ(e.where().line, pos_of(text, "seed: 8").line) << e.what();
 }
 
-TEST(OddErrors, NegativeSeed) {
-  expect_error_at(replace_once(kGood, "seed: 7\n", "seed: -7\n"), "-7", 0, "seed");
-}
+TEST(OddErrors, NegativeSeed) { expect_error_at(replace_once(kGood, "seed: 7\n", "seed: -7\n"), "-7", 0, "seed"); }
 
 TEST(OddErrors, TooManyCells) {
   // 60 x 60 x 60 = 216 000 cells.
@@ -252,8 +243,7 @@ TEST(OddErrors, TooManyCells) {
   for (int k = 1; k <= 60; ++k) bins += ", " + std::to_string(k);
   bins += "]";
   std::string text = "name: big\nfactors:\n";
-  for (const char* name : {"a", "b", "c"})
-    text += std::string("  - name: ") + name + "\n    bins: " + bins + "\n";
+  for (const char* name : {"a", "b", "c"}) text += std::string("  - name: ") + name + "\n    bins: " + bins + "\n";
   const InputError e = parse_error(text);
   EXPECT_THAT(e.what(), HasSubstr("216000 cells"));
   EXPECT_EQ(e.where().line, pos_of(text, "- name: a").line) << e.what();
@@ -264,8 +254,7 @@ TEST(OddErrors, IntegerNominalMustBeAWholeNumber) {
   // nominal scenario outside the domain (the coverage checker then counts it as inadmissible).
   expect_error_at(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 2.5\n"),
                   "nominal: 2.5", 9, "2.5");
-  EXPECT_NO_THROW(
-      (void)parse(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 4\n")));
+  EXPECT_NO_THROW((void)parse(replace_once(kGood, "    bins: [0, 2, 5]\n", "    bins: [0, 2, 5]\n    nominal: 4\n")));
 }
 
 }  // namespace odd_errors_test

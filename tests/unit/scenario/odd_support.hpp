@@ -73,9 +73,7 @@ inline std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-inline void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::binary) << text;
-}
+inline void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 inline Odd parse(const std::string& text) { return parse_odd(text, "odd.yaml", temp_dir()); }
 
@@ -110,8 +108,7 @@ inline InputError parse_error(const std::string& text) {
 }
 
 // The error of `text` lies at the first occurrence of `needle` (plus `offset`) and says `words`.
-inline void expect_error_at(const std::string& text, const std::string& needle, int offset,
-                            const std::string& words) {
+inline void expect_error_at(const std::string& text, const std::string& needle, int offset, const std::string& words) {
   SCOPED_TRACE(needle);
   const InputError e = parse_error(text);
   if (e.message() == "none") return;  // parse_error has reported the missing error
@@ -120,8 +117,7 @@ inline void expect_error_at(const std::string& text, const std::string& needle, 
   EXPECT_EQ(e.where().line, p.line) << e.what();
   EXPECT_EQ(e.where().column, p.column) << e.what();
   EXPECT_THAT(e.what(), HasSubstr(words));
-  EXPECT_THAT(e.what(),
-              HasSubstr("odd.yaml:" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: "));
+  EXPECT_THAT(e.what(), HasSubstr("odd.yaml:" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: "));
 }
 
 // ---- a good ODD ---------------------------------------------------------------------------------

@@ -276,8 +276,7 @@ TEST(OddLoad, SafetyOverrideReplacesTheFilesEntry) {
     safety.replace(at, from.size(), "id: ALT" + std::to_string(i));
   }
   write_text(dir / "other_safety.yaml", safety);
-  fs::copy_file(examples_dir() / "emrm_fsm.yaml", dir / "emrm_fsm.yaml",
-                fs::copy_options::overwrite_existing);
+  fs::copy_file(examples_dir() / "emrm_fsm.yaml", dir / "emrm_fsm.yaml", fs::copy_options::overwrite_existing);
   const Odd odd = load_odd(examples_dir() / "odd.yaml", dir / "other_safety.yaml");
   ASSERT_EQ(odd.malfunctions.size(), 4u);
   EXPECT_EQ(odd.malfunctions[0].id, "ALT1");
@@ -299,9 +298,7 @@ TEST(OddLoad, MissingSafetyOverrideIsAUsageError) {
   EXPECT_THROW((void)load_odd(examples_dir() / "odd.yaml", temp_dir() / "no_such_safety.yaml"), UsageError);
 }
 
-TEST(OddLoad, MissingOddFileIsAnError) {
-  EXPECT_THROW((void)load_odd(temp_dir() / "no_such_odd.yaml"), Error);
-}
+TEST(OddLoad, MissingOddFileIsAnError) { EXPECT_THROW((void)load_odd(temp_dir() / "no_such_odd.yaml"), Error); }
 
 TEST(OddLoad, UcaRegionNamingAFactorTheOddLacksIsAnErrorInTheSafetyCase) {
   // Without passage_m, UCA4's region "passage_m < 2.0 || mu < 0.35" cannot be recompiled.
@@ -347,8 +344,7 @@ TEST(OddValidate, EachRuleNamesTheFieldPathAsTheFileWritesIt) {
     std::string says;
   };
   const std::vector<Bad> cases{
-      {[](Odd& o) { o.factors[0].name = "2v"; },
-       "odd: factors[0].name: factor name '2v' is not an identifier"},
+      {[](Odd& o) { o.factors[0].name = "2v"; }, "odd: factors[0].name: factor name '2v' is not an identifier"},
       {[](Odd& o) { o.factors[1].name = "v"; }, "odd: factors[1].name: duplicate factor 'v'"},
       {[](Odd& o) {
          o.factors[0].edges = {10, 40, 20};
@@ -409,8 +405,8 @@ TEST(OddValidate, EachRuleNamesTheFieldPathAsTheFileWritesIt) {
 TEST(OddValidate, PlanBuildingAndTheCoverageCheckRejectABadOdd) {
   Odd odd = parse(kGood);
   odd.factors[4].prior = {0.5, 0.5, 0.5};
-  for (const auto& run : std::vector<std::function<void()>>{
-           [&] { (void)build_plan(odd); }, [&] { (void)measure_coverage(odd, {}, "none"); }}) {
+  for (const auto& run : std::vector<std::function<void()>>{[&] { (void)build_plan(odd); },
+                                                            [&] { (void)measure_coverage(odd, {}, "none"); }}) {
     try {
       run();
       ADD_FAILURE() << "expected a ConfigError";

@@ -124,7 +124,8 @@ TEST(PictModel, SmallBudgetsSufficeForEasyModels) {
 // flat node that evaluates like the short form.
 TEST(PictModel, DeepNestingIsRefusedAndLongChainsStayFlat) {
   const std::string head = "A: 1, 2\nB: 1, 2\n\n";
-  const std::string deep = head + "IF " + std::string(50000, '(') + "[A] = 1" + std::string(50000, ')') + " THEN [B] = 2;\n";
+  const std::string deep =
+      head + "IF " + std::string(50000, '(') + "[A] = 1" + std::string(50000, ')') + " THEN [B] = 2;\n";
   EXPECT_THROW((void)parse_pict_model(deep, "deep.txt"), InputError);
   const std::string ok = head + "IF " + std::string(150, '(') + "[A] = 1" + std::string(150, ')') + " THEN [B] = 2;\n";
   EXPECT_NO_THROW((void)parse_pict_model(ok, "ok.txt"));

@@ -292,13 +292,15 @@ TEST(ScenariosCsvErrors, BadSeed) {
   expect_read_error(std::string(kHeader) + "S001,boundary,1,2,c0.0,,,1,\n", 2, 28, "seed");
   expect_read_error(std::string(kHeader) + "S001,boundary,1,2,c0.0,,,1,99999999999999999999\n", 2, 28, "seed");
   // The largest 64-bit seed is fine.
-  const auto file = read_scenarios_csv(write_temp("max.csv", std::string(kHeader) + "S1,x,1,2,c0.0,,,1,18446744073709551615\n"));
+  const auto file =
+      read_scenarios_csv(write_temp("max.csv", std::string(kHeader) + "S1,x,1,2,c0.0,,,1,18446744073709551615\n"));
   EXPECT_EQ(file.rows.at(0).seed, 18446744073709551615ULL);
 }
 
 TEST(ScenariosCsvErrors, DuplicateId) {
-  expect_read_error(std::string(kHeader) + "S001,boundary,1,2,c0.0,,,1,5\nS002,boundary,1,2,c0.0,,,1,6\n"
-                                           "S001,top_up,1,2,c0.0,,,1,7\n",
+  expect_read_error(std::string(kHeader) +
+                        "S001,boundary,1,2,c0.0,,,1,5\nS002,boundary,1,2,c0.0,,,1,6\n"
+                        "S001,top_up,1,2,c0.0,,,1,7\n",
                     4, 1, "duplicate scenario id 'S001'");
 }
 
@@ -316,7 +318,9 @@ TEST(ScenariosCsvErrors, LinesCountTheNewlinesInsideQuotedFields) {
 }
 
 TEST(ScenariosCsv, QuotedFieldWithCommasAndNewlinesParses) {
-  const std::string text = std::string(kHeader) + "S001,\"boundary, edge\",1.5,-2e-3,c0.1,\"M1 M2\",\"S1 -a,b-> S2; S2 -x\ny-> S3\",0.25,42\r\n";
+  const std::string text =
+      std::string(kHeader) +
+      "S001,\"boundary, edge\",1.5,-2e-3,c0.1,\"M1 M2\",\"S1 -a,b-> S2; S2 -x\ny-> S3\",0.25,42\r\n";
   const auto file = read_scenarios_csv(write_temp("quoted.csv", text));
   EXPECT_THAT(file.factors, ElementsAre("a", "b"));
   ASSERT_EQ(file.rows.size(), 1u);
@@ -330,9 +334,7 @@ TEST(ScenariosCsv, QuotedFieldWithCommasAndNewlinesParses) {
   EXPECT_EQ(r.seed, 42u);
 }
 
-TEST(ScenariosCsv, MissingFileIsAnError) {
-  EXPECT_THROW((void)read_scenarios_csv(temp_dir() / "no_such.csv"), Error);
-}
+TEST(ScenariosCsv, MissingFileIsAnError) { EXPECT_THROW((void)read_scenarios_csv(temp_dir() / "no_such.csv"), Error); }
 
 // ---- core::parse_csv -----------------------------------------------------------------------------
 

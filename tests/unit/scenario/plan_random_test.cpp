@@ -31,9 +31,8 @@ TEST(PlanRandom, EveryPlanSatisfiesTheCheckerAndItsInvariants) {
     expect_plan_invariants(odd, plan);
     if (plan.shortfalls.empty()) ++checked;
     if (odd.strength == 3) ++strength3;
-    EXPECT_EQ(plan.tests_per_tracked_cell,
-              std::max<std::size_t>(wilson_sample_size(odd.epsilon, 1.0 - odd.delta),
-                                    static_cast<std::size_t>(odd.n_c)));
+    EXPECT_EQ(plan.tests_per_tracked_cell, std::max<std::size_t>(wilson_sample_size(odd.epsilon, 1.0 - odd.delta),
+                                                                 static_cast<std::size_t>(odd.n_c)));
     if (!plan.targets_met && plan.shortfalls.empty()) {
       // Short of the precision target without a shortfall: the budget is spent, or tracked cells
       // (of discrete factors) hold fewer distinct points than the target; the reason says which.
@@ -50,9 +49,8 @@ TEST(PlanRandom, EveryPlanSatisfiesTheCheckerAndItsInvariants) {
     }
     if (::testing::Test::HasFatalFailure()) return;
   }
-  std::printf(
-      "random ODDs: %d of %llu checked against C1-C4 (no shortfall), %d met every target, %d of strength 3\n",
-      checked, static_cast<unsigned long long>(kOdds), met, strength3);
+  std::printf("random ODDs: %d of %llu checked against C1-C4 (no shortfall), %d met every target, %d of strength 3\n",
+              checked, static_cast<unsigned long long>(kOdds), met, strength3);
   // The random ODDs are mostly feasible: the C1–C4 check above ran on most of them.
   EXPECT_GE(checked, 18);
   EXPECT_GE(strength3, 2);
@@ -82,9 +80,8 @@ TEST(PlanSliver, BoundaryPointsStayInRelevantCellsAndAreNotCalledInfeasible) {
   double sum = 0.0;
   for (const auto& s : plan.scenarios) {
     sum += s.weight;
-    EXPECT_TRUE(relevant.count(s.cell))
-        << s.id << " (" << s.values[0] << ", " << s.values[1] << ") in " << cell_key(s.cell)
-        << ", which is not a relevant cell; weight " << s.weight;
+    EXPECT_TRUE(relevant.count(s.cell)) << s.id << " (" << s.values[0] << ", " << s.values[1] << ") in "
+                                        << cell_key(s.cell) << ", which is not a relevant cell; weight " << s.weight;
   }
   EXPECT_NEAR(sum, static_cast<double>(plan.scenarios.size()), 1e-9) << "weights must sum to N";
   // A target some scenario hits is not infeasible.
@@ -112,8 +109,7 @@ TEST(PlanSliver, ReachableBoundaryIsNotDeclaredInfeasible) {
   const Odd odd = parse_odd(kTargetOnAnEdgeSegment, "edge.yaml", fs::temp_directory_path());
   ASSERT_TRUE(odd.admissible(std::vector<double>{1.0, 0.3}));  // x = 1 is reachable
   const Plan plan = build_plan(odd);
-  for (const auto& note : plan.infeasible)
-    EXPECT_THAT(note, ::testing::Not(HasSubstr("x = 1"))) << describe(plan);
+  for (const auto& note : plan.infeasible) EXPECT_THAT(note, ::testing::Not(HasSubstr("x = 1"))) << describe(plan);
   const auto report = measure_coverage(odd, points_of(plan), "plan");
   EXPECT_TRUE(report.c2) << describe(report) << "\n" << describe(plan);
 }

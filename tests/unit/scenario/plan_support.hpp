@@ -46,8 +46,7 @@ inline std::vector<std::vector<double>> points_of(const Plan& plan) {
 }
 
 inline std::string describe(const CoverageReport& r) {
-  std::string out =
-      fmt::format("C1 {} C2 {} C3 {} C4 {}; inadmissible {}", r.c1, r.c2, r.c3, r.c4, r.inadmissible);
+  std::string out = fmt::format("C1 {} C2 {} C3 {} C4 {}; inadmissible {}", r.c1, r.c2, r.c3, r.c4, r.inadmissible);
   for (const auto& m : r.cells.missing) out += "\n  cell missing " + m;
   for (const auto& m : r.boundaries.missing) out += "\n  boundary missing " + m;
   for (const auto& m : r.twise.missing) out += "\n  tuple missing " + m;
@@ -121,13 +120,11 @@ inline bool reported(const Plan& plan, const std::string& prefix) {
 inline void expect_shortfalls_are_real(const Odd& odd, const Plan& plan) {
   const auto all = all_admissible_points(odd);
   if (!all) return;
-  const auto in = [](const Malfunction& m, const std::vector<double>& p) {
-    return !m.region || m.region->holds(p);
-  };
+  const auto in = [](const Malfunction& m, const std::vector<double>& p) { return !m.region || m.region->holds(p); };
   for (const auto& m : odd.malfunctions) {
     const auto available = std::count_if(all->begin(), all->end(), [&](const auto& p) { return in(m, p); });
-    const auto planned = std::count_if(plan.scenarios.begin(), plan.scenarios.end(),
-                                       [&](const Scenario& s) { return in(m, s.values); });
+    const auto planned =
+        std::count_if(plan.scenarios.begin(), plan.scenarios.end(), [&](const Scenario& s) { return in(m, s.values); });
     EXPECT_GE(planned, std::min<long>(available, odd.n_m)) << m.id;
     EXPECT_EQ(reported(plan, "malfunction " + m.id + ":"), available < odd.n_m)
         << m.id << ": " << available << " points";
@@ -138,8 +135,7 @@ inline void expect_shortfalls_are_real(const Odd& odd, const Plan& plan) {
   for (const auto& c : relevant_cells(odd)) {
     const long a = available[c.levels];
     EXPECT_GE(planned[c.levels], std::min<long>(a, odd.n_c)) << cell_key(c.levels);
-    EXPECT_EQ(reported(plan, "cell " + cell_key(c.levels) + ":"), a < odd.n_c)
-        << cell_key(c.levels) << ": " << a;
+    EXPECT_EQ(reported(plan, "cell " + cell_key(c.levels) + ":"), a < odd.n_c) << cell_key(c.levels) << ": " << a;
     // A tracked cell short of its target (with budget left) holds every point there is.
     if (c.tracked && plan.scenarios.size() < odd.budget &&
         planned[c.levels] < static_cast<long>(plan.tests_per_tracked_cell)) {
@@ -184,8 +180,7 @@ inline void expect_plan_invariants(const Odd& odd, const Plan& plan) {
       if (m.region && !m.region->holds(s.values)) continue;
       modes.push_back(m.id);
       for (const auto& t : m.transitions)
-        if (std::find(transitions.begin(), transitions.end(), t) == transitions.end())
-          transitions.push_back(t);
+        if (std::find(transitions.begin(), transitions.end(), t) == transitions.end()) transitions.push_back(t);
     }
     EXPECT_EQ(s.malfunctions, modes) << s.id;
     EXPECT_EQ(s.transitions, transitions) << s.id;
@@ -208,8 +203,7 @@ inline void expect_plan_invariants(const Odd& odd, const Plan& plan) {
   EXPECT_NEAR(sum, static_cast<double>(n), 1e-9 * static_cast<double>(n));
 
   // Steps: the five steps in order; each scenario names its step and the counts agree.
-  const std::vector<std::string> step_names{"boundary", "covering_array", "malfunction", "cell_fill",
-                                            "top_up"};
+  const std::vector<std::string> step_names{"boundary", "covering_array", "malfunction", "cell_fill", "top_up"};
   ASSERT_EQ(plan.steps.size(), step_names.size());
   std::size_t total_added = 0;
   std::size_t at = 0;
@@ -224,8 +218,7 @@ inline void expect_plan_invariants(const Odd& odd, const Plan& plan) {
   // Tracked cells reach their sample size when the targets are met.
   const auto cells = relevant_cells(odd);
   EXPECT_EQ(plan.relevant_cells, cells.size());
-  const auto tracked =
-      std::count_if(cells.begin(), cells.end(), [](const RelevantCell& c) { return c.tracked; });
+  const auto tracked = std::count_if(cells.begin(), cells.end(), [](const RelevantCell& c) { return c.tracked; });
   EXPECT_EQ(plan.tracked_cells, static_cast<std::size_t>(tracked));
   if (plan.targets_met) {
     EXPECT_TRUE(plan.shortfalls.empty());
@@ -242,11 +235,10 @@ inline void expect_plan_invariants(const Odd& odd, const Plan& plan) {
     const bool hit = std::any_of(plan.scenarios.begin(), plan.scenarios.end(),
                                  [&](const Scenario& s) { return s.values[t.factor] == t.value; });
     if (hit) continue;
-    const bool listed = std::any_of(
-        plan.infeasible.begin(), plan.infeasible.end(),
-        [&](const std::string& s) { return s.find(odd.factors[t.factor].name) != std::string::npos; });
-    EXPECT_TRUE(listed) << odd.factors[t.factor].name << " = " << t.value
-                        << " neither hit nor listed infeasible";
+    const bool listed = std::any_of(plan.infeasible.begin(), plan.infeasible.end(), [&](const std::string& s) {
+      return s.find(odd.factors[t.factor].name) != std::string::npos;
+    });
+    EXPECT_TRUE(listed) << odd.factors[t.factor].name << " = " << t.value << " neither hit nor listed infeasible";
   }
   expect_shortfalls_are_real(odd, plan);
 }
@@ -272,9 +264,7 @@ struct RandomOddText {
 
 inline RandomOddText random_odd(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  const auto uniform = [&](double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(rng);
-  };
+  const auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
   const auto integer = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   const auto chance = [&](double p) { return uniform(0.0, 1.0) < p; };
   const auto round1 = [](double v) { return std::round(v * 10.0) / 10.0; };
@@ -330,8 +320,7 @@ inline RandomOddText random_odd(std::uint64_t seed) {
         for (int k = 0; k < levels; ++k) values.push_back(0.5 * k + 1.0);
         std::shuffle(values.begin(), values.end(), rng);
         y += "    values: [";
-        for (int k = 0; k < levels; ++k)
-          y += fmt::format("{}{:g}", k ? ", " : "", values[static_cast<std::size_t>(k)]);
+        for (int k = 0; k < levels; ++k) y += fmt::format("{}{:g}", k ? ", " : "", values[static_cast<std::size_t>(k)]);
         y += "]\n";
         info.lo = 1.0;
         info.hi = 0.5 * (levels - 1) + 1.0;
@@ -372,8 +361,7 @@ inline RandomOddText random_odd(std::uint64_t seed) {
   std::shuffle(numeric.begin(), numeric.end(), rng);
 
   if (chance(0.5))
-    y += fmt::format("relevance: \"{} + {} <= {:.2f}\"\n", norm(numeric[0]), norm(numeric[1]),
-                     uniform(0.6, 1.6));
+    y += fmt::format("relevance: \"{} + {} <= {:.2f}\"\n", norm(numeric[0]), norm(numeric[1]), uniform(0.6, 1.6));
   if (numeric.size() >= 3 && chance(0.4))
     y += fmt::format("constraints:\n  - \"{} >= {:.2f}\"\n", norm(numeric[2]), uniform(0.0, 0.3));
   if (chance(0.4)) y += fmt::format("tracked: \"{} < 0.5\"\n", norm(numeric[0]));
@@ -387,8 +375,7 @@ inline RandomOddText random_odd(std::uint64_t seed) {
     const std::size_t b = numeric[static_cast<std::size_t>(integer(0, static_cast<int>(numeric.size()) - 1))];
     const int shape = integer(0, 3);
     if (shape == 1) y += fmt::format("    region: \"{} < {:.2f}\"\n", norm(a), uniform(0.3, 0.9));
-    if (shape == 2)
-      y += fmt::format("    region: \"{} > {:.2f} || {} < 0.2\"\n", norm(a), uniform(0.2, 0.7), norm(b));
+    if (shape == 2) y += fmt::format("    region: \"{} > {:.2f} || {} < 0.2\"\n", norm(a), uniform(0.2, 0.7), norm(b));
     if (shape == 3) y += fmt::format("    region: \"{} >= 0.5 && {} <= 0.6\"\n", norm(a), norm(b));
     y += fmt::format("    hazards: [H{}, H{}]\n", integer(1, 4), integer(1, 4));
     y += fmt::format("    transitions: [\"{}\", \"{}\"]\n", pool[static_cast<std::size_t>(integer(0, 3))],
@@ -398,9 +385,9 @@ inline RandomOddText random_odd(std::uint64_t seed) {
   for (const auto& info : infos) q += info.multi && info.influential ? 1 : 0;
   RandomOddText out;
   out.strength = q >= 3 && chance(0.4) ? 3 : 2;
-  y += fmt::format(
-      "coverage: {{strength: {}, n_c: {}, n_m: {}, epsilon: {:.2f}, delta: {:.2f}, budget: {}}}\n",
-      out.strength, integer(1, 2), integer(1, 3), uniform(0.3, 0.45), uniform(0.02, 0.2), integer(150, 500));
+  y += fmt::format("coverage: {{strength: {}, n_c: {}, n_m: {}, epsilon: {:.2f}, delta: {:.2f}, budget: {}}}\n",
+                   out.strength, integer(1, 2), integer(1, 3), uniform(0.3, 0.45), uniform(0.02, 0.2),
+                   integer(150, 500));
   out.yaml = y;
   return out;
 }

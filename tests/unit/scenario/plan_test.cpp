@@ -36,9 +36,7 @@ TEST(PlanShipped, TrackedCellsGetTheWilsonSampleSize) {
   EXPECT_EQ(plan.tests_per_tracked_cell, std::max<std::size_t>(n, static_cast<std::size_t>(odd.n_c)));
   EXPECT_EQ(plan.tests_per_tracked_cell, n);  // n_c = 1 in the example
   // At n the worst case over every outcome (p̂ = ½) is within ε, at n − 1 it is not.
-  const auto worst = [&](double trials) {
-    return wilson_interval(0.5 * trials, trials, 1.0 - odd.delta).half_width();
-  };
+  const auto worst = [&](double trials) { return wilson_interval(0.5 * trials, trials, 1.0 - odd.delta).half_width(); };
   EXPECT_LE(worst(static_cast<double>(n)), odd.epsilon);
   EXPECT_GT(worst(static_cast<double>(n - 1)), odd.epsilon);
   EXPECT_GT(plan.tracked_cells, 0u);

@@ -150,8 +150,7 @@ TEST(WilsonWorstCase, SampleSizeIsTheSmallestSufficientN) {
         EXPECT_GT(wilson_worst_half_width(static_cast<double>(n - 1), confidence), epsilon);
       }
       const double z = normal_quantile(confidence);
-      EXPECT_EQ(n,
-                static_cast<std::size_t>(std::max(1.0, std::ceil(z * z / (4 * epsilon * epsilon) - z * z))));
+      EXPECT_EQ(n, static_cast<std::size_t>(std::max(1.0, std::ceil(z * z / (4 * epsilon * epsilon) - z * z))));
     }
   }
 }

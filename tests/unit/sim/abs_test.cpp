@@ -43,8 +43,7 @@ VehicleState run(const VehicleModel& model, VehicleState s, const ControlLaw& la
 
 // The ABS guarantee for one rolling axle: min(mu Fz, C |tan(alpha)| / 3).
 double abs_floor_n(const AxleForces& axle, double stiffness_n_per_rad, double mu) {
-  return std::min(mu * axle.normal_load_n,
-                  stiffness_n_per_rad * std::abs(std::tan(axle.slip_angle_rad)) / 3.0);
+  return std::min(mu * axle.normal_load_n, stiffness_n_per_rad * std::abs(std::tan(axle.slip_angle_rad)) / 3.0);
 }
 
 // Fiala lateral force magnitude for |tan(alpha)| = t under the lateral limit `limit_n`.
@@ -95,8 +94,7 @@ TEST(Abs, FrictionCircleHoldsAndTheLateralFloorIsKeptUnderFullBrakingWithSteerin
   const std::vector<ControlLaw> manoeuvres{
       [&](double) { return Control{.steer_rate_radps = rate, .brake = 1.0}; },
       [&](double t) {
-        return Control{.steer_rate_radps = std::sin(2.0 * std::numbers::pi * 0.5 * t) > 0 ? rate : -rate,
-                       .brake = 1.0};
+        return Control{.steer_rate_radps = std::sin(2.0 * std::numbers::pi * 0.5 * t) > 0 ? rate : -rate, .brake = 1.0};
       },
   };
   for (double mu : {0.3, 0.5, 1.0}) {
@@ -110,8 +108,7 @@ TEST(Abs, FrictionCircleHoldsAndTheLateralFloorIsKeptUnderFullBrakingWithSteerin
             const TireForces f = model.tire_forces(before, u, mu);
             const auto check = [&](const AxleForces& axle, double stiffness) {
               const double grip = mu * axle.normal_load_n;
-              worst_resultant =
-                  std::max(worst_resultant, std::hypot(axle.longitudinal_n, axle.lateral_n) / grip);
+              worst_resultant = std::max(worst_resultant, std::hypot(axle.longitudinal_n, axle.lateral_n) / grip);
               const double floor = abs_floor_n(axle, stiffness, mu);
               if (floor > 0.0) worst_lateral = std::min(worst_lateral, std::abs(axle.lateral_n) / floor);
             };
@@ -167,8 +164,7 @@ TEST(Abs, ForcesFollowTheCombinedSlipClosedForm) {
     }
     EXPECT_NEAR(f.front.normal_load_n, load, 1e-9 * weight) << brake;
     EXPECT_NEAR(f.rear.normal_load_n, weight - load, 1e-9 * weight) << brake;
-    const auto check = [&](const AxleForces& axle, const AbsAxle& expected, double stiffness,
-                           const char* name) {
+    const auto check = [&](const AxleForces& axle, const AbsAxle& expected, double stiffness, const char* name) {
       const double grip = mu * axle.normal_load_n;
       EXPECT_NEAR(axle.longitudinal_n, -expected.braking_n, 1e-9 * grip) << name << " " << brake;
       if (expected.capped) {
@@ -196,8 +192,7 @@ TEST(Abs, LateralForceIsContinuousAsTheBrakeGoesToFull) {
   // A rear floor of a fifth of the static rear grip (less at the front): the ABS takes over inside
   // [0.95, 1], where sqrt(1 - b^2) falls from 0.31 to 0.
   const double rear_static_grip = mu * p.mass_kg * kG * p.cg_to_front_axle_m / p.wheelbase_m();
-  const VehicleState s =
-      sideslipping(20.0, 3.0 * 0.2 * rear_static_grip / p.rear_cornering_stiffness_n_per_rad);
+  const VehicleState s = sideslipping(20.0, 3.0 * 0.2 * rear_static_grip / p.rear_cornering_stiffness_n_per_rad);
   const int steps = 500;
   const double step = 0.05 / steps;
   double worst = 0.0;  // |change of Fy| / bound
@@ -206,8 +201,8 @@ TEST(Abs, LateralForceIsContinuousAsTheBrakeGoesToFull) {
     const TireForces after = model.tire_forces(s, {.brake = i == steps ? 1.0 : 0.95 + i * step}, mu);
     const auto check = [&](const AxleForces& a, const AxleForces& b, double stiffness) {
       const double grip = mu * std::max(a.normal_load_n, b.normal_load_n);
-      const double bound = grip * grip / abs_floor_n(b, stiffness, mu) * step +
-                           mu * std::abs(b.normal_load_n - a.normal_load_n);
+      const double bound =
+          grip * grip / abs_floor_n(b, stiffness, mu) * step + mu * std::abs(b.normal_load_n - a.normal_load_n);
       worst = std::max(worst, std::abs(b.lateral_n - a.lateral_n) / bound);
     };
     check(before.front, after.front, p.front_cornering_stiffness_n_per_rad);
@@ -216,11 +211,9 @@ TEST(Abs, LateralForceIsContinuousAsTheBrakeGoesToFull) {
   }
   EXPECT_LE(worst, 1.0 + 1e-9);
   // At full braking both axles slide at the floor: lateral grip is left.
-  EXPECT_NEAR(std::abs(before.front.lateral_n),
-              abs_floor_n(before.front, p.front_cornering_stiffness_n_per_rad, mu),
+  EXPECT_NEAR(std::abs(before.front.lateral_n), abs_floor_n(before.front, p.front_cornering_stiffness_n_per_rad, mu),
               1e-9 * before.front.normal_load_n);
-  EXPECT_NEAR(std::abs(before.rear.lateral_n),
-              abs_floor_n(before.rear, p.rear_cornering_stiffness_n_per_rad, mu),
+  EXPECT_NEAR(std::abs(before.rear.lateral_n), abs_floor_n(before.rear, p.rear_cornering_stiffness_n_per_rad, mu),
               1e-9 * before.rear.normal_load_n);
   EXPECT_GT(std::abs(before.rear.lateral_n), 0.1 * mu * before.rear.normal_load_n);
 }

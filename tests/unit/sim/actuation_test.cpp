@@ -3,6 +3,8 @@
 // steer against an independent linear single-track model; planners' maneuvers replaying under
 // actuators; the bounds of the certificates under actuators.
 
+#include "emrm/sim/actuation.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include <random>
 #include <vector>
 
-#include "emrm/sim/actuation.hpp"
 #include "emrm/sim/certificate.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/planner.hpp"
@@ -149,7 +150,7 @@ TEST(Actuation, WheelAngleFollowsTheDeadTimeThenTheFirstOrderLag) {
     a.perception_latency_s = 0.1;
     a.steer_dead_time_s = 0.07;  // not a whole number of steps: the delay falls inside a step
     a.steer_time_constant_s = tc;
-    a.brake_ramp_s = 0.2;        // not instant even at tc = 0
+    a.brake_ramp_s = 0.2;       // not instant even at tc = 0
     const double peak = 0.048;  // six steps at the full rate: the command holds a whole number of steps
     const SteerRun s = step_steer(a, peak, 20.0);
     const double rate = s.config.ego.max_steer_rate_radps;
@@ -226,8 +227,8 @@ TEST(Actuation, PlannerManeuversReplayThroughTheActuators) {
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
   const ControlLimits drift{.allow_rear_lock = true};
   int compared = 0;
-  for (const CellInput& cell : {CellInput{50, 1.0, 1.0, 3.0, 10.0}, CellInput{40, 0.9, 1.0, 2.0, 10.0},
-                                CellInput{60, 1.1, 0.5, 3.0, 10.0}}) {
+  for (const CellInput& cell :
+       {CellInput{50, 1.0, 1.0, 3.0, 10.0}, CellInput{40, 0.9, 1.0, 2.0, 10.0}, CellInput{60, 1.1, 0.5, 3.0, 10.0}}) {
     const Scene scene(config, cell);
     const PlanResult plan = plan_rrt(scene, *model, drift, 3, false);
     for (const auto* found : {&plan.avoidance, &plan.collision}) {

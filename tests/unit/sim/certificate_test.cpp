@@ -142,8 +142,9 @@ SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, const 
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   while (run.tried < cells) {
     SceneConfig config = searches;
-    config.actuation = {0.4 * unit(rng), 0.3 * unit(rng), 0.5 * unit(rng),
-                        unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0, 0.15 * unit(rng), 0.25 * unit(rng)};
+    config.actuation = {0.4 * unit(rng),  0.3 * unit(rng),
+                        0.5 * unit(rng),  unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0,
+                        0.15 * unit(rng), 0.25 * unit(rng)};
     const CellInput cell = random_cell(rng);
     try {
       validate_cell(config, cell);
@@ -182,9 +183,9 @@ TEST(Certificate, DISABLED_LongSoundnessRunUnderActuators) {
   const char* nodes_env = std::getenv("EMRM_CERT_NODES");
   SceneConfig searches;
   if (nodes_env != nullptr) searches.planner.max_nodes = std::atoi(nodes_env);
-  const SoundnessRun run = run_soundness_under_actuators(cells_env != nullptr ? std::atoi(cells_env) : 20000,
-                                                         seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 21,
-                                                         searches);
+  const SoundnessRun run =
+      run_soundness_under_actuators(cells_env != nullptr ? std::atoi(cells_env) : 20000,
+                                    seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 21, searches);
   std::printf("long soundness run under actuators: %d cells tried, %d certified, %d violations\n", run.tried,
               run.certified, run.violations);
   EXPECT_EQ(run.violations, 0);
@@ -295,8 +296,8 @@ TEST(Certificate, NoStrategyAvoidsACellTheFlankWitnessCertifies) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int flank = 0, tried = 0;
   while (flank < wanted && tried < 5000) {
-    const CellInput cell{20.0 + 40.0 * unit(rng), 0.1 + 0.5 * unit(rng), 0.1 + 0.9 * unit(rng),
-                         0.5 + 4.5 * unit(rng), 5.0 + 25.0 * unit(rng)};
+    const CellInput cell{20.0 + 40.0 * unit(rng), 0.1 + 0.5 * unit(rng), 0.1 + 0.9 * unit(rng), 0.5 + 4.5 * unit(rng),
+                         5.0 + 25.0 * unit(rng)};
     ++tried;
     const Scene scene(config, cell);
     const auto cert = certify_unavoidable(scene);
@@ -383,8 +384,8 @@ TEST(Certificate, CheckerAcceptsCertificatesAndRejectsTamperedOnes) {
 }
 
 TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
-  for (const ActuationConfig& actuation : {ActuationConfig{}, ActuationConfig{.perception_latency_s = 0.25},
-                                           kProductionActuation}) {
+  for (const ActuationConfig& actuation :
+       {ActuationConfig{}, ActuationConfig{.perception_latency_s = 0.25}, kProductionActuation}) {
     SceneConfig config;
     config.actuation = actuation;
     const double latency = actuation.perception_latency_s;

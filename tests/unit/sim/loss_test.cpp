@@ -1,11 +1,12 @@
 #include "emrm/sim/loss.hpp"
-#include "emrm/sim/rollout.hpp"
-#include "emrm/sim/vehicle.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+
+#include "emrm/sim/rollout.hpp"
+#include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
 namespace loss_test {
@@ -24,8 +25,7 @@ const double kL7DeltaV = 31.74 * std::pow(0.1, 0.25);
 
 int expected_level(double dv) { return dv >= kL7DeltaV ? 7 : (dv >= kL6DeltaV ? 6 : 4); }
 
-ImpactBody body(double mass, double inertia, core::Vec2 position, core::Vec2 velocity,
-                double yaw_rate = 0.0) {
+ImpactBody body(double mass, double inertia, core::Vec2 position, core::Vec2 velocity, double yaw_rate = 0.0) {
   return {mass, inertia, position, velocity, yaw_rate};
 }
 
@@ -61,8 +61,7 @@ Kinetics after_impulse(ImpactBody a, ImpactBody b, core::Vec2 point, core::Vec2 
   Kinetics k;
   for (const auto& x : {a, b}) {
     k.momentum = k.momentum + x.velocity_mps * x.mass_kg;
-    k.angular_momentum +=
-        x.mass_kg * x.position_m.cross(x.velocity_mps) + x.yaw_inertia_kgm2 * x.yaw_rate_radps;
+    k.angular_momentum += x.mass_kg * x.position_m.cross(x.velocity_mps) + x.yaw_inertia_kgm2 * x.yaw_rate_radps;
     k.energy += 0.5 * x.mass_kg * x.velocity_mps.dot(x.velocity_mps) +
                 0.5 * x.yaw_inertia_kgm2 * x.yaw_rate_radps * x.yaw_rate_radps;
   }
@@ -193,8 +192,7 @@ TEST(Loss, OffCentreAndGlancingHitsAreMilderThanCentral) {
   previous = central;
   for (const double angle_deg : {20.0, 45.0, 70.0}) {
     const double a = angle_deg * std::numbers::pi / 180;
-    const double dv =
-        assess_impact(ego, truck, contact_at({2.25, 0}, {std::cos(a), -std::sin(a)}), c).delta_v_mps;
+    const double dv = assess_impact(ego, truck, contact_at({2.25, 0}, {std::cos(a), -std::sin(a)}), c).delta_v_mps;
     EXPECT_LT(dv, previous) << angle_deg;
     previous = dv;
   }
@@ -219,8 +217,7 @@ TEST(Loss, SeparatingBodiesGiveNoDeltaV) {
   // Both moving the same way, the truck faster: also separating.
   const auto fleeing = body(kTruckMass, kTruckInertia, {3.5, 0}, {5, 0});
   EXPECT_EQ(
-      assess_impact(body(kEgoMass, kEgoInertia, {0, 0}, {4, 0}), fleeing, contact_at({2.25, 0}, {1, 0}), c)
-          .delta_v_mps,
+      assess_impact(body(kEgoMass, kEgoInertia, {0, 0}, {4, 0}), fleeing, contact_at({2.25, 0}, {1, 0}), c).delta_v_mps,
       0.0);
 }
 
@@ -275,8 +272,7 @@ TEST(Loss, ImpulseConservesMomentumAndRespectsFriction) {
   // The impulse pushes the ego back along the normal and lies inside the friction cone.
   const core::Vec2 t{-n.y, n.x};
   EXPECT_LT(impact.ego_impulse_ns.dot(n), 0.0);
-  EXPECT_LE(std::abs(impact.ego_impulse_ns.dot(t)),
-            c.contact_friction * -impact.ego_impulse_ns.dot(n) + 1e-9);
+  EXPECT_LE(std::abs(impact.ego_impulse_ns.dot(t)), c.contact_friction * -impact.ego_impulse_ns.dot(n) + 1e-9);
 }
 
 TEST(Loss, NormalImpulseWithRotationStopsOrReversesTheContactPoint) {
@@ -305,9 +301,8 @@ TEST(Loss, NormalImpulseWithRotationStopsOrReversesTheContactPoint) {
     const double closing_after = (point_velocity(ego) - point_velocity(truck)).dot(n);
     EXPECT_NEAR(closing_after, -e * closing_before, 1e-9) << "e = " << e;
     if (e == 1.0) {
-      const Kinetics k0 =
-          after_impulse(body(kEgoMass, kEgoInertia, {0, 0}, {12, 1}, 0.3),
-                        body(kTruckMass, kTruckInertia, {3.0, 2.5}, {0, -2.0}, -0.1), p, {0, 0});
+      const Kinetics k0 = after_impulse(body(kEgoMass, kEgoInertia, {0, 0}, {12, 1}, 0.3),
+                                        body(kTruckMass, kTruckInertia, {3.0, 2.5}, {0, -2.0}, -0.1), p, {0, 0});
       const Kinetics k1 = after_impulse(body(kEgoMass, kEgoInertia, {0, 0}, {12, 1}, 0.3),
                                         body(kTruckMass, kTruckInertia, {3.0, 2.5}, {0, -2.0}, -0.1), p, j);
       EXPECT_NEAR(k1.energy, k0.energy, 1e-6 * k0.energy);  // elastic and frictionless: energy kept

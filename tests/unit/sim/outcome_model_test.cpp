@@ -9,9 +9,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -79,8 +79,8 @@ TEST(SafeState, EveryAvoidanceEndsStoppedOrStableWithRoomToStop) {
     for (const auto& o : r.strategies) {
       if (!o.avoided) continue;
       ++avoided;
-      EXPECT_TRUE(ends_safe(config, cell, o)) << cell.speed_kph << " km/h, TTC " << cell.ttc_s << " s, mu "
-                                              << cell.mu << ", passage " << cell.passage_m << " m";
+      EXPECT_TRUE(ends_safe(config, cell, o)) << cell.speed_kph << " km/h, TTC " << cell.ttc_s << " s, mu " << cell.mu
+                                              << ", passage " << cell.passage_m << " m";
     }
   }
   EXPECT_GT(avoided, 0);  // the property is not vacuous
@@ -237,8 +237,8 @@ TEST(EmrmChoice, NeverWorseThanTheStrategiesItMayChoose) {
         for (const auto& o : r.strategies) {
           const StrategyInfo* info = table.info(o.strategy);
           if (info == nullptr || !info->emrm_may_choose) continue;
-          EXPECT_FALSE(better_outcome(o, emrm)) << o.strategy << " beats emrm at " << speed << " km/h, TTC " << ttc
-                                                << ", mu " << mu;
+          EXPECT_FALSE(better_outcome(o, emrm))
+              << o.strategy << " beats emrm at " << speed << " km/h, TTC " << ttc << ", mu " << mu;
         }
         if (!emrm.chosen_strategy.empty() && emrm.chosen_strategy != "none" &&
             emrm.chosen_strategy != emrm.adopted_from)
@@ -251,9 +251,9 @@ TEST(EmrmChoice, ALaterStrategysAvoidanceIsSharedWithAnEarlierOneWhoseLimitsItOb
   const ControlLimits dodge{.forbid_rear_sliding = true};
   const ControlLimits drift{.allow_rear_lock = true};
   const ControlLimits accident{.allow_rear_lock = true, .accept_contact = true};
-  EXPECT_TRUE(avoidance_admissible(accident, drift));   // a drift to accident that avoids is a drift to avoid
-  EXPECT_TRUE(avoidance_admissible(dodge, drift));      // a dodge is a legal drift
-  EXPECT_FALSE(avoidance_admissible(drift, dodge));     // a drift may slide the rear: not a dodge
+  EXPECT_TRUE(avoidance_admissible(accident, drift));  // a drift to accident that avoids is a drift to avoid
+  EXPECT_TRUE(avoidance_admissible(dodge, drift));     // a dodge is a legal drift
+  EXPECT_FALSE(avoidance_admissible(drift, dodge));    // a drift may slide the rear: not a dodge
   EXPECT_FALSE(avoidance_admissible(accident, dodge));
 }
 
@@ -330,7 +330,7 @@ TEST(SeedStability, TheRegionDoesNotDependOnThePlannersSeed) {
   // The wet-road cell that gave Y O O Y O O O Y for seeds 1…8 when a single search decided it,
   // and cells on the edges of the evasion band (dry, wet, narrow).
   const SceneConfig config;
-  const std::vector<CellInput> cells{{65.0, 1.1, 0.5, 2.0, 10.0}, {60.0, 0.4, 1.0, 3.0, 10.0},
+  const std::vector<CellInput> cells{{65.0, 1.1, 0.5, 2.0, 10.0},  {60.0, 0.4, 1.0, 3.0, 10.0},
                                      {45.0, 0.35, 1.0, 3.0, 10.0}, {70.0, 0.5, 1.0, 2.0, 10.0},
                                      {50.0, 0.9, 0.6, 2.5, 10.0},  {40.0, 0.3, 1.0, 1.8, 10.0}};
   for (const auto& cell : cells) EXPECT_TRUE(seed_stable(config, cell, 3));
@@ -376,8 +376,7 @@ TEST(SeedStability, DISABLED_HundredCellsNearTheBoundariesFiveSeeds) {
     const double speed = 30.0 + 42.0 * uniform();
     const double mu = 0.3 + 0.7 * uniform();
     const double stop_ttc = speed / 3.6 / (2.0 * mu * kGravity_mps2);
-    const CellInput cell{speed, std::max(0.1, stop_ttc - 0.6 * uniform()), mu,
-                         1.5 + 2.0 * uniform(), 10.0};
+    const CellInput cell{speed, std::max(0.1, stop_ttc - 0.6 * uniform()), mu, 1.5 + 2.0 * uniform(), 10.0};
     if (!Scene(config, cell).feasible()) continue;
     ++tried;
     const auto verdict = seed_stable(config, cell, 5);

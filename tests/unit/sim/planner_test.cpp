@@ -100,7 +100,8 @@ TEST(Rrt, DodgePathsNeverLockOrSlideTheRearAxle) {
         EXPECT_FALSE(p.control.rear_lock);
         const auto rear = model->tire_forces(p.state, p.control, 1.0).rear;
         EXPECT_FALSE(rear.saturated && std::abs(rear.slip_angle_rad) > 0.035)
-            << "t " << p.t_s << " v " << p.state.speed_mps() << " slip " << rear.slip_angle_rad << " brake " << p.control.brake;
+            << "t " << p.t_s << " v " << p.state.speed_mps() << " slip " << rear.slip_angle_rad << " brake "
+            << p.control.brake;
       }
     }
   EXPECT_GT(found, 0);
@@ -123,8 +124,9 @@ TEST(Rrt, FindsAnAvoidanceWhereverTheReferencePlannerDoesIn99PercentOfCells) {
     if (!scene.feasible()) continue;
     ++cells;
     const auto result = simulate_cell(config, cell, {});
-    for (const auto& [name, limits] : {std::pair{std::string("dodge"), ControlLimits{.forbid_rear_sliding = true}},
-                                       std::pair{std::string("drift_to_avoid"), ControlLimits{.allow_rear_lock = true}}}) {
+    for (const auto& [name, limits] :
+         {std::pair{std::string("dodge"), ControlLimits{.forbid_rear_sliding = true}},
+          std::pair{std::string("drift_to_avoid"), ControlLimits{.allow_rear_lock = true}}}) {
       const auto reference = plan_reference(scene, *model, limits);
       if (!reference.avoidance) continue;
       ++reference_avoids;

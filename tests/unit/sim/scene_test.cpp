@@ -174,8 +174,8 @@ TEST(Scene, TruckNeverMovesBackAndItsSpeedIsTheSlopeOfItsPosition) {
     const auto truck = scene.truck_at(t);
     EXPECT_LE(truck.velocity_mps.y, 0.0);
     EXPECT_EQ(truck.velocity_mps.x, 0.0);
-    const double slope = (scene.truck_front_y_at(t + h) - scene.truck_front_y_at(std::max(t - h, 0.0))) /
-                         (t + h - std::max(t - h, 0.0));
+    const double slope =
+        (scene.truck_front_y_at(t + h) - scene.truck_front_y_at(std::max(t - h, 0.0))) / (t + h - std::max(t - h, 0.0));
     EXPECT_NEAR(truck.velocity_mps.y, slope, 1e-4) << "t = " << t;
   }
   EXPECT_NEAR(scene.truck_at(0.0).velocity_mps.y, -15.0 / 3.6, 1e-12);
@@ -418,28 +418,23 @@ struct BadField {
 // the same words; the file's error stands at the field.
 TEST(SceneValidate, ACodeBuiltSceneBreaksTheSameRuleWithTheSameWordsAsAFile) {
   const std::vector<BadField> cases{
-      {"road:\n  lane_width_m: -1\n", "-1", [](SceneConfig& c) { c.road.lane_width_m = -1; },
-       "road.lane_width_m"},
+      {"road:\n  lane_width_m: -1\n", "-1", [](SceneConfig& c) { c.road.lane_width_m = -1; }, "road.lane_width_m"},
       {"road:\n  lanes: 0\n", "0", [](SceneConfig& c) { c.road.lanes = 0; }, "road.lanes"},
-      {"road:\n  shoulder_m: -0.5\n", "-0.5", [](SceneConfig& c) { c.road.shoulder_m = -0.5; },
-       "road.shoulder_m"},
+      {"road:\n  shoulder_m: -0.5\n", "-0.5", [](SceneConfig& c) { c.road.shoulder_m = -0.5; }, "road.shoulder_m"},
       {"road:\n  ego_lane_center_m: 3.0\n", "3.0", [](SceneConfig& c) { c.road.ego_lane_center_m = 3.0; },
        "road.ego_lane_center_m"},
       {"truck:\n  mass_kg: 0\n", "0", [](SceneConfig& c) { c.truck.mass_kg = 0; }, "truck.mass_kg"},
       {"ego:\n  length_m: 2\n", "2", [](SceneConfig& c) { c.ego.length_m = 2; }, "ego.length_m"},
-      {"ego:\n  max_steer_rad: 1.6\n", "1.6", [](SceneConfig& c) { c.ego.max_steer_rad = 1.6; },
-       "ego.max_steer_rad"},
-      {"ego:\n  kinematic_blend_speed_mps: -1\n", "-1",
-       [](SceneConfig& c) { c.ego.kinematic_blend_speed_mps = -1; }, "ego.kinematic_blend_speed_mps"},
+      {"ego:\n  max_steer_rad: 1.6\n", "1.6", [](SceneConfig& c) { c.ego.max_steer_rad = 1.6; }, "ego.max_steer_rad"},
+      {"ego:\n  kinematic_blend_speed_mps: -1\n", "-1", [](SceneConfig& c) { c.ego.kinematic_blend_speed_mps = -1; },
+       "ego.kinematic_blend_speed_mps"},
       {"simulation:\n  vehicle_model: unicycle\n", "unicycle",
        [](SceneConfig& c) { c.simulation.vehicle_model = "unicycle"; }, "simulation.vehicle_model"},
       {"simulation:\n  dt_s: 5\n", "5", [](SceneConfig& c) { c.simulation.dt_s = 5; }, "simulation.dt_s"},
       {"severity:\n  restitution: 1.5\n", "1.5", [](SceneConfig& c) { c.severity.restitution = 1.5; },
        "severity.restitution"},
-      {"severity:\n  l7_p_fatal: 0\n", "0", [](SceneConfig& c) { c.severity.l7_p_fatal = 0; },
-       "severity.l7_p_fatal"},
-      {"planner:\n  max_nodes: 0\n", "0", [](SceneConfig& c) { c.planner.max_nodes = 0; },
-       "planner.max_nodes"},
+      {"severity:\n  l7_p_fatal: 0\n", "0", [](SceneConfig& c) { c.severity.l7_p_fatal = 0; }, "severity.l7_p_fatal"},
+      {"planner:\n  max_nodes: 0\n", "0", [](SceneConfig& c) { c.planner.max_nodes = 0; }, "planner.max_nodes"},
       {"planner:\n  min_duration_s: 0.5\n", "0.5", [](SceneConfig& c) { c.planner.min_duration_s = 0.5; },
        "planner.min_duration_s"},
       {"max_initial_distance_m: -3\n", "-3", [](SceneConfig& c) { c.max_initial_distance_m = -3; },
@@ -483,8 +478,7 @@ TEST(SceneValidate, EachPartValidatesOnItsOwnNamedAfterThePart) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(message(RoadConfig{}, [](RoadConfig& r) { r.lanes = 0; }),
-            "road: lanes: expected at least 1 lane, got 0");
+  EXPECT_EQ(message(RoadConfig{}, [](RoadConfig& r) { r.lanes = 0; }), "road: lanes: expected at least 1 lane, got 0");
   EXPECT_EQ(message(TruckConfig{}, [](TruckConfig& t) { t.width_m = 0; }),
             "truck: width_m: expected a value > 0, got 0");
   EXPECT_EQ(message(SimulationConfig{}, [](SimulationConfig& s) { s.horizon_s = -1; }),

@@ -190,12 +190,16 @@ TEST(Outcomes, EmrmChoosesByTheLossEvaluationRule) {
       if (!r.feasible) continue;
       const auto& emrm = outcome(r, "emrm");
       std::string expected;
-      if (outcome(r, "emergency_stop").avoided) expected = "emergency_stop";
-      else if (outcome(r, "dodge").avoided) expected = "dodge";
+      if (outcome(r, "emergency_stop").avoided)
+        expected = "emergency_stop";
+      else if (outcome(r, "dodge").avoided)
+        expected = "dodge";
       else if (outcome(r, "drift_to_avoid").avoided || outcome(r, "drift_to_accident").avoided)
         expected = "drift_to_avoid";
-      else if (r.unmitigated.loss_level <= 4 || mu < 0.35) expected = "emergency_stop";
-      else expected = "drift_to_accident";
+      else if (r.unmitigated.loss_level <= 4 || mu < 0.35)
+        expected = "emergency_stop";
+      else
+        expected = "drift_to_accident";
       EXPECT_EQ(emrm.chosen_strategy, expected) << "TTC " << ttc << " mu " << mu;
       EXPECT_EQ(emrm.avoided, outcome(r, expected).avoided);
     }

@@ -57,8 +57,7 @@ double inverse_fiala(double f) {
 double linear_gradient_rad_per_g(const VehicleParams& p) {
   const double weight = p.mass_kg * kG;
   const double front = weight * p.cg_to_rear_axle_m / p.wheelbase_m();
-  return front / p.front_cornering_stiffness_n_per_rad -
-         (weight - front) / p.rear_cornering_stiffness_n_per_rad;
+  return front / p.front_cornering_stiffness_n_per_rad - (weight - front) / p.rear_cornering_stiffness_n_per_rad;
 }
 
 // Steering angles at 22 m/s on dry road, lateral accelerations between 0.1 g and 0.4 g; the slope of

@@ -40,8 +40,7 @@ struct BodyAcceleration {
   double longitudinal_mps2;
   double lateral_mps2;
 };
-BodyAcceleration body_acceleration(const VehicleModel& model, const VehicleState& s, const Control& u,
-                                   double mu) {
+BodyAcceleration body_acceleration(const VehicleModel& model, const VehicleState& s, const Control& u, double mu) {
   const VehicleState d = model.derivative(s, u, mu);
   return {d.vx_mps - s.yaw_rate_radps * s.vy_mps, d.vy_mps + s.yaw_rate_radps * s.vx_mps};
 }
@@ -51,8 +50,8 @@ using Visitor =
     std::function<void(double t_s, const VehicleState& before, const Control& u, const VehicleState& after)>;
 
 // Steps `model` for `duration_s`; `visit` sees every step.
-VehicleState run(const VehicleModel& model, VehicleState s, double mu, double duration_s,
-                 const ControlLaw& law, const Visitor& visit = {}) {
+VehicleState run(const VehicleModel& model, VehicleState s, double mu, double duration_s, const ControlLaw& law,
+                 const Visitor& visit = {}) {
   const int steps = static_cast<int>(std::lround(duration_s / kDt));
   for (int i = 0; i < steps; ++i) {
     const double t = i * kDt;
@@ -133,9 +132,8 @@ TEST(VehicleModelRegistry, RejectsParametersItCannotSimulateNamingTheField) {
     FAIL() << "expected a ConfigError";
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.path().str(), "length_m");
-    EXPECT_EQ(
-        std::string(e.message()),
-        "vehicle: length_m: expected the car to be at least as long as its wheelbase (4.923 m), got 4.508 m");
+    EXPECT_EQ(std::string(e.message()),
+              "vehicle: length_m: expected the car to be at least as long as its wheelbase (4.923 m), got 4.508 m");
   }
   params.cg_to_front_axle_m = 0.0;
   EXPECT_THROW((void)make_vehicle_model("kinematic_bicycle", params), InputError);
@@ -163,8 +161,8 @@ TEST(SingleTrackFiala, RearAxleSlidingDecidesAsTheTireForcesDo) {
               const AxleForces rear = model.tire_forces(s, u, mu).rear;
               const bool expected = rear.saturated && std::abs(rear.slip_angle_rad) > kLimit;
               EXPECT_EQ(model.rear_axle_sliding(s, u, mu, kLimit), expected)
-                  << "vx " << vx << " angle " << angle << " sign " << sign << " r " << yaw_rate << " brake "
-                  << brake << " mu " << mu;
+                  << "vx " << vx << " angle " << angle << " sign " << sign << " r " << yaw_rate << " brake " << brake
+                  << " mu " << mu;
               sliding += expected ? 1 : 0;
               ++checked;
             }
@@ -196,8 +194,7 @@ TEST(SingleTrackFiala, FullAbsBrakingDeceleratesAtMuGWhateverTheLoadTransfer) {
       EXPECT_NEAR(f.front.longitudinal_n + f.rear.longitudinal_n, -mu * p.mass_kg * kG, 1e-6);
       // Quasi-static transfer of m a h / L to the front axle.
       const double transfer = p.mass_kg * mu * kG * p.cg_height_m / p.wheelbase_m();
-      EXPECT_NEAR(f.front.normal_load_n, p.mass_kg * kG * p.cg_to_rear_axle_m / p.wheelbase_m() + transfer,
-                  1e-6);
+      EXPECT_NEAR(f.front.normal_load_n, p.mass_kg * kG * p.cg_to_rear_axle_m / p.wheelbase_m() + transfer, 1e-6);
       EXPECT_NEAR(f.front.normal_load_n + f.rear.normal_load_n, p.mass_kg * kG, 1e-6);
       // Straight braking at the friction limit leaves no lateral grip on either axle: the ABS floor
       // C tan(alpha) / 3 is zero at zero slip.
@@ -215,12 +212,11 @@ TEST(SingleTrackFiala, FullAbsBrakingStopsAtTheAnalyticDistanceAndStaysStopped) 
       const double v = kph(speed_kph);
       double min_vx = v;
       double stop_time = -1.0;
-      const VehicleState end =
-          run(model, moving(v), mu, v / (mu * kG) + 1.0, constant({.brake = 1.0}),
-              [&](double t, const VehicleState&, const Control&, const VehicleState& after) {
-                min_vx = std::min(min_vx, after.vx_mps);
-                if (stop_time < 0.0 && after.vx_mps == 0.0) stop_time = t + kDt;
-              });
+      const VehicleState end = run(model, moving(v), mu, v / (mu * kG) + 1.0, constant({.brake = 1.0}),
+                                   [&](double t, const VehicleState&, const Control&, const VehicleState& after) {
+                                     min_vx = std::min(min_vx, after.vx_mps);
+                                     if (stop_time < 0.0 && after.vx_mps == 0.0) stop_time = t + kDt;
+                                   });
       const double expected = v * v / (2.0 * mu * kG);
       EXPECT_NEAR(end.x_m, expected, v * kDt) << speed_kph << " km/h, mu " << mu;
       EXPECT_NEAR(stop_time, v / (mu * kG), kDt + 1e-9) << speed_kph << " km/h, mu " << mu;
@@ -247,12 +243,11 @@ TEST(SingleTrackFiala, BrakingThroughTheKinematicBlendNeverReverses) {
   const auto model = fiala();
   for (bool lock : {false, true}) {
     double min_vx = 1.0;
-    const VehicleState end =
-        run(model, moving(4.0, 0.3), 0.6, 5.0, constant({.brake = 0.5, .rear_lock = lock}),
-            [&](double, const VehicleState&, const Control&, const VehicleState& after) {
-              ASSERT_TRUE(std::isfinite(after.x_m) && std::isfinite(after.vy_mps));
-              min_vx = std::min(min_vx, after.vx_mps);
-            });
+    const VehicleState end = run(model, moving(4.0, 0.3), 0.6, 5.0, constant({.brake = 0.5, .rear_lock = lock}),
+                                 [&](double, const VehicleState&, const Control&, const VehicleState& after) {
+                                   ASSERT_TRUE(std::isfinite(after.x_m) && std::isfinite(after.vy_mps));
+                                   min_vx = std::min(min_vx, after.vx_mps);
+                                 });
     EXPECT_GE(min_vx, 0.0) << lock;
     EXPECT_EQ(end.speed_mps(), 0.0) << lock;
   }
@@ -316,13 +311,11 @@ TEST(SingleTrackFiala, LateralAccelerationNeverExceedsFriction) {
   const std::vector<ControlLaw> manoeuvres{
       [&](double, const VehicleState&) { return Control{.steer_rate_radps = max_rate}; },
       [&](double t, const VehicleState&) {
-        return Control{.steer_rate_radps =
-                           max_rate * (std::sin(2.0 * std::numbers::pi * 0.7 * t) > 0 ? 1 : -1)};
+        return Control{.steer_rate_radps = max_rate * (std::sin(2.0 * std::numbers::pi * 0.7 * t) > 0 ? 1 : -1)};
       },
       [&](double t, const VehicleState&) {
-        return Control{
-            .steer_rate_radps = max_rate * (std::sin(2.0 * std::numbers::pi * 0.5 * t) > 0 ? 1 : -1),
-            .brake = 0.5};
+        return Control{.steer_rate_radps = max_rate * (std::sin(2.0 * std::numbers::pi * 0.5 * t) > 0 ? 1 : -1),
+                       .brake = 0.5};
       },
       [&](double t, const VehicleState&) {
         return Control{.steer_rate_radps = t < 0.6 ? max_rate : 0.0, .brake = 0.3, .rear_lock = true};
@@ -375,8 +368,7 @@ TEST(SingleTrackFiala, DodgeWithinGripKeepsTheRearAxleRolling) {
           if (before.speed_mps() == 0.0) return;
           ++steps;
           saturated += model.tire_forces(before, u, 1.0).rear.saturated ? 1 : 0;
-          peak_lateral =
-              std::max(peak_lateral, std::abs(body_acceleration(model, before, u, 1.0).lateral_mps2));
+          peak_lateral = std::max(peak_lateral, std::abs(body_acceleration(model, before, u, 1.0).lateral_mps2));
         });
     if (lock) {
       EXPECT_EQ(saturated, steps);
@@ -395,8 +387,7 @@ TEST(VehicleModel, SteeringStaysWithinAngleAndRateLimits) {
       run(*model, moving(15.0), 1.0, 2.0, constant({.steer_rate_radps = command}),
           [&](double, const VehicleState& before, const Control&, const VehicleState& after) {
             EXPECT_LE(std::abs(after.steer_rad), p.max_steer_rad) << name;
-            EXPECT_LE(std::abs(after.steer_rad - before.steer_rad), p.max_steer_rate_radps * kDt + 1e-12)
-                << name;
+            EXPECT_LE(std::abs(after.steer_rad - before.steer_rad), p.max_steer_rate_radps * kDt + 1e-12) << name;
           });
     }
     // Pushing against the stop does not move the wheel, and steering back leaves it at once.
@@ -449,10 +440,9 @@ TEST(KinematicBicycle, ConstantSteerDrivesACircleOfTheKinematicRadius) {
   const double centre_x = -radius * std::sin(beta);
   const double centre_y = radius * std::cos(beta);
   double worst = 0.0;
-  run(model, start, 1.0, 10.0, constant({}),
-      [&](double, const VehicleState&, const Control&, const VehicleState& s) {
-        worst = std::max(worst, std::abs(std::hypot(s.x_m - centre_x, s.y_m - centre_y) - radius));
-      });
+  run(model, start, 1.0, 10.0, constant({}), [&](double, const VehicleState&, const Control&, const VehicleState& s) {
+    worst = std::max(worst, std::abs(std::hypot(s.x_m - centre_x, s.y_m - centre_y) - radius));
+  });
   EXPECT_LT(worst, 1e-6 * radius);
 }
 
