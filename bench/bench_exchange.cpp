@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "emrm/exchange/assess.hpp"
+#include "emrm/exchange/opendrive.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
 
 namespace {
 

@@ -15,7 +15,9 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/exchange/assess.hpp"
+#include "emrm/exchange/ego_trajectory.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 

@@ -14,6 +14,7 @@
 
 #include "certificate_support.hpp"
 #include "emrm/sim/scene.hpp"
+#include "emrm/sim/termination.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim::certificate_bounds {
@@ -23,8 +24,6 @@ using certificate_support::AxleSupport;
 using certificate_support::fiala_cap;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// The simulator's "stopped" speed (rollout.cpp, StoppedTest): a run ends as stopped below it.
-constexpr double kStoppedSpeed_mps = 0.05;
 // Longest time after the latency the bound is integrated; witnesses needing more are not tried.
 constexpr double kHorizon_s = 3.0;
 // The slip bounds need the body's forward speed (and the front wheel's rolling speed) bounded away

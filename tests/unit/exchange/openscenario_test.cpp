@@ -20,7 +20,11 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/expression.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/exchange/ego_trajectory.hpp"
+#include "emrm/exchange/opendrive.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
+#include "emrm/sim/termination.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "exchange/xml_support.hpp"
 
@@ -478,7 +482,7 @@ TEST(OpenScenario, TrajectoryEndsOnTheFrameGrid) {
       const double frames = end.t_s / dt;
       EXPECT_NEAR(frames, std::round(frames), 1e-6) << o.strategy << " ends at " << end.t_s << " s";
       const double first_frame = std::ceil(last.t_s / dt - 1e-6) * dt;
-      if (last.state.speed_mps() < kStoppedSpeed_mps) {
+      if (last.state.speed_mps() < sim::kStoppedSpeed_mps) {
         ++at_rest;
         EXPECT_NEAR(end.t_s, std::max(first_frame, last.t_s) + dt, 1e-9) << o.strategy;
         EXPECT_EQ(end.state.x_m, last.state.x_m);

@@ -1,25 +1,15 @@
-#pragma once
+// When a valid rollout is over (termination.hpp): the built-in termination tests — passed the truck,
+// stopped, certain to stop short, the horizon, and the safe state after the truck.
 
-// The built-in termination tests of a rollout (rollout.hpp, TerminationTest): passed the truck,
-// stopped, certain to stop short, the horizon, and the safe state after the truck. Internal to
-// src/sim: rollout.cpp is the only user; they sit in its anonymous namespace's neighbour so the
-// rollout loop can call them directly.
+#include "emrm/sim/termination.hpp"
 
 #include <cmath>
-#include <numbers>
 
-#include "emrm/sim/rollout.hpp"
+#include "check_support.hpp"
+#include "emrm/core/trig.hpp"
 
-namespace emrm::sim::termination {
-
-// The built-in checks answer through `why` and return whether the step ends the rollout.
-inline bool end(Termination& why, Termination reason) noexcept {
-  why = reason;
-  return true;
-}
-
-inline constexpr double kStoppedSpeed_mps = 0.05;
-
+namespace emrm::sim {
+namespace detail {
 
 class PassedTruckTest {
  public:
@@ -99,4 +89,62 @@ class StabilisedTest {
   const Scene& scene_;
 };
 
-}  // namespace emrm::sim::termination
+}  // namespace detail
+
+bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept {
+  return stable_with_room_to_stop(scene, s, scene.ego_box(s));
+}
+
+bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s, const core::OrientedBox& ego_box) noexcept {
+  const SafeStateConfig& bounds = scene.config().safe_state;
+  if (!(std::abs(s.yaw_rate_radps) <= bounds.max_yaw_rate_radps &&
+        std::abs(s.slip_angle_rad()) <= bounds.max_slip_angle_rad &&
+        std::abs(core::wrap_angle(s.yaw_rad)) <= bounds.max_heading_error_rad &&
+        std::abs(s.steer_rad) <= bounds.max_steer_rad))
+    return false;
+  // A stop from here, through the brakes' dead time and ramp.
+  const double stop_distance = scene.config().actuation.stopping_distance_m(s.speed_mps(), scene.cell().mu, false);
+  core::OrientedBox at_rest = ego_box;
+  at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
+  return scene.on_drivable_area(at_rest);
+}
+
+struct TerminationTest::BuiltIn {
+  detail::PassedTruckTest passed;
+  detail::StoppedTest stopped;
+  detail::StopsShortTest stops_short;
+  detail::HorizonTest horizon;
+  detail::StabilisedTest stabilised;
+};
+
+TerminationTest::TerminationTest(const Scene& scene)
+    : built_in_(std::make_unique<const BuiltIn>(BuiltIn{detail::PassedTruckTest(scene), detail::StoppedTest(),
+                                                        detail::StopsShortTest(scene),
+                                                        detail::HorizonTest(scene),
+                                                        detail::StabilisedTest(scene)})) {}
+TerminationTest::~TerminationTest() = default;
+TerminationTest::TerminationTest(TerminationTest&&) noexcept = default;
+TerminationTest& TerminationTest::operator=(TerminationTest&&) noexcept = default;
+
+TerminationTest& TerminationTest::add(std::unique_ptr<StepCheck> check) {
+  added_.add(std::move(check));
+  return *this;
+}
+
+bool TerminationTest::ends(Step& step, RolloutResult& result, Termination& why) const {
+  const BuiltIn& b = *built_in_;
+  if (step.recovering) {
+    if (b.stopped.ends(step, result, why) || b.stabilised.ends(step, result, why) || b.horizon.ends(step, result, why))
+      return true;
+  } else if (b.passed.ends(step, result, why) || b.stopped.ends(step, result, why) ||
+             b.stops_short.ends(step, result, why) || b.horizon.ends(step, result, why)) {
+    return true;
+  }
+  return !added_.empty() && added_.ends(step, result, why);
+}
+
+std::optional<Termination> TerminationTest::check(Step& step, RolloutResult& result) const {
+  return detail::answer_of(*this, step, result);
+}
+
+}  // namespace emrm::sim
