@@ -4,7 +4,6 @@
 // Run: ./build/dev/bench/emrm_bench --benchmark_filter=Assess
 
 #include <benchmark/benchmark.h>
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -15,7 +14,9 @@
 #include <vector>
 
 #include "emrm/exchange/assess.hpp"
+#include "emrm/exchange/opendrive.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
 
 namespace {
 
@@ -88,8 +89,15 @@ void BM_ExportPlan(benchmark::State& state) {
   for (int k = 0; k < 400; ++k) {
     const double v = 20.0 + (k % 11) * 5.0;
     const double ttc = std::min(0.2 + (k % 13) * 0.15, 0.99 * config.max_initial_distance_m / (v / 3.6));
-    plan.rows.push_back({fmt::format("S{:03}", k), "pairs", {v, ttc, 0.3 + (k % 7) * 0.1, 1.5 + (k % 5) * 0.5, 5.0 + (k % 3) * 5.0},
-                         "c", {}, {}, 1.0, 1, {"scenarios.csv", k + 2, 1}});
+    plan.rows.push_back({fmt::format("S{:03}", k),
+                         "pairs",
+                         {v, ttc, 0.3 + (k % 7) * 0.1, 1.5 + (k % 5) * 0.5, 5.0 + (k % 3) * 5.0},
+                         "c",
+                         {},
+                         {},
+                         1.0,
+                         1,
+                         {"scenarios.csv", k + 2, 1}});
   }
   const auto dir = std::filesystem::temp_directory_path() / "emrm-bench-export-plan";
   for (auto _ : state) {

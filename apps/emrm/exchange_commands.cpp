@@ -15,7 +15,9 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/exchange/assess.hpp"
+#include "emrm/exchange/ego_trajectory.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 
@@ -44,9 +46,10 @@ int run_plan_export(const ExportOptions& options, const exchange::ExportOptions&
   const fs::path plan(options.plan_dir);
   const fs::path csv = plan / "scenarios.csv";
   if (!fs::is_regular_file(csv))
-    throw UsageError(fmt::format("emrm export: {} is not a plan folder: it has no scenarios.csv (write one with "
-                                 "'emrm plan ODD.yaml -o DIR')",
-                                 plan.string()));
+    throw UsageError(
+        fmt::format("emrm export: {} is not a plan folder: it has no scenarios.csv (write one with "
+                    "'emrm plan ODD.yaml -o DIR')",
+                    plan.string()));
   CellArgs args = *options.cell;
   // The plan's own scene unless --scene names one.
   if (args.scene_file.empty() && fs::is_regular_file(plan / "scenarios.json")) {
@@ -86,10 +89,10 @@ int run_export(const ExportOptions& options) {
   const auto files = exchange::export_cell(options.output, config, cell, trajectory.get(), export_options);
   std::string note;
   if (trajectory)
-    note = fmt::format(" (the ego follows its {} trajectory, {} points)", trajectory->strategy,
-                       exchange::thin_path(exchange::with_final_stop(trajectory->path, config.simulation.dt_s),
-                                           options.tolerance_m)
-                           .size());
+    note = fmt::format(
+        " (the ego follows its {} trajectory, {} points)", trajectory->strategy,
+        exchange::thin_path(exchange::with_final_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m)
+            .size());
   else if (!options.strategy.empty())
     note = fmt::format(" ({} executed no trajectory in this cell: the ego keeps its speed)", options.strategy);
   fmt::print("Wrote {}{}\n", written(files), note);
@@ -109,7 +112,8 @@ int run_assess(const AssessOptions& options) {
   const sim::SceneConfig config = load_scene(*options.cell);
   const sim::CellInput cell = cell_of(*options.cell, config);
   sim::validate_cell(config, cell);
-  const auto format = options.format == "esmini" ? exchange::TrajectoryFormat::kEsmini : exchange::TrajectoryFormat::kEmrm;
+  const auto format =
+      options.format == "esmini" ? exchange::TrajectoryFormat::kEsmini : exchange::TrajectoryFormat::kEmrm;
   const exchange::RecordedTrajectory trajectory = exchange::read_trajectory_csv(options.file, format, config);
   const exchange::Assessment a = exchange::assess(config, cell, trajectory);
   if (options.json)
@@ -141,8 +145,9 @@ void register_export_command(CLI::App& app, int& exit_code) {
                   "Thin the trajectory: drop vertices the polyline passes within this distance (m; 0 keeps every step)")
       ->check(finite_in(0.0, 1.0))
       ->capture_default_str();
-  for (CLI::Option* cell_option : {o->cell_options.speed, o->cell_options.ttc, o->cell_options.mu,
-                                   o->cell_options.passage, o->cell_options.truck_speed, o->cell_options.seed, strategy})
+  for (CLI::Option* cell_option :
+       {o->cell_options.speed, o->cell_options.ttc, o->cell_options.mu, o->cell_options.passage,
+        o->cell_options.truck_speed, o->cell_options.seed, strategy})
     plan->excludes(cell_option);
   cmd->callback([o, &exit_code] { exit_code = run_export(*o); });
 }
@@ -154,11 +159,14 @@ void register_assess_command(CLI::App& app, int& exit_code) {
       "Judge a trajectory recorded by another simulator with emrm's collision, road-departure and loss models:\n"
       "contact time and point, impact speed, delta-v, injury risks, loss level, safe state. The cell (its flags\n"
       "as in 'emrm simulate') gives the truck's motion unless the file records it (docs/openscenario.md)");
-  cmd->add_option("TRAJECTORIES", o->file, "CSV file: t, x, y, psi, v (the ego's CG), optional truck_x, truck_y, "
-                                           "truck_psi, steer; or esmini's dat2csv output with --format esmini")
+  cmd->add_option("TRAJECTORIES", o->file,
+                  "CSV file: t, x, y, psi, v (the ego's CG), optional truck_x, truck_y, "
+                  "truck_psi, steer; or esmini's dat2csv output with --format esmini")
       ->required();
   add_cell_options(cmd, o->cell, true, false);
-  cmd->add_option("--format", o->format, "emrm or esmini")->check(CLI::IsMember({"emrm", "esmini"}))->capture_default_str();
+  cmd->add_option("--format", o->format, "emrm or esmini")
+      ->check(CLI::IsMember({"emrm", "esmini"}))
+      ->capture_default_str();
   cmd->add_option("--strategy", o->strategy, "Name the outcome after a strategy (as 'emrm simulate --json' keys it)");
   cmd->add_flag("--json", o->json, "Print the outcome as JSON (docs/openscenario.md)");
   cmd->callback([o, &exit_code] { exit_code = run_assess(*o); });

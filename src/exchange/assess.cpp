@@ -1,20 +1,26 @@
+// Judging a recorded trajectory (assess.hpp): contact and road departure between samples, the safe
+// state at the end, and the outcome as JSON and text.
+
 #include "emrm/exchange/assess.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <optional>
 
 #include "emrm/core/error.hpp"
-#include "emrm/core/text.hpp"
 #include "emrm/core/trig.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/vehicle.hpp"
+#include "slopes.hpp"
 
 namespace emrm::exchange {
 namespace {
+
+using detail::slope;
+using detail::stencil;
 
 using sim::kKphPerMps;
 // A sample within this of the truck or of the road's edge touches it: the tolerance of the
@@ -26,249 +32,13 @@ constexpr double kTouch_m = 0.5e-3;
 // the state it integrated to the first touch as a contact.
 constexpr double kEndTouch_m = 0.01;
 
-std::string trimmed(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t");
-  return s.substr(b, e - b + 1);
-}
-
-// ---- reading ------------------------------------------------------------------------------------
-
-// The slope at t of the parabola through three samples (Lagrange), or of the chord through two.
-double slope(const double* t, const double* f, int n, double at) {
-  if (n == 2) return (f[1] - f[0]) / (t[1] - t[0]);
-  const double d0 = ((at - t[1]) + (at - t[2])) / ((t[0] - t[1]) * (t[0] - t[2]));
-  const double d1 = ((at - t[0]) + (at - t[2])) / ((t[1] - t[0]) * (t[1] - t[2]));
-  const double d2 = ((at - t[0]) + (at - t[1])) / ((t[2] - t[0]) * (t[2] - t[1]));
-  return f[0] * d0 + f[1] * d1 + f[2] * d2;
-}
-
-// The first of the (up to) three samples around sample k whose parabola gives the slopes at k, and
-// how many: the neighbours on both sides inside the recording, else the nearest three.
-std::pair<std::size_t, int> stencil(std::size_t k, std::size_t n) {
-  const int points = n >= 3 ? 3 : 2;
-  std::size_t first = k >= 1 ? k - 1 : 0;
-  if (first + static_cast<std::size_t>(points) > n) first = n - static_cast<std::size_t>(points);
-  return {first, points};
-}
-
-struct Columns {
-  std::map<std::string, std::size_t> index;
-  [[nodiscard]] std::optional<std::size_t> find(const std::string& name) const {
-    const auto it = index.find(name);
-    return it == index.end() ? std::nullopt : std::optional<std::size_t>(it->second);
-  }
-};
-
-class RowReader {
- public:
-  RowReader(const core::CsvRecord& record, const std::string& file) : record_(record), file_(file) {}
-  [[nodiscard]] double number(std::size_t column, std::string_view name) const {
-    const std::string text = trimmed(record_.fields[column]);
-    const auto value = core::parse_finite_number(text);
-    if (!value)
-      throw InputError(where(column), fmt::format("expected a finite number for '{}', got '{}'", name,
-                                                  text.size() > 40 ? text.substr(0, 40) + "…" : text));
-    return *value;
-  }
-  [[nodiscard]] std::string text(std::size_t column) const { return trimmed(record_.fields[column]); }
-  [[nodiscard]] SourceLocation where(std::size_t column) const {
-    return {file_, record_.lines[column], record_.columns[column]};
-  }
-
- private:
-  const core::CsvRecord& record_;
-  const std::string& file_;
-};
-
-Columns header_of(const core::CsvRecord& header) {
-  Columns c;
-  for (std::size_t i = 0; i < header.fields.size(); ++i) c.index.emplace(trimmed(header.fields[i]), i);
-  return c;
-}
-
-std::size_t require_column(const Columns& c, const std::string& name, const core::CsvRecord& header,
-                           const std::string& file, std::string_view expected) {
-  if (auto i = c.find(name)) return *i;
-  throw InputError({file, header.lines.front(), 1},
-                   fmt::format("expected a column '{}' in the header (columns: {})", name, expected));
-}
-
-void check_length(const core::CsvRecord& row, std::size_t expected, const std::string& file) {
-  if (row.fields.size() == expected) return;
-  const int column = row.columns.back() + static_cast<int>(row.fields.back().size());
-  throw InputError({file, row.lines.back(), column},
-                   fmt::format("expected {} fields as in the header, got {} (a truncated or malformed row)", expected,
-                               row.fields.size()));
-}
-
-void check_time(const RecordedTrajectory& out, double t, const RowReader& r, std::size_t column) {
-  if (!out.samples.empty() && !(t > out.samples.back().t_s))
-    throw InputError(r.where(column), fmt::format("expected a time after the previous sample's {} s, got {} s",
-                                                  out.samples.back().t_s, t));
-}
-
-void check_speed(double v, const RowReader& r, std::size_t column) {
-  if (v < 0.0) throw InputError(r.where(column), fmt::format("expected a speed >= 0 m/s, got {}", v));
-}
-
-// Headings continuous from sample to sample, so that interpolation turns the short way.
-void unwrap(RecordedTrajectory& t) {
-  for (std::size_t k = 1; k < t.samples.size(); ++k) {
-    auto& s = t.samples[k];
-    const auto& p = t.samples[k - 1];
-    s.yaw_rad = p.yaw_rad + std::remainder(s.yaw_rad - p.yaw_rad, 2.0 * std::numbers::pi);
-    s.truck_yaw_rad = p.truck_yaw_rad + std::remainder(s.truck_yaw_rad - p.truck_yaw_rad, 2.0 * std::numbers::pi);
-  }
-}
-
-RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const std::string& file) {
-  constexpr std::string_view kExpected = "t, x, y, psi, v; optional truck_x, truck_y, truck_psi, steer";
-  const core::CsvRecord& header = records.front();
-  const Columns c = header_of(header);
-  const std::size_t t = require_column(c, "t", header, file, kExpected);
-  const std::size_t x = require_column(c, "x", header, file, kExpected);
-  const std::size_t y = require_column(c, "y", header, file, kExpected);
-  const std::size_t psi = require_column(c, "psi", header, file, kExpected);
-  const std::size_t v = require_column(c, "v", header, file, kExpected);
-  const auto tx = c.find("truck_x");
-  const auto ty = c.find("truck_y");
-  const auto tpsi = c.find("truck_psi");
-  const auto steer = c.find("steer");
-  RecordedTrajectory out;
-  out.file = file;
-  out.has_truck = tx || ty || tpsi;
-  if (out.has_truck) {
-    for (const char* name : {"truck_x", "truck_y", "truck_psi"})
-      (void)require_column(c, name, header, file, "truck_x, truck_y and truck_psi together");
-  }
-  out.has_steer = steer.has_value();
-  for (std::size_t k = 1; k < records.size(); ++k) {
-    const core::CsvRecord& row = records[k];
-    check_length(row, header.fields.size(), file);
-    const RowReader r(row, file);
-    TrajectorySample s;
-    s.t_s = r.number(t, "t");
-    s.x_m = r.number(x, "x");
-    s.y_m = r.number(y, "y");
-    s.yaw_rad = r.number(psi, "psi");
-    s.speed_mps = r.number(v, "v");
-    check_speed(s.speed_mps, r, v);
-    if (steer) s.steer_rad = r.number(*steer, "steer");
-    if (out.has_truck) {
-      s.truck_x_m = r.number(*tx, "truck_x");
-      s.truck_y_m = r.number(*ty, "truck_y");
-      s.truck_yaw_rad = r.number(*tpsi, "truck_psi");
-    }
-    check_time(out, s.t_s, r, t);
-    out.samples.push_back(s);
-  }
-  return out;
-}
-
-// esmini's `speed` is the reference point's (the rear axle's) distance along the trajectory over
-// the last frame, a backward difference that its last frame does not update; the CG's speed comes
-// instead from the CG's recorded positions, as the slope of the parabola through each sample and
-// its neighbours (a central difference on esmini's even frames), as the yaw rate does. A last
-// sample where the car did not move from the one before is at rest.
-void speeds_from_positions(std::vector<TrajectorySample>& samples) {
-  const std::size_t n = samples.size();
-  if (n < 2) return;  // too short to judge: parse_trajectory_csv says so
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto [first, points] = stencil(k, n);
-    double ts[3], xs[3], ys[3];
-    for (int j = 0; j < points; ++j) {
-      const auto& p = samples[first + static_cast<std::size_t>(j)];
-      ts[j] = p.t_s;
-      xs[j] = p.x_m;
-      ys[j] = p.y_m;
-    }
-    samples[k].speed_mps = std::hypot(slope(ts, xs, points, samples[k].t_s), slope(ts, ys, points, samples[k].t_s));
-  }
-  if (samples[n - 1].x_m == samples[n - 2].x_m && samples[n - 1].y_m == samples[n - 2].y_m)
-    samples[n - 1].speed_mps = 0.0;
-}
-
-RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, const std::string& file,
-                                const sim::SceneConfig& config, const ExportOptions& options) {
-  constexpr std::string_view kExpected = "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot";
-  std::size_t first = 0;
-  // dat2csv may begin with "Version: 2, OpenDRIVE: …, 3DModel: …".
-  if (!records.empty() && trimmed(records.front().fields.front()).rfind("Version:", 0) == 0) first = 1;
-  if (first >= records.size()) throw InputError({file, 1, 1}, fmt::format("expected a header ({})", kExpected));
-  const core::CsvRecord& header = records[first];
-  const Columns c = header_of(header);
-  const std::size_t time = require_column(c, "time", header, file, kExpected);
-  const std::size_t name = require_column(c, "name", header, file, kExpected);
-  const std::size_t x = require_column(c, "x", header, file, kExpected);
-  const std::size_t y = require_column(c, "y", header, file, kExpected);
-  const std::size_t h = require_column(c, "h", header, file, kExpected);
-  const double ego_back = ego_reference_offset_m(config.ego);
-  const double truck_back = truck_reference_offset_m(config.truck, options);
-
-  RecordedTrajectory out;
-  out.file = file;
-  std::map<std::string, TrajectorySample> truck_at;  // by the time field's text
-  std::vector<std::string> ego_times;
-  bool any_truck = false;
-  for (std::size_t k = first + 1; k < records.size(); ++k) {
-    const core::CsvRecord& row = records[k];
-    check_length(row, header.fields.size(), file);
-    const RowReader r(row, file);
-    const std::string entity = r.text(name);
-    if (entity != kEgoEntity && entity != kTruckEntity) continue;
-    const double t = r.number(time, "time");
-    const double px = r.number(x, "x");
-    const double py = r.number(y, "y");
-    const double heading = r.number(h, "h");
-    if (entity == kTruckEntity) {
-      any_truck = true;
-      TrajectorySample s;
-      s.truck_x_m = px + truck_back * std::cos(heading);
-      s.truck_y_m = py + truck_back * std::sin(heading);
-      s.truck_yaw_rad = heading;
-      truck_at[r.text(time)] = s;
-      continue;
-    }
-    // A frame esmini logs twice (the first, at t = 0) is one sample.
-    if (!out.samples.empty() && t == out.samples.back().t_s) continue;
-    TrajectorySample s;
-    s.t_s = t;
-    s.x_m = px + ego_back * std::cos(heading);
-    s.y_m = py + ego_back * std::sin(heading);
-    s.yaw_rad = heading;
-    check_time(out, t, r, time);
-    out.samples.push_back(s);
-    ego_times.push_back(r.text(time));
-  }
-  if (out.samples.empty())
-    throw InputError({file, header.lines.front(), 1},
-                     fmt::format("expected rows of the entity '{}' (the ego as emrm export names it)", kEgoEntity));
-  speeds_from_positions(out.samples);
-  // The truck as recorded when it is there at every ego sample; else the scene's motion.
-  out.has_truck = any_truck && std::all_of(ego_times.begin(), ego_times.end(),
-                                           [&](const std::string& t) { return truck_at.count(t) > 0; });
-  if (out.has_truck) {
-    for (std::size_t k = 0; k < out.samples.size(); ++k) {
-      const TrajectorySample& truck = truck_at.at(ego_times[k]);
-      out.samples[k].truck_x_m = truck.truck_x_m;
-      out.samples[k].truck_y_m = truck.truck_y_m;
-      out.samples[k].truck_yaw_rad = truck.truck_yaw_rad;
-    }
-  }
-  return out;
-}
-
-// ---- judging ------------------------------------------------------------------------------------
-
 class Judge {
  public:
   Judge(const sim::Scene& scene, const RecordedTrajectory& trajectory)
       : scene_(scene), samples_(trajectory.samples), has_truck_(trajectory.has_truck) {
     const auto& cfg = scene.config();
-    circumradii_m_ = 0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) +
-                     0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
+    circumradii_m_ =
+        0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) + 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
     reach_m_ = std::hypot(std::max(cfg.ego.cg_to_front_m(), cfg.ego.cg_to_rear_m()), 0.5 * cfg.ego.width_m);
     truck_reach_m_ = 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
   }
@@ -428,17 +198,17 @@ class Judge {
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double ta = samples_[i].t_s;
       std::optional<Touch> contact;
-      if (!truck_far(i))
-        contact = first_touch(i, truck_gap(i, ta), true, [&](double t) { return truck_gap(i, t); });
+      if (!truck_far(i)) contact = first_touch(i, truck_gap(i, ta), true, [&](double t) { return truck_gap(i, t); });
       std::optional<Touch> departure = first_touch(i, edge_gap(i, ta), false, [&](double t) { return edge_gap(i, t); });
       if (contact) contact = follow(*contact, true, truck_gap_in);
       if (departure) departure = follow(*departure, false, edge_gap_in);
-      if (contact && (!departure || contact->t_s <= departure->t_s)) return at_contact(out, contact->segment, contact->t_s);
+      if (contact && (!departure || contact->t_s <= departure->t_s))
+        return at_contact(out, contact->segment, contact->t_s);
       if (departure) return at_departure(out, departure->segment, departure->t_s);
     }
     const std::size_t last = n - 2;
     const double t_end = samples_.back().t_s;
-    if (samples_.back().speed_mps >= kStoppedSpeed_mps) {
+    if (samples_.back().speed_mps >= sim::kStoppedSpeed_mps) {
       if (truck_gap(last, t_end) <= kEndTouch_m) return at_contact(out, last, t_end);
       if (edge_gap(last, t_end) <= kEndTouch_m) return at_departure(out, last, t_end);
     }
@@ -446,12 +216,13 @@ class Judge {
     const sim::VehicleState end = state(last, t_end);
     out.end_time_s = t_end;
     out.samples_judged = n;
-    if (samples_.back().speed_mps < kStoppedSpeed_mps) {
+    if (samples_.back().speed_mps < sim::kStoppedSpeed_mps) {
       out.safe_state = SafeState::kStopped;
     } else {
       const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;
       const double truck_far_x = has_truck_ ? sim::extent_of(truck(last, t_end).box).max_x : scene_.truck_far_x_m();
-      if (ego_min_x > truck_far_x && sim::stable_with_room_to_stop(scene_, end)) out.safe_state = SafeState::kStabilised;
+      if (ego_min_x > truck_far_x && sim::stable_with_room_to_stop(scene_, end))
+        out.safe_state = SafeState::kStabilised;
     }
     out.avoided = out.safe_state != SafeState::kNone;
     return out;
@@ -498,37 +269,16 @@ nlohmann::ordered_json impact_json(const sim::ImpactAssessment& a) {
 
 }  // namespace
 
-std::string_view format_name(TrajectoryFormat format) noexcept {
-  return format == TrajectoryFormat::kEsmini ? "esmini" : "emrm";
-}
-
 std::string_view safe_state_name(SafeState s) noexcept {
   switch (s) {
-    case SafeState::kStopped: return "stopped";
-    case SafeState::kStabilised: return "stabilised";
-    case SafeState::kNone: break;
+    case SafeState::kStopped:
+      return "stopped";
+    case SafeState::kStabilised:
+      return "stabilised";
+    case SafeState::kNone:
+      break;
   }
   return "none";
-}
-
-RecordedTrajectory parse_trajectory_csv(std::string_view text, const std::string& file_name, TrajectoryFormat format,
-                                        const sim::SceneConfig& config, const ExportOptions& options) {
-  const std::vector<core::CsvRecord> records = core::parse_csv(text, file_name);
-  if (records.empty()) throw InputError({file_name, 1, 1}, "expected a header and at least two samples, got an empty file");
-  RecordedTrajectory out = format == TrajectoryFormat::kEsmini ? parse_esmini(records, file_name, config, options)
-                                                                : parse_emrm(records, file_name);
-  if (out.samples.size() < 2) {
-    const int line = records.back().lines.front();
-    throw InputError({file_name, line, 1},
-                     fmt::format("expected at least two samples, got {}", out.samples.size()));
-  }
-  unwrap(out);
-  return out;
-}
-
-RecordedTrajectory read_trajectory_csv(const std::filesystem::path& path, TrajectoryFormat format,
-                                       const sim::SceneConfig& config, const ExportOptions& options) {
-  return parse_trajectory_csv(core::read_input_file(path), path.string(), format, config, options);
 }
 
 Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, const RecordedTrajectory& trajectory) {
@@ -536,9 +286,10 @@ Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, co
   sim::validate_cell(config, cell);
   const sim::Scene scene(config, cell);
   if (!scene.feasible())
-    throw UsageError(fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
-                                 "scene's max_initial_distance_m = {} m",
-                                 scene.initial_distance_m(), config.max_initial_distance_m));
+    throw UsageError(
+        fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
+                    "scene's max_initial_distance_m = {} m",
+                    scene.initial_distance_m(), config.max_initial_distance_m));
   Assessment out = Judge(scene, trajectory).run();
   if (out.avoided) out.impact = {};
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
@@ -578,7 +329,7 @@ nlohmann::ordered_json to_json(const Assessment& a, const RecordedTrajectory& tr
   o["departure_speed_kph"] = a.road_departure ? a.impact.impact_speed_mps * kKphPerMps : 0.0;
   o["delta_loss"] = a.delta_loss;
   o["min_ttc_s"] = a.min_ttc_s && std::isfinite(*a.min_ttc_s) ? nlohmann::ordered_json(*a.min_ttc_s)
-                                                               : nlohmann::ordered_json(nullptr);
+                                                              : nlohmann::ordered_json(nullptr);
   o["event_time_s"] = a.event_time_s ? nlohmann::ordered_json(*a.event_time_s) : nlohmann::ordered_json(nullptr);
   o["event_point"] = a.event_time_s ? nlohmann::ordered_json::array({a.event_point_m.x, a.event_point_m.y})
                                     : nlohmann::ordered_json(nullptr);
@@ -598,11 +349,12 @@ std::string to_text(const Assessment& a, const RecordedTrajectory& trajectory, c
     out += fmt::format("Avoided: no contact, no road departure; safe state: {} at {:.3f} s\n",
                        safe_state_name(a.safe_state), a.end_time_s);
   } else if (a.contact || a.road_departure) {
-    out += fmt::format("{} at {:.4f} s at ({:.3f}, {:.3f}) m: impact speed {:.2f} km/h, Δv {:.2f} km/h, "
-                       "P(MAIS3+) {:.4f}, P(fatal) {:.4f}, loss level L{}\n",
-                       a.contact ? "Contact with the truck" : "Road departure", *a.event_time_s, a.event_point_m.x,
-                       a.event_point_m.y, a.impact.impact_speed_mps * kKphPerMps, a.impact.delta_v_mps * kKphPerMps,
-                       a.impact.p_mais3, a.impact.p_fatal, a.impact.loss_level);
+    out += fmt::format(
+        "{} at {:.4f} s at ({:.3f}, {:.3f}) m: impact speed {:.2f} km/h, Δv {:.2f} km/h, "
+        "P(MAIS3+) {:.4f}, P(fatal) {:.4f}, loss level L{}\n",
+        a.contact ? "Contact with the truck" : "Road departure", *a.event_time_s, a.event_point_m.x, a.event_point_m.y,
+        a.impact.impact_speed_mps * kKphPerMps, a.impact.delta_v_mps * kKphPerMps, a.impact.p_mais3, a.impact.p_fatal,
+        a.impact.loss_level);
   } else {
     out += fmt::format("Not avoided: no contact or departure, but no safe state at the last sample ({:.3f} s)\n",
                        a.end_time_s);

@@ -62,12 +62,23 @@ class XmlWriter {
   void escape(std::string_view text) {
     for (const char c : text) {
       switch (c) {
-        case '&': out_ += "&amp;"; break;
-        case '<': out_ += "&lt;"; break;
-        case '>': out_ += "&gt;"; break;
-        case '"': out_ += "&quot;"; break;
-        case '\n': out_ += "&#10;"; break;
-        default: out_ += c;
+        case '&':
+          out_ += "&amp;";
+          break;
+        case '<':
+          out_ += "&lt;";
+          break;
+        case '>':
+          out_ += "&gt;";
+          break;
+        case '"':
+          out_ += "&quot;";
+          break;
+        case '\n':
+          out_ += "&#10;";
+          break;
+        default:
+          out_ += c;
       }
     }
   }

@@ -14,6 +14,7 @@
 
 #include "certificate_support.hpp"
 #include "emrm/sim/scene.hpp"
+#include "emrm/sim/termination.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim::certificate_bounds {
@@ -23,8 +24,6 @@ using certificate_support::AxleSupport;
 using certificate_support::fiala_cap;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// The simulator's "stopped" speed (rollout.cpp, StoppedTest): a run ends as stopped below it.
-constexpr double kStoppedSpeed_mps = 0.05;
 // Longest time after the latency the bound is integrated; witnesses needing more are not tried.
 constexpr double kHorizon_s = 3.0;
 // The slip bounds need the body's forward speed (and the front wheel's rolling speed) bounded away
@@ -41,7 +40,7 @@ struct Setup {
   // (C2b) the brake level's ramp: it starts rising at brake_ramp_start (the dead time less one
   // step's lead, may be negative), at 1/brake_ramp per second (0: at once); the cap's share of mu·g
   double brake_ramp_start, brake_ramp, brake_scale;
-  double a_f, a_r, kappa;  // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
+  double a_f, a_r, kappa;   // 1/m + lf²/Iz, 1/m + lr²/Iz, |1/m − lf·lr/Iz|
   double slope_f, slope_r;  // Fiala slopes with the locked/ABS envelopes folded in (C5)
   // cell
   double mu, g, v0, tau, x0, x_tau, y0, stop_speed;
@@ -62,7 +61,7 @@ struct Bound {
   double yaw_rate = 0.0;              // |r| ≤
 };
 
-struct Slip {  // comparison state: nondecreasing upper bounds
+struct Slip {        // comparison state: nondecreasing upper bounds
   double gf = 0.0;   // |v_f| front axle's body-lateral velocity
   double gr = 0.0;   // |v_r| rear axle's
   double gw = 0.0;   // |w_f| front wheel's lateral velocity in its own frame
@@ -246,7 +245,8 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
     const auto rest = [&](double f) { return std::sqrt(std::max(0.0, grip_f * grip_f - f * f)); };
     const double fy = std::min(lateral_cap, grip_f);
     const double fx = std::min(push_cap, grip_f);
-    return std::max(std::min(push_cap, rest(fy)) * sin_d + fy * cos_d, fx * sin_d + std::min(lateral_cap, rest(fx)) * cos_d);
+    return std::max(std::min(push_cap, rest(fy)) * sin_d + fy * cos_d,
+                    fx * sin_d + std::min(lateral_cap, rest(fx)) * cos_d);
   };
   out.b.grip_f = grip_f;
   out.b.grip_r = grip_r;
@@ -288,7 +288,7 @@ inline Rates rates_at(const Setup& c, double s, const Slip& z, bool was_valid, c
 }
 
 inline Slip advance(const Slip& z, const Slip& d, double step) {
-  return {z.gf + step * d.gf, z.gr + step * d.gr, z.gw + step * d.gw,
+  return {z.gf + step * d.gf, z.gr + step * d.gr,   z.gw + step * d.gw,
           z.r + step * d.r,   z.psi + step * d.psi, z.dv + step * d.dv};
 }
 
@@ -396,13 +396,15 @@ class Bounder {
             guess = lower;
           }
         } else {
-          guess = {2.0 * std::max(guess.gf, next.gf) + 1e-9, 2.0 * std::max(guess.gr, next.gr) + 1e-9,
-                   2.0 * std::max(guess.gw, next.gw) + 1e-9, 2.0 * std::max(guess.r, next.r) + 1e-9,
+          guess = {2.0 * std::max(guess.gf, next.gf) + 1e-9,   2.0 * std::max(guess.gr, next.gr) + 1e-9,
+                   2.0 * std::max(guess.gw, next.gw) + 1e-9,   2.0 * std::max(guess.r, next.r) + 1e-9,
                    2.0 * std::max(guess.psi, next.psi) + 1e-9, 2.0 * std::max(guess.dv, next.dv) + 1e-9};
         }
       }
-      if (found && rates_at(c_, s1, guess, true).valid) end = guess;
-      else valid_ = false;  // from here on only the plain friction limits (and the yaw bounds)
+      if (found && rates_at(c_, s1, guess, true).valid)
+        end = guess;
+      else
+        valid_ = false;  // from here on only the plain friction limits (and the yaw bounds)
     }
     if (!valid_) {
       // Constant rate: the explicit step at the larger yaw acceleration is exact from above.
@@ -468,8 +470,8 @@ class Bounder {
       const double brake_p = t.lambda / c_.m;
       const double per_q_front = a_front + brake_q;
       const double per_p_all = per_p + brake_p;
-      double support = axle_pair_support(per_q_front, a_rear + brake_q, per_p_all, b.grip_f, b.grip_r, b.cap_f,
-                                         b.cap_r, c_.total_grip);
+      double support = axle_pair_support(per_q_front, a_rear + brake_q, per_p_all, b.grip_f, b.grip_r, b.cap_f, b.cap_r,
+                                         c_.total_grip);
       // The front through its lateral force only: |p_f| ≤ |q_f| tan δ, plus ℓ·N_f/cos δ along the
       // brake ramp (C2b: p_f = F_xf/cos δ − q_f tan δ, |F_xf| ≤ ℓ·N_f).
       const double front_steered = (per_q_front + per_p_all * tan_delta) * std::min(b.cap_f, b.grip_f);

@@ -4,9 +4,10 @@
 // angle); bad files name the line and column. The export replayed as esmini replays it:
 // esmini_replay_test.cpp.
 
-#include <gtest/gtest.h>
+#include "emrm/exchange/assess.hpp"
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
@@ -14,7 +15,6 @@
 #include <string>
 
 #include "emrm/core/error.hpp"
-#include "emrm/exchange/assess.hpp"
 #include "emrm/exchange/openscenario.hpp"
 #include "emrm/sim/simulate.hpp"
 
@@ -55,8 +55,9 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
     const sim::CellResult result = sim::simulate_cell(config, cell, options);
     for (const auto& o : result.strategies) {
       if (o.path.size() < 2) continue;
-      const std::string what = fmt::format("seed {} cell {} km/h {} s mu {} passage {} truck {}: {}", options.seed, cell.speed_kph,
-                                           cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph, o.strategy);
+      const std::string what =
+          fmt::format("seed {} cell {} km/h {} s mu {} passage {} truck {}: {}", options.seed, cell.speed_kph,
+                      cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph, o.strategy);
       const auto recorded = parse_trajectory_csv(emrm_csv(o.path), "emrm.csv", TrajectoryFormat::kEmrm, config);
       const Assessment a = assess(config, cell, recorded);
       expect_same_outcome(o, a, what + " (emrm CSV)");
@@ -176,8 +177,9 @@ TEST(Assess, BadFilesNameLineAndColumn) {
   expect_error_at("t,x,y,psi,v\n0,0,0,0,10\n0.1,1,0,0,-1\n", 3, 11, "expected a speed >= 0");
   expect_error_at("t,x,y,psi,v\n0,0,0,0,\"10\n", 2, 0, "");
   expect_error_at("t,x,y,psi,v,truck_x\n0,0,0,0,10,1\n0.1,1,0,0,10,1\n", 1, 1, "truck_y");
-  expect_error_at("time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n0, 1, Truck, 0, 0, 0, 0, 0, 0, 1, 0, 0\n",
-                  1, 1, "'Ego'", TrajectoryFormat::kEsmini);
+  expect_error_at(
+      "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n0, 1, Truck, 0, 0, 0, 0, 0, 0, 1, 0, 0\n", 1, 1,
+      "'Ego'", TrajectoryFormat::kEsmini);
 }
 
 TEST(Assess, InfeasibleCellIsRejected) {

@@ -18,9 +18,8 @@
 // - `wheel_angle` esmini's kinematic estimate atan(wheelbase · heading rate / speed);
 // - headings in [0, 2π), tilted by 1e-7 rad as any measured heading is, and dat2csv's decimals.
 
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,11 +28,11 @@
 #include <string>
 #include <vector>
 
-#include "test_scale.hpp"
 #include "emrm/exchange/assess.hpp"
 #include "emrm/exchange/openscenario.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "exchange/xml_support.hpp"
+#include "test_scale.hpp"
 
 namespace emrm::exchange {
 namespace esmini_replay_test {
@@ -106,9 +105,9 @@ class Mover {
              doc.number(init + "/TeleportAction/Position/WorldPosition/@h")};
     speed_ = doc.number(init + "/LongitudinalAction/SpeedAction/SpeedActionTarget/AbsoluteTargetSpeed/@value");
     path_ = polyline_of(doc, entity);
-    segment_headings_ = !doc.all("//ScenarioObject[@name='" + entity +
-                                 "']//Property[@name='plineInterpolation'][@value='segment']")
-                             .empty();
+    segment_headings_ =
+        !doc.all("//ScenarioObject[@name='" + entity + "']//Property[@name='plineInterpolation'][@value='segment']")
+             .empty();
     const auto rate = doc.all(of_entity(entity) + "//SpeedActionDynamics[@dynamicsDimension='rate']/@value");
     if (!rate.empty()) brake_mps2_ = std::stod(rate.front());
   }
@@ -138,8 +137,8 @@ class Mover {
     } else {
       // A SpeedAction at a rate, or the speed kept: the new speed times the step.
       if (brake_mps2_ > 0.0) speed_ = std::max(speed_ - brake_mps2_ * dt_s_, 0.0);
-      pose_ = {t, pose_.x_m + speed_ * dt_s_ * std::cos(pose_.h_rad), pose_.y_m + speed_ * dt_s_ * std::sin(pose_.h_rad),
-               pose_.h_rad};
+      pose_ = {t, pose_.x_m + speed_ * dt_s_ * std::cos(pose_.h_rad),
+               pose_.y_m + speed_ * dt_s_ * std::sin(pose_.h_rad), pose_.h_rad};
     }
     heading_rate_ = (pose_.h_rad - previous_h) / dt_s_;
   }
@@ -168,14 +167,16 @@ std::string replay(const std::string& xosc, const sim::SceneConfig& config, cons
   const double stop = doc.number("/OpenSCENARIO/Storyboard/StopTrigger//SimulationTimeCondition/@value");
   Mover ego(doc, kEgoEntity, dt);
   Mover truck(doc, kTruckEntity, dt);
-  std::string out = "Version: 3, OpenDRIVE: tjunction.xodr, 3DModel: \n"
-                    "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n";
+  std::string out =
+      "Version: 3, OpenDRIVE: tjunction.xodr, 3DModel: \n"
+      "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n";
   const int p = how.decimals;
   const auto row = [&](int id, const char* name, const Mover& m, double tilt, double wheel) {
     const double h = std::fmod(m.pose().h_rad + tilt + 4.0 * std::numbers::pi, 2.0 * std::numbers::pi);
-    out += fmt::format("{:.{}f}, {}, {}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}\n",
-                       m.pose().t_s, p, id, name, m.pose().x_m, p, m.pose().y_m, p, 0.0, p, h, p, 0.0, p, 0.0, p,
-                       m.speed(), p, wheel, p, 0.0, p);
+    out += fmt::format(
+        "{:.{}f}, {}, {}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}, {:.{}f}\n",
+        m.pose().t_s, p, id, name, m.pose().x_m, p, m.pose().y_m, p, 0.0, p, h, p, 0.0, p, 0.0, p, m.speed(), p, wheel,
+        p, 0.0, p);
   };
   const auto frame = [&] {
     const double wheel = std::atan2(ego.heading_rate() * config.ego.wheelbase_m(), std::max(ego.speed(), 1e-9));
@@ -207,12 +208,12 @@ std::string mismatch(const Expected& e, const Assessment& a) {
   if (a.avoided == e.avoided && a.contact == e.contact && a.road_departure == e.road_departure &&
       a.impact.loss_level == e.impact.loss_level && dv <= 0.1 && speed <= 0.1)
     return "";
-  return fmt::format("simulated avoided {} contact {} departure {} L{} Δv {:.2f} impact {:.2f}; assessed avoided {} "
-                     "contact {} departure {} L{} Δv {:.2f} impact {:.2f} ({})",
-                     e.avoided, e.contact, e.road_departure, e.impact.loss_level, e.impact.delta_v_mps * kKphPerMps,
-                     e.impact.impact_speed_mps * kKphPerMps, a.avoided, a.contact, a.road_departure,
-                     a.impact.loss_level, a.impact.delta_v_mps * kKphPerMps, a.impact.impact_speed_mps * kKphPerMps,
-                     safe_state_name(a.safe_state));
+  return fmt::format(
+      "simulated avoided {} contact {} departure {} L{} Δv {:.2f} impact {:.2f}; assessed avoided {} "
+      "contact {} departure {} L{} Δv {:.2f} impact {:.2f} ({})",
+      e.avoided, e.contact, e.road_departure, e.impact.loss_level, e.impact.delta_v_mps * kKphPerMps,
+      e.impact.impact_speed_mps * kKphPerMps, a.avoided, a.contact, a.road_departure, a.impact.loss_level,
+      a.impact.delta_v_mps * kKphPerMps, a.impact.impact_speed_mps * kKphPerMps, safe_state_name(a.safe_state));
 }
 
 // Every strategy's executed trajectory, and the no-action run, of `cell` exported, replayed and
@@ -229,8 +230,7 @@ void replay_cell(const sim::SceneConfig& config, const sim::CellInput& cell, con
   const std::string where = fmt::format("cell {} km/h, TTC {} s, mu {}, passage {} m, truck {} km/h", cell.speed_kph,
                                         cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph);
   const auto judge = [&](const std::string& xosc, const Expected& e, const std::string& what) {
-    const auto recorded =
-        parse_trajectory_csv(replay(xosc, config, how), "sim.csv", TrajectoryFormat::kEsmini, config);
+    const auto recorded = parse_trajectory_csv(replay(xosc, config, how), "sim.csv", TrajectoryFormat::kEsmini, config);
     EXPECT_TRUE(recorded.has_truck) << what;
     const std::string m = mismatch(e, assess(config, cell, recorded));
     if (!m.empty()) tally.mismatches.push_back(where + ", " + what + ": " + m);

@@ -3,10 +3,10 @@
 // road's lane borders, the truck's stopped position and the passage beside it, the vehicles'
 // reference points.
 
-#include <gtest/gtest.h>
+#include "emrm/exchange/openscenario.hpp"
 
 #include <fmt/format.h>
-
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,8 +20,11 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/expression.hpp"
 #include "emrm/core/text.hpp"
-#include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/ego_trajectory.hpp"
+#include "emrm/exchange/opendrive.hpp"
+#include "emrm/exchange/plan_export.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/termination.hpp"
 #include "exchange/xml_support.hpp"
 
 namespace emrm::exchange {
@@ -50,9 +53,9 @@ sim::SceneConfig odd_scene() {
 
 // The main road's borders from road 1: the reference line's y, then the lanes' widths outwards.
 struct Borders {
-  double left_m = 0.0;              // top of the leftmost lane
-  double right_driving_m = 0.0;     // bottom of the rightmost driving lane
-  double right_paved_m = 0.0;       // bottom of the shoulder
+  double left_m = 0.0;               // top of the leftmost lane
+  double right_driving_m = 0.0;      // bottom of the rightmost driving lane
+  double right_paved_m = 0.0;        // bottom of the shoulder
   std::vector<double> lane_borders;  // every border from left to right
 };
 
@@ -148,9 +151,9 @@ struct TruckPath {
 TruckPath truck_path_of(const Document& xosc, const std::function<double(const std::string&)>& value) {
   const std::string v = "//ManeuverGroup[Actors/EntityRef/@entityRef='Truck']//Polyline/Vertex";
   TruckPath p;
-  for (const auto& [out, attribute] : {std::pair{&p.t, "/@time"}, std::pair{&p.x, "/Position/WorldPosition/@x"},
-                                       std::pair{&p.y, "/Position/WorldPosition/@y"},
-                                       std::pair{&p.h, "/Position/WorldPosition/@h"}})
+  for (const auto& [out, attribute] :
+       {std::pair{&p.t, "/@time"}, std::pair{&p.x, "/Position/WorldPosition/@x"},
+        std::pair{&p.y, "/Position/WorldPosition/@y"}, std::pair{&p.h, "/Position/WorldPosition/@h"}})
     for (const auto& text : xosc.all(v + attribute)) out->push_back(value(text));
   return p;
 }
@@ -340,7 +343,8 @@ TEST(OpenScenario, PlanIsOneLogicalScenarioWithEveryConcreteOne) {
 // The logical scenario's value of an attribute for one parameter set: a number, a parameter
 // reference ($mu) or an expression (${$speed_kph / 3.6}), evaluated by muparser, whose syntax
 // covers the arithmetic the export writes.
-std::string evaluated(const std::string& text, const std::vector<std::string>& names, const std::vector<double>& values) {
+std::string evaluated(const std::string& text, const std::vector<std::string>& names,
+                      const std::vector<double>& values) {
   if (text.empty() || text[0] != '$') return text;
   std::string body = text.rfind("${", 0) == 0 ? text.substr(2, text.size() - 3) : text.substr(1);
   body.erase(std::remove(body.begin(), body.end(), '$'), body.end());
@@ -359,11 +363,17 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
   for (int k = 0; k < 12; ++k) {
     const double v = std::uniform_real_distribution<double>(20, 80)(rng);
     const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
-    plan.rows.push_back({fmt::format("S{}", k), "pairs",
+    plan.rows.push_back({fmt::format("S{}", k),
+                         "pairs",
                          {v, ttc, std::uniform_real_distribution<double>(0.2, 1.5)(rng),
                           std::uniform_real_distribution<double>(1.0, 4.0)(rng),
                           std::uniform_real_distribution<double>(0.0, 25.0)(rng)},
-                         "c", {}, {}, 1.0, 1, {"scenarios.csv", k + 2, 1}});
+                         "c",
+                         {},
+                         {},
+                         1.0,
+                         1,
+                         {"scenarios.csv", k + 2, 1}});
   }
   // One more at the first one's junction (same v·TTC), its truck starting higher on the side road.
   auto shared = plan.rows.front();
@@ -386,8 +396,7 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
   for (std::size_t k = 0; k < plan.rows.size(); ++k) {
     const auto& row = plan.rows[k];
     const sim::CellInput cell{row.values[0], row.values[1], row.values[2], row.values[3], row.values[4]};
-    const auto assigned =
-        distribution.all(fmt::format("//ParameterValueSet[{}]/ParameterAssignment/@value", k + 1));
+    const auto assigned = distribution.all(fmt::format("//ParameterValueSet[{}]/ParameterAssignment/@value", k + 1));
     ASSERT_EQ(assigned.size(), plan_parameter_names().size());
     std::vector<double> values;
     for (std::size_t i = 0; i < names.size(); ++i) values.push_back(std::stod(assigned[i]));
@@ -465,8 +474,8 @@ TEST(OpenScenario, TrajectoryEndsOnTheFrameGrid) {
   const sim::SceneConfig config;
   const double dt = config.simulation.dt_s;
   int at_rest = 0, moving = 0;
-  for (const auto& cell : {cell_of(30, 2.0, 1.0, 3.5, 20), cell_of(50, 0.8, 0.6, 2.0, 0), cell_of(65, 1.0, 0.5, 2.0, 20),
-                           cell_of(40, 0.8, 0.3, 3.5, 20)}) {
+  for (const auto& cell : {cell_of(30, 2.0, 1.0, 3.5, 20), cell_of(50, 0.8, 0.6, 2.0, 0),
+                           cell_of(65, 1.0, 0.5, 2.0, 20), cell_of(40, 0.8, 0.3, 3.5, 20)}) {
     for (const auto& o : sim::simulate_cell(config, cell, {}).strategies) {
       const auto path = with_final_stop(o.path, dt);
       const auto ended = ended_on_frame_grid(path, dt);
@@ -478,7 +487,7 @@ TEST(OpenScenario, TrajectoryEndsOnTheFrameGrid) {
       const double frames = end.t_s / dt;
       EXPECT_NEAR(frames, std::round(frames), 1e-6) << o.strategy << " ends at " << end.t_s << " s";
       const double first_frame = std::ceil(last.t_s / dt - 1e-6) * dt;
-      if (last.state.speed_mps() < kStoppedSpeed_mps) {
+      if (last.state.speed_mps() < sim::kStoppedSpeed_mps) {
         ++at_rest;
         EXPECT_NEAR(end.t_s, std::max(first_frame, last.t_s) + dt, 1e-9) << o.strategy;
         EXPECT_EQ(end.state.x_m, last.state.x_m);

@@ -1,0 +1,50 @@
+#pragma once
+
+// Termination (rollout.hpp): when a valid rollout is over — passed the truck, stopped, certain to
+// stop short, the horizon, and after the truck the safe state (stable with room to stop).
+
+#include <memory>
+#include <optional>
+
+#include "emrm/core/geometry.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/step.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::sim {
+
+/// Below this speed a car is at rest: a rollout ends as stopped (Termination::kStopped). The
+/// unavoidability certificate and the export and judging of trajectories use the same speed.
+inline constexpr double kStoppedSpeed_mps = 0.05;
+
+/// When a valid rollout is over. Built in, in this order: passed the truck, stopped, braking
+/// straight at the limit with room to stop (finished in closed form), the horizon; in the
+/// recovery phase: stopped, stabilised with room to stop, the recovery horizon; then the checks
+/// added with add().
+class TerminationTest {
+ public:
+  explicit TerminationTest(const Scene& scene);
+  ~TerminationTest();
+  TerminationTest(TerminationTest&&) noexcept;
+  TerminationTest& operator=(TerminationTest&&) noexcept;
+  /// Adds a test run after the built-in ones.
+  TerminationTest& add(std::unique_ptr<StepCheck> check);
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why` (what Roller calls each step).
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
+
+ private:
+  struct BuiltIn;
+  std::unique_ptr<const BuiltIn> built_in_;
+  CheckList added_;
+};
+
+/// The safe state after passing the truck (docs/physics.md, "Safe state"): yaw rate, body slip,
+/// heading and wheel angle within the scene's safe_state bounds, and a straight stop from here
+/// (through the brakes' dead time and ramp) ends on the drivable area.
+[[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s) noexcept;
+/// The same with the ego's box at `s` already computed (the rollout's hot path has it).
+[[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s,
+                                            const core::OrientedBox& ego_box) noexcept;
+
+}  // namespace emrm::sim

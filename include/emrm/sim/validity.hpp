@@ -1,0 +1,57 @@
+#pragma once
+
+// Validity (rollout.hpp): the checks run after every step of a rollout, the first that objects
+// ending it — the strategy's constraint, contact with the truck, leaving the drivable area — and
+// the impact assessments of a contact and of a departure, which recorded trajectories share
+// (exchange::assess).
+
+#include <memory>
+#include <optional>
+
+#include "emrm/core/geometry.hpp"
+#include "emrm/sim/controls.hpp"
+#include "emrm/sim/loss.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/step.hpp"
+#include "emrm/sim/vehicle.hpp"
+
+namespace emrm::sim {
+
+/// When a step is no longer valid. The built-in checks come first, in this order: the strategy's
+/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck,
+/// leaving the drivable area; then the checks added with add(). Contact and departure are found
+/// between samples too (conservative advancement inside the step, docs/physics.md "Continuous
+/// collision checking"), timed by bisection, and assessed: the truck by the impact model, the
+/// roadside by the scene's roadside model. The built-in ones are called directly (no virtual call per step: the
+/// rollout loop is the simulator's hot path). Borrows the scene and the model.
+class ValidityChecker {
+ public:
+  ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
+  ~ValidityChecker();
+  ValidityChecker(ValidityChecker&&) noexcept;
+  ValidityChecker& operator=(ValidityChecker&&) noexcept;
+  /// Adds a check run after the built-in ones.
+  ValidityChecker& add(std::unique_ptr<StepCheck> check);
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why` (what Roller calls each step).
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
+
+ private:
+  struct BuiltIn;
+  std::unique_ptr<const BuiltIn> built_in_;
+  CheckList added_;
+};
+
+/// The impact of the ego at state `s` on the truck, as a rollout's contact check assesses it when
+/// the two first touch: the contact test (nudging the ego on by up to 1 cm along the closing motion
+/// when the boxes only touch), then assess_impact with the truck's mass and inertia. The contact
+/// found goes to `contact_out` when given. Used by recorded trajectories too (exchange::assess).
+[[nodiscard]] ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const TruckState& truck,
+                                            core::Contact* contact_out = nullptr) noexcept;
+/// The ego leaving the drivable area at state `s`, assessed against the scene's roadside: a barrier
+/// is an immovable body met by the corner nearest the edge (written to `point_out` when given);
+/// open ground scores L4 with no impact.
+[[nodiscard]] ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s,
+                                               core::Vec2* point_out = nullptr) noexcept;
+
+}  // namespace emrm::sim

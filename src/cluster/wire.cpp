@@ -1,0 +1,99 @@
+// The messages' encoding (wire.hpp): cereal portable binary archives of the records, the campaign
+// and the cells.
+
+#include "wire.hpp"
+
+#include <cereal/archives/portable_binary.hpp>
+#include <cereal/types/array.hpp>
+#include <cereal/types/optional.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/vector.hpp>
+#include <sstream>
+#include <string>
+
+#include "emrm/sim/scene.hpp"
+
+// The records on the wire: every field of OutcomeRecord and CellRecord, in declaration order (found
+// by cereal through argument-dependent lookup, so in the records' namespace; this file only).
+namespace emrm::campaign {
+
+template <class Archive>
+void serialize(Archive& archive, OutcomeRecord& o) {
+  archive(o.strategy, o.avoided, o.contact, o.road_departure, o.impact_speed_kph, o.delta_v_kph, o.p_mais3, o.p_fatal,
+          o.loss_level, o.delta_loss, o.min_ttc_s, o.planner_nodes, o.planner_rollouts, o.fsm_trace,
+          o.loss_evaluation_trace, o.chosen_strategy, o.adopted_from, o.evidence, o.maneuver, o.path, o.goal_tree,
+          o.failsafe_tree);
+}
+
+template <class Archive>
+void serialize(Archive& archive, CellRecord& r) {
+  archive(r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph, r.seed, r.feasible, r.region,
+          r.unmitigated_impact_speed_kph, r.unmitigated_delta_v_kph, r.unmitigated_p_mais3, r.unmitigated_p_fatal,
+          r.unmitigated_loss_level, r.evidence, r.mitigation_evidence, r.strengthened, r.certificate,
+          r.p_mais3_reduction, r.p_fatal_reduction, r.outcomes, r.method, r.inferred_from);
+}
+
+template <class Archive>
+void serialize(Archive& archive, CellTask& task) {
+  archive(task.grid, task.index, task.cost);
+}
+
+// A campaign as the ranks receive it: everything that decides a cell's result (the scene as the
+// store keeps it, in YAML); the worker checks that its config hash is rank 0's.
+template <class Archive>
+void serialize(Archive& archive, GridSpec& grid) {
+  archive(grid.name, grid.cells, grid.seeds, grid.keep_trees, grid.levels, grid.adaptive);
+}
+
+template <class Archive>
+void save(Archive& archive, const Campaign& c) {
+  archive(c.file, c.scene_file, sim::to_yaml(c.scene), c.seed, c.strategies, c.grids, c.max_cells, c.text);
+}
+
+template <class Archive>
+void load(Archive& archive, Campaign& c) {
+  std::string scene;
+  archive(c.file, c.scene_file, scene, c.seed, c.strategies, c.grids, c.max_cells, c.text);
+  c.scene = sim::parse_stored_scene_config(scene, c.file + " (scene from rank 0)");
+}
+
+}  // namespace emrm::campaign
+
+namespace emrm::sim {
+
+template <class Archive>
+void serialize(Archive& archive, CellInput& cell) {
+  archive(cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph);
+}
+
+}  // namespace emrm::sim
+
+namespace emrm::cluster::detail {
+
+template <class Message>
+std::string to_archive(const Message& message) {
+  std::ostringstream bytes;
+  {
+    cereal::PortableBinaryOutputArchive archive(bytes);
+    archive(message);
+  }
+  return std::move(bytes).str();
+}
+
+template <class Message>
+Message from_archive(const std::string& bytes) {
+  std::istringstream in(bytes);
+  cereal::PortableBinaryInputArchive archive(in);
+  Message message;
+  archive(message);
+  return message;
+}
+
+template std::string to_archive(const Job&);
+template std::string to_archive(const Chunk&);
+template std::string to_archive(const Results&);
+template Job from_archive<Job>(const std::string&);
+template Chunk from_archive<Chunk>(const std::string&);
+template Results from_archive<Results>(const std::string&);
+
+}  // namespace emrm::cluster::detail

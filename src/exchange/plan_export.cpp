@@ -1,0 +1,109 @@
+// A plan as a logical scenario (plan_export.hpp).
+
+#include "emrm/exchange/plan_export.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+#include "emrm/campaign/campaign.hpp"
+#include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
+#include "export_support.hpp"
+#include "xml_writer.hpp"
+
+namespace emrm::exchange {
+namespace {
+
+namespace fs = std::filesystem;
+using detail::file_header;
+using detail::num;
+using detail::require_feasible;
+using detail::scenario_xml;
+using detail::truck_rest_s;
+
+std::string road_file_of(const JunctionLayout& l) {
+  return fmt::format("{}/tjunction_x{:.3f}.xodr", kRoadsFolder, l.side_road_x_m);
+}
+
+}  // namespace
+
+std::vector<std::string> plan_parameter_names() {
+  return {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "road_network", "scenario_id"};
+}
+
+PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, const scenario::ScenarioFile& scenarios,
+                       const ExportOptions& options) {
+  if (scenarios.rows.empty()) throw InputError({scenarios.file, 1, 1}, "expected at least one scenario in the plan");
+  struct Concrete {
+    std::string id;
+    sim::CellInput cell;
+    std::string road_file;
+  };
+  std::vector<Concrete> concrete;
+  std::map<std::string, sim::CellInput> roads;  // file -> the cell whose road network it is
+  for (const auto& row : scenarios.rows) {
+    sim::CellInput cell;
+    cell.truck_speed_kph = config.truck.speed_kph;
+    for (std::size_t i = 0; i < scenarios.factors.size(); ++i)
+      (void)campaign::set_cell_factor(cell, scenarios.factors[i], row.values[i]);
+    try {
+      require_feasible(config, cell);
+    } catch (const UsageError& e) {
+      throw InputError(row.where, fmt::format("scenario {}: {}", row.id, e.what()));
+    }
+    const JunctionLayout layout = junction_layout(config, cell);
+    const std::string road = road_file_of(layout);
+    // Scenarios sharing a junction share its road network: the one whose side road reaches furthest
+    // (its truck starts highest), so that every truck of the group starts on it.
+    const auto [it, added] = roads.emplace(road, cell);
+    if (!added && junction_layout(config, it->second).side_road_length_m < layout.side_road_length_m) it->second = cell;
+    concrete.push_back({row.id, cell, road});
+  }
+
+  std::vector<core::FileContent> files;
+  double rest_s = 0.0;
+  for (const auto& c : concrete) rest_s = std::max(rest_s, truck_rest_s(config, c.cell));
+  files.push_back({dir / kScenarioFile, scenario_xml(config, concrete.front().cell, nullptr, options,
+                                                     concrete.front().road_file, true, concrete.front().id, rest_s)});
+  XmlWriter x;
+  x.open("OpenSCENARIO");
+  file_header(x, fmt::format("{}: the {} concrete scenarios of an emrm plan ({})", config.name, concrete.size(),
+                             fs::path(scenarios.file).filename().string()));
+  x.open("ParameterValueDistribution");
+  x.leaf("ScenarioFile", {{"filepath", kScenarioFile}});
+  x.open("Deterministic");
+  x.open("DeterministicMultiParameterDistribution");
+  x.open("ValueSetDistribution");
+  for (const auto& c : concrete) {
+    x.open("ParameterValueSet");
+    const std::vector<std::string> values{num(c.cell.speed_kph),
+                                          num(c.cell.ttc_s),
+                                          num(c.cell.mu),
+                                          num(c.cell.passage_m),
+                                          num(c.cell.truck_speed_kph),
+                                          c.road_file,
+                                          c.id};
+    const auto names = plan_parameter_names();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      x.leaf("ParameterAssignment", {{"parameterRef", names[i]}, {"value", values[i]}});
+    x.close();
+  }
+  x.close();
+  x.close();
+  x.close();
+  x.close();
+  x.close();
+  files.push_back({dir / kDistributionFile, std::move(x).str()});
+  for (const auto& [file, cell] : roads) files.push_back({dir / file, opendrive_xml(config, cell)});
+  core::write_files(files);
+
+  PlanExport out;
+  out.scenarios = concrete.size();
+  out.road_networks = roads.size();
+  for (const auto& f : files) out.files.push_back(f.path);
+  return out;
+}
+
+}  // namespace emrm::exchange
