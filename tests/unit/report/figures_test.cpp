@@ -343,28 +343,3 @@ TEST_F(FigureEmpty, HarmReductionMapWithoutAnyOfItsGridsWritesNothing) {
 
 }  // namespace figures_test
 }  // namespace emrm::report
-
-namespace emrm::report {
-namespace figures_test {
-
-// --- the brakes' sensitivity ---------------------------------------------------------------------
-
-using FigureBrakes = FigureTest;
-
-TEST_F(FigureBrakes, GFallsAlongBothCurvesAndTheCsvHoldsThem) {
-  const auto f = draw_brake_sensitivity(campaign_records(), "fine", sim::ActuationConfig{}, out());
-  expect_drawn(f, out(), "brake_sensitivity");
-  const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"parameter", "value", "g_pct"}));
-  ASSERT_EQ(csv.size(), 1u + 7u + 7u);
-  for (std::size_t k = 2; k <= 7; ++k) EXPECT_LT(std::stod(csv[k][2]), std::stod(csv[k - 1][2]));    // dead time up
-  for (std::size_t k = 10; k <= 14; ++k) EXPECT_LT(std::stod(csv[k][2]), std::stod(csv[k - 1][2]));  // cap down
-}
-
-TEST_F(FigureBrakes, AGridWithoutCellsIsANoteNotAFigure) {
-  const auto f = draw_brake_sensitivity(campaign_records(), "no_such_grid", sim::ActuationConfig{}, out());
-  EXPECT_NE(f.note.find("no_such_grid"), std::string::npos) << f.note;
-}
-
-}  // namespace figures_test
-}  // namespace emrm::report
