@@ -159,7 +159,7 @@ inline std::vector<core::Row> csv_of(const fs::path& path) {
   return rows;
 }
 
-double num(const std::string& field) { return std::strtod(field.c_str(), nullptr); }
+inline double num(const std::string& field) { return std::strtod(field.c_str(), nullptr); }
 
 // Rates recomputed here, independently of the aggregation, from the definitions of docs/results.md.
 struct Rates {
