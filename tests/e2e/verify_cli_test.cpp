@@ -103,7 +103,7 @@ TEST_F(VerifyCli, AnAvoidanceClaimedWithoutOneIsFound) {
 
 TEST_F(VerifyCli, AWitnessThatDoesNotDriveTheClaimIsFound) {
   const auto dir = tampered(*dir_ / "out", *dir_ / "witness",
-                            "UPDATE outcomes SET maneuver = '{\\\"plan\\\":[],\\\"tail\\\":null}' WHERE avoided = 1");
+                            "UPDATE outcomes SET maneuver = '{\"plan\":[],\"tail\":null}' WHERE avoided = 1");
   const auto r = run_emrm("verify " + quoted(dir));
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("replay does not avoid"));
@@ -113,8 +113,8 @@ TEST_F(VerifyCli, ACertificateForAnotherCellIsFound) {
   const auto count = [&](const fs::path& dir) { return run_emrm("verify " + quoted(dir) + " --json"); };
   ASSERT_THAT(count(*dir_ / "out").out, ::testing::Not(HasSubstr("\"certificates\": 0"))) << "no certified cell";
   const auto dir = tampered(*dir_ / "out", *dir_ / "certificate",
-                            "UPDATE cells SET certificate = replace(certificate, '\\\"speed_kph\\\":70.0', "
-                            "'\\\"speed_kph\\\":30.0') WHERE certificate != ''");
+                            "UPDATE cells SET certificate = replace(certificate, '\"speed_kph\":70.0', "
+                            "'\"speed_kph\":30.0') WHERE certificate != ''");
   const auto r = run_emrm("verify " + quoted(dir));
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   EXPECT_THAT(r.out, HasSubstr("the certificate does not hold"));
@@ -122,7 +122,7 @@ TEST_F(VerifyCli, ACertificateForAnotherCellIsFound) {
 
 TEST_F(VerifyCli, ADamagedManeuverIsBadInputNamingTheCell) {
   const auto dir =
-      tampered(*dir_ / "out", *dir_ / "damaged", "UPDATE outcomes SET maneuver = '{\\\"plan\\\": 3}' WHERE grid = 'r'");
+      tampered(*dir_ / "out", *dir_ / "damaged", "UPDATE outcomes SET maneuver = '{\"plan\": 3}' WHERE grid = 'r'");
   const auto r = run_emrm("verify " + quoted(dir));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_THAT(r.err, HasSubstr("cell r#0"));
