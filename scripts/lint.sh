@@ -44,7 +44,9 @@ check_tidy() {
   mapfile -t files < <(git ls-files 'src/*.cpp' 'apps/*.cpp' 'python/src/*.cpp')
   local jobs
   jobs=$(nproc)
-  if ! run-clang-tidy -quiet -j "$jobs" -p build/dev "${files[@]/#/$PWD/}" >/tmp/emrm-clang-tidy.log 2>&1; then
+  # Colour codes stripped, so that a finding reads (and greps) as FILE:LINE:COLUMN: warning: ...
+  if ! run-clang-tidy -quiet -j "$jobs" -p build/dev "${files[@]/#/$PWD/}" 2>&1 |
+    sed 's/\x1b\[[0-9;]*m//g' >/tmp/emrm-clang-tidy.log; then
     grep -E 'warning:|error:' /tmp/emrm-clang-tidy.log | sort -u >&2 || cat /tmp/emrm-clang-tidy.log >&2
     echo "lint: clang-tidy found the above (.clang-tidy lists the checks)" >&2
     return 1

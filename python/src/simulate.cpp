@@ -85,7 +85,7 @@ const std::vector<std::string> kEgoColumns{"t", "x", "y", "psi", "v", "vx", "vy"
 const std::vector<std::string> kTruckColumns{"t", "x", "y", "psi"};
 
 // The column `name`; a name the trajectory has not raises KeyError (or AttributeError, as an attribute).
-py::array trajectory_column(py::object self, const std::string& name, bool attribute = false) {
+py::array trajectory_column(const py::object& self, const std::string& name, bool attribute = false) {
   auto& view = self.cast<TrajectoryView&>();
   const auto& columns = view.truck ? kTruckColumns : kEgoColumns;
   if (std::find(columns.begin(), columns.end(), name) == columns.end()) {
@@ -185,14 +185,14 @@ void bind_simulate(py::module_& m) {
     return py::tuple(py::cast(self.truck ? kTruckColumns : kEgoColumns));
   });
   trajectory.def(
-      "__getitem__", [](py::object self, const std::string& name) { return trajectory_column(self, name); },
+      "__getitem__", [](const py::object& self, const std::string& name) { return trajectory_column(self, name); },
       py::arg("column"));
   for (const auto& name : kEgoColumns)
     trajectory.def_property_readonly(name.c_str(),
-                                     [name](py::object self) { return trajectory_column(self, name, true); });
+                                     [name](const py::object& self) { return trajectory_column(self, name, true); });
   trajectory.def(
       "to_dataframe",
-      [](py::object self) {
+      [](const py::object& self) {
         const auto& view = self.cast<const TrajectoryView&>();
         py::dict columns;
         for (const auto& name : view.truck ? kTruckColumns : kEgoColumns)
@@ -225,7 +225,7 @@ void bind_simulate(py::module_& m) {
   outcome.def("__getattr__", [outcome_fields](const OutcomeView& self, const std::string& name) {
     return member(outcome_fields(self), name, kOptionalOutcomeKeys);
   });
-  outcome.def("__dir__", [outcome_fields](py::object self) {
+  outcome.def("__dir__", [outcome_fields](const py::object& self) {
     return names(self, outcome_fields(self.cast<const OutcomeView&>()), kOptionalOutcomeKeys);
   });
   outcome.def(
@@ -255,8 +255,9 @@ void bind_simulate(py::module_& m) {
   result.def("__getattr__", [](SimulatedCell& self, const std::string& name) {
     return member(self.field_dict(), name, kOptionalCellKeys);
   });
-  result.def("__dir__",
-             [](py::object self) { return names(self, self.cast<SimulatedCell&>().field_dict(), kOptionalCellKeys); });
+  result.def("__dir__", [](const py::object& self) {
+    return names(self, self.cast<SimulatedCell&>().field_dict(), kOptionalCellKeys);
+  });
   result.def(
       "to_json", [](const SimulatedCell& self, int indent) { return self.json(true).dump(indent); },
       py::arg("indent") = 2, "The text `emrm simulate --json` prints (without its final line break).");

@@ -107,7 +107,8 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
   if (options.threads < 0) throw UsageError(fmt::format("--threads must be >= 0, got {}", options.threads));
   std::vector<char> adaptive(campaign.grids.size(), 0);
   for (std::size_t g = 0; g < campaign.grids.size(); ++g)
-    adaptive[g] = (options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels[0].empty();
+    adaptive[g] =
+        static_cast<char>((options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels[0].empty());
   const bool any_adaptive = std::find(adaptive.begin(), adaptive.end(), 1) != adaptive.end();
   if (any_adaptive && options.shard_count > 1)
     throw UsageError(

@@ -22,10 +22,8 @@ namespace emrm::campaign {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using detail::beside_distributor;
 using detail::Committer;
 using detail::expected_cost;
-using detail::local_threads;
 using detail::simulate_in_loops;
 using detail::WorkItem;
 

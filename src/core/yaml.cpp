@@ -45,8 +45,8 @@ std::string join_keys(const std::vector<std::string>& keys) {
 
 }  // namespace
 
-YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file)
-    : node_(std::move(node)), file_(std::move(file)) {}
+YamlNode::YamlNode(const YAML::Node& node, std::shared_ptr<const std::string> file)
+    : node_(node), file_(std::move(file)) {}
 
 YamlNode YamlNode::load_file(const std::filesystem::path& path) { return parse(read_input_file(path), path.string()); }
 
@@ -54,7 +54,7 @@ YamlNode YamlNode::parse(const std::string& text, std::string file_name) {
   YAML::Node root = parse_text(text, file_name);
   auto file = std::make_shared<const std::string>(std::move(file_name));
   if (!root.IsDefined() || root.IsNull()) throw InputError({*file, 1, 1}, "the file is empty; expected a YAML mapping");
-  return YamlNode(std::move(root), std::move(file));
+  return YamlNode(root, std::move(file));
 }
 
 SourceLocation YamlNode::location() const { return location_of(*file_, node_.Mark()); }

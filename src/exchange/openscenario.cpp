@@ -20,7 +20,6 @@ namespace emrm::exchange {
 namespace {
 
 namespace fs = std::filesystem;
-using detail::kDate;
 using detail::num;
 using detail::require_feasible;
 using detail::scenario_xml;

@@ -55,7 +55,6 @@ using detail::MapPanel;
 using detail::no_map_note;
 using detail::panel_caption;
 using detail::panel_extent;
-using detail::panel_plot;
 using detail::panel_script;
 using detail::region_colour;
 using detail::StemSet;

@@ -9,10 +9,7 @@
 namespace emrm::workflow {
 
 namespace fs = std::filesystem;
-using campaign::Campaign;
 using campaign::GridSpec;
-using campaign::SweepOptions;
-using campaign::SweepSummary;
 using results::ProfileRun;
 
 std::vector<ProfileRun> sweep_profiles(const campaign::Campaign& campaign, const std::string& grid,

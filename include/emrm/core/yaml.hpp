@@ -30,7 +30,7 @@ namespace emrm::core {
 /// A YAML node plus the name of the file it came from. Cheap to copy (shares the tree).
 class YamlNode {
  public:
-  YamlNode(YAML::Node node, std::shared_ptr<const std::string> file);
+  YamlNode(const YAML::Node& node, std::shared_ptr<const std::string> file);
   YamlNode(const YamlNode&) = default;
   YamlNode(YamlNode&&) = default;
   /// Rebinds to the other node. (A YAML::Node assigned to would overwrite the node it refers to,
