@@ -6,8 +6,11 @@
 #include <charconv>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
+#include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
@@ -28,11 +31,10 @@ struct SweepCommandOptions {
   std::string profile;
   std::string progress_log;
   bool adaptive = false;
-  std::string verify_sample = "auto";
-  std::size_t initial_levels = 0;
-  std::size_t stride = 4;
-  std::string brackets = "auto";
-  std::uint32_t spread = 3;
+  /// --initial-levels, --stride and --spread bound to it, their defaults the search's own.
+  campaign::adaptive::Options search;
+  std::string verify_sample = "auto";  ///< "auto": search.verify_sample's none
+  std::string brackets{campaign::adaptive::brackets_name(search.brackets)};
   MpiOptions mpi;
 };
 
@@ -71,11 +73,10 @@ campaign::SweepOptions sweep_options(const SweepCommandOptions& o) {
   options.threads = o.threads;
   options.progress_log = o.progress_log;
   options.adaptive = o.adaptive;
-  if (o.verify_sample != "auto") options.verify_sample = std::stoul(o.verify_sample);  // checked by its validator
-  options.initial_levels = o.initial_levels;
-  options.stride = o.stride;
-  options.brackets = *campaign::adaptive::brackets_named(o.brackets);  // checked by IsMember
-  options.spread = o.spread;
+  options.search = o.search;
+  if (o.verify_sample != "auto")
+    options.search.verify_sample = std::stoul(o.verify_sample);               // checked by its validator
+  options.search.brackets = *campaign::adaptive::brackets_named(o.brackets);  // checked by IsMember
   return options;
 }
 
@@ -186,12 +187,12 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
           "auto|0..1000000"))
       ->capture_default_str();
   sweep
-      ->add_option("--initial-levels", s->initial_levels,
+      ->add_option("--initial-levels", s->search.initial_levels,
                    "Adaptive: lines searched per factor before refining (2 to 1000; 0: automatic)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{1000}, "0 to 1000") & !CLI::IsMember({std::size_t{1}}))
       ->capture_default_str();
   sweep
-      ->add_option("--stride", s->stride,
+      ->add_option("--stride", s->search.stride,
                    "Adaptive: unavoidable cells along a line sampled every N cells (1 to 1000; 1 simulates all)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}, "1 to 1000"))
       ->capture_default_str();
@@ -200,10 +201,11 @@ void register_sweep_commands(CLI::App& app, int& exit_code) {
                    "Adaptive: a line between corners whose thresholds agree within a level searches its own "
                    "(search), takes the one predicted from them (predict), or auto: predict on grids of three "
                    "factors or more")
-      ->check(CLI::IsMember({"auto", "search", "predict"}))
+      ->check(CLI::IsMember(std::vector<std::string>(campaign::adaptive::kBracketsNames.begin(),
+                                                     campaign::adaptive::kBracketsNames.end())))
       ->capture_default_str();
   sweep
-      ->add_option("--spread", s->spread,
+      ->add_option("--spread", s->search.spread,
                    "Adaptive, where brackets are predicted: corners whose avoidance thresholds or early runs "
                    "differ by up to N TTC levels still agree, and the lines between take what they predict "
                    "(1 to 1000)")

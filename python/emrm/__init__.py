@@ -124,8 +124,10 @@ def sweep(
     shard: str = "1/1",
     adaptive: bool = False,
     verify_sample: Optional[int] = None,
-    initial_levels: int = 0,
-    stride: int = 4,
+    initial_levels: Optional[int] = None,
+    stride: Optional[int] = None,
+    brackets: Optional[str] = None,
+    spread: Optional[int] = None,
     progress_log: Optional[PathLike] = None,
 ) -> Results:
     """Sweeps a campaign (a file, or a mapping shaped like one; docs/campaign.md) into `out_dir`, as
@@ -137,16 +139,20 @@ def sweep(
     KeyboardInterrupt); calling sweep again resumes it. Without `out_dir` the sweep runs in a
     temporary folder, removed once read. The keywords are `emrm sweep`'s options: --profile,
     --force, --shard, --adaptive, --verify-sample (None: automatic), --initial-levels, --stride,
-    --progress-log. `progress` draws the bar on stderr when it is a terminal.
+    --brackets ("auto", "search" or "predict"), --spread, --progress-log; the adaptive search's
+    left at None take the command's defaults. `progress` draws the bar on stderr when it is a terminal.
     """
-    args = (threads, progress, profile, force, shard, adaptive, verify_sample, initial_levels, stride, progress_log)
+    args = (threads, progress, profile, force, shard, adaptive, progress_log)
+    search = {"initial_levels": initial_levels, "stride": stride, "brackets": brackets, "spread": spread}
+    search = {key: value for key, value in search.items() if value is not None}
+    search["verify_sample"] = verify_sample
     if out_dir is None:
         with tempfile.TemporaryDirectory(prefix="emrm-sweep-") as folder:
-            summary = _emrm._sweep(campaign, folder, *args)
+            summary = _emrm._sweep(campaign, folder, *args, **search)
             results = load_results(folder)
         results.dir = None
     else:
-        summary = _emrm._sweep(campaign, out_dir, *args)
+        summary = _emrm._sweep(campaign, out_dir, *args, **search)
         results = load_results(out_dir)
     results.summary = summary
     return results

@@ -218,10 +218,13 @@ def _sweep(
     force: bool,
     shard: str,
     adaptive: bool,
-    verify_sample: Optional[int],
-    initial_levels: int,
-    stride: int,
     progress_log: Optional[_Path],
+    *,
+    verify_sample: Optional[int] = None,
+    initial_levels: int = ...,
+    stride: int = ...,
+    brackets: str = ...,
+    spread: int = ...,
 ) -> dict[str, Any]: ...
 def _read_results(dir: _Path) -> dict[str, Any]: ...
 def merge(dirs: Sequence[_Path], output_dir: _Path) -> None: ...

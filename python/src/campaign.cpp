@@ -3,6 +3,7 @@
 
 #include "emrm/campaign/campaign.hpp"
 
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -18,6 +19,7 @@
 #include <type_traits>
 
 #include "bindings.hpp"
+#include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/core/interrupt.hpp"
@@ -85,19 +87,35 @@ campaign::SweepSummary sweep_interruptibly(const campaign::Campaign& campaign, c
   return shared.summary;
 }
 
+// The adaptive search's settings from _sweep's keywords (their defaults adaptive::Options{}'s, in
+// bind_campaign), checked before the sweep opens its store.
+campaign::adaptive::Options search_options(std::optional<std::size_t> verify_sample, std::size_t initial_levels,
+                                           std::size_t stride, const std::string& brackets, std::uint32_t spread) {
+  campaign::adaptive::Options search;
+  search.verify_sample = verify_sample;
+  search.initial_levels = initial_levels;
+  search.stride = stride;
+  const auto named = campaign::adaptive::brackets_named(brackets);
+  if (!named)
+    throw UsageError(fmt::format("emrm.sweep: brackets: expected one of {}, got '{}'",
+                                 fmt::join(campaign::adaptive::kBracketsNames, ", "), brackets));
+  search.brackets = *named;
+  search.spread = spread;
+  campaign::adaptive::check(search);  // std::invalid_argument: ValueError
+  return search;
+}
+
 py::dict sweep(py::handle source, py::handle output_dir, int threads, bool progress,
                const std::optional<std::string>& profile, bool force, const std::string& shard, bool adaptive,
-               std::optional<std::size_t> verify_sample, std::size_t initial_levels, std::size_t stride,
-               py::handle progress_log) {
+               py::handle progress_log, std::optional<std::size_t> verify_sample, std::size_t initial_levels,
+               std::size_t stride, const std::string& brackets, std::uint32_t spread) {
   campaign::SweepOptions options;
   campaign::parse_shard(shard, options.shard_index, options.shard_count);
   options.output_dir = to_path(output_dir);
   options.threads = threads;
   options.progress = progress;
   options.adaptive = adaptive;
-  options.verify_sample = verify_sample;
-  options.initial_levels = initial_levels;
-  options.stride = stride;
+  options.search = search_options(verify_sample, initial_levels, stride, brackets, spread);
   if (!progress_log.is_none()) options.progress_log = to_path(progress_log);
   campaign::Campaign c = campaign_from(source, force);
   if (profile) campaign::apply_profile(c, *profile);
@@ -280,10 +298,15 @@ py::dict read_results(py::handle dir) {
 }  // namespace
 
 void bind_campaign(py::module_& m) {
+  const campaign::adaptive::Options search;  // the defaults of the search's keywords
   m.def("_sweep", &sweep, py::arg("campaign"), py::arg("output_dir"), py::arg("threads"), py::arg("progress"),
-        py::arg("profile"), py::arg("force"), py::arg("shard"), py::arg("adaptive"), py::arg("verify_sample"),
-        py::arg("initial_levels"), py::arg("stride"), py::arg("progress_log"),
-        "campaign::sweep into output_dir (emrm.sweep wraps it); returns the summary.");
+        py::arg("profile"), py::arg("force"), py::arg("shard"), py::arg("adaptive"), py::arg("progress_log"),
+        py::kw_only(), py::arg("verify_sample") = search.verify_sample,
+        py::arg("initial_levels") = search.initial_levels, py::arg("stride") = search.stride,
+        py::arg("brackets") = std::string(campaign::adaptive::brackets_name(search.brackets)),
+        py::arg("spread") = search.spread,
+        "campaign::sweep into output_dir (emrm.sweep wraps it); returns the summary. The adaptive search's "
+        "keywords default to emrm sweep's (adaptive::Options).");
   m.def("_read_results", &read_results, py::arg("dir"),
         "A results folder's cells, outcomes, KPIs and metadata as columns (emrm.load_results wraps it).");
   m.def(

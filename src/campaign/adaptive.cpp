@@ -119,10 +119,13 @@ std::string_view purpose_name(Purpose p) noexcept {
   return "";
 }
 
+std::string_view brackets_name(Brackets brackets) noexcept {
+  return kBracketsNames[static_cast<std::size_t>(brackets)];
+}
+
 std::optional<Brackets> brackets_named(std::string_view name) noexcept {
-  if (name == "auto") return Brackets::kAuto;
-  if (name == "search") return Brackets::kSearch;
-  if (name == "predict") return Brackets::kPredict;
+  for (std::size_t i = 0; i < kBracketsNames.size(); ++i)
+    if (kBracketsNames[i] == name) return static_cast<Brackets>(i);
   return std::nullopt;
 }
 
@@ -148,13 +151,17 @@ sim::Region region_named(std::string_view name) noexcept {
   return Region::kInfeasible;
 }
 
-Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
-  for (const auto& l : lattice.levels)
-    if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
+void check(const Options& options) {
   if (options.initial_levels == 1)
     throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");
   if (options.stride < 1) throw std::invalid_argument("adaptive search: stride must be at least 1");
   if (options.spread < 1) throw std::invalid_argument("adaptive search: spread must be at least 1");
+}
+
+Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
+  for (const auto& l : lattice.levels)
+    if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
+  check(options);
   return detail::Search(lattice, oracle, options).run();
 }
 

@@ -295,12 +295,7 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
   store.delete_inferred(grid.name);
   GridOracle oracle(campaign, g, committer, store.simulated_regions(grid.name));
   adaptive::Lattice lattice{grid.levels};
-  adaptive::Options search_options;
-  search_options.initial_levels = options.initial_levels;
-  search_options.stride = options.stride;
-  search_options.brackets = options.brackets;
-  search_options.spread = options.spread;
-  search_options.verify_sample = options.verify_sample;
+  adaptive::Options search_options = options.search;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;
   bool interrupted = false;

@@ -128,6 +128,68 @@ def test_bad_campaigns_raise_input_error_with_the_cli_message(tmp_path):
         emrm.load_results(tmp_path / "nothing here")
 
 
+# 5 speeds x 12 TTCs x 2 frictions, 86 feasible cells: each option of the search but --spread
+# changes what it simulates here.
+ADAPTIVE_CAMPAIGN = """seed: 2
+grids:
+  - name: map
+    speed_kph: {from: 30, to: 70, step: 10}
+    ttc_s: {from: 0.25, to: 2.45, levels: 12}
+    mu: [0.4, 1.0]
+    passage_m: 3.0
+"""
+
+
+@pytest.fixture(scope="module")
+def adaptive_campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("adaptive")
+    campaign = folder / "campaign.yaml"
+    campaign.write_text(ADAPTIVE_CAMPAIGN)
+    return campaign
+
+
+def adaptive_summary(campaign, out, flags, **keywords):
+    """The grid's adaptive summary swept by Python with `keywords`, checked against `emrm sweep
+    --adaptive FLAGS` into a folder beside it: each keyword is the option it names."""
+    by_python = emrm.sweep(campaign, out, threads=2, progress=False, adaptive=True, **keywords).summary["adaptive"]
+    run = run_emrm("sweep", campaign, "-o", f"{out}-cli", "--threads", "2", "--adaptive", *flags)
+    assert run.returncode == 0, run.stderr
+    assert by_python == list(emrm.load_results(f"{out}-cli").adaptive.values())
+    assert len(by_python) == 1
+    return by_python[0]
+
+
+def test_sweep_takes_every_option_of_the_adaptive_search(adaptive_campaign, tmp_path):
+    # None is the command's default for each.
+    defaults = adaptive_summary(adaptive_campaign, tmp_path / "defaults", [], verify_sample=None, stride=None,
+                                brackets=None, spread=None, initial_levels=None)
+    base = adaptive_summary(adaptive_campaign, tmp_path / "base", ["--verify-sample", "0"], verify_sample=0)
+    assert defaults["verification"]["sampled"] > 0 and base["verification"]["sampled"] == 0
+
+    def without_sample(name, flags, **keywords):
+        return adaptive_summary(adaptive_campaign, tmp_path / name, ["--verify-sample", "0", *flags], verify_sample=0,
+                                **keywords)
+
+    # Each keyword reaches the search as its option does, and changes what it simulates.
+    stride = without_sample("stride", ["--stride", "1"], stride=1)
+    assert stride["simulated_cells"] > base["simulated_cells"]
+    levels = without_sample("levels", ["--initial-levels", "5"], initial_levels=5)
+    assert levels["simulated_cells"] > base["simulated_cells"]
+    searched = without_sample("search", ["--brackets", "search"], brackets="search")
+    assert searched["simulated_for"]["threshold_brackets"] > base["simulated_for"]["threshold_brackets"]
+    without_sample("spread", ["--spread", "1"], spread=1)
+
+
+def test_bad_adaptive_options_are_refused_before_the_sweep_starts(adaptive_campaign, tmp_path):
+    for keywords in ({"stride": 0}, {"spread": 0}, {"initial_levels": 1}, {"brackets": "exact"}):
+        out = tmp_path / "-".join(keywords)
+        with pytest.raises(ValueError):
+            emrm.sweep(adaptive_campaign, out, threads=1, progress=False, adaptive=True, **keywords)
+        assert not (out / "results.sqlite").exists(), keywords
+    with pytest.raises(emrm.UsageError, match="brackets: expected one of auto, search, predict, got 'exact'"):
+        emrm.sweep(adaptive_campaign, tmp_path / "exact", adaptive=True, brackets="exact")
+
+
 # 88 cells, four seconds on one thread: long enough to be interrupted after the first.
 LONG_CAMPAIGN = """seed: 5
 grids:

@@ -67,7 +67,11 @@ class Oracle {
 
 /// Options::brackets.
 enum class Brackets : std::uint8_t { kAuto, kSearch, kPredict };
-/// "auto", "search" or "predict"; nothing for any other name.
+/// The names of the Brackets, in the enum's order (what `emrm sweep --brackets` and Python take).
+inline constexpr std::array<std::string_view, 3> kBracketsNames{"auto", "search", "predict"};
+/// "auto", "search" or "predict".
+[[nodiscard]] std::string_view brackets_name(Brackets brackets) noexcept;
+/// The Brackets of one of kBracketsNames; nothing for any other name.
 [[nodiscard]] std::optional<Brackets> brackets_named(std::string_view name) noexcept;
 
 struct Options {
@@ -154,7 +158,10 @@ struct Result {
   scenario::Interval disagreement;                  ///< Wilson interval of the disagreement rate
 };
 
-/// Throws std::invalid_argument for a factor without levels, initial_levels 1, or stride 0.
+/// Throws std::invalid_argument for initial_levels 1, stride 0 or spread 0.
+void check(const Options& options);
+
+/// Throws std::invalid_argument for a factor without levels, or options check() refuses.
 [[nodiscard]] Result search(const Lattice& lattice, Oracle& oracle, const Options& options);
 
 }  // namespace emrm::campaign::adaptive

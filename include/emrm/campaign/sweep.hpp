@@ -5,7 +5,6 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,12 +27,9 @@ struct SweepOptions {
   /// Sweep every product grid by the adaptive boundary search (docs/adaptive.md), not only those
   /// with `adaptive: true`. Not with shards.
   bool adaptive = false;
-  /// The search's settings (adaptive.hpp): initial levels, stride, brackets, spread, verification sample.
-  std::size_t initial_levels = 0;
-  std::size_t stride = 4;
-  adaptive::Brackets brackets = adaptive::Brackets::kAuto;
-  std::uint32_t spread = 3;
-  std::optional<std::size_t> verify_sample;  ///< none: automatic (adaptive.hpp)
+  /// The search's settings (adaptive.hpp), for every grid swept adaptively; the sweep sets only the
+  /// seed of each grid's verification sample (from the campaign's seed and the grid's name).
+  adaptive::Options search;
   /// Other processes that simulate cells beside this one's threads (distribute.hpp; the MPI ranks
   /// of cluster/mpi_sweep.hpp); borrowed. Null: this process alone.
   Distributor* distributor = nullptr;

@@ -274,9 +274,19 @@ TEST(AdaptiveSearch, RefusesSettingsItCannotWorkWith) {
   options = Options{};
   options.spread = 0;
   EXPECT_THROW((void)search(map.lattice, oracle, options), std::invalid_argument);
+  EXPECT_THROW(check(options), std::invalid_argument);  // what search() checks, before a sweep starts
+  EXPECT_NO_THROW(check(Options{}));
   Lattice empty = map.lattice;
   empty.levels[2].clear();
   EXPECT_THROW((void)search(empty, oracle, Options{}), std::invalid_argument);
+}
+
+TEST(AdaptiveSearch, NamesItsBracketsBothWays) {
+  for (const Brackets b : {Brackets::kAuto, Brackets::kSearch, Brackets::kPredict})
+    EXPECT_EQ(brackets_named(brackets_name(b)), b);
+  EXPECT_EQ(brackets_name(Options{}.brackets), "auto");
+  EXPECT_EQ(brackets_named("predict"), Brackets::kPredict);
+  for (const char* other : {"", "Predict", "exact"}) EXPECT_FALSE(brackets_named(other)) << other;
 }
 
 }  // namespace adaptive_test

@@ -114,5 +114,35 @@ TEST(Sweep, RefusesAChangedConfiguration) {
   EXPECT_THROW((void)sweep(changed, options), UsageError);
 }
 
+// The adaptive search's settings reach it whole (SweepOptions::search is copied, not field by
+// field), except the verification sample's seed, which the sweep derives per grid.
+TEST(Sweep, HandsTheSearchItsOptionsButTheSeed) {
+  const Campaign c = parse_campaign(
+      "seed: 3\ngrids:\n  - name: m\n    speed_kph: {from: 30, to: 70, step: 10}\n"
+      "    ttc_s: {from: 0.3, to: 2.1, step: 0.2}\n",
+      "adaptive.yaml", ".");
+  const auto adaptive_sweep = [&](const std::string& name, const adaptive::Options& search) {
+    SweepOptions options;
+    options.output_dir = scratch(name);
+    options.threads = 2;
+    options.progress = false;
+    options.adaptive = true;
+    options.search = search;
+    const SweepSummary s = sweep(c, options);
+    EXPECT_EQ(s.adaptive.size(), 1u);
+    return s.adaptive.empty() ? AdaptiveSummary{} : s.adaptive[0];
+  };
+  const AdaptiveSummary defaults = adaptive_sweep("defaults", SweepOptions{}.search);
+  adaptive::Options unverified;
+  unverified.verify_sample = 0;
+  const AdaptiveSummary without = adaptive_sweep("unverified", unverified);
+  EXPECT_GT(defaults.verify_sampled, 0u);
+  EXPECT_EQ(without.verify_sampled, 0u);
+  EXPECT_LT(without.simulated, defaults.simulated);
+  adaptive::Options seeded;
+  seeded.seed = 12345;  // not the sweep's: derived from the campaign's seed and the grid
+  EXPECT_EQ(adaptive_sweep("seeded", seeded).json, defaults.json);
+}
+
 }  // namespace sweep_test
 }  // namespace emrm::campaign
