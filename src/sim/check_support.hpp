@@ -1,8 +1,8 @@
 #pragma once
 
 // What rollout.cpp, step.cpp, validity.cpp and termination.cpp share. Internal to src/sim; in a
-// named namespace, so that the checks built from it may be members of the public checkers' BuiltIn
-// structs in a unity batch too (docs/testing.md).
+// named namespace, so that the checks built from it may be members of the checkers' built-in
+// structs (detail::ValidityChecks, detail::TerminationTests) in a unity batch too (docs/testing.md).
 
 #include <limits>
 #include <optional>

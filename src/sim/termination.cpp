@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "check_chain.hpp"
 #include "check_support.hpp"
 #include "emrm/core/trig.hpp"
 
@@ -110,41 +111,32 @@ bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s, const c
   return scene.on_drivable_area(at_rest);
 }
 
-struct TerminationTest::BuiltIn {
-  detail::PassedTruckTest passed;
-  detail::StoppedTest stopped;
-  detail::StopsShortTest stops_short;
-  detail::HorizonTest horizon;
-  detail::StabilisedTest stabilised;
+namespace detail {
+
+// The built-in termination tests, in their order (CheckChain calls ends() each step): those of the
+// approach, or after the truck those of the recovery phase.
+struct TerminationTests {
+  PassedTruckTest passed;
+  StoppedTest stopped;
+  StopsShortTest stops_short;
+  HorizonTest horizon;
+  StabilisedTest stabilised;
+
+  bool ends(Step& step, RolloutResult& result, Termination& why) const {
+    if (step.recovering)
+      return stopped.ends(step, result, why) || stabilised.ends(step, result, why) || horizon.ends(step, result, why);
+    return passed.ends(step, result, why) || stopped.ends(step, result, why) || stops_short.ends(step, result, why) ||
+           horizon.ends(step, result, why);
+  }
 };
 
+}  // namespace detail
+
+template class CheckChain<TerminationTest, detail::TerminationTests>;
+
 TerminationTest::TerminationTest(const Scene& scene)
-    : built_in_(std::make_unique<const BuiltIn>(BuiltIn{detail::PassedTruckTest(scene), detail::StoppedTest(),
-                                                        detail::StopsShortTest(scene), detail::HorizonTest(scene),
-                                                        detail::StabilisedTest(scene)})) {}
-TerminationTest::~TerminationTest() = default;
-TerminationTest::TerminationTest(TerminationTest&&) noexcept = default;
-TerminationTest& TerminationTest::operator=(TerminationTest&&) noexcept = default;
-
-TerminationTest& TerminationTest::add(std::unique_ptr<StepCheck> check) {
-  added_.add(std::move(check));
-  return *this;
-}
-
-bool TerminationTest::ends(Step& step, RolloutResult& result, Termination& why) const {
-  const BuiltIn& b = *built_in_;
-  if (step.recovering) {
-    if (b.stopped.ends(step, result, why) || b.stabilised.ends(step, result, why) || b.horizon.ends(step, result, why))
-      return true;
-  } else if (b.passed.ends(step, result, why) || b.stopped.ends(step, result, why) ||
-             b.stops_short.ends(step, result, why) || b.horizon.ends(step, result, why)) {
-    return true;
-  }
-  return !added_.empty() && added_.ends(step, result, why);
-}
-
-std::optional<Termination> TerminationTest::check(Step& step, RolloutResult& result) const {
-  return detail::answer_of(*this, step, result);
-}
+    : CheckChain(std::make_unique<const detail::TerminationTests>(
+          detail::TerminationTests{detail::PassedTruckTest(scene), detail::StoppedTest(), detail::StopsShortTest(scene),
+                                   detail::HorizonTest(scene), detail::StabilisedTest(scene)})) {}
 
 }  // namespace emrm::sim

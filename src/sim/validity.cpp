@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "check_chain.hpp"
 #include "check_support.hpp"
 
 namespace emrm::sim {
@@ -253,36 +254,28 @@ ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s, core
   return assess_impact(ego, barrier, contact, cfg.severity);
 }
 
-struct ValidityChecker::BuiltIn {
-  std::optional<detail::RearSlidingCheck> rear_sliding;
-  detail::TruckContactCheck contact;
-  detail::RoadDepartureCheck departure;
+namespace detail {
+
+// The built-in validity checks, in their order (CheckChain calls ends() each step).
+struct ValidityChecks {
+  std::optional<RearSlidingCheck> rear_sliding;
+  TruckContactCheck contact;
+  RoadDepartureCheck departure;
+
+  bool ends(Step& step, RolloutResult& result, Termination& why) const {
+    return (rear_sliding && rear_sliding->ends(step, result, why)) || contact.ends(step, result, why) ||
+           departure.ends(step, result, why);
+  }
 };
 
+}  // namespace detail
+
+template class CheckChain<ValidityChecker, detail::ValidityChecks>;
+
 ValidityChecker::ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
-    : built_in_(std::make_unique<const BuiltIn>(BuiltIn{
+    : CheckChain(std::make_unique<const detail::ValidityChecks>(detail::ValidityChecks{
           limits.forbid_rear_sliding ? std::optional<detail::RearSlidingCheck>(std::in_place, model, scene.cell().mu)
                                      : std::nullopt,
           detail::TruckContactCheck(scene, model), detail::RoadDepartureCheck(scene, model)})) {}
-ValidityChecker::~ValidityChecker() = default;
-ValidityChecker::ValidityChecker(ValidityChecker&&) noexcept = default;
-ValidityChecker& ValidityChecker::operator=(ValidityChecker&&) noexcept = default;
-
-ValidityChecker& ValidityChecker::add(std::unique_ptr<StepCheck> check) {
-  added_.add(std::move(check));
-  return *this;
-}
-
-bool ValidityChecker::ends(Step& step, RolloutResult& result, Termination& why) const {
-  const BuiltIn& b = *built_in_;
-  if ((b.rear_sliding && b.rear_sliding->ends(step, result, why)) || b.contact.ends(step, result, why) ||
-      b.departure.ends(step, result, why))
-    return true;
-  return !added_.empty() && added_.ends(step, result, why);
-}
-
-std::optional<Termination> ValidityChecker::check(Step& step, RolloutResult& result) const {
-  return detail::answer_of(*this, step, result);
-}
 
 }  // namespace emrm::sim

@@ -9,7 +9,8 @@
 //   objects ends the rollout;
 // - termination: a TerminationTest (termination.hpp) runs its StepChecks on every valid step (by
 //   default: passed the truck, stopped, certain to stop short, horizon).
-// New constraints or goals are new StepChecks (step.hpp) handed to the Roller, not edits to its
+// Both are a CheckChain (step.hpp): their built-in checks, then those added. New constraints or
+// goals are new StepChecks (step.hpp) added to them and handed to the Roller, not edits to its
 // loop. This header includes the other four, so that its users need no other.
 
 #include <optional>

@@ -1,11 +1,13 @@
 #pragma once
 
 // One step of a rollout as its checks see it (rollout.hpp): how a rollout ends, what it records,
-// the step handed to each check, and the interface and ordered list of checks that the validity
-// checker (validity.hpp) and the termination test (termination.hpp) run after every step.
+// the step handed to each check, the interface and ordered list of checks, and the chain of
+// built-in and added checks that the validity checker (validity.hpp) and the termination test
+// (termination.hpp) are.
 
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "emrm/core/geometry.hpp"
@@ -112,6 +114,36 @@ class CheckList {
 
  private:
   std::vector<std::unique_ptr<StepCheck>> checks_;
+};
+
+/// What the validity checker and the termination test have in common: their built-in checks, in
+/// the order `Checker`'s constructor fixes, then the checks added with add(), in the order added;
+/// the first that answers ends the rollout. `BuiltIn` holds the built-in checks and answers for
+/// them all with `bool ends(Step&, RolloutResult&, Termination&) const`; it is complete only in
+/// `Checker`'s own .cpp, which instantiates this template (src/sim/check_chain.hpp), so the
+/// built-in checks are called directly there, with no virtual call per step (the rollout loop is
+/// the simulator's hot path); only the added ones are virtual.
+template <class Checker, class BuiltIn>
+class CheckChain {
+ public:
+  /// Adds a check run after the built-in ones (and those added before it).
+  Checker& add(std::unique_ptr<StepCheck> check) {
+    added_.add(std::move(check));
+    return static_cast<Checker&>(*this);
+  }
+  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
+  /// As check(), answering through `why` (what Roller calls each step).
+  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
+
+ protected:
+  explicit CheckChain(std::unique_ptr<const BuiltIn> built_in);
+  ~CheckChain();
+  CheckChain(CheckChain&&) noexcept;
+  CheckChain& operator=(CheckChain&&) noexcept;
+
+ private:
+  std::unique_ptr<const BuiltIn> built_in_;
+  CheckList added_;
 };
 
 }  // namespace emrm::sim

@@ -17,27 +17,19 @@ namespace emrm::sim {
 /// unavoidability certificate and the export and judging of trajectories use the same speed.
 inline constexpr double kStoppedSpeed_mps = 0.05;
 
+namespace detail {
+struct TerminationTests;  ///< the built-in tests (termination.cpp)
+}  // namespace detail
+
 /// When a valid rollout is over. Built in, in this order: passed the truck, stopped, braking
 /// straight at the limit with room to stop (finished in closed form), the horizon; in the
 /// recovery phase: stopped, stabilised with room to stop, the recovery horizon; then the checks
-/// added with add().
-class TerminationTest {
+/// added with add() (CheckChain, step.hpp).
+class TerminationTest : public CheckChain<TerminationTest, detail::TerminationTests> {
  public:
   explicit TerminationTest(const Scene& scene);
-  ~TerminationTest();
-  TerminationTest(TerminationTest&&) noexcept;
-  TerminationTest& operator=(TerminationTest&&) noexcept;
-  /// Adds a test run after the built-in ones.
-  TerminationTest& add(std::unique_ptr<StepCheck> check);
-  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
-  /// As check(), answering through `why` (what Roller calls each step).
-  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
-
- private:
-  struct BuiltIn;
-  std::unique_ptr<const BuiltIn> built_in_;
-  CheckList added_;
 };
+extern template class CheckChain<TerminationTest, detail::TerminationTests>;
 
 /// The safe state after passing the truck (docs/physics.md, "Safe state"): yaw rate, body slip,
 /// heading and wheel angle within the scene's safe_state bounds, and a straight stop from here

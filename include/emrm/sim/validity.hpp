@@ -17,30 +17,21 @@
 
 namespace emrm::sim {
 
+namespace detail {
+struct ValidityChecks;  ///< the built-in checks (validity.cpp)
+}  // namespace detail
+
 /// When a step is no longer valid. The built-in checks come first, in this order: the strategy's
 /// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck,
-/// leaving the drivable area; then the checks added with add(). Contact and departure are found
-/// between samples too (conservative advancement inside the step, docs/physics.md "Continuous
-/// collision checking"), timed by bisection, and assessed: the truck by the impact model, the
-/// roadside by the scene's roadside model. The built-in ones are called directly (no virtual call per step: the
-/// rollout loop is the simulator's hot path). Borrows the scene and the model.
-class ValidityChecker {
+/// leaving the drivable area; then the checks added with add() (CheckChain, step.hpp). Contact and
+/// departure are found between samples too (conservative advancement inside the step,
+/// docs/physics.md "Continuous collision checking"), timed by bisection, and assessed: the truck by
+/// the impact model, the roadside by the scene's roadside model. Borrows the scene and the model.
+class ValidityChecker : public CheckChain<ValidityChecker, detail::ValidityChecks> {
  public:
   ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
-  ~ValidityChecker();
-  ValidityChecker(ValidityChecker&&) noexcept;
-  ValidityChecker& operator=(ValidityChecker&&) noexcept;
-  /// Adds a check run after the built-in ones.
-  ValidityChecker& add(std::unique_ptr<StepCheck> check);
-  [[nodiscard]] std::optional<Termination> check(Step& step, RolloutResult& result) const;
-  /// As check(), answering through `why` (what Roller calls each step).
-  [[nodiscard]] bool ends(Step& step, RolloutResult& result, Termination& why) const;
-
- private:
-  struct BuiltIn;
-  std::unique_ptr<const BuiltIn> built_in_;
-  CheckList added_;
 };
+extern template class CheckChain<ValidityChecker, detail::ValidityChecks>;
 
 /// The impact of the ego at state `s` on the truck, as a rollout's contact check assesses it when
 /// the two first touch: the contact test (nudging the ego on by up to 1 cm along the closing motion

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <random>
+#include <utility>
 
 #include "emrm/sim/simulate.hpp"
 #include "test_scale.hpp"
@@ -56,6 +59,68 @@ TEST(Roller, CheckersAnswerThroughCheckAsTheyDoPerStep) {
   inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
   inside.ego = scene.ego_box(inside.state);
   EXPECT_EQ(validity.check(inside, result), Termination::kContact);
+}
+
+// A check added to a checker, answering `answer` and counting its calls.
+class CountingCheck final : public StepCheck {
+ public:
+  CountingCheck(Termination answer, int& calls) : answer_(answer), calls_(calls) {}
+  [[nodiscard]] std::optional<Termination> check(Step& /*step*/, RolloutResult& /*result*/) const override {
+    ++calls_;
+    return answer_;
+  }
+
+ private:
+  Termination answer_;
+  int& calls_;
+};
+
+// Both checkers run the checks added to them after their built-in ones, in the order added: a step a
+// built-in check ends never reaches them; one it lets through gets the first added check's answer.
+TEST(Roller, ChecksAddedToEitherCheckerRunAfterItsBuiltInOnes) {
+  const SceneConfig config;
+  const Scene scene(config, {50.0, 1.2, 1.0, 3.0, 10.0});
+  const auto model = make_vehicle_model("single_track_fiala", config.ego);
+  int validity_calls = 0, termination_calls = 0, second_calls = 0;
+  ValidityChecker validity(scene, *model, ControlLimits{});
+  validity.add(std::make_unique<CountingCheck>(Termination::kOpen, validity_calls))
+      .add(std::make_unique<CountingCheck>(Termination::kConstraint, second_calls));
+  TerminationTest termination(scene);
+  termination.add(std::make_unique<CountingCheck>(Termination::kStabilised, termination_calls));
+  RolloutResult result;
+
+  Step free;
+  free.before = free.state = scene.ego_initial();
+  free.t_s = free.dt_s = config.simulation.dt_s;
+  free.ego = scene.ego_box(free.state);
+  free.truck = scene.truck_at(free.t_s);
+  free.ego_extent = extent_of(free.ego);
+  free.truck_extent = extent_of(free.truck.box);
+  Step inside = free;
+  inside.state.x_m = inside.before.x_m = scene.truck_at(free.t_s).box.center.x;
+  inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
+  inside.ego = scene.ego_box(inside.state);
+  EXPECT_EQ(validity.check(inside, result), Termination::kContact);
+  EXPECT_EQ(validity_calls, 0);
+  EXPECT_EQ(validity.check(free, result), Termination::kOpen);
+  EXPECT_EQ(validity_calls, 1);
+  EXPECT_EQ(second_calls, 0);
+
+  Step late = free;
+  late.t_s = config.simulation.horizon_s;
+  EXPECT_EQ(termination.check(late, result), Termination::kHorizon);
+  EXPECT_EQ(termination_calls, 0);
+  Termination why = Termination::kHorizon;
+  EXPECT_TRUE(termination.ends(free, result, why));
+  EXPECT_EQ(why, Termination::kStabilised);
+  EXPECT_EQ(termination_calls, 1);
+
+  // In a Roller: the added validity check ends the first step that the built-in ones let through.
+  const Roller roller(scene, *model, {}, std::move(validity), std::move(termination));
+  const RolloutResult r = roller.roll(scene.ego_initial(), 0.0, {}, Tail{}, 1);
+  EXPECT_EQ(r.termination, Termination::kOpen);
+  EXPECT_NEAR(r.end_time_s, config.simulation.dt_s, 1e-12);
+  EXPECT_EQ(validity_calls, 2);
 }
 
 TEST(Roller, FullStopOnAnOpenRoadStopsAtTheClosedFormDistance) {
