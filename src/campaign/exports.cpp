@@ -25,9 +25,9 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   // Streamed into temporaries beside the targets (core::OutputFile), renamed only once all three
   // are complete: a reader never sees half a file, and a failure (a corrupt row, a full disk)
   // leaves the previous exports and no temporary.
-  core::OutputFile regions_file(dir / "regions.csv");
-  core::OutputFile cells_file(dir / "cells.csv");
-  core::OutputFile json_file(dir / "cells.json");
+  core::OutputFile regions_file(dir / kRegionsCsv);
+  core::OutputFile cells_file(dir / kCellsCsv);
+  core::OutputFile json_file(dir / kCellsJson);
   std::ostream& regions = regions_file.stream();
   std::ostream& cells = cells_file.stream();
   std::ostream& json = json_file.stream();

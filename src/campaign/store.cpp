@@ -284,12 +284,11 @@ std::filesystem::path results_store_in(const std::filesystem::path& dir, std::st
         fmt::format("{}: '{}' is not a folder; expected a results folder written by emrm sweep, run or "
                     "reproduce",
                     command, dir.string()));
-  auto store = dir / "results.sqlite";
+  auto store = dir / kStoreFile;
   if (!std::filesystem::is_regular_file(store, ec))
     throw UsageError(
-        fmt::format("{}: '{}' holds no results.sqlite; expected a results folder written by emrm "
-                    "sweep, run or reproduce",
-                    command, dir.string()));
+        fmt::format("{}: '{}' holds no {}; expected a results folder written by emrm sweep, run or reproduce", command,
+                    dir.string(), kStoreFile));
   return store;
 }
 

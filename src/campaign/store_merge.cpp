@@ -37,7 +37,7 @@ void ResultStore::absorb(const std::filesystem::path& other_results_sqlite) {
 void merge(const std::vector<std::filesystem::path>& dirs, const std::filesystem::path& output_dir) {
   if (dirs.empty()) throw UsageError("merge: no folders to merge");
   std::vector<CampaignMeta> metas;
-  for (const auto& dir : dirs) metas.push_back(read_meta(dir / "results.sqlite"));
+  for (const auto& dir : dirs) metas.push_back(read_meta(dir / kStoreFile));
   for (std::size_t i = 1; i < dirs.size(); ++i)
     if (metas[i].config_hash != metas[0].config_hash)
       throw UsageError(
@@ -48,14 +48,14 @@ void merge(const std::vector<std::filesystem::path>& dirs, const std::filesystem
   CampaignMeta meta = metas[0];
   meta.shard_index = 1;
   meta.shard_count = 1;
-  const auto out_path = output_dir / "results.sqlite";
+  const auto out_path = output_dir / kStoreFile;
   {
     ResultStore out = ResultStore::open_for_writing(out_path, meta);
     for (const auto& dir : dirs) {
-      if (std::filesystem::exists(out_path) && std::filesystem::exists(dir / "results.sqlite") &&
-          std::filesystem::equivalent(out_path, dir / "results.sqlite"))
+      if (std::filesystem::exists(out_path) && std::filesystem::exists(dir / kStoreFile) &&
+          std::filesystem::equivalent(out_path, dir / kStoreFile))
         continue;  // merging a store into itself adds nothing
-      out.absorb(dir / "results.sqlite");
+      out.absorb(dir / kStoreFile);
     }
   }
   write_exports(out_path, output_dir);

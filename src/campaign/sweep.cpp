@@ -118,7 +118,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
   CampaignMeta meta = make_meta(campaign);
   meta.shard_index = options.shard_index;
   meta.shard_count = options.shard_count;
-  const auto store_path = options.output_dir / "results.sqlite";
+  const auto store_path = options.output_dir / kStoreFile;
 
   SweepSummary summary;
   {

@@ -15,6 +15,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
 #include "emrm/results/aggregate.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/sim/planner.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/stop_physics.hpp"
@@ -334,7 +335,7 @@ bool contradicts_physics(const Diagnostics& d) noexcept {
 std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d) {
   // Every file rendered before the first is written, then all together: a failing Graphviz leaves
   // no diagnostics.json without its diagrams.
-  std::vector<core::FileContent> files{{dir / "diagnostics.json", to_json(d).dump(2) + "\n"}};
+  std::vector<core::FileContent> files{{ResultsDir(dir).diagnostics_json(), to_json(d).dump(2) + "\n"}};
   const bool svg = fsm::dot_available();
   for (const auto& [stem, c] :
        {std::pair{"emrm_fsm", &d.emrm_fsm}, std::pair{"loss_evaluation_fsm", &d.loss_evaluation_fsm}}) {
@@ -342,7 +343,7 @@ std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path
     fsm::DotOptions options;
     options.transition_counts = c->coverage.counts;
     const std::string dot = fsm::to_dot(*c->generator, options);
-    const auto base = dir / "fsm" / stem;
+    const auto base = ResultsDir(dir).fsm_dir() / stem;
     files.push_back({base.string() + ".dot", dot});
     if (svg) files.push_back({base.string() + ".svg", fsm::render_svg(dot)});
   }

@@ -8,6 +8,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/results/aggregate.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/sim/json.hpp"
 
 namespace emrm::results {
@@ -34,11 +35,11 @@ void write_profile_index(const fs::path& dir, const std::vector<ProfileRun>& run
                      {"actuation", sim::to_json(run.actuation)},
                      {"store", run.store.generic_string()},
                      {"reused", run.reused}});
-  core::write_file(dir / "profiles" / "index.json", index.dump(2) + "\n");
+  core::write_file(ResultsDir(dir).profile_index_json(), index.dump(2) + "\n");
 }
 
 std::vector<ProfileRun> read_profile_index(const fs::path& dir) {
-  const fs::path file = dir / "profiles" / "index.json";
+  const fs::path file = ResultsDir(dir).profile_index_json();
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) return {};
   std::vector<ProfileRun> runs;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "emrm/core/text.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "emrm/sim/strategy.hpp"
 
@@ -483,7 +484,7 @@ std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir
                                                 const std::vector<campaign::CellRecord>& records,
                                                 const PaperReference& paper, const TableOptions& options) {
   // Every table computed before the first file is written, then all together (core::write_files).
-  const auto tables_dir = dir / "tables";
+  const auto tables_dir = ResultsDir(dir).tables_dir();
   std::vector<core::FileContent> files;
   const auto add = [&](const std::string& stem, const Table& t) {
     for (auto& f : core::table_files(tables_dir, stem, t)) files.push_back(std::move(f));
@@ -494,7 +495,7 @@ std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir
                                          options.friction_grid, options.cuts));
   add("regions", regions_table(records, paper, options.actuation));
   add("claims", claims_table(records, paper, options.grid));
-  files.push_back({tables_dir / "kpis.csv", kpis_csv(records, options.cuts)});
+  files.push_back({ResultsDir(dir).kpis_csv(), kpis_csv(records, options.cuts)});
   core::write_files(files);
   std::vector<std::filesystem::path> written;
   for (const auto& f : files) written.push_back(f.path);

@@ -14,6 +14,7 @@
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/sim/certificate.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/rollout.hpp"
@@ -371,7 +372,7 @@ nlohmann::ordered_json to_json(const VerifyReport& report) {
 }
 
 void write_verify_report(const std::filesystem::path& dir, const VerifyReport& report) {
-  core::write_file(dir / "verify.json", to_json(report).dump(2) + "\n");
+  core::write_file(ResultsDir(dir).verify_json(), to_json(report).dump(2) + "\n");
 }
 
 }  // namespace emrm::results

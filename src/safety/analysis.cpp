@@ -72,10 +72,12 @@ nlohmann::json to_json(const Analysis& analysis) {
 
 std::vector<std::filesystem::path> write_analysis(const std::filesystem::path& dir, const Analysis& analysis) {
   std::vector<core::FileContent> files = traceability_files(dir, analysis.safety_case.name, analysis.matrix);
-  files.push_back({dir / "findings.json", findings_json(analysis.findings).dump(2) + "\n"});
-  files.push_back({dir / "asil.csv", core::csv_table(asil_header(), asil_rows(analysis.safety_case))});
+  files.push_back({dir / kFindingsJson, findings_json(analysis.findings).dump(2) + "\n"});
+  files.push_back({dir / kAsilCsv, core::csv_table(asil_header(), asil_rows(analysis.safety_case))});
   core::write_files(files);  // the four or none
-  return {dir / "traceability.csv", dir / "traceability.md", dir / "findings.json", dir / "asil.csv"};
+  std::vector<std::filesystem::path> written;
+  for (const auto& f : files) written.push_back(f.path);
+  return written;
 }
 
 }  // namespace emrm::safety

@@ -126,8 +126,8 @@ std::string traceability_markdown(const std::vector<TraceRow>& rows) {
 
 std::vector<core::FileContent> traceability_files(const std::filesystem::path& dir, const std::string& case_name,
                                                   const std::vector<TraceRow>& rows) {
-  return {{dir / "traceability.csv", traceability_csv(rows)},
-          {dir / "traceability.md", "# Traceability matrix: " + case_name + "\n\n" + traceability_markdown(rows)}};
+  return {{dir / kTraceabilityCsv, traceability_csv(rows)},
+          {dir / kTraceabilityMd, "# Traceability matrix: " + case_name + "\n\n" + traceability_markdown(rows)}};
 }
 
 core::Row asil_header() {

@@ -252,11 +252,12 @@ void write_plan(const std::filesystem::path& dir, const Odd& odd, const Plan& pl
                 const std::vector<CoverageReport>& reports) {
   // All five or none: `emrm run` reads scenarios.csv with the scenarios.json beside it.
   const auto [header, rows] = coverage_table(reports);
-  core::write_files({{dir / "scenarios.csv", scenarios_csv(odd, plan)},
-                     {dir / "scenarios.json", scenarios_json(odd, plan, dir).dump(2) + "\n"},
-                     {dir / "coverage.json", coverage_json(reports, plan.shortfalls).dump(2) + "\n"},
-                     {dir / "coverage.csv", core::csv_table(header, rows)},
-                     {dir / "coverage.md", "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows)}});
+  const PlanDir files(dir);
+  core::write_files({{files.scenarios_csv(), scenarios_csv(odd, plan)},
+                     {files.scenarios_json(), scenarios_json(odd, plan, dir).dump(2) + "\n"},
+                     {files.coverage_json(), coverage_json(reports, plan.shortfalls).dump(2) + "\n"},
+                     {files.coverage_csv(), core::csv_table(header, rows)},
+                     {files.coverage_md(), "# Coverage: " + odd.name + "\n\n" + core::markdown_table(header, rows)}});
 }
 
 std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan& plan,
@@ -279,7 +280,7 @@ std::string summary_text(const std::string& odd_file, const Odd& odd, const Plan
     out += fmt::format("  baseline {:<12} {:>3} scenarios: hazards {}, UCAs {}, cells {}\n", reports[i].name,
                        reports[i].scenarios, percent_text(reports[i].hazards), percent_text(reports[i].malfunctions),
                        percent_text(reports[i].cells));
-  out += fmt::format("  -> {}\n", (dir / "scenarios.csv").string());
+  out += fmt::format("  -> {}\n", PlanDir(dir).scenarios_csv().string());
   return out;
 }
 

@@ -4,8 +4,14 @@
 // tools, streamed from the store so that nothing holds all results at once.
 
 #include <filesystem>
+#include <string_view>
 
 namespace emrm::campaign {
+
+/// The exports' files in a results folder (results::ResultsDir names the folder's other files).
+inline constexpr std::string_view kRegionsCsv = "regions.csv";
+inline constexpr std::string_view kCellsCsv = "cells.csv";
+inline constexpr std::string_view kCellsJson = "cells.json";
 
 /// Writes DIR/regions.csv (every cell), DIR/cells.csv (one row per feasible cell and strategy) and
 /// DIR/cells.json (every cell with its outcomes), sorted by grid order, index and strategy order,

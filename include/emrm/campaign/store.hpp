@@ -18,6 +18,9 @@ struct sqlite3;
 
 namespace emrm::campaign {
 
+/// The store's file in a results folder (results::ResultsDir names the folder's other files).
+inline constexpr std::string_view kStoreFile = "results.sqlite";
+
 /// Version of the store's tables; a store of another version is refused.
 inline constexpr int kStoreSchemaVersion = 4;
 

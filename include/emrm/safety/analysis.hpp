@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -17,6 +18,11 @@
 #include "emrm/safety/traceability.hpp"
 
 namespace emrm::safety {
+
+/// The files of write_analysis besides traceability_files' (results::ResultsDir names the folder,
+/// reproduce's analysis/).
+inline constexpr std::string_view kFindingsJson = "findings.json";
+inline constexpr std::string_view kAsilCsv = "asil.csv";
 
 /// A checked safety case: its findings and its traceability matrix.
 struct Analysis {

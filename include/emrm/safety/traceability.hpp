@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/core/text.hpp"
@@ -13,6 +14,10 @@
 #include "emrm/safety/model.hpp"
 
 namespace emrm::safety {
+
+/// The files of traceability_files (results::ResultsDir names the folders they are written to).
+inline constexpr std::string_view kTraceabilityCsv = "traceability.csv";
+inline constexpr std::string_view kTraceabilityMd = "traceability.md";
 
 /// The risk measure R of one UCA: the highest ASIL among its hazards, and the worst loss they
 /// lead to (losses are declared from least to most severe, as the paper's L1…L7).

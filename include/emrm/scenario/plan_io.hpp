@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "emrm/core/error.hpp"
@@ -16,6 +17,27 @@
 #include "emrm/scenario/plan.hpp"
 
 namespace emrm::scenario {
+
+/// A plan folder, as write_plan writes it (`emrm plan -o DIR`, reproduce's plan/): the paths of
+/// its files. A results folder names its plan folder (results::ResultsDir::plan()).
+class PlanDir {
+ public:
+  explicit PlanDir(std::filesystem::path root = {}) : root_(std::move(root)) {}
+  /// The plan folder of a scenarios.csv: the folder it is in.
+  [[nodiscard]] static PlanDir of(const std::filesystem::path& scenarios_csv) {
+    return PlanDir(scenarios_csv.parent_path());
+  }
+  [[nodiscard]] const std::filesystem::path& root() const noexcept { return root_; }
+  [[nodiscard]] std::filesystem::path scenarios_csv() const { return root_ / "scenarios.csv"; }
+  /// The ODD, the settings and the scenarios, which `emrm run` reads beside scenarios.csv.
+  [[nodiscard]] std::filesystem::path scenarios_json() const { return root_ / "scenarios.json"; }
+  [[nodiscard]] std::filesystem::path coverage_json() const { return root_ / "coverage.json"; }
+  [[nodiscard]] std::filesystem::path coverage_csv() const { return root_ / "coverage.csv"; }
+  [[nodiscard]] std::filesystem::path coverage_md() const { return root_ / "coverage.md"; }
+
+ private:
+  std::filesystem::path root_;
+};
 
 /// Columns: id, step, one per factor, cell, malfunctions (space-separated), transitions
 /// ("; "-separated), weight, seed.
