@@ -43,17 +43,17 @@ std::string written(const std::vector<fs::path>& files) {
 }
 
 int run_plan_export(const ExportOptions& options, const exchange::ExportOptions& export_options) {
-  const fs::path plan(options.plan_dir);
-  const fs::path csv = plan / "scenarios.csv";
+  const scenario::PlanDir plan_dir(options.plan_dir);
+  const fs::path csv = plan_dir.scenarios_csv();
   if (!fs::is_regular_file(csv))
     throw UsageError(
         fmt::format("emrm export: {} is not a plan folder: it has no scenarios.csv (write one with "
                     "'emrm plan ODD.yaml -o DIR')",
-                    plan.string()));
+                    plan_dir.root().string()));
   CellArgs args = *options.cell;
   // The plan's own scene unless --scene names one.
-  if (args.scene_file.empty() && fs::is_regular_file(plan / "scenarios.json")) {
-    const campaign::PlanSettings settings = campaign::read_plan_settings(plan / "scenarios.json");
+  if (args.scene_file.empty() && fs::is_regular_file(plan_dir.scenarios_json())) {
+    const campaign::PlanSettings settings = campaign::read_plan_settings(plan_dir.scenarios_json());
     if (settings.scene_file) args.scene_file = settings.scene_file->string();
   }
   const sim::SceneConfig config = load_scene(args);

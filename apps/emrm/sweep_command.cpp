@@ -16,6 +16,7 @@
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "mpi_options.hpp"
 #include "options.hpp"
 
@@ -142,7 +143,7 @@ int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
 int run_merge(const MergeCommandOptions& o) {
   std::vector<std::filesystem::path> dirs(o.dirs.begin(), o.dirs.end());
   campaign::merge(dirs, o.output_dir);
-  const auto store = campaign::ResultStore::open_for_reading(std::filesystem::path(o.output_dir) / "results.sqlite");
+  const auto store = campaign::ResultStore::open_for_reading(results::ResultsDir(o.output_dir).store());
   std::cout << fmt::format("Merged {} folders into {}: {} cells (config hash {})\n", dirs.size(), o.output_dir,
                            store.cell_count(), store.meta().config_hash);
   return static_cast<int>(ExitCode::kSuccess);

@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/results/verify.hpp"
 
 namespace emrm::cli {
@@ -20,7 +21,7 @@ struct VerifyCommandOptions {
 
 int run(const VerifyCommandOptions& options) {
   const std::filesystem::path dir(options.dir);
-  const auto store = std::filesystem::is_directory(dir) ? dir / "results.sqlite" : dir;
+  const auto store = std::filesystem::is_directory(dir) ? results::ResultsDir(dir).store() : dir;
   const results::VerifyReport report = results::verify_results(store);
   if (options.json)
     fmt::print("{}\n", results::to_json(report).dump(2));

@@ -15,6 +15,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/scenario/statistics.hpp"
 #include "figure_parts.hpp"
 
@@ -129,8 +130,8 @@ void attach_records(const fs::path& store, PlannedRun& run) {
     if (r.grid == campaign::kPlanGrid) cells.push_back(std::move(r));
   if (cells.size() != run.scenarios.size())
     throw UsageError(fmt::format("{} lists {} scenarios, but {} holds {} of grid '{}': not the same run",
-                                 (run.folder / "outcomes.csv").string(), run.scenarios.size(), store.string(),
-                                 cells.size(), campaign::kPlanGrid));
+                                 results::ResultsDir(run.folder).outcomes_csv().string(), run.scenarios.size(),
+                                 store.string(), cells.size(), campaign::kPlanGrid));
   for (auto& c : cells) {
     if (c.index < 0 || static_cast<std::size_t>(c.index) >= run.scenarios.size())
       throw UsageError(fmt::format("{} holds a scenario index {} beyond the run's {} scenarios", store.string(),
@@ -285,15 +286,14 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
 }  // namespace
 
 std::optional<PlannedRun> read_planned_run(const fs::path& dir) {
-  for (const fs::path& folder : {dir / "plan_results", dir}) {
+  for (const results::ResultsDir& folder : {results::ResultsDir(dir).plan_results(), results::ResultsDir(dir)}) {
     std::error_code ec;
-    if (!fs::is_regular_file(folder / "outcomes.csv", ec) || !fs::is_regular_file(folder / "estimates.json", ec))
-      continue;
+    if (!fs::is_regular_file(folder.outcomes_csv(), ec) || !fs::is_regular_file(folder.estimates_json(), ec)) continue;
     PlannedRun run;
-    run.folder = folder;
-    read_estimates(folder / "estimates.json", run);
-    read_outcomes(folder / "outcomes.csv", run);
-    attach_records(folder / "results.sqlite", run);
+    run.folder = folder.root();
+    read_estimates(folder.estimates_json(), run);
+    read_outcomes(folder.outcomes_csv(), run);
+    attach_records(folder.store(), run);
     return run;
   }
   return std::nullopt;

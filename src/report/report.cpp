@@ -21,6 +21,7 @@
 #include "emrm/results/aggregate.hpp"
 #include "emrm/results/diagnostics.hpp"
 #include "emrm/results/profiles.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/version.hpp"
@@ -65,12 +66,14 @@ struct TableFile {
 };
 
 std::vector<TableFile> read_tables(const fs::path& dir) {
+  const results::ResultsDir folder(dir);
   std::vector<TableFile> tables;
   std::error_code ec;
-  if (!fs::is_directory(dir / "tables", ec)) return tables;
+  if (!fs::is_directory(folder.tables_dir(), ec)) return tables;
   std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir / "tables"))
-    if (entry.path().extension() == ".csv" && entry.path().stem() != "kpis") names.push_back(entry.path().stem());
+  for (const auto& entry : fs::directory_iterator(folder.tables_dir()))
+    if (entry.path().extension() == ".csv" && entry.path().filename() != folder.kpis_csv().filename())
+      names.push_back(entry.path().stem());
   const std::vector<std::string> order{"emrm_vs_baseline",   "by_parameter", "regions",
                                        "regions_by_profile", "claims",       "coverage"};
   std::sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
@@ -80,10 +83,10 @@ std::vector<TableFile> read_tables(const fs::path& dir) {
   for (const auto& name : names) {
     TableFile t;
     t.name = name;
-    const fs::path csv = dir / "tables" / (name + ".csv");
+    const fs::path csv = folder.table_csv(name);
     t.rows = core::parse_csv(core::read_file(csv), csv.string());
     t.title = name;
-    std::istringstream md(read_or_empty(dir / "tables" / (name + ".md")));
+    std::istringstream md(read_or_empty(folder.table_md(name)));
     bool after_table = false;
     std::string paragraph;
     for (std::string line; std::getline(md, line);) {
@@ -210,8 +213,9 @@ std::string trajectory_grid(const std::vector<campaign::CellRecord>& records) {
 }
 
 std::vector<safety::TraceRow> find_traceability(const fs::path& dir, std::string& source) {
+  const results::ResultsDir folder(dir);
   for (const fs::path& file :
-       {dir / "plan_results" / "traceability.csv", dir / "traceability.csv", dir / "analysis" / "traceability.csv"}) {
+       {folder.plan_results().traceability_csv(), folder.traceability_csv(), folder.analysis_traceability_csv()}) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) continue;
     source = fs::relative(file, dir).generic_string();
@@ -390,11 +394,12 @@ ReportInputs read_inputs(const fs::path& dir) {
 ReportSummary write_report(const fs::path& dir) {
   check_results_dir(dir);
   require_drawing_programs();
-  const auto store_path = dir / "results.sqlite";
+  const results::ResultsDir folder(dir);
+  const auto store_path = folder.store();
   const campaign::CampaignMeta meta = campaign::read_meta(store_path);
   const std::vector<campaign::CellRecord> records = campaign::read_results(store_path);
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
-  const fs::path figures_dir = dir / "figures";
+  const fs::path figures_dir = folder.figures_dir();
   const ReportInputs in = read_inputs(dir);
   const std::optional<PlannedRun>& planned = in.planned;
 
@@ -497,7 +502,7 @@ ReportSummary write_report(const fs::path& dir) {
       "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) + "</pre></details>\n";
   html += "<details><summary>scene</summary><pre>" + html_escape(meta.scene_yaml) + "</pre></details>\n";
   html += "</body>\n</html>\n";
-  summary.html = dir / "report.html";
+  summary.html = folder.report_html();
   core::write_file(summary.html, html);
   return summary;
 }

@@ -14,6 +14,7 @@
 
 #include "emrm/core/text.hpp"
 #include "emrm/report/report.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "html.hpp"
 #include "statistics_section.hpp"
 
@@ -36,7 +37,7 @@ std::string findings_table(const nlohmann::json& list) {
 }
 
 std::string findings_html(const fs::path& dir) {
-  const std::string text = read_or_empty(dir / "analysis" / "findings.json");
+  const std::string text = read_or_empty(results::ResultsDir(dir).findings_json());
   if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
   const auto j = nlohmann::json::parse(text, nullptr, false);
   if (!j.is_array() && !(j.is_object() && j.contains("findings"))) return "<pre>" + html_escape(text) + "</pre>\n";
@@ -89,7 +90,7 @@ std::string diagnostics_table(const nlohmann::json& d) {
 }
 
 std::string diagnostics_html(const fs::path& dir) {
-  const std::string text = read_or_empty(dir / "diagnostics.json");
+  const std::string text = read_or_empty(results::ResultsDir(dir).diagnostics_json());
   if (text.empty())
     return "<p>No diagnostics in this folder: <code>emrm diagnose " + html_escape(dir.string()) +
            "</code> writes them (<code>emrm reproduce</code> does so itself).</p>\n";
@@ -105,7 +106,8 @@ std::string diagnostics_html(const fs::path& dir) {
 // The estimates.json of a planned run in this folder (reproduce's plan_results/ or `emrm run`'s own),
 // with the folder it is in; nothing when there is none.
 std::optional<std::pair<fs::path, nlohmann::json>> run_estimates(const fs::path& dir) {
-  for (const fs::path& file : {dir / "plan_results" / "estimates.json", dir / "estimates.json"}) {
+  const results::ResultsDir folder(dir);
+  for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
     auto j = nlohmann::json::parse(read_or_empty(file), nullptr, false);
     if (j.is_object() && j.contains("weighted_success")) return std::pair{file.parent_path(), std::move(j)};
   }
@@ -113,7 +115,7 @@ std::optional<std::pair<fs::path, nlohmann::json>> run_estimates(const fs::path&
 }
 
 std::string verification_html(const fs::path& dir) {
-  const std::string text = read_or_empty(dir / "verify.json");
+  const std::string text = read_or_empty(results::ResultsDir(dir).verify_json());
   if (text.empty())
     return "<p>No verification in this folder (<code>emrm verify DIR</code> re-checks a store; <code>emrm "
            "reproduce</code> keeps its result in verify.json).</p>\n";
@@ -125,7 +127,8 @@ std::string verification_html(const fs::path& dir) {
 namespace detail {
 
 std::vector<fs::path> coverage_candidates(const fs::path& dir) {
-  std::vector<fs::path> files{dir / "plan" / "coverage.json", dir / "coverage.json"};
+  const results::ResultsDir folder(dir);
+  std::vector<fs::path> files{folder.plan().coverage_json(), folder.coverage_json()};
   if (const auto run = run_estimates(dir)) {
     const auto& plan = run->second.value("plan", nlohmann::json::object());
     if (plan.is_object() && plan.contains("coverage") && plan["coverage"].is_string())

@@ -7,6 +7,7 @@
 
 #include "emrm/core/text.hpp"
 #include "emrm/report/report.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/scenario/statistics.hpp"
 #include "html.hpp"
 
@@ -146,7 +147,8 @@ std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
 }  // namespace
 
 std::string statistics_html(const fs::path& dir) {
-  for (const fs::path& file : {dir / "plan_results" / "estimates.json", dir / "estimates.json"}) {
+  const results::ResultsDir folder(dir);
+  for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
     const std::string text = read_or_empty(file);
     if (text.empty()) continue;
     const Json j = Json::parse(text, nullptr, false);

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "emrm/core/error.hpp"
+#include "emrm/results/results_dir.hpp"
 
 namespace emrm::workflow {
 
@@ -26,11 +27,11 @@ std::vector<ProfileRun> sweep_profiles(const campaign::Campaign& campaign, const
     run.actuation = under.scene.actuation;
     if (run.actuation == campaign.scene.actuation) {
       run.reused = true;
-      run.store = "results.sqlite";
+      run.store = results::ResultsDir().store();  // relative to the folder, as the index keeps it
     } else {
-      run.store = fs::path("profiles") / run.name / "results.sqlite";
+      run.store = results::ResultsDir().profile(run.name).store();
       campaign::SweepOptions o = options;
-      o.output_dir = options.output_dir / "profiles" / run.name;
+      o.output_dir = results::ResultsDir(options.output_dir).profile(run.name).root();
       const campaign::SweepSummary s = campaign::sweep(under, o);
       run.simulated = s.cells_simulated;
       run.seconds = s.seconds;

@@ -29,6 +29,7 @@
 #include "emrm/results/aggregate.hpp"
 #include "emrm/results/diagnostics.hpp"
 #include "emrm/results/paper_reference.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/results/sensitivity.hpp"
 #include "emrm/results/tables.hpp"
 #include "emrm/results/verify.hpp"
@@ -60,7 +61,7 @@ std::string pct(double v) { return core::format_number(v, 1); }
 bool run_analysis(const fs::path& examples, const fs::path& out) {
   const auto safety_file = examples / "safety.yaml";
   const safety::Analysis analysis = analyze_safety_file(safety_file);
-  const auto dir = out / "analysis";
+  const auto dir = results::ResultsDir(out).analysis_dir();
   safety::write_analysis(dir, analysis);
   const auto& c = analysis.safety_case;
   fmt::print("analysis  {}: {}, {}, {}; {}, {}; {} -> {}\n", safety_file.string(),
@@ -74,7 +75,7 @@ bool run_analysis(const fs::path& examples, const fs::path& out) {
 // Step 5: the structural checks of one FSM, as `emrm fsm FILE --check --format json`, and its
 // plain diagram.
 bool run_fsm_check(const fs::path& file, const fs::path& out) {
-  const fsm::Report report = fsm::write_check_files(file, out / "fsm");
+  const fsm::Report report = fsm::write_check_files(file, results::ResultsDir(out).fsm_dir());
   const fsm::Generator& g = report.machine;
   const fsm::CheckReport& r = *report.check;
   fmt::print(
@@ -126,6 +127,7 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto start = std::chrono::steady_clock::now();
   const fs::path examples = find_examples(options.examples_dir);
   const fs::path out = options.output_dir;
+  const results::ResultsDir folder(out);
   // Read every input before any long work, so bad input fails in a second and not after the sweep.
   campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
   if (!options.profile.empty()) campaign::apply_profile(plan, options.profile);
@@ -145,26 +147,26 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto s = campaign::sweep(plan, sweep_options);
   fmt::print("sweep     {}: {} cells, {} already stored, {} simulated in {:.1f} s -> {}\n",
              (examples / "campaign.yaml").string(), s.cells_total, s.cells_done_before, s.cells_simulated, s.seconds,
-             (out / "results.sqlite").string());
+             folder.store().string());
 
   // Every claim of the store re-checked without trusting the sweep (docs/verify.md).
-  const auto verified = results::verify_results(out / "results.sqlite");
+  const auto verified = results::verify_results(folder.store());
   results::write_verify_report(out, verified);
   fmt::print(
       "verify    {} cells, {} maneuvers replayed, {} avoidances re-checked every ms, {} certificates, {} undecided: "
       "{} -> {}\n",
       verified.cells, verified.witnesses, verified.avoidances, verified.certificates, verified.undecided,
       verified.ok() ? "all claims hold" : fmt::format("{} claims FAIL", verified.failures.size()),
-      (out / "verify.json").string());
+      folder.verify_json().string());
   ok = verified.ok() && ok;
 
-  const auto records = campaign::read_results(out / "results.sqlite");
+  const auto records = campaign::read_results(folder.store());
   results::TableOptions table_options;
   table_options.grid = results::headline_grid(records, paper.fine_grid.grid);
   table_options.cuts.car_width_m = plan.scene.ego.width_m;
   table_options.actuation = plan.scene.actuation;
   results::write_tables(out, records, paper, table_options);
-  core::write_table(out / "tables", "brake_sensitivity",
+  core::write_table(folder.tables_dir(), "brake_sensitivity",
                     results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
 
   // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
@@ -179,10 +181,10 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
           "{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)), pct(c.pct(c.o)), pct(c.pct(c.r)),
           run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
     }
-    core::write_table(out / "tables", "regions_by_profile",
+    core::write_table(folder.tables_dir(), "regions_by_profile",
                       results::profiles_table(runs, per_profile, paper, table_options.grid));
     fmt::print("profiles  grid '{}' per profile (%): {} -> {}\n", table_options.grid, core::join(parts, "; "),
-               (out / "profiles").string());
+               folder.profiles_dir().string());
   }
 
   results::DiagnosticsOptions diagnostics_options;
@@ -196,9 +198,9 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto plan_start = std::chrono::steady_clock::now();
   const scenario::Plan scenario_plan = scenario::build_plan(odd);
   const auto coverage = scenario::coverage_comparison(odd, scenario_plan);
-  scenario::write_plan(out / "plan", odd, scenario_plan, coverage);
+  scenario::write_plan(folder.plan().root(), odd, scenario_plan, coverage);
   const core::Table coverage_table = results::coverage_comparison_table(coverage, paper);
-  core::write_table(out / "tables", "coverage", coverage_table);
+  core::write_table(folder.tables_dir(), "coverage", coverage_table);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - plan_start).count();
   const auto& ours = coverage.front();
   ok = ours.all() && ok;
@@ -207,10 +209,11 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
       "{}\n",
       (examples / "odd.yaml").string(), scenario_plan.scenarios.size(), scenario_plan.relevant_cells,
       scenario_plan.tracked_cells, plan_seconds, ours.c1 ? "holds" : "FAILS", ours.c2 ? "holds" : "FAILS",
-      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason, (out / "plan").string());
+      ours.c3 ? "holds" : "FAILS", ours.c4 ? "holds" : "FAILS", scenario_plan.stop_reason,
+      folder.plan().root().string());
   workflow::RunOptions run_options;
-  run_options.scenarios_csv = out / "plan" / "scenarios.csv";
-  run_options.output_dir = out / "plan_results";
+  run_options.scenarios_csv = folder.plan().scenarios_csv();
+  run_options.output_dir = folder.plan_results().root();
   run_options.threads = options.threads;
   run_options.progress = sweep_options.progress;
   run_options.profile = options.profile;

@@ -11,6 +11,7 @@
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/results/diagnostics.hpp"
+#include "emrm/results/results_dir.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -95,7 +96,7 @@ Json plan_location_json(const fs::path& scenarios_csv, const fs::path& output_di
     const auto r = fs::relative(fs::absolute(p), fs::absolute(output_dir), ec);
     return (ec || r.empty() ? p : r).generic_string();
   };
-  const fs::path coverage = scenarios_csv.parent_path() / "coverage.json";
+  const fs::path coverage = scenario::PlanDir::of(scenarios_csv).coverage_json();
   return Json{{"scenarios", relative(scenarios_csv)},
               {"coverage", fs::is_regular_file(coverage) ? Json(relative(coverage)) : Json(nullptr)}};
 }
@@ -123,7 +124,7 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
   for (const char* name :
        {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy", "impact_speed_kph", "loss_level"})
     header.emplace_back(name);
-  std::vector<core::FileContent> files{{dir / "outcomes.csv", core::csv_table(header, rows)}};
+  std::vector<core::FileContent> files{{results::ResultsDir(dir).outcomes_csv(), core::csv_table(header, rows)}};
 
   const std::vector<std::string> factors = level_factors(result.cells);
   rows.clear();
@@ -142,7 +143,7 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
   for (const char* name :
        {"n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width", "hoeffding_epsilon", "tracked"})
     header.emplace_back(name);
-  files.push_back({dir / "estimates.csv", core::csv_table(header, rows)});
+  files.push_back({results::ResultsDir(dir).estimates_csv(), core::csv_table(header, rows)});
   return files;
 }
 
@@ -150,7 +151,7 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
 
 RunResult run_scenarios(const RunOptions& options) {
   const scenario::ScenarioFile file = scenario::read_scenarios_csv(options.scenarios_csv);
-  const fs::path settings_file = options.scenarios_csv.parent_path() / "scenarios.json";
+  const fs::path settings_file = scenario::PlanDir::of(options.scenarios_csv).scenarios_json();
   campaign::PlanSettings settings =
       fs::is_regular_file(settings_file) ? campaign::read_plan_settings(settings_file) : campaign::PlanSettings{};
   if (settings.acceptance_strategy.empty()) settings.acceptance_strategy = campaign::default_acceptance_strategy();
@@ -215,7 +216,8 @@ RunResult run_scenarios(const RunOptions& options) {
   result.sweep = campaign::sweep(campaign, sweep_options);
 
   // Outcomes, in file order.
-  const std::vector<campaign::CellRecord> records = campaign::read_results(options.output_dir / "results.sqlite");
+  const std::vector<campaign::CellRecord> records =
+      campaign::read_results(results::ResultsDir(options.output_dir).store());
   std::vector<const campaign::CellRecord*> by_index(file.rows.size(), nullptr);
   for (const auto& r : records)
     if (r.grid == campaign::kPlanGrid && r.index >= 0 && static_cast<std::size_t>(r.index) < by_index.size())
@@ -290,7 +292,7 @@ RunResult run_scenarios(const RunOptions& options) {
   j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
   if (!settings.factors.is_null()) j["factors"] = settings.factors;  // the report groups by the ODD's levels
   j["plan"] = plan_location_json(options.scenarios_csv, dir);
-  files.push_back({dir / "estimates.json", j.dump(2) + "\n"});
+  files.push_back({results::ResultsDir(dir).estimates_json(), j.dump(2) + "\n"});
   core::write_files(files);
   return result;
 }
@@ -324,7 +326,7 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
                                                     : " (never: " + core::join(result.transitions_missed, ", ") + ")");
   if (result.traceability_rows > 0)
     out += fmt::format("  traceability: {} rows with their scenarios -> {}\n", result.traceability_rows,
-                       (output_dir / "traceability.csv").string());
+                       results::ResultsDir(output_dir).traceability_csv().string());
   out += fmt::format("  -> {}/estimates.json, estimates.csv, outcomes.csv, results.sqlite\n", output_dir.string());
   if (!result.plan_shortfalls.empty())
     out += fmt::format("run       {} of the plan (scenarios.json): the estimates above lack them\n",
