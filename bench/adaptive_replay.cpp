@@ -101,9 +101,9 @@ int main(int argc, char** argv) try {
     }
   });
   for (const campaign::GridSpec& grid : c.grids) {
-    if (grid.levels[0].empty()) continue;
+    if (grid.levels.empty()) continue;
     StoredOracle oracle(c, grid, truth[grid.name]);
-    const auto result = campaign::adaptive::search(campaign::adaptive::Lattice{grid.levels}, oracle, options);
+    const auto result = campaign::adaptive::search(campaign::adaptive::Lattice{.levels = grid.levels}, oracle, options);
     std::size_t differ = 0, g_wrong = 0, strengthened = 0;
     for (std::size_t i = 0; i < result.cells.size(); ++i) {
       if (result.cells[i].method == campaign::adaptive::Method::kNone) continue;
@@ -122,8 +122,8 @@ int main(int argc, char** argv) try {
         strengthened);
     if (std::getenv("EMRM_VIOLATIONS"))
       for (const auto& v : result.violations) {
-        const auto& lo = grid.cells[v.low_cell];
-        const auto& hi = grid.cells[v.high_cell];
+        const auto lo = sim::TJunctionCell::of(grid.cells[v.low_cell]);
+        const auto hi = sim::TJunctionCell::of(grid.cells[v.high_cell]);
         fmt::print("  violation {}: {} km/h TTC {} .. {} mu {} passage {} truck {} ({} / {})\n", v.what, lo.speed_kph,
                    lo.ttc_s, hi.ttc_s, lo.mu, lo.passage_m, lo.truck_speed_kph,
                    sim::region_name(truth[grid.name][v.low_cell]), sim::region_name(truth[grid.name][v.high_cell]));
@@ -144,7 +144,7 @@ int main(int argc, char** argv) try {
       std::array<std::size_t, campaign::adaptive::kPurposes> bottom{};
       for (std::size_t i = 0; i < result.cells.size(); ++i)
         if (result.cells[i].method == campaign::adaptive::Method::kSimulated && dear[grid.name][i] &&
-            grid.cells[i].ttc_s == grid.levels[1].front())
+            grid.cells[i].time_to_collision_s() == grid.levels[1].front())
           ++bottom[result.cells[i].purpose];
       fmt::print("  strengthened at the lowest TTC:");
       for (std::size_t p = 0; p < campaign::adaptive::kPurposes; ++p)
@@ -167,7 +167,7 @@ int main(int argc, char** argv) try {
         for (std::size_t v = 0; v < l[0].size(); ++v) {
           int n = 0;
           for (std::size_t t = 0; t < l[1].size(); ++t)
-            n += result.cells[campaign::adaptive::Lattice{l}.index({v, t, m, 0, 0})].method ==
+            n += result.cells[campaign::adaptive::Lattice{.levels = l}.index({v, t, m, 0, 0})].method ==
                  campaign::adaptive::Method::kSimulated;
           fmt::print("{:3d}", n);
         }

@@ -56,7 +56,8 @@ int run(const BoundaryOptions& options) {
   // The analytic stop boundary is the store's own scene's: its actuators, as the sweep drove them.
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string() + " (scene)");
   const auto records = campaign::read_results(store);
-  const results::BoundaryReport boundaries = results::compute_boundaries(records, scene.actuation);
+  const results::BoundaryReport boundaries =
+      results::compute_boundaries(records, sim::scenario_factors(scene), scene.actuation);
   const fs::path out = options.output.empty() ? dir / "boundary" : fs::path(options.output);
 
   std::vector<report::Figure> figures;

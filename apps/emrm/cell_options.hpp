@@ -3,12 +3,18 @@
 // The options that name one scenario cell and its scene, shared by `emrm simulate`, `emrm export`
 // and `emrm assess`: one set of flags, defaults and checks.
 
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "emrm/core/error.hpp"
 #include "emrm/sim/scene.hpp"
 #include "options.hpp"
 
@@ -17,45 +23,42 @@ namespace emrm::cli {
 struct CellArgs {
   std::string scene_file;
   std::string profile;
-  sim::CellInput cell;
-  bool truck_speed_given = false;
+  std::map<std::string, double> given;  ///< the factor flags given: key → value
   std::uint64_t seed = 1;
 };
 
 /// The options CLI11 made, for commands that relate them to others (excludes, needs).
 struct CellOptionSet {
-  CLI::Option* speed = nullptr;
-  CLI::Option* ttc = nullptr;
-  CLI::Option* mu = nullptr;
-  CLI::Option* passage = nullptr;
-  CLI::Option* truck_speed = nullptr;
-  CLI::Option* seed = nullptr;  ///< only with_seed
+  std::vector<CLI::Option*> factors;  ///< one per factor, in the factor table's order
+  CLI::Option* seed = nullptr;        ///< only with_seed
+  [[nodiscard]] CLI::Option* speed() const { return factors[sim::kEgoSpeedFactor]; }
+  [[nodiscard]] CLI::Option* ttc() const { return factors[sim::kTtcFactor]; }
 };
 
-/// Adds --scene, --profile, --speed-kph, --ttc-s (both required when `required`), --mu, --passage-m,
-/// --truck-speed-kph and, `with_seed`, --seed to `command`, filling `args`.
+/// Adds --scene, --profile, a flag per factor of the scene (its key with '-' for '_': --speed-kph,
+/// --ttc-s, --mu, ...; the ego speed and the TTC required when `required`; the others default to
+/// the scene's) and, `with_seed`, --seed to `command`, filling `args`.
 inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<CellArgs>& args, bool required,
                                       bool with_seed) {
   CellOptionSet o;
   command->add_option("--scene", args->scene_file,
                       "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml with instant "
                       "actuators; pass that file for the production car of the shipped campaigns)");
-  o.speed = command->add_option("--speed-kph", args->cell.speed_kph, "Ego speed when the hazard appears (km/h)");
-  o.ttc = command->add_option("--ttc-s", args->cell.ttc_s, "Time to collision when the hazard appears (s)");
-  if (required) {
-    o.speed->required();
-    o.ttc->required();
+  // The flags are the default scene's factors (a scene file, read after parsing, keeps their keys).
+  const sim::FactorTable factors = sim::scenario_factors(sim::SceneConfig{});
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    const sim::Factor& f = factors[i];
+    std::string flag = "--" + f.key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    const bool method = i == sim::kEgoSpeedFactor || i == sim::kTtcFactor;
+    const std::string help = fmt::format(
+        "{}{}{}", f.what, f.unit == "1" ? "" : " (" + f.unit + ")",
+        required && method ? "" : fmt::format(", {}; default: the scene's, {:g}", f.inequality(), f.default_value));
+    CLI::Option* option = command->add_option_function<double>(
+        flag, [args, key = f.key](double v) { args->given[key] = v; }, help);
+    if (required && method) option->required();
+    o.factors.push_back(option);
   }
-  o.mu = command->add_option("--mu", args->cell.mu, "Tire-road friction coefficient, (0, 2]")->capture_default_str();
-  o.passage = command->add_option("--passage-m", args->cell.passage_m, "Free gap beside the stopped truck (m)")
-                  ->capture_default_str();
-  o.truck_speed = command->add_option_function<double>(
-      "--truck-speed-kph",
-      [args](double v) {
-        args->cell.truck_speed_kph = v;
-        args->truck_speed_given = true;
-      },
-      "Truck crossing speed (km/h; default: the scene's, 10)");
   if (with_seed)
     o.seed = command->add_option("--seed", args->seed, "Random seed of the planners")
                  ->check(seed_value())
@@ -75,10 +78,14 @@ inline sim::SceneConfig load_scene(const CellArgs& args) {
   return config;
 }
 
-/// The cell the options name; the truck's speed is the scene's unless given.
+/// The cell the options name: the scene's defaults, overlaid with the factors given. Throws
+/// UsageError for a factor flag the scene has no factor for.
 inline sim::CellInput cell_of(const CellArgs& args, const sim::SceneConfig& config) {
-  sim::CellInput cell = args.cell;
-  if (!args.truck_speed_given) cell.truck_speed_kph = config.truck.speed_kph;
+  const sim::FactorTable factors = sim::scenario_factors(config);
+  sim::CellInput cell = factors.defaults();
+  for (const auto& [key, value] : args.given)
+    if (!factors.set(cell, key, value))
+      throw UsageError(fmt::format("the scene has no factor '{}' (its factors: {})", key, factors.key_list()));
   return cell;
 }
 

@@ -70,7 +70,7 @@ int run_export(const ExportOptions& options) {
   exchange::ExportOptions export_options;
   export_options.tolerance_m = options.tolerance_m;
   if (!options.plan_dir.empty()) return run_plan_export(options, export_options);
-  if (options.cell_options.speed->count() == 0 || options.cell_options.ttc->count() == 0)
+  if (options.cell_options.speed()->count() == 0 || options.cell_options.ttc()->count() == 0)
     throw UsageError("emrm export: give a cell (--speed-kph and --ttc-s) or a plan (--plan PLAN_DIR)");
   const sim::SceneConfig config = load_scene(*options.cell);
   const sim::CellInput cell = cell_of(*options.cell, config);
@@ -117,7 +117,8 @@ int run_assess(const AssessOptions& options) {
   const exchange::RecordedTrajectory trajectory = exchange::read_trajectory_csv(options.file, format, config);
   const exchange::Assessment a = exchange::assess(config, cell, trajectory);
   if (options.json)
-    std::cout << exchange::to_json(a, trajectory, format, cell, options.strategy).dump(2) << "\n";
+    std::cout << exchange::to_json(a, trajectory, format, sim::scenario_factors(config), cell, options.strategy).dump(2)
+              << "\n";
   else
     std::cout << exchange::to_text(a, trajectory, options.strategy);
   return static_cast<int>(ExitCode::kSuccess);
@@ -145,10 +146,9 @@ void register_export_command(CLI::App& app, int& exit_code) {
                   "Thin the trajectory: drop vertices the polyline passes within this distance (m; 0 keeps every step)")
       ->check(finite_in(0.0, 1.0))
       ->capture_default_str();
-  for (CLI::Option* cell_option :
-       {o->cell_options.speed, o->cell_options.ttc, o->cell_options.mu, o->cell_options.passage,
-        o->cell_options.truck_speed, o->cell_options.seed, strategy})
-    plan->excludes(cell_option);
+  std::vector<CLI::Option*> cell_flags = o->cell_options.factors;
+  cell_flags.insert(cell_flags.end(), {o->cell_options.seed, strategy});
+  for (CLI::Option* cell_option : cell_flags) plan->excludes(cell_option);
   cmd->callback([o, &exit_code] { exit_code = run_export(*o); });
 }
 

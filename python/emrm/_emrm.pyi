@@ -195,15 +195,11 @@ class CellResult:
 def simulate(
     scene: _SceneLike = None,
     *,
-    speed_kph: float,
-    ttc_s: float,
-    mu: float = 1.0,
-    passage_m: float = 3.0,
-    truck_speed_kph: Optional[float] = None,
     strategy: Union[str, Sequence[str], None] = None,
     seed: int = 1,
     certify: bool = True,
     timing: bool = False,
+    **factors: float,  # the scene's factors by key (speed_kph and ttc_s required)
 ) -> CellResult: ...
 def strategy_names() -> list[str]: ...
 

@@ -138,17 +138,17 @@ class Columns {
   explicit Columns(const std::vector<Row>& rows) : rows_(rows) {}
 
   template <class Get>
-  void add(const char* name, Get get) {
+  void add(const std::string& name, Get get) {
     using T = std::decay_t<decltype(get(std::declval<const Row&>()))>;
     if constexpr (std::is_arithmetic_v<T>) {
       py::array_t<T> values(static_cast<py::ssize_t>(rows_.size()));
       T* data = values.mutable_data();
       for (std::size_t i = 0; i < rows_.size(); ++i) data[i] = get(rows_[i]);
-      columns_[name] = values;
+      columns_[py::str(name)] = values;
     } else {
       py::list values(rows_.size());
       for (std::size_t i = 0; i < rows_.size(); ++i) values[i] = py::str(get(rows_[i]));
-      columns_[name] = values;
+      columns_[py::str(name)] = values;
     }
   }
   [[nodiscard]] py::dict dict() const { return columns_; }
@@ -158,25 +158,24 @@ class Columns {
   py::dict columns_;
 };
 
+// grid, index and a column per factor of the store's scene, named by its key.
 template <class Row, class Cell>
-void add_cell_factors(Columns<Row>& columns, Cell cell) {
+void add_cell_factors(Columns<Row>& columns, const sim::FactorTable& factors, Cell cell) {
   columns.add("grid", [cell](const Row& r) -> const std::string& { return cell(r).grid; });
   columns.add("index", [cell](const Row& r) { return cell(r).index; });
-  columns.add("speed_kph", [cell](const Row& r) { return cell(r).speed_kph; });
-  columns.add("ttc_s", [cell](const Row& r) { return cell(r).ttc_s; });
-  columns.add("mu", [cell](const Row& r) { return cell(r).mu; });
-  columns.add("passage_m", [cell](const Row& r) { return cell(r).passage_m; });
-  columns.add("truck_speed_kph", [cell](const Row& r) { return cell(r).truck_speed_kph; });
+  for (std::size_t f = 0; f < factors.size(); ++f)
+    columns.add(factors[f].key,
+                [cell, f](const Row& r) { return f < cell(r).factors.size() ? cell(r).factors[f] : 0.0; });
 }
 
 std::string joined(const std::vector<std::string>& words) { return core::join(words, " "); }
 
 // regions.csv's columns (at full precision; the reductions NaN where it leaves them blank), then the rest of the cell.
-py::dict region_columns(const std::vector<campaign::CellRecord>& records) {
+py::dict region_columns(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors) {
   using campaign::CellRecord;
   constexpr double kBlank = std::numeric_limits<double>::quiet_NaN();
   Columns<CellRecord> c(records);
-  add_cell_factors(c, [](const CellRecord& r) -> const CellRecord& { return r; });
+  add_cell_factors(c, factors, [](const CellRecord& r) -> const CellRecord& { return r; });
   c.add("feasible", [](const CellRecord& r) { return r.feasible; });
   c.add("region", [](const CellRecord& r) { return r.region; });
   c.add("evidence", [](const CellRecord& r) { return r.evidence; });
@@ -205,12 +204,12 @@ struct OutcomeRow {
 };
 
 // cells.csv's columns, then the rest of each outcome.
-py::dict outcome_columns(const std::vector<campaign::CellRecord>& records) {
+py::dict outcome_columns(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors) {
   std::vector<OutcomeRow> rows;
   for (const auto& r : records)
     for (const auto& o : r.outcomes) rows.push_back({&r, &o});
   Columns<OutcomeRow> c(rows);
-  add_cell_factors(c, [](const OutcomeRow& r) -> const campaign::CellRecord& { return *r.cell; });
+  add_cell_factors(c, factors, [](const OutcomeRow& r) -> const campaign::CellRecord& { return *r.cell; });
   c.add("strategy", [](const OutcomeRow& r) { return r.outcome->strategy; });
   c.add("avoided", [](const OutcomeRow& r) { return r.outcome->avoided; });
   c.add("impact_speed_kph", [](const OutcomeRow& r) { return r.outcome->impact_speed_kph; });
@@ -271,8 +270,9 @@ py::dict read_results(py::handle dir) {
     adaptive = campaign::ResultStore::open_for_reading(store).adaptive_summaries();
   }
   // The KPI tables cut the passage at the car's width, as `emrm reproduce` does.
-  results::LevelCuts cuts;
-  cuts.car_width_m = sim::parse_stored_scene_config(meta.scene_yaml, store.string()).ego.width_m;
+  const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string());
+  const results::LevelCuts cuts = results::level_cuts(scene);
+  const sim::FactorTable factors = sim::scenario_factors(scene);
   py::dict meta_dict;
   meta_dict["config_hash"] = meta.config_hash;
   meta_dict["emrm_version"] = meta.emrm_version;
@@ -287,8 +287,8 @@ py::dict read_results(py::handle dir) {
   for (const auto& [grid, json] : adaptive)
     adaptive_dict[py::str(grid)] = to_python(nlohmann::ordered_json::parse(json));
   py::dict out;
-  out["regions"] = region_columns(records);
-  out["cells"] = outcome_columns(records);
+  out["regions"] = region_columns(records, factors);
+  out["cells"] = outcome_columns(records, factors);
   out["kpis"] = kpi_columns(records, cuts);
   out["meta"] = meta_dict;
   out["adaptive"] = adaptive_dict;

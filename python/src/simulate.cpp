@@ -5,6 +5,7 @@
 
 #include "emrm/sim/simulate.hpp"
 
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -151,15 +152,37 @@ std::optional<std::vector<std::string>> strategies_asked(py::handle strategy) {
   return names;
 }
 
-CellPtr simulate(py::handle scene_arg, double speed_kph, double ttc_s, double mu, double passage_m,
-                 std::optional<double> truck_speed_kph, py::handle strategy, std::uint64_t seed, bool certify,
-                 bool timing) {
+// The cell the keywords name: the scene's defaults overlaid with the factors given by their keys
+// (sim::scenario_factors), the ego speed and the TTC required, as `emrm simulate` has them.
+sim::CellInput cell_from(const sim::SceneConfig& scene, const py::kwargs& given) {
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  sim::CellInput cell = factors.defaults();
+  for (const auto& [key, value] : given) {
+    const std::string name = py::str(key);
+    double number = 0;
+    try {
+      number = value.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(fmt::format("emrm.simulate: {} must be a number, not {}", name,
+                                       py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
+    }
+    if (!factors.set(cell, name, number))
+      throw UsageError(
+          fmt::format("emrm.simulate: the scene has no factor '{}' (its factors: {})", name, factors.key_list()));
+  }
+  for (const std::size_t required : {sim::kEgoSpeedFactor, sim::kTtcFactor})
+    if (!given.contains(factors[required].key))
+      throw UsageError(fmt::format("emrm.simulate: {} is required (a keyword)", factors[required].key));
+  return cell;
+}
+
+CellPtr simulate(py::handle scene_arg, py::handle strategy, std::uint64_t seed, bool certify, bool timing,
+                 const py::kwargs& factors) {
   auto cell = std::make_shared<SimulatedCell>();
   cell->scene = scene_from(scene_arg);
   cell->seed = seed;
   cell->timing = timing;
-  // The truck's speed is the scene's unless given, as `emrm simulate` has it.
-  const sim::CellInput input{speed_kph, ttc_s, mu, passage_m, truck_speed_kph.value_or(cell->scene->truck.speed_kph)};
+  const sim::CellInput input = cell_from(*cell->scene, factors);
   sim::CellOptions options;
   if (auto asked = strategies_asked(strategy)) options.strategies = std::move(*asked);
   options.seed = seed;
@@ -267,17 +290,17 @@ void bind_simulate(py::module_& m) {
   result.def("__repr__", [](const SimulatedCell& self) {
     const auto& in = self.result.input;
     return "CellResult(" +
-           py::repr(py::make_tuple(in.speed_kph, in.ttc_s, in.mu, in.passage_m, in.truck_speed_kph))
-               .cast<std::string>() +
+           py::repr(py::tuple(py::cast(std::vector<double>(in.begin(), in.end())))).cast<std::string>() +
            ", region=" + std::string(sim::region_name(self.result.region)) + ")";
   });
 
-  m.def("simulate", &simulate, py::arg("scene") = py::none(), py::kw_only(), py::arg("speed_kph"), py::arg("ttc_s"),
-        py::arg("mu") = 1.0, py::arg("passage_m") = 3.0, py::arg("truck_speed_kph") = py::none(),
-        py::arg("strategy") = py::none(), py::arg("seed") = 1, py::arg("certify") = true, py::arg("timing") = false,
+  m.def("simulate", &simulate, py::arg("scene") = py::none(), py::kw_only(), py::arg("strategy") = py::none(),
+        py::arg("seed") = 1, py::arg("certify") = true, py::arg("timing") = false,
         "Simulates one cell under every strategy, as `emrm simulate` does (docs/simulate.md), with the GIL\n"
-        "released. scene: an emrm.Scene, a scene file, a mapping, or None for the built-in scene;\n"
-        "truck_speed_kph: the scene's when None; strategy: a name, a list of names, None or 'all';\n"
+        "released. scene: an emrm.Scene, a scene file, a mapping, or None for the built-in scene; the\n"
+        "cell's factors as keywords named by their keys (speed_kph=60, ttc_s=0.8, mu=...: the scene's\n"
+        "factors, the ego speed and the TTC required, the others the scene's defaults when left out);\n"
+        "strategy: a name, a list of names, None or 'all';\n"
         "certify=False searches cells a certificate proves unavoidable (--no-certify); timing adds the\n"
         "planners' wall-clock times (--timing). Raises InputError or UsageError for bad input.");
   m.def("strategy_names", &sim::strategy_names, "The registered strategies in evaluation order.");

@@ -59,7 +59,7 @@ class RegionCounter {
     std::map<std::string, double> count{{"G", 0.0}};
     for (const std::size_t i : feasible_) {
       const sim::CellInput& c = grid_.cells[i];
-      if (sim::analytically_stoppable(c.speed_kph, c.ttc_s, c.mu, a))
+      if (sim::analytically_stoppable(c, a))
         count["G"] += 1.0;
       else
         rest.push_back(i);

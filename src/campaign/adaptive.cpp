@@ -1,6 +1,8 @@
 // The adaptive search's entry points (search(), the names, Lattice) and the run of a Search.
 #include "emrm/campaign/adaptive.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
@@ -22,7 +24,8 @@ Search::Search(const Lattice& lattice, Oracle& oracle, const Options& options)
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return lattice.levels[k][a] < lattice.levels[k][b]; });
   }
-  monotone_ = lattice.levels[kTtc].size() > 1 ? kTtc : (lattice.levels[kMu].size() > 1 ? kMu : kTtc);
+  const std::size_t ttc = lattice.ttc_axis, mu = lattice.friction_axis;
+  monotone_ = lattice.levels[ttc].size() > 1 ? ttc : (lattice.levels[mu].size() > 1 ? mu : ttc);
   for (std::size_t k = 0; k < kAxes; ++k)
     if (k != monotone_) line_axes_.push_back(k);
   const auto varying =
@@ -84,9 +87,9 @@ std::size_t Lattice::size() const noexcept {
   return n;
 }
 
-std::size_t Lattice::index(const std::array<std::size_t, 5>& level) const noexcept {
+std::size_t Lattice::index(const std::array<std::size_t, kMaxAxes>& level) const noexcept {
   std::size_t i = 0;
-  for (std::size_t k = 0; k < 5; ++k) i = i * levels[k].size() + level[k];
+  for (std::size_t k = 0; k < levels.size(); ++k) i = i * levels[k].size() + level[k];
   return i;
 }
 
@@ -161,8 +164,17 @@ void check(const Options& options) {
 Result search(const Lattice& lattice, Oracle& oracle, const Options& options) {
   for (const auto& l : lattice.levels)
     if (l.empty()) throw std::invalid_argument("adaptive search: a factor has no level");
+  if (lattice.levels.size() > Lattice::kMaxAxes)
+    throw std::invalid_argument(
+        fmt::format("adaptive search: {} factors, at most {} supported", lattice.levels.size(), Lattice::kMaxAxes));
+  if (lattice.ttc_axis >= lattice.levels.size() || lattice.friction_axis >= lattice.levels.size())
+    throw std::invalid_argument("adaptive search: the TTC or friction axis is not a factor of the lattice");
   check(options);
-  return detail::Search(lattice, oracle, options).run();
+  // The search works on kMaxAxes factors: the missing ones take a single level, which changes no
+  // cell's index.
+  Lattice padded = lattice;
+  padded.levels.resize(Lattice::kMaxAxes, std::vector<double>{0.0});
+  return detail::Search(padded, oracle, options).run();
 }
 
 }  // namespace emrm::campaign::adaptive

@@ -29,9 +29,7 @@ namespace emrm::campaign::adaptive::detail {
 
 using sim::Region;
 
-inline constexpr std::size_t kAxes = 5;
-inline constexpr std::size_t kTtc = 1;
-inline constexpr std::size_t kMu = 2;
+inline constexpr std::size_t kAxes = Lattice::kMaxAxes;  ///< a lattice of fewer is padded with single levels
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 inline bool avoidable(Region r) noexcept { return r == Region::kG || r == Region::kY; }
@@ -374,7 +372,7 @@ class Search {
   /// and boxes split across one factor at a time.
   bool four_factors_ = false;
   std::array<std::vector<std::size_t>, kAxes> order_;  ///< per factor: sorted position → level index
-  std::size_t monotone_ = kTtc;
+  std::size_t monotone_ = 0;
   std::vector<std::size_t> line_axes_;
   std::vector<Line> lines_;
   std::vector<std::int8_t> nothing_to_mitigate_;  ///< per cell: -1 not asked yet, else the oracle's answer

@@ -33,7 +33,7 @@ void Search::stop_threshold(Line& line, Purpose purpose) {
 
 // Whether the line may start with an early run: along TTC, where arriving sooner can help.
 bool Search::may_pass_early(const Line& line) const {
-  return monotone_ == kTtc && !line.cells.empty() && oracle_.passes_early(line.cells.front());
+  return monotone_ == lattice_.ttc_axis && !line.cells.empty() && oracle_.passes_early(line.cells.front());
 }
 
 // The early run (docs/adaptive.md): from the line's lowest cell, where the car passes in front of

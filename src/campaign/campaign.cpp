@@ -16,38 +16,16 @@
 namespace emrm::campaign {
 namespace {
 
-constexpr std::array<std::string_view, 5> kFactors{"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph"};
-
 using core::round_1e9;
 using core::scalar_number;
 
-double& factor_of(sim::CellInput& cell, std::size_t factor) {
-  switch (factor) {
-    case 0:
-      return cell.speed_kph;
-    case 1:
-      return cell.ttc_s;
-    case 2:
-      return cell.mu;
-    case 3:
-      return cell.passage_m;
-    default:
-      return cell.truck_speed_kph;
-  }
-}
-
-std::optional<std::size_t> factor_index(std::string_view key) {
-  for (std::size_t i = 0; i < kFactors.size(); ++i)
-    if (kFactors[i] == key) return i;
-  return std::nullopt;
-}
-
-std::string factor_list() { return "speed_kph, ttc_s, mu, passage_m or truck_speed_kph"; }
-
-sim::CellInput default_cell(const sim::SceneConfig& scene) {
-  sim::CellInput cell;
-  cell.truck_speed_kph = scene.truck.speed_kph;
-  return cell;
+/// "A, B, C or D": the scenario's factors' keys, for messages.
+std::string factor_list(const sim::FactorTable& factors) {
+  std::vector<std::string> keys = factors.keys();
+  if (keys.size() < 2) return core::join(keys, "");
+  const std::string last = keys.back();
+  keys.pop_back();
+  return core::join(keys, ", ") + " or " + last;
 }
 
 std::string max_cells_message(long long max_cells) {
@@ -71,17 +49,18 @@ struct GridNodes {
   core::YamlNode grid;
   std::optional<core::YamlNode> cells;
   std::optional<core::YamlNode> adaptive;
-  std::array<std::optional<core::YamlNode>, kFactors.size()> factors;
+  std::vector<std::optional<core::YamlNode>> factors;  ///< per factor of the scenario
 };
 
 // Reads the shape of a grid: its fields, factor values and cells. Whether they make a valid grid
 // is validate()'s question; only the size of a product is checked here, before it is expanded.
-GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, std::size_t max_cells, bool force,
+GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, std::size_t max_cells, bool force,
                    std::size_t cells_before, GridNodes& nodes) {
   if (!node.is_map()) node.fail("expected a grid (a mapping with name and factors), got " + node.describe());
   GridSpec grid;
   grid.where = node.location();
-  std::array<std::vector<double>, kFactors.size()> factors;
+  std::vector<std::vector<double>> factors(table.size());
+  nodes.factors.assign(table.size(), std::nullopt);
   bool named = false;
   for (const auto& [key, value] : node.entries()) {
     const std::string k = key.as_string();
@@ -97,17 +76,17 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
     } else if (k == "adaptive") {
       grid.adaptive = value.as_bool();
       nodes.adaptive = value;
-    } else if (auto f = factor_index(k)) {
+    } else if (auto f = table.find(k)) {
       factors[*f] = core::expand_values(value);
       nodes.factors[*f] = value;
     } else {
       key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, adaptive, cells or a factor (" +
-               factor_list() + ")");
+               factor_list(table) + ")");
     }
   }
   if (!named) node.fail("a grid needs a 'name'");
 
-  sim::CellInput base = default_cell(scene);
+  const sim::CellInput base = table.defaults();
   if (nodes.cells && grid.adaptive)
     nodes.adaptive->fail(
         fmt::format("grid '{}' lists its cells: adaptive needs a product grid (factors with "
@@ -116,13 +95,13 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
   if (nodes.cells) {
     // Grid-level factors are the defaults of every listed cell, so they must be single values.
     sim::CellInput defaults = base;
-    for (std::size_t f = 0; f < kFactors.size(); ++f) {
+    for (std::size_t f = 0; f < table.size(); ++f) {
       if (!nodes.factors[f]) continue;
       if (factors[f].size() != 1)
         nodes.factors[f]->fail(
             fmt::format("grid '{}' lists its cells: {} at grid level must be one value (the default of every cell)",
-                        grid.name, kFactors[f]));
-      factor_of(defaults, f) = factors[f][0];
+                        grid.name, table[f].key));
+      defaults[f] = factors[f][0];
     }
     for (const auto& element : nodes.cells->elements()) {
       if (cells_before + grid.cells.size() >= kMaxCampaignCells)
@@ -135,9 +114,9 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
           (void)value.as_string();  // a label for readers of the campaign file
           continue;
         }
-        const auto f = factor_index(k);
-        if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list() + " (or name, description)");
-        factor_of(cell, *f) = round_1e9(scalar_number(value));
+        const auto f = table.find(k);
+        if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list(table) + " (or name, description)");
+        cell[*f] = round_1e9(scalar_number(value));
       }
       grid.cells.push_back(cell);
     }
@@ -145,35 +124,41 @@ GridSpec read_grid(const core::YamlNode& node, const sim::SceneConfig& scene, st
   }
 
   double count = 1.0;
-  for (std::size_t f = 0; f < kFactors.size(); ++f) {
-    if (!nodes.factors[f]) factors[f] = {factor_of(base, f)};
+  for (std::size_t f = 0; f < table.size(); ++f) {
+    if (!nodes.factors[f]) factors[f] = {base[f]};
     count *= static_cast<double>(factors[f].size());
   }
   if (count > static_cast<double>(max_cells) && !force) node.fail(too_many_cells_message(grid.name, count, max_cells));
   if (count + static_cast<double>(cells_before) > static_cast<double>(kMaxCampaignCells))
     node.fail(campaign_too_large_message(count + static_cast<double>(cells_before)));
   grid.cells.reserve(static_cast<std::size_t>(count));
-  for (std::size_t f = 0; f < kFactors.size(); ++f) grid.levels[f] = factors[f];
-  for (double speed : factors[0])
-    for (double ttc : factors[1])
-      for (double mu : factors[2])
-        for (double passage : factors[3])
-          for (double truck : factors[4]) grid.cells.push_back({speed, ttc, mu, passage, truck});
+  grid.levels = factors;
+  // The cartesian product, the last factor varying fastest: an odometer over the level positions.
+  std::vector<std::size_t> at(table.size(), 0);
+  for (std::size_t n = static_cast<std::size_t>(count); n-- > 0;) {
+    sim::CellInput cell = base;
+    for (std::size_t f = 0; f < table.size(); ++f) cell[f] = factors[f][at[f]];
+    grid.cells.push_back(cell);
+    for (std::size_t f = table.size(); f-- > 0;) {
+      if (++at[f] < factors[f].size()) break;
+      at[f] = 0;
+    }
+  }
   return grid;
 }
 
 // A cell of a product grid that the simulator rejects: the first factor value that is bad on its
 // own (the other factors at their defaults) is the culprit, reported at that factor's node;
 // otherwise the grid.
-[[noreturn]] void fail_in_product(const GridNodes& nodes, const GridSpec& grid, const sim::SceneConfig& scene,
+[[noreturn]] void fail_in_product(const GridNodes& nodes, const GridSpec& grid, const sim::FactorTable& table,
                                   const std::string& message) {
-  for (std::size_t f = 0; f < kFactors.size(); ++f) {
+  for (std::size_t f = 0; f < nodes.factors.size(); ++f) {
     if (!nodes.factors[f]) continue;
     for (double v : core::expand_values(*nodes.factors[f])) {
-      sim::CellInput cell = default_cell(scene);
-      factor_of(cell, f) = v;
+      sim::CellInput cell = table.defaults();
+      cell[f] = v;
       try {
-        sim::validate_cell(scene, cell);
+        table.validate(cell);
       } catch (const UsageError& e) {
         nodes.factors[f]->fail(fmt::format("grid '{}': {}", grid.name, e.what()));
       }
@@ -208,6 +193,7 @@ void validate(const Campaign& campaign, bool force) {
   for (const GridSpec& grid : campaign.grids) total += grid.cells.size();
   if (total > kMaxCampaignCells) v.fail("grids", campaign_too_large_message(static_cast<double>(total)));
   const core::Validator::Scope grids(v, "grids");
+  const sim::FactorTable table = sim::scenario_factors(campaign.scene);
   std::set<std::string> names;
   for (std::size_t i = 0; i < campaign.grids.size(); ++i) {
     const core::Validator::Scope at(v, i);
@@ -223,7 +209,7 @@ void validate(const Campaign& campaign, bool force) {
       const core::Validator::Scope cells(v, "cells");
       for (std::size_t j = 0; j < grid.cells.size(); ++j) {
         try {
-          sim::validate_cell(campaign.scene, grid.cells[j]);
+          table.validate(grid.cells[j]);
         } catch (const UsageError& e) {
           const core::Validator::Scope cell(v, j);
           v.fail({}, fmt::format("grid '{}': {}", grid.name, e.what()));
@@ -276,12 +262,13 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name, c
     }
   }
   if (!grids_node) root.fail("a campaign needs 'grids'");
-  // Grids come after the scene is known: the truck speed default needs it.
+  // Grids come after the scene is known: its factors, their defaults and limits come from it.
+  const sim::FactorTable table = sim::scenario_factors(campaign.scene);
   std::vector<GridNodes> grid_nodes;
   std::size_t cells = 0;
   for (const auto& element : grids_node->elements()) {
     GridNodes& nodes = grid_nodes.emplace_back(GridNodes{element, std::nullopt, std::nullopt, {}});
-    campaign.grids.push_back(read_grid(element, campaign.scene, campaign.max_cells, force, cells, nodes));
+    campaign.grids.push_back(read_grid(element, table, campaign.max_cells, force, cells, nodes));
     cells += campaign.grids.back().cells.size();
   }
   try {
@@ -292,7 +279,7 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name, c
     if (steps.size() == 4 && std::get_if<std::string>(&steps[0]) && std::get<std::string>(steps[0]) == "grids" &&
         std::get_if<std::string>(&steps[2]) && std::get<std::string>(steps[2]) == "cells") {
       const auto i = std::get<std::size_t>(steps[1]);
-      if (!grid_nodes[i].cells) fail_in_product(grid_nodes[i], campaign.grids[i], campaign.scene, e.detail());
+      if (!grid_nodes[i].cells) fail_in_product(grid_nodes[i], campaign.grids[i], table, e.detail());
     }
     core::fail_at(root, e, /*with_path=*/false);
   }
@@ -305,8 +292,7 @@ Campaign load_campaign(const std::filesystem::path& path, bool force) {
 }
 
 std::string cell_key(const std::string& grid, const sim::CellInput& cell) {
-  return fmt::format("{} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}", grid, cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m,
-                     cell.truck_speed_kph);
+  return fmt::format("{} {:.9g}", grid, fmt::join(cell, " "));
 }
 
 std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const sim::CellInput& cell) {
@@ -340,12 +326,6 @@ std::string config_hash(const Campaign& campaign) {
   return fmt::format("{:016x}", h);
 }
 
-bool set_cell_factor(sim::CellInput& cell, std::string_view name, double value) {
-  const auto f = factor_index(name);
-  if (f) factor_of(cell, *f) = value;
-  return f.has_value();
-}
-
 std::size_t total_cells(const Campaign& campaign) noexcept {
   std::size_t n = 0;
   for (const auto& grid : campaign.grids) n += grid.cells.size();
@@ -370,17 +350,13 @@ Polyline thin(const std::vector<sim::PathPoint>& points, std::size_t n) {
 
 }  // namespace
 
-CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed, const sim::CellResult& result,
-                     bool keep_trajectories) {
+CellRecord to_record(const sim::SceneConfig& scene, const std::string& grid, std::int64_t index, std::uint64_t seed,
+                     const sim::CellResult& result, bool keep_trajectories) {
   constexpr double kKph = 3.6;
   CellRecord r;
   r.grid = grid;
   r.index = index;
-  r.speed_kph = result.input.speed_kph;
-  r.ttc_s = result.input.ttc_s;
-  r.mu = result.input.mu;
-  r.passage_m = result.input.passage_m;
-  r.truck_speed_kph = result.input.truck_speed_kph;
+  r.factors = result.input;
   r.seed = seed;
   r.feasible = result.feasible;
   r.region = std::string(sim::region_name(result.region));
@@ -392,7 +368,7 @@ CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t 
   if (result.feasible) r.evidence = std::string(sim::evidence_name(result.evidence));
   r.mitigation_evidence = result.mitigation_evidence;
   r.strengthened = result.strengthened;
-  if (result.certificate) r.certificate = sim::to_json(*result.certificate).dump();
+  if (result.certificate) r.certificate = sim::to_json(*result.certificate, sim::scenario_factors(scene)).dump();
   r.p_mais3_reduction = result.p_mais3_reduction;
   r.p_fatal_reduction = result.p_fatal_reduction;
   for (const auto& o : result.strategies) {

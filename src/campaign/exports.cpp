@@ -22,6 +22,8 @@ std::string number(double v) {
 
 void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir) {
   const ResultStore store = ResultStore::open_for_reading(results_sqlite);
+  const sim::FactorTable table = scenario_factors(store.meta());
+  const auto keys = table.keys();
   // Streamed into temporaries beside the targets (core::OutputFile), renamed only once all three
   // are complete: a reader never sees half a file, and a failure (a corrupt row, a full disk)
   // leaves the previous exports and no temporary.
@@ -31,16 +33,22 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   std::ostream& regions = regions_file.stream();
   std::ostream& cells = cells_file.stream();
   std::ostream& json = json_file.stream();
-  regions << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "feasible", "region",
-                             "evidence", "mitigation_evidence", "p_mais3_reduction", "p_fatal_reduction", "method"});
-  cells << core::csv_line({"grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "strategy", "avoided",
-                           "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss", "min_ttc_s", "road_departure",
-                           "departure_speed_kph", "evidence"});
+  core::Row factor_header{"grid"};
+  factor_header.insert(factor_header.end(), keys.begin(), keys.end());
+  const auto header = [&](std::initializer_list<std::string> rest) {
+    core::Row row = factor_header;
+    row.insert(row.end(), rest);
+    return core::csv_line(row);
+  };
+  regions << header(
+      {"feasible", "region", "evidence", "mitigation_evidence", "p_mais3_reduction", "p_fatal_reduction", "method"});
+  cells << header({"strategy", "avoided", "impact_speed_kph", "delta_v_kph", "loss_level", "delta_loss", "min_ttc_s",
+                   "road_departure", "departure_speed_kph", "evidence"});
   json << "[";
   bool first = true;
   store.for_each_cell([&](const CellRecord& r) {
-    const core::Row factors{r.grid,       number(r.speed_kph), number(r.ttc_s),
-                            number(r.mu), number(r.passage_m), number(r.truck_speed_kph)};
+    core::Row factors{r.grid};
+    for (const double v : r.factors) factors.push_back(number(v));
     core::Row region = factors;
     region.push_back(r.feasible ? "1" : "0");
     region.push_back(r.region);
@@ -50,16 +58,11 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     region.push_back(r.simulated() ? number(r.p_fatal_reduction) : "");
     region.push_back(r.feasible ? r.method : "");
     regions << core::csv_line(region);
-    nlohmann::ordered_json j{{"grid", r.grid},
-                             {"index", r.index},
-                             {"speed_kph", r.speed_kph},
-                             {"ttc_s", r.ttc_s},
-                             {"mu", r.mu},
-                             {"passage_m", r.passage_m},
-                             {"truck_speed_kph", r.truck_speed_kph},
-                             {"seed", r.seed},
-                             {"feasible", r.feasible},
-                             {"region", r.region}};
+    nlohmann::ordered_json j{{"grid", r.grid}, {"index", r.index}};
+    for (std::size_t f = 0; f < keys.size() && f < r.factors.size(); ++f) j[keys[f]] = r.factors[f];
+    j["seed"] = r.seed;
+    j["feasible"] = r.feasible;
+    j["region"] = r.region;
     if (r.feasible && r.method == "inferred") {
       j["method"] = r.method;
       j["inferred_from"] = r.inferred_from;

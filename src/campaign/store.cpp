@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "emrm/core/text.hpp"
+#include "emrm/sim/scene.hpp"
 #include "emrm/version.hpp"
 #include "store_sql.hpp"
 
@@ -59,13 +60,15 @@ using detail::not_a_store;
 using detail::Statement;
 using detail::whole_number;
 
+// The cells table has a REAL column per factor of the scene's factor table, between cell_index and
+// seed ({factors}); readers find them there by name.
 constexpr const char* kSchema = R"sql(
 CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE grids(position INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE);
 CREATE TABLE cells(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL,
-  speed_kph REAL NOT NULL, ttc_s REAL NOT NULL, mu REAL NOT NULL, passage_m REAL NOT NULL,
-  truck_speed_kph REAL NOT NULL, seed TEXT NOT NULL, feasible INTEGER NOT NULL, region TEXT NOT NULL,
+  {factors}
+  seed TEXT NOT NULL, feasible INTEGER NOT NULL, region TEXT NOT NULL,
   unmitigated_impact_speed_kph REAL NOT NULL, unmitigated_delta_v_kph REAL NOT NULL,
   unmitigated_p_mais3 REAL NOT NULL, unmitigated_p_fatal REAL NOT NULL, unmitigated_loss_level INTEGER NOT NULL,
   evidence TEXT NOT NULL, mitigation_evidence TEXT NOT NULL, strengthened INTEGER NOT NULL, certificate TEXT NOT NULL,
@@ -193,6 +196,10 @@ ResultStore::ResultStore(sqlite3* db, std::filesystem::path path, CampaignMeta m
 ResultStore::ResultStore(ResultStore&& other) noexcept
     : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)), meta_(std::move(other.meta_)) {}
 
+sim::FactorTable scenario_factors(const CampaignMeta& meta) {
+  return sim::scenario_factors(sim::parse_stored_scene_config(meta.scene_yaml, "the results store's scene"));
+}
+
 ResultStore::~ResultStore() {
   if (db_) sqlite3_close(db_);
 }
@@ -228,7 +235,13 @@ ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_s
   // the last committed batch intact.
   exec(db, results_sqlite, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
   exec(db, results_sqlite, "BEGIN");
-  exec(db, results_sqlite, kSchema);
+  {
+    const sim::FactorTable factors = scenario_factors(meta);
+    std::vector<std::string> columns;
+    for (const sim::Factor& f : factors) columns.push_back(f.key + " REAL NOT NULL,");
+    const std::string schema = fmt::format(fmt::runtime(kSchema), fmt::arg("factors", core::join(columns, " ")));
+    exec(db, results_sqlite, schema.c_str());
+  }
   {
     Statement put(db, results_sqlite, "INSERT INTO meta(key, value) VALUES(?, ?)");
     const auto set = [&](const std::string& key, const std::string& value) {

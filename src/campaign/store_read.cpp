@@ -98,34 +98,38 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
   }
   bool have_outcome = outcomes.step();
   CellRecord r;
+  // The factor columns stand between cell_index and seed, one per factor of the scene (store.cpp).
+  const int seed_column = cells.column_named("seed");
+  if (seed_column < 2 || seed_column - 2 > static_cast<int>(sim::kMaxFactors))
+    not_a_store(path_, "its cells table has no seed column after its factors");
+  const auto factor_count = static_cast<std::size_t>(seed_column - 2);
+  std::array<double, sim::kMaxFactors> factors{};
   while (cells.step()) {
-    r.grid = cells.text(0);
-    r.index = cells.int64(1);
-    r.speed_kph = cells.real(2);
-    r.ttc_s = cells.real(3);
-    r.mu = cells.real(4);
-    r.passage_m = cells.real(5);
-    r.truck_speed_kph = cells.real(6);
-    r.seed = whole_number<std::uint64_t>(path_, fmt::format("seed of cell {}#{}", r.grid, r.index), cells.text(7));
-    r.feasible = cells.integer(8) != 0;
-    r.region = cells.text(9);
-    r.unmitigated_impact_speed_kph = cells.real(10);
-    r.unmitigated_delta_v_kph = cells.real(11);
-    r.unmitigated_p_mais3 = cells.real(12);
-    r.unmitigated_p_fatal = cells.real(13);
-    r.unmitigated_loss_level = cells.integer(14);
-    r.evidence = cells.text(15);
-    r.mitigation_evidence = cells.text(16);
-    r.strengthened = cells.integer(17) != 0;
-    r.certificate = cells.text(18);
-    r.p_mais3_reduction = cells.real(19);
-    r.p_fatal_reduction = cells.real(20);
-    r.method = cells.text(21);
+    int c = 0;
+    r.grid = cells.text(c++);
+    r.index = cells.int64(c++);
+    for (std::size_t f = 0; f < factor_count; ++f) factors[f] = cells.real(c++);
+    r.factors = sim::CellInput(std::span<const double>(factors.data(), factor_count));
+    r.seed = whole_number<std::uint64_t>(path_, fmt::format("seed of cell {}#{}", r.grid, r.index), cells.text(c++));
+    r.feasible = cells.integer(c++) != 0;
+    r.region = cells.text(c++);
+    r.unmitigated_impact_speed_kph = cells.real(c++);
+    r.unmitigated_delta_v_kph = cells.real(c++);
+    r.unmitigated_p_mais3 = cells.real(c++);
+    r.unmitigated_p_fatal = cells.real(c++);
+    r.unmitigated_loss_level = cells.integer(c++);
+    r.evidence = cells.text(c++);
+    r.mitigation_evidence = cells.text(c++);
+    r.strengthened = cells.integer(c++) != 0;
+    r.certificate = cells.text(c++);
+    r.p_mais3_reduction = cells.real(c++);
+    r.p_fatal_reduction = cells.real(c++);
+    r.method = cells.text(c++);
     if (r.method != "simulated" && r.method != "inferred")
       not_a_store(path_, fmt::format("the method of cell {}#{} is '{}', not simulated or inferred", r.grid, r.index,
                                      r.method.substr(0, 40)));
     r.inferred_from.clear();
-    for (const auto& word : split_words(cells.text(22)))
+    for (const auto& word : split_words(cells.text(c)))
       r.inferred_from.push_back(
           whole_number<std::int64_t>(path_, fmt::format("inferred_from of cell {}#{}", r.grid, r.index), word));
     r.outcomes.clear();

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "emrm/core/error.hpp"
 
@@ -64,6 +65,14 @@ class Statement {
                     path_->string(), sqlite3_column_name(stmt_, col)));
   }
   double real(int col) const { return sqlite3_column_double(stmt_, col); }
+  /// The number of columns a row of the query has.
+  [[nodiscard]] int column_count() const { return sqlite3_column_count(stmt_); }
+  /// The position of the result column `name`, or -1.
+  int column_named(std::string_view name) const {
+    for (int i = 0; i < sqlite3_column_count(stmt_); ++i)
+      if (const char* n = sqlite3_column_name(stmt_, i); n != nullptr && name == n) return i;
+    return -1;
+  }
   std::int64_t int64(int col) const { return sqlite3_column_int64(stmt_, col); }
   int integer(int col) const { return sqlite3_column_int(stmt_, col); }
   bool is_null(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }

@@ -37,36 +37,42 @@ void ResultStore::insert(const std::vector<CellRecord>& batch) {
   if (batch.empty()) return;
   exec(db_, path_, "BEGIN IMMEDIATE");
   try {
-    Statement cell(db_, path_, "INSERT INTO cells VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    // One placeholder per column of the table: the fixed ones and one per factor of the store's scene.
+    const int columns = Statement(db_, path_, "SELECT * FROM cells LIMIT 0").column_count();
+    std::string places(2 * static_cast<std::size_t>(columns) - 1, ',');
+    for (std::size_t i = 0; i < places.size(); i += 2) places[i] = '?';
+    const std::string insert_cell = "INSERT INTO cells VALUES(" + places + ")";
+    Statement cell(db_, path_, insert_cell.c_str());
     Statement outcome(db_, path_, "INSERT INTO outcomes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     Statement trajectory(db_, path_, "INSERT INTO trajectories VALUES(?,?,?,?,?,?)");
     for (const auto& r : batch) {
       cell.reset();
       cell.bind(1, r.grid);
       cell.bind(2, r.index);
-      cell.bind(3, r.speed_kph);
-      cell.bind(4, r.ttc_s);
-      cell.bind(5, r.mu);
-      cell.bind(6, r.passage_m);
-      cell.bind(7, r.truck_speed_kph);
-      cell.bind(8, std::to_string(r.seed));  // as text: SQLite integers are signed 64-bit
-      cell.bind(9, r.feasible);
-      cell.bind(10, r.region);
-      cell.bind(11, r.unmitigated_impact_speed_kph);
-      cell.bind(12, r.unmitigated_delta_v_kph);
-      cell.bind(13, r.unmitigated_p_mais3);
-      cell.bind(14, r.unmitigated_p_fatal);
-      cell.bind(15, r.unmitigated_loss_level);
-      cell.bind(16, r.evidence);
-      cell.bind(17, r.mitigation_evidence);
-      cell.bind(18, r.strengthened);
-      cell.bind(19, r.certificate);
-      cell.bind(20, r.p_mais3_reduction);
-      cell.bind(21, r.p_fatal_reduction);
-      cell.bind(22, r.method);
+      int c = 3;
+      for (const double v : r.factors) cell.bind(c++, v);
+      cell.bind(c++, std::to_string(r.seed));  // as text: SQLite integers are signed 64-bit
+      cell.bind(c++, r.feasible);
+      cell.bind(c++, r.region);
+      cell.bind(c++, r.unmitigated_impact_speed_kph);
+      cell.bind(c++, r.unmitigated_delta_v_kph);
+      cell.bind(c++, r.unmitigated_p_mais3);
+      cell.bind(c++, r.unmitigated_p_fatal);
+      cell.bind(c++, r.unmitigated_loss_level);
+      cell.bind(c++, r.evidence);
+      cell.bind(c++, r.mitigation_evidence);
+      cell.bind(c++, r.strengthened);
+      cell.bind(c++, r.certificate);
+      cell.bind(c++, r.p_mais3_reduction);
+      cell.bind(c++, r.p_fatal_reduction);
+      cell.bind(c++, r.method);
       std::string from;
       for (const std::int64_t i : r.inferred_from) from += (from.empty() ? "" : " ") + std::to_string(i);
-      cell.bind(23, from);
+      if (c != columns)
+        throw UsageError(fmt::format("{}: error: cell {} of grid '{}' has {} factors, the store's scene {}",
+                                     path_.string(), r.index, r.grid, r.factors.size(),
+                                     static_cast<int>(r.factors.size()) + columns - c));
+      cell.bind(c, from);
       cell.step();
       for (std::size_t i = 0; i < r.outcomes.size(); ++i) {
         const auto& o = r.outcomes[i];

@@ -79,7 +79,8 @@ CellRecord simulate_task(const Campaign& campaign, const CellTask& task) {
   options.seed = cell_seed(campaign, grid, task.index);
   options.keep_trees = grid.keep_trees;
   const sim::CellResult result = sim::simulate_cell(campaign.scene, cell, options);
-  return to_record(grid.name, static_cast<std::int64_t>(task.index), options.seed, result, grid.keep_trees);
+  return to_record(campaign.scene, grid.name, static_cast<std::int64_t>(task.index), options.seed, result,
+                   grid.keep_trees);
 }
 
 void parse_shard(const std::string& text, int& index, int& count) {
@@ -108,7 +109,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
   std::vector<char> adaptive(campaign.grids.size(), 0);
   for (std::size_t g = 0; g < campaign.grids.size(); ++g)
     adaptive[g] =
-        static_cast<char>((options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels[0].empty());
+        static_cast<char>((options.adaptive || campaign.grids[g].adaptive) && !campaign.grids[g].levels.empty());
   const bool any_adaptive = std::find(adaptive.begin(), adaptive.end(), 1) != adaptive.end();
   if (any_adaptive && options.shard_count > 1)
     throw UsageError(

@@ -3,6 +3,7 @@
 // committer or read back from the store), its simulations handed to other processes when a
 // Distributor helps, and the inferred cells and the summary stored once it ends.
 
+#include <fmt/format.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
@@ -217,11 +218,7 @@ CellRecord inferred_record(const GridSpec& grid, std::size_t index, std::uint64_
   const sim::CellInput& in = grid.cells[index];
   r.grid = grid.name;
   r.index = static_cast<std::int64_t>(index);
-  r.speed_kph = in.speed_kph;
-  r.ttc_s = in.ttc_s;
-  r.mu = in.mu;
-  r.passage_m = in.passage_m;
-  r.truck_speed_kph = in.truck_speed_kph;
+  r.factors = in;
   r.seed = seed;
   r.feasible = true;
   r.region = std::string(sim::region_name(cell.region));
@@ -294,7 +291,15 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
   const GridSpec& grid = campaign.grids[g];
   store.delete_inferred(grid.name);
   GridOracle oracle(campaign, g, committer, store.simulated_regions(grid.name));
-  adaptive::Lattice lattice{grid.levels};
+  const sim::FactorTable factors = sim::scenario_factors(campaign.scene);
+  const auto axis = [&](sim::FactorRole role) {
+    const auto i = factors.find(role);
+    if (!i)
+      throw UsageError(
+          fmt::format("grid '{}': the adaptive search needs the scenario's TTC and friction factors", grid.name));
+    return *i;
+  };
+  const adaptive::Lattice lattice{grid.levels, axis(sim::FactorRole::kTtc), axis(sim::FactorRole::kFriction)};
   adaptive::Options search_options = options.search;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;
@@ -340,7 +345,7 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
     if (cell.method == adaptive::Method::kNone) {  // infeasible: a full sweep's row, no simulation
       sim::CellResult infeasible;
       infeasible.input = grid.cells[i];
-      batch.push_back(to_record(grid.name, static_cast<std::int64_t>(i), oracle.seed(i), infeasible));
+      batch.push_back(to_record(campaign.scene, grid.name, static_cast<std::int64_t>(i), oracle.seed(i), infeasible));
     } else {
       batch.push_back(inferred_record(grid, i, oracle.seed(i), cell));
     }

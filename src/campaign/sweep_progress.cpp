@@ -104,8 +104,9 @@ int local_threads(int threads) { return threads > 0 ? threads : tbb::info::defau
 
 int expected_cost(const Campaign& campaign, const WorkItem& item) {
   const sim::CellInput& cell = campaign.grids[item.grid].cells[item.index];
-  if (!sim::Scene(campaign.scene, cell).feasible()) return 0;
-  return sim::stop_margin_m(cell.speed_kph, cell.ttc_s, cell.mu, campaign.scene.actuation) < 0.0 ? 2 : 1;
+  const sim::Scene scene(campaign.scene, cell);
+  if (!scene.feasible()) return 0;
+  return sim::stop_margin_m(scene.speed_kph(), scene.ttc_s(), scene.friction(), campaign.scene.actuation) < 0.0 ? 2 : 1;
 }
 
 std::array<std::size_t, EtaModel::kClasses> order_work(std::vector<WorkItem>& work) {

@@ -3,6 +3,8 @@
 
 #include "wire.hpp"
 
+#include <fmt/format.h>
+
 #include <cereal/archives/portable_binary.hpp>
 #include <cereal/types/array.hpp>
 #include <cereal/types/optional.hpp>
@@ -27,10 +29,10 @@ void serialize(Archive& archive, OutcomeRecord& o) {
 
 template <class Archive>
 void serialize(Archive& archive, CellRecord& r) {
-  archive(r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph, r.seed, r.feasible, r.region,
-          r.unmitigated_impact_speed_kph, r.unmitigated_delta_v_kph, r.unmitigated_p_mais3, r.unmitigated_p_fatal,
-          r.unmitigated_loss_level, r.evidence, r.mitigation_evidence, r.strengthened, r.certificate,
-          r.p_mais3_reduction, r.p_fatal_reduction, r.outcomes, r.method, r.inferred_from);
+  archive(r.grid, r.index, r.factors, r.seed, r.feasible, r.region, r.unmitigated_impact_speed_kph,
+          r.unmitigated_delta_v_kph, r.unmitigated_p_mais3, r.unmitigated_p_fatal, r.unmitigated_loss_level, r.evidence,
+          r.mitigation_evidence, r.strengthened, r.certificate, r.p_mais3_reduction, r.p_fatal_reduction, r.outcomes,
+          r.method, r.inferred_from);
 }
 
 template <class Archive>
@@ -61,9 +63,19 @@ void load(Archive& archive, Campaign& c) {
 
 namespace emrm::sim {
 
+// A cell's factor values: as many as its scenario has (at most kMaxFactors; more is a damaged message).
 template <class Archive>
-void serialize(Archive& archive, CellInput& cell) {
-  archive(cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph);
+void save(Archive& archive, const CellInput& cell) {
+  archive(std::vector<double>(cell.begin(), cell.end()));
+}
+
+template <class Archive>
+void load(Archive& archive, CellInput& cell) {
+  std::vector<double> values;
+  archive(values);
+  if (values.size() > kMaxFactors)
+    throw cereal::Exception(fmt::format("a cell of {} factor values (at most {})", values.size(), kMaxFactors));
+  cell = CellInput(std::span<const double>(values));
 }
 
 }  // namespace emrm::sim

@@ -309,15 +309,13 @@ Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, co
 }
 
 nlohmann::ordered_json to_json(const Assessment& a, const RecordedTrajectory& trajectory, TrajectoryFormat format,
-                               const sim::CellInput& cell, const std::string& strategy) {
+                               const sim::FactorTable& factors, const sim::CellInput& cell,
+                               const std::string& strategy) {
   nlohmann::ordered_json j;
   j["file"] = trajectory.file;
   j["format"] = std::string(format_name(format));
-  j["input"] = {{"speed_kph", cell.speed_kph},
-                {"ttc_s", cell.ttc_s},
-                {"mu", cell.mu},
-                {"passage_m", cell.passage_m},
-                {"truck_speed_kph", cell.truck_speed_kph}};
+  j["input"] = nlohmann::ordered_json::object();
+  for (std::size_t f = 0; f < factors.size() && f < cell.size(); ++f) j["input"][factors[f].key] = cell[f];
   j["truck"] = trajectory.has_truck ? "recorded" : "scene";
   j["samples"] = trajectory.samples.size();
   if (!strategy.empty()) j["strategy"] = strategy;

@@ -40,6 +40,20 @@ struct Quantity {
   }
 };
 
+// "$KEY": the logical scenario's parameter of each T-junction factor (its key in the factor table).
+struct Parameters {
+  std::string speed, ttc, mu, passage, truck_speed;
+  explicit Parameters(const sim::SceneConfig& config) {
+    const sim::FactorTable factors = sim::scenario_factors(config);
+    const auto ref = [&](sim::tjunction::Position i) { return "$" + factors[i].key; };
+    speed = ref(sim::tjunction::kSpeed);
+    ttc = ref(sim::tjunction::kTtc);
+    mu = ref(sim::tjunction::kMu);
+    passage = ref(sim::tjunction::kPassage);
+    truck_speed = ref(sim::tjunction::kTruckSpeed);
+  }
+};
+
 struct Initial {
   Quantity ego_x, ego_y, ego_speed, truck_x, truck_y, truck_speed, mu;
 };
@@ -53,16 +67,17 @@ Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, c
   Initial i;
   i.ego_x = {ego.x_m - ego_back, ""};
   i.ego_y = {ego.y_m, ""};
-  i.ego_speed = {ego.vx_mps, "${$speed_kph / 3.6}"};
+  const Parameters p(config);
+  i.ego_speed = {ego.vx_mps, "${" + p.speed + " / 3.6}"};
   // The truck heads -y: its rear axle is above its centre.
-  i.truck_x = {truck.box.center.x, "${$speed_kph / 3.6 * $ttc_s" + plus(config.truck.width_m / 2.0) + "}"};
+  i.truck_x = {truck.box.center.x, "${" + p.speed + " / 3.6 * " + p.ttc + plus(config.truck.width_m / 2.0) + "}"};
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + truck_back;
-  const std::string travel = config.truck.decel_mps2 > 0.0 ? "$truck_speed_kph / 3.6 * $truck_speed_kph / 3.6 / " +
+  const std::string travel = config.truck.decel_mps2 > 0.0 ? p.truck_speed + " / 3.6 * " + p.truck_speed + " / 3.6 / " +
                                                                  num(2.0 * config.truck.decel_mps2)
-                                                           : "$truck_speed_kph / 3.6 * $ttc_s";
-  i.truck_y = {truck.box.center.y + truck_back, "${$passage_m + " + travel + plus(y_constant) + "}"};
-  i.truck_speed = {cell.truck_speed_kph / kKphPerMps, "${$truck_speed_kph / 3.6}"};
-  i.mu = {cell.mu, "$mu"};
+                                                           : p.truck_speed + " / 3.6 * " + p.ttc;
+  i.truck_y = {truck.box.center.y + truck_back, "${" + p.passage + " + " + travel + plus(y_constant) + "}"};
+  i.truck_speed = {scene.truck_speed_mps(), "${" + p.truck_speed + " / 3.6}"};
+  i.mu = {cell.friction(), p.mu};
   return i;
 }
 void time_condition(XmlWriter& x, const std::string& name, const char* rule, double t_s) {
@@ -261,15 +276,16 @@ std::string truck_y_at(const sim::Scene& scene, const ExportOptions& options, do
   if (!parametric) return num(scene.truck_at(t_s).box.center.y + back);
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
   const double a = config.truck.decel_mps2;
+  const Parameters p(config);
   std::string ahead;
   if (a > 0.0) {
-    const std::string w = "($truck_speed_kph / 3.6" + plus(-a * t_s) + ")";
+    const std::string w = "(" + p.truck_speed + " / 3.6" + plus(-a * t_s) + ")";
     const std::string moving = "((" + w + " + sqrt(" + w + " * " + w + ")) / 2)";
     ahead = moving + " * " + moving + " / " + num(2.0 * a);
   } else {
-    ahead = "$truck_speed_kph / 3.6 * ($ttc_s" + plus(-t_s) + ")";
+    ahead = p.truck_speed + " / 3.6 * (" + p.ttc + plus(-t_s) + ")";
   }
-  return "${$passage_m + " + ahead + plus(y_constant) + "}";
+  return "${" + p.passage + " + " + ahead + plus(y_constant) + "}";
 }
 
 // The truck: its driver brakes from t = 0 at the scene's deceleration to a standstill (or, without
@@ -311,13 +327,11 @@ void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTraject
   maneuver_group_end(x, "EgoStartsAtHazard");
 }
 
-void parameter_declarations(XmlWriter& x, const sim::CellInput& cell, const std::string& road_file,
-                            const std::string& scenario_id) {
+void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const sim::CellInput& cell,
+                            const std::string& road_file, const std::string& scenario_id) {
   x.open("ParameterDeclarations");
-  for (const auto& [name, value] :
-       {std::pair{"speed_kph", cell.speed_kph}, std::pair{"ttc_s", cell.ttc_s}, std::pair{"mu", cell.mu},
-        std::pair{"passage_m", cell.passage_m}, std::pair{"truck_speed_kph", cell.truck_speed_kph}})
-    x.leaf("ParameterDeclaration", {{"name", name}, {"parameterType", "double"}, {"value", num(value)}});
+  for (std::size_t f = 0; f < factors.size(); ++f)
+    x.leaf("ParameterDeclaration", {{"name", factors[f].key}, {"parameterType", "double"}, {"value", num(cell[f])}});
   x.leaf("ParameterDeclaration", {{"name", "road_network"}, {"parameterType", "string"}, {"value", road_file}});
   x.leaf("ParameterDeclaration", {{"name", "scenario_id"}, {"parameterType", "string"}, {"value", scenario_id}});
   x.close();
@@ -341,6 +355,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
                          const ExportOptions& options, const std::string& road_file, bool parametric,
                          const std::string& scenario_id, double truck_rest_s) {
   const Initial i = initial_of(config, cell, options);
+  const sim::FactorTable factors = sim::scenario_factors(config);
   std::vector<sim::PathPoint> vertices;
   if (trajectory != nullptr)
     vertices =
@@ -352,12 +367,10 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
       !vertices.empty() ? vertices.back().t_s : config.simulation.horizon_s + config.safe_state.horizon_s;
   XmlWriter x;
   x.open("OpenSCENARIO");
-  file_header(x, parametric
-                     ? fmt::format("{}: logical scenario of an emrm plan", config.name)
-                     : fmt::format("{}: speed {} km/h, TTC {} s, mu {}, passage {} m, truck {} km/h{}", config.name,
-                                   cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph,
-                                   trajectory != nullptr ? ", strategy " + trajectory->strategy : ""));
-  parameter_declarations(x, cell, road_file, scenario_id);
+  file_header(x, parametric ? fmt::format("{}: logical scenario of an emrm plan", config.name)
+                            : fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
+                                          trajectory != nullptr ? ", strategy " + trajectory->strategy : ""));
+  parameter_declarations(x, factors, cell, road_file, scenario_id);
   x.leaf("CatalogLocations");
   x.open("RoadNetwork");
   x.leaf("LogicFile", {{"filepath", parametric ? "$road_network" : road_file}});
@@ -382,7 +395,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
 
 // When the cell's truck comes to rest (infinite when it does not brake).
 double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell) {
-  return config.truck.decel_mps2 > 0.0 ? cell.truck_speed_kph / kKphPerMps / config.truck.decel_mps2
+  return config.truck.decel_mps2 > 0.0 ? sim::Scene(config, cell).truck_speed_mps() / config.truck.decel_mps2
                                        : std::numeric_limits<double>::infinity();
 }
 
@@ -392,7 +405,7 @@ void require_feasible(const sim::SceneConfig& config, const sim::CellInput& cell
     throw UsageError(
         fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
                     "scene's max_initial_distance_m = {} m",
-                    cell.speed_kph / kKphPerMps * cell.ttc_s, config.max_initial_distance_m));
+                    sim::Scene(config, cell).initial_distance_m(), config.max_initial_distance_m));
 }
 
 }  // namespace detail

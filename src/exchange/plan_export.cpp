@@ -29,8 +29,10 @@ std::string road_file_of(const JunctionLayout& l) {
 
 }  // namespace
 
-std::vector<std::string> plan_parameter_names() {
-  return {"speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "road_network", "scenario_id"};
+std::vector<std::string> plan_parameter_names(const sim::FactorTable& factors) {
+  std::vector<std::string> names = factors.keys();
+  names.insert(names.end(), {"road_network", "scenario_id"});
+  return names;
 }
 
 PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, const scenario::ScenarioFile& scenarios,
@@ -43,11 +45,11 @@ PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, cons
   };
   std::vector<Concrete> concrete;
   std::map<std::string, sim::CellInput> roads;  // file -> the cell whose road network it is
+  const sim::FactorTable factors = sim::scenario_factors(config);
   for (const auto& row : scenarios.rows) {
-    sim::CellInput cell;
-    cell.truck_speed_kph = config.truck.speed_kph;
+    sim::CellInput cell = factors.defaults();
     for (std::size_t i = 0; i < scenarios.factors.size(); ++i)
-      (void)campaign::set_cell_factor(cell, scenarios.factors[i], row.values[i]);
+      (void)factors.set(cell, scenarios.factors[i], row.values[i]);
     try {
       require_feasible(config, cell);
     } catch (const UsageError& e) {
@@ -78,14 +80,10 @@ PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, cons
   x.open("ValueSetDistribution");
   for (const auto& c : concrete) {
     x.open("ParameterValueSet");
-    const std::vector<std::string> values{num(c.cell.speed_kph),
-                                          num(c.cell.ttc_s),
-                                          num(c.cell.mu),
-                                          num(c.cell.passage_m),
-                                          num(c.cell.truck_speed_kph),
-                                          c.road_file,
-                                          c.id};
-    const auto names = plan_parameter_names();
+    std::vector<std::string> values;
+    for (const double v : c.cell) values.push_back(num(v));
+    values.insert(values.end(), {c.road_file, c.id});
+    const auto names = plan_parameter_names(factors);
     for (std::size_t i = 0; i < names.size(); ++i)
       x.leaf("ParameterAssignment", {{"parameterRef", names[i]}, {"value", values[i]}});
     x.close();

@@ -20,6 +20,7 @@
 #include "emrm/results/aggregate.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "figure_parts.hpp"
+#include "map_panels.hpp"
 
 namespace emrm::report {
 namespace {
@@ -161,20 +162,23 @@ void add_analytic_line(SliceDrawing& d, const BoundaryReport& report, double mu,
   d.map.key.push_back(key_entry(style));
 }
 
-std::string held_text(const BoundarySlice& s) {
-  return fmt::format("μ = {}, passage {} m, truck {} km/h", plot_number(s.mu), plot_number(s.passage_m),
-                     plot_number(s.truck_speed_kph));
+// The slice's held factors (μ on) as a heading says them: "μ = 0.5, passage 3 m, truck 10 km/h".
+std::string held_text(const sim::FactorTable& factors, const BoundarySlice& s) {
+  std::vector<std::string> parts;
+  for (std::size_t i = 0; i < s.held.size(); ++i)
+    parts.push_back(detail::fixed_text(factors, Axis{sim::kFrictionFactor + i}, s.held[i]));
+  return core::join(parts, ", ");
 }
 
 /// "boundary_GRID", then "_FACTOR_VALUE" for each factor of the slice that varies over its grid.
-std::string slice_stem(const BoundarySlice& s, const std::vector<CellRecord>& grid_cells) {
+std::string slice_stem(const sim::FactorTable& factors, const BoundarySlice& s,
+                       const std::vector<CellRecord>& grid_cells) {
   std::string stem = "boundary_" + detail::file_stem(s.grid);
-  const std::array<std::pair<Axis, double>, 3> held{
-      {{Axis::kMu, s.mu}, {Axis::kPassage, s.passage_m}, {Axis::kTruckSpeed, s.truck_speed_kph}}};
-  constexpr std::array<std::string_view, 3> kKeys{"mu", "passage_m", "truck_speed_kph"};
-  for (std::size_t i = 0; i < held.size(); ++i)
-    if (distinct_values(grid_cells, held[i].first).size() > 1)
-      stem += fmt::format("_{}_{}", kKeys[i], detail::file_stem(plot_number(held[i].second)));
+  for (std::size_t i = 0; i < s.held.size(); ++i) {
+    const Axis a{sim::kFrictionFactor + i};
+    if (distinct_values(grid_cells, a).size() > 1)
+      stem += fmt::format("_{}_{}", detail::factor_of(factors, a).key, detail::file_stem(plot_number(s.held[i])));
+  }
   return stem;
 }
 
@@ -183,30 +187,31 @@ Figure draw_slice(const BoundaryReport& report, const BoundarySlice& slice, std:
   Figure figure;
   figure.name = name;
   SliceDrawing d;
+  d.map.factors = report.factors;
   d.map.grid = slice.grid;
-  d.map.held = held_text(slice);
+  d.map.held = held_text(report.factors, slice);
   d.map.title = fmt::format("Boundaries of grid '{}', {}", slice.grid, d.map.held);
   const std::vector<double> xs = distinct_values(cells, Axis::kSpeed);
-  const double hx = half_step(xs, 1.0);
-  const double hy = half_step(distinct_values(cells, Axis::kTtc), 0.05);
+  const double hx = half_step(xs, detail::factor_of(report.factors, Axis::kSpeed).band);
+  const double hy = half_step(distinct_values(cells, Axis::kTtc), detail::factor_of(report.factors, Axis::kTtc).band);
   std::vector<std::string> strategies;  // the report's, for the colours of unregistered ones
   for (const auto& b : report.boundaries)
     if (b.rfind(kStrategyPrefix, 0) == 0) strategies.push_back(b.substr(kStrategyPrefix.size()));
   for (const auto& boundary : report.boundaries) {
     std::vector<const BoundaryRow*> rows;
     for (const auto& r : report.rows)
-      if (r.boundary == boundary && r.grid == slice.grid && r.mu == slice.mu && r.passage_m == slice.passage_m &&
-          r.truck_speed_kph == slice.truck_speed_kph)
-        rows.push_back(&r);
+      if (r.boundary == boundary && r.grid == slice.grid && r.held == slice.held) rows.push_back(&r);
     if (!rows.empty()) add_step_line(d, boundary, rows, xs, hx, hy, style_of(boundary, strategies));
   }
-  add_analytic_line(d, report, slice.mu, xs, hx);
+  add_analytic_line(d, report, slice.held.front(), xs, hx);
   const bool non_monotone = !d.circles.empty();
   if (non_monotone)
     d.map.key.push_back(fmt::format("NaN with points {} title 'not monotone: a cell below passes'", kCircleStyle));
   d.map.cells = std::move(cells);
 
-  detail::write_csv(figure, dir, {"series", "speed_kph", "ttc_below_s", "ttc_at_s", "drawn_ttc_s", "exceptions"},
+  detail::write_csv(figure, dir,
+                    {"series", detail::factor_of(report.factors, Axis::kSpeed).key, "ttc_below_s", "ttc_at_s",
+                     "drawn_ttc_s", "exceptions"},
                     d.csv);
   const detail::MapCaption caption = detail::draw_overlaid_map(figure, d.map);
   figure.title = fmt::format(
@@ -227,7 +232,7 @@ Figure undrawn_slices(const BoundaryReport& report, std::size_t drawn, const std
   figure.title = "Boundaries, further slices";
   std::vector<std::string> left;
   for (std::size_t i = drawn; i < report.slices.size(); ++i)
-    left.push_back(fmt::format("grid '{}' {}", report.slices[i].grid, held_text(report.slices[i])));
+    left.push_back(fmt::format("grid '{}' {}", report.slices[i].grid, held_text(report.factors, report.slices[i])));
   figure.note = fmt::format("{} slices; the first {} are drawn, these not: {}", report.slices.size(), drawn,
                             core::join(left, "; "));
   return figure;
@@ -247,7 +252,8 @@ std::vector<Figure> draw_boundary_figures(const BoundaryReport& report, const st
     for (const auto& c : grid_cells)
       if (slice.holds(c)) cells.push_back(c);
     if (cells.empty()) continue;  // a report of other records
-    figures.push_back(draw_slice(report, slice, std::move(cells), stems.unique(slice_stem(slice, grid_cells)), dir));
+    figures.push_back(
+        draw_slice(report, slice, std::move(cells), stems.unique(slice_stem(report.factors, slice, grid_cells)), dir));
   }
   if (drawn < report.slices.size()) figures.push_back(undrawn_slices(report, drawn, stems.unique("boundary_more")));
   return figures;

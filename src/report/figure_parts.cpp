@@ -22,21 +22,9 @@ void write_csv(Figure& figure, const fs::path& dir, const core::Row& header, con
   core::write_file(figure.csv, core::csv_table(header, rows));
 }
 
-double value_of(const CellRecord& r, Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return r.speed_kph;
-    case Axis::kTtc:
-      return r.ttc_s;
-    case Axis::kMu:
-      return r.mu;
-    case Axis::kPassage:
-      return r.passage_m;
-    case Axis::kTruckSpeed:
-      return r.truck_speed_kph;
-  }
-  return 0.0;
-}
+double value_of(const CellRecord& r, Axis a) { return a.index < r.factors.size() ? r.factors[a.index] : 0.0; }
+
+core::Row factor_columns(const sim::FactorTable& factors) { return factors.keys(); }
 
 std::vector<double> distinct_values(const std::vector<CellRecord>& cells, Axis a) {
   std::vector<double> v;

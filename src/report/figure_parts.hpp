@@ -22,11 +22,23 @@ inline constexpr double kSameValue = 1e-9;
 void write_csv(Figure& figure, const std::filesystem::path& dir, const core::Row& header,
                const std::vector<core::Row>& rows);
 
-/// A factor of a grid's cells, as a figure's axis or a map's slice.
-enum class Axis { kSpeed, kTtc, kMu, kPassage, kTruckSpeed };
+/// A factor of a grid's cells (its place in the scenario's factor table), as a figure's axis or a
+/// map's slice; kSpeed, kTtc and kMu are the method's factors, which every scenario has.
+struct Axis {
+  std::size_t index = 0;
+  static const Axis kSpeed, kTtc, kMu;
+  friend bool operator==(Axis, Axis) = default;
+};
+inline constexpr Axis Axis::kSpeed{sim::kEgoSpeedFactor};
+inline constexpr Axis Axis::kTtc{sim::kTtcFactor};
+inline constexpr Axis Axis::kMu{sim::kFrictionFactor};
 
-/// The cell's ego speed (km/h), TTC (s), μ, passage width (m) or truck speed (km/h).
+/// The cell's value of the factor.
 [[nodiscard]] double value_of(const campaign::CellRecord& r, Axis a);
+/// The factor's entry in `factors`.
+[[nodiscard]] inline const sim::Factor& factor_of(const sim::FactorTable& factors, Axis a) { return factors[a.index]; }
+/// The key columns a figure's CSV names the factors of a cell by, in table order.
+[[nodiscard]] core::Row factor_columns(const sim::FactorTable& factors);
 
 /// The distinct values of `a` over `cells`, ascending (values within kSameValue are one).
 [[nodiscard]] std::vector<double> distinct_values(const std::vector<campaign::CellRecord>& cells, Axis a);
@@ -53,6 +65,7 @@ class StemSet {
 /// A one-panel map of `cells` (one grid's, sharing every factor but speed and TTC) with curves
 /// drawn over it: the boundary figures (boundary_figures.cpp).
 struct OverlaidMap {
+  sim::FactorTable factors;  ///< the scenario's
   std::string grid;
   std::vector<campaign::CellRecord> cells;
   std::string held;                 ///< what the cells share, as the heading says it: "μ = 0.5, passage 3 m"

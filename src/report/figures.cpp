@@ -188,7 +188,8 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
 
 }  // namespace
 
-Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::string& grid, const fs::path& dir) {
+Figure draw_sweep_curves(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
+                         const std::string& grid, const fs::path& dir) {
   Figure figure;
   const auto cells = figure_of_grid(figure, "sweep_curves", fmt::format("Parameter sweep over grid '{}'", grid),
                                     "sweep curves", records, grid);
@@ -198,11 +199,12 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const std::stri
   for (const double speed : speeds) {
     SweepPoint& point = points.emplace_back(SweepPoint{speed, {plot_number(speed)}, {}});
     for (const auto& c : cells)
-      if (std::abs(c.speed_kph - speed) <= kSameValue) point.cells.push_back(c);
+      if (std::abs(c.factors.ego_speed_kph() - speed) <= kSameValue) point.cells.push_back(c);
   }
-  const SweepAxis axis{"ego speed (km/h)", "", fmt::format("Parameter sweep, grid '{}'", enhanced_literal(grid)),
+  const sim::Factor& speed = factors[sim::kEgoSpeedFactor];
+  const SweepAxis axis{speed.axis, "", fmt::format("Parameter sweep, grid '{}'", enhanced_literal(grid)),
                        speeds.front() - 1.0, speeds.back() + 1.0};
-  if (!draw_curves(figure, points, cells, grid, {"speed_kph"}, axis, dir)) {
+  if (!draw_curves(figure, points, cells, grid, {speed.key}, axis, dir)) {
     figure.note = fmt::format("no sweep curves: grid '{}' has no feasible cell with a strategy outcome", grid);
     return figure;
   }

@@ -45,13 +45,13 @@ constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best
 
 }  // namespace
 
-Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
-                               double latency_s) {
+Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
+                               const fs::path& dir, const MapPanels& panels, double latency_s) {
   Figure figure;
   figure.name = "harm_reduction_map";
   figure.title = "Harm reduction by the best strategy";  // replaced by the full caption once drawn
   // A taller key strip: the colour bar sits above the key entries.
-  const MapLayout layout = lay_out_map(records, panels, 0.11);
+  const MapLayout layout = lay_out_map(records, factors, panels, 0.11);
   if (layout.panels.empty()) {
     figure.note = no_map_note("harm reduction map", panels);
     return figure;
@@ -131,8 +131,9 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const fs:
       "parameter.",
       layout.total_cells, core::join(caption_parts, "; "), largest, boundary_text(latency_s));
   write_csv(figure, dir,
-            {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "unmitigated_p_mais3",
-             "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"},
+            detail::cell_header(
+                factors, {"panel", "grid"},
+                {"region", "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}),
             rows);
 
   // Sequential, light to dark, and apart from the region colours and the grey of infeasible cells.

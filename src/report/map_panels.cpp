@@ -22,45 +22,12 @@ using campaign::CellRecord;
 
 namespace {
 
-std::string_view axis_label(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "ego speed (km/h)";
-    case Axis::kTtc:
-      return "time to collision TTC (s)";
-    case Axis::kMu:
-      return "road friction μ (–)";
-    case Axis::kPassage:
-      return "passage width (m)";
-    case Axis::kTruckSpeed:
-      return "truck speed (km/h)";
-  }
-  return "";
-}
-
-std::string_view axis_plural(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "speeds";
-    case Axis::kTtc:
-      return "TTCs";
-    case Axis::kMu:
-      return "μ";
-    case Axis::kPassage:
-      return "passage widths";
-    case Axis::kTruckSpeed:
-      return "truck speeds";
-  }
-  return "";
-}
-
 /// Half the smallest step between distinct values: the half-width of a cell's rectangle.
-double half_step(const std::vector<double>& values, Axis a) {
+double half_step(const std::vector<double>& values, const sim::Factor& factor) {
   double step = std::numeric_limits<double>::infinity();
   for (std::size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
   if (std::isfinite(step)) return step / 2.0;
-  // A single value: a band of a plausible width.
-  return a == Axis::kSpeed || a == Axis::kTruckSpeed ? 1.0 : 0.05;
+  return factor.band;  // a single value: a band of a plausible width
 }
 
 double median_of(const std::vector<CellRecord>& cells, Axis a) {
@@ -71,8 +38,6 @@ double median_of(const std::vector<CellRecord>& cells, Axis a) {
   return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
 }
 
-std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
-
 /// "(a) Speed × TTC, coarse grid", or the name alone for a map of one panel.
 std::string panel_name(const MapPanel& p) {
   return p.lettered ? fmt::format("({}) {}", p.spec.letter, p.spec.name) : std::string(p.spec.name);
@@ -82,21 +47,11 @@ constexpr std::string_view kBoundaryStyle = "with lines dt 2 lw 2.5 lc rgb 'blac
 
 }  // namespace
 
-std::string fixed_text(Axis a, double v) {
-  switch (a) {
-    case Axis::kSpeed:
-      return fmt::format("v = {} km/h", plot_number(v));
-    case Axis::kTtc:
-      return fmt::format("TTC = {} s", plot_number(v));
-    case Axis::kMu:
-      return fmt::format("μ = {}", plot_number(v));
-    case Axis::kPassage:
-      return fmt::format("passage {} m", plot_number(v));
-    case Axis::kTruckSpeed:
-      return fmt::format("truck {} km/h", plot_number(v));
-  }
-  return "";
+std::string fixed_text(const sim::FactorTable& factors, Axis a, double v) {
+  return fmt::format(fmt::runtime(factor_of(factors, a).held), plot_number(v));
 }
+
+std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
 
 std::string region_colour(std::string_view region) {
   for (const auto& s : kRegions)
@@ -108,15 +63,16 @@ void fill_panel(MapPanel& p, std::vector<CellRecord> cells) {
   p.cells = std::move(cells);
   p.xs = distinct_values(p.cells, p.spec.x);
   p.ys = distinct_values(p.cells, p.spec.y);
-  p.hx = half_step(p.xs, p.spec.x);
-  p.hy = half_step(p.ys, p.spec.y);
+  p.hx = half_step(p.xs, factor_of(p.factors, p.spec.x));
+  p.hy = half_step(p.ys, factor_of(p.factors, p.spec.y));
   p.fixed = median_of(p.cells, p.spec.fixed);
-  p.held = fixed_text(p.spec.fixed, p.fixed);
+  p.held = fixed_text(p.factors, p.spec.fixed, p.fixed);
 }
 
 void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const std::vector<CellRecord>& records) {
   MapPanel p;
   p.spec = spec;
+  p.factors = layout.factors;
   p.origin_x = i % 2 == 0 ? 0.0 : 0.5;
   p.origin_y = i < 2 ? layout.key_h + layout.cell_h : layout.key_h;
   std::vector<CellRecord> cells = results::records_of_grid(records, p.spec.grid);
@@ -133,21 +89,23 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec, const st
   layout.panels.push_back(std::move(p));
 }
 
-MapLayout empty_layout(double key_h) {
+MapLayout empty_layout(const sim::FactorTable& factors, double key_h) {
   MapLayout layout;
+  layout.factors = factors;
   layout.key_h = key_h;
   layout.cell_h = (kMapTop - key_h) / 2.0;
   return layout;
 }
 
-MapLayout lay_out_map(const std::vector<CellRecord>& records, const MapPanels& grids, double key_h) {
+MapLayout lay_out_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors, const MapPanels& grids,
+                      double key_h) {
   const std::array<PanelSpec, 4> specs{{
       {'a', grids.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
       {'b', grids.fine, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, fine grid"},
       {'c', grids.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
       {'d', grids.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
   }};
-  MapLayout layout = empty_layout(key_h);
+  MapLayout layout = empty_layout(factors, key_h);
   for (std::size_t i = 0; i < specs.size(); ++i) add_panel(layout, i, specs[i], records);
   if (layout.panels.size() != 1) return layout;
   // One of the four grids alone (a fine-only campaign, or a user's grid of that name): the whole
@@ -168,8 +126,8 @@ std::string no_map_note(std::string_view what, const MapPanels& grids) {
 }
 
 std::string panel_extent(const MapPanel& p) {
-  return fmt::format("{} {} × {} {}, {}", p.xs.size(), axis_plural(p.spec.x), p.ys.size(), axis_plural(p.spec.y),
-                     p.held);
+  return fmt::format("{} {} × {} {}, {}", p.xs.size(), factor_of(p.factors, p.spec.x).plural, p.ys.size(),
+                     factor_of(p.factors, p.spec.y).plural, p.held);
 }
 
 std::string panel_caption(const MapPanel& p, std::string_view detail) {
@@ -177,8 +135,18 @@ std::string panel_caption(const MapPanel& p, std::string_view detail) {
 }
 
 core::Row cell_columns(const MapPanel& p, const CellRecord& c) {
-  return {std::string(1, p.spec.letter), c.grid,      plot_number(c.speed_kph), plot_number(c.ttc_s), plot_number(c.mu),
-          plot_number(c.passage_m),      region_of(c)};
+  core::Row row{std::string(1, p.spec.letter), c.grid};
+  for (const double v : c.factors) row.push_back(plot_number(v));
+  row.push_back(region_of(c));
+  return row;
+}
+
+core::Row cell_header(const sim::FactorTable& factors, std::initializer_list<std::string> before,
+                      std::initializer_list<std::string> after) {
+  core::Row row(before);
+  for (const sim::Factor& f : factors) row.push_back(f.key);
+  row.insert(row.end(), after);
+  return row;
 }
 
 std::string cell_box(const MapPanel& p, const CellRecord& c) {
@@ -217,8 +185,8 @@ std::string panel_plot(const MapLayout& layout, const MapPanel& p, std::string_v
       fmt::format("set origin {},{}\nset size {},{}\n", p.origin_x, p.origin_y, layout.panel_w, layout.cell_h);
   out += fmt::format("set title {}\n",
                      double_quoted(enhanced_literal(heading) + "\n{/*0.8 " + enhanced_literal(subtitle) + "}"));
-  out += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(axis_label(p.spec.x)),
-                     single_quoted(axis_label(p.spec.y)));
+  out += fmt::format("set xlabel {}\nset ylabel {}\n", single_quoted(factor_of(p.factors, p.spec.x).axis),
+                     single_quoted(factor_of(p.factors, p.spec.y).axis));
   out +=
       fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]\n", plot_number(p.xs.front() - p.hx),
                   plot_number(p.xs.back() + p.hx), plot_number(p.ys.front() - p.hy), plot_number(p.ys.back() + p.hy));

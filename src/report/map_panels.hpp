@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +32,10 @@ inline constexpr std::array<RegionStyle, 5> kRegions{{
 }};
 
 /// "v = 50 km/h", "μ = 1", …: the factor at the value, as a panel's heading says what it holds.
-[[nodiscard]] std::string fixed_text(Axis a, double v);
+[[nodiscard]] std::string fixed_text(const sim::FactorTable& factors, Axis a, double v);
+
+/// The cell's region as a map shows it: G, Y, O, R, or "infeasible".
+[[nodiscard]] std::string region_of(const campaign::CellRecord& r);
 
 /// The region's colour "#rrggbb" (kRegions); the infeasible grey for any other name.
 [[nodiscard]] std::string region_colour(std::string_view region);
@@ -46,6 +50,7 @@ struct PanelSpec {
 /// One panel whose grid has cells: its cells, their extent, and where it sits on the page.
 struct MapPanel {
   PanelSpec spec;
+  sim::FactorTable factors;  ///< the scenario's: the axes' labels
   std::vector<campaign::CellRecord> cells;
   std::vector<double> xs, ys;  ///< the distinct values along each axis
   double hx = 0.0, hy = 0.0;   ///< half a cell's width and height
@@ -60,6 +65,7 @@ inline constexpr int kMapWidthPx = 1400, kMapHeightPx = 1000, kMapFontPt = 13;
 /// A map's 2×2 layout above a key strip `key_h` high (screen units): the panels that have cells,
 /// in order (a)–(d); a missing grid leaves its slot empty but for a label, and is said in `missing`.
 struct MapLayout {
+  sim::FactorTable factors;  ///< the scenario's, each panel's
   std::vector<MapPanel> panels;
   std::vector<std::string> missing;
   std::string missing_labels;  ///< gnuplot labels for the empty slots, drawn with the key strip
@@ -80,12 +86,12 @@ void add_panel(MapLayout& layout, std::size_t i, const PanelSpec& spec,
 inline constexpr double kMapTop = 0.955;  // below the multiplot's title
 
 /// A layout without panels: two rows of them above a key strip `key_h` high.
-[[nodiscard]] MapLayout empty_layout(double key_h);
+[[nodiscard]] MapLayout empty_layout(const sim::FactorTable& factors, double key_h);
 
 /// The 2×2 layout of the paper's four grids `grids` over `records`, the key strip `key_h` high;
 /// the one grid of the four in the store alone takes the whole page.
-[[nodiscard]] MapLayout lay_out_map(const std::vector<campaign::CellRecord>& records, const MapPanels& grids,
-                                    double key_h);
+[[nodiscard]] MapLayout lay_out_map(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                                    const MapPanels& grids, double key_h);
 
 /// The figure's note when none of the four grids is in the store.
 [[nodiscard]] std::string no_map_note(std::string_view what, const MapPanels& grids);
@@ -96,9 +102,11 @@ inline constexpr double kMapTop = 0.955;  // below the multiplot's title
 /// The panel's part of the figure's caption, `detail` after its cell count.
 [[nodiscard]] std::string panel_caption(const MapPanel& p, std::string_view detail);
 
-/// The CSV columns every map starts a cell's row with: panel, grid, speed_kph, ttc_s, mu,
-/// passage_m, region.
+/// The CSV columns every map starts a cell's row with: panel, grid, every factor, region.
 [[nodiscard]] core::Row cell_columns(const MapPanel& p, const campaign::CellRecord& c);
+/// A map CSV's header: `before`, the factors' keys, `after`.
+[[nodiscard]] core::Row cell_header(const sim::FactorTable& factors, std::initializer_list<std::string> before,
+                                    std::initializer_list<std::string> after);
 
 /// A cell's rectangle, the start of its datablock line: x y half-width half-height.
 [[nodiscard]] std::string cell_box(const MapPanel& p, const campaign::CellRecord& c);

@@ -321,11 +321,12 @@ std::vector<Figure> draw_plan_maps(const PlannedRun& run, const fs::path& dir, s
   return figures;
 }
 
-Figure draw_plan_sweep_curves(const PlannedRun& run, const fs::path& dir, const std::string& name) {
-  std::optional<std::size_t> chosen;  // speed_kph, else the first factor with two levels or more
+Figure draw_plan_sweep_curves(const PlannedRun& run, const sim::FactorTable& factors, const fs::path& dir,
+                              const std::string& name) {
+  std::optional<std::size_t> chosen;  // the ego speed, else the first factor with two levels or more
   for (std::size_t i = 0; i < run.factors.size(); ++i) {
     if (run.factors[i].levels.size() < 2) continue;
-    if (run.factors[i].name == "speed_kph") {
+    if (run.factors[i].name == factors[sim::kEgoSpeedFactor].key) {
       chosen = i;
       break;
     }

@@ -36,6 +36,7 @@ using detail::boundary_text;
 using detail::boxes;
 using detail::cell_box;
 using detail::cell_columns;
+using detail::cell_header;
 using detail::distinct_values;
 using detail::empty_layout;
 using detail::file_stem;
@@ -57,6 +58,7 @@ using detail::panel_caption;
 using detail::panel_extent;
 using detail::panel_script;
 using detail::region_colour;
+using detail::region_of;
 using detail::StemSet;
 using detail::value_of;
 using detail::write_csv;
@@ -87,7 +89,7 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
   for (const auto& c : p.cells) {
     core::Row row = cell_columns(p, c);
     row.push_back(c.feasible ? c.evidence : std::string());
-    lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(row[6]))));
+    lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(region_of(c)))));
     if (is_undecided(c))
       crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
     rows.push_back(std::move(row));
@@ -156,8 +158,8 @@ std::vector<std::string> region_key(const std::string& boundary, bool undecided)
 
 // --- the mitigability map -----------------------------------------------------------------------
 
-Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::path& dir, const MapPanels& panels,
-                             double latency_s) {
+Figure draw_mitigability_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
+                             const fs::path& dir, const MapPanels& panels, double latency_s) {
   Figure figure;
   figure.name = "mitigability_map";
   figure.title = "Mitigability regions";  // replaced by the full caption once drawn
@@ -169,7 +171,7 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
       if (c.grid == grid) mapped.push_back(c);
   const EvidenceCounts evidence = count_evidence(mapped);
   const std::size_t undecided = evidence.undecided;
-  const MapLayout layout = lay_out_map(records, panels, undecided == 0 ? 0.06 : 0.1);  // a third key row
+  const MapLayout layout = lay_out_map(records, factors, panels, undecided == 0 ? 0.06 : 0.1);  // a third key row
   if (layout.panels.empty()) {
     figure.note = no_map_note("mitigability map", panels);
     return figure;
@@ -191,7 +193,7 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
       "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
       layout.total_cells, core::join(caption_parts, "; "), boundary_text(latency_s), plot_number(sim::kGravity_mps2),
       evidence.caption());
-  write_csv(figure, dir, {"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
+  write_csv(figure, dir, cell_header(factors, {"panel", "grid"}, {"region", "evidence"}), rows);
 
   const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
   const std::string body = map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells),
@@ -203,8 +205,8 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const fs::p
 // --- the map under each actuation profile ---------------------------------------------------------
 
 Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
-                         const std::vector<std::vector<CellRecord>>& records, const std::string& grid,
-                         const fs::path& dir) {
+                         const std::vector<std::vector<CellRecord>>& records, const sim::FactorTable& factors,
+                         const std::string& grid, const fs::path& dir) {
   Figure figure;
   figure.name = "regions_by_profile";
   figure.title = "Mitigability regions under each actuation profile";
@@ -212,7 +214,7 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
   std::vector<std::string> names;  // the panels' specs view these
   names.reserve(shown);
   for (std::size_t i = 0; i < shown; ++i) names.push_back("profile " + runs[i].name);
-  MapLayout layout = empty_layout(0.08);
+  MapLayout layout = empty_layout(factors, 0.08);
   std::vector<std::size_t> run_of;  // the run each drawn panel shows
   for (std::size_t i = 0; i < shown; ++i) {
     add_panel(layout, i, {static_cast<char>('a' + i), grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, names[i]}, records[i]);
@@ -245,8 +247,7 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
       "panel's dashed line is its own stop boundary (perception latency, brake dead time and half the ramp before "
       "v/(2μg)).",
       core::join(caption_parts, "; "));
-  write_csv(figure, dir, {"panel", "profile", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"},
-            rows);
+  write_csv(figure, dir, cell_header(factors, {"panel", "profile", "grid"}, {"region", "evidence"}), rows);
   const std::string body =
       map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
                  region_key("stop boundary of the profile", undecided), 2, undecided ? 0 : -6, layout.key_h);
@@ -258,26 +259,6 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
 
 namespace {
 
-// The order in which a grid's factors become a map's axes: the first two that vary.
-constexpr std::array<Axis, 5> kFactorOrder{Axis::kSpeed, Axis::kTtc, Axis::kMu, Axis::kPassage, Axis::kTruckSpeed};
-
-/// The factor's key in a campaign file, as a figure's file name uses it.
-std::string_view axis_key(Axis a) {
-  switch (a) {
-    case Axis::kSpeed:
-      return "speed_kph";
-    case Axis::kTtc:
-      return "ttc_s";
-    case Axis::kMu:
-      return "mu";
-    case Axis::kPassage:
-      return "passage_m";
-    case Axis::kTruckSpeed:
-      return "truck_speed_kph";
-  }
-  return "";
-}
-
 /// How a grid is cut into maps: its axes, the factor the stop boundary holds fixed, and the factors
 /// each slice holds fixed (`sliced` those of them that vary over the grid).
 struct GridCut {
@@ -285,10 +266,12 @@ struct GridCut {
   std::vector<Axis> held, sliced;
 };
 
-/// The first two varying factors as axes (a constant one fills in for a 1-D or 0-D grid: a strip).
-GridCut cut_grid(const std::vector<CellRecord>& cells) {
+/// The first two varying factors, in the factor table's order, as axes (a constant one fills in for
+/// a 1-D or 0-D grid: a strip).
+GridCut cut_grid(const std::vector<CellRecord>& cells, const sim::FactorTable& factors) {
   std::vector<Axis> varying, constant;
-  for (const Axis a : kFactorOrder) (distinct_values(cells, a).size() > 1 ? varying : constant).push_back(a);
+  for (std::size_t i = 0; i < factors.size(); ++i)
+    (distinct_values(cells, Axis{i}).size() > 1 ? varying : constant).push_back(Axis{i});
   std::vector<Axis> order = varying;
   order.insert(order.end(), constant.begin(), constant.end());
   GridCut cut;
@@ -332,34 +315,36 @@ std::vector<GridSlice> slices_of(const std::vector<CellRecord>& cells, const Gri
 }
 
 /// "μ = 0.5, passage 3 m" for `factors` of the cut at the slice's values.
-std::string held_text(const GridCut& cut, const GridSlice& slice, const std::vector<Axis>& factors) {
+std::string held_text(const sim::FactorTable& table, const GridCut& cut, const GridSlice& slice,
+                      const std::vector<Axis>& factors) {
   std::vector<std::string> parts;
   for (std::size_t i = 0; i < cut.held.size(); ++i)
     if (std::find(factors.begin(), factors.end(), cut.held[i]) != factors.end())
-      parts.push_back(fixed_text(cut.held[i], slice.held_values[i]));
+      parts.push_back(fixed_text(table, cut.held[i], slice.held_values[i]));
   return core::join(parts, ", ");
 }
 
 /// "map_GRID", then "_FACTOR_VALUE" for each factor the slice is cut along.
-std::string slice_stem(const std::string& grid, const GridCut& cut, const GridSlice& slice) {
+std::string slice_stem(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
+                       const GridSlice& slice) {
   std::string stem = "map_" + file_stem(grid);
   for (std::size_t i = 0; i < cut.held.size(); ++i)
     if (std::find(cut.sliced.begin(), cut.sliced.end(), cut.held[i]) != cut.sliced.end())
-      stem += fmt::format("_{}_{}", axis_key(cut.held[i]), file_stem(plot_number(slice.held_values[i])));
+      stem += fmt::format("_{}_{}", factor_of(factors, cut.held[i]).key, file_stem(plot_number(slice.held_values[i])));
   return stem;
 }
 
 constexpr int kSliceWidthPx = 1000, kSliceHeightPx = 760;
 
 /// One slice of a grid as a map of one panel, in the mitigability map's colours and crosses.
-Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSlice& slice, const std::string& name,
-                      const fs::path& dir, double latency_s) {
+Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
+                      const GridSlice& slice, const std::string& name, const fs::path& dir, double latency_s) {
   Figure figure;
   figure.name = name;
-  const std::string slice_label = held_text(cut, slice, cut.sliced);
+  const std::string slice_label = held_text(factors, cut, slice, cut.sliced);
   const std::string what = fmt::format("grid '{}'{}", grid, slice_label.empty() ? "" : ", slice " + slice_label);
   const EvidenceCounts evidence = count_evidence(slice.cells);
-  MapLayout layout = empty_layout(evidence.undecided == 0 ? 0.13 : 0.17);  // three key rows, or four
+  MapLayout layout = empty_layout(factors, evidence.undecided == 0 ? 0.13 : 0.17);  // three key rows, or four
   layout.panel_w = 1.0;
   layout.cell_h = kMapTop - layout.key_h;
   layout.width_px = kSliceWidthPx;
@@ -367,10 +352,11 @@ Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSli
   const std::string panel_title = "Grid " + grid;  // the spec views it
   MapPanel p;
   p.spec = {'a', grid, cut.x, cut.y, cut.fixed, panel_title};
+  p.factors = factors;
   p.lettered = false;
   p.origin_y = layout.key_h;
   fill_panel(p, slice.cells);
-  p.held = held_text(cut, slice, cut.held);
+  p.held = held_text(factors, cut, slice, cut.held);
   layout.total_cells = p.cells.size();
 
   std::vector<core::Row> rows;
@@ -384,10 +370,10 @@ Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSli
       "infeasible.{}{}",
       what, panel_extent(p), p.cells.size(), drawn.shares,
       boundary ? fmt::format(" Dashed: the analytic stop boundary {} (g = {} m/s²) at {}.", boundary_text(latency_s),
-                             plot_number(sim::kGravity_mps2), fixed_text(p.spec.fixed, p.fixed))
+                             plot_number(sim::kGravity_mps2), fixed_text(factors, p.spec.fixed, p.fixed))
                : std::string(),
       evidence.caption());
-  write_csv(figure, dir, {"slice", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}, rows);
+  write_csv(figure, dir, cell_header(factors, {"slice", "grid"}, {"region", "evidence"}), rows);
   const std::vector<std::string> key =
       region_key(boundary ? "stop boundary " + boundary_text(latency_s) : std::string(), evidence.undecided > 0);
   const std::string body = map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
@@ -398,13 +384,13 @@ Figure draw_slice_map(const std::string& grid, const GridCut& cut, const GridSli
 }
 
 /// The report's entry for slices left undrawn: their count and values.
-Figure undrawn_slices(const std::string& grid, const std::string& name, const GridCut& cut,
-                      const std::vector<GridSlice>& slices, std::size_t drawn) {
+Figure undrawn_slices(const sim::FactorTable& factors, const std::string& grid, const std::string& name,
+                      const GridCut& cut, const std::vector<GridSlice>& slices, std::size_t drawn) {
   Figure figure;
   figure.name = name;
   figure.title = fmt::format("Mitigability regions of grid '{}', further slices", grid);
   std::vector<std::string> left;
-  for (std::size_t i = drawn; i < slices.size(); ++i) left.push_back(held_text(cut, slices[i], cut.sliced));
+  for (std::size_t i = drawn; i < slices.size(); ++i) left.push_back(held_text(factors, cut, slices[i], cut.sliced));
   figure.note = fmt::format("grid '{}' has {} slices; the first {} are drawn, these not: {}", grid, slices.size(),
                             drawn, core::join(left, "; "));
   return figure;
@@ -412,21 +398,23 @@ Figure undrawn_slices(const std::string& grid, const std::string& name, const Gr
 
 }  // namespace
 
-std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const fs::path& dir,
-                                   const GridMapOptions& options) {
+std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
+                                   const fs::path& dir, const GridMapOptions& options) {
   std::vector<Figure> figures;
   StemSet stems;
   for (const auto& grid : results::grid_names(records)) {
     if (std::find(options.skip.begin(), options.skip.end(), grid) != options.skip.end()) continue;
     const std::vector<CellRecord> cells = results::records_of_grid(records, grid);
-    const GridCut cut = cut_grid(cells);
+    const GridCut cut = cut_grid(cells, factors);
     const std::vector<GridSlice> slices = slices_of(cells, cut);
     const std::size_t drawn = std::min(slices.size(), options.max_slices_per_grid);
     for (std::size_t i = 0; i < drawn; ++i)
-      figures.push_back(
-          draw_slice_map(grid, cut, slices[i], stems.unique(slice_stem(grid, cut, slices[i])), dir, options.latency_s));
+      figures.push_back(draw_slice_map(factors, grid, cut, slices[i],
+                                       stems.unique(slice_stem(factors, grid, cut, slices[i])), dir,
+                                       options.latency_s));
     if (drawn < slices.size())
-      figures.push_back(undrawn_slices(grid, stems.unique("map_" + file_stem(grid) + "_more"), cut, slices, drawn));
+      figures.push_back(
+          undrawn_slices(factors, grid, stems.unique("map_" + file_stem(grid) + "_more"), cut, slices, drawn));
   }
   return figures;
 }
@@ -446,7 +434,7 @@ MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   std::vector<std::string> key = region_key("", evidence.undecided > 0);
   key.insert(key.end(), map.key.begin(), map.key.end());
   const std::size_t key_rows = (key.size() + kOverlaidKeyColumns - 1) / kOverlaidKeyColumns;
-  MapLayout layout = empty_layout(0.025 + 0.03 * static_cast<double>(key_rows));
+  MapLayout layout = empty_layout(map.factors, 0.025 + 0.03 * static_cast<double>(key_rows));
   layout.panel_w = 1.0;
   layout.cell_h = kMapTop - layout.key_h;
   layout.width_px = kOverlaidWidthPx;
@@ -455,6 +443,7 @@ MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   const std::string panel_title = "Grid " + map.grid;  // the spec views it
   MapPanel p;
   p.spec = {'a', map.grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, panel_title};
+  p.factors = map.factors;
   p.lettered = false;
   p.origin_y = layout.key_h;
   fill_panel(p, map.cells);

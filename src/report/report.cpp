@@ -352,11 +352,11 @@ std::string actuation_html(const sim::ActuationConfig& a, const std::vector<resu
 
 // The sweep curves: by the ODD's bins when the headline grid is a planned run's (and the ODD is
 // known), else by exact speed; a planned run beside another grid (reproduce) adds its own curves.
-Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
-                    const std::optional<PlannedRun>& planned, const fs::path& figures_dir) {
+Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                    const std::string& grid, const std::optional<PlannedRun>& planned, const fs::path& figures_dir) {
   if (planned && !planned->factors.empty() && grid == campaign::kPlanGrid)
-    return draw_plan_sweep_curves(*planned, figures_dir);
-  return draw_sweep_curves(records, grid, figures_dir);
+    return draw_plan_sweep_curves(*planned, factors, figures_dir);
+  return draw_sweep_curves(records, factors, grid, figures_dir);
 }
 
 // Every input of a report that can be malformed, read before the first figure is drawn so that a
@@ -399,6 +399,7 @@ ReportSummary write_report(const fs::path& dir) {
   const campaign::CampaignMeta meta = campaign::read_meta(store_path);
   const std::vector<campaign::CellRecord> records = campaign::read_results(store_path);
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store_path.string() + " (scene)");
+  const sim::FactorTable factors = sim::scenario_factors(scene);
   const fs::path figures_dir = folder.figures_dir();
   const ReportInputs in = read_inputs(dir);
   const std::optional<PlannedRun>& planned = in.planned;
@@ -420,19 +421,20 @@ ReportSummary write_report(const fs::path& dir) {
   grid_maps.latency_s = boundary_latency_s;
   if (std::any_of(paper_grids.begin(), paper_grids.end(),
                   [&](const std::string& g) { return std::find(grids.begin(), grids.end(), g) != grids.end(); })) {
-    summary.figures.push_back(draw_mitigability_map(records, figures_dir, paper, boundary_latency_s));
-    summary.figures.push_back(draw_harm_reduction_map(records, figures_dir, paper, boundary_latency_s));
+    summary.figures.push_back(draw_mitigability_map(records, factors, figures_dir, paper, boundary_latency_s));
+    summary.figures.push_back(draw_harm_reduction_map(records, factors, figures_dir, paper, boundary_latency_s));
   }
-  for (Figure& f : draw_grid_maps(records, figures_dir, grid_maps)) summary.figures.push_back(std::move(f));
+  for (Figure& f : draw_grid_maps(records, factors, figures_dir, grid_maps)) summary.figures.push_back(std::move(f));
   if (planned)
     for (Figure& f : draw_plan_maps(*planned, figures_dir)) summary.figures.push_back(std::move(f));
   summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
-  if (!in.runs.empty()) summary.figures.push_back(draw_profile_maps(in.runs, in.per_profile, grid, figures_dir));
+  if (!in.runs.empty())
+    summary.figures.push_back(draw_profile_maps(in.runs, in.per_profile, factors, grid, figures_dir));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
-  summary.figures.push_back(sweep_curves(records, grid, planned, figures_dir));
+  summary.figures.push_back(sweep_curves(records, factors, grid, planned, figures_dir));
   if (planned && !planned->factors.empty() && grid != campaign::kPlanGrid)
-    summary.figures.push_back(draw_plan_sweep_curves(*planned, figures_dir, "plan_sweep_curves"));
+    summary.figures.push_back(draw_plan_sweep_curves(*planned, factors, figures_dir, "plan_sweep_curves"));
   {
     Figure coverage;
     coverage.name = "coverage_comparison";

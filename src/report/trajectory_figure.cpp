@@ -1,3 +1,6 @@
+// The T-junction's trajectory figures: the ego's paths past the crossing truck, titled by the T-junction's
+// factors (sim::TJunctionCell).
+
 #include "emrm/report/trajectory_figure.hpp"
 
 #include <fmt/format.h>
@@ -59,6 +62,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
   const auto file = [&](const std::string& name) { return (dir.path() / name).string(); };
 
   const sim::Scene scene(config, result.input);
+  const sim::TJunctionCell named = sim::TJunctionCell::of(result.input);
   const double v0 = scene.initial_speed_mps();
   const double y_min = config.road.drivable_min_y_m();
   const double y_max = config.road.drivable_max_y_m();
@@ -70,8 +74,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
   script += "set output " + single_quoted(drawing_path(dir.path(), output).string()) + "\n";
   script += fmt::format(
       "set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n", panels,
-      result.input.speed_kph, result.input.ttc_s, "{/Symbol m}", result.input.mu, result.input.passage_m,
-      sim::region_name(result.region));
+      named.speed_kph, named.ttc_s, "{/Symbol m}", named.mu, named.passage_m, sim::region_name(result.region));
   script += "set size ratio -1\nset key outside right top font ',8'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
   script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min - 1.0,
                         std::max(y_max, truck_top) + 1.0);
@@ -182,12 +185,13 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   for (std::size_t k = 0; k < panels.size(); ++k) {
     const auto& [cell, emrm, trees] = panels[k];
     const std::string tag = std::to_string(k);
+    const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
     const core::Row lead{tag,
                          std::to_string(cell->index),
-                         fmt::format("{:g}", cell->speed_kph),
-                         fmt::format("{:g}", cell->ttc_s),
-                         fmt::format("{:g}", cell->mu),
-                         fmt::format("{:g}", cell->passage_m),
+                         fmt::format("{:g}", named.speed_kph),
+                         fmt::format("{:g}", named.ttc_s),
+                         fmt::format("{:g}", named.mu),
+                         fmt::format("{:g}", named.passage_m),
                          cell->region,
                          outcome_label(*emrm)};
     const auto rows_of = [&](const campaign::Polyline& line, const std::string& kind, std::size_t edge) {
@@ -212,20 +216,22 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
     core::write_file(file("failsafe" + tag + ".dat"), failsafe.empty() ? "nan nan nan\n" : failsafe);
     core::write_file(file("path" + tag + ".dat"), rows_of(emrm->path, "path", 0));
 
-    sim::CellInput input{cell->speed_kph, cell->ttc_s, cell->mu, cell->passage_m, cell->truck_speed_kph};
-    const sim::Scene scene(config, input);
+    const sim::Scene scene(config, cell->factors);
     core::write_file(file("truck0_" + tag + ".dat"), outline(scene.truck_at(0.0).box));
     core::write_file(file("truck1_" + tag + ".dat"), outline(scene.truck_at(emrm->path.back()[0]).box));
   }
-  core::write_file(figure.csv, core::csv_table({"panel", "cell_index", "speed_kph", "ttc_s", "mu", "passage_m",
-                                                "region", "outcome", "kind", "edge", "t_s", "x_m", "y_m", "speed_mps"},
-                                               csv));
+  // The factors the drawing shows (the truck's speed is its motion, not a label), by their keys.
+  const sim::FactorTable factors = sim::scenario_factors(config);
+  core::Row header{"panel", "cell_index"};
+  for (const auto i : {sim::tjunction::kSpeed, sim::tjunction::kTtc, sim::tjunction::kMu, sim::tjunction::kPassage})
+    header.push_back(factors[i].key);
+  header.insert(header.end(), {"region", "outcome", "kind", "edge", "t_s", "x_m", "y_m", "speed_mps"});
+  core::write_file(figure.csv, core::csv_table(header, csv));
 
   // One frame for every panel: the widest scene of the grid.
   double x_lo = 0.0, x_hi = 0.0;
   for (const auto& p : panels) {
-    const sim::Scene scene(config,
-                           {p.cell->speed_kph, p.cell->ttc_s, p.cell->mu, p.cell->passage_m, p.cell->truck_speed_kph});
+    const sim::Scene scene(config, p.cell->factors);
     x_lo = std::min(x_lo, scene.ego_initial().x_m - config.ego.length_m);
     x_hi = std::max(x_hi, scene.truck_far_x_m() + 2.0 * config.ego.length_m);
   }
@@ -252,8 +258,9 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
       const std::string tag = std::to_string(k);
       // One colour bar, beside the last panel of each row.
       script += (k % columns == columns - 1 || k + 1 == panels.size()) ? "set colorbox\n" : "unset colorbox\n";
+      const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
       script += fmt::format("set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n",
-                            cell->speed_kph, cell->mu, cell->passage_m, outcome_label(*emrm));
+                            named.speed_kph, named.mu, named.passage_m, outcome_label(*emrm));
       script += fmt::format(
           "plot '{}' w l lc 'black' lw 1.2, '{}' w l lc rgb '#2ca02c' lw 0.5, '{}' w l lc rgb '#ff7f0e' lw 0.5, "
           "'{}' w l dt 2 lc 'gray40', '{}' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 w l lw 2.5 lc palette\n",

@@ -76,6 +76,13 @@ RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std
   return c;
 }
 
+LevelCuts level_cuts(const sim::SceneConfig& scene) {
+  LevelCuts cuts;
+  cuts.car_width_m = scene.ego.width_m;
+  cuts.passage_factor = sim::scenario_factors(scene).find(sim::FactorRole::kPassage);
+  return cuts;
+}
+
 std::string_view factor_name(Factor f) noexcept {
   switch (f) {
     case Factor::kAll:
@@ -134,19 +141,19 @@ std::string level_of(Factor f, const campaign::CellRecord& cell, const LevelCuts
     case Factor::kAll:
       return "all";
     case Factor::kSpeed:
-      if (cell.speed_kph <= c.speed_low_max_kph + kCutTolerance) return "low";
-      if (cell.speed_kph <= c.speed_med_max_kph + kCutTolerance) return "med";
+      if (cell.factors.ego_speed_kph() <= c.speed_low_max_kph + kCutTolerance) return "low";
+      if (cell.factors.ego_speed_kph() <= c.speed_med_max_kph + kCutTolerance) return "med";
       return "high";
     case Factor::kTtc:
-      if (cell.ttc_s <= c.ttc_low_max_s + kCutTolerance) return "low";
-      if (cell.ttc_s <= c.ttc_med_max_s + kCutTolerance) return "med";
+      if (cell.factors.time_to_collision_s() <= c.ttc_low_max_s + kCutTolerance) return "low";
+      if (cell.factors.time_to_collision_s() <= c.ttc_med_max_s + kCutTolerance) return "med";
       return "high";
     case Factor::kFriction:
-      if (cell.mu < c.mu_med_min - kCutTolerance) return "low";
-      if (cell.mu < c.mu_high_min - kCutTolerance) return "med";
+      if (cell.factors.friction() < c.mu_med_min - kCutTolerance) return "low";
+      if (cell.factors.friction() < c.mu_high_min - kCutTolerance) return "med";
       return "high";
     case Factor::kPassage:
-      return cell.passage_m < c.car_width_m - kCutTolerance ? "narrow" : "wide";
+      return c.passage_factor && cell.factors[*c.passage_factor] < c.car_width_m - kCutTolerance ? "narrow" : "wide";
   }
   return "all";
 }

@@ -18,12 +18,12 @@ namespace {
 
 // A line's key within its grid: μ, passage width, truck speed, then the speed. Cells of one line
 // share these exactly: they come from one grid's expansion of the same values.
-using SliceKey = std::tuple<double, double, double>;
+using SliceKey = std::vector<double>;                   // the held factors, μ first
 using Line = std::vector<const campaign::CellRecord*>;  // the cells of one speed, any TTC order
 
 std::size_t distinct_ttcs(const std::vector<const campaign::CellRecord*>& cells) {
   std::set<double> levels;
-  for (const auto* c : cells) levels.insert(c->ttc_s);
+  for (const auto* c : cells) levels.insert(c->factors.time_to_collision_s());
   return levels.size();
 }
 
@@ -31,7 +31,7 @@ std::size_t distinct_ttcs(const std::vector<const campaign::CellRecord*>& cells)
 std::vector<std::pair<double, bool>> region_passes(const Line& line, int max_rank) {
   std::vector<std::pair<double, bool>> out;
   for (const auto* c : line)
-    if (c->feasible) out.emplace_back(c->ttc_s, region_rank(c->region) <= max_rank);
+    if (c->feasible) out.emplace_back(c->factors.time_to_collision_s(), region_rank(c->region) <= max_rank);
   return out;
 }
 
@@ -40,7 +40,8 @@ std::vector<std::pair<double, bool>> strategy_passes(const Line& line, std::stri
   std::vector<std::pair<double, bool>> out;
   for (const auto* c : line) {
     if (!c->feasible) continue;
-    if (const campaign::OutcomeRecord* o = c->outcome(strategy)) out.emplace_back(c->ttc_s, o->avoided);
+    if (const campaign::OutcomeRecord* o = c->outcome(strategy))
+      out.emplace_back(c->factors.time_to_collision_s(), o->avoided);
   }
   return out;
 }
@@ -66,8 +67,7 @@ void check_regions(const std::vector<const campaign::CellRecord*>& cells) {
 void add_slice_rows(const BoundarySlice& slice, const std::map<double, Line>& lines,
                     const std::vector<std::string>& strategies, BoundaryReport& report) {
   const auto row = [&](const std::string& boundary, double speed, std::vector<std::pair<double, bool>> passes) {
-    report.rows.push_back({slice.grid, slice.mu, slice.passage_m, slice.truck_speed_kph, boundary, speed,
-                           ttc_threshold(std::move(passes))});
+    report.rows.push_back({slice.grid, slice.held, boundary, speed, ttc_threshold(std::move(passes))});
   };
   for (const auto& b : kRegionBoundaries)
     for (const auto& [speed, line] : lines) row(std::string(b.name), speed, region_passes(line, b.max_rank));
@@ -78,7 +78,7 @@ void add_slice_rows(const BoundarySlice& slice, const std::map<double, Line>& li
 void add_analytic_rows(const std::string& grid, const std::vector<const campaign::CellRecord*>& cells,
                        BoundaryReport& report) {
   std::set<std::pair<double, double>> mu_speed;
-  for (const auto* c : cells) mu_speed.emplace(c->mu, c->speed_kph);
+  for (const auto* c : cells) mu_speed.emplace(c->factors.friction(), c->factors.ego_speed_kph());
   for (const auto& [mu, speed] : mu_speed) {
     const double distance = report.actuation.stopping_distance_m(speed / 3.6, mu, true);
     report.analytic.push_back({grid, mu, speed, distance, sim::stop_boundary_ttc_s(speed, mu, report.actuation)});
@@ -94,14 +94,24 @@ void add_grid(const std::string& grid, const std::vector<const campaign::CellRec
   check_regions(cells);
   report.grids.push_back(grid);
   std::map<SliceKey, std::map<double, Line>> slices;
-  for (const auto* c : cells) slices[{c->mu, c->passage_m, c->truck_speed_kph}][c->speed_kph].push_back(c);
+  for (const auto* c : cells) {
+    const auto held = c->factors.values().subspan(sim::kTtcFactor + 1);
+    slices[SliceKey(held.begin(), held.end())][c->factors.ego_speed_kph()].push_back(c);
+  }
   for (const auto& [key, lines] : slices) {
-    const auto& [mu, passage, truck] = key;
-    report.slices.push_back({grid, mu, passage, truck});
+    report.slices.push_back({grid, key});
     report.lines += lines.size();
     add_slice_rows(report.slices.back(), lines, strategies, report);
   }
   add_analytic_rows(grid, cells, report);
+}
+
+// "speed × μ × passage × truck speed": what names a line, every factor but the TTC.
+std::string line_factors(const sim::FactorTable& factors) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < factors.size(); ++i)
+    if (i != sim::kTtcFactor) names.push_back(factors[i].name);
+  return core::join(names, " × ");
 }
 
 std::string optional_ttc(const std::optional<double>& ttc) { return ttc ? fmt::format("{:.9g}", *ttc) : ""; }
@@ -137,7 +147,9 @@ int region_rank(std::string_view region) {
 }
 
 bool BoundarySlice::holds(const campaign::CellRecord& cell) const noexcept {
-  return cell.grid == grid && cell.mu == mu && cell.passage_m == passage_m && cell.truck_speed_kph == truck_speed_kph;
+  const auto values = cell.factors.values();
+  return cell.grid == grid && values.size() == sim::kTtcFactor + 1 + held.size() &&
+         std::equal(held.begin(), held.end(), values.begin() + sim::kTtcFactor + 1);
 }
 
 std::size_t BoundaryReport::non_monotone() const noexcept {
@@ -145,10 +157,11 @@ std::size_t BoundaryReport::non_monotone() const noexcept {
       std::count_if(rows.begin(), rows.end(), [](const BoundaryRow& r) { return r.threshold.exceptions > 0; }));
 }
 
-BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records,
+BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
                                   const sim::ActuationConfig& actuation) {
   BoundaryReport report;
   report.actuation = actuation;
+  report.factors = factors;
   const std::vector<std::string> strategies = strategy_names_of(records);
   for (const auto& b : kRegionBoundaries) report.boundaries.emplace_back(b.name);
   for (const auto& s : strategies) report.boundaries.push_back("strategy:" + s);
@@ -163,14 +176,20 @@ BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& recor
 
 std::string boundary_csv(const BoundaryReport& report) {
   std::vector<core::Row> rows;
-  for (const auto& r : report.rows)
-    rows.push_back({r.grid, fmt::format("{:.9g}", r.mu), fmt::format("{:.9g}", r.passage_m),
-                    fmt::format("{:.9g}", r.truck_speed_kph), r.boundary, fmt::format("{:.9g}", r.speed_kph),
-                    optional_ttc(r.threshold.below), optional_ttc(r.threshold.at),
-                    std::to_string(r.threshold.exceptions), std::to_string(r.threshold.cells)});
-  return core::csv_table({"grid", "mu", "passage_m", "truck_speed_kph", "boundary", "speed_kph", "ttc_below_s",
-                          "ttc_at_s", "exceptions", "cells_used"},
-                         rows);
+  for (const auto& r : report.rows) {
+    core::Row row{r.grid};
+    for (const double v : r.held) row.push_back(fmt::format("{:.9g}", v));
+    row.insert(row.end(), {r.boundary, fmt::format("{:.9g}", r.speed_kph), optional_ttc(r.threshold.below),
+                           optional_ttc(r.threshold.at), std::to_string(r.threshold.exceptions),
+                           std::to_string(r.threshold.cells)});
+    rows.push_back(std::move(row));
+  }
+  const sim::FactorTable& f = report.factors;
+  core::Row header{"grid"};
+  for (std::size_t i = sim::kTtcFactor + 1; i < f.size(); ++i) header.push_back(f[i].key);
+  header.insert(header.end(),
+                {"boundary", f[sim::kEgoSpeedFactor].key, "ttc_below_s", "ttc_at_s", "exceptions", "cells_used"});
+  return core::csv_table(header, rows);
 }
 
 std::string analytic_stop_csv(const BoundaryReport& report) {
@@ -178,7 +197,10 @@ std::string analytic_stop_csv(const BoundaryReport& report) {
   for (const auto& a : report.analytic)
     rows.push_back({a.grid, fmt::format("{:.9g}", a.mu), fmt::format("{:.9g}", a.speed_kph),
                     fmt::format("{:.6f}", a.stopping_distance_m), fmt::format("{:.6f}", a.ttc_s)});
-  return core::csv_table({"grid", "mu", "speed_kph", "stopping_distance_m", "ttc_s"}, rows);
+  const sim::FactorTable& f = report.factors;
+  return core::csv_table(
+      {"grid", f[sim::kFrictionFactor].key, f[sim::kEgoSpeedFactor].key, "stopping_distance_m", f[sim::kTtcFactor].key},
+      rows);
 }
 
 std::vector<std::filesystem::path> write_boundary_files(const std::filesystem::path& out_dir,
@@ -196,10 +218,9 @@ std::string summary(const BoundaryReport& report) {
   for (const auto& s : report.skipped)
     out += fmt::format("  grid '{}' skipped: {} (a boundary needs at least 2)\n", s.grid,
                        core::counted(s.ttc_levels, "TTC level", "TTC levels"));
-  out +=
-      fmt::format("{} (speed × μ × passage × truck speed) in {}; {} written ({})\n",
-                  core::counted(report.lines, "line", "lines"), core::counted(report.slices.size(), "slice", "slices"),
-                  core::counted(report.rows.size(), "boundary", "boundaries"), core::join(report.boundaries, ", "));
+  out += fmt::format("{} ({}) in {}; {} written ({})\n", core::counted(report.lines, "line", "lines"),
+                     line_factors(report.factors), core::counted(report.slices.size(), "slice", "slices"),
+                     core::counted(report.rows.size(), "boundary", "boundaries"), core::join(report.boundaries, ", "));
   const std::size_t odd = report.non_monotone();
   out += odd == 0 ? std::string("every line is monotone in TTC\n")
                   : fmt::format("{} not monotone in TTC: a cell below the threshold passes (column exceptions)\n",

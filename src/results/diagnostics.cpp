@@ -28,19 +28,19 @@ using Json = nlohmann::ordered_json;
 
 // Cells compared along one factor share every other factor exactly: they come from one grid's
 // expansion of the same list values, so exact equality is the right test.
-using GroupKey = std::tuple<double, double, double, double>;
+using GroupKey = std::vector<double>;  // every factor but the one compared along
 
 void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid,
                  const std::string& factor, const std::vector<std::string>& strategies, std::size_t max_examples,
                  MonotonicityCheck& out) {
-  const bool along_ttc = factor == "ttc";
+  const std::size_t along = factor == "ttc" ? sim::kTtcFactor : sim::kFrictionFactor;
   std::map<GroupKey, std::vector<const campaign::CellRecord*>> groups;
   for (const auto* c : cells) {
-    const GroupKey key = along_ttc ? GroupKey{c->speed_kph, c->mu, c->passage_m, c->truck_speed_kph}
-                                   : GroupKey{c->speed_kph, c->ttc_s, c->passage_m, c->truck_speed_kph};
+    GroupKey key(c->factors.begin(), c->factors.end());
+    key.erase(key.begin() + static_cast<std::ptrdiff_t>(along));
     groups[key].push_back(c);
   }
-  const auto value = [&](const campaign::CellRecord* c) { return along_ttc ? c->ttc_s : c->mu; };
+  const auto value = [&](const campaign::CellRecord* c) { return c->factors[along]; };
   for (const auto& strategy : strategies) {
     ReversalCount count{grid, strategy, factor, 0, 0};
     for (auto& [key, group] : groups) {
@@ -72,14 +72,16 @@ FsmCoverage coverage_of(const fsm::Generator& g, const std::vector<std::vector<s
   return c;
 }
 
-Json cell_json(const CellRef& c) {
-  return {{"grid", c.grid}, {"index", c.index},         {"speed_kph", c.speed_kph}, {"ttc_s", c.ttc_s},
-          {"mu", c.mu},     {"passage_m", c.passage_m}, {"region", c.region}};
+Json cell_json(const CellRef& c, const sim::FactorTable& factors) {
+  Json j{{"grid", c.grid}, {"index", c.index}};
+  for (std::size_t f = 0; f < factors.size() && f < c.factors.size(); ++f) j[factors[f].key] = c.factors[f];
+  j["region"] = c.region;
+  return j;
 }
 
-Json cells_json(const std::vector<CellRef>& cells) {
+Json cells_json(const std::vector<CellRef>& cells, const sim::FactorTable& factors) {
   Json out = Json::array();
-  for (const auto& c : cells) out.push_back(cell_json(c));
+  for (const auto& c : cells) out.push_back(cell_json(c, factors));
   return out;
 }
 
@@ -101,9 +103,7 @@ Json coverage_json(const FsmCoverage& c) {
 
 }  // namespace
 
-CellRef cell_ref(const campaign::CellRecord& r) {
-  return {r.grid, r.index, r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.region};
-}
+CellRef cell_ref(const campaign::CellRecord& r) { return {r.grid, r.index, r.factors, r.region}; }
 
 StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records, double latency_s) {
   sim::ActuationConfig actuation;
@@ -119,7 +119,7 @@ StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& r
   for (const auto& r : records) {
     if (!r.feasible) continue;
     ++c.feasible;
-    const bool stoppable = sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, actuation);
+    const bool stoppable = sim::analytically_stoppable(r.factors, actuation);
     if (stoppable) {
       ++c.stoppable;
       if (r.region == "R") c.stoppable_red.push_back(cell_ref(r));
@@ -186,7 +186,7 @@ ReferenceCheck check_against_reference(const std::vector<campaign::CellRecord>& 
   const auto model = sim::make_vehicle_model(scene.simulation.vehicle_model, scene.ego);
   const auto run_one = [&](std::size_t i) {
     const campaign::CellRecord& r = *candidates[i];
-    const sim::CellInput input{r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph};
+    const sim::CellInput& input = r.factors;
     sim::validate_cell(scene, input);
     const sim::Scene cell_scene(scene, input);
     for (std::size_t k = 0; k < checked.size(); ++k)
@@ -243,6 +243,7 @@ FsmCoverage loss_evaluation_fsm_coverage(const std::vector<campaign::CellRecord>
 Diagnostics run_diagnostics(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& scene,
                             const DiagnosticsOptions& options) {
   Diagnostics d;
+  d.factors = sim::scenario_factors(scene);
   d.stop_boundary = check_stop_boundary(records, scene.actuation);
   d.monotonicity = check_monotonicity(records);
   d.reference = check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
@@ -264,11 +265,11 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
             {"stoppable", sb.stoppable},
             {"stoppable_red_count", sb.stoppable_red.size()},
             {"ok", sb.stoppable_red.empty()},
-            {"stoppable_red", cells_json(sb.stoppable_red)},
+            {"stoppable_red", cells_json(sb.stoppable_red, d.factors)},
             {"stoppable_not_green_count", sb.stoppable_not_green.size()},
-            {"stoppable_not_green", cells_json(sb.stoppable_not_green)},
+            {"stoppable_not_green", cells_json(sb.stoppable_not_green, d.factors)},
             {"green_not_stoppable_count", sb.green_not_stoppable.size()},
-            {"green_not_stoppable", cells_json(sb.green_not_stoppable)}};
+            {"green_not_stoppable", cells_json(sb.green_not_stoppable, d.factors)}};
   Json counts = Json::array();
   for (const auto& c : d.monotonicity.counts)
     counts.push_back({{"grid", c.grid},
@@ -281,8 +282,8 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
     examples.push_back({{"grid", e.grid},
                         {"strategy", e.strategy},
                         {"factor", e.factor},
-                        {"avoided_at", cell_json(e.lower)},
-                        {"not_avoided_at", cell_json(e.higher)}});
+                        {"avoided_at", cell_json(e.lower, d.factors)},
+                        {"not_avoided_at", cell_json(e.higher, d.factors)}});
   Json mono{{"definition", "a strategy avoided at a lower TTC (mu) but not at the next higher, other factors equal"},
             {"total_reversals", d.monotonicity.total_reversals},
             {"counts", counts},
@@ -290,7 +291,7 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
   const auto& rc = d.reference;
   Json disagreements = Json::array();
   for (const auto& x : rc.disagreements)
-    disagreements.push_back({{"cell", cell_json(x.cell)},
+    disagreements.push_back({{"cell", cell_json(x.cell, d.factors)},
                              {"strategy", x.strategy},
                              {"reference_avoids", x.reference_avoids},
                              {"stored_avoided", x.stored_avoided}});

@@ -18,7 +18,7 @@ double green_pct(const std::vector<campaign::CellRecord>& records, std::string_v
   for (const auto& r : records) {
     if (r.grid != grid || !r.feasible) continue;
     ++feasible;
-    green += sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, a) ? 1u : 0u;
+    green += sim::analytically_stoppable(r.factors, a) ? 1u : 0u;
   }
   return feasible == 0 ? NAN : 100.0 * static_cast<double>(green) / static_cast<double>(feasible);
 }

@@ -332,8 +332,8 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
   std::size_t undecided = 0;
   for (const auto& r : records) {
     if (r.grid != paper.fine_grid.grid || !r.feasible) continue;
-    stoppable += sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, actuation);
-    stoppable_instant += sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, sim::ActuationConfig{});
+    stoppable += sim::analytically_stoppable(r.factors, actuation);
+    stoppable_instant += sim::analytically_stoppable(r.factors, sim::ActuationConfig{});
     certified += r.evidence == "certificate";
     undecided += r.evidence == "undecided";
   }
@@ -381,14 +381,15 @@ Table claims_table(const std::vector<campaign::CellRecord>& records, const Paper
   for (const auto& r : records) {
     if (r.grid != grid || !r.feasible) continue;
     for (const auto& o : r.outcomes)
-      if (o.strategy == baseline && o.avoided) fastest_stop = std::max(fastest_stop, r.speed_kph);
+      if (o.strategy == baseline && o.avoided) fastest_stop = std::max(fastest_stop, r.factors.ego_speed_kph());
   }
   t.rows.push_back({fmt::format("Emergency stop never avoids above (km/h), grid '{}'", grid),
                     fmt::format("≈{:g}", c.emergency_stop_never_avoids_above_kph),
                     fastest_stop < 0 ? std::string(kNoValue) : fmt::format("avoids up to {:g}", fastest_stop)});
   std::size_t low_mu = 0, low_mu_avoided = 0;
   for (const auto& r : records) {
-    if (!r.feasible || r.mu >= c.no_avoidance_below_mu || std::abs(r.ttc_s - c.no_avoidance_below_mu_at_ttc_s) > 1e-9)
+    if (!r.feasible || r.factors.friction() >= c.no_avoidance_below_mu ||
+        std::abs(r.factors.time_to_collision_s() - c.no_avoidance_below_mu_at_ttc_s) > 1e-9)
       continue;
     ++low_mu;
     if (std::any_of(r.outcomes.begin(), r.outcomes.end(), [](const campaign::OutcomeRecord& o) { return o.avoided; }))

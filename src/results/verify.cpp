@@ -160,7 +160,7 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
                               s.yaw_rate_radps, s.slip_angle_rad(), heading);
     return out;
   }
-  const double stop_m = s.speed_mps() * s.speed_mps() / (2.0 * scene.cell().mu * sim::kGravity_mps2);
+  const double stop_m = s.speed_mps() * s.speed_mps() / (2.0 * scene.friction() * sim::kGravity_mps2);
   const Polygon at_rest = ego_outline(config.ego, s.x_m + stop_m * std::cos(s.yaw_rad),
                                       s.y_m + stop_m * std::sin(s.yaw_rad), s.yaw_rad, 0.0);
   for (const auto& corner : at_rest)
@@ -205,6 +205,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
   const campaign::ResultStore store = campaign::ResultStore::open_for_reading(results_sqlite);
   const sim::SceneConfig config =
       sim::parse_stored_scene_config(store.meta().scene_yaml, results_sqlite.string() + " (scene)");
+  const sim::FactorTable factors = sim::scenario_factors(config);
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
   const sim::StrategyTable table = sim::registered_strategies();
   bool every_strategy_stored = true;
@@ -229,7 +230,11 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     const auto fail = [&](const std::string& strategy, std::string what) {
       report.failures.push_back({r.grid, r.index, strategy, std::move(what)});
     };
-    const sim::Scene scene(config, {r.speed_kph, r.ttc_s, r.mu, r.passage_m, r.truck_speed_kph});
+    if (r.factors.size() != factors.size()) {
+      fail("", fmt::format("{} factor values for the scene's {} factors", r.factors.size(), factors.size()));
+      return;
+    }
+    const sim::Scene scene(config, r.factors);
     if (r.method == "inferred") {  // an adaptive sweep's: its grounds must stand (docs/adaptive.md)
       ++report.inferred;
       if (r.evidence != "inferred") fail("", fmt::format("inferred cell with evidence '{}'", r.evidence));
@@ -261,7 +266,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
                          fmt::format("cell {}#{}: the stored certificate is not JSON: {}", r.grid, r.index, e.what()));
       }
       ++report.certificates;
-      if (!sim::check_certificate(scene, sim::certificate_from_json(json, where)))
+      if (!sim::check_certificate(scene, sim::certificate_from_json(json, factors, where)))
         fail("", "the certificate does not hold");
       if (avoidable) fail("", fmt::format("region {} although a certificate says nothing avoids", r.region));
     }

@@ -205,7 +205,7 @@ std::vector<Witness> witnesses(const Setup& c) {
   // Only where the truck still moves as the car's front reaches its near side (at t = TTC at the
   // earliest): a truck at rest by then is in the same place when the car crosses its far side, and
   // the car has had longer to move aside.
-  const core::Vec2 truck_velocity = c.scene->truck_at(c.scene->cell().ttc_s).velocity_mps;
+  const core::Vec2 truck_velocity = c.scene->truck_at(c.scene->ttc_s()).velocity_mps;
   if (truck_velocity.x == 0.0 && truck_velocity.y == 0.0) return out;
   const double far_x = section_x(c, WitnessKind::kFlank);
   for (const double part : kFlankParts)
@@ -223,7 +223,7 @@ bool same_actuation(const ActuationConfig& a, const ActuationConfig& b) {
 }
 
 bool applicable(const Scene& scene) {
-  return !no_certificate_bound(scene.config()) && scene.initial_speed_mps() > 0.0 && scene.cell().mu > 0.0;
+  return !no_certificate_bound(scene.config()) && scene.initial_speed_mps() > 0.0 && scene.friction() > 0.0;
 }
 
 }  // namespace
@@ -274,8 +274,7 @@ bool check_certificate(const Scene& scene, const Certificate& cert) {
   if (cert.method != "lateral-reach" || !applicable(scene)) return false;
   const CellInput& a = cert.cell;
   const CellInput& b = scene.cell();
-  if (a.speed_kph != b.speed_kph || a.ttc_s != b.ttc_s || a.mu != b.mu || a.passage_m != b.passage_m ||
-      a.truck_speed_kph != b.truck_speed_kph || cert.latency_s != scene.config().actuation.perception_latency_s ||
+  if (a != b || cert.latency_s != scene.config().actuation.perception_latency_s ||
       !same_actuation(cert.actuation, scene.config().actuation))
     return false;
   const auto* named = std::find(kWitnessNames.begin(), kWitnessNames.end(), cert.witness);

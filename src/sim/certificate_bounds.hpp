@@ -106,7 +106,7 @@ inline Setup make_setup(const Scene& scene) {
   s.a_f = 1.0 / s.m + s.lf * s.lf / s.iz;
   s.a_r = 1.0 / s.m + s.lr * s.lr / s.iz;
   s.kappa = std::abs(1.0 / s.m - s.lf * s.lr / s.iz);
-  s.mu = scene.cell().mu;
+  s.mu = scene.friction();
   s.g = kGravity_mps2;
   s.brake_scale = std::min(1.0, act.full_decel_mps2(s.mu) / (s.mu * s.g));
   s.total_grip = s.mu * s.m * s.g;

@@ -47,7 +47,7 @@ class EmrmChooser final : public Strategy {
     }
     const std::vector<std::string> word{severity_event(c.unmitigated.loss_level), "E0",
                                         controllability_event(c.strategies, c.earlier),
-                                        maneuverability_event(c.scene.cell().mu)};
+                                        maneuverability_event(c.scene.friction())};
     const auto trace = fsm::trace_word(c.loss_evaluation_fsm, word);
     const StrategyInfo* baseline = c.strategies.first_of(StrategyRole::kBaseline);
     const std::string fallback = baseline != nullptr ? baseline->name : std::string();

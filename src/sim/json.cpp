@@ -85,7 +85,13 @@ std::string text(const nlohmann::json& j, const char* key, const std::string& wh
 
 nlohmann::json to_json(const ImpactAssessment& impact) { return impact_json(impact); }
 
-nlohmann::json to_json(const Certificate& c) {
+nlohmann::json to_json(const CellInput& cell, const FactorTable& factors) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t i = 0; i < factors.size() && i < cell.size(); ++i) j[factors[i].key] = cell[i];
+  return j;
+}
+
+nlohmann::json to_json(const Certificate& c, const FactorTable& factors) {
   return {{"method", c.method},
           {"margin_m", c.margin_m},
           {"witness", c.witness},
@@ -95,17 +101,12 @@ nlohmann::json to_json(const Certificate& c) {
           {"window_end_s", c.window_end_s},
           {"stop_reach_x_m", c.stop_reach_x_m},
           {"step_s", c.step_s},
-          {"cell",
-           {{"speed_kph", c.cell.speed_kph},
-            {"ttc_s", c.cell.ttc_s},
-            {"mu", c.cell.mu},
-            {"passage_m", c.cell.passage_m},
-            {"truck_speed_kph", c.cell.truck_speed_kph}}},
+          {"cell", to_json(c.cell, factors)},
           {"latency_s", c.latency_s},
           {"actuation", to_json(c.actuation)}};
 }
 
-Certificate certificate_from_json(const nlohmann::json& j, const std::string& where) {
+Certificate certificate_from_json(const nlohmann::json& j, const FactorTable& factors, const std::string& where) {
   Certificate c;
   c.method = text(j, "method", where);
   c.margin_m = number(j, "margin_m", where);
@@ -118,8 +119,9 @@ Certificate certificate_from_json(const nlohmann::json& j, const std::string& wh
   c.step_s = number(j, "step_s", where);
   const auto& cell = member(j, "cell", where);
   const std::string at = where + ": cell";
-  c.cell = {number(cell, "speed_kph", at), number(cell, "ttc_s", at), number(cell, "mu", at),
-            number(cell, "passage_m", at), number(cell, "truck_speed_kph", at)};
+  std::vector<double> values;
+  for (const Factor& f : factors) values.push_back(number(cell, f.key.c_str(), at));
+  c.cell = CellInput(std::span<const double>(values));
   c.latency_s = number(j, "latency_s", where);
   // Certificates written before actuators existed were made for instant actuation.
   c.actuation.perception_latency_s = c.latency_s;
@@ -190,12 +192,9 @@ Maneuver maneuver_from_json(const nlohmann::json& j, const std::string& where) {
 
 nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64_t seed, const JsonOptions& options) {
   nlohmann::json j;
-  j["input"] = {{"speed_kph", result.input.speed_kph},
-                {"ttc_s", result.input.ttc_s},
-                {"mu", result.input.mu},
-                {"passage_m", result.input.passage_m},
-                {"truck_speed_kph", result.input.truck_speed_kph},
-                {"seed", seed}};
+  const FactorTable factors = scenario_factors(scene.config());
+  j["input"] = to_json(result.input, factors);
+  j["input"]["seed"] = seed;
   j["feasible"] = result.feasible;
   j["region"] = std::string(region_name(result.region));
   if (result.feasible) {
@@ -203,7 +202,7 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
     if (!result.mitigation_evidence.empty()) j["mitigation_evidence"] = result.mitigation_evidence;
     j["strengthened"] = result.strengthened;
     j["harm_reduction"] = {{"p_mais3", result.p_mais3_reduction}, {"p_fatal", result.p_fatal_reduction}};
-    if (result.certificate) j["certificate"] = to_json(*result.certificate);
+    if (result.certificate) j["certificate"] = to_json(*result.certificate, factors);
     if (!result.no_certificate.empty()) j["no_certificate"] = result.no_certificate;
   }
   j["unmitigated"] = impact_json(result.unmitigated);

@@ -18,14 +18,14 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
       limits_(limits),
       validity_(std::move(validity)),
       termination_(std::move(termination)),
-      actuators_(scene.config().actuation, model.params(), scene.cell().mu, scene.config().simulation.dt_s),
+      actuators_(scene.config().actuation, model.params(), scene.friction(), scene.config().simulation.dt_s),
       instant_actuation_(scene.config().actuation.instant()) {}
 
 [[gnu::flatten]] RolloutResult Roller::roll(const VehicleState& start, double t0_s,
                                             const std::vector<ControlSegment>& plan, const std::optional<Tail>& tail,
                                             int record_every, const ActuatorState* actuators) const {
   const double dt = scene_.config().simulation.dt_s;
-  const double mu = scene_.cell().mu;
+  const double mu = scene_.friction();
   ControlSchedule schedule(plan, tail, model_.params(), limits_, mu, dt);
 
   RolloutResult r;

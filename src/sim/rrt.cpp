@@ -237,7 +237,7 @@ class Rrt {
     // Peaks scale with the steady-state steering angle at the friction limit (small on ice and at
     // speed), from half of it to four times it (a saturated front still turns hardest).
     const double v2 = std::max(s.vx_mps * s.vx_mps, 1.0);
-    const double grip_angle = std::atan(p.wheelbase_m() * scene_.cell().mu * kGravity_mps2 / v2);
+    const double grip_angle = std::atan(p.wheelbase_m() * scene_.friction() * kGravity_mps2 / v2);
     const double peak = std::min(p.max_steer_rad, grip_angle * (0.5 + 3.5 * unit(rng_)));
     const double counter = unit(rng_);
     const double rate = p.max_steer_rate_radps;
@@ -268,7 +268,7 @@ class Rrt {
     // A braking swerve: stop as hard as grip allows while steering into the free passage.
     if (passage_band_) {
       const double speed = n.state.speed_mps();
-      const double reach = speed * speed / (2.0 * scene_.cell().mu * kGravity_mps2) + 2.0;
+      const double reach = speed * speed / (2.0 * scene_.friction() * kGravity_mps2) + 2.0;
       tails.push_back(Tail{Control{0.0, 1.0, false}, false, true,
                            core::Vec2{n.state.x_m + reach, 0.5 * (passage_band_->first + passage_band_->second)}});
     }

@@ -14,6 +14,12 @@
 namespace emrm::sim {
 namespace {
 
+using tjunction::kMu;
+using tjunction::kPassage;
+using tjunction::kSpeed;
+using tjunction::kTruckSpeed;
+using tjunction::kTtc;
+
 SceneConfig read_scene(const core::YamlNode& root) {
   SceneConfig config;
   core::read_yaml(root, config);
@@ -89,54 +95,98 @@ std::string apply_profile(SceneConfig& config, const std::string& profile, const
   return overlay.description;
 }
 
-bool CellFactorLimit::accepts(double value) const noexcept {
-  return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high;
-}
-
-std::string CellFactorLimit::inequality() const {
-  const std::string_view op = low_inclusive ? "<=" : "<";
-  if (std::isinf(high)) return fmt::format("{} {} {:g}", name, low_inclusive ? ">=" : ">", low);
-  return fmt::format("{:g} {} {} <= {:g}", low, op, name, high);
-}
-
-std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config) {
-  constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+FactorTable scenario_factors(const SceneConfig& config) {
   constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
+  constexpr std::string_view kWhySpeed = "faster than any road vehicle drives; the speed is in km/h";
   const double drivable_width_m = config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
-  return {
-      {"speed_kph", "km/h", "ego speed", 0.0, false, kMaxSpeed_kph,
-       "faster than any road vehicle drives; the speed is in km/h"},
-      {"ttc_s", "s", "time to collision", 0.0, false, kUnbounded, ""},
-      {"mu", "1", "friction coefficient", 0.0, false, 2.0, ""},
-      {"passage_m", "m", "passage width", 0.0, false, drivable_width_m,
-       fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", drivable_width_m)},
-      {"truck_speed_kph", "km/h", "truck speed", 0.0, true, kMaxSpeed_kph,
-       "faster than any road vehicle drives; the speed is in km/h"},
-  };
+  const TJunctionCell defaults;
+  std::vector<Factor> factors(tjunction::kFactors);
+  factors[kSpeed] = {.key = "speed_kph",
+                     .unit = "km/h",
+                     .what = "ego speed",
+                     .axis = "ego speed (km/h)",
+                     .plural = "speeds",
+                     .held = "v = {} km/h",
+                     .brief = "{:g} km/h",
+                     .role = FactorRole::kEgoSpeed,
+                     .default_value = defaults.speed_kph,
+                     .high = kMaxSpeed_kph,
+                     .why_high = std::string(kWhySpeed),
+                     .band = 1.0,
+                     .name = "speed"};
+  factors[kTtc] = {.key = "ttc_s",
+                   .unit = "s",
+                   .what = "time to collision",
+                   .axis = "time to collision TTC (s)",
+                   .plural = "TTCs",
+                   .held = "TTC = {} s",
+                   .brief = "TTC {:g} s",
+                   .role = FactorRole::kTtc,
+                   .default_value = defaults.ttc_s,
+                   .why_high = "",
+                   .name = "TTC"};
+  factors[kMu] = {.key = "mu",
+                  .unit = "1",
+                  .what = "friction coefficient",
+                  .axis = "road friction μ (–)",
+                  .plural = "μ",
+                  .held = "μ = {}",
+                  .brief = "mu {:g}",
+                  .role = FactorRole::kFriction,
+                  .default_value = defaults.mu,
+                  .high = 2.0,
+                  .why_high = "",
+                  .name = "μ"};
+  factors[kPassage] = {
+      .key = "passage_m",
+      .unit = "m",
+      .what = "passage width",
+      .axis = "passage width (m)",
+      .plural = "passage widths",
+      .held = "passage {} m",
+      .brief = "passage {:g} m",
+      .role = FactorRole::kPassage,
+      .default_value = defaults.passage_m,
+      .high = drivable_width_m,
+      .why_high =
+          fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", drivable_width_m),
+      .name = "passage"};
+  factors[kTruckSpeed] = {.key = "truck_speed_kph",
+                          .unit = "km/h",
+                          .what = "truck speed",
+                          .axis = "truck speed (km/h)",
+                          .plural = "truck speeds",
+                          .held = "truck {} km/h",
+                          .brief = "truck {:g} km/h",
+                          .role = FactorRole::kOther,
+                          .default_value = config.truck.speed_kph,
+                          .low_inclusive = true,
+                          .high = kMaxSpeed_kph,
+                          .why_high = std::string(kWhySpeed),
+                          .band = 1.0,
+                          .name = "truck speed"};
+  return FactorTable(std::move(factors));
 }
 
-void validate_cell(const SceneConfig& config, const CellInput& cell) {
-  const double values[] = {cell.speed_kph, cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph};
-  const auto limits = cell_factor_limits(config);
-  for (std::size_t i = 0; i < limits.size(); ++i) {
-    const CellFactorLimit& l = limits[i];
-    if (l.accepts(values[i])) continue;
-    throw UsageError(fmt::format("{} must be a finite {} with {}{}, got {}{}", l.name, l.what, l.inequality(),
-                                 l.unit == "1" ? "" : " " + l.unit, values[i],
-                                 values[i] > l.high && !l.why_high.empty() ? ": " + l.why_high : std::string()));
-  }
+TJunctionCell TJunctionCell::of(const CellInput& cell) noexcept {
+  return {cell[kSpeed], cell[kTtc], cell[kMu], cell[kPassage], cell[kTruckSpeed]};
 }
+
+void validate_cell(const SceneConfig& config, const CellInput& cell) { scenario_factors(config).validate(cell); }
 
 Scene::Scene(const SceneConfig& config, const CellInput& cell)
     : config_(&config),
       cell_(cell),
-      initial_distance_m_(cell.speed_kph / 3.6 * cell.ttc_s),
-      truck_speed_mps_(cell.truck_speed_kph / 3.6) {
+      speed_kph_(cell.ego_speed_kph()),
+      ttc_s_(cell.time_to_collision_s()),
+      mu_(cell.friction()),
+      initial_distance_m_(speed_kph_ / 3.6 * ttc_s_),
+      truck_speed_mps_(cell[kTruckSpeed] / 3.6) {
   // passage_m is the gap once the truck stands (or, never stopping, at t = TTC): the truck
   // starts that far plus its travel until then above the right edge of the drivable area.
   const double a = config.truck.decel_mps2;
-  const double travel_m = a > 0.0 ? truck_speed_mps_ * truck_speed_mps_ / (2.0 * a) : truck_speed_mps_ * cell.ttc_s;
-  truck_front_y0_m_ = config.road.drivable_min_y_m() + cell.passage_m + travel_m;
+  const double travel_m = a > 0.0 ? truck_speed_mps_ * truck_speed_mps_ / (2.0 * a) : truck_speed_mps_ * ttc_s_;
+  truck_front_y0_m_ = config.road.drivable_min_y_m() + cell[kPassage] + travel_m;
 }
 
 bool Scene::feasible() const noexcept {

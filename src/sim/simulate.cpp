@@ -159,9 +159,7 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
   const Planner* own = find_planner(info.planner);
   if (own == nullptr) return std::nullopt;
   const CellInput& c = scene.cell();
-  const std::uint64_t cell_key =
-      derive_seed(0x5eed5eed5eed5eedULL, fmt::format("{:.17g}|{:.17g}|{:.17g}|{:.17g}|{:.17g}", c.speed_kph, c.ttc_s,
-                                                     c.mu, c.passage_m, c.truck_speed_kph));
+  const std::uint64_t cell_key = derive_seed(0x5eed5eed5eed5eedULL, fmt::format("{:.17g}", fmt::join(c, "|")));
   // The restarts are independent: they run side by side where a worker is free (a sweep's other
   // cells keep the workers busy, a lone cell or the tail of a sweep does not), and the outcome is
   // the first in order that avoids, counted as if they had run one after another: a restart after

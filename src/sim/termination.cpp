@@ -38,7 +38,7 @@ class StopsShortTest {
  public:
   explicit StopsShortTest(const Scene& scene)
       : truck_near_x_m_(scene.initial_distance_m()),
-        decel_mps2_(scene.config().actuation.full_decel_mps2(scene.cell().mu)) {}
+        decel_mps2_(scene.config().actuation.full_decel_mps2(scene.friction())) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
     const Control& u = step.control;
     VehicleState& s = step.state;
@@ -105,7 +105,7 @@ bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s, const c
         std::abs(s.steer_rad) <= bounds.max_steer_rad))
     return false;
   // A stop from here, through the brakes' dead time and ramp.
-  const double stop_distance = scene.config().actuation.stopping_distance_m(s.speed_mps(), scene.cell().mu, false);
+  const double stop_distance = scene.config().actuation.stopping_distance_m(s.speed_mps(), scene.friction(), false);
   core::OrientedBox at_rest = ego_box;
   at_rest.center = at_rest.center + core::Vec2::unit(s.yaw_rad) * stop_distance;
   return scene.on_drivable_area(at_rest);

@@ -18,17 +18,16 @@ std::string yes_no(bool b) { return b ? "yes" : "no"; }
 
 std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_t seed) {
   std::string out;
-  const auto& c = r.input;
-  out += fmt::format("Cell: {:g} km/h, TTC {:g} s, mu {:g}, passage {:g} m, truck {:g} km/h (seed {})\n", c.speed_kph,
-                     c.ttc_s, c.mu, c.passage_m, c.truck_speed_kph, seed);
-  const double v = c.speed_kph / 3.6;
-  out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n", v * c.ttc_s,
-                     v / (2.0 * c.mu * kGravity_mps2));
+  out += fmt::format("Cell: {} (seed {})\n", cell_text(scenario_factors(config), r.input), seed);
+  const Scene scene(config, r.input);
+  const double v = scene.initial_speed_mps();
+  out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
+                     scene.initial_distance_m(), v / (2.0 * scene.friction() * kGravity_mps2));
   if (!r.feasible) {
     out += fmt::format(
         "Infeasible: the initial distance v·TTC = {:.2f} m exceeds the scene's max_initial_distance_m = {:g} m "
         "(the speed is in km/h, the TTC in seconds)\n",
-        v * c.ttc_s, config.max_initial_distance_m);
+        scene.initial_distance_m(), config.max_initial_distance_m);
     return out;
   }
   const auto& u = r.unmitigated;

@@ -40,11 +40,11 @@ class MotionBound {
  public:
   MotionBound(const Scene& scene, const VehicleParams& p)
       : reach_m_(std::hypot(std::max(p.cg_to_front_m(), p.cg_to_rear_m()), 0.5 * p.width_m)),
-        accel_mps2_(2.0 * scene.cell().mu * kGravity_mps2),
-        yaw_accel_radps2_(2.0 * std::max(p.cg_to_front_axle_m, p.cg_to_rear_axle_m) * scene.cell().mu * p.mass_kg *
+        accel_mps2_(2.0 * scene.friction() * kGravity_mps2),
+        yaw_accel_radps2_(2.0 * std::max(p.cg_to_front_axle_m, p.cg_to_rear_axle_m) * scene.friction() * p.mass_kg *
                               kGravity_mps2 / p.yaw_inertia_kgm2 +
                           10.0),
-        truck_speed_mps_(scene.cell().truck_speed_kph / 3.6) {}
+        truck_speed_mps_(scene.truck_speed_mps()) {}
 
   [[nodiscard]] double rate_mps(const Step& step, bool with_truck) const noexcept {
     const double speed = std::max(step.before.speed_mps(), step.state.speed_mps()) + accel_mps2_ * step.dt_s;
@@ -145,7 +145,7 @@ class TruckContactCheck {
     const double reach = circumradii_m_ + move;
     if (d.dot(d) > reach * reach) return false;
     if (core::separation_lower_bound(step.ego, step.truck.box) > move) return false;
-    const double mu = scene_.cell().mu;
+    const double mu = scene_.friction();
     const double start = step.t_s - step.dt_s;
     const PoseInStep pose(step);
     const auto touch = first_touch(step.dt_s, rate, [&](double tau) {
@@ -183,7 +183,7 @@ class RoadDepartureCheck {
     // Cheap first: the CG's distance to the edges less the car's reach.
     if (std::min(step.state.y_m - min_y_m_, max_y_m_ - step.state.y_m) - motion_.reach_m() > move) return false;
     if (scene_.edge_gap_m(step.ego) > move) return false;
-    const double mu = scene_.cell().mu;
+    const double mu = scene_.friction();
     const PoseInStep pose(step);
     const auto touch =
         first_touch(step.dt_s, rate, [&](double tau) { return scene_.edge_gap_m(scene_.ego_box(pose.at(tau))); });
@@ -274,7 +274,7 @@ template class CheckChain<ValidityChecker, detail::ValidityChecks>;
 
 ValidityChecker::ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
     : CheckChain(std::make_unique<const detail::ValidityChecks>(detail::ValidityChecks{
-          limits.forbid_rear_sliding ? std::optional<detail::RearSlidingCheck>(std::in_place, model, scene.cell().mu)
+          limits.forbid_rear_sliding ? std::optional<detail::RearSlidingCheck>(std::in_place, model, scene.friction())
                                      : std::nullopt,
           detail::TruckContactCheck(scene, model), detail::RoadDepartureCheck(scene, model)})) {}
 

@@ -46,13 +46,8 @@ std::string located_warning(const SourceLocation& where, const std::string& mess
   return fmt::format("{}: warning: {}", where.str(), message);
 }
 
-const sim::CellFactorLimit* limit_of(const std::vector<sim::CellFactorLimit>& limits, const std::string& name) {
-  const auto it = std::find_if(limits.begin(), limits.end(), [&](const auto& l) { return l.name == name; });
-  return it == limits.end() ? nullptr : &*it;
-}
-
 // "a friction coefficient in (0, 2]", "an ego speed > 0 km/h".
-std::string expected_text(const sim::CellFactorLimit& l) {
+std::string expected_text(const sim::Factor& l) {
   const std::string article = std::string("aeiou").find(l.what.front()) != std::string::npos ? "an" : "a";
   const std::string unit = l.unit == "1" ? "" : " " + l.unit;
   if (std::isinf(l.high))
@@ -61,13 +56,13 @@ std::string expected_text(const sim::CellFactorLimit& l) {
 }
 
 // A likely slip behind a rejected value: a percentage for a plain number, a wider road than the scene's.
-std::string hint(const sim::CellFactorLimit& l, double v) {
+std::string hint(const sim::Factor& l, double v) {
   if (l.unit == "1" && v > l.high && v <= 100.0 * l.high) return "; a percentage?";
   if (v > l.high && !l.why_high.empty()) return "; " + l.why_high;
   return "";
 }
 
-void check_factor(const OddFactor& f, const sim::CellFactorLimit& l) {
+void check_factor(const OddFactor& f, const sim::Factor& l) {
   if (!f.unit.empty() && canonical_unit(f.unit) != canonical_unit(l.unit))
     throw InputError(f.unit_where, fmt::format("{}: unit '{}': expected {} (the simulator reads {} as {}); convert "
                                                "the values or rename the factor",
@@ -93,9 +88,9 @@ sim::SceneConfig plan_scene(const scenario::Odd& odd) {
 }
 
 void check_odd_against_scene(const scenario::Odd& odd, const sim::SceneConfig& scene) {
-  const auto limits = sim::cell_factor_limits(scene);
+  const sim::FactorTable factors = sim::scenario_factors(scene);
   for (const auto& f : odd.factors)
-    if (const auto* l = limit_of(limits, f.name)) check_factor(f, *l);
+    if (const auto i = factors.find(f.name)) check_factor(f, factors[*i]);
 }
 
 std::vector<std::string> safety_range_warnings(const scenario::Odd& odd, const safety::SafetyCase& sc) {
@@ -126,10 +121,10 @@ std::vector<std::string> placement_warnings(const scenario::Odd& odd, const scen
                                             const sim::SceneConfig& scene) {
   std::size_t beyond = 0;
   double farthest_m = 0.0;
+  const sim::FactorTable factors = sim::scenario_factors(scene);
   for (const auto& s : plan.scenarios) {
-    sim::CellInput cell;
-    for (std::size_t i = 0; i < odd.factors.size(); ++i)
-      (void)campaign::set_cell_factor(cell, odd.factors[i].name, s.values[i]);
+    sim::CellInput cell = factors.defaults();
+    for (std::size_t i = 0; i < odd.factors.size(); ++i) (void)factors.set(cell, odd.factors[i].name, s.values[i]);
     const sim::Scene placed(scene, cell);
     if (placed.feasible()) continue;
     ++beyond;

@@ -163,7 +163,7 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto records = campaign::read_results(folder.store());
   results::TableOptions table_options;
   table_options.grid = results::headline_grid(records, paper.fine_grid.grid);
-  table_options.cuts.car_width_m = plan.scene.ego.width_m;
+  table_options.cuts = results::level_cuts(plan.scene);
   table_options.actuation = plan.scene.actuation;
   results::write_tables(out, records, paper, table_options);
   core::write_table(folder.tables_dir(), "brake_sensitivity",

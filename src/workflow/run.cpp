@@ -189,16 +189,14 @@ RunResult run_scenarios(const RunOptions& options) {
   campaign::GridSpec grid;
   grid.name = campaign::kPlanGrid;
   grid.where = {file.file, 1, 1};
-  for (const auto& name : file.factors) {
-    sim::CellInput probe;
-    if (!campaign::set_cell_factor(probe, name, 0.0)) result.unsimulated_factors.push_back(name);
-  }
+  const sim::FactorTable factors = sim::scenario_factors(campaign.scene);
+  for (const auto& name : file.factors)
+    if (!factors.find(name)) result.unsimulated_factors.push_back(name);
   for (const auto& row : file.rows) {
-    sim::CellInput cell;
-    for (std::size_t i = 0; i < file.factors.size(); ++i)
-      (void)campaign::set_cell_factor(cell, file.factors[i], row.values[i]);
+    sim::CellInput cell = factors.defaults();
+    for (std::size_t i = 0; i < file.factors.size(); ++i) (void)factors.set(cell, file.factors[i], row.values[i]);
     try {
-      sim::validate_cell(campaign.scene, cell);
+      factors.validate(cell);
     } catch (const UsageError& e) {
       throw InputError(row.where, fmt::format("scenario {}: {}", row.id, e.what()));
     }

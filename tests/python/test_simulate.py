@@ -130,6 +130,24 @@ def test_bad_cells_raise_what_the_cli_prints():
         emrm.simulate(speed_kph="fast", ttc_s=1)
 
 
+def test_the_factors_are_the_scenes_keywords():
+    # Every factor of the scene's table is a keyword and reaches the cell as `emrm simulate --KEY`.
+    given = {"speed_kph": 40, "ttc_s": 1.5, "mu": 0.7, "passage_m": 2.5, "truck_speed_kph": 0}
+    cell = emrm.simulate(**given, strategy="emergency_stop", certify=False)
+    flags = [f"--{key.replace('_', '-')}={value}" for key, value in given.items()]
+    run = run_emrm("simulate", *flags, "--strategy", "emergency_stop", "--no-certify", "--json")
+    assert run.returncode == 0, run.stderr
+    assert cell.to_dict()["input"] == json.loads(run.stdout)["input"]
+    assert cell.to_dict()["input"] == {**given, "seed": 1}
+    # Left out, a factor is the scene's default; a key the scene has no factor for is refused,
+    # naming the factors; the ego speed and the TTC are required.
+    assert emrm.simulate(speed_kph=40, ttc_s=1.5, strategy="emergency_stop").to_dict()["input"]["mu"] == 1
+    with pytest.raises(emrm.UsageError, match="no factor 'friction'.*speed_kph, ttc_s, mu, passage_m, truck_speed_kph"):
+        emrm.simulate(speed_kph=40, ttc_s=1.5, friction=0.5)
+    with pytest.raises(emrm.UsageError, match="ttc_s is required"):
+        emrm.simulate(speed_kph=40)
+
+
 def test_a_bad_scene_file_raises_input_error_at_its_line_and_column(tmp_path, examples):
     text = (examples / "scene.yaml").read_text().replace("lane_width_m: 3.5", "lane_width_m: -1")
     scene_file = tmp_path / "scene.yaml"

@@ -29,14 +29,20 @@
 
 namespace emrm::campaign::adaptive {
 
-/// The levels of a product grid's five factors, in the order a grid expands them (speed, TTC,
-/// friction, passage, truck speed; the last varies fastest), as written (not necessarily sorted).
+/// The levels of a product grid's factors, in the order a grid expands them (the last varies
+/// fastest), as written (not necessarily sorted); at most kMaxAxes factors.
 struct Lattice {
-  std::array<std::vector<double>, 5> levels;
+  static constexpr std::size_t kMaxAxes = 5;
+  std::vector<std::vector<double>> levels;
+  /// The factor along which stopping and avoiding are monotone (more time is never worse): the TTC
+  /// ...
+  std::size_t ttc_axis = 1;
+  /// ... or the friction, when the TTC takes one level.
+  std::size_t friction_axis = 2;
 
   [[nodiscard]] std::size_t size() const noexcept;
   /// The cell's index in the grid's expansion order from its level indices.
-  [[nodiscard]] std::size_t index(const std::array<std::size_t, 5>& level) const noexcept;
+  [[nodiscard]] std::size_t index(const std::array<std::size_t, kMaxAxes>& level) const noexcept;
 };
 
 /// What the oracle says of a cell's emergency stop without simulating it (sim/stop_physics.hpp).

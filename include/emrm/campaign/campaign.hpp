@@ -19,17 +19,18 @@
 
 namespace emrm::campaign {
 
-/// One named grid, expanded: the cartesian product of its factors (speed, TTC, mu, passage,
-/// truck speed; the last varies fastest) or its explicit `cells:` list, in file order.
+/// One named grid, expanded: the cartesian product of its factors (in the order of the scene's
+/// factor table, sim::scenario_factors; the last varies fastest) or its explicit `cells:` list, in
+/// file order.
 struct GridSpec {
   std::string name;
   std::vector<sim::CellInput> cells;
   std::vector<std::uint64_t> seeds;  ///< one per cell (a planned scenario's own); empty: cell_seed()
   bool keep_trees = false;           ///< store paths and planner trees of every strategy (trajectory figure)
   SourceLocation where;              ///< the grid's mapping in the campaign file
-  /// A product grid's levels per factor (speed, TTC, mu, passage, truck speed), in expansion order;
-  /// all empty for a grid that lists its cells.
-  std::array<std::vector<double>, 5> levels;
+  /// A product grid's levels per factor (in the factor table's order), in expansion order; empty for
+  /// a grid that lists its cells.
+  std::vector<std::vector<double>> levels;
   /// `adaptive: true`: swept by the adaptive boundary search (docs/adaptive.md). Product grids only.
   bool adaptive = false;
 };
@@ -82,7 +83,7 @@ void apply_profile(Campaign& campaign, const std::string& profile);
 /// cells) and the emrm version: a results store only accepts more cells of the same hash.
 [[nodiscard]] std::string config_hash(const Campaign& campaign);
 
-/// The key of a cell: the grid name and the factor values formatted with %.9g.
+/// The key of a cell: the grid name and the factor values (in the factor table's order) formatted with %.9g.
 [[nodiscard]] std::string cell_key(const std::string& grid, const sim::CellInput& cell);
 /// sim::derive_seed(campaign.seed, cell_key(grid, cell)): the same on every run, thread and shard.
 [[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const std::string& grid, const sim::CellInput& cell);
@@ -90,14 +91,11 @@ void apply_profile(Campaign& campaign, const std::string& profile);
 /// lists them, else the one above.
 [[nodiscard]] std::uint64_t cell_seed(const Campaign& campaign, const GridSpec& grid, std::size_t index);
 
-/// The row form of a simulated cell (speeds in km/h; traces kept; paths and trees only with
-/// `keep_trajectories`, simulated with trees kept).
-[[nodiscard]] CellRecord to_record(const std::string& grid, std::int64_t index, std::uint64_t seed,
-                                   const sim::CellResult& result, bool keep_trajectories = false);
-
-/// Sets the factor `name` (speed_kph, ttc_s, mu, passage_m or truck_speed_kph) of a cell; false
-/// when the simulator has no factor of that name.
-bool set_cell_factor(sim::CellInput& cell, std::string_view name, double value);
+/// The row form of a simulated cell of `scene` (speeds in km/h; traces kept; paths and trees only
+/// with `keep_trajectories`, simulated with trees kept). The scene's factor table is made only for
+/// a cell with a certificate (its JSON names the cell's factors): most cells of a sweep have none.
+[[nodiscard]] CellRecord to_record(const sim::SceneConfig& scene, const std::string& grid, std::int64_t index,
+                                   std::uint64_t seed, const sim::CellResult& result, bool keep_trajectories = false);
 
 /// Number of cells over all grids.
 [[nodiscard]] std::size_t total_cells(const Campaign& campaign) noexcept;

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "emrm/sim/factors.hpp"
+
 namespace emrm::campaign {
 
 /// A trajectory as a figure needs it: points (t s, x m, y m, speed m/s).
@@ -51,11 +53,7 @@ struct OutcomeRecord {
 struct CellRecord {
   std::string grid;
   std::int64_t index = 0;  ///< position of the cell in its grid's expansion order
-  double speed_kph = 0.0;
-  double ttc_s = 0.0;
-  double mu = 0.0;
-  double passage_m = 0.0;
-  double truck_speed_kph = 0.0;
+  sim::CellInput factors;  ///< the cell's factor values, in the order of the scene's factor table
   std::uint64_t seed = 0;
   bool feasible = false;
   std::string region;  ///< G, Y, O, R or infeasible

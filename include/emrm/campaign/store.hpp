@@ -39,6 +39,9 @@ struct CampaignMeta {
 
 /// The metadata a sweep of `campaign` writes (shard 1/1 unless changed).
 [[nodiscard]] CampaignMeta make_meta(const Campaign& campaign);
+/// The factors of the stored scene (sim::scenario_factors): the store's factor columns, in order.
+/// Throws InputError for a stored scene that does not parse.
+[[nodiscard]] sim::FactorTable scenario_factors(const CampaignMeta& meta);
 
 /// An open results store. Move-only; closes the database when destroyed.
 class ResultStore {

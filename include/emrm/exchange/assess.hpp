@@ -49,8 +49,8 @@ struct Assessment {
 /// keys of a strategy in `emrm simulate --json` (impact, avoided, contact, road_departure,
 /// departure_speed_kph, delta_loss, min_ttc_s) plus event_time_s, event_point, safe_state, end_time_s.
 [[nodiscard]] nlohmann::ordered_json to_json(const Assessment& a, const RecordedTrajectory& trajectory,
-                                             TrajectoryFormat format, const sim::CellInput& cell,
-                                             const std::string& strategy);
+                                             TrajectoryFormat format, const sim::FactorTable& factors,
+                                             const sim::CellInput& cell, const std::string& strategy);
 /// The same as a few lines of text.
 [[nodiscard]] std::string to_text(const Assessment& a, const RecordedTrajectory& trajectory,
                                   const std::string& strategy);

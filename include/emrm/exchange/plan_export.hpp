@@ -30,6 +30,6 @@ PlanExport export_plan(const std::filesystem::path& dir, const sim::SceneConfig&
 
 /// Names of the logical scenario's parameters, in declaration order: the cell's factors, then
 /// road_network (the .xodr file) and scenario_id.
-[[nodiscard]] std::vector<std::string> plan_parameter_names();
+[[nodiscard]] std::vector<std::string> plan_parameter_names(const sim::FactorTable& factors);
 
 }  // namespace emrm::exchange

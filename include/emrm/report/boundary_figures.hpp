@@ -23,9 +23,9 @@ struct BoundaryFigureOptions {
 /// mitigate) and each strategy's as a step line, one step per speed, drawn between the highest
 /// failing TTC level and t* (half a TTC step below t* when every level passes; a speed without t*
 /// leaves a gap); a circle on each step whose line is not monotone; the analytic stop
-/// boundary through report.actuation, dashed, on top. Stems: boundary_GRID, then _FACTOR_VALUE for
-/// each of mu, passage_m, truck_speed_kph that varies over the grid. CSV columns: series (a
-/// boundary, or analytic_stop), speed_kph, ttc_below_s, ttc_at_s, drawn_ttc_s, exceptions. When
+/// boundary through report.actuation, dashed, on top. Stems: boundary_GRID, then _KEY_VALUE for
+/// each factor after speed and TTC that varies over the grid. CSV columns: series (a
+/// boundary, or analytic_stop), the ego speed's key, ttc_below_s, ttc_at_s, drawn_ttc_s, exceptions. When
 /// slices are left out, one more Figure, boundary_more, has no files and a note listing them.
 /// Throws as render_png_and_svg (gnuplot missing or failing).
 std::vector<Figure> draw_boundary_figures(const results::BoundaryReport& report,

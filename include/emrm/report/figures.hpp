@@ -13,6 +13,7 @@
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/coverage.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/factors.hpp"
 
 namespace emrm::report {
 
@@ -38,21 +39,21 @@ struct MapPanels {
 /// proven impossible) carries a black cross and the key an entry for it; certified cells are
 /// unmarked, and a map without undecided cells looks as if no cell had evidence. Panels whose grid
 /// is missing are left out (and said in `note`); with no panel at all, no files are written and
-/// `note` says why. CSV columns: panel, grid, speed_kph, ttc_s, mu, passage_m, region, evidence
-/// (witness, certificate, undecided; empty for an infeasible cell).
-Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
-                             const MapPanels& panels = {}, double latency_s = 0.0);
+/// `note` says why. CSV columns: panel, grid, the factors' keys (sim::scenario_factors), region,
+/// evidence (witness, certificate, undecided; empty for an infeasible cell).
+Figure draw_mitigability_map(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                             const std::filesystem::path& dir, const MapPanels& panels = {}, double latency_s = 0.0);
 
 /// (1b) The harm-reduction map: the mitigability map's panels and axes, each feasible cell
 /// coloured by its p_mais3_reduction (the unmitigated reference's P(MAIS3+) minus the best
 /// strategy's: mitigation inside one loss level; an avoided G or Y cell counts its whole
 /// unmitigated risk) on a sequential scale from 0 to the largest value, with a colour bar;
 /// infeasible cells grey, the stop boundary dashed. Panels and `note` as draw_mitigability_map.
-/// CSV columns: panel, grid, speed_kph, ttc_s, mu, passage_m, region, unmitigated_p_mais3,
+/// CSV columns: panel, grid, the factors' keys (in the table's order), region, unmitigated_p_mais3,
 /// p_mais3_reduction, unmitigated_p_fatal, p_fatal_reduction (the last four empty for an
 /// infeasible cell).
-Figure draw_harm_reduction_map(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
-                               const MapPanels& panels = {}, double latency_s = 0.0);
+Figure draw_harm_reduction_map(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                               const std::filesystem::path& dir, const MapPanels& panels = {}, double latency_s = 0.0);
 
 /// What draw_grid_maps draws.
 struct GridMapOptions {
@@ -63,17 +64,17 @@ struct GridMapOptions {
 
 /// (1d) A map of every grid of `records` but those in `options.skip`, whatever its name: the
 /// mitigability map's colours, crosses and stop boundary in one panel per figure. The axes are the
-/// first two factors that vary over the grid, in the order speed, TTC, μ, passage width, truck
-/// speed (a grid varying one factor or none gets a strip: a constant factor is its second axis);
+/// first two factors that vary over the grid, in the order of the factor table (a grid varying one
+/// factor or none gets a strip: a constant factor is its second axis);
 /// a grid varying more is cut into slices, one per combination of the values of the other
 /// varying factors, one figure each, in ascending order of those values. Stems: map_GRID, then
 /// _FACTOR_VALUE per factor the slice is cut along (e.g. map_wet3_mu_0.5; characters other than
 /// letters, digits, '.', '-' and '_' become '_'). At most `max_slices_per_grid` slices a grid are
 /// drawn; then one more Figure, map_GRID_more, has no files and a note listing the slices left out.
-/// Each caption names the grid, the slice and the region shares. CSV columns: slice, grid,
-/// speed_kph, ttc_s, mu, passage_m, region, evidence.
-std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records, const std::filesystem::path& dir,
-                                   const GridMapOptions& options = {});
+/// Each caption names the grid, the slice and the region shares. CSV columns: slice, grid, the
+/// factors' keys, region, evidence.
+std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                                   const std::filesystem::path& dir, const GridMapOptions& options = {});
 
 /// (3) Loss comparison on `grid`: collision-avoidance rate (%) and mean residual impact speed (km/h)
 /// per strategy, as two bar panels. CSV: strategy, cells, collision_avoidance_rate_pct,
@@ -82,10 +83,10 @@ Figure draw_loss_comparison(const std::vector<campaign::CellRecord>& records, co
                             const std::filesystem::path& dir);
 
 /// (4) Parameter sweep on `grid`: collision-avoidance rate and mitigability success (%) against
-/// ego speed, one line per strategy, two panels. CSV: speed_kph, strategy, cells,
-/// collision_avoidance_rate_pct, mitigability_success_pct.
-Figure draw_sweep_curves(const std::vector<campaign::CellRecord>& records, const std::string& grid,
-                         const std::filesystem::path& dir);
+/// ego speed, one line per strategy, two panels. CSV: the ego speed's key (the scenario's
+/// `factors`), strategy, cells, collision_avoidance_rate_pct, mitigability_success_pct.
+Figure draw_sweep_curves(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
+                         const std::string& grid, const std::filesystem::path& dir);
 
 /// A factor of a plan's ODD as the figures of a planned run group by it (estimates.json "factors"):
 /// its name, unit and the label of each level (a bin "[44, 58)", a class or a constant), in level order.
@@ -120,10 +121,10 @@ Figure draw_traceability(const std::vector<safety::TraceRow>& rows, const std::f
 /// (1c) The headline grid under each actuation profile side by side (docs/actuation.md, "Profiles
 /// side by side"): the mitigability map's colours and crosses, one speed × TTC panel per profile
 /// (records[i] are runs[i]'s; at most four, in the 2×2 layout), each with its own dashed stop
-/// boundary. CSV columns: panel, profile, grid, speed_kph, ttc_s, mu, passage_m, region, evidence.
+/// boundary. CSV columns: panel, profile, grid, the factors' keys, region, evidence.
 Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
-                         const std::vector<std::vector<campaign::CellRecord>>& records, const std::string& grid,
-                         const std::filesystem::path& dir);
+                         const std::vector<std::vector<campaign::CellRecord>>& records, const sim::FactorTable& factors,
+                         const std::string& grid, const std::filesystem::path& dir);
 
 /// The brakes' sensitivity (docs/actuation.md, "Sensitivity"): G of `grid` against the brake dead
 /// time (0–0.6 s) and the peak deceleration (10–4 m/s²), one changed at a time from `actuation`,

@@ -50,10 +50,11 @@ struct PlannedRun {
 /// scenarios, feasible, successes, rate, wilson_low, wilson_high, undecided.
 std::vector<Figure> draw_plan_maps(const PlannedRun& run, const std::filesystem::path& dir, std::size_t max_maps = 15);
 
-/// (4b) The run's sweep curves by the ODD's bins (draw_binned_sweep_curves) of speed_kph, or of the
-/// first factor with two levels or more when the ODD has no speed factor. A note instead when the
-/// factors are unknown or none has two levels. `name` is the figure's stem.
-Figure draw_plan_sweep_curves(const PlannedRun& run, const std::filesystem::path& dir,
+/// (4b) The run's sweep curves by the ODD's bins (draw_binned_sweep_curves) of the ego speed (the
+/// factor `factors` has in that role), or of the first factor with two levels or more when the ODD
+/// does not vary it. A note instead when the factors are unknown or none has two levels. `name` is
+/// the figure's stem.
+Figure draw_plan_sweep_curves(const PlannedRun& run, const sim::FactorTable& factors, const std::filesystem::path& dir,
                               const std::string& name = "sweep_curves");
 
 }  // namespace emrm::report

@@ -24,9 +24,9 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
 /// grid's order (rows of the shipped example: passage width, friction, speed). Each panel shows
 /// the road, the truck at t = 0 (dashed) and when the path ends, the green goal tree and orange
 /// fail-safe tree of the RRT strategy emrm chose (of dodge when it chose the emergency stop), and
-/// emrm's executed path coloured by speed with one colour bar. CSV: panel, cell_index, speed_kph,
-/// ttc_s, mu, passage_m, region, outcome, kind (path, goal, failsafe), edge, t_s, x_m, y_m,
-/// speed_mps. A grid without stored trajectories gives no files and a note.
+/// emrm's executed path coloured by speed with one colour bar. CSV: panel, cell_index, the keys of
+/// the ego speed, TTC, friction and passage (scenario_factors), region, outcome, kind (path, goal, failsafe), edge,
+/// t_s, x_m, y_m, speed_mps. A grid without stored trajectories gives no files and a note.
 Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& config,
                             const std::string& grid, const std::filesystem::path& dir);
 

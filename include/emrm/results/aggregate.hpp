@@ -13,6 +13,7 @@
 #include "emrm/campaign/records.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/scene.hpp"
 
 namespace emrm::results {
 
@@ -57,7 +58,13 @@ struct LevelCuts {
   double mu_med_min = 0.35;
   double mu_high_min = 0.7;
   double car_width_m = 1.61;
+  /// Where the passage stands in the cells (sim::FactorRole::kPassage; the default scene's unless
+  /// level_cuts() sets the scene's); none: the scenario has no passage, and every cell counts as wide.
+  std::optional<std::size_t> passage_factor = sim::scenario_factors(sim::SceneConfig{}).find(sim::FactorRole::kPassage);
 };
+
+/// The cuts for a scene: the defaults with its car's width and its passage factor.
+[[nodiscard]] LevelCuts level_cuts(const sim::SceneConfig& scene);
 
 /// Level names of a factor, in table order: all → {all}; speed, ttc, friction → {low, med, high};
 /// passage → {narrow, wide}.

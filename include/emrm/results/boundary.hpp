@@ -45,8 +45,8 @@ inline constexpr RegionBoundary kRegionBoundaries[] = {{"stop", 0}, {"avoid", 1}
 /// One row of boundary.csv: the threshold of one boundary on one line of a grid.
 struct BoundaryRow {
   std::string grid;
-  double mu = 0.0, passage_m = 0.0, truck_speed_kph = 0.0;
-  std::string boundary;  ///< stop, avoid, mitigate or strategy:NAME
+  std::vector<double> held;  ///< the slice's held factors (BoundarySlice::held)
+  std::string boundary;      ///< stop, avoid, mitigate or strategy:NAME
   double speed_kph = 0.0;
   TtcThreshold threshold;  ///< threshold.cells: the cells of the line that contributed (cells_used)
 };
@@ -66,21 +66,23 @@ struct SkippedGrid {
   std::size_t ttc_levels = 0;
 };
 
-/// The cells of a grid that share μ, passage width and truck speed: one figure.
+/// The cells of a grid that share every factor but the ego's speed and the TTC (μ first, then the
+/// scenario's own: the held factors): one figure.
 struct BoundarySlice {
   std::string grid;
-  double mu = 0.0, passage_m = 0.0, truck_speed_kph = 0.0;
+  std::vector<double> held;  ///< in the factor table's order, from μ on
   [[nodiscard]] bool holds(const campaign::CellRecord& cell) const noexcept;
 };
 
 /// Every boundary of a store.
 struct BoundaryReport {
   sim::ActuationConfig actuation;         ///< of the analytic stop boundary
+  sim::FactorTable factors;               ///< the scenario's: the columns' keys
   std::vector<std::string> grids;         ///< grids with boundaries, in store order
   std::vector<SkippedGrid> skipped;       ///< grids with fewer than two TTC levels
   std::vector<std::string> boundaries;    ///< stop, avoid, mitigate, then strategy:NAME per stored strategy
-  std::vector<BoundarySlice> slices;      ///< per grid, μ, passage, truck speed ascending
-  std::size_t lines = 0;                  ///< (grid, μ, passage, truck speed, speed) with a cell
+  std::vector<BoundarySlice> slices;      ///< per grid, held factors ascending
+  std::size_t lines = 0;                  ///< (grid, held factors, speed) with a cell
   std::vector<BoundaryRow> rows;          ///< per slice, boundary (in `boundaries` order), speed ascending
   std::vector<AnalyticStopRow> analytic;  ///< per grid, μ, speed ascending
 
@@ -93,12 +95,12 @@ struct BoundaryReport {
 /// outcomes counts only for the region boundaries). Throws emrm::Error naming the cell when a
 /// feasible cell's region is not G, Y, O or R (a damaged store).
 [[nodiscard]] BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records,
-                                                const sim::ActuationConfig& actuation);
+                                                const sim::FactorTable& factors, const sim::ActuationConfig& actuation);
 
-/// boundary.csv: grid, mu, passage_m, truck_speed_kph, boundary, speed_kph, ttc_below_s, ttc_at_s,
-/// exceptions, cells_used (an absent TTC is an empty field).
+/// boundary.csv: grid, the held factors' keys (μ on), boundary, the ego speed's key, ttc_below_s,
+/// ttc_at_s, exceptions, cells_used (an absent TTC is an empty field).
 [[nodiscard]] std::string boundary_csv(const BoundaryReport& report);
-/// analytic_stop.csv: grid, mu, speed_kph, stopping_distance_m, ttc_s.
+/// analytic_stop.csv: grid, the friction's key, the ego speed's key, stopping_distance_m, the TTC's key.
 [[nodiscard]] std::string analytic_stop_csv(const BoundaryReport& report);
 
 /// Writes OUT_DIR/boundary.csv and OUT_DIR/analytic_stop.csv together (core::write_files) and

@@ -24,7 +24,7 @@ namespace emrm::results {
 struct CellRef {
   std::string grid;
   std::int64_t index = 0;
-  double speed_kph = 0.0, ttc_s = 0.0, mu = 0.0, passage_m = 0.0;
+  sim::CellInput factors;
   std::string region;
 };
 [[nodiscard]] CellRef cell_ref(const campaign::CellRecord& r);
@@ -124,6 +124,7 @@ struct DiagnosticsOptions {
 };
 
 struct Diagnostics {
+  sim::FactorTable factors;  ///< the scene's: how the cells named are written
   StopBoundaryCheck stop_boundary;
   MonotonicityCheck monotonicity;
   ReferenceCheck reference;

@@ -31,11 +31,15 @@ struct JsonOptions {
 /// missing, of the wrong type or not finite.
 [[nodiscard]] ActuationConfig actuation_from_json(const nlohmann::json& j, const std::string& where);
 
-/// A certificate as JSON, every number to full precision (check_certificate re-derives it).
-[[nodiscard]] nlohmann::json to_json(const Certificate& certificate);
+/// A cell as JSON: {key: value} for each of the scenario's factors.
+[[nodiscard]] nlohmann::json to_json(const CellInput& cell, const FactorTable& factors);
+/// A certificate as JSON, every number to full precision (check_certificate re-derives it); its cell
+/// named by the scenario's factors.
+[[nodiscard]] nlohmann::json to_json(const Certificate& certificate, const FactorTable& factors);
 /// The certificate back from that JSON. Throws InputError naming `where` and the key when a member
 /// is missing, of the wrong type or not finite.
-[[nodiscard]] Certificate certificate_from_json(const nlohmann::json& j, const std::string& where);
+[[nodiscard]] Certificate certificate_from_json(const nlohmann::json& j, const FactorTable& factors,
+                                                const std::string& where);
 
 /// A maneuver as JSON: {"plan": [segment…], "tail": {…} or null}, every number to full precision so
 /// that a replay reproduces the run bit for bit.

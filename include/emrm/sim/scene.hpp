@@ -5,13 +5,13 @@
 // +x), y to the left; the ego's front bumper is at x = 0 when the hazard appears (t = 0).
 
 #include <filesystem>
-#include <limits>
 #include <string>
 #include <vector>
 
 #include "emrm/core/config.hpp"
 #include "emrm/core/geometry.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/factors.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -244,38 +244,34 @@ struct ActuationProfile {
 /// for a malformed profile.
 std::string apply_profile(SceneConfig& config, const std::string& profile, const std::filesystem::path& scene_dir);
 
-/// The factors of one scenario cell.
-struct CellInput {
+/// The T-junction's factors in cell order (docs/scene-yaml.md, "Factors"): the ego's speed
+/// (speed_kph), the time to collision (ttc_s), the road's friction (mu), the passage left beside the
+/// truck (passage_m; at most the drivable area's width) and the truck's speed (truck_speed_kph; the
+/// scene's truck.speed_kph by default).
+[[nodiscard]] FactorTable scenario_factors(const SceneConfig& config);
+
+namespace tjunction {
+/// The positions of the T-junction's factors in its cells (scenario_factors' order): for code of
+/// the T-junction's own that reads a factor's key from the table (its OpenSCENARIO expressions).
+enum Position : std::size_t { kSpeed, kTtc, kMu, kPassage, kTruckSpeed, kFactors };
+}  // namespace tjunction
+
+/// A T-junction cell by its factors' names, for code and tests that build one by hand.
+struct TJunctionCell {
   double speed_kph = 50.0;
   double ttc_s = 1.0;
   double mu = 1.0;
   double passage_m = 3.0;
-  double truck_speed_kph = 10.0;
+  double truck_speed_kph = TruckConfig{}.speed_kph;
+
+  // NOLINTNEXTLINE(google-explicit-constructor): a named cell is a cell
+  operator CellInput() const { return {speed_kph, ttc_s, mu, passage_m, truck_speed_kph}; }
+  /// The named form of a T-junction cell (one of scenario_factors' cells).
+  [[nodiscard]] static TJunctionCell of(const CellInput& cell) noexcept;
 };
 
-/// What validate_cell accepts for one factor of a cell: a finite value above `low` (or equal to it
-/// when `low_inclusive`) and at most `high`.
-struct CellFactorLimit {
-  std::string name;  ///< "mu": as campaigns, ODDs and scenario files name the factor
-  std::string unit;  ///< "km/h", "s", "1" (a plain number), "m"
-  std::string what;  ///< "friction coefficient"
-  double low = 0.0;
-  bool low_inclusive = false;
-  double high = std::numeric_limits<double>::infinity();
-  std::string why_high;  ///< why there is an upper limit, when the scene sets it
-
-  [[nodiscard]] bool accepts(double value) const noexcept;
-  /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0".
-  [[nodiscard]] std::string inequality() const;
-};
-
-/// The limits validate_cell checks, in the order speed_kph, ttc_s, mu, passage_m, truck_speed_kph.
-/// The passage's upper limit is the width of the scene's drivable area.
-[[nodiscard]] std::vector<CellFactorLimit> cell_factor_limits(const SceneConfig& config);
-
-/// Checks a cell against cell_factor_limits: speed > 0, TTC > 0, 0 < mu <= 2, truck speed >= 0,
-/// passage > 0 and not wider than the drivable area, all finite. Throws UsageError naming the
-/// factor and its accepted range.
+/// Checks a cell against scenario_factors(config): every factor finite and within its limits.
+/// Throws UsageError naming the factor and its accepted range.
 void validate_cell(const SceneConfig& config, const CellInput& cell);
 
 /// Where the truck is at a time, and how fast it moves.
@@ -295,7 +291,13 @@ class Scene {
   [[nodiscard]] bool feasible() const noexcept;
   /// Distance from the ego's front bumper to the truck's near side at t = 0: v·TTC.
   [[nodiscard]] double initial_distance_m() const noexcept { return initial_distance_m_; }
-  [[nodiscard]] double initial_speed_mps() const noexcept { return cell_.speed_kph / 3.6; }
+  [[nodiscard]] double initial_speed_mps() const noexcept { return speed_kph_ / 3.6; }
+  /// The cell's factors the physics reads: the ego's speed (km/h), the TTC (s), the road's friction.
+  [[nodiscard]] double speed_kph() const noexcept { return speed_kph_; }
+  [[nodiscard]] double ttc_s() const noexcept { return ttc_s_; }
+  [[nodiscard]] double friction() const noexcept { return mu_; }
+  /// The truck's speed when the hazard appears (m/s).
+  [[nodiscard]] double truck_speed_mps() const noexcept { return truck_speed_mps_; }
   /// Ego CG in its lane, front bumper at x = 0, heading +x at the cell's speed.
   [[nodiscard]] VehicleState ego_initial() const noexcept;
   /// The truck at time t ≥ 0 (closed-form braking to a standstill).
@@ -315,6 +317,9 @@ class Scene {
  private:
   const SceneConfig* config_;  // borrowed: the config outlives every Scene made from it
   CellInput cell_;
+  double speed_kph_ = 0.0;
+  double ttc_s_ = 0.0;
+  double mu_ = 0.0;
   double initial_distance_m_ = 0.0;
   double truck_front_y0_m_ = 0.0;
   double truck_speed_mps_ = 0.0;

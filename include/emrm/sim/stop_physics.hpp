@@ -30,6 +30,8 @@ inline constexpr double kStopAgreement_m = 0.1;
 /// boundary counts as on it (grid values such as 0.25 + 7·0.06 are not exact in binary).
 [[nodiscard]] bool analytically_stoppable(double speed_kph, double ttc_s, double mu,
                                           const ActuationConfig& actuation) noexcept;
+/// The same for a cell: its ego speed, TTC and friction (CellInput's method factors).
+[[nodiscard]] bool analytically_stoppable(const CellInput& cell, const ActuationConfig& actuation) noexcept;
 
 /// What physics says of a cell's emergency stop without simulating it: braking alone stops before
 /// the truck with a margin (so the cell is G); it cannot avoid (it does not stop in time and the

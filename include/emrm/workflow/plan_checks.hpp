@@ -18,7 +18,7 @@ namespace emrm::workflow {
 /// Throws InputError for a bad scene file.
 [[nodiscard]] sim::SceneConfig plan_scene(const scenario::Odd& odd);
 
-/// Checks every ODD factor the simulator reads (sim::cell_factor_limits) against the scene: its
+/// Checks every ODD factor the simulator reads (sim::scenario_factors) against the scene: its
 /// unit, then each value of its domain (bin edges, class values, the constant). Throws InputError at
 /// the offending unit or value in the ODD file, saying what was expected and hinting at a unit slip:
 /// "mu 50: expected a friction coefficient in (0, 2]; a percentage?".

@@ -53,7 +53,7 @@ TEST(CalibrateRegions, GAloneRecoversAHiddenDeadTimeWithoutSimulating) {
     for (const auto& cell : c.grids.front().cells) {
       if (!sim::Scene(c.scene, cell).feasible()) continue;
       feasible += 1.0;
-      green += sim::analytically_stoppable(cell.speed_kph, cell.ttc_s, cell.mu, a) ? 1.0 : 0.0;
+      green += sim::analytically_stoppable(cell, a) ? 1.0 : 0.0;
     }
     const RegionTarget target{"t.yaml", "map", {}, {{"G", 100.0 * green / feasible}}};
     CalibrationRequest request;

@@ -129,7 +129,7 @@ TEST(AdaptiveSearch, TheVerificationSampleCountsAndBoundsTheDisagreements) {
 }
 
 TEST(AdaptiveSearch, DegenerateGridsSimplyWork) {
-  for (const auto& levels : std::vector<std::array<std::vector<double>, 5>>{
+  for (const auto& levels : std::vector<std::vector<std::vector<double>>>{
            {std::vector{50.0}, std::vector{1.0}, std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},
            {std::vector{50.0}, range(0.25, 2.95, 0.06), std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},
            {range(30, 72, 1), std::vector{1.0}, std::vector{1.0}, std::vector{3.0}, std::vector{10.0}},

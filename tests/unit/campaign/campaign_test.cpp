@@ -10,6 +10,7 @@
 
 #include "emrm/core/domain.hpp"
 #include "emrm/core/yaml.hpp"
+#include "tjunction.hpp"
 
 namespace emrm::campaign {
 namespace campaign_test {
@@ -95,20 +96,20 @@ TEST(LoadCampaign, TheFineGridHas1165FeasibleCells) {
   for (const auto& cell : fine.cells) feasible += sim::Scene(c.scene, cell).feasible() ? 1 : 0;
   EXPECT_EQ(feasible, 1165);
   // Factor order speed, TTC, …: TTC varies faster than speed.
-  EXPECT_EQ(fine.cells[0].speed_kph, 30.0);
-  EXPECT_EQ(fine.cells[1].speed_kph, 30.0);
-  EXPECT_EQ(fine.cells[1].ttc_s, 0.31);
-  EXPECT_EQ(fine.cells[46].speed_kph, 31.0);
-  EXPECT_EQ(fine.cells[0].truck_speed_kph, c.scene.truck.speed_kph);
+  EXPECT_EQ(test::named(fine.cells[0]).speed_kph, 30.0);
+  EXPECT_EQ(test::named(fine.cells[1]).speed_kph, 30.0);
+  EXPECT_EQ(test::named(fine.cells[1]).ttc_s, 0.31);
+  EXPECT_EQ(test::named(fine.cells[46]).speed_kph, 31.0);
+  EXPECT_EQ(test::named(fine.cells[0]).truck_speed_kph, c.scene.truck.speed_kph);
 }
 
 TEST(LoadCampaign, CanonicalCellsTakeGridDefaults) {
   const Campaign c = load_campaign(kShippedCampaign);
   const GridSpec& canonical = c.grids.back();
-  for (const auto& cell : canonical.cells) EXPECT_EQ(cell.ttc_s, 0.6);
-  EXPECT_EQ(canonical.cells[0].passage_m, 3.2);
-  EXPECT_EQ(canonical.cells[7].mu, 0.15);
-  EXPECT_EQ(canonical.cells[8].speed_kph, 57.6);
+  for (const auto& cell : canonical.cells) EXPECT_EQ(cell.time_to_collision_s(), 0.6);
+  EXPECT_EQ(test::named(canonical.cells[0]).passage_m, 3.2);
+  EXPECT_EQ(test::named(canonical.cells[7]).mu, 0.15);
+  EXPECT_EQ(test::named(canonical.cells[8]).speed_kph, 57.6);
 }
 
 TEST(LoadCampaign, DefaultsWithoutSceneOrStrategies) {
@@ -116,8 +117,8 @@ TEST(LoadCampaign, DefaultsWithoutSceneOrStrategies) {
   EXPECT_FALSE(c.scene_file.has_value());
   EXPECT_EQ(c.strategies, sim::strategy_names());
   ASSERT_EQ(c.grids[0].cells.size(), 2u);
-  EXPECT_EQ(c.grids[0].cells[1].ttc_s, 1.0);
-  EXPECT_EQ(c.grids[0].cells[1].truck_speed_kph, 10.0);
+  EXPECT_EQ(test::named(c.grids[0].cells[1]).ttc_s, 1.0);
+  EXPECT_EQ(test::named(c.grids[0].cells[1]).truck_speed_kph, 10.0);
 }
 
 TEST(LoadCampaign, ReportsMistakesAtTheirLineAndColumn) {
@@ -212,7 +213,8 @@ TEST(ValidateCampaign, EachRuleNamesTheFieldPath) {
       {[](Campaign& c) { c.grids[0].name.clear(); }, "campaign: grids[0].name: a grid name must not be empty"},
       {[](Campaign& c) { c.grids.push_back(c.grids[0]); }, "campaign: grids[1]: duplicate grid name 'g'"},
       {[](Campaign& c) { c.grids[0].cells.clear(); }, "campaign: grids[0].cells: grid 'g' has an empty cells list"},
-      {[](Campaign& c) { c.grids[0].cells[1].mu = 3.0; }, "campaign: grids[0].cells[1]: grid 'g': mu must be"},
+      {[](Campaign& c) { c.grids[0].cells[1][sim::kFrictionFactor] = 3.0; },
+       "campaign: grids[0].cells[1]: grid 'g': mu must be"},
       {[](Campaign& c) { c.grids[0].seeds = {7}; }, "campaign: grids[0].seeds: grid 'g' has 1 seeds for 2 cells"},
       {[](Campaign& c) { c.max_cells = 1; },
        "campaign: grids[0]: grid 'g' has 2 cells, more than the maximum 1; raise max_cells or pass --force"},
@@ -228,7 +230,7 @@ TEST(ValidateCampaign, ForceLiftsOnlyTheCellLimit) {
   Campaign c = code_built();
   c.max_cells = 1;
   EXPECT_EQ(validate_error(c, /*force=*/true), "");
-  c.grids[0].cells[0].speed_kph = 0;
+  c.grids[0].cells[0][sim::kEgoSpeedFactor] = 0;
   EXPECT_THAT(validate_error(c, /*force=*/true), HasSubstr("grids[0].cells[0]: grid 'g': speed_kph"));
 }
 
@@ -282,11 +284,11 @@ TEST(ToRecord, ConvertsSpeedsToKilometresPerHour) {
   const sim::SceneConfig scene;
   const sim::CellInput cell{40.0, 1.0, 1.0, 3.0, 10.0};
   const sim::CellResult result = sim::simulate_cell(scene, cell, {});
-  const CellRecord r = to_record("g", 7, 42, result);
+  const CellRecord r = to_record(sim::SceneConfig{}, "g", 7, 42, result);
   EXPECT_EQ(r.grid, "g");
   EXPECT_EQ(r.index, 7);
   EXPECT_EQ(r.seed, 42u);
-  EXPECT_EQ(r.speed_kph, 40.0);
+  EXPECT_EQ(r.factors.ego_speed_kph(), 40.0);
   EXPECT_EQ(r.region, std::string(sim::region_name(result.region)));
   EXPECT_DOUBLE_EQ(r.unmitigated_impact_speed_kph, result.unmitigated.impact_speed_mps * 3.6);
   ASSERT_EQ(r.outcomes.size(), result.strategies.size());

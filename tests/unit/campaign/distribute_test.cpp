@@ -11,17 +11,14 @@
 
 #include "emrm/campaign/store.hpp"
 #include "emrm/campaign/sweep.hpp"
+#include "scratch.hpp"
 
 namespace emrm::campaign {
 namespace distribute_test {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("emrm-distribute-test-" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return test::scratch_dir("distribute-test", name); }
 
 std::string text_of(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

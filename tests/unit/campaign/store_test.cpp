@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "emrm/campaign/exports.hpp"
+#include "scratch.hpp"
 
 namespace emrm::campaign {
 namespace store_test {
@@ -20,8 +21,7 @@ using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("emrm-store-test-" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
+  const fs::path dir = test::scratch_dir("store-test", name);
   fs::create_directories(dir);
   return dir;
 }
@@ -49,11 +49,7 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   CellRecord r;
   r.grid = grid;
   r.index = index;
-  r.speed_kph = 30.0 + 0.1 * static_cast<double>(index);
-  r.ttc_s = 0.31;
-  r.mu = 0.65;
-  r.passage_m = 2.4;
-  r.truck_speed_kph = 10.0;
+  r.factors = sim::TJunctionCell{30.0 + 0.1 * static_cast<double>(index), 0.31, 0.65, 2.4, 10.0};
   r.seed = 0xfedcba9876543210ull + static_cast<std::uint64_t>(index);
   r.feasible = feasible;
   r.region = feasible ? "Y" : "infeasible";
@@ -101,11 +97,7 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
 void expect_equal(const CellRecord& a, const CellRecord& b) {
   EXPECT_EQ(a.grid, b.grid);
   EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.speed_kph, b.speed_kph);
-  EXPECT_EQ(a.ttc_s, b.ttc_s);
-  EXPECT_EQ(a.mu, b.mu);
-  EXPECT_EQ(a.passage_m, b.passage_m);
-  EXPECT_EQ(a.truck_speed_kph, b.truck_speed_kph);
+  EXPECT_EQ(a.factors, b.factors);
   EXPECT_EQ(a.seed, b.seed);
   EXPECT_EQ(a.feasible, b.feasible);
   EXPECT_EQ(a.region, b.region);

@@ -10,17 +10,14 @@
 #include <utility>
 
 #include "emrm/campaign/store.hpp"
+#include "scratch.hpp"
 
 namespace emrm::campaign {
 namespace sweep_test {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("emrm-sweep-test-" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return test::scratch_dir("sweep-test", name); }
 
 // Cheap cells: slow, early hazards (green) and far ones (infeasible, not simulated).
 Campaign small_campaign() {
@@ -42,7 +39,7 @@ TEST(ParseShard, AcceptsKOfNAndRejectsTheRest) {
 
 TEST(Sweep, ValidatesACodeBuiltCampaignBeforeOpeningTheStore) {
   Campaign c = small_campaign();
-  c.grids[1].cells[2].passage_m = -1;
+  c.grids[1].cells[2][3] = -1;  // the passage
   SweepOptions options;
   options.output_dir = scratch("invalid");
   options.progress = false;

@@ -49,7 +49,7 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
   for (int k = 0; k < 8; ++k) {
     const double v = speed(rng);
     const double ttc = std::uniform_real_distribution<double>(0.3, config.max_initial_distance_m / (v / 3.6))(rng);
-    const sim::CellInput cell{v, ttc, mu(rng), passage(rng), truck(rng)};
+    const sim::TJunctionCell cell{v, ttc, mu(rng), passage(rng), truck(rng)};
     sim::CellOptions options;
     options.seed = 11 + static_cast<std::uint64_t>(k);
     const sim::CellResult result = sim::simulate_cell(config, cell, options);
@@ -73,7 +73,7 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
 // A contact is found between samples: the same run thinned to a few vertices still touches.
 TEST(Assess, FindsContactBetweenSamples) {
   const sim::SceneConfig config;
-  const sim::CellInput cell{60, 0.6, 1.0, 3.0, 10};
+  const sim::TJunctionCell cell{60, 0.6, 1.0, 3.0, 10};
   const sim::Scene scene(config, cell);
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
   const sim::RolloutResult coast = sim::no_action_rollout(scene, *model);
@@ -133,7 +133,7 @@ TEST(Assess, EsminiSpeedIsTheCGsFromItsPositionsAndTheWheelAngleIsNotRead) {
 // braked to rest and whose last frame did not move is stopped, whatever that frame's speed says.
 TEST(Assess, EsminiLastFrameThatDidNotMoveIsAtRest) {
   const sim::SceneConfig config;
-  const sim::CellInput cell{36, 2.0, 1.0, 3.0, 10};  // 10 m/s, the truck 20 m ahead
+  const sim::TJunctionCell cell{36, 2.0, 1.0, 3.0, 10};  // 10 m/s, the truck 20 m ahead
   const double v0 = 10.0, decel = 8.0, dt = 0.01, rest_s = v0 / decel;
   std::vector<EsminiRow> rows;
   double previous_x = 0.0;

@@ -225,7 +225,7 @@ struct Tally {
   std::vector<std::string> mismatches;
 };
 
-void replay_cell(const sim::SceneConfig& config, const sim::CellInput& cell, const Recording& how, Tally& tally) {
+void replay_cell(const sim::SceneConfig& config, const sim::TJunctionCell& cell, const Recording& how, Tally& tally) {
   const sim::CellResult result = sim::simulate_cell(config, cell, {});
   const std::string where = fmt::format("cell {} km/h, TTC {} s, mu {}, passage {} m, truck {} km/h", cell.speed_kph,
                                         cell.ttc_s, cell.mu, cell.passage_m, cell.truck_speed_kph);
@@ -257,7 +257,7 @@ std::string report(const Tally& t) {
 // Cells over every outcome the simulator gives: stops short of the truck, dodges past it and
 // stabilised, contacts straight into its side (faces parallel) and at a corner, grazing contacts
 // within centimetres of a miss, road departures, drifts, and a no-action run that passes.
-std::vector<sim::CellInput> outcome_cells() {
+std::vector<sim::TJunctionCell> outcome_cells() {
   return {{30, 0.4, 0.3, 2.0, 0},  {30, 2.0, 1.0, 3.5, 20}, {40, 0.8, 0.3, 3.5, 20}, {50, 1.2, 0.8, 3.0, 10},
           {50, 0.8, 0.6, 2.0, 0},  {60, 1.2, 0.6, 2.0, 0},  {65, 1.0, 0.5, 2.0, 20}, {72, 0.8, 0.6, 2.5, 20},
           {72, 0.4, 0.6, 3.5, 20}, {72, 0.4, 0.3, 3.0, 10}, {35, 2.0, 0.4, 2.8, 8},  {45, 1.6, 0.3, 2.5, 5}};

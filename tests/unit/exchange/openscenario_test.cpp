@@ -34,7 +34,7 @@ using testing::Document;
 
 constexpr double kCm = 0.01;
 
-sim::CellInput cell_of(double speed_kph, double ttc_s, double mu, double passage_m, double truck_kph) {
+sim::TJunctionCell cell_of(double speed_kph, double ttc_s, double mu, double passage_m, double truck_kph) {
   return {speed_kph, ttc_s, mu, passage_m, truck_kph};
 }
 
@@ -172,7 +172,7 @@ TEST(OpenScenario, TruckTrajectoryIsTheScenesTruckAtEveryFrame) {
     for (int k = 0; k < 6; ++k) {
       const double v = speed(rng);
       const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
-      const sim::CellInput cell = cell_of(v, ttc, 0.8, passage(rng), truck(rng));
+      const sim::TJunctionCell cell = cell_of(v, ttc, 0.8, passage(rng), truck(rng));
       const sim::Scene scene(config, cell);
       sim::CellOptions options;
       options.strategies = {"emergency_stop"};
@@ -210,7 +210,7 @@ TEST(OpenScenario, TruckStopsWherePassageIsTheCells) {
     for (int k = 0; k < 10; ++k) {
       const double v = speed(rng);
       const double ttc = std::uniform_real_distribution<double>(0.2, config.max_initial_distance_m / (v / 3.6))(rng);
-      const sim::CellInput cell = cell_of(v, ttc, mu(rng), passage(rng), truck(rng));
+      const sim::TJunctionCell cell = cell_of(v, ttc, mu(rng), passage(rng), truck(rng));
       const Document xosc(openscenario_xml(config, cell, nullptr, ExportOptions{}));
       const Document xodr(opendrive_xml(config, cell));
       const std::string init = "/OpenSCENARIO/Storyboard/Init/Actions/Private[@entityRef='Truck']/PrivateAction";
@@ -247,7 +247,7 @@ TEST(OpenScenario, TruckStopsWherePassageIsTheCells) {
 
 TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
   const sim::SceneConfig config;
-  const sim::CellInput cell = cell_of(50, 1.0, 0.7, 2.5, 10);
+  const sim::TJunctionCell cell = cell_of(50, 1.0, 0.7, 2.5, 10);
   EXPECT_EQ(testing::opendrive().errors_of(opendrive_xml(config, cell)), "");
   EXPECT_EQ(testing::opendrive().errors_of(opendrive_xml(odd_scene(), cell)), "");
   sim::SceneConfig one_lane;
@@ -319,9 +319,11 @@ TEST(OpenScenario, PlanIsOneLogicalScenarioWithEveryConcreteOne) {
   EXPECT_EQ(testing::openscenario().errors_of(distribution), "");
   const Document d(distribution);
   EXPECT_EQ(d.all("//ParameterValueSet").size(), 3u);
-  EXPECT_EQ(d.all("//ParameterValueSet[1]/ParameterAssignment/@parameterRef"), plan_parameter_names());
+  EXPECT_EQ(d.all("//ParameterValueSet[1]/ParameterAssignment/@parameterRef"),
+            plan_parameter_names(sim::scenario_factors(sim::SceneConfig{})));
   const Document l(logical);
-  EXPECT_EQ(l.all("/OpenSCENARIO/ParameterDeclarations/ParameterDeclaration/@name"), plan_parameter_names());
+  EXPECT_EQ(l.all("/OpenSCENARIO/ParameterDeclarations/ParameterDeclaration/@name"),
+            plan_parameter_names(sim::scenario_factors(sim::SceneConfig{})));
   // Every road network named in the distribution was written and validates.
   for (const auto& file : d.all("//ParameterAssignment[@parameterRef='road_network']/@value")) {
     ASSERT_TRUE(std::filesystem::is_regular_file(dir / file)) << file;
@@ -395,9 +397,9 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
   ASSERT_GT(attributes.size(), 10u);
   for (std::size_t k = 0; k < plan.rows.size(); ++k) {
     const auto& row = plan.rows[k];
-    const sim::CellInput cell{row.values[0], row.values[1], row.values[2], row.values[3], row.values[4]};
+    const sim::TJunctionCell cell{row.values[0], row.values[1], row.values[2], row.values[3], row.values[4]};
     const auto assigned = distribution.all(fmt::format("//ParameterValueSet[{}]/ParameterAssignment/@value", k + 1));
-    ASSERT_EQ(assigned.size(), plan_parameter_names().size());
+    ASSERT_EQ(assigned.size(), plan_parameter_names(sim::scenario_factors(sim::SceneConfig{})).size());
     std::vector<double> values;
     for (std::size_t i = 0; i < names.size(); ++i) values.push_back(std::stod(assigned[i]));
     const Document concrete(openscenario_xml(config, cell, nullptr, {}));

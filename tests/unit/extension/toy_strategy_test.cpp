@@ -128,7 +128,7 @@ std::vector<campaign::CellRecord> toy_records() {
   for (double speed : {40.0, 50.0, 60.0})
     for (double ttc : {0.9, 1.3}) {
       const sim::CellResult r = sim::simulate_cell(config, {speed, ttc, 1.0, 3.0, 10.0}, {});
-      records.push_back(campaign::to_record("toy", index++, 1, r));
+      records.push_back(campaign::to_record(sim::SceneConfig{}, "toy", index++, 1, r));
     }
   return records;
 }

@@ -46,7 +46,7 @@ TEST_F(FigureEmpty, LossComparisonOfAGridWithoutFeasibleCellsWritesNothing) {
 using FigureSweep = FigureTest;
 
 TEST_F(FigureSweep, OneRowPerSpeedAndStrategyWithTheRatesAtThatSpeed) {
-  const auto f = draw_sweep_curves(campaign_records(), "fine", out());
+  const auto f = draw_sweep_curves(campaign_records(), test::tjunction_factors(), "fine", out());
   expect_drawn(f, out(), "sweep_curves");
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.front(),
@@ -75,7 +75,7 @@ TEST_F(FigureSweep, LeavesOutSpeedsWithoutAFeasibleCell) {
     records.push_back(synthetic_cell("g", 2 * t, 30.0, 0.5 + 0.5 * t, 1.0));
     records.push_back(synthetic_cell("g", 2 * t + 1, 70.0, 2.5 + 0.1 * t, 1.0));
   }
-  const auto f = draw_sweep_curves(records, "g", out());
+  const auto f = draw_sweep_curves(records, test::tjunction_factors(), "g", out());
   expect_drawn(f, out(), "sweep_curves");
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.size(), 1 + kStrategies.size());
@@ -83,7 +83,7 @@ TEST_F(FigureSweep, LeavesOutSpeedsWithoutAFeasibleCell) {
 }
 
 TEST_F(FigureEmpty, SweepOfAMissingGridWritesNothing) {
-  const auto f = draw_sweep_curves(campaign_records(), "no_such_grid", out());
+  const auto f = draw_sweep_curves(campaign_records(), test::tjunction_factors(), "no_such_grid", out());
   expect_nothing_written(f, out());
   EXPECT_NE(f.note.find("no_such_grid"), std::string::npos) << f.note;
 }
@@ -92,7 +92,8 @@ TEST_F(FigureSweep, ABinnedSweepHasOnePointPerBinAndStrategy) {
   // The fine grid's 43 speeds in three bins: below 40, 40 to 55, above.
   const auto fine = results::records_of_grid(campaign_records(), "fine");
   std::vector<int> levels;
-  for (const auto& c : fine) levels.push_back(c.speed_kph < 40.0 ? 0 : c.speed_kph < 55.0 ? 1 : 2);
+  for (const auto& c : fine)
+    levels.push_back(c.factors.ego_speed_kph() < 40.0 ? 0 : c.factors.ego_speed_kph() < 55.0 ? 1 : 2);
   const PlanFactor speed{"speed_kph", "km/h", {"[30, 40)", "[40, 55)", "[55, 72]"}};
   const auto f = draw_binned_sweep_curves(fine, levels, speed, out());
   expect_drawn(f, out(), "sweep_curves");
@@ -231,10 +232,12 @@ TEST_F(FigureCampaign, DrawsAllSixFiguresOfAShippedSizeCampaign) {
   const auto coverage = coverage_reports();
 
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<Figure> figures{
-      draw_mitigability_map(records, out()),        draw_harm_reduction_map(records, out()),
-      draw_loss_comparison(records, "fine", out()), draw_sweep_curves(records, "fine", out()),
-      draw_coverage_comparison(coverage, out()),    draw_traceability(rows, out())};
+  const std::vector<Figure> figures{draw_mitigability_map_t(records, out()),
+                                    draw_harm_reduction_map_t(records, out()),
+                                    draw_loss_comparison(records, "fine", out()),
+                                    draw_sweep_curves(records, test::tjunction_factors(), "fine", out()),
+                                    draw_coverage_comparison(coverage, out()),
+                                    draw_traceability(rows, out())};
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RecordProperty("render_seconds", std::to_string(seconds));
   std::cout << "[ figures  ] six figures of " << records.size() << " cells rendered in " << seconds << " s\n";

@@ -21,6 +21,7 @@
 #include "emrm/results/aggregate.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "tjunction.hpp"
 
 namespace emrm::report {
 namespace figures_test {
@@ -52,11 +53,7 @@ inline CellRecord synthetic_cell(const std::string& grid, std::int64_t index, do
   CellRecord c;
   c.grid = grid;
   c.index = index;
-  c.speed_kph = speed;
-  c.ttc_s = ttc;
-  c.mu = mu;
-  c.passage_m = 3.0;
-  c.truck_speed_kph = 10.0;
+  c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = speed / 3.6 * ttc <= 45.0;
   if (!c.feasible) {
     c.region = "infeasible";
@@ -159,7 +156,28 @@ inline std::vector<core::Row> csv_of(const fs::path& path) {
   return rows;
 }
 
+/// The position of column `name` in a CSV's header row (a factor's column moves with the table).
+inline std::size_t column_of(const std::vector<core::Row>& csv, const std::string& name) {
+  const auto at = std::find(csv.front().begin(), csv.front().end(), name);
+  EXPECT_NE(at, csv.front().end()) << name;
+  return static_cast<std::size_t>(at - csv.front().begin());
+}
+
 inline double num(const std::string& field) { return std::strtod(field.c_str(), nullptr); }
+
+// The maps of the T-junction's records (its factor table with the default scene).
+template <class... Rest>
+Figure draw_mitigability_map_t(const std::vector<CellRecord>& records, Rest&&... rest) {
+  return draw_mitigability_map(records, test::tjunction_factors(), std::forward<Rest>(rest)...);
+}
+template <class... Rest>
+Figure draw_harm_reduction_map_t(const std::vector<CellRecord>& records, Rest&&... rest) {
+  return draw_harm_reduction_map(records, test::tjunction_factors(), std::forward<Rest>(rest)...);
+}
+template <class... Rest>
+std::vector<Figure> draw_grid_maps_t(const std::vector<CellRecord>& records, Rest&&... rest) {
+  return draw_grid_maps(records, test::tjunction_factors(), std::forward<Rest>(rest)...);
+}
 
 // Rates recomputed here, independently of the aggregation, from the definitions of docs/results.md.
 struct Rates {
@@ -173,7 +191,7 @@ inline Rates rates_of(const std::vector<CellRecord>& records, const std::string&
   std::size_t avoided = 0, mitigated = 0;
   double impact = 0.0;
   for (const auto& c : records) {
-    if (!c.feasible || (!std::isnan(speed_kph) && std::abs(c.speed_kph - speed_kph) > 1e-9)) continue;
+    if (!c.feasible || (!std::isnan(speed_kph) && std::abs(c.factors.ego_speed_kph() - speed_kph) > 1e-9)) continue;
     for (const auto& o : c.outcomes) {
       if (o.strategy != strategy) continue;
       ++r.cells;

@@ -8,12 +8,13 @@ namespace figures_test {
 using FigureMap = FigureTest;
 
 TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
-  const auto f = draw_mitigability_map(campaign_records(), out());
+  const auto f = draw_mitigability_map_t(campaign_records(), out());
   expect_drawn(f, out(), "mitigability_map");
   EXPECT_TRUE(f.note.empty()) << f.note;
 
   const auto csv = csv_of(f.csv);
-  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "evidence"}));
+  ASSERT_EQ(csv.front(), (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph",
+                                    "region", "evidence"}));
   ASSERT_EQ(csv.size(), 1 + 30 + 1978 + 430 + 260);
   std::size_t line = 1;
   for (const auto& [panel, grid] : {std::pair{"a", "coarse"}, {"b", "fine"}, {"c", "speed_mu"}, {"d", "ttc_mu"}}) {
@@ -21,20 +22,29 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
       const auto& row = csv[line++];
       ASSERT_EQ(row[0], panel);
       ASSERT_EQ(row[1], grid);
-      EXPECT_NEAR(num(row[2]), cell.speed_kph, 1e-6);
-      EXPECT_NEAR(num(row[3]), cell.ttc_s, 1e-6);
-      EXPECT_NEAR(num(row[4]), cell.mu, 1e-6);
-      EXPECT_NEAR(num(row[5]), cell.passage_m, 1e-6);
-      EXPECT_EQ(row[6], cell.region) << grid << " cell " << cell.index;
-      EXPECT_EQ(row[7], cell.feasible ? cell.evidence : "") << grid << " cell " << cell.index;
+      for (std::size_t k = 0; k < cell.factors.size(); ++k) EXPECT_NEAR(num(row[2 + k]), cell.factors[k], 1e-6);
+      EXPECT_EQ(row[7], cell.region) << grid << " cell " << cell.index;
+      EXPECT_EQ(row[8], cell.feasible ? cell.evidence : "") << grid << " cell " << cell.index;
     }
+  }
+  // The drawing colours each cell by its region: one rectangle per cell in the region's colour (as
+  // gnuplot's SVG writes the figure's palette, docs/report.md) and one more, the key's.
+  const std::string svg = core::read_file(f.svg);
+  for (const auto& [region, rgb] :
+       {std::pair{"G", " 44, 160,  44"}, {"Y", "255, 221,  87"}, {"O", "255, 127,  14"}, {"R", "214,  39,  40"}}) {
+    const std::string fill = fmt::format("<polygon fill = 'rgb({})'", rgb);
+    std::size_t drawn = 0;
+    for (auto at = svg.find(fill); at != std::string::npos; at = svg.find(fill, at + 1)) ++drawn;
+    const auto cells = std::count_if(csv.begin() + 1, csv.end(), [&](const core::Row& r) { return r[7] == region; });
+    EXPECT_GT(cells, 0) << region;
+    EXPECT_EQ(drawn, static_cast<std::size_t>(cells) + 1) << region;
   }
   // The caption states the region shares of each panel, as count_regions gives them.
   EXPECT_NE(f.title.find("(b) Speed × TTC, fine grid"), std::string::npos) << f.title;
 }
 
 TEST_F(FigureMap, LeavesOutAMissingPanelAndSaysWhich) {
-  const auto f = draw_mitigability_map(without_grid("ttc_mu"), out());
+  const auto f = draw_mitigability_map_t(without_grid("ttc_mu"), out());
   expect_drawn(f, out(), "mitigability_map");
   EXPECT_NE(f.note.find("'ttc_mu'"), std::string::npos) << f.note;
   EXPECT_NE(f.note.find("(d)"), std::string::npos) << f.note;
@@ -49,7 +59,7 @@ TEST_F(FigureMap, DrawsTheLatencyShiftedBoundaryOnOtherGridNames) {
   panels.fine = "missing_a";
   panels.speed_mu = "missing_b";
   panels.ttc_mu = "ttc_mu";
-  const auto f = draw_mitigability_map(campaign_records(), out(), panels, 0.2);
+  const auto f = draw_mitigability_map_t(campaign_records(), out(), panels, 0.2);
   expect_drawn(f, out(), "mitigability_map");
   EXPECT_EQ(csv_of(f.csv).size(), 1 + 1978 + 260);
   EXPECT_NE(f.title.find("0.2 s"), std::string::npos) << f.title;
@@ -58,8 +68,8 @@ TEST_F(FigureMap, DrawsTheLatencyShiftedBoundaryOnOtherGridNames) {
 }
 
 TEST_F(FigureMap, SameRecordsGiveTheSameCsvBytes) {
-  const auto a = draw_mitigability_map(campaign_records(), out() / "a");
-  const auto b = draw_mitigability_map(campaign_records(), out() / "b");
+  const auto a = draw_mitigability_map_t(campaign_records(), out() / "a");
+  const auto b = draw_mitigability_map_t(campaign_records(), out() / "b");
   EXPECT_EQ(core::read_file(a.csv), core::read_file(b.csv));
   EXPECT_EQ(a.title, b.title);
 }
@@ -88,13 +98,14 @@ TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
   const std::size_t certified = count_evidence(records, "certificate");
   ASSERT_GT(undecided, 10u);  // the synthetic campaign has some of each
   ASSERT_GT(certified, 10u);
-  const auto f = draw_mitigability_map(records, out());
+  const auto f = draw_mitigability_map_t(records, out());
   expect_drawn(f, out(), "mitigability_map");
 
   // The CSV has every cell's evidence; the undecided rows are exactly the crosses.
   const auto csv = csv_of(f.csv);
+  const std::size_t evidence = column_of(csv, "evidence");
   EXPECT_EQ(static_cast<std::size_t>(
-                std::count_if(csv.begin(), csv.end(), [](const core::Row& r) { return r[7] == "undecided"; })),
+                std::count_if(csv.begin(), csv.end(), [&](const core::Row& r) { return r[evidence] == "undecided"; })),
             undecided);
   EXPECT_EQ(crosses_in(f.svg), undecided + 1);
   const std::string svg = core::read_file(f.svg);
@@ -114,8 +125,8 @@ TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
   for (auto& c : certified)
     if (c.evidence == "undecided") c.evidence = "certificate";
   for (auto& c : unknown) c.evidence.clear();
-  const auto a = draw_mitigability_map(certified, out() / "certified");
-  const auto b = draw_mitigability_map(unknown, out() / "unknown");
+  const auto a = draw_mitigability_map_t(certified, out() / "certified");
+  const auto b = draw_mitigability_map_t(unknown, out() / "unknown");
   EXPECT_EQ(crosses_in(a.svg), 0u);
   EXPECT_EQ(core::read_file(a.svg).find("undecided"), std::string::npos);
   // Nothing on the picture depends on the evidence then; only the CSV and the caption tell it.
@@ -128,7 +139,7 @@ TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
 }
 
 TEST_F(FigureEmpty, MapWithoutAnyOfItsGridsWritesNothing) {
-  const auto f = draw_mitigability_map({}, out());
+  const auto f = draw_mitigability_map_t({}, out());
   expect_nothing_written(f, out());
   EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
 }
@@ -148,7 +159,7 @@ std::vector<CellRecord> product_grid(const std::string& name, const std::vector<
       for (const double v : speeds)
         for (const double t : ttcs) {
           cells.push_back(synthetic_cell(name, i++, v, t, m));
-          cells.back().passage_m = p;
+          cells.back().factors[3] = p;  // the passage
         }
   return cells;
 }
@@ -163,7 +174,7 @@ TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
   const auto cells = product_grid("wet", {30, 35, 40, 45, 50, 55}, {0.25, 0.5, 0.75, 1.0, 1.25}, {0.5});
   const std::size_t undecided = count_evidence(cells, "undecided");
   ASSERT_GT(undecided, 0u);
-  const auto figures = draw_grid_maps(cells, out());
+  const auto figures = draw_grid_maps_t(cells, out());
   ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_wet"});
   const Figure& f = figures.front();
   expect_drawn(f, out(), "map_wet");
@@ -172,7 +183,8 @@ TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
   EXPECT_EQ(crosses_in(f.svg), undecided + 1);  // and the key's
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.size(), 1 + cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) EXPECT_EQ(csv[i + 1][6], cells[i].region) << i;
+  const std::size_t region = column_of(csv, "region");
+  for (std::size_t i = 0; i < cells.size(); ++i) EXPECT_EQ(csv[i + 1][region], cells[i].region) << i;
 }
 
 TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
@@ -180,7 +192,7 @@ TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
   const auto cells = product_grid("g 4", {30, 40}, {0.5, 1.0}, {0.3, 0.6}, {2.0, 3.0});
   GridMapOptions options;
   options.max_slices_per_grid = 3;
-  const auto figures = draw_grid_maps(cells, out(), options);
+  const auto figures = draw_grid_maps_t(cells, out(), options);
   ASSERT_EQ(names_of(figures), (std::vector<std::string>{"map_g_4_mu_0.3_passage_m_2", "map_g_4_mu_0.3_passage_m_3",
                                                          "map_g_4_mu_0.6_passage_m_2", "map_g_4_more"}));
   for (std::size_t i = 0; i < 3; ++i) {
@@ -197,7 +209,7 @@ TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
 
 TEST_F(FigureGridMaps, AGridVaryingOneFactorIsAStrip) {
   const auto cells = product_grid("speeds", {30, 40, 50, 60, 70}, {1.0}, {1.0});
-  const auto figures = draw_grid_maps(cells, out());
+  const auto figures = draw_grid_maps_t(cells, out());
   ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_speeds"});
   expect_drawn(figures.front(), out(), "map_speeds");
   EXPECT_NE(figures.front().title.find("5 speeds × 1 TTCs"), std::string::npos) << figures.front().title;
@@ -206,7 +218,7 @@ TEST_F(FigureGridMaps, AGridVaryingOneFactorIsAStrip) {
 TEST_F(FigureEmpty, GridMapsLeaveOutTheGridsTheyAreToldTo) {
   GridMapOptions options;
   options.skip = {"coarse", "fine", "speed_mu", "ttc_mu"};
-  EXPECT_TRUE(draw_grid_maps(campaign_records(), out(), options).empty());
+  EXPECT_TRUE(draw_grid_maps_t(campaign_records(), out(), options).empty());
 }
 
 // --- a planned run ------------------------------------------------------------------------------
@@ -263,40 +275,40 @@ TEST_F(FigurePlanMaps, OneMapPerPairOfFactorsPooledOverTheOthers) {
 using FigureHarmMap = FigureTest;
 
 TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
-  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  const auto f = draw_harm_reduction_map_t(campaign_records(), out());
   expect_drawn(f, out(), "harm_reduction_map");
   EXPECT_TRUE(f.note.empty()) << f.note;
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.front(),
-            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "region", "unmitigated_p_mais3",
-                       "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}));
+            (core::Row{"panel", "grid", "speed_kph", "ttc_s", "mu", "passage_m", "truck_speed_kph", "region",
+                       "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}));
   // The same cells in the same order as the mitigability map: one layout for both.
-  const auto map = csv_of(draw_mitigability_map(campaign_records(), out() / "map").csv);
+  const auto map = csv_of(draw_mitigability_map_t(campaign_records(), out() / "map").csv);
   ASSERT_EQ(csv.size(), map.size());
   std::size_t line = 1;
   for (const char* grid : {"coarse", "fine", "speed_mu", "ttc_mu"})
     for (const auto& cell : results::records_of_grid(campaign_records(), grid)) {
       const auto& row = csv[line];
-      ASSERT_EQ(core::Row(row.begin(), row.begin() + 7), core::Row(map[line].begin(), map[line].begin() + 7));
+      ASSERT_EQ(core::Row(row.begin(), row.begin() + 8), core::Row(map[line].begin(), map[line].begin() + 8));
       ++line;
       if (!cell.feasible) {
-        EXPECT_EQ(core::Row(row.begin() + 7, row.end()), core::Row(4, "")) << grid << " cell " << cell.index;
+        EXPECT_EQ(core::Row(row.begin() + 8, row.end()), core::Row(4, "")) << grid << " cell " << cell.index;
         continue;
       }
-      EXPECT_NEAR(num(row[7]), cell.unmitigated_p_mais3, 1e-9);
-      EXPECT_NEAR(num(row[8]), cell.p_mais3_reduction, 1e-9);
-      EXPECT_NEAR(num(row[9]), cell.unmitigated_p_fatal, 1e-9);
-      EXPECT_NEAR(num(row[10]), cell.p_fatal_reduction, 1e-9);
+      EXPECT_NEAR(num(row[8]), cell.unmitigated_p_mais3, 1e-9);
+      EXPECT_NEAR(num(row[9]), cell.p_mais3_reduction, 1e-9);
+      EXPECT_NEAR(num(row[10]), cell.unmitigated_p_fatal, 1e-9);
+      EXPECT_NEAR(num(row[11]), cell.p_fatal_reduction, 1e-9);
       // Avoided cells count their whole unmitigated risk.
       if (cell.region == "G" || cell.region == "Y") {
-        EXPECT_EQ(row[8], row[7]) << grid << " cell " << cell.index;
+        EXPECT_EQ(row[9], row[8]) << grid << " cell " << cell.index;
       }
     }
   EXPECT_NE(f.title.find("(b) Speed × TTC, fine grid"), std::string::npos) << f.title;
 }
 
 TEST_F(FigureHarmMap, FeasibleCellsOnTheColourScaleInfeasibleOnesGrey) {
-  const auto f = draw_harm_reduction_map(campaign_records(), out());
+  const auto f = draw_harm_reduction_map_t(campaign_records(), out());
   const auto csv = csv_of(f.csv);
   double largest = 0.0;
   for (std::size_t i = 1; i < csv.size(); ++i)
@@ -325,18 +337,19 @@ TEST_F(FigureHarmMap, MitigationInsideALossLevelShows) {
   }
   records[0].p_mais3_reduction = 0.07;
   records[1].p_mais3_reduction = 0.0;
-  const auto f = draw_harm_reduction_map(records, out());
+  const auto f = draw_harm_reduction_map_t(records, out());
   expect_drawn(f, out(), "harm_reduction_map");
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.size(), 3u);
-  EXPECT_EQ(csv[1][8], "0.07");
-  EXPECT_EQ(csv[2][8], "0");
+  const std::size_t reduction = column_of(csv, "p_mais3_reduction");
+  EXPECT_EQ(csv[1][reduction], "0.07");
+  EXPECT_EQ(csv[2][reduction], "0");
   EXPECT_NE(f.title.find("1 of 2 O/R reduced"), std::string::npos) << f.title;
   EXPECT_NE(f.note.find("(a)"), std::string::npos) << f.note;  // only panel (b) has its grid
 }
 
 TEST_F(FigureEmpty, HarmReductionMapWithoutAnyOfItsGridsWritesNothing) {
-  const auto f = draw_harm_reduction_map({}, out());
+  const auto f = draw_harm_reduction_map_t({}, out());
   expect_nothing_written(f, out());
   EXPECT_NE(f.note.find("coarse"), std::string::npos) << f.note;
 }

@@ -26,10 +26,7 @@ campaign::CellRecord cell(std::string grid, std::int64_t index, double speed, do
   campaign::CellRecord c;
   c.grid = std::move(grid);
   c.index = index;
-  c.speed_kph = speed;
-  c.ttc_s = ttc;
-  c.mu = mu;
-  c.passage_m = passage;
+  c.factors = sim::CellInput{speed, ttc, mu, passage, 0.0};
   c.feasible = region != "infeasible";
   c.region = std::move(region);
   c.unmitigated_loss_level = unmitigated;

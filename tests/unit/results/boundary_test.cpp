@@ -12,6 +12,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/results/aggregate.hpp"
 #include "emrm/sim/vehicle.hpp"
+#include "tjunction.hpp"
 
 namespace emrm::results {
 namespace boundary_test {
@@ -22,11 +23,7 @@ campaign::CellRecord cell(double speed, double ttc, std::string region, double m
                           bool with_outcomes = true) {
   campaign::CellRecord c;
   c.grid = std::move(grid);
-  c.speed_kph = speed;
-  c.ttc_s = ttc;
-  c.mu = mu;
-  c.passage_m = 3.0;
-  c.truck_speed_kph = 10.0;
+  c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = true;
   c.region = std::move(region);
   if (!with_outcomes) return c;
@@ -48,7 +45,7 @@ campaign::CellRecord infeasible(double speed, double ttc, double mu = 1.0) {
 
 const BoundaryRow& row_of(const BoundaryReport& r, std::string_view boundary, double speed, double mu = 1.0) {
   for (const auto& row : r.rows)
-    if (row.boundary == boundary && row.speed_kph == speed && row.mu == mu) return row;
+    if (row.boundary == boundary && row.speed_kph == speed && row.held.front() == mu) return row;
   ADD_FAILURE() << "no row " << boundary << " at " << speed << " km/h, mu " << mu;
   static const BoundaryRow none;
   return none;
@@ -128,7 +125,7 @@ void expect_bracket(const BoundaryRow& r, std::optional<double> below, std::opti
 }
 
 TEST(ComputeBoundaries, EachRegionBoundaryIsTheKnownThreshold) {
-  const BoundaryReport r = compute_boundaries(known_grid(), sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(known_grid(), test::tjunction_factors(), sim::ActuationConfig{});
   EXPECT_EQ(r.grids, (std::vector<std::string>{"g"}));
   EXPECT_EQ(r.boundaries,
             (std::vector<std::string>{"stop", "avoid", "mitigate", "strategy:emergency_stop", "strategy:dodge"}));
@@ -152,26 +149,26 @@ TEST(ComputeBoundaries, RowsComeBySliceThenBoundaryThenSpeed) {
   auto records = known_grid();
   for (const auto& c : known_grid()) {  // the same cells at mu 0.5, stored after mu 1
     records.push_back(c);
-    records.back().mu = 0.5;
+    records.back().factors[sim::kFrictionFactor] = 0.5;
   }
-  const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
   ASSERT_EQ(r.slices.size(), 2u);
-  EXPECT_DOUBLE_EQ(r.slices[0].mu, 0.5);  // ascending μ, whatever the store's order
+  EXPECT_DOUBLE_EQ(r.slices[0].held.front(), 0.5);  // ascending μ, whatever the store's order
   EXPECT_EQ(r.lines, 4u);
   ASSERT_EQ(r.rows.size(), 20u);
-  EXPECT_DOUBLE_EQ(r.rows[0].mu, 0.5);
+  EXPECT_DOUBLE_EQ(r.rows[0].held.front(), 0.5);
   EXPECT_EQ(r.rows[0].boundary, "stop");
   EXPECT_DOUBLE_EQ(r.rows[0].speed_kph, 30);
   EXPECT_DOUBLE_EQ(r.rows[1].speed_kph, 50);
   EXPECT_EQ(r.rows[2].boundary, "avoid");
-  EXPECT_DOUBLE_EQ(r.rows[10].mu, 1.0);
+  EXPECT_DOUBLE_EQ(r.rows[10].held.front(), 1.0);
 }
 
 TEST(ComputeBoundaries, ANonMonotoneLineIsReportedWithItsExceptions) {
   // At 40 km/h: G at 0.5 s, Y at 1.0 s, G above: the stop boundary is 1.5 s with one exception.
   const std::vector<campaign::CellRecord> records{cell(40, 0.5, "G"), cell(40, 1.0, "Y"), cell(40, 1.5, "G"),
                                                   cell(40, 2.0, "G")};
-  const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
   expect_bracket(row_of(r, "stop", 40), 1.0, 1.5, 1, 4);
   expect_bracket(row_of(r, "strategy:emergency_stop", 40), 1.0, 1.5, 1, 4);
   expect_bracket(row_of(r, "avoid", 40), std::nullopt, 0.5, 0, 4);
@@ -185,7 +182,7 @@ TEST(ComputeBoundaries, AStrategyUsesOnlyTheCellsWithItsOutcome) {
                                             cell(30, 2.0, "G")};
   // dodge was not run at 2.0 s either (a store of another strategy list there).
   records[3].outcomes.pop_back();
-  const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
   expect_bracket(row_of(r, "avoid", 30), 0.5, 1.0, 0, 4);
   expect_bracket(row_of(r, "strategy:emergency_stop", 30), 0.5, 1.5, 0, 3);
   expect_bracket(row_of(r, "strategy:dodge", 30), 0.5, 1.5, 0, 2);
@@ -196,7 +193,7 @@ TEST(ComputeBoundaries, AGridOfOneTtcLevelIsSkippedNotAnError) {
   auto records = known_grid();
   records.push_back(cell(30, 1.0, "G", 1.0, "one"));
   records.push_back(cell(50, 1.0, "R", 1.0, "one"));
-  const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
   EXPECT_EQ(r.grids, (std::vector<std::string>{"g"}));
   ASSERT_EQ(r.skipped.size(), 1u);
   EXPECT_EQ(r.skipped[0].grid, "one");
@@ -204,7 +201,8 @@ TEST(ComputeBoundaries, AGridOfOneTtcLevelIsSkippedNotAnError) {
   for (const auto& row : r.rows) EXPECT_EQ(row.grid, "g");
   EXPECT_NE(summary(r).find("grid 'one' skipped: 1 TTC level"), std::string::npos) << summary(r);
   // A store holding only such grids has no boundary at all.
-  const BoundaryReport only = compute_boundaries(records_of_grid(records, "one"), sim::ActuationConfig{});
+  const BoundaryReport only =
+      compute_boundaries(records_of_grid(records, "one"), test::tjunction_factors(), sim::ActuationConfig{});
   EXPECT_TRUE(only.rows.empty());
   EXPECT_TRUE(only.analytic.empty());
 }
@@ -213,7 +211,7 @@ TEST(ComputeBoundaries, AFeasibleCellWithoutARegionIsADamagedStore) {
   auto records = known_grid();
   records[2].region = "X";
   try {
-    (void)compute_boundaries(records, sim::ActuationConfig{});
+    (void)compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("cell 0 of grid 'g' is feasible but its region is 'X'"), std::string::npos)
@@ -222,7 +220,7 @@ TEST(ComputeBoundaries, AFeasibleCellWithoutARegionIsADamagedStore) {
 }
 
 TEST(BoundaryCsv, HeaderAndEmptyFieldsForAnAbsentLevel) {
-  const BoundaryReport r = compute_boundaries(known_grid(), sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(known_grid(), test::tjunction_factors(), sim::ActuationConfig{});
   const std::string csv = boundary_csv(r);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "grid,mu,passage_m,truck_speed_kph,boundary,speed_kph,ttc_below_s,ttc_at_s,exceptions,cells_used");
@@ -236,9 +234,9 @@ TEST(AnalyticStop, OneRowPerGridMuAndSpeed) {
   auto records = known_grid();
   for (const auto& c : known_grid()) {
     records.push_back(c);
-    records.back().mu = 0.5;
+    records.back().factors[sim::kFrictionFactor] = 0.5;
   }
-  const BoundaryReport r = compute_boundaries(records, sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
   ASSERT_EQ(r.analytic.size(), 4u);  // μ 0.5, 1 × 30, 50 km/h
   EXPECT_DOUBLE_EQ(r.analytic[0].mu, 0.5);
   EXPECT_DOUBLE_EQ(r.analytic[0].speed_kph, 30);
@@ -251,7 +249,7 @@ TEST(AnalyticStop, OneRowPerGridMuAndSpeed) {
 TEST(WriteBoundaryFiles, WritesBothCsvFiles) {
   const auto dir = std::filesystem::temp_directory_path() / ("emrm-boundary-test-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
-  const BoundaryReport r = compute_boundaries(known_grid(), sim::ActuationConfig{});
+  const BoundaryReport r = compute_boundaries(known_grid(), test::tjunction_factors(), sim::ActuationConfig{});
   const auto written = write_boundary_files(dir / "out", r);
   ASSERT_EQ(written.size(), 2u);
   std::ifstream in(dir / "out" / "boundary.csv");

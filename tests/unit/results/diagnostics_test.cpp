@@ -13,11 +13,7 @@ namespace diagnostics_test {
 campaign::CellRecord cell(double speed, double ttc, double mu, std::string region, std::vector<bool> avoided = {}) {
   campaign::CellRecord c;
   c.grid = "g";
-  c.speed_kph = speed;
-  c.ttc_s = ttc;
-  c.mu = mu;
-  c.passage_m = 3.0;
-  c.truck_speed_kph = 10.0;
+  c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = true;
   c.region = std::move(region);
   c.unmitigated_loss_level = 7;
@@ -41,10 +37,10 @@ TEST(StopBoundaryCheck, FlagsAnAnalyticallyStoppableRedCell) {
   EXPECT_EQ(c.feasible, 5u);
   EXPECT_EQ(c.stoppable, 3u);
   ASSERT_EQ(c.stoppable_red.size(), 1u);
-  EXPECT_DOUBLE_EQ(c.stoppable_red[0].ttc_s, 2.0);
+  EXPECT_DOUBLE_EQ(c.stoppable_red[0].factors.time_to_collision_s(), 2.0);
   EXPECT_EQ(c.stoppable_not_green.size(), 2u);  // R and Y
   ASSERT_EQ(c.green_not_stoppable.size(), 1u);
-  EXPECT_DOUBLE_EQ(c.green_not_stoppable[0].ttc_s, 0.5);
+  EXPECT_DOUBLE_EQ(c.green_not_stoppable[0].factors.time_to_collision_s(), 0.5);
   // With 1.5 s of latency, 2.0 s is no longer enough.
   EXPECT_EQ(check_stop_boundary(cells, 1.5).stoppable, 0u);
 }
@@ -71,8 +67,8 @@ TEST(MonotonicityCheck, CountsReversalsAlongTtcAndMu) {
   EXPECT_EQ(mu_dodge, 1u);
   EXPECT_EQ(ttc_stop, 0u);
   ASSERT_EQ(m.examples.size(), 3u);
-  EXPECT_DOUBLE_EQ(m.examples[0].lower.ttc_s, 0.5);
-  EXPECT_DOUBLE_EQ(m.examples[0].higher.ttc_s, 1.0);
+  EXPECT_DOUBLE_EQ(m.examples[0].lower.factors.time_to_collision_s(), 0.5);
+  EXPECT_DOUBLE_EQ(m.examples[0].higher.factors.time_to_collision_s(), 1.0);
 }
 
 TEST(FsmCoverage, EventsAreTheOddPositionsOfATrace) {

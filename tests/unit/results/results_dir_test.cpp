@@ -17,17 +17,14 @@
 #include "emrm/results/verify.hpp"
 #include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
+#include "scratch.hpp"
 
 namespace emrm::results {
 namespace results_dir_test {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("emrm-results-dir-test-" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return test::scratch_dir("results-dir-test", name); }
 
 TEST(ResultsDir, NamesEveryPathOfTheFolder) {
   const ResultsDir d("out");

@@ -18,9 +18,7 @@ std::vector<campaign::CellRecord> fine_grid() {
     for (double ttc = 0.25; ttc <= 2.95; ttc += 0.06) {
       campaign::CellRecord r;
       r.grid = "fine";
-      r.speed_kph = speed;
-      r.ttc_s = ttc;
-      r.mu = 1.0;
+      r.factors = sim::CellInput{speed, ttc, 1.0, 0.0, 0.0};
       r.feasible = speed / 3.6 * ttc <= 24.5;
       out.push_back(r);
     }
@@ -49,7 +47,7 @@ TEST(BrakeSensitivity, GFallsWithEveryDeadTimeStepAndEveryLowerCap) {
   // The first row counts the closed form directly.
   std::size_t feasible = 0, green = 0;
   for (const auto& r : records)
-    if (r.feasible) ++feasible, green += sim::analytically_stoppable(r.speed_kph, r.ttc_s, r.mu, base) ? 1u : 0u;
+    if (r.feasible) ++feasible, green += sim::analytically_stoppable(r.factors, base) ? 1u : 0u;
   EXPECT_NEAR(g_of(t.rows[0]), 100.0 * static_cast<double>(green) / static_cast<double>(feasible), 0.05);
 }
 

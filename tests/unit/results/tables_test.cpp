@@ -35,10 +35,7 @@ std::vector<campaign::CellRecord> two_cells() {
     auto& c = cells[static_cast<std::size_t>(i)];
     c.grid = "fine";
     c.index = i;
-    c.speed_kph = i == 0 ? 30 : 60;
-    c.ttc_s = 1.0;
-    c.mu = 1.0;
-    c.passage_m = 3.0;
+    c.factors = sim::CellInput{i == 0 ? 30.0 : 60.0, 1.0, 1.0, 3.0, 0.0};
     c.feasible = true;
     c.region = i == 0 ? "G" : "Y";
     c.unmitigated_loss_level = 7;

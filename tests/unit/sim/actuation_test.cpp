@@ -17,13 +17,14 @@
 #include "emrm/sim/planner.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
+#include "tjunction.hpp"
 
 namespace emrm::sim {
 namespace actuation_test {
 
 // The emergency stop as the strategy runs it: nothing during the perception latency, then full
 // braking with the wheels held straight.
-RolloutResult emergency_stop(const SceneConfig& config, const CellInput& cell) {
+RolloutResult emergency_stop(const SceneConfig& config, const TJunctionCell& cell) {
   const Scene scene(config, cell);
   const auto model = make_vehicle_model(config.simulation.vehicle_model, config.ego);
   const double latency = config.actuation.perception_latency_s;
@@ -76,7 +77,7 @@ TEST(Actuation, EmergencyStopAvoidsExactlyWhenTheClosedFormSaysSoToOneStep) {
     const double mu = 0.3 + 0.8 * unit(rng);
     const double boundary_s = a.stopping_distance_m(v, mu, true) / v;
     for (const double side : {-1.0, 1.0}) {
-      const CellInput cell{v * 3.6, boundary_s + side * 1.5 * dt, mu, 3.0, 0.0};
+      const TJunctionCell cell{v * 3.6, boundary_s + side * 1.5 * dt, mu, 3.0, 0.0};
       const RolloutResult r = emergency_stop(config, cell);
       EXPECT_EQ(r.avoided(), side > 0.0) << "v " << v << " mu " << mu << " latency " << a.perception_latency_s
                                          << " dead " << a.brake_dead_time_s << " ramp " << a.brake_ramp_s << " cap "
@@ -227,8 +228,8 @@ TEST(Actuation, PlannerManeuversReplayThroughTheActuators) {
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
   const ControlLimits drift{.allow_rear_lock = true};
   int compared = 0;
-  for (const CellInput& cell :
-       {CellInput{50, 1.0, 1.0, 3.0, 10.0}, CellInput{40, 0.9, 1.0, 2.0, 10.0}, CellInput{60, 1.1, 0.5, 3.0, 10.0}}) {
+  for (const TJunctionCell& cell : {TJunctionCell{50, 1.0, 1.0, 3.0, 10.0}, TJunctionCell{40, 0.9, 1.0, 2.0, 10.0},
+                                    TJunctionCell{60, 1.1, 0.5, 3.0, 10.0}}) {
     const Scene scene(config, cell);
     const PlanResult plan = plan_rrt(scene, *model, drift, 3, false);
     for (const auto* found : {&plan.avoidance, &plan.collision}) {
@@ -258,7 +259,7 @@ TEST(Actuation, CertificatesUnderActuatorsAreMadeForThemAndCheckOnlyForThem) {
   std::optional<Certificate> example;
   for (double speed = 40.0; speed <= 72.0; speed += 4.0)
     for (double ttc = 0.4; ttc <= 1.3; ttc += 0.1) {
-      const CellInput cell{speed, ttc, 1.0, 3.0, 10.0};
+      const TJunctionCell cell{speed, ttc, 1.0, 3.0, 10.0};
       if (certify_unavoidable(Scene(instant, cell))) ++certified_instant;
       if (auto c = certify_unavoidable(Scene(slow, cell))) {
         ++certified_slow;
@@ -269,7 +270,8 @@ TEST(Actuation, CertificatesUnderActuatorsAreMadeForThemAndCheckOnlyForThem) {
     }
   EXPECT_GT(certified_slow, certified_instant);
   ASSERT_TRUE(example.has_value());
-  const Certificate back = certificate_from_json(to_json(*example), "test");
+  const Certificate back =
+      certificate_from_json(to_json(*example, test::tjunction_factors()), test::tjunction_factors(), "test");
   EXPECT_EQ(back.actuation.steer_time_constant_s, 0.15);
   EXPECT_TRUE(check_certificate(Scene(slow, back.cell), back));
 }

@@ -22,7 +22,7 @@ namespace certificate_test {
 
 // A random cell from the ranges of the property test (speed 5–100 km/h, TTC 0.05–4 s, mu 0.1–1.2,
 // passage 0.5–5 m, truck speed 0–30 km/h).
-CellInput random_cell(std::mt19937_64& rng) {
+TJunctionCell random_cell(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   return {5.0 + 95.0 * unit(rng), 0.05 + 3.95 * unit(rng), 0.1 + 1.1 * unit(rng), 0.5 + 4.5 * unit(rng),
           30.0 * unit(rng)};
@@ -36,7 +36,7 @@ const ActuationConfig kProductionActuation{.perception_latency_s = 0.25,
                                            .steer_dead_time_s = 0.05,
                                            .steer_time_constant_s = 0.1};
 
-std::string describe(const CellInput& c) {
+std::string describe(const TJunctionCell& c) {
   return "speed " + std::to_string(c.speed_kph) + " km/h, TTC " + std::to_string(c.ttc_s) + " s, mu " +
          std::to_string(c.mu) + ", passage " + std::to_string(c.passage_m) + " m, truck " +
          std::to_string(c.truck_speed_kph) + " km/h";
@@ -50,7 +50,7 @@ struct Avoidance {
   std::string by;
 };
 
-Avoidance find_avoidance(const SceneConfig& config, const CellInput& cell, bool with_strategies) {
+Avoidance find_avoidance(const SceneConfig& config, const TJunctionCell& cell, bool with_strategies) {
   if (with_strategies) {
     CellOptions searched;
     searched.certify = false;  // a certified cell would skip the searches this is to run
@@ -79,7 +79,7 @@ SoundnessRun run_soundness(const SceneConfig& config, int cells, std::uint64_t s
   SoundnessRun run;
   std::mt19937_64 rng(seed);
   while (run.tried < cells) {
-    const CellInput cell = random_cell(rng);
+    const TJunctionCell cell = random_cell(rng);
     try {
       validate_cell(config, cell);
     } catch (const UsageError&) {
@@ -145,7 +145,7 @@ SoundnessRun run_soundness_under_actuators(int cells, std::uint64_t seed, const 
     config.actuation = {0.4 * unit(rng),  0.3 * unit(rng),
                         0.5 * unit(rng),  unit(rng) < 0.5 ? 6.0 + 3.0 * unit(rng) : 0.0,
                         0.15 * unit(rng), 0.25 * unit(rng)};
-    const CellInput cell = random_cell(rng);
+    const TJunctionCell cell = random_cell(rng);
     try {
       validate_cell(config, cell);
     } catch (const UsageError&) {
@@ -217,7 +217,7 @@ TEST(Certificate, BlockedRoadNarrowPassageAndNoRoomToStopIsCertified) {
   const SceneConfig config;
   for (double speed : {40.0, 60.0, 90.0})
     for (double ttc : {0.1, 0.3, 0.5, 0.8}) {
-      const CellInput cell{speed, ttc, 1.0, 1.0, 10.0};
+      const TJunctionCell cell{speed, ttc, 1.0, 1.0, 10.0};
       const Scene scene(config, cell);
       // Braking at mu·g stops the front at v²/(2 mu g) (the scene's truck face is v·TTC away).
       if (scene.initial_distance_m() + 1.0 > std::pow(speed / 3.6, 2) / (2.0 * kGravity_mps2)) continue;
@@ -243,7 +243,7 @@ TEST(Certificate, AnArrivalBeforeTheBrakesActIsChecked) {
       for (double mu : {0.1, 0.5, 1.0})
         for (double passage : {1.0, 2.2})
           for (double truck : {20.0, 30.0}) {
-            const CellInput cell{speed, ttc, mu, passage, truck};
+            const TJunctionCell cell{speed, ttc, mu, passage, truck};
             const Scene scene(config, cell);
             const auto cert = certify_unavoidable(scene);
             if (!cert) continue;
@@ -265,7 +265,8 @@ TEST(Certificate, AnArrivalBeforeTheBrakesActIsChecked) {
 TEST(Certificate, AFlankWitnessShowsATruckComingDownOntoTheCarsSide) {
   SceneConfig config = searched_briefly();
   config.actuation = kProductionActuation;
-  for (const CellInput& cell : {CellInput{30.0, 0.25, 0.1, 1.0, 30.0}, CellInput{30.0, 0.25, 0.1, 3.4, 20.0}}) {
+  for (const TJunctionCell& cell :
+       {TJunctionCell{30.0, 0.25, 0.1, 1.0, 30.0}, TJunctionCell{30.0, 0.25, 0.1, 3.4, 20.0}}) {
     const Scene scene(config, cell);
     const auto cert = certify_unavoidable(scene);
     ASSERT_TRUE(cert.has_value()) << describe(cell);
@@ -296,8 +297,8 @@ TEST(Certificate, NoStrategyAvoidsACellTheFlankWitnessCertifies) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int flank = 0, tried = 0;
   while (flank < wanted && tried < 5000) {
-    const CellInput cell{20.0 + 40.0 * unit(rng), 0.1 + 0.5 * unit(rng), 0.1 + 0.9 * unit(rng), 0.5 + 4.5 * unit(rng),
-                         5.0 + 25.0 * unit(rng)};
+    const TJunctionCell cell{20.0 + 40.0 * unit(rng), 0.1 + 0.5 * unit(rng), 0.1 + 0.9 * unit(rng),
+                             0.5 + 4.5 * unit(rng), 5.0 + 25.0 * unit(rng)};
     ++tried;
     const Scene scene(config, cell);
     const auto cert = certify_unavoidable(scene);
@@ -333,7 +334,7 @@ TEST(Certificate, CellsWhereBrakingAvoidsAreNeverCertified) {
         const double v = speed / 3.6;
         const double boundary = v / (2.0 * mu * kGravity_mps2) + latency;
         for (double extra : {0.0, 0.01, 0.2, 1.0}) {
-          const CellInput cell{speed, boundary + extra, mu, 1.0, 10.0};
+          const TJunctionCell cell{speed, boundary + extra, mu, 1.0, 10.0};
           EXPECT_FALSE(certify_unavoidable(Scene(config, cell)).has_value()) << describe(cell);
         }
       }
@@ -343,14 +344,14 @@ TEST(Certificate, CellsWhereBrakingAvoidsAreNeverCertified) {
 // (c) The checker accepts what certify_unavoidable returns and rejects tampered certificates.
 TEST(Certificate, CheckerAcceptsCertificatesAndRejectsTamperedOnes) {
   const SceneConfig config;
-  const CellInput cell{72.0, 0.3, 1.0, 3.0, 10.0};
+  const TJunctionCell cell{72.0, 0.3, 1.0, 3.0, 10.0};
   const Scene scene(config, cell);
   const auto cert = certify_unavoidable(scene);
   ASSERT_TRUE(cert.has_value());
   EXPECT_TRUE(check_certificate(scene, *cert));
 
   // For another cell: the cell it names no longer matches, and re-labelled it does not hold there.
-  const CellInput other{50.0, 1.5, 1.0, 3.0, 10.0};
+  const TJunctionCell other{50.0, 1.5, 1.0, 3.0, 10.0};
   const Scene other_scene(config, other);
   EXPECT_FALSE(check_certificate(other_scene, *cert));
   Certificate relabelled = *cert;
@@ -408,7 +409,7 @@ TEST(Certificate, EveryCertificateOfTheFineGridChecks) {
 
 // A cell a tightening of the bound newly certifies (`needs` names what it takes): certified, the
 // certificate checks, and no strategy nor the reference planner (drift, dodge) avoids the truck.
-void expect_certified_and_unavoidable(const SceneConfig& config, const CellInput& cell, const char* needs) {
+void expect_certified_and_unavoidable(const SceneConfig& config, const TJunctionCell& cell, const char* needs) {
   const Scene scene(config, cell);
   const auto cert = certify_unavoidable(scene);
   ASSERT_TRUE(cert.has_value()) << describe(cell) << " needs " << needs;
@@ -424,7 +425,7 @@ void expect_certified_and_unavoidable(const SceneConfig& config, const CellInput
 TEST(Certificate, TightenedBoundCertifiesCellsTheLooserOneCouldNot) {
   struct Case {
     ActuationConfig actuation;
-    CellInput cell;
+    TJunctionCell cell;
     const char* needs;
   };
   const ActuationConfig latency{.perception_latency_s = 0.25};
@@ -451,7 +452,7 @@ TEST(Certificate, TightenedBoundCertifiesCellsTheLooserOneCouldNot) {
 // (drift and dodge limits) avoids the truck there.
 TEST(Certificate, SecondTighteningCertifiesCellsUnderProductionActuation) {
   struct Case {
-    CellInput cell;
+    TJunctionCell cell;
     const char* needs;
   };
   const std::vector<Case> cases{

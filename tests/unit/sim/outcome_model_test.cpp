@@ -33,7 +33,7 @@ const StrategyOutcome& outcome(const CellResult& r, const std::string& name) {
 
 // The safe state written out independently of the termination tests: at rest on the road, or
 // stable (the scene's bounds) with a straight full stop from here staying on the road.
-::testing::AssertionResult ends_safe(const SceneConfig& config, const CellInput& cell, const StrategyOutcome& o) {
+::testing::AssertionResult ends_safe(const SceneConfig& config, const TJunctionCell& cell, const StrategyOutcome& o) {
   const Scene scene(config, cell);
   const VehicleState& s = o.path.back().state;
   const auto box = scene.ego_box(s);
@@ -61,8 +61,8 @@ double lowest_corner_y(const Scene& scene, const VehicleState& state) {
 }
 
 // Cells across the band where braking alone fails (dry road, wide and tight passages, wet road).
-std::vector<CellInput> evasion_cells() {
-  std::vector<CellInput> cells;
+std::vector<TJunctionCell> evasion_cells() {
+  std::vector<TJunctionCell> cells;
   for (const double speed : {40.0, 55.0, 70.0})
     for (const double ttc : {0.45, 0.7})
       for (const double passage : {3.0, 2.0}) cells.push_back({speed, ttc, 1.0, passage, 10.0});
@@ -74,7 +74,7 @@ std::vector<CellInput> evasion_cells() {
 TEST(SafeState, EveryAvoidanceEndsStoppedOrStableWithRoomToStop) {
   const SceneConfig config;
   int avoided = 0;
-  for (const CellInput& cell : evasion_cells()) {
+  for (const TJunctionCell& cell : evasion_cells()) {
     const CellResult r = simulate_cell(config, cell, {});
     for (const auto& o : r.strategies) {
       if (!o.avoided) continue;
@@ -272,7 +272,7 @@ TEST(Witness, TheStitchedManeuverOfAPlannerReplaysItsRunStepForStep) {
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
   const ControlLimits drift{.allow_rear_lock = true};
   int compared = 0;
-  for (const CellInput& cell : evasion_cells()) {
+  for (const TJunctionCell& cell : evasion_cells()) {
     const Scene scene(config, cell);
     const PlanResult plan = plan_rrt(scene, *model, drift, 7, false);
     for (const auto* found : {&plan.avoidance, &plan.collision}) {
@@ -307,7 +307,7 @@ namespace emrm::sim {
 namespace outcome_model_test {
 
 // The region of a cell for several seeds: the same for every seed, or undecided for every seed.
-::testing::AssertionResult seed_stable(const SceneConfig& config, const CellInput& cell, int seeds) {
+::testing::AssertionResult seed_stable(const SceneConfig& config, const TJunctionCell& cell, int seeds) {
   std::string regions;
   bool all_undecided = true;
   bool same = true;
@@ -330,9 +330,9 @@ TEST(SeedStability, TheRegionDoesNotDependOnThePlannersSeed) {
   // The wet-road cell that gave Y O O Y O O O Y for seeds 1…8 when a single search decided it,
   // and cells on the edges of the evasion band (dry, wet, narrow).
   const SceneConfig config;
-  const std::vector<CellInput> cells{{65.0, 1.1, 0.5, 2.0, 10.0},  {60.0, 0.4, 1.0, 3.0, 10.0},
-                                     {45.0, 0.35, 1.0, 3.0, 10.0}, {70.0, 0.5, 1.0, 2.0, 10.0},
-                                     {50.0, 0.9, 0.6, 2.5, 10.0},  {40.0, 0.3, 1.0, 1.8, 10.0}};
+  const std::vector<TJunctionCell> cells{{65.0, 1.1, 0.5, 2.0, 10.0},  {60.0, 0.4, 1.0, 3.0, 10.0},
+                                         {45.0, 0.35, 1.0, 3.0, 10.0}, {70.0, 0.5, 1.0, 2.0, 10.0},
+                                         {50.0, 0.9, 0.6, 2.5, 10.0},  {40.0, 0.3, 1.0, 1.8, 10.0}};
   for (const auto& cell : cells) EXPECT_TRUE(seed_stable(config, cell, 3));
 }
 
@@ -344,7 +344,7 @@ TEST(SeedStability, TheRegionDoesNotDependOnThePlannersSeed) {
 TEST(SeedStability, AStrengthenedSearchIsNotCutShortWhenItsCallersWorkIsCancelled) {
   // A cell of the shipped scene whose region the restarts decide (Y, with a witness).
   const SceneConfig config = load_scene_config(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/scene.yaml");
-  const CellInput cell{61.0, 0.91, 1.0, 3.0, 10.0};
+  const TJunctionCell cell{61.0, 0.91, 1.0, 3.0, 10.0};
   CellOptions options;
   options.seed = 13957258665385695640ULL;
   const CellResult alone = simulate_cell(config, cell, options);
@@ -376,7 +376,7 @@ TEST(SeedStability, DISABLED_HundredCellsNearTheBoundariesFiveSeeds) {
     const double speed = 30.0 + 42.0 * uniform();
     const double mu = 0.3 + 0.7 * uniform();
     const double stop_ttc = speed / 3.6 / (2.0 * mu * kGravity_mps2);
-    const CellInput cell{speed, std::max(0.1, stop_ttc - 0.6 * uniform()), mu, 1.5 + 2.0 * uniform(), 10.0};
+    const TJunctionCell cell{speed, std::max(0.1, stop_ttc - 0.6 * uniform()), mu, 1.5 + 2.0 * uniform(), 10.0};
     if (!Scene(config, cell).feasible()) continue;
     ++tried;
     const auto verdict = seed_stable(config, cell, 5);
@@ -397,7 +397,7 @@ TEST(Evidence, ACertifiedCellSkipsTheAvoidanceSearchesAndSaysWhy) {
   // 70 km/h, 4.9 m to the truck: no car gets past it. The certificate settles the region, and
   // the searches it makes pointless are not run; with certify off they run and find nothing.
   const SceneConfig config;
-  const CellInput cell{70.0, 0.25, 1.0, 3.0, 10.0};
+  const TJunctionCell cell{70.0, 0.25, 1.0, 3.0, 10.0};
   const CellResult r = simulate_cell(config, cell, {});
   ASSERT_TRUE(r.certificate.has_value());
   EXPECT_TRUE(check_certificate(Scene(config, cell), *r.certificate));
@@ -419,7 +419,7 @@ TEST(Evidence, ACertifiedCellSkipsTheAvoidanceSearchesAndSaysWhy) {
 
 TEST(Evidence, GreenAndYellowCellsCarryWitnessesOrangeAndRedNeverDo) {
   const SceneConfig config;
-  for (const CellInput& cell : evasion_cells()) {
+  for (const TJunctionCell& cell : evasion_cells()) {
     const CellResult r = simulate_cell(config, cell, {});
     if (r.region == Region::kG || r.region == Region::kY) {
       EXPECT_EQ(r.evidence, Evidence::kWitness);

@@ -32,6 +32,18 @@ TEST(Roller, CoastingHitsTheTruckAtTheTimeToCollision) {
 // The public check() of the checkers (for a caller that runs them outside a Roller) answers as
 // the per-step ends() does: nothing for a free car mid-road, contact for a car inside the truck,
 // the horizon at its end.
+// The first step of a car going straight from its start: no check ends it.
+Step first_step(const Scene& scene, const SceneConfig& config) {
+  Step free;
+  free.before = free.state = scene.ego_initial();
+  free.t_s = free.dt_s = config.simulation.dt_s;
+  free.ego = scene.ego_box(free.state);
+  free.truck = scene.truck_at(free.t_s);
+  free.ego_extent = extent_of(free.ego);
+  free.truck_extent = extent_of(free.truck.box);
+  return free;
+}
+
 TEST(Roller, CheckersAnswerThroughCheckAsTheyDoPerStep) {
   const SceneConfig config;
   const Scene scene(config, {50.0, 1.2, 1.0, 3.0, 10.0});
@@ -40,13 +52,7 @@ TEST(Roller, CheckersAnswerThroughCheckAsTheyDoPerStep) {
   const TerminationTest termination(scene);
   RolloutResult result;
 
-  Step free;
-  free.before = free.state = scene.ego_initial();
-  free.t_s = free.dt_s = config.simulation.dt_s;
-  free.ego = scene.ego_box(free.state);
-  free.truck = scene.truck_at(free.t_s);
-  free.ego_extent = extent_of(free.ego);
-  free.truck_extent = extent_of(free.truck.box);
+  Step free = first_step(scene, config);
   EXPECT_EQ(validity.check(free, result), std::nullopt);
   EXPECT_EQ(termination.check(free, result), std::nullopt);
 
@@ -89,13 +95,7 @@ TEST(Roller, ChecksAddedToEitherCheckerRunAfterItsBuiltInOnes) {
   termination.add(std::make_unique<CountingCheck>(Termination::kStabilised, termination_calls));
   RolloutResult result;
 
-  Step free;
-  free.before = free.state = scene.ego_initial();
-  free.t_s = free.dt_s = config.simulation.dt_s;
-  free.ego = scene.ego_box(free.state);
-  free.truck = scene.truck_at(free.t_s);
-  free.ego_extent = extent_of(free.ego);
-  free.truck_extent = extent_of(free.truck.box);
+  Step free = first_step(scene, config);
   Step inside = free;
   inside.state.x_m = inside.before.x_m = scene.truck_at(free.t_s).box.center.x;
   inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
@@ -184,7 +184,7 @@ TEST(Rrt, FindsAnAvoidanceWhereverTheReferencePlannerDoesIn99PercentOfCells) {
   int reference_avoids = 0;
   int rrt_misses = 0;
   while (cells < kComparisonCells) {
-    const CellInput cell{speed(rng), ttc(rng), mu(rng), passage(rng), 10.0};
+    const TJunctionCell cell{speed(rng), ttc(rng), mu(rng), passage(rng), 10.0};
     const Scene scene(config, cell);
     if (!scene.feasible()) continue;
     ++cells;

@@ -48,7 +48,7 @@ InputError parse_error(const std::string& text) {
   return emrm::testing::input_error_of([&] { (void)parse_scene_config(text, "scene.yaml"); }, text);
 }
 
-UsageError cell_error(const CellInput& cell) {
+UsageError cell_error(const TJunctionCell& cell) {
   try {
     validate_cell(SceneConfig{}, cell);
   } catch (const UsageError& e) {
@@ -58,8 +58,8 @@ UsageError cell_error(const CellInput& cell) {
   return UsageError("none");
 }
 
-CellInput cell(double speed_kph, double ttc_s, double passage_m = 3.0, double truck_speed_kph = 10.0) {
-  CellInput c;
+TJunctionCell cell(double speed_kph, double ttc_s, double passage_m = 3.0, double truck_speed_kph = 10.0) {
+  TJunctionCell c;
   c.speed_kph = speed_kph;
   c.ttc_s = ttc_s;
   c.passage_m = passage_m;
@@ -498,7 +498,7 @@ TEST(ValidateCell, AcceptsTheOddCorners) {
   const SceneConfig config;
   EXPECT_NO_THROW(validate_cell(config, cell(30.0, 0.25, 1.0, 0.0)));
   EXPECT_NO_THROW(validate_cell(config, cell(72.0, 2.95, 8.5, 20.0)));  // passage as wide as the road
-  CellInput slippery = cell(50, 1);
+  TJunctionCell slippery = cell(50, 1);
   slippery.mu = 2.0;
   EXPECT_NO_THROW(validate_cell(config, slippery));
 }
@@ -507,28 +507,28 @@ TEST(ValidateCell, RejectsEachFactorOutOfRangeByName) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   struct Bad {
-    std::function<void(CellInput&)> edit;
+    std::function<void(TJunctionCell&)> edit;
     std::string says;
   };
   const std::vector<Bad> cases{
-      {[](CellInput& c) { c.speed_kph = -10; }, "speed_kph"},
-      {[](CellInput& c) { c.speed_kph = 0; }, "speed_kph"},
-      {[&](CellInput& c) { c.speed_kph = nan; }, "speed_kph"},
-      {[&](CellInput& c) { c.speed_kph = inf; }, "speed_kph"},
-      {[](CellInput& c) { c.ttc_s = 0; }, "ttc_s"},
-      {[&](CellInput& c) { c.ttc_s = nan; }, "ttc_s"},
-      {[](CellInput& c) { c.mu = 0; }, "0 < mu <= 2"},
-      {[](CellInput& c) { c.mu = -0.5; }, "mu"},
-      {[](CellInput& c) { c.mu = 2.01; }, "0 < mu <= 2"},
-      {[&](CellInput& c) { c.mu = nan; }, "mu"},
-      {[](CellInput& c) { c.truck_speed_kph = -1; }, "truck_speed_kph"},
-      {[&](CellInput& c) { c.truck_speed_kph = inf; }, "truck_speed_kph"},
-      {[](CellInput& c) { c.passage_m = 0; }, "passage_m"},
-      {[&](CellInput& c) { c.passage_m = nan; }, "passage_m"},
-      {[](CellInput& c) { c.passage_m = 8.51; }, "wider than the road"},
+      {[](TJunctionCell& c) { c.speed_kph = -10; }, "speed_kph"},
+      {[](TJunctionCell& c) { c.speed_kph = 0; }, "speed_kph"},
+      {[&](TJunctionCell& c) { c.speed_kph = nan; }, "speed_kph"},
+      {[&](TJunctionCell& c) { c.speed_kph = inf; }, "speed_kph"},
+      {[](TJunctionCell& c) { c.ttc_s = 0; }, "ttc_s"},
+      {[&](TJunctionCell& c) { c.ttc_s = nan; }, "ttc_s"},
+      {[](TJunctionCell& c) { c.mu = 0; }, "0 < mu <= 2"},
+      {[](TJunctionCell& c) { c.mu = -0.5; }, "mu"},
+      {[](TJunctionCell& c) { c.mu = 2.01; }, "0 < mu <= 2"},
+      {[&](TJunctionCell& c) { c.mu = nan; }, "mu"},
+      {[](TJunctionCell& c) { c.truck_speed_kph = -1; }, "truck_speed_kph"},
+      {[&](TJunctionCell& c) { c.truck_speed_kph = inf; }, "truck_speed_kph"},
+      {[](TJunctionCell& c) { c.passage_m = 0; }, "passage_m"},
+      {[&](TJunctionCell& c) { c.passage_m = nan; }, "passage_m"},
+      {[](TJunctionCell& c) { c.passage_m = 8.51; }, "wider than the road"},
   };
   for (const auto& bad : cases) {
-    CellInput c;
+    TJunctionCell c;
     bad.edit(c);
     EXPECT_THAT(cell_error(c).what(), HasSubstr(bad.says));
   }

@@ -50,7 +50,7 @@ TEST(EmergencyStop, AvoidsExactlyAboveTheAnalyticBoundary) {
       const double mu = 0.1 * m;
       const double v = speed_kph / 3.6;
       const double boundary_s = v / (2.0 * mu * kGravity_mps2);
-      CellInput cell{speed_kph, boundary_s + dt, mu, 3.0, 10.0};
+      TJunctionCell cell{speed_kph, boundary_s + dt, mu, 3.0, 10.0};
       EXPECT_TRUE(outcome(simulate_cell(config, cell, only({"emergency_stop"})), "emergency_stop").avoided)
           << speed_kph << " km/h, mu " << mu << ", TTC " << cell.ttc_s;
       cell.ttc_s = boundary_s - dt;
@@ -81,7 +81,7 @@ TEST(EmergencyStop, MoreTimeOrMoreFrictionNeverTurnsAvoidanceIntoCollision) {
   for (double speed_kph = 30; speed_kph <= 72; speed_kph += test::sample(3.0, 9.0)) {
     bool avoided_before = false;
     for (int k = 0; k < 46; ++k) {
-      const CellInput cell{speed_kph, 0.25 + 0.06 * k, 1.0, 3.0, 10.0};
+      const TJunctionCell cell{speed_kph, 0.25 + 0.06 * k, 1.0, 3.0, 10.0};
       const auto r = simulate_cell(config, cell, only({"emergency_stop"}));
       if (!r.feasible) break;
       const bool avoided = outcome(r, "emergency_stop").avoided;
@@ -206,7 +206,7 @@ TEST(Outcomes, EmrmChoosesByTheLossEvaluationRule) {
 }
 
 TEST(Determinism, SameSeedGivesIdenticalJsonAndOtherSeedsMayDiffer) {
-  const CellInput cell{60.0, 0.6, 0.8, 3.0, 10.0};
+  const TJunctionCell cell{60.0, 0.6, 0.8, 3.0, 10.0};
   CellOptions options;
   options.seed = 7;
   const SceneConfig config;
@@ -217,7 +217,7 @@ TEST(Determinism, SameSeedGivesIdenticalJsonAndOtherSeedsMayDiffer) {
 }
 
 TEST(Determinism, AStrategyDoesNotDependOnWhichOthersWereAskedFor) {
-  const CellInput cell{55.0, 0.55, 1.0, 3.0, 10.0};
+  const TJunctionCell cell{55.0, 0.55, 1.0, 3.0, 10.0};
   const auto all = simulate_cell(SceneConfig{}, cell, {});
   const auto one = simulate_cell(SceneConfig{}, cell, only({"drift_to_accident"}));
   const SceneConfig config;

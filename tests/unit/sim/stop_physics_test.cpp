@@ -84,7 +84,7 @@ TEST(StopCall, AgreesWithTheSimulatedEmergencyStop) {
   std::size_t stops = 0, cannot = 0, cannot_only_later = 0;
   const std::size_t cells = test::sample(4000, 800);
   for (std::size_t k = 0; k < cells; ++k) {
-    const CellInput cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 4]};
+    const TJunctionCell cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 4]};
     if (!Scene(config, cell).feasible()) continue;
     const StopCall call = stop_call(config, cell);
     if (call == StopCall::kUnknown) continue;
@@ -117,7 +117,7 @@ TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
   const double top = config.road.ego_lane_center_m + config.ego.width_m / 2.0;
   const std::size_t cells = test::sample(120, 30);
   for (std::size_t k = 0; k < cells; ++k) {
-    const CellInput cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 3]};
+    const TJunctionCell cell{speed(random), ttc(random), mu(random), passage(random), truck_speeds[k % 3]};
     if (!Scene(config, cell).feasible()) continue;
     SceneConfig instant = config;
     instant.actuation = ActuationConfig{};
@@ -135,7 +135,7 @@ TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
   if (!test::kSanitized) {
     EXPECT_GT(still_entering, 0u);  // a few in a hundred
   }
-  CellInput standing{50.0, 0.25, 0.8, 2.0, 0.0};
+  TJunctionCell standing{50.0, 0.25, 0.8, 2.0, 0.0};
   EXPECT_FALSE(may_pass_early(config, standing));
 }
 
