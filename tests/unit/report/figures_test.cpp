@@ -30,8 +30,9 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
   // The drawing colours each cell by its region: one rectangle per cell in the region's colour (as
   // gnuplot's SVG writes the figure's palette, docs/report.md) and one more, the key's.
   const std::string svg = core::read_file(f.svg);
-  for (const auto& [region, rgb] :
+  for (const auto& [name, rgb] :
        {std::pair{"G", " 44, 160,  44"}, {"Y", "255, 221,  87"}, {"O", "255, 127,  14"}, {"R", "214,  39,  40"}}) {
+    const std::string region = name;  // a structured binding is not captured by a lambda in clang 14
     const std::string fill = fmt::format("<polygon fill = 'rgb({})'", rgb);
     std::size_t drawn = 0;
     for (auto at = svg.find(fill); at != std::string::npos; at = svg.find(fill, at + 1)) ++drawn;
