@@ -41,7 +41,7 @@ inline constexpr std::array<RegionStyle, 5> kRegions{{
 [[nodiscard]] std::string region_colour(std::string_view region);
 
 struct PanelSpec {
-  char letter;
+  char letter = 0;
   std::string grid;
   Axis x, y, fixed;
   std::string_view name;  ///< "Speed × TTC, coarse grid"

@@ -37,7 +37,8 @@ class MpiSession {
   MpiSession();
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
-  ~MpiSession();
+  // MPI_Finalize (or MPI_Abort) with MPI; defaulted in the build without it (without_mpi.cpp).
+  ~MpiSession();  // NOLINT(performance-trivially-destructible)
   [[nodiscard]] int rank() const noexcept { return rank_; }
   [[nodiscard]] int size() const noexcept { return size_; }
   /// End with MPI_Abort(exit_code) instead of MPI_Finalize, which waits for every rank: a rank
