@@ -1,5 +1,6 @@
 #include "emrm/campaign/store.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -176,6 +177,24 @@ TEST(ResultStore, ADuplicateCellFailsTheWholeBatch) {
   store.insert({record("first", 0, true)});
   EXPECT_THROW(store.insert({record("first", 1, true), record("first", 0, true)}), Error);
   EXPECT_EQ(store.cell_count(), 1);
+}
+
+TEST(ResultStore, ACellWithAnotherNumberOfFactorsFailsTheWholeBatch) {
+  const auto path = scratch("factor_count") / "results.sqlite";
+  ResultStore store = ResultStore::open_for_writing(path, test_meta());  // the T-junction: five factors
+  store.insert({record("first", 0, true)});
+  for (const sim::CellInput& factors :
+       {sim::CellInput{50.0, 1.0, 1.0}, sim::CellInput{50.0, 1.0, 1.0, 3.0, 10.0, 2.0}}) {
+    CellRecord wrong = record("first", 2, true);
+    wrong.factors = factors;
+    try {
+      store.insert({record("first", 1, true), wrong});
+      FAIL() << "expected a UsageError";
+    } catch (const UsageError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(fmt::format("has {} factors, the store's scene 5", factors.size())));
+    }
+    EXPECT_EQ(store.cell_count(), 1);
+  }
 }
 
 TEST(ResultStore, RefusesAnotherConfigurationNamingBothHashes) {
