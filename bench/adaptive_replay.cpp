@@ -89,13 +89,14 @@ int main(int argc, char** argv) try {
   campaign::ResultStore::open_for_reading(argv[2]).for_each_cell([&](const campaign::CellRecord& r) {
     auto& regions = truth[r.grid];
     if (r.index >= 0 && static_cast<std::size_t>(r.index) < regions.size()) {
-      regions[static_cast<std::size_t>(r.index)] = campaign::adaptive::region_named(r.region);
+      regions[static_cast<std::size_t>(r.index)] = r.region;
       // A certificate without a margin (stores written before the certificate checked an arrival
       // before the brakes act) no longer certifies: the cell's search is strengthened now.
       const bool void_certificate = r.certificate.find("\"margin_m\":null") != std::string::npos;
       // An inferred O or R cell of an adaptive store, simulated by the replay, is taken to be dear
       // (no certificate known): the estimate errs high.
-      const bool inferred_unavoidable = r.method != "simulated" && (r.region == "O" || r.region == "R");
+      const bool inferred_unavoidable =
+          r.method != campaign::CellMethod::kSimulated && (r.region == sim::Region::kO || r.region == sim::Region::kR);
       dear[r.grid][static_cast<std::size_t>(r.index)] =
           r.strengthened || void_certificate || inferred_unavoidable ? 1 : 0;
     }

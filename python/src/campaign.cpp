@@ -177,12 +177,12 @@ py::dict region_columns(const std::vector<campaign::CellRecord>& records, const 
   Columns<CellRecord> c(records);
   add_cell_factors(c, factors, [](const CellRecord& r) -> const CellRecord& { return r; });
   c.add("feasible", [](const CellRecord& r) { return r.feasible; });
-  c.add("region", [](const CellRecord& r) { return r.region; });
-  c.add("evidence", [](const CellRecord& r) { return r.evidence; });
-  c.add("mitigation_evidence", [](const CellRecord& r) { return r.mitigation_evidence; });
+  c.add("region", [](const CellRecord& r) { return core::enum_text(r.region); });
+  c.add("evidence", [](const CellRecord& r) { return core::enum_text(r.evidence); });
+  c.add("mitigation_evidence", [](const CellRecord& r) { return core::enum_text(r.mitigation_evidence); });
   c.add("p_mais3_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_mais3_reduction : kBlank; });
   c.add("p_fatal_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_fatal_reduction : kBlank; });
-  c.add("method", [](const CellRecord& r) { return r.feasible ? r.method : std::string(); });
+  c.add("method", [](const CellRecord& r) { return r.feasible ? core::enum_text(r.method) : std::string(); });
   c.add("seed", [](const CellRecord& r) { return r.seed; });
   c.add("strengthened", [](const CellRecord& r) { return r.strengthened; });
   c.add("unmitigated_impact_speed_kph", [](const CellRecord& r) { return r.unmitigated_impact_speed_kph; });
@@ -219,7 +219,7 @@ py::dict outcome_columns(const std::vector<campaign::CellRecord>& records, const
   c.add("min_ttc_s", [](const OutcomeRow& r) { return r.outcome->min_ttc_s; });
   c.add("road_departure", [](const OutcomeRow& r) { return r.outcome->road_departure; });
   c.add("departure_speed_kph", [](const OutcomeRow& r) { return r.outcome->departure_speed_kph(); });
-  c.add("evidence", [](const OutcomeRow& r) { return r.outcome->evidence; });
+  c.add("evidence", [](const OutcomeRow& r) { return core::enum_text(r.outcome->evidence); });
   c.add("contact", [](const OutcomeRow& r) { return r.outcome->contact; });
   c.add("p_mais3", [](const OutcomeRow& r) { return r.outcome->p_mais3; });
   c.add("p_fatal", [](const OutcomeRow& r) { return r.outcome->p_fatal; });

@@ -148,12 +148,6 @@ std::string_view basis_name(Method m) noexcept {
   return "";
 }
 
-sim::Region region_named(std::string_view name) noexcept {
-  for (const Region r : {Region::kG, Region::kY, Region::kO, Region::kR})
-    if (sim::region_name(r) == name) return r;
-  return Region::kInfeasible;
-}
-
 void check(const Options& options) {
   if (options.initial_levels == 1)
     throw std::invalid_argument("adaptive search: initial_levels must be 0 (automatic) or at least 2");

@@ -350,6 +350,18 @@ Polyline thin(const std::vector<sim::PathPoint>& points, std::size_t n) {
 
 }  // namespace
 
+CellEvidence cell_evidence(sim::Evidence e) noexcept {
+  switch (e) {
+    case sim::Evidence::kWitness:
+      return CellEvidence::kWitness;
+    case sim::Evidence::kCertificate:
+      return CellEvidence::kCertificate;
+    case sim::Evidence::kUndecided:
+      return CellEvidence::kUndecided;
+  }
+  return CellEvidence::kNone;
+}
+
 CellRecord to_record(const sim::SceneConfig& scene, const std::string& grid, std::int64_t index, std::uint64_t seed,
                      const sim::CellResult& result, bool keep_trajectories) {
   constexpr double kKph = 3.6;
@@ -359,13 +371,13 @@ CellRecord to_record(const sim::SceneConfig& scene, const std::string& grid, std
   r.factors = result.input;
   r.seed = seed;
   r.feasible = result.feasible;
-  r.region = std::string(sim::region_name(result.region));
+  r.region = result.region;
   r.unmitigated_impact_speed_kph = result.unmitigated.impact_speed_mps * kKph;
   r.unmitigated_delta_v_kph = result.unmitigated.delta_v_mps * kKph;
   r.unmitigated_p_mais3 = result.unmitigated.p_mais3;
   r.unmitigated_p_fatal = result.unmitigated.p_fatal;
   r.unmitigated_loss_level = result.unmitigated.loss_level;
-  if (result.feasible) r.evidence = std::string(sim::evidence_name(result.evidence));
+  if (result.feasible) r.evidence = cell_evidence(result.evidence);
   r.mitigation_evidence = result.mitigation_evidence;
   r.strengthened = result.strengthened;
   if (result.certificate) r.certificate = sim::to_json(*result.certificate, sim::scenario_factors(scene)).dump();
@@ -390,7 +402,7 @@ CellRecord to_record(const sim::SceneConfig& scene, const std::string& grid, std
     out.loss_evaluation_trace = o.loss_evaluation_trace;
     out.chosen_strategy = o.chosen_strategy;
     out.adopted_from = o.adopted_from;
-    out.evidence = std::string(sim::evidence_name(o.evidence));
+    out.evidence = o.evidence;
     out.maneuver = sim::to_json(o.maneuver).dump();
     if (keep_trajectories) {
       // Enough of each tree to draw it: at most 400 edges of each kind, evenly chosen, 4 points each.

@@ -51,25 +51,26 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
     for (const double v : r.factors) factors.push_back(number(v));
     core::Row region = factors;
     region.push_back(r.feasible ? "1" : "0");
-    region.push_back(r.region);
-    region.push_back(r.evidence);
-    region.push_back(r.mitigation_evidence);
+    region.push_back(core::enum_text(r.region));
+    region.push_back(core::enum_text(r.evidence));
+    region.push_back(core::enum_text(r.mitigation_evidence));
     region.push_back(r.simulated() ? number(r.p_mais3_reduction) : "");
     region.push_back(r.simulated() ? number(r.p_fatal_reduction) : "");
-    region.push_back(r.feasible ? r.method : "");
+    region.push_back(r.feasible ? core::enum_text(r.method) : "");
     regions << core::csv_line(region);
     nlohmann::ordered_json j{{"grid", r.grid}, {"index", r.index}};
     for (std::size_t f = 0; f < keys.size() && f < r.factors.size(); ++f) j[keys[f]] = r.factors[f];
     j["seed"] = r.seed;
     j["feasible"] = r.feasible;
-    j["region"] = r.region;
-    if (r.feasible && r.method == "inferred") {
-      j["method"] = r.method;
+    j["region"] = core::enum_text(r.region);
+    if (r.feasible && r.method == CellMethod::kInferred) {
+      j["method"] = core::enum_text(r.method);
       j["inferred_from"] = r.inferred_from;
     } else if (r.feasible) {
-      j["method"] = r.method;
-      j["evidence"] = r.evidence;
-      if (!r.mitigation_evidence.empty()) j["mitigation_evidence"] = r.mitigation_evidence;
+      j["method"] = core::enum_text(r.method);
+      j["evidence"] = core::enum_text(r.evidence);
+      if (r.mitigation_evidence != sim::MitigationEvidence::kNone)
+        j["mitigation_evidence"] = core::enum_text(r.mitigation_evidence);
       j["strengthened"] = r.strengthened;
       if (!r.certificate.empty()) {
         try {
@@ -89,16 +90,17 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
       auto& outcomes = j["outcomes"] = nlohmann::ordered_json::array();
       for (const auto& o : r.outcomes) {
         core::Row row = factors;
-        row.insert(row.end(), {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
-                               std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
-                               o.road_departure ? "1" : "0", number(o.departure_speed_kph()), o.evidence});
+        row.insert(row.end(),
+                   {o.strategy, o.avoided ? "1" : "0", number(o.impact_speed_kph), number(o.delta_v_kph),
+                    std::to_string(o.loss_level), std::to_string(o.delta_loss), number(o.min_ttc_s),
+                    o.road_departure ? "1" : "0", number(o.departure_speed_kph()), core::enum_text(o.evidence)});
         cells << core::csv_line(row);
         outcomes.push_back({{"strategy", o.strategy},
                             {"avoided", o.avoided},
                             {"contact", o.contact},
                             {"road_departure", o.road_departure},
                             {"departure_speed_kph", o.departure_speed_kph()},
-                            {"evidence", o.evidence},
+                            {"evidence", core::enum_text(o.evidence)},
                             {"impact_speed_kph", o.impact_speed_kph},
                             {"delta_v_kph", o.delta_v_kph},
                             {"p_mais3", o.p_mais3},

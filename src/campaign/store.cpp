@@ -16,6 +16,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/version.hpp"
+#include "store_fields.hpp"
 #include "store_sql.hpp"
 
 namespace emrm::campaign {
@@ -66,23 +67,11 @@ constexpr const char* kSchema = R"sql(
 CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE grids(position INTEGER PRIMARY KEY, name TEXT NOT NULL UNIQUE);
 CREATE TABLE cells(
-  grid TEXT NOT NULL, cell_index INTEGER NOT NULL,
-  {factors}
-  seed TEXT NOT NULL, feasible INTEGER NOT NULL, region TEXT NOT NULL,
-  unmitigated_impact_speed_kph REAL NOT NULL, unmitigated_delta_v_kph REAL NOT NULL,
-  unmitigated_p_mais3 REAL NOT NULL, unmitigated_p_fatal REAL NOT NULL, unmitigated_loss_level INTEGER NOT NULL,
-  evidence TEXT NOT NULL, mitigation_evidence TEXT NOT NULL, strengthened INTEGER NOT NULL, certificate TEXT NOT NULL,
-  p_mais3_reduction REAL NOT NULL, p_fatal_reduction REAL NOT NULL,
-  method TEXT NOT NULL, inferred_from TEXT NOT NULL,
+  {cells},
   PRIMARY KEY(grid, cell_index)) WITHOUT ROWID;
 CREATE TABLE outcomes(
-  grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL, strategy TEXT NOT NULL,
-  avoided INTEGER NOT NULL, contact INTEGER NOT NULL, road_departure INTEGER NOT NULL,
-  impact_speed_kph REAL NOT NULL, delta_v_kph REAL NOT NULL, p_mais3 REAL NOT NULL, p_fatal REAL NOT NULL,
-  loss_level INTEGER NOT NULL, delta_loss INTEGER NOT NULL, min_ttc_s REAL,
-  planner_nodes INTEGER NOT NULL, planner_rollouts INTEGER NOT NULL,
-  fsm_trace TEXT NOT NULL, loss_evaluation_trace TEXT NOT NULL, chosen_strategy TEXT NOT NULL,
-  adopted_from TEXT NOT NULL, evidence TEXT NOT NULL, maneuver TEXT NOT NULL,
+  grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL,
+  {outcomes},
   PRIMARY KEY(grid, cell_index, position)) WITHOUT ROWID;
 CREATE TABLE trajectories(
   grid TEXT NOT NULL, cell_index INTEGER NOT NULL, position INTEGER NOT NULL,
@@ -236,10 +225,12 @@ ResultStore ResultStore::open_for_writing(const std::filesystem::path& results_s
   exec(db, results_sqlite, "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
   exec(db, results_sqlite, "BEGIN");
   {
-    const sim::FactorTable factors = scenario_factors(meta);
-    std::vector<std::string> columns;
-    for (const sim::Factor& f : factors) columns.push_back(f.key + " REAL NOT NULL,");
-    const std::string schema = fmt::format(fmt::runtime(kSchema), fmt::arg("factors", core::join(columns, " ")));
+    // The cells' and outcomes' columns from the records' field lists (store_fields.hpp).
+    std::vector<std::string> keys;
+    for (const sim::Factor& f : scenario_factors(meta)) keys.push_back(f.key);
+    const std::string schema = fmt::format(
+        fmt::runtime(kSchema), fmt::arg("cells", core::join(detail::column_definitions<CellRecord>(keys), ",\n  ")),
+        fmt::arg("outcomes", core::join(detail::column_definitions<OutcomeRecord>({}), ",\n  ")));
     exec(db, results_sqlite, schema.c_str());
   }
   {

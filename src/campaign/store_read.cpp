@@ -12,11 +12,13 @@
 #include <utility>
 
 #include "emrm/campaign/store.hpp"
+#include "store_fields.hpp"
 #include "store_sql.hpp"
 
 namespace emrm::campaign {
 namespace {
 
+using detail::named;
 using detail::not_a_store;
 using detail::Statement;
 using detail::whole_number;
@@ -45,13 +47,6 @@ std::vector<Polyline> decode_lines(std::string_view text) {
   return lines;
 }
 
-std::vector<std::string> split_words(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string word; in >> word;) out.push_back(word);
-  return out;
-}
-
 }  // namespace
 
 void ResultStore::for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const {
@@ -61,12 +56,15 @@ void ResultStore::for_each_key(const std::function<void(std::size_t, std::int64_
   while (q.step()) visit(static_cast<std::size_t>(q.int64(0)), q.int64(1));
 }
 
-std::vector<std::pair<std::int64_t, std::string>> ResultStore::simulated_regions(const std::string& grid) const {
+std::vector<std::pair<std::int64_t, sim::Region>> ResultStore::simulated_regions(const std::string& grid) const {
   Statement q(db_, path_,
               "SELECT cell_index, region FROM cells WHERE grid = ? AND method = 'simulated' ORDER BY cell_index");
   q.bind(1, grid);
-  std::vector<std::pair<std::int64_t, std::string>> out;
-  while (q.step()) out.emplace_back(q.int64(0), q.text(1));
+  std::vector<std::pair<std::int64_t, sim::Region>> out;
+  while (q.step()) {
+    const std::int64_t index = q.int64(0);
+    out.emplace_back(index, named<sim::Region>(path_, fmt::format("region of cell {}#{}", grid, index), q.text(1)));
+  }
   return out;
 }
 
@@ -98,63 +96,20 @@ void ResultStore::for_each_cell(const std::function<void(const CellRecord&)>& vi
   }
   bool have_outcome = outcomes.step();
   CellRecord r;
-  // The factor columns stand between cell_index and seed, one per factor of the scene (store.cpp).
-  const int seed_column = cells.column_named("seed");
-  if (seed_column < 2 || seed_column - 2 > static_cast<int>(sim::kMaxFactors))
-    not_a_store(path_, "its cells table has no seed column after its factors");
-  const auto factor_count = static_cast<std::size_t>(seed_column - 2);
-  std::array<double, sim::kMaxFactors> factors{};
+  // The columns of each field, found by name (store_fields.hpp); the factors' between them.
+  const detail::FieldColumns<CellRecord> cell_columns(cells, path_);
+  constexpr std::string_view kOutcomeKeys[] = {"grid", "cell_index", "position"};
+  const detail::FieldColumns<OutcomeRecord> outcome_columns(outcomes, path_, kOutcomeKeys);
   while (cells.step()) {
-    int c = 0;
-    r.grid = cells.text(c++);
-    r.index = cells.int64(c++);
-    for (std::size_t f = 0; f < factor_count; ++f) factors[f] = cells.real(c++);
-    r.factors = sim::CellInput(std::span<const double>(factors.data(), factor_count));
-    r.seed = whole_number<std::uint64_t>(path_, fmt::format("seed of cell {}#{}", r.grid, r.index), cells.text(c++));
-    r.feasible = cells.integer(c++) != 0;
-    r.region = cells.text(c++);
-    r.unmitigated_impact_speed_kph = cells.real(c++);
-    r.unmitigated_delta_v_kph = cells.real(c++);
-    r.unmitigated_p_mais3 = cells.real(c++);
-    r.unmitigated_p_fatal = cells.real(c++);
-    r.unmitigated_loss_level = cells.integer(c++);
-    r.evidence = cells.text(c++);
-    r.mitigation_evidence = cells.text(c++);
-    r.strengthened = cells.integer(c++) != 0;
-    r.certificate = cells.text(c++);
-    r.p_mais3_reduction = cells.real(c++);
-    r.p_fatal_reduction = cells.real(c++);
-    r.method = cells.text(c++);
-    if (r.method != "simulated" && r.method != "inferred")
-      not_a_store(path_, fmt::format("the method of cell {}#{} is '{}', not simulated or inferred", r.grid, r.index,
-                                     r.method.substr(0, 40)));
-    r.inferred_from.clear();
-    for (const auto& word : split_words(cells.text(c)))
-      r.inferred_from.push_back(
-          whole_number<std::int64_t>(path_, fmt::format("inferred_from of cell {}#{}", r.grid, r.index), word));
+    cell_columns.read(cells, r,
+                      [&r](const char* name) { return fmt::format("{} of cell {}#{}", name, r.grid, r.index); });
     r.outcomes.clear();
     // Both queries run in the same order, so a cell's outcomes are the next rows that name it.
     while (have_outcome && outcomes.text(0) == r.grid && outcomes.int64(1) == r.index) {
       OutcomeRecord o;
-      o.strategy = outcomes.text(3);
-      o.avoided = outcomes.integer(4) != 0;
-      o.contact = outcomes.integer(5) != 0;
-      o.road_departure = outcomes.integer(6) != 0;
-      o.impact_speed_kph = outcomes.real(7);
-      o.delta_v_kph = outcomes.real(8);
-      o.p_mais3 = outcomes.real(9);
-      o.p_fatal = outcomes.real(10);
-      o.loss_level = outcomes.integer(11);
-      o.delta_loss = outcomes.integer(12);
-      o.min_ttc_s = outcomes.is_null(13) ? std::numeric_limits<double>::infinity() : outcomes.real(13);
-      o.planner_nodes = outcomes.integer(14);
-      o.planner_rollouts = outcomes.integer(15);
-      o.fsm_trace = split_words(outcomes.text(16));
-      o.loss_evaluation_trace = split_words(outcomes.text(17));
-      o.chosen_strategy = outcomes.text(18);
-      o.adopted_from = outcomes.text(19);
-      o.evidence = outcomes.text(20);
-      o.maneuver = outcomes.text(21);
+      outcome_columns.read(outcomes, o, [&r](const char* name) {
+        return fmt::format("{} of an outcome of cell {}#{}", name, r.grid, r.index);
+      });
       if (const auto it = trajectories.find({r.grid, r.index, outcomes.int64(2)}); it != trajectories.end()) {
         o.path = decode_line(it->second[0]);
         o.goal_tree = decode_lines(it->second[1]);

@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 
+#include "emrm/core/enum_names.hpp"
 #include "emrm/core/error.hpp"
 
 namespace emrm::campaign::detail {
@@ -54,6 +55,12 @@ class Statement {
   void bind(int i, int v) { sqlite3_bind_int(stmt_, i, v); }
   void bind(int i, bool v) { sqlite3_bind_int(stmt_, i, v ? 1 : 0); }
   void bind_null(int i) { sqlite3_bind_null(stmt_, i); }
+  /// An enum is stored as its name (core::EnumNames).
+  template <core::NamedEnum E>
+  void bind(int i, E v) {
+    const std::string_view name = core::enum_name(v);
+    sqlite3_bind_text(stmt_, i, name.data(), static_cast<int>(name.size()), SQLITE_TRANSIENT);
+  }
 
   /// The text of a column; a store edited by hand may hold bytes that are not UTF-8, refused here
   /// before they reach a JSON or CSV writer.
@@ -97,6 +104,13 @@ T whole_number(const std::filesystem::path& path, const std::string& what, const
   if (ec != std::errc() || end != text.data() + text.size() || text.empty())
     not_a_store(path, fmt::format("its {} is '{}', not a whole number", what, text.substr(0, 40)));
   return value;
+}
+
+// An enum the store keeps as its name, or not_a_store naming what holds another text.
+template <core::NamedEnum E>
+E named(const std::filesystem::path& path, const std::string& what, const std::string& text) {
+  if (const auto value = core::enum_from_name<E>(text)) return *value;
+  not_a_store(path, fmt::format("its {} is '{}', not {}", what, text.substr(0, 40), core::enum_choices<E>()));
 }
 
 }  // namespace emrm::campaign::detail

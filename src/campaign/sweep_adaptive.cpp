@@ -69,7 +69,7 @@ class AskedCells final : public TaskQueue {
   }
   void deliver(CellRecord record, int cost, double seconds) override {
     const auto cell = static_cast<std::uint32_t>(record.index);
-    const sim::Region region = adaptive::region_named(record.region);
+    const sim::Region region = record.region;
     committer_.add(std::move(record), cost, seconds);
     std::lock_guard lock(mutex_);
     if (const auto it = answers_.find(cell); it != answers_.end()) it->second = region;
@@ -140,7 +140,7 @@ class AskedCells final : public TaskQueue {
 class GridOracle final : public adaptive::Oracle {
  public:
   GridOracle(const Campaign& campaign, std::size_t g, Committer& committer,
-             const std::vector<std::pair<std::int64_t, std::string>>& stored)
+             const std::vector<std::pair<std::int64_t, sim::Region>>& stored)
       : campaign_(campaign),
         g_(static_cast<std::uint32_t>(g)),
         grid_(campaign.grids[g]),
@@ -149,7 +149,7 @@ class GridOracle final : public adaptive::Oracle {
         present_(grid_.cells.size(), 0) {
     for (const auto& [index, region] : stored)
       if (index >= 0 && static_cast<std::size_t>(index) < stored_.size()) {
-        stored_[static_cast<std::size_t>(index)] = adaptive::region_named(region);
+        stored_[static_cast<std::size_t>(index)] = region;
         present_[static_cast<std::size_t>(index)] = 1;
       }
     // The analytic stop boundary is the shipped emergency stop's; with another baseline only a
@@ -189,7 +189,7 @@ class GridOracle final : public adaptive::Oracle {
     if (asked_ != nullptr) return asked_->simulate(static_cast<std::uint32_t>(cell));
     const auto start = Clock::now();
     CellRecord record = simulate_task(campaign_, CellTask{g_, static_cast<std::uint32_t>(cell), 1});
-    const sim::Region region = adaptive::region_named(record.region);
+    const sim::Region region = record.region;
     committer_.add(std::move(record), 1, std::chrono::duration<double>(Clock::now() - start).count());
     return region;
   }
@@ -221,9 +221,9 @@ CellRecord inferred_record(const GridSpec& grid, std::size_t index, std::uint64_
   r.factors = in;
   r.seed = seed;
   r.feasible = true;
-  r.region = std::string(sim::region_name(cell.region));
-  r.evidence = "inferred";
-  r.method = "inferred";
+  r.region = cell.region;
+  r.evidence = CellEvidence::kInferred;
+  r.method = CellMethod::kInferred;
   r.inferred_from.assign(cell.from.begin(), cell.from.end());
   return r;
 }

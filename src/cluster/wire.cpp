@@ -15,24 +15,22 @@
 
 #include "emrm/sim/scene.hpp"
 
-// The records on the wire: every field of OutcomeRecord and CellRecord, in declaration order (found
-// by cereal through argument-dependent lookup, so in the records' namespace; this file only).
+// The records on the wire (found by cereal through argument-dependent lookup, so in the records'
+// namespace; this file only).
 namespace emrm::campaign {
 
+// The records go over the wire field by field, in their field lists' order (records.hpp), then
+// what the lists leave out: an outcome's trajectories, a cell's outcomes.
 template <class Archive>
 void serialize(Archive& archive, OutcomeRecord& o) {
-  archive(o.strategy, o.avoided, o.contact, o.road_departure, o.impact_speed_kph, o.delta_v_kph, o.p_mais3, o.p_fatal,
-          o.loss_level, o.delta_loss, o.min_ttc_s, o.planner_nodes, o.planner_rollouts, o.fsm_trace,
-          o.loss_evaluation_trace, o.chosen_strategy, o.adopted_from, o.evidence, o.maneuver, o.path, o.goal_tree,
-          o.failsafe_tree);
+  OutcomeRecord::visit_fields(o, [&archive](const char*, auto& field, auto...) { archive(field); });
+  archive(o.path, o.goal_tree, o.failsafe_tree);
 }
 
 template <class Archive>
 void serialize(Archive& archive, CellRecord& r) {
-  archive(r.grid, r.index, r.factors, r.seed, r.feasible, r.region, r.unmitigated_impact_speed_kph,
-          r.unmitigated_delta_v_kph, r.unmitigated_p_mais3, r.unmitigated_p_fatal, r.unmitigated_loss_level, r.evidence,
-          r.mitigation_evidence, r.strengthened, r.certificate, r.p_mais3_reduction, r.p_fatal_reduction, r.outcomes,
-          r.method, r.inferred_from);
+  CellRecord::visit_fields(r, [&archive](const char*, auto& field, auto...) { archive(field); });
+  archive(r.outcomes);
 }
 
 template <class Archive>

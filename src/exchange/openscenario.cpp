@@ -43,6 +43,7 @@ struct Quantity {
 // "$KEY": the logical scenario's parameter of each T-junction factor (its key in the factor table).
 struct Parameters {
   std::string speed, ttc, mu, passage, truck_speed;
+  Parameters() = default;
   explicit Parameters(const sim::SceneConfig& config) {
     const sim::FactorTable factors = sim::scenario_factors(config);
     const auto ref = [&](sim::tjunction::Position i) { return "$" + factors[i].key; };
@@ -56,6 +57,7 @@ struct Parameters {
 
 struct Initial {
   Quantity ego_x, ego_y, ego_speed, truck_x, truck_y, truck_speed, mu;
+  Parameters parameters;
 };
 
 Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, const ExportOptions& options) {
@@ -65,9 +67,10 @@ Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, c
   const double ego_back = ego_reference_offset_m(config.ego);
   const double truck_back = truck_reference_offset_m(config.truck, options);
   Initial i;
+  i.parameters = Parameters(config);
   i.ego_x = {ego.x_m - ego_back, ""};
   i.ego_y = {ego.y_m, ""};
-  const Parameters p(config);
+  const Parameters& p = i.parameters;
   i.ego_speed = {ego.vx_mps, "${" + p.speed + " / 3.6}"};
   // The truck heads -y: its rear axle is above its centre.
   i.truck_x = {truck.box.center.x, "${" + p.speed + " / 3.6 * " + p.ttc + plus(config.truck.width_m / 2.0) + "}"};
@@ -270,13 +273,13 @@ std::vector<double> truck_vertex_times(const sim::SceneConfig& config, double re
 // the logical scenario the expression of the parameters that gives it: the passage plus the travel
 // still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's operators as
 // (w + sqrt(w·w)) / 2.
-std::string truck_y_at(const sim::Scene& scene, const ExportOptions& options, double t_s, bool parametric) {
+std::string truck_y_at(const sim::Scene& scene, const Parameters& p, const ExportOptions& options, double t_s,
+                       bool parametric) {
   const sim::SceneConfig& config = scene.config();
   const double back = truck_reference_offset_m(config.truck, options);
   if (!parametric) return num(scene.truck_at(t_s).box.center.y + back);
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
   const double a = config.truck.decel_mps2;
-  const Parameters p(config);
   std::string ahead;
   if (a > 0.0) {
     const std::string w = "(" + p.truck_speed + " / 3.6" + plus(-a * t_s) + ")";
@@ -303,7 +306,7 @@ void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::Cel
   const std::string truck_x = i.truck_x.text(parametric);
   const std::string heading = num(-std::numbers::pi / 2.0);
   follow_trajectory(x, "emrm_truck", times, [&](std::size_t k) {
-    world_position(x, truck_x, truck_y_at(scene, options, times[k], parametric), heading);
+    world_position(x, truck_x, truck_y_at(scene, i.parameters, options, times[k], parametric), heading);
   });
   x.close();
   maneuver_group_end(x, "TruckBrakesAtHazard");

@@ -74,7 +74,9 @@ std::string StemSet::unique(std::string stem) {
   return stem;
 }
 
-bool is_o_or_r(const CellRecord& c) { return c.feasible && (c.region == "O" || c.region == "R"); }
-bool is_undecided(const CellRecord& c) { return is_o_or_r(c) && c.evidence == "undecided"; }
+bool is_o_or_r(const CellRecord& c) {
+  return c.feasible && (c.region == sim::Region::kO || c.region == sim::Region::kR);
+}
+bool is_undecided(const CellRecord& c) { return is_o_or_r(c) && c.evidence == campaign::CellEvidence::kUndecided; }
 
 }  // namespace emrm::report::detail

@@ -74,7 +74,8 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim
       core::Row row = cell_columns(p, c);
       // Certified with the reference at L4: no search ran (the level cannot fall), so the reduction
       // is the emergency stop's, a lower bound on what a least-loss search might find.
-      unsearched += c.feasible && c.evidence == "certificate" && c.mitigation_evidence == "proof";
+      unsearched += c.feasible && c.evidence == campaign::CellEvidence::kCertificate &&
+                    c.mitigation_evidence == sim::MitigationEvidence::kProof;
       if (c.feasible) {
         for (const double v : {c.unmitigated_p_mais3, c.p_mais3_reduction, c.unmitigated_p_fatal, c.p_fatal_reduction})
           row.push_back(plot_number(v));

@@ -51,7 +51,7 @@ std::string fixed_text(const sim::FactorTable& factors, Axis a, double v) {
   return fmt::format(fmt::runtime(factor_of(factors, a).held), plot_number(v));
 }
 
-std::string region_of(const CellRecord& r) { return r.feasible ? r.region : std::string("infeasible"); }
+std::string region_of(const CellRecord& r) { return core::enum_text(r.feasible ? r.region : sim::Region::kInfeasible); }
 
 std::string region_colour(std::string_view region) {
   for (const auto& s : kRegions)

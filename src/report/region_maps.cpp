@@ -88,7 +88,7 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
   std::vector<std::string> lines, crosses;
   for (const auto& c : p.cells) {
     core::Row row = cell_columns(p, c);
-    row.push_back(c.feasible ? c.evidence : std::string());
+    row.push_back(c.feasible ? core::enum_text(c.evidence) : std::string());
     lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(region_of(c)))));
     if (is_undecided(c))
       crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
@@ -135,8 +135,9 @@ EvidenceCounts count_evidence(const std::vector<CellRecord>& cells) {
   for (const auto& c : cells) {
     if (!is_o_or_r(c)) continue;
     n.undecided += is_undecided(c);
-    n.certified += c.evidence == "certificate";
-    n.unproven += c.evidence != "undecided" && c.evidence != "certificate";
+    n.certified += c.evidence == campaign::CellEvidence::kCertificate;
+    n.unproven +=
+        c.evidence != campaign::CellEvidence::kUndecided && c.evidence != campaign::CellEvidence::kCertificate;
   }
   return n;
 }

@@ -187,8 +187,8 @@ std::string regions_html(const std::vector<campaign::CellRecord>& records) {
     std::size_t undecided = 0;
     for (const auto& r : records)
       if (r.grid == g && r.feasible) {
-        certified += r.evidence == "certificate";
-        undecided += r.evidence == "undecided";
+        certified += r.evidence == campaign::CellEvidence::kCertificate;
+        undecided += r.evidence == campaign::CellEvidence::kUndecided;
       }
     rows.push_back({g, std::to_string(c.cells), std::to_string(c.feasible), fmt::format("{:.1f}", c.pct(c.g)),
                     fmt::format("{:.1f}", c.pct(c.y)), fmt::format("{:.1f}", c.pct(c.o)),

@@ -192,7 +192,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
                          fmt::format("{:g}", named.ttc_s),
                          fmt::format("{:g}", named.mu),
                          fmt::format("{:g}", named.passage_m),
-                         cell->region,
+                         core::enum_text(cell->region),
                          outcome_label(*emrm)};
     const auto rows_of = [&](const campaign::Polyline& line, const std::string& kind, std::size_t edge) {
       std::string data;

@@ -61,17 +61,17 @@ RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std
       continue;
     }
     ++c.feasible;
-    if (r.region == "G")
+    if (r.region == sim::Region::kG)
       ++c.g;
-    else if (r.region == "Y")
+    else if (r.region == sim::Region::kY)
       ++c.y;
-    else if (r.region == "O")
+    else if (r.region == sim::Region::kO)
       ++c.o;
-    else if (r.region == "R")
+    else if (r.region == sim::Region::kR)
       ++c.r;
     else
       throw Error(fmt::format("cell {} of grid '{}' is feasible but its region is '{}' (expected G, Y, O or R)",
-                              r.index, r.grid, r.region));
+                              r.index, r.grid, core::enum_name(r.region)));
   }
   return c;
 }

@@ -46,9 +46,9 @@ std::vector<std::pair<double, bool>> strategy_passes(const Line& line, std::stri
   return out;
 }
 
-constexpr std::string_view kRanked[] = {"G", "Y", "O", "R"};
+constexpr sim::Region kRanked[] = {sim::Region::kG, sim::Region::kY, sim::Region::kO, sim::Region::kR};
 
-std::optional<int> rank_of(std::string_view region) {
+std::optional<int> rank_of(sim::Region region) {
   for (int k = 0; k < 4; ++k)
     if (region == kRanked[k]) return k;
   return std::nullopt;
@@ -60,7 +60,7 @@ void check_regions(const std::vector<const campaign::CellRecord*>& cells) {
   for (const auto* c : cells)
     if (c->feasible && !rank_of(c->region))
       throw Error(fmt::format("cell {} of grid '{}' is feasible but its region is '{}' (expected G, Y, O or R)",
-                              c->index, c->grid, c->region));
+                              c->index, c->grid, core::enum_name(c->region)));
 }
 
 // The rows of one slice of a grid: for each boundary, one per speed.
@@ -141,9 +141,9 @@ TtcThreshold ttc_threshold(std::vector<std::pair<double, bool>> cells) {
   return t;
 }
 
-int region_rank(std::string_view region) {
+int region_rank(sim::Region region) {
   if (const auto rank = rank_of(region)) return *rank;
-  throw Error(fmt::format("region '{}' is not G, Y, O or R", region));
+  throw Error(fmt::format("region '{}' is not G, Y, O or R", core::enum_name(region)));
 }
 
 bool BoundarySlice::holds(const campaign::CellRecord& cell) const noexcept {

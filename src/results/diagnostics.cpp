@@ -75,7 +75,7 @@ FsmCoverage coverage_of(const fsm::Generator& g, const std::vector<std::vector<s
 Json cell_json(const CellRef& c, const sim::FactorTable& factors) {
   Json j{{"grid", c.grid}, {"index", c.index}};
   for (std::size_t f = 0; f < factors.size() && f < c.factors.size(); ++f) j[factors[f].key] = c.factors[f];
-  j["region"] = c.region;
+  j["region"] = core::enum_text(c.region);
   return j;
 }
 
@@ -122,9 +122,9 @@ StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& r
     const bool stoppable = sim::analytically_stoppable(r.factors, actuation);
     if (stoppable) {
       ++c.stoppable;
-      if (r.region == "R") c.stoppable_red.push_back(cell_ref(r));
-      if (r.region != "G") c.stoppable_not_green.push_back(cell_ref(r));
-    } else if (r.region == "G") {
+      if (r.region == sim::Region::kR) c.stoppable_red.push_back(cell_ref(r));
+      if (r.region != sim::Region::kG) c.stoppable_not_green.push_back(cell_ref(r));
+    } else if (r.region == sim::Region::kG) {
       c.green_not_stoppable.push_back(cell_ref(r));
     }
   }

@@ -70,9 +70,9 @@ core::Table profiles_table(const std::vector<ProfileRun>& runs,
     const RegionCounts c = count_regions(records[i], grid);
     std::size_t certified = 0, undecided = 0;
     for (const auto& r : records[i]) {
-      if (r.grid != grid || !r.feasible || (r.region != "O" && r.region != "R")) continue;
-      certified += r.evidence == "certificate";
-      undecided += r.evidence == "undecided";
+      if (r.grid != grid || !r.feasible || (r.region != sim::Region::kO && r.region != sim::Region::kR)) continue;
+      certified += r.evidence == campaign::CellEvidence::kCertificate;
+      undecided += r.evidence == campaign::CellEvidence::kUndecided;
     }
     t.rows.push_back({runs[i].name + (runs[i].reused ? " (this scene)" : ""), runs[i].actuation.summary(),
                       std::to_string(c.feasible), core::format_number(c.pct(c.g), 1),

@@ -313,14 +313,14 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
   std::size_t braking_o = 0;
   const std::string baseline = first_name_of(sim::StrategyRole::kBaseline);
   for (const auto& r : records) {
-    if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != "O") continue;
+    if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != sim::Region::kO) continue;
     for (const auto& o : r.outcomes)
       if (o.strategy == baseline && o.loss_level < r.unmitigated_loss_level) ++braking_o;
   }
   // O cells whose best outcome is a road departure: a scrape along the roadside barrier that scores
   // below the reference's level (docs/physics.md, "Road departure and the roadside").
   for (const auto& r : records) {
-    if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != "O") continue;
+    if (r.grid != paper.fine_grid.grid || !r.feasible || r.region != sim::Region::kO) continue;
     const campaign::OutcomeRecord* best = nullptr;
     for (const auto& o : r.outcomes)
       if (!is_chooser(o.strategy) && (best == nullptr || o.loss_level < best->loss_level)) best = &o;
@@ -334,8 +334,8 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
     if (r.grid != paper.fine_grid.grid || !r.feasible) continue;
     stoppable += sim::analytically_stoppable(r.factors, actuation);
     stoppable_instant += sim::analytically_stoppable(r.factors, sim::ActuationConfig{});
-    certified += r.evidence == "certificate";
-    undecided += r.evidence == "undecided";
+    certified += r.evidence == campaign::CellEvidence::kCertificate;
+    undecided += r.evidence == campaign::CellEvidence::kUndecided;
   }
   const auto& pr = paper.fine_grid.regions_pct;
   t.notes.push_back(

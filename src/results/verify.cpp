@@ -175,19 +175,19 @@ bool same(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, s
 
 // G when the baseline avoided; Y when another strategy that counts did; O when the best level is
 // below the reference's; R otherwise (docs/simulate.md).
-std::string region_from(const sim::StrategyTable& table, const campaign::CellRecord& r) {
+sim::Region region_from(const sim::StrategyTable& table, const campaign::CellRecord& r) {
   const sim::StrategyInfo* baseline = table.first_of(sim::StrategyRole::kBaseline);
   int best = r.unmitigated_loss_level;
   bool any = false;
   for (const auto& o : r.outcomes) {
     const sim::StrategyInfo* info = table.info(o.strategy);
     if (info == nullptr || info->role == sim::StrategyRole::kChooser) continue;
-    if (o.avoided && baseline != nullptr && o.strategy == baseline->name) return "G";
+    if (o.avoided && baseline != nullptr && o.strategy == baseline->name) return sim::Region::kG;
     any = any || o.avoided;
     best = std::min(best, o.loss_level);
   }
-  if (any) return "Y";
-  return best < r.unmitigated_loss_level ? "O" : "R";
+  if (any) return sim::Region::kY;
+  return best < r.unmitigated_loss_level ? sim::Region::kO : sim::Region::kR;
 }
 
 // An avoidance beats a failure; between failures the lower level, then the lower Δv (the order
@@ -226,7 +226,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
   store.for_each_cell([&](const campaign::CellRecord& r) {
     if (!r.feasible) return;
     ++report.cells;
-    ++report.by_region[r.region][r.evidence];
+    ++report.by_region[core::enum_text(r.region)][core::enum_text(r.evidence)];
     const auto fail = [&](const std::string& strategy, std::string what) {
       report.failures.push_back({r.grid, r.index, strategy, std::move(what)});
     };
@@ -235,11 +235,15 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       return;
     }
     const sim::Scene scene(config, r.factors);
-    if (r.method == "inferred") {  // an adaptive sweep's: its grounds must stand (docs/adaptive.md)
+    if (r.method ==
+        campaign::CellMethod::kInferred) {  // an adaptive sweep's: its grounds must stand (docs/adaptive.md)
       ++report.inferred;
-      if (r.evidence != "inferred") fail("", fmt::format("inferred cell with evidence '{}'", r.evidence));
-      if (r.inferred_from.empty() && (r.region != "G" || sim::stop_call(config, scene.cell()) != sim::StopCall::kStops))
-        fail("", fmt::format("region {} inferred without grounds, and the stop boundary does not prove G", r.region));
+      if (r.evidence != campaign::CellEvidence::kInferred)
+        fail("", fmt::format("inferred cell with evidence '{}'", core::enum_name(r.evidence)));
+      if (r.inferred_from.empty() &&
+          (r.region != sim::Region::kG || sim::stop_call(config, scene.cell()) != sim::StopCall::kStops))
+        fail("", fmt::format("region {} inferred without grounds, and the stop boundary does not prove G",
+                             core::enum_name(r.region)));
       for (const std::int64_t from : r.inferred_from)
         if (simulated[r.grid].count(from) == 0)
           fail("", fmt::format("inferred from cell {}#{}, which is not a simulated cell", r.grid, from));
@@ -247,15 +251,20 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     }
 
     if (every_strategy_stored) {
-      const std::string derived = region_from(table, r);
-      if (derived != r.region) fail("", fmt::format("region {} stored, the outcomes give {}", r.region, derived));
+      const sim::Region derived = region_from(table, r);
+      if (derived != r.region)
+        fail("", fmt::format("region {} stored, the outcomes give {}", core::enum_name(r.region),
+                             core::enum_name(derived)));
     }
-    const bool avoidable = r.region == "G" || r.region == "Y";
-    if (avoidable && r.evidence != "witness") fail("", fmt::format("region {} without a witness", r.region));
-    if (!avoidable && r.evidence != "certificate" && r.evidence != "undecided")
-      fail("", fmt::format("region {} with evidence '{}'", r.region, r.evidence));
-    if (r.evidence == "undecided") ++report.undecided;
-    if (r.evidence == "certificate" && r.certificate.empty()) fail("", "evidence 'certificate' without one");
+    const bool avoidable = r.region == sim::Region::kG || r.region == sim::Region::kY;
+    if (avoidable && r.evidence != campaign::CellEvidence::kWitness)
+      fail("", fmt::format("region {} without a witness", core::enum_name(r.region)));
+    if (!avoidable && r.evidence != campaign::CellEvidence::kCertificate &&
+        r.evidence != campaign::CellEvidence::kUndecided)
+      fail("", fmt::format("region {} with evidence '{}'", core::enum_name(r.region), core::enum_name(r.evidence)));
+    if (r.evidence == campaign::CellEvidence::kUndecided) ++report.undecided;
+    if (r.evidence == campaign::CellEvidence::kCertificate && r.certificate.empty())
+      fail("", "evidence 'certificate' without one");
     if (!r.certificate.empty()) {
       const std::string where = fmt::format("{}: cell {}#{} certificate", results_sqlite.string(), r.grid, r.index);
       nlohmann::json json;
@@ -268,7 +277,8 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       ++report.certificates;
       if (!sim::check_certificate(scene, sim::certificate_from_json(json, factors, where)))
         fail("", "the certificate does not hold");
-      if (avoidable) fail("", fmt::format("region {} although a certificate says nothing avoids", r.region));
+      if (avoidable)
+        fail("", fmt::format("region {} although a certificate says nothing avoids", core::enum_name(r.region)));
     }
 
     // A chooser is never worse than an option it had.
@@ -316,7 +326,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
         fail(o.strategy,
              fmt::format("replay gives L{} at {:.3f} km/h, stored L{} at {:.3f} km/h", again.impact.loss_level,
                          again.impact.delta_v_mps * 3.6, o.loss_level, o.delta_v_kph));
-      if (o.avoided && o.evidence != "witness") fail(o.strategy, "an avoidance without a witness");
+      if (o.avoided && o.evidence != sim::Evidence::kWitness) fail(o.strategy, "an avoidance without a witness");
       if (!again.avoided()) continue;
       ++report.avoidances;
       const AvoidanceCheck check = check_avoidance(scene, again.path, options);

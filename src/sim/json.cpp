@@ -199,7 +199,8 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
   j["region"] = std::string(region_name(result.region));
   if (result.feasible) {
     j["evidence"] = std::string(evidence_name(result.evidence));
-    if (!result.mitigation_evidence.empty()) j["mitigation_evidence"] = result.mitigation_evidence;
+    if (result.mitigation_evidence != MitigationEvidence::kNone)
+      j["mitigation_evidence"] = std::string(core::enum_name(result.mitigation_evidence));
     j["strengthened"] = result.strengthened;
     j["harm_reduction"] = {{"p_mais3", result.p_mais3_reduction}, {"p_fatal", result.p_fatal_reduction}};
     if (result.certificate) j["certificate"] = to_json(*result.certificate, factors);

@@ -24,34 +24,6 @@ extern const char* const kShippedEmrmFsmYaml;
 extern const char* const kShippedLossEvaluationFsmYaml;
 }  // namespace detail
 
-std::string_view region_name(Region r) noexcept {
-  switch (r) {
-    case Region::kG:
-      return "G";
-    case Region::kY:
-      return "Y";
-    case Region::kO:
-      return "O";
-    case Region::kR:
-      return "R";
-    case Region::kInfeasible:
-      return "infeasible";
-  }
-  return "?";
-}
-
-std::string_view evidence_name(Evidence e) noexcept {
-  switch (e) {
-    case Evidence::kWitness:
-      return "witness";
-    case Evidence::kCertificate:
-      return "certificate";
-    case Evidence::kUndecided:
-      return "undecided";
-  }
-  return "?";
-}
-
 const fsm::Generator& default_emrm_fsm() {
   static const fsm::Generator g = fsm::parse_generator(detail::kShippedEmrmFsmYaml, "emrm_fsm.yaml (built in)");
   return g;
@@ -290,8 +262,9 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   if (result.region == Region::kO || result.region == Region::kR) {
     result.evidence = certified ? Evidence::kCertificate : Evidence::kUndecided;
     if (!certified && options.certify) result.no_certificate = no_certificate_bound(config).value_or("");
-    result.mitigation_evidence =
-        result.region == Region::kO ? "witness" : (result.unmitigated.loss_level <= 4 ? "proof" : "search");
+    result.mitigation_evidence = result.region == Region::kO          ? MitigationEvidence::kWitness
+                                 : result.unmitigated.loss_level <= 4 ? MitigationEvidence::kProof
+                                                                      : MitigationEvidence::kSearch;
   }
   result.strategies.reserve(options.strategies.size());
   for (const auto& name : options.strategies) result.strategies.push_back(outcomes.at(name));

@@ -232,7 +232,7 @@ RunResult run_scenarios(const RunOptions& options) {
     o.weight = row.weight;
     o.factor_values = row.values;
     o.feasible = record->feasible;
-    o.region = record->region;
+    o.region = core::enum_text(record->region);
     if (record->feasible) {
       o.success = outcome_success(*record, settings);
       for (const auto& out : record->outcomes)

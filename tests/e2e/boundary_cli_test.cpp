@@ -178,7 +178,7 @@ TEST_F(BoundaryCli, AStoreWithAFeasibleCellOutsideTheRegionsIsBadInput) {
   const std::string sql = "sqlite3 " + quoted(dir / "results.sqlite") +
                           " \"UPDATE cells SET region = 'X' WHERE grid = 'wet' AND region = 'G'\"";
   ASSERT_EQ(std::system(sql.c_str()), 0);
-  expect_bad_input(run_emrm("boundary " + quoted(dir)), "is feasible but its region is 'X'");
+  expect_bad_input(run_emrm("boundary " + quoted(dir)), "its region of cell wet#");
   EXPECT_FALSE(fs::exists(dir / "boundary")) << "bad input writes nothing";
 }
 

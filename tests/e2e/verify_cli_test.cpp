@@ -66,13 +66,19 @@ TEST_F(VerifyCli, AStoreFromASweepHoldsEveryClaim) {
 
 // A store damaged by hand is bad input with the damage named, for every reader (report, verify,
 // diagnose), never a crash: a NULL key in its metadata (was SIGSEGV), a seed that is not a number
-// (was an uncaught std::stoull exception), another schema version.
+// (was an uncaught std::stoull exception), another schema version, a region, method or evidence
+// that is none of its names.
 TEST_F(VerifyCli, ADamagedStoreIsBadInputNamingTheDamage) {
   const std::vector<std::pair<std::string, std::string>> damages{
       {"UPDATE meta SET key = NULL WHERE key = 'grids'", "no 'grids' in its metadata"},
       {"UPDATE meta SET value = 'abc' WHERE key = 'seed'", "its seed is 'abc', not a whole number"},
       {"UPDATE cells SET seed = 'x1' WHERE cell_index = 0", "is 'x1', not a whole number"},
-      {"UPDATE meta SET value = '99' WHERE key = 'schema_version'", "schema version 99"}};
+      {"UPDATE meta SET value = '99' WHERE key = 'schema_version'", "schema version 99"},
+      // Regions, evidence and methods are read as their enums (records.hpp): another text is damage.
+      {"UPDATE cells SET region = 'X' WHERE cell_index = 0", "is 'X', not G, Y, O, R or infeasible"},
+      {"UPDATE cells SET method = 'guessed' WHERE cell_index = 0", "its method of cell "},
+      {"UPDATE outcomes SET evidence = 'hearsay' WHERE cell_index = 0",
+       "is 'hearsay', not witness, certificate or undecided"}};
   int n = 0;
   for (const auto& [sql, message] : damages) {
     const auto dir = tampered(*dir_ / "out", *dir_ / ("damaged" + std::to_string(n++)), sql);

@@ -48,10 +48,6 @@ struct Lattice {
 /// What the oracle says of a cell's emergency stop without simulating it (sim/stop_physics.hpp).
 using StopCall = sim::StopCall;
 
-/// The region a store names ("G", "Y", "O", "R"); kInfeasible for any other text (sim::region_name
-/// read back).
-[[nodiscard]] sim::Region region_named(std::string_view name) noexcept;
-
 /// What the search asks about cells, named by their index in the grid's expansion order.
 /// simulate() is called from several threads at once, never twice for one cell.
 class Oracle {

@@ -68,7 +68,7 @@ class ResultStore {
   /// not done for a sweep that simulates every cell.
   void for_each_key(const std::function<void(std::size_t, std::int64_t)>& visit) const;
   /// The simulated cells of a grid: (index, region), in index order.
-  [[nodiscard]] std::vector<std::pair<std::int64_t, std::string>> simulated_regions(const std::string& grid) const;
+  [[nodiscard]] std::vector<std::pair<std::int64_t, sim::Region>> simulated_regions(const std::string& grid) const;
   /// Deletes a grid's inferred cells (one transaction): a sweep is about to simulate or infer them anew.
   void delete_inferred(const std::string& grid);
   /// The summary of a grid's adaptive search (JSON text, docs/adaptive.md), replacing any before.

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "emrm/core/config.hpp"
+#include "emrm/core/enum_names.hpp"
 #include "emrm/core/error.hpp"
 
 namespace emrm::core {
@@ -88,44 +89,6 @@ class YamlNode {
 /// How one type is read from and written to YAML. Specialise for your own types.
 template <class T, class Enable = void>
 struct YamlCodec;
-
-/// Names of an enum's values, for YamlCodec. Specialise with
-/// `static constexpr std::array<std::pair<E, std::string_view>, N> kNames{...};`.
-template <class E>
-struct EnumNames;
-
-template <class E>
-concept NamedEnum = std::is_enum_v<E> && requires {
-  EnumNames<E>::kNames;
-};
-
-/// The name of an enum value from its EnumNames table.
-template <NamedEnum E>
-[[nodiscard]] std::string_view enum_name(E value) {
-  for (const auto& [v, name] : EnumNames<E>::kNames)
-    if (v == value) return name;
-  return "?";
-}
-
-/// The enum value of a name, if it is one.
-template <NamedEnum E>
-[[nodiscard]] std::optional<E> enum_from_name(std::string_view name) {
-  for (const auto& [v, n] : EnumNames<E>::kNames)
-    if (n == name) return v;
-  return std::nullopt;
-}
-
-/// "a, b or c" of an enum's names, for messages.
-template <NamedEnum E>
-[[nodiscard]] std::string enum_choices() {
-  std::string out;
-  const auto& names = EnumNames<E>::kNames;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (i > 0) out += (i + 1 == names.size()) ? " or " : ", ";
-    out += names[i].second;
-  }
-  return out;
-}
 
 class YamlReader;
 

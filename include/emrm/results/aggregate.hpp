@@ -58,9 +58,9 @@ struct LevelCuts {
   double mu_med_min = 0.35;
   double mu_high_min = 0.7;
   double car_width_m = 1.61;
-  /// Where the passage stands in the cells (sim::FactorRole::kPassage; the default scene's unless
-  /// level_cuts() sets the scene's); none: the scenario has no passage, and every cell counts as wide.
-  std::optional<std::size_t> passage_factor = sim::scenario_factors(sim::SceneConfig{}).find(sim::FactorRole::kPassage);
+  /// Where the passage stands in the cells (sim::FactorRole::kPassage, set by level_cuts() from the
+  /// scene's factor table); none: the scenario has no passage, and every cell counts as wide.
+  std::optional<std::size_t> passage_factor;
 };
 
 /// The cuts for a scene: the defaults with its car's width and its passage factor.
@@ -106,7 +106,7 @@ struct StrategyKpis {
 /// Every KPI row of one grid: per strategy, the whole grid then each level of speed, TTC, friction
 /// and passage (levels with no cell included, with NaN means), in that order.
 [[nodiscard]] std::vector<StrategyKpis> grid_kpis(const std::vector<campaign::CellRecord>& records,
-                                                  std::string_view grid, const LevelCuts& cuts = {});
+                                                  std::string_view grid, const LevelCuts& cuts);
 
 /// The row of `kpis` for a strategy, factor and level, if there is one.
 [[nodiscard]] const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy,

@@ -31,8 +31,8 @@ struct TtcThreshold {
 /// are equal (a grid's values are rounded to 1e-9 when it is loaded, so equal values are equal).
 [[nodiscard]] TtcThreshold ttc_threshold(std::vector<std::pair<double, bool>> cells);
 
-/// The rank of a region: G 0, Y 1, O 2, R 3. Throws emrm::Error for any other text.
-[[nodiscard]] int region_rank(std::string_view region);
+/// The rank of a region: G 0, Y 1, O 2, R 3. Throws emrm::Error for kInfeasible.
+[[nodiscard]] int region_rank(sim::Region region);
 
 /// The region boundaries and their highest rank: stop (G, 0), avoid (G or Y, 1), mitigate (G, Y or
 /// O, 2). A strategy's boundary is named "strategy:NAME".

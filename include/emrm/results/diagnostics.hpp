@@ -25,7 +25,7 @@ struct CellRef {
   std::string grid;
   std::int64_t index = 0;
   sim::CellInput factors;
-  std::string region;
+  sim::Region region = sim::Region::kInfeasible;
 };
 [[nodiscard]] CellRef cell_ref(const campaign::CellRecord& r);
 

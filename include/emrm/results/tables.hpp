@@ -28,7 +28,7 @@ namespace emrm::results {
 [[nodiscard]] core::Table by_parameter_table(const std::vector<campaign::CellRecord>& records,
                                              const PaperReference& paper, std::string_view grid,
                                              std::string_view passage_grid, std::string_view friction_grid,
-                                             const LevelCuts& cuts = {});
+                                             const LevelCuts& cuts);
 /// Region fractions per grid, with the paper's beside the grid it names, and notes on why they
 /// differ (the stop boundary under `actuation`, the scene's, and under instant actuation).
 [[nodiscard]] core::Table regions_table(const std::vector<campaign::CellRecord>& records, const PaperReference& paper,
@@ -44,14 +44,14 @@ namespace emrm::results {
 [[nodiscard]] core::Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& reports,
                                                     const PaperReference& paper);
 /// Every KPI per grid × strategy × factor × level, as CSV.
-[[nodiscard]] std::string kpis_csv(const std::vector<campaign::CellRecord>& records, const LevelCuts& cuts = {});
+[[nodiscard]] std::string kpis_csv(const std::vector<campaign::CellRecord>& records, const LevelCuts& cuts);
 
 /// Which grids the tables read.
 struct TableOptions {
   std::string grid = "fine";  ///< EMRM vs baseline, speed/TTC/friction rows
   std::string passage_grid = "passage";
   std::string friction_grid = "speed_mu";
-  LevelCuts cuts;
+  LevelCuts cuts;                  ///< level_cuts(scene): without it every cell counts as wide
   sim::ActuationConfig actuation;  ///< the scene's, for the regions table's notes
 };
 

@@ -16,19 +16,10 @@
 #include "emrm/sim/certificate.hpp"
 #include "emrm/sim/loss.hpp"
 #include "emrm/sim/planner.hpp"
+#include "emrm/sim/region.hpp"
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::sim {
-
-/// Mitigability region of a cell (docs/simulate.md, "What is simulated").
-enum class Region { kG, kY, kO, kR, kInfeasible };
-[[nodiscard]] std::string_view region_name(Region r) noexcept;
-
-/// What backs a claim (docs/simulate.md, "Evidence"): an executed trajectory that can be replayed
-/// (an avoidance, or a fixed maneuver's own run), a proof that nothing avoids, or neither (a search
-/// that found no avoidance, without proof that none exists).
-enum class Evidence { kWitness, kCertificate, kUndecided };
-[[nodiscard]] std::string_view evidence_name(Evidence e) noexcept;
 
 struct StrategyOutcome {
   std::string strategy;
@@ -56,10 +47,8 @@ struct CellResult {
   Region region = Region::kInfeasible;
   /// G and Y: a witness; O and R: a certificate of unavoidability, or undecided without one.
   Evidence evidence = Evidence::kWitness;
-  /// O and R only: what backs the split. "witness": a found outcome below the reference's level
-  /// (O); "proof": the reference is already at the lowest contact level, L4 (R); "search": the
-  /// searches found nothing below the reference's level, which is not a proof that nothing is (R).
-  std::string mitigation_evidence;
+  /// O and R only: what backs the split (MitigationEvidence); kNone otherwise.
+  MitigationEvidence mitigation_evidence = MitigationEvidence::kNone;
   /// The searches were strengthened (restarts with seeds independent of the cell's, the reference
   /// planner) because the first found no avoidance and no certificate settles the cell.
   bool strengthened = false;

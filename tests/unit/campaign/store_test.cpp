@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "emrm/campaign/exports.hpp"
@@ -53,14 +54,14 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   r.factors = sim::TJunctionCell{30.0 + 0.1 * static_cast<double>(index), 0.31, 0.65, 2.4, 10.0};
   r.seed = 0xfedcba9876543210ull + static_cast<std::uint64_t>(index);
   r.feasible = feasible;
-  r.region = feasible ? "Y" : "infeasible";
+  r.region = feasible ? sim::Region::kY : sim::Region::kInfeasible;
   r.unmitigated_impact_speed_kph = 1.0 / 3.0;
   r.unmitigated_delta_v_kph = 12.5;
   r.unmitigated_p_mais3 = 0.123456789012345;
   r.unmitigated_p_fatal = 1e-17;
   r.unmitigated_loss_level = 6;
   if (!feasible) return r;
-  r.evidence = "witness";
+  r.evidence = CellEvidence::kWitness;
   r.strengthened = true;
   r.certificate = R"({"method":"test"})";
   r.p_mais3_reduction = 0.123456789012345;
@@ -76,7 +77,7 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   stop.delta_loss = 2;
   stop.min_ttc_s = 0.0;
   stop.fsm_trace = {"S1", "hazard_detected", "S2"};
-  stop.evidence = "witness";
+  stop.evidence = sim::Evidence::kWitness;
   stop.maneuver = R"({"plan":[],"tail":null})";
   OutcomeRecord emrm;
   emrm.strategy = "emrm";
@@ -90,53 +91,65 @@ CellRecord record(const std::string& grid, std::int64_t index, bool feasible) {
   emrm.loss_evaluation_trace = {"L0", "evaluate", "L1"};
   emrm.chosen_strategy = "dodge";
   emrm.adopted_from = "dodge";
-  emrm.evidence = "witness";
+  emrm.evidence = sim::Evidence::kWitness;
   r.outcomes = {stop, emrm};
   return r;
 }
 
+// A record's fields as "name=value" by its field list (records.hpp), doubles at full precision:
+// equal lists are equal records, whatever fields the list gains.
+template <class Record>
+std::vector<std::string> fields_of(const Record& record) {
+  std::vector<std::string> out;
+  Record::visit_fields(record, [&](const char* name, const auto& field, auto...) {
+    using T = std::remove_cvref_t<decltype(field)>;
+    std::string value;
+    if constexpr (core::NamedEnum<T>) {
+      value = core::enum_text(field);
+    } else if constexpr (std::is_same_v<T, sim::CellInput>) {
+      for (const double v : field) value += fmt::format("{} ", v);
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>> || std::is_same_v<T, std::vector<std::int64_t>>) {
+      value = fmt::format("{}", fmt::join(field, " "));
+    } else {
+      value = fmt::format("{}", field);
+    }
+    out.push_back(std::string(name) + "=" + value);
+  });
+  return out;
+}
+
 void expect_equal(const CellRecord& a, const CellRecord& b) {
-  EXPECT_EQ(a.grid, b.grid);
-  EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.factors, b.factors);
-  EXPECT_EQ(a.seed, b.seed);
-  EXPECT_EQ(a.feasible, b.feasible);
-  EXPECT_EQ(a.region, b.region);
-  EXPECT_EQ(a.unmitigated_impact_speed_kph, b.unmitigated_impact_speed_kph);
-  EXPECT_EQ(a.unmitigated_delta_v_kph, b.unmitigated_delta_v_kph);
-  EXPECT_EQ(a.unmitigated_p_mais3, b.unmitigated_p_mais3);
-  EXPECT_EQ(a.unmitigated_p_fatal, b.unmitigated_p_fatal);
-  EXPECT_EQ(a.unmitigated_loss_level, b.unmitigated_loss_level);
-  EXPECT_EQ(a.evidence, b.evidence);
-  EXPECT_EQ(a.mitigation_evidence, b.mitigation_evidence);
-  EXPECT_EQ(a.strengthened, b.strengthened);
-  EXPECT_EQ(a.certificate, b.certificate);
-  EXPECT_EQ(a.p_mais3_reduction, b.p_mais3_reduction);
-  EXPECT_EQ(a.p_fatal_reduction, b.p_fatal_reduction);
+  EXPECT_EQ(fields_of(a), fields_of(b));
   ASSERT_EQ(a.outcomes.size(), b.outcomes.size());
-  for (std::size_t i = 0; i < a.outcomes.size(); ++i) {
-    const auto& x = a.outcomes[i];
-    const auto& y = b.outcomes[i];
-    EXPECT_EQ(x.strategy, y.strategy);
-    EXPECT_EQ(x.avoided, y.avoided);
-    EXPECT_EQ(x.contact, y.contact);
-    EXPECT_EQ(x.road_departure, y.road_departure);
-    EXPECT_EQ(x.impact_speed_kph, y.impact_speed_kph);
-    EXPECT_EQ(x.delta_v_kph, y.delta_v_kph);
-    EXPECT_EQ(x.p_mais3, y.p_mais3);
-    EXPECT_EQ(x.p_fatal, y.p_fatal);
-    EXPECT_EQ(x.loss_level, y.loss_level);
-    EXPECT_EQ(x.delta_loss, y.delta_loss);
-    EXPECT_EQ(x.min_ttc_s, y.min_ttc_s);
-    EXPECT_EQ(x.planner_nodes, y.planner_nodes);
-    EXPECT_EQ(x.planner_rollouts, y.planner_rollouts);
-    EXPECT_EQ(x.evidence, y.evidence);
-    EXPECT_EQ(x.maneuver, y.maneuver);
-    EXPECT_EQ(x.fsm_trace, y.fsm_trace);
-    EXPECT_EQ(x.loss_evaluation_trace, y.loss_evaluation_trace);
-    EXPECT_EQ(x.chosen_strategy, y.chosen_strategy);
-    EXPECT_EQ(x.adopted_from, y.adopted_from);
-  }
+  for (std::size_t i = 0; i < a.outcomes.size(); ++i) EXPECT_EQ(fields_of(a.outcomes[i]), fields_of(b.outcomes[i]));
+}
+
+// Every field of a record set to a value of its own, none the default: `k` counts the fields.
+template <class Record>
+void fill_every_field(Record& record, int k) {
+  Record::visit_fields(record, [&](const char*, auto& field, auto...) {
+    using T = std::remove_cvref_t<decltype(field)>;
+    ++k;
+    if constexpr (std::is_same_v<T, bool>) {
+      field = true;
+    } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, std::int64_t>) {
+      field = k;
+    } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+      field = 0xfedcba9876543210ull + static_cast<std::uint64_t>(k);
+    } else if constexpr (std::is_same_v<T, double>) {
+      field = k + 1.0 / 3.0;
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      field = "text " + std::to_string(k);
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+      field = {"a", "b" + std::to_string(k)};
+    } else if constexpr (std::is_same_v<T, std::vector<std::int64_t>>) {
+      field = {k, k + 1};
+    } else if constexpr (std::is_same_v<T, sim::CellInput>) {
+      field = sim::TJunctionCell{30.0 + k, 0.5, 0.75, 2.0, 12.0};
+    } else {
+      field = core::EnumNames<T>::kNames.back().first;  // the last name: never the default
+    }
+  });
 }
 
 TEST(ResultStore, RecordsRoundTripInGridThenIndexOrder) {
@@ -153,6 +166,22 @@ TEST(ResultStore, RecordsRoundTripInGridThenIndexOrder) {
   expect_equal(read[0], written[2]);
   expect_equal(read[1], written[1]);
   expect_equal(read[2], written[0]);
+}
+
+TEST(ResultStore, EveryFieldOfTheRecordsFieldListsIsAColumnThatRoundTrips) {
+  const auto path = scratch("every_field") / "results.sqlite";
+  CellRecord cell;
+  fill_every_field(cell, 0);
+  cell.grid = "first";
+  cell.outcomes.resize(2);
+  fill_every_field(cell.outcomes[0], 100);
+  fill_every_field(cell.outcomes[1], 200);
+  cell.outcomes[1].min_ttc_s = std::numeric_limits<double>::infinity();  // kept as NULL
+  ResultStore::open_for_writing(path, test_meta()).insert({cell});
+  const auto read = read_results(path);
+  ASSERT_EQ(read.size(), 1u);
+  expect_equal(read[0], cell);
+  EXPECT_EQ(read[0].outcomes[1].min_ttc_s, std::numeric_limits<double>::infinity());
 }
 
 TEST(ResultStore, MetadataRoundTrips) {

@@ -140,7 +140,7 @@ TEST(ToyStrategy, AppearsInTheTablesWithItsTitle) {
   // The paper has no column for it: it is shown as ours only, under its registered title.
   EXPECT_NE(std::find(t.header.begin(), t.header.end(), "Half Brake (half_brake, ours only)"), t.header.end())
       << core::join(t.header, " | ");
-  const std::string csv = results::kpis_csv(toy_records());
+  const std::string csv = results::kpis_csv(toy_records(), results::level_cuts(sim::SceneConfig{}));
   EXPECT_NE(csv.find("half_brake"), std::string::npos);
 }
 

@@ -56,27 +56,34 @@ inline CellRecord synthetic_cell(const std::string& grid, std::int64_t index, do
   c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = speed / 3.6 * ttc <= 45.0;
   if (!c.feasible) {
-    c.region = "infeasible";
+    c.region = sim::Region::kInfeasible;
     return c;
   }
   const bool stoppable = sim::analytically_stoppable(speed, ttc, mu, sim::ActuationConfig{});
   const bool steerable = ttc >= 0.6 && mu >= 0.3;
-  c.region = stoppable ? "G" : steerable ? "Y" : speed < 45.0 ? "O" : "R";
+  c.region = stoppable      ? sim::Region::kG
+             : steerable    ? sim::Region::kY
+             : speed < 45.0 ? sim::Region::kO
+                            : sim::Region::kR;
   // Every seventh O/R cell rests on a failed search only; the others on a certificate.
-  c.evidence = c.region == "G" || c.region == "Y" ? "witness" : index % 7 == 0 ? "undecided" : "certificate";
+  c.evidence = c.region == sim::Region::kG || c.region == sim::Region::kY ? campaign::CellEvidence::kWitness
+               : index % 7 == 0                                           ? campaign::CellEvidence::kUndecided
+                                                                          : campaign::CellEvidence::kCertificate;
   c.unmitigated_loss_level = speed > 50.0 ? 7 : 6;
   c.unmitigated_impact_speed_kph = speed;
   // Harm reduction: an avoidance removes the whole risk, a mitigation part of it, and half the R
   // cells lower the risk inside their loss level.
   c.unmitigated_p_mais3 = std::min(0.95, std::pow(speed / 80.0, 3.0));
   c.unmitigated_p_fatal = 0.3 * c.unmitigated_p_mais3;
-  const double kept = c.region == "O" ? 0.4 : c.region == "R" ? (index % 2 == 0 ? 0.75 : 1.0) : 0.0;
+  const double kept = c.region == sim::Region::kO   ? 0.4
+                      : c.region == sim::Region::kR ? (index % 2 == 0 ? 0.75 : 1.0)
+                                                    : 0.0;
   c.p_mais3_reduction = (1.0 - kept) * c.unmitigated_p_mais3;
   c.p_fatal_reduction = (1.0 - kept) * c.unmitigated_p_fatal;
   const int u = c.unmitigated_loss_level;
-  const int lowered = c.region == "O" ? u - 2 : u;
+  const int lowered = c.region == sim::Region::kO ? u - 2 : u;
   c.outcomes = {
-      outcome("emergency_stop", stoppable, 0.5 * speed, c.region == "O" ? u - 1 : u, u),
+      outcome("emergency_stop", stoppable, 0.5 * speed, c.region == sim::Region::kO ? u - 1 : u, u),
       outcome("dodge", stoppable || steerable, 0.6 * speed, lowered, u),
       outcome("drift_to_avoid", stoppable || (steerable && speed < 60.0), 0.55 * speed, lowered, u),
       outcome("drift_to_accident", stoppable || (steerable && index % 3 != 0), 0.4 * speed, u - 1, u),

@@ -23,8 +23,8 @@ TEST_F(FigureMap, DrawsAllFourPanelsWithEveryCellInItsRecordedRegion) {
       ASSERT_EQ(row[0], panel);
       ASSERT_EQ(row[1], grid);
       for (std::size_t k = 0; k < cell.factors.size(); ++k) EXPECT_NEAR(num(row[2 + k]), cell.factors[k], 1e-6);
-      EXPECT_EQ(row[7], cell.region) << grid << " cell " << cell.index;
-      EXPECT_EQ(row[8], cell.feasible ? cell.evidence : "") << grid << " cell " << cell.index;
+      EXPECT_EQ(row[7], core::enum_name(cell.region)) << grid << " cell " << cell.index;
+      EXPECT_EQ(row[8], cell.feasible ? core::enum_name(cell.evidence) : "") << grid << " cell " << cell.index;
     }
   }
   // The drawing colours each cell by its region: one rectangle per cell in the region's colour (as
@@ -87,16 +87,16 @@ std::size_t crosses_in(const fs::path& svg) {
   return n;
 }
 
-std::size_t count_evidence(const std::vector<CellRecord>& records, const std::string& evidence) {
+std::size_t count_evidence(const std::vector<CellRecord>& records, campaign::CellEvidence evidence) {
   return static_cast<std::size_t>(std::count_if(records.begin(), records.end(), [&](const CellRecord& c) {
-    return c.feasible && (c.region == "O" || c.region == "R") && c.evidence == evidence;
+    return c.feasible && (c.region == sim::Region::kO || c.region == sim::Region::kR) && c.evidence == evidence;
   }));
 }
 
 TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
   const auto& records = campaign_records();
-  const std::size_t undecided = count_evidence(records, "undecided");
-  const std::size_t certified = count_evidence(records, "certificate");
+  const std::size_t undecided = count_evidence(records, campaign::CellEvidence::kUndecided);
+  const std::size_t certified = count_evidence(records, campaign::CellEvidence::kCertificate);
   ASSERT_GT(undecided, 10u);  // the synthetic campaign has some of each
   ASSERT_GT(certified, 10u);
   const auto f = draw_mitigability_map_t(records, out());
@@ -124,16 +124,16 @@ TEST_F(FigureMap, MarksEveryUndecidedCellWithACrossAndSaysSoInTheKey) {
 TEST_F(FigureMap, WithoutUndecidedCellsTheMapIsDrawnAsWithoutEvidence) {
   std::vector<CellRecord> certified = campaign_records(), unknown = campaign_records();
   for (auto& c : certified)
-    if (c.evidence == "undecided") c.evidence = "certificate";
-  for (auto& c : unknown) c.evidence.clear();
+    if (c.evidence == campaign::CellEvidence::kUndecided) c.evidence = campaign::CellEvidence::kCertificate;
+  for (auto& c : unknown) c.evidence = campaign::CellEvidence::kNone;
   const auto a = draw_mitigability_map_t(certified, out() / "certified");
   const auto b = draw_mitigability_map_t(unknown, out() / "unknown");
   EXPECT_EQ(crosses_in(a.svg), 0u);
   EXPECT_EQ(core::read_file(a.svg).find("undecided"), std::string::npos);
   // Nothing on the picture depends on the evidence then; only the CSV and the caption tell it.
   EXPECT_EQ(core::read_file(a.svg), core::read_file(b.svg));
-  EXPECT_NE(a.title.find(
-                fmt::format("All O/R cells ({}) are certified unavoidable", count_evidence(certified, "certificate"))),
+  EXPECT_NE(a.title.find(fmt::format("All O/R cells ({}) are certified unavoidable",
+                                     count_evidence(certified, campaign::CellEvidence::kCertificate))),
             std::string::npos)
       << a.title;
   EXPECT_EQ(b.title.find("certified"), std::string::npos) << b.title;
@@ -173,7 +173,7 @@ std::vector<std::string> names_of(const std::vector<Figure>& figures) {
 
 TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
   const auto cells = product_grid("wet", {30, 35, 40, 45, 50, 55}, {0.25, 0.5, 0.75, 1.0, 1.25}, {0.5});
-  const std::size_t undecided = count_evidence(cells, "undecided");
+  const std::size_t undecided = count_evidence(cells, campaign::CellEvidence::kUndecided);
   ASSERT_GT(undecided, 0u);
   const auto figures = draw_grid_maps_t(cells, out());
   ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_wet"});
@@ -185,7 +185,7 @@ TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
   const auto csv = csv_of(f.csv);
   ASSERT_EQ(csv.size(), 1 + cells.size());
   const std::size_t region = column_of(csv, "region");
-  for (std::size_t i = 0; i < cells.size(); ++i) EXPECT_EQ(csv[i + 1][region], cells[i].region) << i;
+  for (std::size_t i = 0; i < cells.size(); ++i) EXPECT_EQ(csv[i + 1][region], core::enum_name(cells[i].region)) << i;
 }
 
 TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
@@ -301,7 +301,7 @@ TEST_F(FigureHarmMap, EveryCellWithItsReductionsOnTheMapsPanels) {
       EXPECT_NEAR(num(row[10]), cell.unmitigated_p_fatal, 1e-9);
       EXPECT_NEAR(num(row[11]), cell.p_fatal_reduction, 1e-9);
       // Avoided cells count their whole unmitigated risk.
-      if (cell.region == "G" || cell.region == "Y") {
+      if (cell.region == sim::Region::kG || cell.region == sim::Region::kY) {
         EXPECT_EQ(row[9], row[8]) << grid << " cell " << cell.index;
       }
     }
@@ -332,7 +332,7 @@ TEST_F(FigureHarmMap, MitigationInsideALossLevelShows) {
   std::vector<CellRecord> records{synthetic_cell("fine", 0, 60.0, 0.25, 1.0),
                                   synthetic_cell("fine", 1, 61.0, 0.25, 1.0)};
   for (auto& c : records) {
-    ASSERT_EQ(c.region, "R");
+    ASSERT_EQ(c.region, sim::Region::kR);
     c.unmitigated_loss_level = 4;
     c.unmitigated_p_mais3 = 0.09;
   }

@@ -28,7 +28,7 @@ campaign::CellRecord cell(std::string grid, std::int64_t index, double speed, do
   c.index = index;
   c.factors = sim::CellInput{speed, ttc, mu, passage, 0.0};
   c.feasible = region != "infeasible";
-  c.region = std::move(region);
+  c.region = core::enum_from_name<sim::Region>(region).value();
   c.unmitigated_loss_level = unmitigated;
   return c;
 }
@@ -129,7 +129,7 @@ TEST(StrategyKpis, NoCellsGiveNaN) {
 }
 
 TEST(Levels, EdgesAreWhereTheDesignPutsThem) {
-  const LevelCuts cuts;
+  const LevelCuts cuts = level_cuts(sim::SceneConfig{});
   const auto at = [&](Factor f, double speed, double ttc, double mu, double passage) {
     return level_of(f, cell("g", 0, speed, ttc, mu, passage, "G", 7), cuts);
   };
@@ -151,7 +151,7 @@ TEST(Levels, EdgesAreWhereTheDesignPutsThem) {
 }
 
 TEST(GridKpis, SplitsByLevelWithCounts) {
-  const auto kpis = grid_kpis(four_cells(), "fine");
+  const auto kpis = grid_kpis(four_cells(), "fine", level_cuts(sim::SceneConfig{}));
   // 2 strategies × (1 + 3 + 3 + 3 + 2) levels.
   EXPECT_EQ(kpis.size(), 24u);
   const auto* low = find_kpis(kpis, "emergency_stop", Factor::kSpeed, "low");

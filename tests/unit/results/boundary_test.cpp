@@ -25,13 +25,13 @@ campaign::CellRecord cell(double speed, double ttc, std::string region, double m
   c.grid = std::move(grid);
   c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = true;
-  c.region = std::move(region);
+  c.region = core::enum_from_name<sim::Region>(region).value();
   if (!with_outcomes) return c;
   campaign::OutcomeRecord stop, dodge;
   stop.strategy = "emergency_stop";
-  stop.avoided = c.region == "G";
+  stop.avoided = c.region == sim::Region::kG;
   dodge.strategy = "dodge";
-  dodge.avoided = c.region == "G" || c.region == "Y";
+  dodge.avoided = c.region == sim::Region::kG || c.region == sim::Region::kY;
   c.outcomes = {stop, dodge};
   return c;
 }
@@ -100,11 +100,11 @@ TEST(TtcThreshold, ALevelPassesOnlyWhenEveryCellAtItPasses) {
 }
 
 TEST(RegionRank, GYORInOrderAndAnythingElseIsAnError) {
-  EXPECT_EQ(region_rank("G"), 0);
-  EXPECT_EQ(region_rank("Y"), 1);
-  EXPECT_EQ(region_rank("O"), 2);
-  EXPECT_EQ(region_rank("R"), 3);
-  EXPECT_THROW((void)region_rank("infeasible"), Error);
+  EXPECT_EQ(region_rank(sim::Region::kG), 0);
+  EXPECT_EQ(region_rank(sim::Region::kY), 1);
+  EXPECT_EQ(region_rank(sim::Region::kO), 2);
+  EXPECT_EQ(region_rank(sim::Region::kR), 3);
+  EXPECT_THROW((void)region_rank(sim::Region::kInfeasible), Error);
 }
 
 // --- boundaries of records ----------------------------------------------------------------------
@@ -209,12 +209,13 @@ TEST(ComputeBoundaries, AGridOfOneTtcLevelIsSkippedNotAnError) {
 
 TEST(ComputeBoundaries, AFeasibleCellWithoutARegionIsADamagedStore) {
   auto records = known_grid();
-  records[2].region = "X";
+  records[2].region = sim::Region::kInfeasible;
   try {
     (void)compute_boundaries(records, test::tjunction_factors(), sim::ActuationConfig{});
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("cell 0 of grid 'g' is feasible but its region is 'X'"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("cell 0 of grid 'g' is feasible but its region is 'infeasible'"),
+              std::string::npos)
         << e.what();
   }
 }

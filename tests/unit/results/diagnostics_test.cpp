@@ -15,7 +15,7 @@ campaign::CellRecord cell(double speed, double ttc, double mu, std::string regio
   c.grid = "g";
   c.factors = sim::TJunctionCell{speed, ttc, mu, 3.0, 10.0};
   c.feasible = true;
-  c.region = std::move(region);
+  c.region = core::enum_from_name<sim::Region>(region).value();
   c.unmitigated_loss_level = 7;
   const std::vector<std::string> names{"emergency_stop", "dodge"};
   for (std::size_t i = 0; i < avoided.size(); ++i) {

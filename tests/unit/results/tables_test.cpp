@@ -37,7 +37,7 @@ std::vector<campaign::CellRecord> two_cells() {
     c.index = i;
     c.factors = sim::CellInput{i == 0 ? 30.0 : 60.0, 1.0, 1.0, 3.0, 0.0};
     c.feasible = true;
-    c.region = i == 0 ? "G" : "Y";
+    c.region = i == 0 ? sim::Region::kG : sim::Region::kY;
     c.unmitigated_loss_level = 7;
     for (const auto& n : names) c.outcomes.push_back(outcome(n, i == 0 || n != "emergency_stop", 40.0, 7, 7));
   }
@@ -60,7 +60,7 @@ TEST(Tables, EmrmVsBaselineShowsOursBesideThePapers) {
 }
 
 TEST(Tables, ByParameterUsesThePapersLayout) {
-  const auto t = by_parameter_table(two_cells(), shipped(), "fine", "", "");
+  const auto t = by_parameter_table(two_cells(), shipped(), "fine", "", "", level_cuts(sim::SceneConfig{}));
   ASSERT_EQ(t.rows.size(), 4u);
   EXPECT_THAT(t.rows[0][0], HasSubstr("Ego speed"));
   // Emergency stop: 30 km/h avoided (low), 60 km/h not (high).
@@ -82,7 +82,9 @@ TEST(Tables, RegionsShowThePapersFineGrid) {
 TEST(Tables, WritesEveryFile) {
   const auto dir = std::filesystem::temp_directory_path() / "emrm-tables-test";
   std::filesystem::remove_all(dir);
-  const auto files = write_tables(dir, two_cells(), shipped());
+  TableOptions options;
+  options.cuts = level_cuts(sim::SceneConfig{});
+  const auto files = write_tables(dir, two_cells(), shipped(), options);
   EXPECT_EQ(files.size(), 13u);
   for (const auto& f : files) EXPECT_TRUE(std::filesystem::exists(f)) << f;
   std::ifstream in(dir / "tables" / "kpis.csv");

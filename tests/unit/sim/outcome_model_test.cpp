@@ -423,10 +423,10 @@ TEST(Evidence, GreenAndYellowCellsCarryWitnessesOrangeAndRedNeverDo) {
     const CellResult r = simulate_cell(config, cell, {});
     if (r.region == Region::kG || r.region == Region::kY) {
       EXPECT_EQ(r.evidence, Evidence::kWitness);
-      EXPECT_TRUE(r.mitigation_evidence.empty());
+      EXPECT_EQ(r.mitigation_evidence, MitigationEvidence::kNone);
     } else {
       EXPECT_NE(r.evidence, Evidence::kWitness);
-      EXPECT_FALSE(r.mitigation_evidence.empty());
+      EXPECT_NE(r.mitigation_evidence, MitigationEvidence::kNone);
     }
     EXPECT_GE(r.p_mais3_reduction, 0.0);
     EXPECT_LE(r.p_mais3_reduction, r.unmitigated.p_mais3);
