@@ -2,7 +2,8 @@
 # Checks the sources (no .cpp over 600 lines, clang-format), builds emrm and runs every test three
 # times: a normal GCC build (preset dev), GCC under
 # AddressSanitizer + UndefinedBehaviorSanitizer (preset asan), and clang under both sanitizers
-# (preset clang), whose libFuzzer targets then each run a short smoke run (docs/fuzzing.md,
+# (preset clang); then clang-tidy over the clang build's unity batches (and the MPI and Python
+# sources through the dev build), and a short smoke run of each libFuzzer target (docs/fuzzing.md,
 # docs/testing.md).
 # Run scripts/install-deps.sh first.
 set -euo pipefail
@@ -11,4 +12,5 @@ cd "$(dirname "$0")/.."
 cmake --workflow --preset dev
 cmake --workflow --preset asan
 cmake --workflow --preset clang
+./scripts/lint.sh tidy
 ./scripts/fuzz.sh --seconds 10
