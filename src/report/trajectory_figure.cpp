@@ -261,9 +261,12 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
       const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
       script += fmt::format("set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n",
                             named.speed_kph, named.mu, named.passage_m, outcome_label(*emrm));
+      // Each curve titled (the key is off; an SVG names its curves by their titles, which would
+      // otherwise be the temporary files' paths, a new name every run).
       script += fmt::format(
-          "plot '{}' w l lc 'black' lw 1.2, '{}' w l lc rgb '#2ca02c' lw 0.5, '{}' w l lc rgb '#ff7f0e' lw 0.5, "
-          "'{}' w l dt 2 lc 'gray40', '{}' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 w l lw 2.5 lc palette\n",
+          "plot '{}' t 'road' w l lc 'black' lw 1.2, '{}' t 'goal tree' w l lc rgb '#2ca02c' lw 0.5, "
+          "'{}' t 'fail-safe tree' w l lc rgb '#ff7f0e' lw 0.5, '{}' t 'truck at the start' w l dt 2 lc 'gray40', "
+          "'{}' t 'truck at the end' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 t 'EMRM path' w l lw 2.5 lc palette\n",
           file("road.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"),
           file("truck0_" + tag + ".dat"), file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
     }

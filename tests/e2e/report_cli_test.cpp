@@ -78,6 +78,12 @@ TEST_F(ReportCli, EveryFigureIsAValidPngAndSvgWithItsCsv) {
     EXPECT_TRUE(is_svg(base.string() + ".svg")) << name;
     EXPECT_TRUE(fs::exists(base.string() + ".csv")) << name;
   }
+  // Drawn again from the same store, every figure is the same bytes (a drawing once named its
+  // curves by the paths of temporary files).
+  std::map<fs::path, std::string> first;
+  for (const auto& entry : fs::directory_iterator(*out_ / "figures")) first[entry.path()] = read_text(entry.path());
+  ASSERT_EQ(run_emrm("report " + quoted(*out_)).exit_code, 0);
+  for (const auto& [path, bytes] : first) EXPECT_TRUE(read_text(path) == bytes) << path << " differs when drawn again";
 }
 
 TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {

@@ -82,7 +82,8 @@ TEST(RegionCounts, CountsFeasibleCellsOnlyAndPercentOfFeasible) {
 }
 
 TEST(RegionCounts, RejectsAFeasibleCellWithoutRegion) {
-  std::vector<campaign::CellRecord> cells{cell("fine", 0, 40, 1.0, 1.0, 3.0, "Q", 7)};
+  std::vector<campaign::CellRecord> cells{cell("fine", 0, 40, 1.0, 1.0, 3.0, "G", 7)};
+  cells[0].region = sim::Region::kInfeasible;  // feasible, yet without a region of the map
   EXPECT_THROW((void)count_regions(cells, "fine"), Error);
 }
 
