@@ -1,7 +1,7 @@
 #pragma once
 
 // Private to the results store: its cells and outcomes tables made from the records' field lists
-// (CellRecord::visit_fields, OutcomeRecord::visit_fields; docs/results.md, "The record field
+// (CellRecord::visit_fields, OutcomeRecord::visit_fields; docs/architecture.md, "The record field
 // list"). A field's C++ type decides its column: a number is INTEGER or REAL, text, an enum (by its
 // name), the seed (an unsigned 64-bit number SQLite's integers cannot hold) and a list (words
 // joined by a space) are TEXT; a field kept with kInfinityIsNull is a REAL that may be NULL; the

@@ -235,8 +235,8 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       return;
     }
     const sim::Scene scene(config, r.factors);
-    if (r.method ==
-        campaign::CellMethod::kInferred) {  // an adaptive sweep's: its grounds must stand (docs/adaptive.md)
+    // An adaptive sweep's inferred cell: its grounds must stand (docs/adaptive.md).
+    if (r.method == campaign::CellMethod::kInferred) {
       ++report.inferred;
       if (r.evidence != campaign::CellEvidence::kInferred)
         fail("", fmt::format("inferred cell with evidence '{}'", core::enum_name(r.evidence)));

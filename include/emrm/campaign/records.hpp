@@ -63,8 +63,8 @@ struct OutcomeRecord {
   /// The speed at which a road departure crossed the edge (its impact speed); 0 without one.
   [[nodiscard]] double departure_speed_kph() const noexcept { return road_departure ? impact_speed_kph : 0.0; }
 
-  /// The record's field list (docs/results.md, "The record field list"): `visit(name, field)` for
-  /// each field a row of the store's outcomes table holds, in its column order, with
+  /// The record's field list (docs/architecture.md, "The record field list"): `visit(name, field)`
+  /// for each field a row of the store's outcomes table holds, in its column order, with
   /// kInfinityIsNull where +infinity is kept as NULL. The store's columns, its writer and reader
   /// and the MPI wire are made from it; the trajectories (path and trees) are kept apart, in their
   /// own table. `self` is an OutcomeRecord, const or not.
