@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -124,7 +125,8 @@ void expect_equal(const CellRecord& a, const CellRecord& b) {
   for (std::size_t i = 0; i < a.outcomes.size(); ++i) EXPECT_EQ(fields_of(a.outcomes[i]), fields_of(b.outcomes[i]));
 }
 
-// Every field of a record set to a value of its own, none the default: `k` counts the fields.
+// Every field of a record, freshly made, set to a value of its own, none its default: `k` counts
+// the fields.
 template <class Record>
 void fill_every_field(Record& record, int k) {
   Record::visit_fields(record, [&](const char*, auto& field, auto...) {
@@ -146,8 +148,12 @@ void fill_every_field(Record& record, int k) {
       field = {k, k + 1};
     } else if constexpr (std::is_same_v<T, sim::CellInput>) {
       field = sim::TJunctionCell{30.0 + k, 0.5, 0.75, 2.0, 12.0};
-    } else {
-      field = core::EnumNames<T>::kNames.back().first;  // the last name: never the default
+    } else {  // the first name that is not the field's default
+      for (const auto& [value, name] : core::EnumNames<T>::kNames)
+        if (value != field) {
+          field = value;
+          break;
+        }
     }
   });
 }
@@ -176,6 +182,10 @@ TEST(ResultStore, EveryFieldOfTheRecordsFieldListsIsAColumnThatRoundTrips) {
   cell.outcomes.resize(2);
   fill_every_field(cell.outcomes[0], 100);
   fill_every_field(cell.outcomes[1], 200);
+  // No field keeps its default, so a field the store dropped would not read back equal.
+  const std::vector<std::string> filled = fields_of(cell), defaults = fields_of(CellRecord{});
+  ASSERT_EQ(filled.size(), defaults.size());
+  for (std::size_t i = 0; i < filled.size(); ++i) EXPECT_NE(filled[i], defaults[i]);
   cell.outcomes[1].min_ttc_s = std::numeric_limits<double>::infinity();  // kept as NULL
   ResultStore::open_for_writing(path, test_meta()).insert({cell});
   const auto read = read_results(path);
