@@ -77,10 +77,14 @@ class Results:
     """A results folder (docs/campaign.md) as pandas tables, at full precision.
 
     cells: one row per feasible cell and strategy, the columns of cells.csv in their order (the
-    cell's index after grid), then contact, p_mais3, p_fatal, planner_nodes, planner_rollouts,
-    chosen_strategy, adopted_from, fsm_trace, loss_evaluation_trace, seed. regions: one row per
-    cell, the columns of regions.csv in their order (index after grid; the harm reductions NaN where
-    it leaves them blank), then seed, strengthened, the unmitigated reference and inferred_from.
+    cell's index after grid), then every other field of the outcome record in the order of its
+    field list (docs/architecture.md: contact, p_mais3, p_fatal, planner_nodes, planner_rollouts,
+    fsm_trace, loss_evaluation_trace, chosen_strategy, adopted_from, maneuver) and the cell's seed.
+    regions: one row per cell, the columns of regions.csv in their order (index after grid; the harm
+    reductions NaN where it leaves them blank), then every other field of the cell record in its
+    list's order (seed, the unmitigated reference, strengthened, certificate, inferred_from).
+    Lists (traces, inferred_from) are words separated by spaces; a field added to a record is a
+    column here too.
     kpis: the rows of tables/kpis.csv (campaign::grid_kpis).
     ``results["cells"]`` reads as ``results.cells``.
     """

@@ -4,11 +4,14 @@
 #include "emrm/campaign/campaign.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <csignal>
 #include <cstdint>
 #include <exception>
@@ -151,9 +154,45 @@ class Columns {
       columns_[py::str(name)] = values;
     }
   }
+  // Every field of Record's field list (docs/architecture.md, "The record field list") that is not a
+  // column yet, under its own name and in the list's order (enums by name, lists as words): a field
+  // added to a record is a column of the frames without another edit. `of(row)` is the row's record.
+  // `renamed`: fields a column holds under another name.
+  template <class Record, class Of>
+  void add_remaining_fields(Of of, std::initializer_list<std::string_view> renamed = {}) {
+    const Record probe;
+    Record::visit_fields(probe, [&](const char* name, const auto& field, auto...) {
+      using T = std::remove_cvref_t<decltype(field)>;
+      if constexpr (!std::is_same_v<T, sim::CellInput>) {  // the factors: a column each, by key
+        if (columns_.contains(name) || std::find(renamed.begin(), renamed.end(), name) != renamed.end()) return;
+        add(name, [of, name](const Row& row) { return value_of<T>(of(row), name); });
+      }
+    });
+  }
   [[nodiscard]] py::dict dict() const { return columns_; }
 
  private:
+  // The field `name` of `record`: a number as it is, anything else as text.
+  template <class T, class Record>
+  static auto value_of(const Record& record, const char* name) {
+    using Value = std::conditional_t<std::is_arithmetic_v<T>, T, std::string>;
+    Value value{};
+    Record::visit_fields(record, [&](const char* field_name, const auto& field, auto...) {
+      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(field)>, T>) {
+        if (std::strcmp(field_name, name) != 0) return;
+        if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>)
+          value = field;
+        else if constexpr (core::NamedEnum<T>)
+          value = core::enum_text(field);
+        else if constexpr (std::is_same_v<T, std::vector<std::string>>)
+          value = core::join(field, " ");
+        else
+          value = fmt::format("{}", fmt::join(field, " "));
+      }
+    });
+    return value;
+  }
+
   const std::vector<Row>& rows_;
   py::dict columns_;
 };
@@ -168,9 +207,8 @@ void add_cell_factors(Columns<Row>& columns, const sim::FactorTable& factors, Ce
                 [cell, f](const Row& r) { return f < cell(r).factors.size() ? cell(r).factors[f] : 0.0; });
 }
 
-std::string joined(const std::vector<std::string>& words) { return core::join(words, " "); }
-
-// regions.csv's columns (at full precision; the reductions NaN where it leaves them blank), then the rest of the cell.
+// regions.csv's columns (at full precision; the reductions NaN where it leaves them blank), then
+// the rest of the cell's fields.
 py::dict region_columns(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors) {
   using campaign::CellRecord;
   constexpr double kBlank = std::numeric_limits<double>::quiet_NaN();
@@ -183,18 +221,7 @@ py::dict region_columns(const std::vector<campaign::CellRecord>& records, const 
   c.add("p_mais3_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_mais3_reduction : kBlank; });
   c.add("p_fatal_reduction", [](const CellRecord& r) { return r.simulated() ? r.p_fatal_reduction : kBlank; });
   c.add("method", [](const CellRecord& r) { return r.feasible ? core::enum_text(r.method) : std::string(); });
-  c.add("seed", [](const CellRecord& r) { return r.seed; });
-  c.add("strengthened", [](const CellRecord& r) { return r.strengthened; });
-  c.add("unmitigated_impact_speed_kph", [](const CellRecord& r) { return r.unmitigated_impact_speed_kph; });
-  c.add("unmitigated_delta_v_kph", [](const CellRecord& r) { return r.unmitigated_delta_v_kph; });
-  c.add("unmitigated_p_mais3", [](const CellRecord& r) { return r.unmitigated_p_mais3; });
-  c.add("unmitigated_p_fatal", [](const CellRecord& r) { return r.unmitigated_p_fatal; });
-  c.add("unmitigated_loss_level", [](const CellRecord& r) { return r.unmitigated_loss_level; });
-  c.add("inferred_from", [](const CellRecord& r) {
-    std::vector<std::string> cells;
-    for (const auto i : r.inferred_from) cells.push_back(std::to_string(i));
-    return joined(cells);
-  });
+  c.add_remaining_fields<CellRecord>([](const CellRecord& r) -> const CellRecord& { return r; }, {"cell_index"});
   return c.dict();
 }
 
@@ -203,7 +230,7 @@ struct OutcomeRow {
   const campaign::OutcomeRecord* outcome;
 };
 
-// cells.csv's columns, then the rest of each outcome.
+// cells.csv's columns, then the rest of each outcome's fields and the cell's seed.
 py::dict outcome_columns(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors) {
   std::vector<OutcomeRow> rows;
   for (const auto& r : records)
@@ -220,15 +247,8 @@ py::dict outcome_columns(const std::vector<campaign::CellRecord>& records, const
   c.add("road_departure", [](const OutcomeRow& r) { return r.outcome->road_departure; });
   c.add("departure_speed_kph", [](const OutcomeRow& r) { return r.outcome->departure_speed_kph(); });
   c.add("evidence", [](const OutcomeRow& r) { return core::enum_text(r.outcome->evidence); });
-  c.add("contact", [](const OutcomeRow& r) { return r.outcome->contact; });
-  c.add("p_mais3", [](const OutcomeRow& r) { return r.outcome->p_mais3; });
-  c.add("p_fatal", [](const OutcomeRow& r) { return r.outcome->p_fatal; });
-  c.add("planner_nodes", [](const OutcomeRow& r) { return r.outcome->planner_nodes; });
-  c.add("planner_rollouts", [](const OutcomeRow& r) { return r.outcome->planner_rollouts; });
-  c.add("chosen_strategy", [](const OutcomeRow& r) { return r.outcome->chosen_strategy; });
-  c.add("adopted_from", [](const OutcomeRow& r) { return r.outcome->adopted_from; });
-  c.add("fsm_trace", [](const OutcomeRow& r) { return joined(r.outcome->fsm_trace); });
-  c.add("loss_evaluation_trace", [](const OutcomeRow& r) { return joined(r.outcome->loss_evaluation_trace); });
+  c.add_remaining_fields<campaign::OutcomeRecord>(
+      [](const OutcomeRow& r) -> const campaign::OutcomeRecord& { return *r.outcome; });
   c.add("seed", [](const OutcomeRow& r) { return r.cell->seed; });
   return c.dict();
 }

@@ -120,6 +120,7 @@ class FieldColumns {
   /// Reads the row into `record`; `what(name)` names a field in a message ("region of cell g#3").
   void read(const Statement& row, Record& record, const std::function<std::string(const char*)>& what) const {
     std::size_t k = 0;
+    const auto named_by = [&what](const char* name) { return [&what, name] { return what(name); }; };
     Record::visit_fields(record, [&](const char* name, auto& field, auto... infinity_is_null) {
       using T = std::remove_cvref_t<decltype(field)>;
       const int c = positions_[k++];
@@ -138,7 +139,7 @@ class FieldColumns {
       } else if constexpr (std::is_same_v<T, std::int64_t>) {
         field = row.int64(c);
       } else if constexpr (std::is_same_v<T, std::uint64_t>) {
-        field = whole_number<std::uint64_t>(*path_, what(name), row.text(c));
+        field = whole_number<std::uint64_t>(*path_, named_by(name), row.text(c));
       } else if constexpr (std::is_same_v<T, std::string>) {
         field = row.text(c);
       } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
@@ -146,10 +147,10 @@ class FieldColumns {
       } else if constexpr (std::is_same_v<T, std::vector<std::int64_t>>) {
         field.clear();
         for (const auto& word : split_words(row.text(c)))
-          field.push_back(whole_number<std::int64_t>(*path_, what(name), word));
+          field.push_back(whole_number<std::int64_t>(*path_, named_by(name), word));
       } else {
         static_assert(core::NamedEnum<T>, "a record field of a type the store cannot keep");
-        field = named<T>(*path_, what(name), row.text(c));
+        field = named<T>(*path_, named_by(name), row.text(c));
       }
     });
   }

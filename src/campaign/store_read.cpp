@@ -63,7 +63,8 @@ std::vector<std::pair<std::int64_t, sim::Region>> ResultStore::simulated_regions
   std::vector<std::pair<std::int64_t, sim::Region>> out;
   while (q.step()) {
     const std::int64_t index = q.int64(0);
-    out.emplace_back(index, named<sim::Region>(path_, fmt::format("region of cell {}#{}", grid, index), q.text(1)));
+    out.emplace_back(index, named<sim::Region>(
+                             path_, [&] { return fmt::format("region of cell {}#{}", grid, index); }, q.text(1)));
   }
   return out;
 }

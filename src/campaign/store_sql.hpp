@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "emrm/core/enum_names.hpp"
 #include "emrm/core/error.hpp"
@@ -96,21 +97,31 @@ void exec(sqlite3* db, const std::filesystem::path& path, const char* sql);
 /// Throws UsageError: the file at `path` is not an emrm results store, because `why`.
 [[noreturn]] void not_a_store(const std::filesystem::path& path, const std::string& why);
 
+// What holds a stored value, for a message: a text, or a function that writes it, called only when
+// the value is refused (a reader names every row's fields, and formats none of them when all is well).
+template <typename What>
+std::string holder(const What& what) {
+  if constexpr (std::is_invocable_v<const What&>)
+    return what();
+  else
+    return std::string(what);
+}
+
 // A whole number the store keeps as text, or not_a_store naming what holds something else.
-template <typename T>
-T whole_number(const std::filesystem::path& path, const std::string& what, const std::string& text) {
+template <typename T, typename What>
+T whole_number(const std::filesystem::path& path, const What& what, const std::string& text) {
   T value{};
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty())
-    not_a_store(path, fmt::format("its {} is '{}', not a whole number", what, text.substr(0, 40)));
+    not_a_store(path, fmt::format("its {} is '{}', not a whole number", holder(what), text.substr(0, 40)));
   return value;
 }
 
 // An enum the store keeps as its name, or not_a_store naming what holds another text.
-template <core::NamedEnum E>
-E named(const std::filesystem::path& path, const std::string& what, const std::string& text) {
+template <core::NamedEnum E, typename What>
+E named(const std::filesystem::path& path, const What& what, const std::string& text) {
   if (const auto value = core::enum_from_name<E>(text)) return *value;
-  not_a_store(path, fmt::format("its {} is '{}', not {}", what, text.substr(0, 40), core::enum_choices<E>()));
+  not_a_store(path, fmt::format("its {} is '{}', not {}", holder(what), text.substr(0, 40), core::enum_choices<E>()));
 }
 
 }  // namespace emrm::campaign::detail

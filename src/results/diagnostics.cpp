@@ -31,9 +31,8 @@ using Json = nlohmann::ordered_json;
 using GroupKey = std::vector<double>;  // every factor but the one compared along
 
 void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid,
-                 const std::string& factor, const std::vector<std::string>& strategies, std::size_t max_examples,
-                 MonotonicityCheck& out) {
-  const std::size_t along = factor == "ttc" ? sim::kTtcFactor : sim::kFrictionFactor;
+                 std::size_t along, const std::string& factor, const std::vector<std::string>& strategies,
+                 std::size_t max_examples, MonotonicityCheck& out) {
   std::map<GroupKey, std::vector<const campaign::CellRecord*>> groups;
   for (const auto* c : cells) {
     GroupKey key(c->factors.begin(), c->factors.end());
@@ -138,8 +137,8 @@ MonotonicityCheck check_monotonicity(const std::vector<campaign::CellRecord>& re
     std::vector<const campaign::CellRecord*> cells;
     for (const auto& r : records)
       if (r.grid == grid && r.feasible) cells.push_back(&r);
-    count_along(cells, grid, "ttc", strategies, max_examples, out);
-    count_along(cells, grid, "mu", strategies, max_examples, out);
+    count_along(cells, grid, sim::kTtcFactor, "ttc", strategies, max_examples, out);
+    count_along(cells, grid, sim::kFrictionFactor, "mu", strategies, max_examples, out);
   }
   return out;
 }

@@ -3,6 +3,7 @@ regions.csv at full precision; the results do not depend on the thread count; Ct
 that a second call resumes with no cell lost or stored twice."""
 
 import csv
+import json
 import math
 import os
 import signal
@@ -80,6 +81,34 @@ def test_load_results_has_the_numbers_of_the_csv_files(swept):
     assert_frame_is_csv(results["cells"], read_csv(folder / "cli" / "cells.csv"))
     assert_frame_is_csv(results["regions"], read_csv(folder / "cli" / "regions.csv"))
     assert results.meta["grids"] == ["map", "slippery"] and results.meta["seed"] == 5
+
+
+def test_the_columns_after_the_csv_files_hold_the_rest_of_cells_json(swept):
+    folder, _, _ = swept
+    results = emrm.load_results(folder / "cli")
+    regions, cells = results.regions, results.cells
+    for column in ("seed", "strengthened", "certificate", "inferred_from", "unmitigated_p_fatal"):
+        assert column in regions.columns, column
+    for column in ("contact", "p_fatal", "fsm_trace", "chosen_strategy", "maneuver", "seed"):
+        assert column in cells.columns, column
+    documents = json.loads((folder / "cli" / "cells.json").read_text())
+    assert len(documents) == len(regions)
+    outcome_row = 0
+    for i, cell in enumerate(documents):
+        row = regions.iloc[i]
+        assert (row.grid, row["index"], row.seed) == (cell["grid"], cell["index"], cell["seed"])
+        if "certificate" in cell:
+            assert json.loads(row.certificate) == cell["certificate"]
+        if "unmitigated" in cell:
+            assert row.unmitigated_p_fatal == cell["unmitigated"]["p_fatal"]
+            assert bool(row.strengthened) == cell["strengthened"]
+        for outcome in cell.get("outcomes", []):
+            mine = cells.iloc[outcome_row]
+            assert mine.strategy == outcome["strategy"] and bool(mine.contact) == outcome["contact"]
+            assert mine.fsm_trace == " ".join(outcome["fsm_trace"]) and mine.seed == cell["seed"]
+            assert mine.chosen_strategy == outcome["chosen_strategy"] and mine.maneuver.startswith("{")
+            outcome_row += 1
+    assert outcome_row == len(cells)
 
 
 def test_kpis_count_the_cells_table(swept):
