@@ -64,7 +64,7 @@ std::vector<std::pair<std::int64_t, sim::Region>> ResultStore::simulated_regions
   while (q.step()) {
     const std::int64_t index = q.int64(0);
     out.emplace_back(index, named<sim::Region>(
-                             path_, [&] { return fmt::format("region of cell {}#{}", grid, index); }, q.text(1)));
+                                path_, [&] { return fmt::format("region of cell {}#{}", grid, index); }, q.text(1)));
   }
   return out;
 }

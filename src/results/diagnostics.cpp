@@ -30,9 +30,9 @@ using Json = nlohmann::ordered_json;
 // expansion of the same list values, so exact equality is the right test.
 using GroupKey = std::vector<double>;  // every factor but the one compared along
 
-void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid,
-                 std::size_t along, const std::string& factor, const std::vector<std::string>& strategies,
-                 std::size_t max_examples, MonotonicityCheck& out) {
+void count_along(const std::vector<const campaign::CellRecord*>& cells, const std::string& grid, std::size_t along,
+                 const std::string& factor, const std::vector<std::string>& strategies, std::size_t max_examples,
+                 MonotonicityCheck& out) {
   std::map<GroupKey, std::vector<const campaign::CellRecord*>> groups;
   for (const auto* c : cells) {
     GroupKey key(c->factors.begin(), c->factors.end());
