@@ -21,6 +21,7 @@
 #include "emrm/results/paper_reference.hpp"
 #include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
+#include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/pict_model.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -115,7 +116,7 @@ void report_side_files(std::string_view data) {
                            "plan/coverage.json", "traceability.csv", "outcomes.csv"})
     write(dir / name, data);
   refused_or_read([&] { (void)report::side_files_html(dir); });
-  refused_or_read([&] { (void)report::read_traceability_csv(dir / "traceability.csv"); });
+  refused_or_read([&] { (void)safety::read_traceability_csv(dir / "traceability.csv"); });
   refused_or_read([&] { (void)report::read_planned_run(dir); });
 }
 

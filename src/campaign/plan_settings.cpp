@@ -4,6 +4,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/core/yaml.hpp"
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::campaign {
@@ -112,8 +113,11 @@ PlanSettings read_plan_settings(const fs::path& scenarios_json) {
       s.seed = v.get<std::uint64_t>();
     }
   }
-  if (const auto& factors = member(j, "factors", file, nlohmann::json::value_t::array); factors.is_array())
-    s.factors = factors;
+  if (const auto& factors = member(j, "factors", file, nlohmann::json::value_t::array); factors.is_array()) {
+    // Read through the factors' own field list (JSON is YAML: errors name their line and column).
+    const auto node = core::YamlNode::parse(text, file).at("factors");
+    core::YamlCodec<std::vector<scenario::PlanFactor>>::read(node, s.factors.emplace());
+  }
   read_plan_modes(j, file, s);
   if (const auto& cells = member(j, "cells", file, nlohmann::json::value_t::array); cells.is_array())
     for (const auto& c : cells) {

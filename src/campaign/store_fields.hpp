@@ -15,7 +15,6 @@
 #include <functional>
 #include <limits>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -80,14 +79,6 @@ int bind_fields(Statement& statement, int column, const Record& record) {
   return column;
 }
 
-/// The words of a list field.
-inline std::vector<std::string> split_words(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string word; in >> word;) out.push_back(word);
-  return out;
-}
-
 /// Where each field of a record stands in the rows of a query (found by name), and the factors'
 /// columns: those the fields do not name, in table order. A column a field names that the query
 /// lacks makes the file not a store.
@@ -143,10 +134,10 @@ class FieldColumns {
       } else if constexpr (std::is_same_v<T, std::string>) {
         field = row.text(c);
       } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
-        field = split_words(row.text(c));
+        field = core::split_words(row.text(c));
       } else if constexpr (std::is_same_v<T, std::vector<std::int64_t>>) {
         field.clear();
-        for (const auto& word : split_words(row.text(c)))
+        for (const auto& word : core::split_words(row.text(c)))
           field.push_back(whole_number<std::int64_t>(*path_, named_by(name), word));
       } else {
         static_assert(core::NamedEnum<T>, "a record field of a type the store cannot keep");

@@ -188,6 +188,18 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 
 }  // namespace
 
+std::vector<std::string> split_words(std::string_view text) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  while (true) {
+    from = text.find_first_not_of(" \t\n\r\f\v", from);
+    if (from == std::string_view::npos) return out;
+    const std::size_t to = std::min(text.find_first_of(" \t\n\r\f\v", from), text.size());
+    out.emplace_back(text.substr(from, to - from));
+    from = to;
+  }
+}
+
 std::string counted(std::size_t n, std::string_view one, std::string_view many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "emrm/core/json_archive.hpp"
 #include "emrm/core/text.hpp"
 
 namespace emrm::core {
@@ -55,6 +56,18 @@ YamlNode YamlNode::parse(const std::string& text, std::string file_name) {
   auto file = std::make_shared<const std::string>(std::move(file_name));
   if (!root.IsDefined() || root.IsNull()) throw InputError({*file, 1, 1}, "the file is empty; expected a YAML mapping");
   return YamlNode(root, std::move(file));
+}
+
+YamlNode load_json_file(const std::filesystem::path& path) {
+  try {
+    return YamlNode::load_file(path);
+  } catch (const InputError& e) {
+    constexpr std::string_view kMalformed = "malformed YAML: ";
+    if (e.message().starts_with(kMalformed))
+      throw InputError(e.where(), "not valid JSON: " + e.message().substr(kMalformed.size()));
+    if (e.message().starts_with("the file is empty")) throw InputError(e.where(), "the file is empty; expected JSON");
+    throw;
+  }
 }
 
 SourceLocation YamlNode::location() const { return location_of(*file_, node_.Mark()); }

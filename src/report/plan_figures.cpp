@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <nlohmann/json.hpp>
 #include <utility>
 
 #include "emrm/campaign/plan_settings.hpp"
@@ -16,6 +15,8 @@
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
 #include "emrm/results/results_dir.hpp"
+#include "emrm/results/run_estimates.hpp"
+#include "emrm/results/run_outcomes.hpp"
 #include "emrm/scenario/statistics.hpp"
 #include "figure_parts.hpp"
 
@@ -27,50 +28,18 @@ using campaign::CellRecord;
 
 // --- reading the run ----------------------------------------------------------------------------
 
-nlohmann::json parse_json_file(const fs::path& path) {
-  const std::string text = core::read_input_file(path);
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path.string(), 1, static_cast<int>(e.byte)}, fmt::format("not valid JSON: {}", e.what()));
-  } catch (const nlohmann::json::exception& e) {  // a number too large for a double: 1e999
-    throw InputError({path.string(), 1, 1}, fmt::format("not valid JSON: {}", e.what()));
-  }
-}
-
-/// estimates.json's "factors" (name, unit, levels[].label), as `emrm run` copies them from the plan.
-std::vector<PlanFactor> factors_of(const nlohmann::json& list, const std::string& file) {
-  std::vector<PlanFactor> factors;
-  if (list.is_null()) return factors;
-  const auto bad = [&](std::size_t i) {
-    return InputError({file, 1, 1}, fmt::format("'factors[{}]' must be an object with a string 'name', a string "
-                                                "'unit' and 'levels' listing objects with a string 'label'",
-                                                i));
-  };
-  if (!list.is_array()) throw bad(0);
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const auto& f = list[i];
-    if (!f.is_object() || !f.contains("name") || !f["name"].is_string() || !f.contains("levels") ||
-        !f["levels"].is_array() || (f.contains("unit") && !f["unit"].is_string()))
-      throw bad(i);
-    PlanFactor factor{f["name"].get<std::string>(), f.value("unit", std::string()), {}};
-    for (const auto& level : f["levels"]) {
-      if (!level.is_object() || !level.contains("label") || !level["label"].is_string()) throw bad(i);
-      factor.levels.push_back(level["label"].get<std::string>());
-    }
-    factors.push_back(std::move(factor));
-  }
-  return factors;
-}
-
+/// The factors (name, unit, level labels), confidence and acceptance criterion of estimates.json,
+/// read through its typed reader (results/run_estimates.hpp).
 void read_estimates(const fs::path& path, PlannedRun& run) {
-  const nlohmann::json j = parse_json_file(path);
-  if (!j.is_object()) throw InputError({path.string(), 1, 1}, "expected an estimates.json object");
-  run.factors = factors_of(j.contains("factors") ? j["factors"] : nlohmann::json(), path.string());
-  if (j.contains("confidence") && j["confidence"].is_number()) run.confidence = j["confidence"].get<double>();
-  if (j.contains("acceptance") && j["acceptance"].is_object())
-    run.acceptance = fmt::format("{} {}", j["acceptance"].value("strategy", std::string()),
-                                 j["acceptance"].value("outcome", std::string()));
+  const results::RunEstimates estimates = results::read_run_estimates(path);
+  run.factors.clear();
+  for (const auto& f : estimates.factors.value_or(std::vector<scenario::PlanFactor>{})) {
+    PlanFactor factor{f.name, f.unit, {}};
+    for (const auto& level : f.levels) factor.levels.push_back(level.label);
+    run.factors.push_back(std::move(factor));
+  }
+  run.confidence = estimates.confidence;
+  if (const auto& a = estimates.acceptance) run.acceptance = fmt::format("{} {}", a->strategy, a->outcome);
 }
 
 /// The levels of a cell key "c0.2.1" (scenario::cell_key), one per factor.
@@ -99,27 +68,16 @@ std::vector<int> levels_of_key(const std::string& key, const std::vector<PlanFac
   return levels;
 }
 
+// The scenarios of outcomes.csv, read through its typed reader (results/run_outcomes.hpp).
 void read_outcomes(const fs::path& path, PlannedRun& run) {
-  const auto records = core::parse_csv(core::read_input_file(path), path.string());
-  if (records.empty()) throw InputError({path.string(), 1, 1}, "expected a header: id, cell, ..., feasible, success");
-  const core::Row& header = records.front().fields;
-  const auto column = [&](const char* name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw InputError({path.string(), 1, 1}, fmt::format("no column '{}'", name));
-    return static_cast<std::size_t>(it - header.begin());
-  };
-  const std::size_t id = column("id"), cell = column("cell"), feasible = column("feasible"),
-                    success = column("success");
-  for (std::size_t r = 1; r < records.size(); ++r) {
-    const auto& f = records[r].fields;
-    const SourceLocation where{path.string(), records[r].lines.front(), 1};
-    if (f.size() != header.size())
-      throw InputError(where, fmt::format("row has {} fields, the header {}", f.size(), header.size()));
+  const results::RunOutcomes outcomes = results::read_run_outcomes(path);
+  for (std::size_t i = 0; i < outcomes.scenarios.size(); ++i) {
+    const auto& o = outcomes.scenarios[i];
     PlannedScenario s;
-    s.id = f[id];
-    if (!run.factors.empty()) s.levels = levels_of_key(f[cell], run.factors, where);
-    s.feasible = f[feasible] == "yes";
-    s.success = f[success] == "1" ? 1 : 0;
+    s.id = o.id;
+    if (!run.factors.empty()) s.levels = levels_of_key(o.cell, run.factors, {path.string(), outcomes.lines[i], 1});
+    s.feasible = o.feasible;
+    s.success = o.success == 1 ? 1 : 0;
     run.scenarios.push_back(std::move(s));
   }
 }
@@ -291,7 +249,11 @@ std::optional<PlannedRun> read_planned_run(const fs::path& dir) {
     if (!fs::is_regular_file(folder.outcomes_csv(), ec) || !fs::is_regular_file(folder.estimates_json(), ec)) continue;
     PlannedRun run;
     run.folder = folder.root();
-    read_estimates(folder.estimates_json(), run);
+    try {
+      read_estimates(folder.estimates_json(), run);
+    } catch (const InputError&) {
+      continue;  // not as `emrm run` writes it: the statistics section says so and shows no run
+    }
     read_outcomes(folder.outcomes_csv(), run);
     attach_records(folder.store(), run);
     return run;

@@ -219,7 +219,7 @@ std::vector<safety::TraceRow> find_traceability(const fs::path& dir, std::string
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) continue;
     source = fs::relative(file, dir).generic_string();
-    return read_traceability_csv(file);
+    return safety::read_traceability_csv(file);
   }
   return {};
 }
@@ -295,45 +295,6 @@ Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& 
                      {f.svg, fsm::render(dot, "svg")},
                      {f.png, fsm::render(dot, "png")}});
   return f;
-}
-
-std::vector<safety::TraceRow> read_traceability_csv(const fs::path& path) {
-  const auto records = core::parse_csv(core::read_input_file(path), path.string());
-  const core::Row header = safety::traceability_header();
-  if (records.empty() || records.front().fields != header)
-    throw InputError({path.string(), 1, 1},
-                     fmt::format("expected a traceability matrix with the header {}", core::join(header, ",")));
-  std::vector<safety::TraceRow> rows;
-  const auto split = [](const std::string& text, char sep) {
-    std::vector<std::string> out;
-    std::string item;
-    for (std::istringstream in(text); std::getline(in, item, sep);) {
-      const auto b = item.find_first_not_of(' ');
-      if (b != std::string::npos) out.push_back(item.substr(b));
-    }
-    return out;
-  };
-  for (std::size_t i = 1; i < records.size(); ++i) {
-    const auto& f = records[i].fields;
-    if (f.size() != header.size())
-      throw InputError({path.string(), records[i].lines.front(), 1},
-                       fmt::format("row has {} fields, the header {}", f.size(), header.size()));
-    safety::TraceRow r;
-    r.uca = f[0];
-    r.uca_type = f[1];
-    r.control_action = f[2];
-    r.hazard = f[3];
-    r.asil = f[4];
-    r.smil = f[5];
-    r.loss = f[6];
-    r.loss_name = f[7];
-    r.loss_reversible = f[8] == "yes";
-    r.transitions = split(f[9], ';');
-    r.region = f[10];
-    r.scenarios = split(f[11], ' ');
-    rows.push_back(std::move(r));
-  }
-  return rows;
 }
 
 namespace {

@@ -8,13 +8,15 @@
 #include <fmt/format.h>
 
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
 
 #include "emrm/core/text.hpp"
 #include "emrm/report/report.hpp"
+#include "emrm/results/diagnostics.hpp"
 #include "emrm/results/results_dir.hpp"
+#include "emrm/results/run_estimates.hpp"
+#include "emrm/safety/traceability.hpp"
 #include "html.hpp"
 #include "statistics_section.hpp"
 
@@ -26,90 +28,83 @@ using detail::html_table;
 using detail::read_or_empty;
 
 // The findings of analysis/findings.json, one row each.
-std::string findings_table(const nlohmann::json& list) {
+std::string findings_table(const std::vector<safety::Finding>& findings) {
   core::Row header{"severity", "code", "subject", "where", "message"};
   std::vector<core::Row> rows;
-  for (const auto& f : list)
-    rows.push_back({f.value("severity", ""), f.value("code", ""), f.value("subject", ""),
-                    fmt::format("{}:{}:{}", f.value("file", ""), f.value("line", 0), f.value("column", 0)),
-                    f.value("message", "")});
+  for (const auto& f : findings)
+    rows.push_back({core::enum_text(f.severity), f.code, f.subject,
+                    fmt::format("{}:{}:{}", f.where.file, f.where.line, f.where.column), f.message});
   return html_table(header, rows);
 }
 
 std::string findings_html(const fs::path& dir) {
-  const std::string text = read_or_empty(results::ResultsDir(dir).findings_json());
+  const fs::path file = results::ResultsDir(dir).findings_json();
+  const std::string text = read_or_empty(file);
   if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
-  const auto j = nlohmann::json::parse(text, nullptr, false);
-  if (!j.is_array() && !(j.is_object() && j.contains("findings"))) return "<pre>" + html_escape(text) + "</pre>\n";
-  const auto& list = j.is_array() ? j : j["findings"];
-  if (list.empty()) return "<p class=\"ok\">No findings.</p>\n";
   try {
-    return findings_table(list);
-  } catch (const nlohmann::json::exception& e) {  // a file edited by hand: shown as it is
+    const auto findings = safety::read_findings_json(file);
+    return findings.empty() ? "<p class=\"ok\">No findings.</p>\n" : findings_table(findings);
+  } catch (const InputError& e) {  // a file edited by hand: shown as it is
     return "<p>analysis/findings.json is not in the form emrm writes (" + html_escape(e.what()) +
            "); shown as it is.</p>\n<pre>" + html_escape(text) + "</pre>\n";
   }
 }
 
-// The checks of diagnostics.json (results::to_json) as one table: what each found, then the file.
-std::string diagnostics_table(const nlohmann::json& d) {
-  const auto& stop = d.at("stop_boundary");
-  const auto& mono = d.at("monotonicity");
-  const auto& reference = d.at("rrt_vs_reference");
-  const auto count = [](const nlohmann::json& j, const char* key) { return j.at(key).get<std::size_t>(); };
+// The checks of diagnostics.json (results::read_diagnostics_summary) as one table: what each
+// found, then the file.
+std::string diagnostics_table(const results::DiagnosticsSummary& d) {
   core::Row header{"check", "result"};
   std::vector<core::Row> rows;
-  rows.push_back(
-      {"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
-                                    "(must be 0), {} G cells below the boundary (must be 0)",
-                                    count(stop, "stoppable"), count(stop, "feasible"),
-                                    count(stop, "stoppable_red_count"), count(stop, "green_not_stoppable_count"))});
+  rows.push_back({"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
+                                               "(must be 0), {} G cells below the boundary (must be 0)",
+                                               d.stoppable, d.feasible, d.stoppable_red, d.green_not_stoppable)});
   std::vector<std::string> reversals;
-  for (const auto& c : mono.at("counts"))
-    if (count(c, "reversals") > 0)
-      reversals.push_back(fmt::format("{} {} over {}: {} of {} pairs", c.at("grid").get<std::string>(),
-                                      c.at("strategy").get<std::string>(), c.at("factor").get<std::string>(),
-                                      count(c, "reversals"), count(c, "pairs")));
+  for (const auto& c : d.reversal_counts)
+    if (c.reversals > 0)
+      reversals.push_back(
+          fmt::format("{} {} over {}: {} of {} pairs", c.grid, c.strategy, c.factor, c.reversals, c.pairs));
   rows.push_back(
-      {"monotonicity in TTC and mu", fmt::format("{} reversals{}", count(mono, "total_reversals"),
+      {"monotonicity in TTC and mu", fmt::format("{} reversals{}", d.total_reversals,
                                                  reversals.empty() ? "" : " (" + core::join(reversals, "; ") + ")")});
   std::vector<std::string> planners;
-  for (const auto& [name, c] : reference.items())
-    if (c.is_object())
-      planners.push_back(fmt::format("{}: reference avoids {}, RRT missed {}, RRT beyond the reference {}", name,
-                                     count(c, "reference_avoids"), count(c, "rrt_missed"),
-                                     count(c, "rrt_beyond_reference")));
-  rows.push_back({fmt::format("RRT against the reference planner ({} cells, seed {})", count(reference, "sampled"),
-                              reference.at("seed").get<std::uint64_t>()),
+  for (const auto& c : d.reference)
+    planners.push_back(fmt::format("{}: reference avoids {}, RRT missed {}, RRT beyond the reference {}", c.strategy,
+                                   c.reference_avoids, c.missed, c.beyond_reference));
+  rows.push_back({fmt::format("RRT against the reference planner ({} cells, seed {})", d.sampled, d.seed),
                   planners.empty() ? std::string("no strategy checked") : core::join(planners, "; ")});
-  for (const auto& [name, c] : d.at("fsm_coverage").items())
-    rows.push_back(
-        {"FSM transition coverage: " + name, fmt::format("{} of {} transitions exercised by {} traces",
-                                                         count(c, "covered"), count(c, "total"), count(c, "traces"))});
+  for (const auto& c : d.fsm_coverage)
+    rows.push_back({"FSM transition coverage: " + c.name,
+                    fmt::format("{} of {} transitions exercised by {} traces", c.covered, c.total, c.traces)});
   return html_table(header, rows);
 }
 
 std::string diagnostics_html(const fs::path& dir) {
-  const std::string text = read_or_empty(results::ResultsDir(dir).diagnostics_json());
+  const fs::path file = results::ResultsDir(dir).diagnostics_json();
+  const std::string text = read_or_empty(file);
   if (text.empty())
     return "<p>No diagnostics in this folder: <code>emrm diagnose " + html_escape(dir.string()) +
            "</code> writes them (<code>emrm reproduce</code> does so itself).</p>\n";
   std::string table;
   try {
-    table = diagnostics_table(nlohmann::json::parse(text));
-  } catch (const nlohmann::json::exception& e) {
+    table = diagnostics_table(results::read_diagnostics_summary(file));
+  } catch (const InputError& e) {
     table = "<p>diagnostics.json is not in the form emrm writes (" + html_escape(e.what()) + "); shown as it is.</p>\n";
   }
   return table + "<details><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
 // The estimates.json of a planned run in this folder (reproduce's plan_results/ or `emrm run`'s own),
-// with the folder it is in; nothing when there is none.
-std::optional<std::pair<fs::path, nlohmann::json>> run_estimates(const fs::path& dir) {
+// with the folder it is in; nothing when there is none or it is not as `emrm run` writes it (the
+// statistics section says so).
+std::optional<std::pair<fs::path, results::RunEstimates>> run_estimates(const fs::path& dir) {
   const results::ResultsDir folder(dir);
   for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
-    auto j = nlohmann::json::parse(read_or_empty(file), nullptr, false);
-    if (j.is_object() && j.contains("weighted_success")) return std::pair{file.parent_path(), std::move(j)};
+    if (read_or_empty(file).empty()) continue;
+    try {
+      return std::pair{file.parent_path(), results::read_run_estimates(file)};
+    } catch (const InputError&) {
+      continue;
+    }
   }
   return std::nullopt;
 }
@@ -129,28 +124,18 @@ namespace detail {
 std::vector<fs::path> coverage_candidates(const fs::path& dir) {
   const results::ResultsDir folder(dir);
   std::vector<fs::path> files{folder.plan().coverage_json(), folder.coverage_json()};
-  if (const auto run = run_estimates(dir)) {
-    const auto& plan = run->second.value("plan", nlohmann::json::object());
-    if (plan.is_object() && plan.contains("coverage") && plan["coverage"].is_string())
-      files.push_back(run->first / plan["coverage"].get<std::string>());
-  }
+  if (const auto run = run_estimates(dir); run && run->second.plan && run->second.plan->coverage)
+    files.push_back(run->first / *run->second.plan->coverage);
   return files;
 }
 
 std::string shortfalls_html(const fs::path& dir) {
   const auto run = run_estimates(dir);
-  if (!run || !run->second.contains("shortfalls") || !run->second["shortfalls"].is_array() ||
-      run->second["shortfalls"].empty())
-    return "";
+  if (!run || run->second.shortfalls.empty()) return "";
   std::string out =
       "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
       "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
-  for (const auto& s : run->second["shortfalls"])
-    out +=
-        "<li>" +
-        html_escape(s.is_object() && s.contains("message") && s["message"].is_string() ? s["message"].get<std::string>()
-                                                                                       : s.dump()) +
-        "</li>\n";
+  for (const auto& s : run->second.shortfalls) out += "<li>" + html_escape(s.message) + "</li>\n";
   return out + "</ul></div>\n";
 }
 

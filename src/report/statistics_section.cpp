@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "emrm/core/text.hpp"
 #include "emrm/report/report.hpp"
 #include "emrm/results/results_dir.hpp"
+#include "emrm/results/run_estimates.hpp"
 #include "emrm/scenario/statistics.hpp"
 #include "html.hpp"
 
@@ -15,7 +15,6 @@ namespace emrm::report::detail {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
 
 std::string fixed3(double v) { return fmt::format("{:.3f}", v); }
 
@@ -35,30 +34,30 @@ struct Cells {
   std::size_t tracked = 0, met = 0, smallest_n = 0;
 };
 
-Cells cells_table(const Json& j, double epsilon, double confidence) {
+Cells cells_table(const results::RunEstimates& run) {
+  const double epsilon = run.epsilon, confidence = run.confidence;
   Cells out;
   std::vector<std::string> factors;
-  for (const auto& c : j.at("cells"))
-    if (c.contains("levels"))
-      for (const auto& [f, label] : c.at("levels").items())
-        if (std::find(factors.begin(), factors.end(), f) == factors.end()) factors.push_back(f);
+  for (const auto& c : run.cells)
+    for (const auto& [f, label] : c.levels)
+      if (std::find(factors.begin(), factors.end(), f) == factors.end()) factors.push_back(f);
   core::Row header{"cell"};
   header.insert(header.end(), factors.begin(), factors.end());
   for (const char* h : {"n", "successes", "estimate", "Wilson low", "Wilson high", "half-width", "target met"})
     header.emplace_back(h);
   std::vector<core::Row> rows;
   const std::size_t wilson_n = scenario::wilson_sample_size(epsilon, confidence);
-  for (const auto& c : j.at("cells")) {
-    const auto n = c.at("n").get<std::size_t>();
-    const auto k = c.at("successes").get<std::size_t>();
-    const double low = c.at("wilson").at(0).get<double>(), high = c.at("wilson").at(1).get<double>();
-    const bool tracked = c.at("tracked").get<bool>();
+  for (const auto& c : run.cells) {
+    const std::size_t n = c.n, k = c.successes;
+    const double low = c.wilson.low, high = c.wilson.high;
+    const bool tracked = c.tracked;
     const double rate = n > 0 ? static_cast<double>(k) / static_cast<double>(n) : 0.0;
     const bool met = 0.5 * (high - low) <= epsilon;
-    core::Row row{c.at("cell").get<std::string>()};
+    core::Row row{c.cell};
     std::vector<std::string> bins;
     for (const auto& f : factors) {
-      row.push_back(c.contains("levels") ? c.at("levels").value(f, "") : "");
+      const auto level = std::find_if(c.levels.begin(), c.levels.end(), [&](const auto& l) { return l.first == f; });
+      row.push_back(level != c.levels.end() ? level->second : "");
       bins.push_back(f + " " + row.back());
     }
     for (const auto& field :
@@ -77,47 +76,37 @@ Cells cells_table(const Json& j, double epsilon, double confidence) {
     }
     const std::size_t m = tests_for(rate, n, epsilon, confidence, std::max(wilson_n, n));
     out.short_of_target.push_back(fmt::format("{} ({}): n = {} → {} at the observed rate (+{}), {} for any outcome",
-                                              c.at("cell").get<std::string>(), core::join(bins, ", "), n, m, m - n,
-                                              std::max(wilson_n, n)));
+                                              c.cell, core::join(bins, ", "), n, m, m - n, std::max(wilson_n, n)));
   }
   out.table = html_table(header, rows);
   return out;
 }
 
-std::string weighted_table(const Json& j) {
+std::string weighted_table(const results::RunEstimates& run) {
   core::Row header{"subset A", "tests", "n_eff", "Ŝ(A)", "Wilson low", "Wilson high", "shortfall of the plan"};
   std::vector<core::Row> rows;
-  for (const auto& item : j.at("weighted_success").items()) {  // not a structured binding: clang < 16
-    const std::string& subset = item.key();                    // cannot capture one in a lambda
-    const Json& e = item.value();
-    const auto num = [&](const char* key) {
-      return e.contains(key) && e[key].is_number() ? fixed3(e[key].get<double>()) : "—";
-    };
-    const auto& w = e.at("wilson");
-    rows.push_back({subset, std::to_string(e.at("n").get<std::size_t>()), num("n_eff"), num("estimate"),
-                    fixed3(w.at(0).get<double>()), fixed3(w.at(1).get<double>()),
-                    e.contains("shortfall") && e["shortfall"].is_string() ? e["shortfall"].get<std::string>() : ""});
-  }
+  for (const auto& [subset, e] : run.weighted_success)
+    rows.push_back({subset, std::to_string(e.n), fixed3(e.n_eff), e.estimate ? fixed3(*e.estimate) : "—",
+                    fixed3(e.wilson.low), fixed3(e.wilson.high), e.shortfall.value_or("")});
   return html_table(header, rows);
 }
 
-std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
-  const double epsilon = j.at("epsilon").get<double>();
-  const double confidence = j.at("confidence").get<double>();
+std::string section(const results::RunEstimates& run, const fs::path& file, const fs::path& dir) {
+  const double epsilon = run.epsilon;
+  const double confidence = run.confidence;
   const double delta = 1.0 - confidence;
   std::string criterion = "the acceptance strategy avoids the collision";
-  if (const auto a = j.find("acceptance"); a != j.end())
-    criterion =
-        fmt::format("<code>{}</code> {}", html_escape(a->at("strategy").get<std::string>()),
-                    a->at("outcome").get<std::string>() == "mitigated" ? "avoids the collision or lowers the loss level"
-                                                                       : "avoids the collision");
-  const Cells cells = cells_table(j, epsilon, confidence);
+  if (const auto& a = run.acceptance)
+    criterion = fmt::format(
+        "<code>{}</code> {}", html_escape(a->strategy),
+        a->outcome == "mitigated" ? "avoids the collision or lowers the loss level" : "avoids the collision");
+  const Cells cells = cells_table(run);
   std::string html = fmt::format(
       "<h3 id=\"statistics\">Statistics: acceptance criterion “{}”</h3>\n"
       "<p>From {}: {} scenarios. Each cell of the ODD estimates the probability that the criterion holds; "
       "its target is a Wilson interval no wider than ±{:g} at {:g} % confidence. {} of {} tracked cells meet it.</p>\n",
-      criterion, html_escape(fs::relative(file, dir).generic_string()), j.at("scenarios").get<std::size_t>(), epsilon,
-      100.0 * confidence, cells.met, cells.tracked);
+      criterion, html_escape(fs::relative(file, dir).generic_string()), run.scenarios, epsilon, 100.0 * confidence,
+      cells.met, cells.tracked);
   html += cells.table;
   if (cells.tracked > 0) {
     const double hoeffding = scenario::hoeffding_epsilon(static_cast<double>(cells.smallest_n), delta);
@@ -140,7 +129,7 @@ std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
       "<p>The weighted success Ŝ(A) over the whole set and over each malfunction's region: the weights undo "
       "the plan's risk-weighted sampling, and the Wilson interval is taken at Kish's effective sample size "
       "n_eff.</p>\n" +
-      weighted_table(j);
+      weighted_table(run);
   return html;
 }
 
@@ -149,12 +138,10 @@ std::string section(const Json& j, const fs::path& file, const fs::path& dir) {
 std::string statistics_html(const fs::path& dir) {
   const results::ResultsDir folder(dir);
   for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
-    const std::string text = read_or_empty(file);
-    if (text.empty()) continue;
-    const Json j = Json::parse(text, nullptr, false);
+    if (read_or_empty(file).empty()) continue;
     try {
-      return section(j, file, dir);
-    } catch (const Json::exception& e) {
+      return section(results::read_run_estimates(file), file, dir);
+    } catch (const InputError& e) {
       return fmt::format("<p class=\"warning\">{} is not in the form emrm run writes ({}); no statistics shown.</p>\n",
                          html_escape(file.string()), html_escape(e.what()));
     }

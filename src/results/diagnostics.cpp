@@ -12,6 +12,7 @@
 #include <thread>
 #include <tuple>
 
+#include "emrm/core/json_archive.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/dot.hpp"
 #include "emrm/results/aggregate.hpp"
@@ -351,6 +352,36 @@ std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path
   std::vector<std::filesystem::path> written;
   for (const auto& f : files) written.push_back(f.path);
   return written;
+}
+
+DiagnosticsSummary read_diagnostics_summary(const std::filesystem::path& path) {
+  const core::YamlNode root = core::load_json_file(path);  // JSON is YAML: errors at line:column
+  const auto count = [](const core::YamlNode& object, std::string_view key) {
+    std::size_t value = 0;
+    core::YamlCodec<std::size_t>::read(object.at(key), value);
+    return value;
+  };
+  DiagnosticsSummary s;
+  const auto stop = root.at("stop_boundary");
+  s.feasible = count(stop, "feasible");
+  s.stoppable = count(stop, "stoppable");
+  s.stoppable_red = count(stop, "stoppable_red_count");
+  s.green_not_stoppable = count(stop, "green_not_stoppable_count");
+  const auto mono = root.at("monotonicity");
+  s.total_reversals = count(mono, "total_reversals");
+  for (const auto& c : mono.at("counts").elements())
+    s.reversal_counts.push_back({c.at("grid").as_string(), c.at("strategy").as_string(), c.at("factor").as_string(),
+                                 count(c, "pairs"), count(c, "reversals")});
+  const auto reference = root.at("rrt_vs_reference");
+  s.sampled = count(reference, "sampled");
+  core::YamlCodec<std::uint64_t>::read(reference.at("seed"), s.seed);
+  for (const auto& [key, value] : reference.entries())  // a member per checked strategy, besides the fixed ones
+    if (value.is_map())
+      s.reference.push_back({key.as_string(), count(value, "reference_avoids"), count(value, "rrt_missed"),
+                             count(value, "rrt_beyond_reference")});
+  for (const auto& [key, value] : root.at("fsm_coverage").entries())
+    s.fsm_coverage.push_back({key.as_string(), count(value, "covered"), count(value, "total"), count(value, "traces")});
+  return s;
 }
 
 }  // namespace emrm::results

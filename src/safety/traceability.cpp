@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <type_traits>
 
+#include "emrm/core/json_archive.hpp"
 #include "emrm/safety/asil.hpp"
 
 namespace emrm::safety {
@@ -79,23 +81,67 @@ std::vector<TraceRow> traceability_matrix(const SafetyCase& sc) {
 }
 
 core::Row traceability_header() {
-  return {"uca",  "uca_type",  "control_action", "hazard",          "asil",   "smil",
-          "loss", "loss_name", "reversible",     "fsm_transitions", "region", "scenarios"};
+  core::Row header;
+  const TraceRow none;
+  TraceRow::visit_fields(none, [&](const char* column, const auto&, auto...) { header.emplace_back(column); });
+  return header;
 }
 
 core::Row to_row(const TraceRow& r) {
-  return {r.uca,
-          r.uca_type,
-          r.control_action,
-          r.hazard,
-          r.asil,
-          r.smil,
-          r.loss,
-          r.loss_name,
-          r.loss_reversible ? "yes" : "no",
-          core::join(r.transitions, "; "),
-          r.region,
-          core::join(r.scenarios, " ")};
+  core::Row row;
+  TraceRow::visit_fields(r, [&](const char*, const auto& field, auto... separator) {
+    using T = std::remove_cvref_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, bool>)
+      row.emplace_back(field ? "yes" : "no");
+    else if constexpr (sizeof...(separator) > 0)
+      row.push_back(core::join(field, std::string(separator...)));
+    else
+      row.push_back(field);
+  });
+  return row;
+}
+
+std::vector<TraceRow> read_traceability_csv(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const auto records = core::parse_csv(core::read_input_file(path), file);
+  const core::Row header = traceability_header();
+  if (records.empty() || records.front().fields != header)
+    throw InputError({file, 1, 1},
+                     fmt::format("expected a traceability matrix with the header {}", core::join(header, ",")));
+  std::vector<TraceRow> rows;
+  for (std::size_t i = 1; i < records.size(); ++i) {
+    const auto& record = records[i];
+    if (record.fields.size() != header.size())
+      throw InputError({file, record.lines.front(), 1},
+                       fmt::format("row has {} fields, the header {}", record.fields.size(), header.size()));
+    TraceRow r;
+    std::size_t c = 0;
+    TraceRow::visit_fields(r, [&](const char* column, auto& field, auto... separator) {
+      using T = std::remove_cvref_t<decltype(field)>;
+      const std::string& text = record.fields[c];
+      const SourceLocation where{file, record.lines[c], record.columns[c]};
+      ++c;
+      if constexpr (std::is_same_v<T, bool>) {
+        if (text != "yes" && text != "no")
+          throw InputError(where, fmt::format("{}: expected yes or no, got '{}'", column, text.substr(0, 40)));
+        field = text == "yes";
+      } else if constexpr (sizeof...(separator) > 0) {
+        // The items between the separators, without the blanks the separator puts before them.
+        const char sep = std::string_view(separator...).front();
+        field.clear();
+        for (std::size_t from = 0; from <= text.size();) {
+          const std::size_t to = std::min(text.find(sep, from), text.size());
+          const std::size_t first = text.find_first_not_of(' ', from);
+          if (first < to) field.push_back(text.substr(first, to - first));
+          from = to + 1;
+        }
+      } else {
+        field = text;
+      }
+    });
+    rows.push_back(std::move(r));
+  }
+  return rows;
 }
 
 namespace {
@@ -149,15 +195,12 @@ std::vector<core::Row> asil_rows(const SafetyCase& sc) {
 
 nlohmann::json findings_json(const std::vector<Finding>& findings) {
   auto out = nlohmann::json::array();
-  for (const auto& f : findings)
-    out.push_back({{"code", f.code},
-                   {"severity", core::enum_name(f.severity)},
-                   {"subject", f.subject},
-                   {"message", f.message},
-                   {"file", f.where.file},
-                   {"line", f.where.line},
-                   {"column", f.where.column}});
+  for (const auto& f : findings) out.push_back(nlohmann::json(core::write_json(f)));  // members sorted by name
   return out;
+}
+
+std::vector<Finding> read_findings_json(const std::filesystem::path& path) {
+  return core::read_json_file<std::vector<Finding>>(path);
 }
 
 nlohmann::json analysis_json(const SafetyCase& sc, const std::vector<Finding>& findings) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "emrm/core/json_archive.hpp"
 #include "emrm/core/text.hpp"
 
 namespace emrm::scenario {
@@ -29,17 +30,6 @@ std::vector<std::string> split(const std::string& text, std::string_view separat
     start = at + separator.size();
   }
   return out;
-}
-
-nlohmann::ordered_json factor_json(const OddFactor& f) {
-  nlohmann::ordered_json j{{"name", f.name}, {"unit", f.unit}, {"type", core::enum_name(f.type)}};
-  nlohmann::ordered_json levels = nlohmann::ordered_json::array();
-  for (int k = 0; k < f.levels(); ++k)
-    levels.push_back({{"level", k}, {"label", f.level_label(k)}, {"prior", f.prior[static_cast<std::size_t>(k)]}});
-  j["levels"] = levels;
-  j["influential"] = f.influential;
-  j["nominal"] = f.nominal;
-  return j;
 }
 
 // "62.5 % (5/8)", as the printed summary shows a coverage.
@@ -85,6 +75,14 @@ std::vector<CoverageReport> reports_from_json(const nlohmann::ordered_json& j, c
 
 }  // namespace
 
+PlanFactor plan_factor(const OddFactor& f) {
+  PlanFactor out{
+      .name = f.name, .unit = f.unit, .type = f.type, .levels = {}, .influential = f.influential, .nominal = f.nominal};
+  for (int k = 0; k < f.levels(); ++k)
+    out.levels.push_back({.level = k, .label = f.level_label(k), .prior = f.prior[static_cast<std::size_t>(k)]});
+  return out;
+}
+
 std::string scenarios_csv(const Odd& odd, const Plan& plan) {
   core::Row header(std::begin(kLeadColumns), std::end(kLeadColumns));
   for (const auto& f : odd.factors) header.push_back(f.name);
@@ -125,7 +123,7 @@ nlohmann::ordered_json scenarios_json(const Odd& odd, const Plan& plan, const st
                    {"relevance", odd.relevance ? odd.relevance->text() : std::string("true")},
                    {"tracked", odd.tracked ? odd.tracked->text() : std::string("every relevant cell")}};
   nlohmann::ordered_json factors = nlohmann::ordered_json::array();
-  for (const auto& f : odd.factors) factors.push_back(factor_json(f));
+  for (const auto& f : odd.factors) factors.push_back(core::write_json(plan_factor(f)));
   j["factors"] = factors;
   nlohmann::ordered_json steps = nlohmann::ordered_json::array();
   for (const auto& s : plan.steps) steps.push_back({{"step", s.name}, {"added", s.added}, {"what", s.note}});

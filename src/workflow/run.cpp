@@ -12,6 +12,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/results/diagnostics.hpp"
 #include "emrm/results/results_dir.hpp"
+#include "emrm/results/run_estimates.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
 #include "emrm/scenario/plan_io.hpp"
@@ -22,7 +23,6 @@ namespace emrm::workflow {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
 
 int outcome_success(const campaign::CellRecord& record, const campaign::PlanSettings& settings) {
   for (const auto& o : record.outcomes) {
@@ -34,14 +34,6 @@ int outcome_success(const campaign::CellRecord& record, const campaign::PlanSett
 }
 
 std::string number(double v) { return fmt::format("{:.6g}", v); }
-
-Json estimate_json(const scenario::WeightedEstimate& e) {
-  return Json{{"n", e.n},
-              {"weight", e.weight},
-              {"n_eff", e.n_eff},
-              {"estimate", std::isnan(e.estimate) ? Json(nullptr) : Json(e.estimate)},
-              {"wilson", {e.wilson.low, e.wilson.high}}};
-}
 
 // Ŝ(A) over the whole set and over each mode's region: every mode of the plan, with or without tests,
 // marked with the plan's shortfall for it.
@@ -90,15 +82,14 @@ std::string level_of(const CellEstimate& c, const std::string& factor) {
 }
 
 // Where the plan lives, relative to the run's folder, so that `emrm report` finds its coverage.
-Json plan_location_json(const fs::path& scenarios_csv, const fs::path& output_dir) {
+results::PlanLocation plan_location(const fs::path& scenarios_csv, const fs::path& output_dir) {
   const auto relative = [&](const fs::path& p) {
     std::error_code ec;
     const auto r = fs::relative(fs::absolute(p), fs::absolute(output_dir), ec);
     return (ec || r.empty() ? p : r).generic_string();
   };
   const fs::path coverage = scenario::PlanDir::of(scenarios_csv).coverage_json();
-  return Json{{"scenarios", relative(scenarios_csv)},
-              {"coverage", fs::is_regular_file(coverage) ? Json(relative(coverage)) : Json(nullptr)}};
+  return {relative(scenarios_csv), fs::is_regular_file(coverage) ? std::optional(relative(coverage)) : std::nullopt};
 }
 
 }  // namespace
@@ -108,26 +99,11 @@ namespace {
 // outcomes.csv (a row per scenario with its factor values) and estimates.csv (a row per cell with
 // its bins), docs/plan.md.
 std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& result) {
-  std::vector<core::Row> rows;
-  for (const auto& o : result.outcomes) {
-    core::Row row{o.id, o.cell};
-    for (const double v : o.factor_values) row.push_back(number(v));
-    for (const auto& field :
-         {core::join(o.malfunctions, " "), number(o.weight), std::string(o.feasible ? "yes" : "no"), o.region,
-          o.feasible ? std::to_string(o.success) : "", o.chosen_strategy, o.feasible ? number(o.impact_speed_kph) : "",
-          o.feasible ? std::to_string(o.loss_level) : ""})
-      row.push_back(field);
-    rows.push_back(std::move(row));
-  }
-  core::Row header{"id", "cell"};
-  header.insert(header.end(), result.factors.begin(), result.factors.end());
-  for (const char* name :
-       {"malfunctions", "weight", "feasible", "region", "success", "chosen_strategy", "impact_speed_kph", "loss_level"})
-    header.emplace_back(name);
-  std::vector<core::FileContent> files{{results::ResultsDir(dir).outcomes_csv(), core::csv_table(header, rows)}};
+  std::vector<core::FileContent> files{
+      {results::ResultsDir(dir).outcomes_csv(), results::run_outcomes_csv({result.factors, result.outcomes, {}})}};
 
   const std::vector<std::string> factors = level_factors(result.cells);
-  rows.clear();
+  std::vector<core::Row> rows;
   for (const auto& c : result.cells) {
     core::Row row{c.cell};
     for (const auto& f : factors) row.push_back(level_of(c, f));
@@ -138,7 +114,7 @@ std::vector<core::FileContent> run_tables(const fs::path& dir, const RunResult& 
       row.push_back(field);
     rows.push_back(std::move(row));
   }
-  header = {"cell"};
+  core::Row header{"cell"};
   header.insert(header.end(), factors.begin(), factors.end());
   for (const char* name :
        {"n", "successes", "rate", "wilson_low", "wilson_high", "wilson_half_width", "hoeffding_epsilon", "tracked"})
@@ -286,11 +262,11 @@ RunResult run_scenarios(const RunOptions& options) {
     result.traceability_rows = matrix.size();
     for (auto& f : safety::traceability_files(dir, safety_case->name, matrix)) files.push_back(std::move(f));
   }
-  Json j = to_json(result);
-  j["acceptance"] = {{"strategy", settings.acceptance_strategy}, {"outcome", settings.acceptance_outcome}};
-  if (!settings.factors.is_null()) j["factors"] = settings.factors;  // the report groups by the ODD's levels
-  j["plan"] = plan_location_json(options.scenarios_csv, dir);
-  files.push_back({results::ResultsDir(dir).estimates_json(), j.dump(2) + "\n"});
+  results::RunEstimates estimates = estimates_of(result);
+  estimates.acceptance = {settings.acceptance_strategy, settings.acceptance_outcome};
+  estimates.factors = settings.factors;  // the report groups by the ODD's levels
+  estimates.plan = plan_location(options.scenarios_csv, dir);
+  files.push_back({results::ResultsDir(dir).estimates_json(), results::run_estimates_text(estimates)});
   core::write_files(files);
   return result;
 }
@@ -332,45 +308,40 @@ std::string to_text(const RunResult& result, const std::string& scenarios_file, 
   return out;
 }
 
-Json to_json(const RunResult& r) {
-  Json j;
-  j["scenarios"] = r.outcomes.size();
-  j["feasible"] = std::count_if(r.outcomes.begin(), r.outcomes.end(), [](const auto& o) { return o.feasible; });
-  j["confidence"] = r.confidence;
-  j["unsimulated_factors"] = r.unsimulated_factors;
-  Json subsets = Json::object();
+results::RunEstimates estimates_of(const RunResult& r) {
+  results::RunEstimates e;
+  e.scenarios = r.outcomes.size();
+  e.feasible = static_cast<std::size_t>(
+      std::count_if(r.outcomes.begin(), r.outcomes.end(), [](const auto& o) { return o.feasible; }));
+  e.confidence = r.confidence;
+  e.unsimulated_factors = r.unsimulated_factors;
   for (const auto& s : r.subsets) {
-    subsets[s.subset] = estimate_json(s.estimate);
-    if (!s.shortfall.empty()) subsets[s.subset]["shortfall"] = s.shortfall;
+    const auto& w = s.estimate;
+    e.weighted_success.emplace_back(
+        s.subset, results::SubsetSuccess{.n = w.n,
+                                         .weight = w.weight,
+                                         .n_eff = w.n_eff,
+                                         .estimate = std::isnan(w.estimate) ? std::nullopt : std::optional(w.estimate),
+                                         .wilson = w.wilson,
+                                         .shortfall = s.shortfall.empty() ? std::nullopt : std::optional(s.shortfall)});
   }
-  j["weighted_success"] = subsets;
-  Json cells = Json::array();
-  double widest = 0.0;
   for (const auto& c : r.cells) {
-    widest = std::max(widest, c.wilson.half_width());
-    Json levels = Json::object();
-    for (const auto& [factor, label] : c.levels) levels[factor] = label;
-    cells.push_back({{"cell", c.cell},
-                     {"levels", levels},
-                     {"n", c.n},
-                     {"successes", c.successes},
-                     {"wilson", {c.wilson.low, c.wilson.high}},
-                     {"hoeffding_epsilon", c.hoeffding_epsilon},
-                     {"tracked", c.tracked}});
+    e.widest_wilson_half_width = std::max(e.widest_wilson_half_width, c.wilson.half_width());
+    e.cells.push_back({.cell = c.cell,
+                       .levels = c.levels,
+                       .n = c.n,
+                       .successes = c.successes,
+                       .wilson = c.wilson,
+                       .hoeffding_epsilon = c.hoeffding_epsilon,
+                       .tracked = c.tracked});
+    if (c.tracked) ++e.tracked_cells;
   }
-  j["widest_wilson_half_width"] = widest;
-  j["tracked_cells"] = std::count_if(r.cells.begin(), r.cells.end(), [](const auto& c) { return c.tracked; });
-  j["widest_tracked_wilson_half_width"] = r.widest_tracked_half_width;
-  j["epsilon"] = r.epsilon;
-  j["cells"] = cells;
-  j["fsm_transitions"] = {
-      {"exercised", r.transitions_exercised}, {"total", r.transitions_total}, {"missed", r.transitions_missed}};
-  j["traceability_rows"] = r.traceability_rows;
-  Json shortfalls = Json::array();
-  for (const auto& s : r.plan_shortfalls)
-    shortfalls.push_back({{"kind", s.kind}, {"subject", s.subject}, {"message", s.message}});
-  j["shortfalls"] = shortfalls;
-  return j;
+  e.widest_tracked_wilson_half_width = r.widest_tracked_half_width;
+  e.epsilon = r.epsilon;
+  e.fsm_transitions = {r.transitions_exercised, r.transitions_total, r.transitions_missed};
+  e.traceability_rows = r.traceability_rows;
+  e.shortfalls = r.plan_shortfalls;
+  return e;
 }
 
 }  // namespace emrm::workflow

@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "emrm/scenario/plan_io.hpp"
+
 namespace emrm::campaign {
 
 /// The grid a run stores its scenarios in: cell i is the scenario on row i of scenarios.csv.
@@ -24,6 +26,13 @@ struct PlanShortfall {
   std::string kind;     ///< empty_region, too_few_tests, too_few_points (empty in older plans)
   std::string subject;  ///< the mode's id or the cell's key (empty in older plans)
   std::string message;
+
+  template <class A>
+  void serialize(A& a) {
+    a.required("kind", kind);
+    a.required("subject", subject);
+    a.required("message", message);
+  }
 };
 
 /// What a plan says beyond its CSV (read from scenarios.json beside it, when present).
@@ -39,9 +48,9 @@ struct PlanSettings {
   std::set<std::string> tracked_cells;  ///< cell keys with a precision target
   /// Each cell's bins as (factor, bin label) in the plan's factor order (scenarios.json "cells").
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> cell_levels;
-  /// The ODD's factors with their levels, as scenarios.json lists them (null without one): copied
+  /// The ODD's factors with their levels, as scenarios.json lists them (none without them): copied
   /// into estimates.json, so that the report groups the run by the ODD's bins.
-  nlohmann::ordered_json factors;
+  std::optional<std::vector<scenario::PlanFactor>> factors;
   std::vector<std::string> malfunctions;  ///< every mode of the plan, in plan order
   std::vector<PlanShortfall> shortfalls;
 };

@@ -17,6 +17,9 @@ using Row = std::vector<std::string>;
 /// Joins `parts` with `separator`.
 [[nodiscard]] std::string join(const std::vector<std::string>& parts, std::string_view separator);
 
+/// The words of a text separated by blanks (spaces, tabs, newlines), without empty ones.
+[[nodiscard]] std::vector<std::string> split_words(std::string_view text);
+
 /// "1 warning", "2 warnings": `n` and the word for its number.
 [[nodiscard]] std::string counted(std::size_t n, std::string_view one, std::string_view many);
 

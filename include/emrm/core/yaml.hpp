@@ -97,6 +97,11 @@ concept YamlSerializable = requires(T& value, YamlReader& reader) {
   value.serialize(reader);
 };
 
+template <class T>
+inline constexpr bool kIsOptional = false;
+template <class T>
+inline constexpr bool kIsOptional<std::optional<T>> = true;
+
 /// Fills a struct from one YAML mapping. Fields not visited are rejected by finish(), so a
 /// misspelt key is an error and not a silently ignored default.
 class YamlReader {
@@ -107,7 +112,13 @@ class YamlReader {
   template <class T, class... Constraints>
   void required(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
     known_.emplace_back(key);
-    YamlCodec<T>::read(node_.at(key), value);
+    if constexpr (kIsOptional<T>) {  // the key must be there, its value may be null (none)
+      const auto child = node_.find(key);
+      if (!child) node_.fail("missing required field '" + std::string(key) + "'");
+      YamlCodec<T>::read(*child, value);
+    } else {
+      YamlCodec<T>::read(node_.at(key), value);
+    }
   }
   template <class T, class... Constraints>
   void optional(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
@@ -238,9 +249,31 @@ struct YamlCodec<std::map<std::string, T>> {
     return out;
   }
 };
+/// An object with its keys in the vector's order; read in file order (a duplicate key is an error).
+template <class T>
+struct YamlCodec<std::vector<std::pair<std::string, T>>> {
+  static void read(const YamlNode& n, std::vector<std::pair<std::string, T>>& v) {
+    v.clear();
+    for (const auto& [key, value] : n.entries()) {
+      T item{};
+      YamlCodec<T>::read(value, item);
+      v.emplace_back(key.as_string(), std::move(item));
+    }
+  }
+  static YAML::Node write(const std::vector<std::pair<std::string, T>>& v) {
+    YAML::Node out(YAML::NodeType::Map);
+    for (const auto& [key, item] : v) out[key] = YamlCodec<T>::write(item);
+    return out;
+  }
+};
+
 template <class T>
 struct YamlCodec<std::optional<T>> {
-  static void read(const YamlNode& n, std::optional<T>& v) {
+  static void read(const YamlNode& n, std::optional<T>& v) {  // null: none
+    if (n.is_null()) {
+      v.reset();
+      return;
+    }
     T item{};
     YamlCodec<T>::read(n, item);
     v = std::move(item);

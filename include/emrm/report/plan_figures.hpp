@@ -33,11 +33,12 @@ struct PlannedRun {
 };
 
 /// The planned run in `dir/plan_results` (emrm reproduce) or `dir` (emrm run), whichever holds
-/// outcomes.csv and estimates.json first; nullopt when neither does. Factors are empty when
-/// estimates.json lists none (a run of a scenarios.csv without the plan's scenarios.json beside
-/// it). Throws InputError (file:line:column) when outcomes.csv or estimates.json is malformed or a
-/// cell key does not match the factors, UsageError when the store and outcomes.csv disagree on the
-/// number of scenarios.
+/// outcomes.csv and an estimates.json as `emrm run` writes it (results::read_run_estimates) first;
+/// nullopt when neither does (the report's statistics section says what is wrong with an
+/// estimates.json it cannot read). Factors are empty when estimates.json lists none (a run of a
+/// scenarios.csv without the plan's scenarios.json beside it). Throws InputError
+/// (file:line:column) when outcomes.csv is malformed or a cell key does not match the factors,
+/// UsageError when the store and outcomes.csv disagree on the number of scenarios.
 [[nodiscard]] std::optional<PlannedRun> read_planned_run(const std::filesystem::path& dir);
 
 /// (1e) One map per pair of the run's factors that have two levels or more, in the ODD's order

@@ -20,10 +20,6 @@ namespace emrm::report {
 Figure draw_fsm_figure(const fsm::Generator& g, const std::vector<std::size_t>& counts, const std::string& name,
                        const std::string& title, const std::filesystem::path& dir);
 
-/// Reads a traceability.csv written by `emrm analyze`, `emrm run` or `emrm reproduce`. Throws
-/// InputError (file:line:column) when its header or a row is malformed.
-[[nodiscard]] std::vector<safety::TraceRow> read_traceability_csv(const std::filesystem::path& path);
-
 struct ReportSummary {
   std::vector<Figure> figures;  ///< every figure attempted (with a note when it has no files)
   std::filesystem::path html;

@@ -152,4 +152,23 @@ struct Diagnostics {
 /// Throws emrm::Error when a file cannot be written or Graphviz fails.
 std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path& dir, const Diagnostics& d);
 
+/// What a diagnostics.json says, as the report shows it: the counts of each check (the cells named
+/// and the definitions left in the file).
+struct DiagnosticsSummary {
+  std::size_t feasible = 0, stoppable = 0, stoppable_red = 0, green_not_stoppable = 0;
+  std::size_t total_reversals = 0;
+  std::vector<ReversalCount> reversal_counts;
+  std::size_t sampled = 0;
+  std::uint64_t seed = 0;
+  std::vector<ReferenceCounts> reference;  ///< per checked strategy, in the file's order
+  struct Coverage {
+    std::string name;  ///< emrm_fsm, loss_evaluation_fsm
+    std::size_t covered = 0, total = 0, traces = 0;
+  };
+  std::vector<Coverage> fsm_coverage;
+};
+/// Reads a diagnostics.json that write_diagnostics wrote; throws InputError at the file's line and
+/// column for a member missing or of the wrong type.
+[[nodiscard]] DiagnosticsSummary read_diagnostics_summary(const std::filesystem::path& path);
+
 }  // namespace emrm::results

@@ -32,6 +32,19 @@ struct Finding {
   std::string subject;  ///< id of the entity concerned
   std::string message;
   SourceLocation where;
+
+  /// The finding's fields as findings.json lists them (file, line and column of `where` flat):
+  /// for its writer (findings_json) and its reader (read_findings_json).
+  template <class A>
+  void serialize(A& a) {
+    a.required("code", code);
+    a.required("severity", severity);
+    a.required("subject", subject);
+    a.required("message", message);
+    a.required("file", where.file);
+    a.required("line", where.line);
+    a.required("column", where.column);
+  }
 };
 
 /// The transitions of the EMRM FSM that UCAs may refer to, and the file they come from.

@@ -53,6 +53,25 @@ struct TraceRow {
   std::vector<std::string> transitions;  ///< "S3 -execute_maneuver-> S4"
   std::string region;
   std::vector<std::string> scenarios;
+
+  /// The row's field list, in traceability.csv's column order: `visit(column, field)`, and for a
+  /// list the separator its cell joins it with. The header, the writer (to_row) and the reader
+  /// (read_traceability_csv) all go through it.
+  template <class Self, class Visit>
+  static void visit_fields(Self& self, Visit&& visit) {
+    visit("uca", self.uca);
+    visit("uca_type", self.uca_type);
+    visit("control_action", self.control_action);
+    visit("hazard", self.hazard);
+    visit("asil", self.asil);
+    visit("smil", self.smil);
+    visit("loss", self.loss);
+    visit("loss_name", self.loss_name);
+    visit("reversible", self.loss_reversible);  // yes or no
+    visit("fsm_transitions", self.transitions, std::string_view("; "));
+    visit("region", self.region);
+    visit("scenarios", self.scenarios, std::string_view(" "));
+  }
 };
 
 /// Rows in the order UCA, then hazard, then loss, as declared.
@@ -61,6 +80,10 @@ struct TraceRow {
 [[nodiscard]] core::Row traceability_header();
 [[nodiscard]] core::Row to_row(const TraceRow& row);
 [[nodiscard]] std::string traceability_csv(const std::vector<TraceRow>& rows);
+/// Reads a traceability.csv that traceability_csv wrote: the header must be traceability_header();
+/// throws InputError at the file's line and column for another header, a row of another length or
+/// a `reversible` that is neither yes nor no.
+[[nodiscard]] std::vector<TraceRow> read_traceability_csv(const std::filesystem::path& path);
 /// As Markdown; a scenarios cell of more than six ids reads "292: S003 S004 … ".
 [[nodiscard]] std::string traceability_markdown(const std::vector<TraceRow>& rows);
 /// The one producer of the matrix files (`emrm analyze`, `emrm run`, `emrm reproduce`):
@@ -78,5 +101,8 @@ struct TraceRow {
 /// The whole analysis as JSON: summary counts, findings, ASIL table, mapping and matrix.
 [[nodiscard]] nlohmann::json analysis_json(const SafetyCase& sc, const std::vector<Finding>& findings);
 [[nodiscard]] nlohmann::json findings_json(const std::vector<Finding>& findings);
+/// Reads a findings.json that findings_json wrote (a list of findings); throws InputError at the
+/// file's line and column for what is missing, misspelt or of the wrong type.
+[[nodiscard]] std::vector<Finding> read_findings_json(const std::filesystem::path& path);
 
 }  // namespace emrm::safety

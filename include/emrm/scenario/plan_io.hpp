@@ -39,6 +39,43 @@ class PlanDir {
   std::filesystem::path root_;
 };
 
+/// A factor of the ODD as scenarios.json lists it and estimates.json repeats it (docs/plan.md): its
+/// bins with their labels and exposure priors. One field list (serialize) for the JSON writer and
+/// the typed readers (core/json_archive.hpp).
+struct PlanFactor {
+  struct Level {
+    int level = 0;
+    std::string label;
+    double prior = 0.0;
+
+    template <class A>
+    void serialize(A& a) {
+      a.required("level", level);
+      a.required("label", label);
+      a.required("prior", prior);
+    }
+  };
+  std::string name;
+  std::string unit;
+  FactorType type = FactorType::kContinuous;
+  std::vector<Level> levels;
+  bool influential = true;
+  double nominal = 0.0;
+
+  template <class A>
+  void serialize(A& a) {
+    a.required("name", name);
+    a.required("unit", unit);
+    a.required("type", type);
+    a.required("levels", levels);
+    a.required("influential", influential);
+    a.required("nominal", nominal);
+  }
+};
+
+/// The factor as a plan lists it.
+[[nodiscard]] PlanFactor plan_factor(const OddFactor& factor);
+
 /// Columns: id, step, one per factor, cell, malfunctions (space-separated), transitions
 /// ("; "-separated), weight, seed.
 [[nodiscard]] std::string scenarios_csv(const Odd& odd, const Plan& plan);

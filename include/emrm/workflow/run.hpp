@@ -17,6 +17,8 @@
 
 #include "emrm/campaign/plan_settings.hpp"
 #include "emrm/campaign/sweep.hpp"
+#include "emrm/results/run_estimates.hpp"
+#include "emrm/results/run_outcomes.hpp"
 #include "emrm/scenario/statistics.hpp"
 
 namespace emrm::workflow {
@@ -35,20 +37,8 @@ struct RunOptions {
   campaign::Distributor* distributor = nullptr;
 };
 
-/// One scenario's outcome.
-struct ScenarioOutcome {
-  std::string id;
-  std::string cell;
-  std::vector<std::string> malfunctions;
-  double weight = 1.0;
-  bool feasible = false;  ///< the simulator could place the scene (else no outcome)
-  std::string region;
-  int success = 0;  ///< Y: 1 when the acceptance strategy avoided (or mitigated)
-  std::string chosen_strategy;
-  double impact_speed_kph = 0.0;
-  int loss_level = 0;
-  std::vector<double> factor_values;  ///< the scenario's factor columns, in file order
-};
+/// One scenario and what the acceptance strategy made of it: a row of outcomes.csv.
+using ScenarioOutcome = results::ScenarioOutcome;
 
 struct CellEstimate {
   std::string cell;
@@ -94,8 +84,9 @@ struct RunResult {
 /// rejects; UsageError when the store holds another plan.
 RunResult run_scenarios(const RunOptions& options);
 
-/// estimates.json (without its "acceptance" member, which run_scenarios adds from the plan).
-[[nodiscard]] nlohmann::ordered_json to_json(const RunResult& result);
+/// What estimates.json holds of the run (results/run_estimates.hpp), without what run_scenarios adds
+/// from the plan: the acceptance criterion, the ODD's factors and where the plan lives.
+[[nodiscard]] results::RunEstimates estimates_of(const RunResult& result);
 
 /// The summary `emrm run` prints: the plan's shortfalls as warnings, scenarios and what was simulated, the
 /// widest tracked Wilson half-width, Ŝ(A) per subset with tests, the EMRM FSM transitions exercised and the

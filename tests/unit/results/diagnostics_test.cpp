@@ -1,9 +1,15 @@
 #include "emrm/results/diagnostics.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
+#include "emrm/core/error.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/sim/simulate.hpp"
 
@@ -165,6 +171,73 @@ TEST(Diagnostics, WritesJsonAndColouredDiagrams) {
   EXPECT_TRUE(std::filesystem::exists(dir / "diagnostics.json"));
   EXPECT_TRUE(std::filesystem::exists(dir / "fsm" / "emrm_fsm.dot"));
   EXPECT_TRUE(std::filesystem::exists(dir / "fsm" / "loss_evaluation_fsm.dot"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Diagnostics, TheSummaryReadBackIsWhatWasWritten) {
+  // Cells that give every count something to say: a reversal along TTC, a stoppable R cell, a
+  // reference sample with a miss.
+  std::vector<campaign::CellRecord> cells{cell(30, 2.0, 1.0, "R", {true, false}),
+                                          cell(30, 2.5, 1.0, "G", {false, false}),
+                                          cell(70, 0.5, 0.3, "O", {false, false})};
+  for (auto& c : cells) {
+    campaign::OutcomeRecord o;
+    o.strategy = "drift_to_avoid";
+    c.outcomes.push_back(o);
+  }
+  Diagnostics d;
+  d.stop_boundary = check_stop_boundary(cells);
+  d.monotonicity = check_monotonicity(cells);
+  d.reference = check_against_reference(cells, sim::SceneConfig{}, 2, 3, 1);
+  d.emrm_fsm = emrm_fsm_coverage(cells, sim::default_emrm_fsm());
+  d.loss_evaluation_fsm = loss_evaluation_fsm_coverage(cells, sim::default_loss_evaluation_fsm());
+  const auto dir = std::filesystem::temp_directory_path() / "emrm-diagnostics-summary-test";
+  std::filesystem::remove_all(dir);
+  (void)write_diagnostics(dir, d);
+  const DiagnosticsSummary s = read_diagnostics_summary(dir / "diagnostics.json");
+  EXPECT_EQ(s.feasible, d.stop_boundary.feasible);
+  EXPECT_EQ(s.stoppable, d.stop_boundary.stoppable);
+  EXPECT_EQ(s.stoppable_red, d.stop_boundary.stoppable_red.size());
+  EXPECT_GE(s.stoppable_red, 1U);
+  EXPECT_EQ(s.green_not_stoppable, d.stop_boundary.green_not_stoppable.size());
+  EXPECT_EQ(s.total_reversals, d.monotonicity.total_reversals);
+  EXPECT_GE(s.total_reversals, 1U);
+  ASSERT_EQ(s.reversal_counts.size(), d.monotonicity.counts.size());
+  for (std::size_t i = 0; i < s.reversal_counts.size(); ++i) {
+    EXPECT_EQ(s.reversal_counts[i].strategy, d.monotonicity.counts[i].strategy);
+    EXPECT_EQ(s.reversal_counts[i].factor, d.monotonicity.counts[i].factor);
+    EXPECT_EQ(s.reversal_counts[i].pairs, d.monotonicity.counts[i].pairs);
+    EXPECT_EQ(s.reversal_counts[i].reversals, d.monotonicity.counts[i].reversals);
+  }
+  EXPECT_EQ(s.sampled, d.reference.sampled);
+  EXPECT_EQ(s.seed, 3U);
+  ASSERT_EQ(s.reference.size(), d.reference.strategies.size());
+  for (std::size_t i = 0; i < s.reference.size(); ++i) {
+    EXPECT_EQ(s.reference[i].strategy, d.reference.strategies[i].strategy);
+    EXPECT_EQ(s.reference[i].missed, d.reference.strategies[i].missed);
+    EXPECT_EQ(s.reference[i].reference_avoids, d.reference.strategies[i].reference_avoids);
+  }
+  ASSERT_EQ(s.fsm_coverage.size(), 2U);
+  EXPECT_EQ(s.fsm_coverage[0].name, "emrm_fsm");
+  EXPECT_EQ(s.fsm_coverage[0].total, sim::default_emrm_fsm().transitions().size());
+  EXPECT_EQ(s.fsm_coverage[1].covered, d.loss_evaluation_fsm.coverage.covered);
+  // A count of the wrong type is refused at its line.
+  std::string text;
+  {
+    std::ifstream in(dir / "diagnostics.json");
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const auto at = text.find("\"total_reversals\": ");
+  const auto number = text.find(' ', at) + 1;
+  text.replace(number, text.find(',', number) - number, "\"many\"");
+  std::ofstream(dir / "diagnostics.json") << text;
+  try {
+    (void)read_diagnostics_summary(dir / "diagnostics.json");
+    ADD_FAILURE() << "read a text count";
+  } catch (const InputError& e) {
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+    EXPECT_NE(std::string(e.what()).find(fmt::format("diagnostics.json:{}:", line)), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -1,11 +1,17 @@
 #include "emrm/safety/traceability.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <set>
+#include <string>
 
+#include "emrm/core/error.hpp"
 #include "emrm/safety/load.hpp"
 #include "example_case.hpp"
+#include "scratch.hpp"
 
 namespace emrm::safety {
 namespace traceability_test {
@@ -69,6 +75,80 @@ TEST(Traceability, CsvHasAHeaderAndOneLinePerRowWithQuotedCommas) {
                       "region,scenarios\n",
                       0),
             0u);
+}
+
+std::filesystem::path written(const std::string& name, const std::string& text) {
+  const auto dir = emrm::test::scratch_dir("traceability-test", name);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "traceability.csv") << text;
+  return dir / "traceability.csv";
+}
+
+TEST(Traceability, TheCsvReadsBackAsItsRows) {
+  auto rows = traceability_matrix(example());
+  ASSERT_GE(rows.size(), 2U);
+  rows[0].scenarios = {"S001", "S017", "S203"};
+  rows[1].loss_name = "a name, with a comma and \"quotes\"";
+  rows[1].loss_reversible = !rows[1].loss_reversible;
+  const auto back = read_traceability_csv(written("round-trip", traceability_csv(rows)));
+  ASSERT_EQ(back.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(to_row(back[i]), to_row(rows[i])) << i;
+  EXPECT_EQ(back[0].scenarios, rows[0].scenarios);
+  EXPECT_EQ(back[0].transitions, rows[0].transitions);
+  EXPECT_FALSE(back[0].transitions.empty());
+}
+
+TEST(Traceability, AMalformedCsvIsRefusedWhereItIsWrong) {
+  const auto rows = traceability_matrix(example());
+  std::string csv = traceability_csv(rows);
+  const auto refusal = [](const std::string& name, const std::string& text) -> std::string {
+    try {
+      (void)read_traceability_csv(written(name, text));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << name;
+    return {};
+  };
+  // `reversible` on the third line (the second row) made "perhaps": its line and column.
+  const std::size_t line3 = csv.find('\n', csv.find('\n') + 1) + 1;
+  const std::string row = csv.substr(line3, csv.find('\n', line3) - line3);
+  const std::string value = to_row(rows[1])[8];
+  const std::size_t column = row.find("," + value + ",") + 2;  // 1-based, after the comma
+  std::string bad = csv;
+  bad.replace(line3 + column - 1, value.size(), "perhaps");
+  EXPECT_NE(refusal("reversible", bad)
+                .find(fmt::format("traceability.csv:3:{}: error: reversible: expected yes or no", column)),
+            std::string::npos)
+      << refusal("reversible", bad);
+  EXPECT_NE(refusal("header", "uca,hazard\n").find("expected a traceability matrix with the header"),
+            std::string::npos);
+  EXPECT_NE(refusal("short", csv + "UCA1,x\n").find("row has 2 fields"), std::string::npos);
+}
+
+TEST(Findings, TheJsonReadsBackAsTheFindings) {
+  const std::vector<Finding> findings{
+      {"SAF001", FindingSeverity::kError, "UCA9", "a \"dangling\" reference", {"case.yaml", 12, 7}},
+      {"SAF014", FindingSeverity::kWarning, "H2", "no loss", {"", 0, 0}}};
+  const auto file = written("findings", findings_json(findings).dump(2) + "\n");
+  const auto back = read_findings_json(file);
+  ASSERT_EQ(back.size(), findings.size());
+  for (std::size_t i = 0; i < findings.size(); ++i) {
+    EXPECT_EQ(back[i].code, findings[i].code);
+    EXPECT_EQ(back[i].severity, findings[i].severity);
+    EXPECT_EQ(back[i].subject, findings[i].subject);
+    EXPECT_EQ(back[i].message, findings[i].message);
+    EXPECT_EQ(back[i].where.str(), findings[i].where.str());
+  }
+  EXPECT_EQ(findings_json(back), findings_json(findings));
+  // The members are sorted by name, as the file has always been written.
+  EXPECT_EQ(findings_json(findings).dump().rfind("[{\"code\":\"SAF001\",\"column\":7,\"file\":", 0), 0U);
+  try {
+    (void)read_findings_json(written("bad-severity", "[\n  {\"code\": \"X\", \"severity\": \"fatal\"}\n]\n"));
+    ADD_FAILURE() << "read an unknown severity";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("traceability.csv:2:"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Traceability, DanglingReferencesAreLeftOutOfTheMatrix) {
