@@ -176,9 +176,15 @@ class MpiDistributor final : public campaign::Distributor, public Ranks {
       backoff.reset();
       quiet_since.reset();
       const double handling = thread_cpu_seconds();
-      Results message = from_archive<Results>(receive_bytes(*probed));
       const int rank = probed->source;
       const auto r = static_cast<std::size_t>(rank);
+      // A rank that stops half-way through sending is hung: wait for the rest no longer than that.
+      const std::optional<std::string> bytes = receive_bytes_within(*probed, hung_after_);
+      if (!bytes) {
+        if (lost_[r] == 0) give_up(r);
+        continue;
+      }
+      Results message = from_archive<Results>(*bytes);
       heard_[r] = Clock::now();
       if (lost_[r] != 0) {  // its cells went to others: drop them, let it go
         if (message.more) send_archive(Chunk{}, rank, kTagChunk);
@@ -255,15 +261,18 @@ class MpiDistributor final : public campaign::Distributor, public Ranks {
   void give_up_on_hung_ranks(const campaign::TaskQueue& queue) {
     const auto now = Clock::now();
     const bool nothing_left = !queue.open() && queue.remaining() == 0 && reissue_.empty();
-    for (std::size_t r = 1; r < in_hand_.size(); ++r) {
-      if (lost_[r] != 0 || now - heard_[r] < hung_after_ || (in_hand_[r].empty() && !nothing_left)) continue;
-      lost_[r] = 1;
-      lost_ranks_.push_back(static_cast<int>(r));
-      --active_;
-      for (const Chunk& chunk : in_hand_[r]) reissue_.insert(reissue_.end(), chunk.begin(), chunk.end());
-      in_hand_[r].clear();
-      handed_[r] = returned_[r];  // its cells are the others' now
-    }
+    for (std::size_t r = 1; r < in_hand_.size(); ++r)
+      if (lost_[r] == 0 && now - heard_[r] >= hung_after_ && (!in_hand_[r].empty() || nothing_left)) give_up(r);
+  }
+
+  // Rank r's cells go to the others; nothing it sends is used from now on.
+  void give_up(std::size_t r) {
+    lost_[r] = 1;
+    lost_ranks_.push_back(static_cast<int>(r));
+    --active_;
+    for (const Chunk& chunk : in_hand_[r]) reissue_.insert(reissue_.end(), chunk.begin(), chunk.end());
+    in_hand_[r].clear();
+    handed_[r] = returned_[r];  // its cells are the others' now
   }
 
   // A cell of a hung or stopped rank that no other rank asked for: simulated on this thread, at

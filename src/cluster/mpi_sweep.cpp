@@ -13,7 +13,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,20 +51,42 @@ std::optional<Probed> probe(int source, int tag) {
 
 std::optional<Probed> probe_any(int tag) { return probe(MPI_ANY_SOURCE, tag); }
 
-std::string receive_bytes(const Probed& probed) {
-  const int size = probed.size;
-  std::string bytes(static_cast<std::size_t>(size), '\0');
+namespace {
+
+// Receives into `bytes` until done or past `deadline`; false then, with the receive left pending.
+bool receive_into(std::string& bytes, const Probed& probed,
+                  std::optional<std::chrono::steady_clock::time_point> deadline) {
   MPI_Request request = MPI_REQUEST_NULL;
-  MPI_Irecv(bytes.data(), size, MPI_BYTE, probed.source, probed.tag, MPI_COMM_WORLD, &request);
+  MPI_Irecv(bytes.data(), probed.size, MPI_BYTE, probed.source, probed.tag, MPI_COMM_WORLD, &request);
   for (int tests = 0;; ++tests) {
     int done = 0;
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (done != 0) return bytes;
+    if (done != 0) return true;
+    if (deadline && std::chrono::steady_clock::now() > *deadline) {
+      MPI_Request_free(&request);  // legal for an active receive: MPI completes it when it can
+      return false;
+    }
     if (tests < 8)
       std::this_thread::yield();
     else
       std::this_thread::sleep_for(std::chrono::microseconds(20));
   }
+}
+
+}  // namespace
+
+std::string receive_bytes(const Probed& probed) {
+  std::string bytes(static_cast<std::size_t>(probed.size), '\0');
+  receive_into(bytes, probed, std::nullopt);
+  return bytes;
+}
+
+std::optional<std::string> receive_bytes_within(const Probed& probed, std::chrono::steady_clock::duration patience) {
+  // On the heap and never freed when given up: MPI may still write the rest of the message into it.
+  auto bytes = std::make_unique<std::string>(static_cast<std::size_t>(probed.size), '\0');
+  if (receive_into(*bytes, probed, std::chrono::steady_clock::now() + patience)) return std::move(*bytes);
+  (void)bytes.release();  // NOLINT(bugprone-unused-return-value): deliberately kept for MPI
+  return std::nullopt;
 }
 
 std::string wait_for(int source, int tag) {

@@ -38,6 +38,11 @@ void send_archive(const Message& message, int to, int tag) {
 /// as its sender pushes them; MPI_Recv would spin for them on this process's core, which on rank 0
 /// its own simulating threads share: the wait yields it instead.
 [[nodiscard]] std::string receive_bytes(const Probed& probed);
+/// The same, or none when the message has not all arrived within `patience`: its sender stopped
+/// half-way through it (a hung rank, which the caller gives up). The receive is then left to MPI
+/// with a buffer that lives as long as the process, should the sender ever go on.
+[[nodiscard]] std::optional<std::string> receive_bytes_within(const Probed& probed,
+                                                              std::chrono::steady_clock::duration patience);
 
 // Open MPI's blocking calls poll the network without pause; a rank waiting so would take a core
 // from the threads simulating beside it. So waits probe and sleep, from 50 µs up to 1 ms.
