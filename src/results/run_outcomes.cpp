@@ -68,9 +68,11 @@ std::string run_outcomes_csv(const RunOutcomes& outcomes) {
     core::Row row;
     ScenarioOutcome::visit_fields(o, [&](const char*, const auto& field, auto... feasible_only) {
       using T = std::remove_cvref_t<decltype(field)>;
-      if (sizeof...(feasible_only) > 0 && !o.feasible) {
+      if (sizeof...(feasible_only) > 0 && !o.feasible) {  // blank for an infeasible scenario
         row.emplace_back();
-      } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+        return;
+      }
+      if constexpr (std::is_same_v<T, std::vector<double>>) {
         for (const double v : field) row.push_back(number(v));
       } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
         row.push_back(core::join(field, " "));
