@@ -19,6 +19,7 @@
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/report.hpp"
 #include "emrm/results/paper_reference.hpp"
+#include "emrm/results/run_estimates.hpp"
 #include "emrm/safety/analysis.hpp"
 #include "emrm/safety/load.hpp"
 #include "emrm/safety/traceability.hpp"
@@ -117,7 +118,7 @@ void report_side_files(std::string_view data) {
     write(dir / name, data);
   refused_or_read([&] { (void)report::side_files_html(dir); });
   refused_or_read([&] { (void)safety::read_traceability_csv(dir / "traceability.csv"); });
-  refused_or_read([&] { (void)report::read_planned_run(dir); });
+  refused_or_read([&] { (void)report::read_planned_run(results::find_run_estimates(dir)); });
 }
 
 // `emrm calibrate`'s measurements and the paper's reference data.

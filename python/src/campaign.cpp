@@ -13,7 +13,6 @@
 #include <condition_variable>
 #include <csignal>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <mutex>
@@ -157,40 +156,61 @@ class Columns {
   // Every field of Record's field list (docs/architecture.md, "The record field list") that is not a
   // column yet, under its own name and in the list's order (enums by name, lists as words): a field
   // added to a record is a column of the frames without another edit. `of(row)` is the row's record.
-  // `renamed`: fields a column holds under another name.
+  // `renamed`: fields a column holds under another name. One visit of each row's record fills them all.
   template <class Record, class Of>
   void add_remaining_fields(Of of, std::initializer_list<std::string_view> renamed = {}) {
+    const auto n = static_cast<py::ssize_t>(rows_.size());
+    // By the field's position in the list: whether it is added, and its NumPy array's data or its list.
+    std::vector<bool> added;
+    std::vector<void*> numbers;
+    std::vector<py::list> texts;
     const Record probe;
     Record::visit_fields(probe, [&](const char* name, const auto& field, auto...) {
       using T = std::remove_cvref_t<decltype(field)>;
+      bool add = false;
+      void* data = nullptr;
+      py::list text;
       if constexpr (!std::is_same_v<T, sim::CellInput>) {  // the factors: a column each, by key
-        if (columns_.contains(name) || std::find(renamed.begin(), renamed.end(), name) != renamed.end()) return;
-        add(name, [of, name](const Row& row) { return value_of<T>(of(row), name); });
+        add = !columns_.contains(name) && std::find(renamed.begin(), renamed.end(), name) == renamed.end();
+        if (add && std::is_arithmetic_v<T>) {
+          py::array_t<std::conditional_t<std::is_arithmetic_v<T>, T, double>> values(n);
+          data = values.mutable_data();
+          columns_[py::str(name)] = values;
+        } else if (add) {
+          text = py::list(n);
+          columns_[py::str(name)] = text;
+        }
       }
+      added.push_back(add);
+      numbers.push_back(data);
+      texts.push_back(std::move(text));
     });
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      std::size_t at = 0;
+      Record::visit_fields(of(rows_[i]), [&](const char*, const auto& field, auto...) {
+        using T = std::remove_cvref_t<decltype(field)>;
+        if (!added[at++]) return;
+        if constexpr (std::is_arithmetic_v<T>)
+          static_cast<T*>(numbers[at - 1])[i] = field;
+        else if constexpr (!std::is_same_v<T, sim::CellInput>)
+          texts[at - 1][i] = py::str(text_of(field));
+      });
+    }
   }
   [[nodiscard]] py::dict dict() const { return columns_; }
 
  private:
-  // The field `name` of `record`: a number as it is, anything else as text.
-  template <class T, class Record>
-  static auto value_of(const Record& record, const char* name) {
-    using Value = std::conditional_t<std::is_arithmetic_v<T>, T, std::string>;
-    Value value{};
-    Record::visit_fields(record, [&](const char* field_name, const auto& field, auto...) {
-      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(field)>, T>) {
-        if (std::strcmp(field_name, name) != 0) return;
-        if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>)
-          value = field;
-        else if constexpr (core::NamedEnum<T>)
-          value = core::enum_text(field);
-        else if constexpr (std::is_same_v<T, std::vector<std::string>>)
-          value = core::join(field, " ");
-        else
-          value = fmt::format("{}", fmt::join(field, " "));
-      }
-    });
-    return value;
+  // A field that is not a number, as text: enums by name, lists as words.
+  template <class T>
+  static std::string text_of(const T& field) {
+    if constexpr (std::is_same_v<T, std::string>)
+      return field;
+    else if constexpr (core::NamedEnum<T>)
+      return std::string(core::enum_text(field));
+    else if constexpr (std::is_same_v<T, std::vector<std::string>>)
+      return core::join(field, " ");
+    else
+      return fmt::format("{}", fmt::join(field, " "));
   }
 
   const std::vector<Row>& rows_;

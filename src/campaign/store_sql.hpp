@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
-#include <charconv>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -17,6 +16,7 @@
 
 #include "emrm/core/enum_names.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
 
 namespace emrm::campaign::detail {
 
@@ -110,11 +110,9 @@ std::string holder(const What& what) {
 // A whole number the store keeps as text, or not_a_store naming what holds something else.
 template <typename T, typename What>
 T whole_number(const std::filesystem::path& path, const What& what, const std::string& text) {
-  T value{};
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size() || text.empty())
-    not_a_store(path, fmt::format("its {} is '{}', not a whole number", holder(what), text.substr(0, 40)));
-  return value;
+  const std::optional<T> value = core::parse_whole_number<T>(text);
+  if (!value) not_a_store(path, fmt::format("its {} is '{}', not a whole number", holder(what), text.substr(0, 40)));
+  return *value;
 }
 
 // An enum the store keeps as its name, or not_a_store naming what holds another text.

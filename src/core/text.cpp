@@ -133,6 +133,15 @@ std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_
   return records;
 }
 
+void check_row_length(const CsvRecord& row, std::size_t expected, const std::string& file_name) {
+  if (row.fields.size() == expected) return;
+  // At the first field too many, or at the last of too few.
+  const std::size_t at = std::min(expected, row.fields.size() - 1);
+  throw InputError({file_name, row.lines[at], row.columns[at]},
+                   fmt::format("expected {} fields as in the header, got {} (a truncated or malformed row)", expected,
+                               row.fields.size()));
+}
+
 std::string csv_table(const Row& header, const std::vector<Row>& rows) {
   std::string out = csv_line(header);
   for (const auto& row : rows) out += csv_line(row);

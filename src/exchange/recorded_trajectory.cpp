@@ -69,14 +69,6 @@ std::size_t require_column(const Columns& c, const std::string& name, const core
                    fmt::format("expected a column '{}' in the header (columns: {})", name, expected));
 }
 
-void check_length(const core::CsvRecord& row, std::size_t expected, const std::string& file) {
-  if (row.fields.size() == expected) return;
-  const int column = row.columns.back() + static_cast<int>(row.fields.back().size());
-  throw InputError({file, row.lines.back(), column},
-                   fmt::format("expected {} fields as in the header, got {} (a truncated or malformed row)", expected,
-                               row.fields.size()));
-}
-
 void check_time(const RecordedTrajectory& out, double t, const RowReader& r, std::size_t column) {
   if (!out.samples.empty() && !(t > out.samples.back().t_s))
     throw InputError(r.where(column), fmt::format("expected a time after the previous sample's {} s, got {} s",
@@ -120,7 +112,7 @@ RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const
   out.has_steer = steer.has_value();
   for (std::size_t k = 1; k < records.size(); ++k) {
     const core::CsvRecord& row = records[k];
-    check_length(row, header.fields.size(), file);
+    core::check_row_length(row, header.fields.size(), file);
     const RowReader r(row, file);
     TrajectorySample s;
     s.t_s = r.number(t, "t");
@@ -188,7 +180,7 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   bool any_truck = false;
   for (std::size_t k = first + 1; k < records.size(); ++k) {
     const core::CsvRecord& row = records[k];
-    check_length(row, header.fields.size(), file);
+    core::check_row_length(row, header.fields.size(), file);
     const RowReader r(row, file);
     const std::string entity = r.text(name);
     if (entity != kEgoEntity && entity != kTruckEntity) continue;

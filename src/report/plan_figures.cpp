@@ -28,10 +28,8 @@ using campaign::CellRecord;
 
 // --- reading the run ----------------------------------------------------------------------------
 
-/// The factors (name, unit, level labels), confidence and acceptance criterion of estimates.json,
-/// read through its typed reader (results/run_estimates.hpp).
-void read_estimates(const fs::path& path, PlannedRun& run) {
-  const results::RunEstimates estimates = results::read_run_estimates(path);
+/// The factors (name, unit, level labels), confidence and acceptance criterion of estimates.json.
+void read_estimates(const results::RunEstimates& estimates, PlannedRun& run) {
   run.factors.clear();
   for (const auto& f : estimates.factors.value_or(std::vector<scenario::PlanFactor>{})) {
     PlanFactor factor{f.name, f.unit, {}};
@@ -243,22 +241,18 @@ Figure draw_pair_map(const PlannedRun& run, std::size_t a, std::size_t b, const 
 
 }  // namespace
 
-std::optional<PlannedRun> read_planned_run(const fs::path& dir) {
-  for (const results::ResultsDir& folder : {results::ResultsDir(dir).plan_results(), results::ResultsDir(dir)}) {
-    std::error_code ec;
-    if (!fs::is_regular_file(folder.outcomes_csv(), ec) || !fs::is_regular_file(folder.estimates_json(), ec)) continue;
-    PlannedRun run;
-    run.folder = folder.root();
-    try {
-      read_estimates(folder.estimates_json(), run);
-    } catch (const InputError&) {
-      continue;  // not as `emrm run` writes it: the statistics section says so and shows no run
-    }
-    read_outcomes(folder.outcomes_csv(), run);
-    attach_records(folder.store(), run);
-    return run;
-  }
-  return std::nullopt;
+std::optional<PlannedRun> read_planned_run(const results::FoundRunEstimates& estimates) {
+  // None read (not as `emrm run` writes it: the statistics section says so and shows no run).
+  if (!estimates.estimates) return std::nullopt;
+  const results::ResultsDir folder(estimates.file.parent_path());
+  std::error_code ec;
+  if (!fs::is_regular_file(folder.outcomes_csv(), ec)) return std::nullopt;
+  PlannedRun run;
+  run.folder = folder.root();
+  read_estimates(*estimates.estimates, run);
+  read_outcomes(folder.outcomes_csv(), run);
+  attach_records(folder.store(), run);
+  return run;
 }
 
 std::vector<Figure> draw_plan_maps(const PlannedRun& run, const fs::path& dir, std::size_t max_maps) {

@@ -323,6 +323,7 @@ Figure sweep_curves(const std::vector<campaign::CellRecord>& records, const sim:
 // Every input of a report that can be malformed, read before the first figure is drawn so that a
 // broken one fails the report with nothing written.
 struct ReportInputs {
+  results::FoundRunEstimates estimates;  ///< the planned run's, read once for every section that shows it
   std::optional<PlannedRun> planned;
   std::vector<results::ProfileRun> runs;  ///< those whose store exists
   std::vector<std::vector<campaign::CellRecord>> per_profile;
@@ -334,12 +335,13 @@ struct ReportInputs {
 
 ReportInputs read_inputs(const fs::path& dir) {
   ReportInputs in;
-  in.planned = read_planned_run(dir);
+  in.estimates = results::find_run_estimates(dir);
+  in.planned = read_planned_run(in.estimates);
   in.runs = results::read_profile_index(dir);
   std::error_code ec;
   std::erase_if(in.runs, [&](const results::ProfileRun& r) { return !fs::is_regular_file(dir / r.store, ec); });
   for (const auto& run : in.runs) in.per_profile.push_back(campaign::read_results(dir / run.store));
-  for (const fs::path& file : coverage_candidates(dir)) {
+  for (const fs::path& file : coverage_candidates(dir, in.estimates)) {
     const std::string text = read_or_empty(file);
     if (text.empty()) continue;
     in.coverage = scenario::parse_coverage_json(text, file.string());
@@ -441,7 +443,7 @@ ReportSummary write_report(const fs::path& dir) {
       "configuration {}); this report by emrm {}.</p>\n",
       html_escape(dir.string()), records.size(), meta.grids.size(), html_escape(core::join(meta.strategies, ", ")),
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
-  html += shortfalls_html(dir);
+  html += shortfalls_html(in.estimates);
   html += actuation_html(scene.actuation, in.runs);
   html +=
       "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
@@ -459,7 +461,7 @@ ReportSummary write_report(const fs::path& dir) {
   }
   html += "<h2 id=\"figures\">Figures</h2>\n";
   for (const auto& f : summary.figures) html += figure_html(f, dir);
-  html += side_sections_html(dir);
+  html += side_sections_html(dir, in.estimates);
   html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
   html +=
       "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) + "</pre></details>\n";

@@ -93,22 +93,6 @@ std::string diagnostics_html(const fs::path& dir) {
   return table + "<details><summary>diagnostics.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
-// The estimates.json of a planned run in this folder (reproduce's plan_results/ or `emrm run`'s own),
-// with the folder it is in; nothing when there is none or it is not as `emrm run` writes it (the
-// statistics section says so).
-std::optional<std::pair<fs::path, results::RunEstimates>> run_estimates(const fs::path& dir) {
-  const results::ResultsDir folder(dir);
-  for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
-    if (read_or_empty(file).empty()) continue;
-    try {
-      return std::pair{file.parent_path(), results::read_run_estimates(file)};
-    } catch (const InputError&) {
-      continue;
-    }
-  }
-  return std::nullopt;
-}
-
 std::string verification_html(const fs::path& dir) {
   const std::string text = read_or_empty(results::ResultsDir(dir).verify_json());
   if (text.empty())
@@ -121,26 +105,25 @@ std::string verification_html(const fs::path& dir) {
 
 namespace detail {
 
-std::vector<fs::path> coverage_candidates(const fs::path& dir) {
+std::vector<fs::path> coverage_candidates(const fs::path& dir, const results::FoundRunEstimates& run) {
   const results::ResultsDir folder(dir);
   std::vector<fs::path> files{folder.plan().coverage_json(), folder.coverage_json()};
-  if (const auto run = run_estimates(dir); run && run->second.plan && run->second.plan->coverage)
-    files.push_back(run->first / *run->second.plan->coverage);
+  if (run.estimates && run.estimates->plan && run.estimates->plan->coverage)
+    files.push_back(run.file.parent_path() / *run.estimates->plan->coverage);
   return files;
 }
 
-std::string shortfalls_html(const fs::path& dir) {
-  const auto run = run_estimates(dir);
-  if (!run || run->second.shortfalls.empty()) return "";
+std::string shortfalls_html(const results::FoundRunEstimates& run) {
+  if (!run.estimates || run.estimates->shortfalls.empty()) return "";
   std::string out =
       "<div class=\"missing\" id=\"shortfalls\"><strong>The plan fell short of its targets</strong> "
       "(scenarios.json, repeated by <code>emrm run</code>); the estimates below lack these:\n<ul>\n";
-  for (const auto& s : run->second.shortfalls) out += "<li>" + html_escape(s.message) + "</li>\n";
+  for (const auto& s : run.estimates->shortfalls) out += "<li>" + html_escape(s.message) + "</li>\n";
   return out + "</ul></div>\n";
 }
 
-std::string side_sections_html(const fs::path& dir) {
-  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(dir) +
+std::string side_sections_html(const fs::path& dir, const results::FoundRunEstimates& run) {
+  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(run, dir) +
          "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir) +
          "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir) +
          "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
@@ -149,7 +132,8 @@ std::string side_sections_html(const fs::path& dir) {
 }  // namespace detail
 
 std::string side_files_html(const fs::path& dir) {
-  return detail::shortfalls_html(dir) + detail::side_sections_html(dir);
+  const results::FoundRunEstimates run = results::find_run_estimates(dir);
+  return detail::shortfalls_html(run) + detail::side_sections_html(dir, run);
 }
 
 }  // namespace emrm::report

@@ -8,18 +8,21 @@
 #include <string>
 #include <vector>
 
+#include "emrm/results/run_estimates.hpp"
+
 namespace emrm::report::detail {
 
 /// Where a plan's coverage.json may be: reproduce's plan/, this folder, and beside the scenarios.csv
 /// the run read (estimates.json's "plan", relative to its own folder).
-[[nodiscard]] std::vector<std::filesystem::path> coverage_candidates(const std::filesystem::path& dir);
+[[nodiscard]] std::vector<std::filesystem::path> coverage_candidates(const std::filesystem::path& dir,
+                                                                     const results::FoundRunEstimates& run);
 
 /// The plan's shortfalls that the run repeated, first thing in the report: its estimates lack them.
 /// "" when the run has none (or there is no run).
-[[nodiscard]] std::string shortfalls_html(const std::filesystem::path& dir);
+[[nodiscard]] std::string shortfalls_html(const results::FoundRunEstimates& run);
 
 /// The sections after the figures that come from side files: the planned run's estimates
 /// (statistics_html), the verification, the diagnostics and the findings of the safety analysis.
-[[nodiscard]] std::string side_sections_html(const std::filesystem::path& dir);
+[[nodiscard]] std::string side_sections_html(const std::filesystem::path& dir, const results::FoundRunEstimates& run);
 
 }  // namespace emrm::report::detail

@@ -135,17 +135,11 @@ std::string section(const results::RunEstimates& run, const fs::path& file, cons
 
 }  // namespace
 
-std::string statistics_html(const fs::path& dir) {
-  const results::ResultsDir folder(dir);
-  for (const fs::path& file : {folder.plan_results().estimates_json(), folder.estimates_json()}) {
-    if (read_or_empty(file).empty()) continue;
-    try {
-      return section(results::read_run_estimates(file), file, dir);
-    } catch (const InputError& e) {
-      return fmt::format("<p class=\"warning\">{} is not in the form emrm run writes ({}); no statistics shown.</p>\n",
-                         html_escape(file.string()), html_escape(e.what()));
-    }
-  }
+std::string statistics_html(const results::FoundRunEstimates& found, const fs::path& dir) {
+  if (found.estimates) return section(*found.estimates, found.file, dir);
+  if (!found.file.empty())
+    return fmt::format("<p class=\"warning\">{} is not in the form emrm run writes ({}); no statistics shown.</p>\n",
+                       html_escape(found.file.string()), html_escape(found.error));
   return "<p>No planned scenario set was run in this folder (<code>emrm plan</code>, <code>emrm run</code>).</p>\n";
 }
 

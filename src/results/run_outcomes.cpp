@@ -3,8 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
+#include <optional>
 #include <type_traits>
 
 #include "emrm/core/error.hpp"
@@ -28,16 +27,19 @@ core::Row header_of(const std::vector<std::string>& factors) {
   return header;
 }
 
+// A number of column `column`: core's parsers, refused at `where`.
 template <class T>
 T parse_number(const std::string& text, const SourceLocation& where, const char* column) {
-  T value{};
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size() || text.empty() ||
-      (std::is_floating_point_v<T> && !std::isfinite(static_cast<double>(value))))
+  std::optional<T> value;
+  if constexpr (std::is_integral_v<T>)
+    value = core::parse_whole_number<T>(text);
+  else
+    value = core::parse_finite_number(text);
+  if (!value)
     throw InputError(where,
                      fmt::format("{}: expected {}, got '{}'", column,
                                  std::is_integral_v<T> ? "a whole number" : "a finite number", text.substr(0, 40)));
-  return value;
+  return *value;
 }
 
 // One cell of a row into `field`; a blank stays the default where `blank_allowed`.
@@ -108,9 +110,7 @@ RunOutcomes read_run_outcomes(const std::filesystem::path& path) {
                                                core::join(header_of({"FACTOR..."}), ",")));
   for (std::size_t i = 1; i < records.size(); ++i) {
     const auto& record = records[i];
-    if (record.fields.size() != header.size())
-      throw InputError({file, record.lines.front(), 1},
-                       fmt::format("row has {} fields, the header {}", record.fields.size(), header.size()));
+    core::check_row_length(record, header.size(), file);
     ScenarioOutcome o;
     std::size_t c = 0;
     ScenarioOutcome::visit_fields(o, [&](const char* column, auto& field, auto... feasible_only) {

@@ -111,9 +111,7 @@ std::vector<TraceRow> read_traceability_csv(const std::filesystem::path& path) {
   std::vector<TraceRow> rows;
   for (std::size_t i = 1; i < records.size(); ++i) {
     const auto& record = records[i];
-    if (record.fields.size() != header.size())
-      throw InputError({file, record.lines.front(), 1},
-                       fmt::format("row has {} fields, the header {}", record.fields.size(), header.size()));
+    core::check_row_length(record, header.size(), file);
     TraceRow r;
     std::size_t c = 0;
     TraceRow::visit_fields(r, [&](const char* column, auto& field, auto... separator) {

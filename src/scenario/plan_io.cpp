@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
+#include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "emrm/core/json_archive.hpp"
@@ -311,9 +311,7 @@ ScenarioFile read_scenarios_csv(const std::filesystem::path& path) {
   for (std::size_t r = 1; r < records.size(); ++r) {
     const core::CsvRecord& rec = records[r];
     const auto at = [&](std::size_t i) { return SourceLocation{name, rec.lines[i], rec.columns[i]}; };
-    if (rec.fields.size() != h.size())
-      throw InputError({name, rec.lines.front(), 1},
-                       fmt::format("row has {} fields, the header {}", rec.fields.size(), h.size()));
+    core::check_row_length(rec, h.size(), name);
     ScenarioRow row;
     row.where = at(0);
     row.id = rec.fields[0];
@@ -322,11 +320,9 @@ ScenarioFile read_scenarios_csv(const std::filesystem::path& path) {
     row.step = rec.fields[1];
     for (std::size_t i = lead; i < h.size() - trail; ++i) {
       const std::string& f = rec.fields[i];
-      double v = 0.0;
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
-      if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
-        throw InputError(at(i), fmt::format("{}: expected a finite number, got '{}'", h[i], f));
-      row.values.push_back(v);
+      const std::optional<double> v = core::parse_finite_number(f);
+      if (!v) throw InputError(at(i), fmt::format("{}: expected a finite number, got '{}'", h[i], f));
+      row.values.push_back(*v);
     }
     const std::size_t t = h.size() - trail;
     row.cell = rec.fields[t];
@@ -334,15 +330,16 @@ ScenarioFile read_scenarios_csv(const std::filesystem::path& path) {
     row.transitions = split(rec.fields[t + 2], "; ");
     {
       const std::string& f = rec.fields[t + 3];
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), row.weight);
-      if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(row.weight) || row.weight < 0.0)
+      const std::optional<double> weight = core::parse_finite_number(f);
+      if (!weight || *weight < 0.0)
         throw InputError(at(t + 3), fmt::format("weight: expected a finite number >= 0, got '{}'", f));
+      row.weight = *weight;
     }
     {
       const std::string& f = rec.fields[t + 4];
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), row.seed);
-      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
-        throw InputError(at(t + 4), fmt::format("seed: expected an unsigned 64-bit integer, got '{}'", f));
+      const auto seed = core::parse_whole_number<std::uint64_t>(f);
+      if (!seed) throw InputError(at(t + 4), fmt::format("seed: expected an unsigned 64-bit integer, got '{}'", f));
+      row.seed = *seed;
     }
     file.rows.push_back(std::move(row));
   }

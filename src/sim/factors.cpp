@@ -11,20 +11,16 @@
 
 namespace emrm::sim {
 
-bool Factor::accepts(double value) const noexcept {
-  return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high;
-}
-
 std::string Factor::inequality() const {
-  const std::string_view op = low_inclusive ? "<=" : "<";
-  if (std::isinf(high)) return fmt::format("{} {} {:g}", key, low_inclusive ? ">=" : ">", low);
-  return fmt::format("{:g} {} {} <= {:g}", low, op, key, high);
+  const std::string_view op = limits.low_inclusive ? "<=" : "<";
+  if (std::isinf(limits.high)) return fmt::format("{} {} {:g}", key, limits.low_inclusive ? ">=" : ">", limits.low);
+  return fmt::format("{:g} {} {} <= {:g}", limits.low, op, key, limits.high);
 }
 
 std::string Factor::refusal(double value) const {
   return fmt::format("{} must be a finite {} with {}{}, got {}{}", key, what, inequality(),
                      unit == "1" ? "" : " " + unit, value,
-                     value > high && !why_high.empty() ? ": " + why_high : std::string());
+                     value > limits.high && !why_high.empty() ? ": " + why_high : std::string());
 }
 
 CellInput::CellInput(std::initializer_list<double> values)

@@ -95,10 +95,31 @@ std::string apply_profile(SceneConfig& config, const std::string& profile, const
   return overlay.description;
 }
 
+namespace {
+
+constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
+
+double drivable_width_m(const SceneConfig& config) noexcept {
+  return config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
+}
+
+// The values each factor accepts, in cell order: the one owner of scenario_factors' limits, which
+// validate_cell reads without building the table's texts (it runs for every cell simulated).
+std::array<FactorLimits, tjunction::kFactors> factor_limits(const SceneConfig& config) noexcept {
+  std::array<FactorLimits, tjunction::kFactors> limits{};
+  limits[kSpeed].high = kMaxSpeed_kph;
+  limits[kMu].high = 2.0;
+  limits[kPassage].high = drivable_width_m(config);
+  limits[kTruckSpeed] = {.low = 0.0, .low_inclusive = true, .high = kMaxSpeed_kph};
+  return limits;
+}
+
+}  // namespace
+
 FactorTable scenario_factors(const SceneConfig& config) {
-  constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
   constexpr std::string_view kWhySpeed = "faster than any road vehicle drives; the speed is in km/h";
-  const double drivable_width_m = config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
+  const double width_m = drivable_width_m(config);
+  const auto limits = factor_limits(config);
   const TJunctionCell defaults;
   std::vector<Factor> factors(tjunction::kFactors);
   factors[kSpeed] = {.key = "speed_kph",
@@ -110,7 +131,7 @@ FactorTable scenario_factors(const SceneConfig& config) {
                      .brief = "{:g} km/h",
                      .role = FactorRole::kEgoSpeed,
                      .default_value = defaults.speed_kph,
-                     .high = kMaxSpeed_kph,
+                     .limits = limits[kSpeed],
                      .why_high = std::string(kWhySpeed),
                      .band = 1.0,
                      .name = "speed"};
@@ -123,6 +144,7 @@ FactorTable scenario_factors(const SceneConfig& config) {
                    .brief = "TTC {:g} s",
                    .role = FactorRole::kTtc,
                    .default_value = defaults.ttc_s,
+                   .limits = limits[kTtc],
                    .why_high = "",
                    .name = "TTC"};
   factors[kMu] = {.key = "mu",
@@ -134,7 +156,7 @@ FactorTable scenario_factors(const SceneConfig& config) {
                   .brief = "mu {:g}",
                   .role = FactorRole::kFriction,
                   .default_value = defaults.mu,
-                  .high = 2.0,
+                  .limits = limits[kMu],
                   .why_high = "",
                   .name = "μ"};
   factors[kPassage] = {
@@ -147,9 +169,8 @@ FactorTable scenario_factors(const SceneConfig& config) {
       .brief = "passage {:g} m",
       .role = FactorRole::kPassage,
       .default_value = defaults.passage_m,
-      .high = drivable_width_m,
-      .why_high =
-          fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", drivable_width_m),
+      .limits = limits[kPassage],
+      .why_high = fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", width_m),
       .name = "passage"};
   factors[kTruckSpeed] = {.key = "truck_speed_kph",
                           .unit = "km/h",
@@ -160,8 +181,7 @@ FactorTable scenario_factors(const SceneConfig& config) {
                           .brief = "truck {:g} km/h",
                           .role = FactorRole::kOther,
                           .default_value = config.truck.speed_kph,
-                          .low_inclusive = true,
-                          .high = kMaxSpeed_kph,
+                          .limits = limits[kTruckSpeed],
                           .why_high = std::string(kWhySpeed),
                           .band = 1.0,
                           .name = "truck speed"};
@@ -172,7 +192,12 @@ TJunctionCell TJunctionCell::of(const CellInput& cell) noexcept {
   return {cell[kSpeed], cell[kTtc], cell[kMu], cell[kPassage], cell[kTruckSpeed]};
 }
 
-void validate_cell(const SceneConfig& config, const CellInput& cell) { scenario_factors(config).validate(cell); }
+void validate_cell(const SceneConfig& config, const CellInput& cell) {
+  const auto limits = factor_limits(config);
+  bool accepted = cell.size() == limits.size();
+  for (std::size_t i = 0; accepted && i < limits.size(); ++i) accepted = limits[i].accepts(cell[i]);
+  if (!accepted) scenario_factors(config).validate(cell);  // throws, naming the factor and its limits
+}
 
 Scene::Scene(const SceneConfig& config, const CellInput& cell)
     : config_(&config),

@@ -50,15 +50,16 @@ std::string located_warning(const SourceLocation& where, const std::string& mess
 std::string expected_text(const sim::Factor& l) {
   const std::string article = std::string("aeiou").find(l.what.front()) != std::string::npos ? "an" : "a";
   const std::string unit = l.unit == "1" ? "" : " " + l.unit;
-  if (std::isinf(l.high))
-    return fmt::format("{} {} {} {:g}{}", article, l.what, l.low_inclusive ? ">=" : ">", l.low, unit);
-  return fmt::format("{} {} in {}{:g}, {:g}]{}", article, l.what, l.low_inclusive ? "[" : "(", l.low, l.high, unit);
+  const sim::FactorLimits& in = l.limits;
+  if (std::isinf(in.high))
+    return fmt::format("{} {} {} {:g}{}", article, l.what, in.low_inclusive ? ">=" : ">", in.low, unit);
+  return fmt::format("{} {} in {}{:g}, {:g}]{}", article, l.what, in.low_inclusive ? "[" : "(", in.low, in.high, unit);
 }
 
 // A likely slip behind a rejected value: a percentage for a plain number, a wider road than the scene's.
 std::string hint(const sim::Factor& l, double v) {
-  if (l.unit == "1" && v > l.high && v <= 100.0 * l.high) return "; a percentage?";
-  if (v > l.high && !l.why_high.empty()) return "; " + l.why_high;
+  if (l.unit == "1" && v > l.limits.high && v <= 100.0 * l.limits.high) return "; a percentage?";
+  if (v > l.limits.high && !l.why_high.empty()) return "; " + l.why_high;
   return "";
 }
 

@@ -113,7 +113,7 @@ TEST(AssessCli, BadInputNamesFileLineAndColumn) {
     EXPECT_THAT(r.err, HasSubstr(what)) << name;
   };
   bad("quote.csv", "t,x,y,psi,v\n0,0,0,0,\"10\n", "2:9", "quote");
-  bad("truncated.csv", "t,x,y,psi,v\n0,0,-1.75,0,10\n0.01,0.1,-1.75", "3:15", "expected 5 fields");
+  bad("truncated.csv", "t,x,y,psi,v\n0,0,-1.75,0,10\n0.01,0.1,-1.75", "3:10", "expected 5 fields");
   bad("time.csv", "t,x,y,psi,v\n0,0,-1.75,0,10\n0.01,0.1,-1.75,0,10\n0.01,0.2,-1.75,0,10\n", "4:1",
       "expected a time after");
   bad("nan.csv", "t,x,y,psi,v\n0,0,-1.75,0,10\n0.01,0.1,nan,0,10\n", "3:10", "expected a finite number for 'y'");

@@ -2,6 +2,8 @@
 
 // Small text helpers shared by the tables every command writes.
 
+#include <charconv>
+#include <concepts>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -47,9 +49,24 @@ struct CsvRecord {
 /// after a closing quote.
 [[nodiscard]] std::vector<CsvRecord> parse_csv(std::string_view text, const std::string& file_name);
 
+/// Throws InputError when `row` has another number of fields than its document's header,
+/// `expected` (a truncated or malformed row): at the first field too many, or at the last field of
+/// a row too short (file_name:line:column).
+void check_row_length(const CsvRecord& row, std::size_t expected, const std::string& file_name);
+
 /// The finite number the whole of `text` spells (strtod's syntax), or nothing: empty text, trailing
 /// characters, NaN, infinities and out-of-range values are not numbers here.
 [[nodiscard]] std::optional<double> parse_finite_number(const std::string& text);
+
+/// The whole number the whole of `text` spells in decimal (a leading '-' for a signed T), or
+/// nothing: empty text, other characters, a value T cannot hold.
+template <std::integral T>
+[[nodiscard]] std::optional<T> parse_whole_number(std::string_view text) {
+  T value{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
 
 /// The largest input file emrm reads (64 MiB): every input is a hand-written or generated text of
 /// far less; the cap keeps a device or an endless pipe from exhausting memory.

@@ -11,6 +11,7 @@
 
 #include "emrm/campaign/records.hpp"
 #include "emrm/report/figures.hpp"
+#include "emrm/results/run_estimates.hpp"
 
 namespace emrm::report {
 
@@ -32,14 +33,14 @@ struct PlannedRun {
   std::string acceptance;                  ///< "emrm avoided": strategy and outcome that count as success
 };
 
-/// The planned run in `dir/plan_results` (emrm reproduce) or `dir` (emrm run), whichever holds
-/// outcomes.csv and an estimates.json as `emrm run` writes it (results::read_run_estimates) first;
-/// nullopt when neither does (the report's statistics section says what is wrong with an
-/// estimates.json it cannot read). Factors are empty when estimates.json lists none (a run of a
+/// The planned run of the estimates.json that results::find_run_estimates found (in
+/// `dir/plan_results`, emrm reproduce, or `dir`, emrm run), with the outcomes.csv and store beside
+/// it; nullopt when there is none, it could not be read (the report's statistics section says what
+/// is wrong with it) or no outcomes.csv is beside it. Factors are empty when estimates.json lists none (a run of a
 /// scenarios.csv without the plan's scenarios.json beside it). Throws InputError
 /// (file:line:column) when outcomes.csv is malformed or a cell key does not match the factors,
 /// UsageError when the store and outcomes.csv disagree on the number of scenarios.
-[[nodiscard]] std::optional<PlannedRun> read_planned_run(const std::filesystem::path& dir);
+[[nodiscard]] std::optional<PlannedRun> read_planned_run(const results::FoundRunEstimates& estimates);
 
 /// (1e) One map per pair of the run's factors that have two levels or more, in the ODD's order
 /// (at most `max_maps`; then one more Figure, plan_map_more, has no files and a note naming the

@@ -146,6 +146,19 @@ struct RunEstimates {
 /// of the wrong type.
 [[nodiscard]] RunEstimates read_run_estimates(const std::filesystem::path& path);
 
+/// The estimates.json of the planned run in a results folder, read once for every part of the
+/// report that shows it.
+struct FoundRunEstimates {
+  std::filesystem::path file;             ///< DIR/plan_results/estimates.json or DIR/estimates.json; empty: none
+  std::optional<RunEstimates> estimates;  ///< none when there is no file or it could not be read
+  std::string error;                      ///< why `file` could not be read (the InputError's message)
+};
+
+/// DIR/plan_results/estimates.json (emrm reproduce) or DIR/estimates.json (emrm run), the first of
+/// the two that exists and is not empty, read by read_run_estimates. Never throws InputError: a
+/// file not in the form `emrm run` writes is returned with its error.
+[[nodiscard]] FoundRunEstimates find_run_estimates(const std::filesystem::path& dir);
+
 }  // namespace emrm::results
 
 /// A Wilson interval as [low, high].

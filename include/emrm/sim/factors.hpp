@@ -8,6 +8,7 @@
 // the table, so adding a factor to a scenario edits that scenario's own files and nothing else.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -37,6 +38,18 @@ enum class FactorRole : std::uint8_t {
 /// The factors every scenario has, first in its cells: ego speed, TTC, friction.
 inline constexpr std::size_t kEgoSpeedFactor = 0, kTtcFactor = 1, kFrictionFactor = 2, kMethodFactors = 3;
 
+/// The values a factor accepts: finite, above `low` (or equal to it with `low_inclusive`), at most
+/// `high`.
+struct FactorLimits {
+  double low = 0.0;
+  bool low_inclusive = false;
+  double high = std::numeric_limits<double>::infinity();
+
+  [[nodiscard]] bool accepts(double value) const noexcept {
+    return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high;
+  }
+};
+
 /// One factor of a scenario.
 struct Factor {
   std::string key;     ///< as campaigns, ODDs, stores, exports and Python name it ("mu")
@@ -48,14 +61,12 @@ struct Factor {
   std::string brief;   ///< "mu {:g}": the value in `emrm simulate`'s text ({:g} is the value)
   FactorRole role = FactorRole::kOther;
   double default_value = 0.0;  ///< a cell's value when a grid or a command does not set it
-  double low = 0.0;            ///< accepted: finite, above `low` (or equal with `low_inclusive`), at most `high`
-  bool low_inclusive = false;
-  double high = std::numeric_limits<double>::infinity();
-  std::string why_high;  ///< why there is an upper limit, when the scene sets it
-  double band = 0.05;    ///< half the width of a map cell when the factor takes one value only
-  std::string name;      ///< "μ": short, in summaries ("speed × μ × passage")
+  FactorLimits limits;         ///< the values a cell may hold
+  std::string why_high;        ///< why there is an upper limit, when the scene sets it
+  double band = 0.05;          ///< half the width of a map cell when the factor takes one value only
+  std::string name;            ///< "μ": short, in summaries ("speed × μ × passage")
 
-  [[nodiscard]] bool accepts(double value) const noexcept;
+  [[nodiscard]] bool accepts(double value) const noexcept { return limits.accepts(value); }
   /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0".
   [[nodiscard]] std::string inequality() const;
   /// The message for a value accepts() refuses: "mu must be a finite friction coefficient with 0 < mu <= 2, got 3".

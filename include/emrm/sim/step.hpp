@@ -5,6 +5,8 @@
 // built-in and added checks that the validity checker (validity.hpp) and the termination test
 // (termination.hpp) are.
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -67,7 +69,18 @@ struct RolloutResult {
 struct Extent {
   double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;
 };
-[[nodiscard]] Extent extent_of(const core::OrientedBox& box) noexcept;
+/// Inline: the rollout loop takes two a step.
+[[nodiscard]] inline Extent extent_of(const core::OrientedBox& box) noexcept {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Extent e{kInf, -kInf, kInf, -kInf};
+  for (const auto& c : box.corners()) {
+    e.min_x = std::min(e.min_x, c.x);
+    e.max_x = std::max(e.max_x, c.x);
+    e.min_y = std::min(e.min_y, c.y);
+    e.max_y = std::max(e.max_y, c.y);
+  }
+  return e;
+}
 
 /// One integration step as the checks see it. A check that ends the rollout may move `state` and
 /// `t_s` (back to the moment of contact, or on to a closed-form stop) and add to the result.

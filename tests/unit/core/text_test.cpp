@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -19,6 +20,38 @@ namespace text_test {
 TEST(Csv, QuotesOnlyFieldsThatNeedIt) {
   EXPECT_EQ(csv_line({"a", "b c", "x,y", "say \"hi\"", "two\nlines"}),
             "a,b c,\"x,y\",\"say \"\"hi\"\"\",\"two\nlines\"\n");
+}
+
+// A row of another length than the header is refused at its first field too many, or at the last
+// field of a row too short (a quoted field's newline counts).
+TEST(Csv, ARowOfAnotherLengthThanTheHeaderIsRefusedAtItsEnd) {
+  const auto records = parse_csv("a,b,c\n1,2,3\n1,\"x\ny\"\n1,2,3,4\n", "t.csv");
+  ASSERT_EQ(records.size(), 4u);
+  EXPECT_NO_THROW(check_row_length(records[1], 3, "t.csv"));
+  const auto where = [&](const CsvRecord& row) -> std::string {
+    try {
+      check_row_length(row, 3, "t.csv");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(where(records[2]).rfind("t.csv:3:3: error: expected 3 fields as in the header, got 2", 0), 0u)
+      << where(records[2]);
+  EXPECT_EQ(where(records[3]).rfind("t.csv:5:7: error: expected 3 fields as in the header, got 4", 0), 0u)
+      << where(records[3]);
+}
+
+// Whole numbers: decimal digits only, within the type; the limits themselves are read.
+TEST(WholeNumber, ReadsExactlyTheNumbersTheTypeHolds) {
+  EXPECT_EQ(parse_whole_number<int>("42"), 42);
+  EXPECT_EQ(parse_whole_number<int>("-7"), -7);
+  EXPECT_EQ(parse_whole_number<std::uint64_t>("18446744073709551615"), UINT64_MAX);
+  EXPECT_EQ(parse_whole_number<std::int64_t>("-9223372036854775808"), INT64_MIN);
+  for (const char* bad : {"", " 1", "1 ", "+1", "1.0", "1e3", "0x10", "abc", "2147483648"})
+    EXPECT_FALSE(parse_whole_number<int>(bad)) << "'" << bad << "'";
+  EXPECT_FALSE(parse_whole_number<std::uint64_t>("-1"));
+  EXPECT_FALSE(parse_whole_number<std::uint64_t>("18446744073709551616"));
 }
 
 TEST(Markdown, EscapesPipesAndNewlines) {

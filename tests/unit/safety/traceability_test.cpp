@@ -123,7 +123,7 @@ TEST(Traceability, AMalformedCsvIsRefusedWhereItIsWrong) {
       << refusal("reversible", bad);
   EXPECT_NE(refusal("header", "uca,hazard\n").find("expected a traceability matrix with the header"),
             std::string::npos);
-  EXPECT_NE(refusal("short", csv + "UCA1,x\n").find("row has 2 fields"), std::string::npos);
+  EXPECT_NE(refusal("short", csv + "UCA1,x\n").find("fields as in the header, got 2"), std::string::npos);
 }
 
 TEST(Findings, TheJsonReadsBackAsTheFindings) {

@@ -265,9 +265,10 @@ TEST(ScenariosCsvErrors, MissingTrailingColumns) {
   expect_read_error("id,step,a,b,cell,malfunctions,transitions,weight\n", 1, 11, "'b', not 'cell'");
 }
 
-TEST(ScenariosCsvErrors, RowWithTooFewFields) {
-  expect_read_error(std::string(kHeader) + "S001,boundary,1,2,c0.0,,,1,5\nS002,boundary,1,2,c0.0,,1,5\n", 3, 1,
-                    "8 fields");
+TEST(ScenariosCsvErrors, RowWithTooFewFields) {  // refused at the short row's last field
+  const std::string row = "S002,boundary,1,2,c0.0,,1,5";
+  expect_read_error(std::string(kHeader) + "S001,boundary,1,2,c0.0,,,1,5\n" + row + "\n", 3,
+                    static_cast<int>(row.size()), "expected 9 fields as in the header, got 8");
 }
 
 TEST(ScenariosCsvErrors, ValueThatIsNotANumber) {

@@ -6,8 +6,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "emrm/core/error.hpp"
 #include "emrm/sim/scene.hpp"
@@ -23,8 +25,8 @@ Factor factor(std::string key, FactorRole role, double low = 0.0, double high = 
   f.unit = "1";
   f.what = "value";
   f.role = role;
-  f.low = low;
-  f.high = high;
+  f.limits.low = low;
+  f.limits.high = high;
   f.default_value = (low + high) / 2.0;
   return f;
 }
@@ -111,10 +113,45 @@ TEST(TJunctionFactors, FollowTheScene) {
   EXPECT_EQ(t.key_list(), "speed_kph, ttc_s, mu, passage_m, truck_speed_kph");
   EXPECT_EQ(t.find(FactorRole::kPassage), 3u);
   EXPECT_EQ(t.defaults()[4], 25.0);  // the scene's truck speed
-  EXPECT_DOUBLE_EQ(t[3].high, config.road.drivable_max_y_m() - config.road.drivable_min_y_m());
+  EXPECT_DOUBLE_EQ(t[3].limits.high, config.road.drivable_max_y_m() - config.road.drivable_min_y_m());
   const TJunctionCell named = TJunctionCell::of(TJunctionCell{60.0, 0.9, 0.5, 2.0, 5.0});
   EXPECT_EQ(named.passage_m, 2.0);
   EXPECT_EQ(named.truck_speed_kph, 5.0);
+}
+
+// validate_cell checks a cell without building the table's texts: it refuses exactly what the
+// table refuses, with the table's message, at every limit and around it.
+TEST(TJunctionFactors, ValidateCellRefusesWhatTheTableRefuses) {
+  const SceneConfig config;
+  const FactorTable table = scenario_factors(config);
+  ASSERT_NO_THROW(table.validate(table.defaults()));
+  const auto message = [](const auto& check) -> std::string {
+    try {
+      check();
+    } catch (const UsageError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  std::size_t refused = 0, tried = 0;
+  for (std::size_t f = 0; f < table.size(); ++f) {
+    const FactorLimits& limits = table[f].limits;
+    for (const double v : {limits.low - 1.0, limits.low, std::nextafter(limits.low, 1e300), limits.low + 0.5,
+                           limits.high, std::nextafter(limits.high, 1e300), limits.high + 1.0,
+                           std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+      CellInput cell = table.defaults();
+      cell[f] = v;
+      const std::string by_table = message([&] { table.validate(cell); });
+      EXPECT_EQ(message([&] { validate_cell(config, cell); }), by_table) << table[f].key << " = " << v;
+      refused += !by_table.empty();
+      ++tried;
+    }
+  }
+  EXPECT_GT(refused, table.size());  // each factor refuses NaN, at least
+  EXPECT_LT(refused, tried);
+  const CellInput short_cell{50.0, 1.0, 0.8};
+  EXPECT_EQ(message([&] { validate_cell(config, short_cell); }), message([&] { table.validate(short_cell); }));
+  EXPECT_NE(message([&] { validate_cell(config, short_cell); }), "");
 }
 
 }  // namespace factors_test
