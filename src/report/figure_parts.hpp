@@ -23,15 +23,15 @@ void write_csv(Figure& figure, const std::filesystem::path& dir, const core::Row
                const std::vector<core::Row>& rows);
 
 /// A factor of a grid's cells (its place in the scenario's factor table), as a figure's axis or a
-/// map's slice; kSpeed, kTtc and kMu are the method's factors, which every scenario has.
+/// map's slice; kSpeed, kTtc and kFriction are the method's factors, which every scenario has.
 struct Axis {
   std::size_t index = 0;
-  static const Axis kSpeed, kTtc, kMu;
+  static const Axis kSpeed, kTtc, kFriction;
   friend bool operator==(Axis, Axis) = default;
 };
 inline constexpr Axis Axis::kSpeed{sim::kEgoSpeedFactor};
 inline constexpr Axis Axis::kTtc{sim::kTtcFactor};
-inline constexpr Axis Axis::kMu{sim::kFrictionFactor};
+inline constexpr Axis Axis::kFriction{sim::kFrictionFactor};
 
 /// The cell's value of the factor.
 [[nodiscard]] double value_of(const campaign::CellRecord& r, Axis a);

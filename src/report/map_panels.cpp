@@ -100,10 +100,10 @@ MapLayout empty_layout(const sim::FactorTable& factors, double key_h) {
 MapLayout lay_out_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors, const MapPanels& grids,
                       double key_h) {
   const std::array<PanelSpec, 4> specs{{
-      {'a', grids.coarse, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, coarse grid"},
-      {'b', grids.fine, Axis::kSpeed, Axis::kTtc, Axis::kMu, "Speed × TTC, fine grid"},
-      {'c', grids.speed_mu, Axis::kSpeed, Axis::kMu, Axis::kTtc, "Speed × friction"},
-      {'d', grids.ttc_mu, Axis::kTtc, Axis::kMu, Axis::kSpeed, "TTC × friction"},
+      {'a', grids.coarse, Axis::kSpeed, Axis::kTtc, Axis::kFriction, "Speed × TTC, coarse grid"},
+      {'b', grids.fine, Axis::kSpeed, Axis::kTtc, Axis::kFriction, "Speed × TTC, fine grid"},
+      {'c', grids.speed_mu, Axis::kSpeed, Axis::kFriction, Axis::kTtc, "Speed × friction"},
+      {'d', grids.ttc_mu, Axis::kTtc, Axis::kFriction, Axis::kSpeed, "TTC × friction"},
   }};
   MapLayout layout = empty_layout(factors, key_h);
   for (std::size_t i = 0; i < specs.size(); ++i) add_panel(layout, i, specs[i], records);
@@ -168,11 +168,11 @@ std::string boundary_function(const MapPanel& p, double latency_s) {
   const PanelSpec& s = p.spec;
   if (s.x == Axis::kSpeed && s.y == Axis::kTtc)
     return fmt::format("({} + x/3.6/({}*{}))", plot_number(latency_s), plot_number(two_g), plot_number(p.fixed));
-  if (s.x == Axis::kSpeed && s.y == Axis::kMu) {
+  if (s.x == Axis::kSpeed && s.y == Axis::kFriction) {
     if (p.fixed <= latency_s) return "";  // nothing stops within the latency alone
     return fmt::format("(x/3.6/({}*({} - {})))", plot_number(two_g), plot_number(p.fixed), plot_number(latency_s));
   }
-  if (s.x != Axis::kTtc || s.y != Axis::kMu) return "";  // no closed form over other factors
+  if (s.x != Axis::kTtc || s.y != Axis::kFriction) return "";  // no closed form over other factors
   // TTC × μ at a fixed speed: μ = v / (2 g (TTC − L)), defined right of the latency.
   return fmt::format("(x > {1} ? {0}/3.6/({2}*(x - {1})) : NaN)", plot_number(p.fixed), plot_number(latency_s),
                      plot_number(two_g));

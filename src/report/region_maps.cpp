@@ -218,7 +218,8 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
   MapLayout layout = empty_layout(factors, 0.08);
   std::vector<std::size_t> run_of;  // the run each drawn panel shows
   for (std::size_t i = 0; i < shown; ++i) {
-    add_panel(layout, i, {static_cast<char>('a' + i), grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, names[i]}, records[i]);
+    add_panel(layout, i, {static_cast<char>('a' + i), grid, Axis::kSpeed, Axis::kTtc, Axis::kFriction, names[i]},
+              records[i]);
     if (layout.panels.size() > run_of.size()) run_of.push_back(i);
   }
   if (layout.panels.empty()) {
@@ -263,7 +264,7 @@ namespace {
 /// How a grid is cut into maps: its axes, the factor the stop boundary holds fixed, and the factors
 /// each slice holds fixed (`sliced` those of them that vary over the grid).
 struct GridCut {
-  Axis x = Axis::kSpeed, y = Axis::kTtc, fixed = Axis::kMu;
+  Axis x = Axis::kSpeed, y = Axis::kTtc, fixed = Axis::kFriction;
   std::vector<Axis> held, sliced;
 };
 
@@ -281,7 +282,7 @@ GridCut cut_grid(const std::vector<CellRecord>& cells, const sim::FactorTable& f
   cut.held.assign(order.begin() + 2, order.end());
   for (const Axis a : cut.held)
     if (std::find(varying.begin(), varying.end(), a) != varying.end()) cut.sliced.push_back(a);
-  for (const Axis a : {Axis::kMu, Axis::kTtc, Axis::kSpeed})  // the boundary's third factor, when it has one
+  for (const Axis a : {Axis::kFriction, Axis::kTtc, Axis::kSpeed})  // the boundary's third factor, when it has one
     if (a != cut.x && a != cut.y) cut.fixed = a;
   return cut;
 }
@@ -443,7 +444,7 @@ MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   layout.total_cells = map.cells.size();
   const std::string panel_title = "Grid " + map.grid;  // the spec views it
   MapPanel p;
-  p.spec = {'a', map.grid, Axis::kSpeed, Axis::kTtc, Axis::kMu, panel_title};
+  p.spec = {'a', map.grid, Axis::kSpeed, Axis::kTtc, Axis::kFriction, panel_title};
   p.factors = map.factors;
   p.lettered = false;
   p.origin_y = layout.key_h;

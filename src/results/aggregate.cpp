@@ -83,83 +83,80 @@ LevelCuts level_cuts(const sim::SceneConfig& scene) {
   return cuts;
 }
 
-std::string_view factor_name(Factor f) noexcept {
-  switch (f) {
-    case Factor::kAll:
-      return "all";
-    case Factor::kSpeed:
+std::string_view factor_name(Breakdown f) noexcept {
+  if (!f) return "all";
+  switch (*f) {
+    case sim::FactorRole::kEgoSpeed:
       return "speed";
-    case Factor::kTtc:
+    case sim::FactorRole::kTtc:
       return "ttc";
-    case Factor::kFriction:
+    case sim::FactorRole::kFriction:
       return "friction";
-    case Factor::kPassage:
+    case sim::FactorRole::kPassage:
       return "passage";
+    case sim::FactorRole::kOther:
+      break;
   }
-  return "?";
+  return "other";
 }
 
-const std::vector<std::string>& level_names(Factor f) {
+const std::vector<std::string>& level_names(Breakdown f) {
   static const std::vector<std::string> all{"all"};
   static const std::vector<std::string> three{"low", "med", "high"};
   static const std::vector<std::string> passage{"narrow", "wide"};
-  switch (f) {
-    case Factor::kAll:
-      return all;
-    case Factor::kPassage:
-      return passage;
-    default:
-      return three;
-  }
+  if (!f || *f == sim::FactorRole::kOther) return all;
+  return *f == sim::FactorRole::kPassage ? passage : three;
 }
 
-std::string level_range(Factor f, std::string_view level, const LevelCuts& c) {
-  switch (f) {
-    case Factor::kAll:
-      return "all";
-    case Factor::kSpeed:
+std::string level_range(Breakdown f, std::string_view level, const LevelCuts& c) {
+  if (!f) return "all";
+  switch (*f) {
+    case sim::FactorRole::kEgoSpeed:
       if (level == "low") return fmt::format("<= {:g} km/h", c.speed_low_max_kph);
       if (level == "med") return fmt::format("{:g}-{:g} km/h", c.speed_low_max_kph, c.speed_med_max_kph);
       return fmt::format("> {:g} km/h", c.speed_med_max_kph);
-    case Factor::kTtc:
+    case sim::FactorRole::kTtc:
       if (level == "low") return fmt::format("<= {:g} s", c.ttc_low_max_s);
       if (level == "med") return fmt::format("{:g}-{:g} s", c.ttc_low_max_s, c.ttc_med_max_s);
       return fmt::format("> {:g} s", c.ttc_med_max_s);
-    case Factor::kFriction:
+    case sim::FactorRole::kFriction:
       if (level == "low") return fmt::format("mu < {:g}", c.mu_med_min);
       if (level == "med") return fmt::format("{:g} <= mu < {:g}", c.mu_med_min, c.mu_high_min);
       return fmt::format("mu >= {:g}", c.mu_high_min);
-    case Factor::kPassage:
+    case sim::FactorRole::kPassage:
       if (level == "narrow") return fmt::format("< {:g} m", c.car_width_m);
       return fmt::format(">= {:g} m", c.car_width_m);
+    case sim::FactorRole::kOther:
+      break;
   }
   return std::string(level);
 }
 
-std::string level_of(Factor f, const campaign::CellRecord& cell, const LevelCuts& c) {
-  switch (f) {
-    case Factor::kAll:
-      return "all";
-    case Factor::kSpeed:
+std::string level_of(Breakdown f, const campaign::CellRecord& cell, const LevelCuts& c) {
+  if (!f) return "all";
+  switch (*f) {
+    case sim::FactorRole::kEgoSpeed:
       if (cell.factors.ego_speed_kph() <= c.speed_low_max_kph + kCutTolerance) return "low";
       if (cell.factors.ego_speed_kph() <= c.speed_med_max_kph + kCutTolerance) return "med";
       return "high";
-    case Factor::kTtc:
+    case sim::FactorRole::kTtc:
       if (cell.factors.time_to_collision_s() <= c.ttc_low_max_s + kCutTolerance) return "low";
       if (cell.factors.time_to_collision_s() <= c.ttc_med_max_s + kCutTolerance) return "med";
       return "high";
-    case Factor::kFriction:
+    case sim::FactorRole::kFriction:
       if (cell.factors.friction() < c.mu_med_min - kCutTolerance) return "low";
       if (cell.factors.friction() < c.mu_high_min - kCutTolerance) return "med";
       return "high";
-    case Factor::kPassage:
+    case sim::FactorRole::kPassage:
       return c.passage_factor && cell.factors[*c.passage_factor] < c.car_width_m - kCutTolerance ? "narrow" : "wide";
+    case sim::FactorRole::kOther:
+      break;
   }
   return "all";
 }
 
 StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std::string_view strategy,
-                           std::string_view grid, Factor factor, std::string_view level) {
+                           std::string_view grid, Breakdown factor, std::string_view level) {
   StrategyKpis k;
   k.grid = std::string(grid);
   k.strategy = std::string(strategy);
@@ -208,12 +205,14 @@ std::vector<StrategyKpis> grid_kpis(const std::vector<campaign::CellRecord>& rec
                                     const LevelCuts& cuts) {
   const auto cells = records_of_grid(records, grid);
   struct Subset {
-    Factor factor;
+    Breakdown factor;
     std::string level;
     std::vector<campaign::CellRecord> cells;
   };
   std::vector<Subset> subsets;
-  for (Factor f : {Factor::kAll, Factor::kSpeed, Factor::kTtc, Factor::kFriction, Factor::kPassage}) {
+  std::vector<Breakdown> breakdowns{kWholeGrid};
+  breakdowns.insert(breakdowns.end(), kBreakdownRoles.begin(), kBreakdownRoles.end());
+  for (const Breakdown f : breakdowns) {
     for (const auto& level : level_names(f)) {
       Subset s{f, level, {}};
       for (const auto& c : cells)
@@ -227,7 +226,7 @@ std::vector<StrategyKpis> grid_kpis(const std::vector<campaign::CellRecord>& rec
   return out;
 }
 
-const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy, Factor factor,
+const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy, Breakdown factor,
                               std::string_view level) {
   for (const auto& k : kpis)
     if (k.strategy == strategy && k.factor == factor && k.level == level) return &k;

@@ -31,8 +31,8 @@ bool column_strategy(std::string_view name) {
   return info != nullptr && info->role != sim::StrategyRole::kChooser;
 }
 
-std::optional<Factor> factor_from_name(std::string_view name) {
-  for (Factor f : {Factor::kSpeed, Factor::kTtc, Factor::kFriction, Factor::kPassage})
+std::optional<sim::FactorRole> factor_from_name(std::string_view name) {
+  for (const sim::FactorRole f : kBreakdownRoles)
     if (factor_name(f) == name) return f;
   return std::nullopt;
 }

@@ -38,7 +38,7 @@ std::vector<const campaign::CellRecord*> feasible_of(const std::vector<campaign:
 }
 
 std::vector<campaign::CellRecord> subset(const std::vector<campaign::CellRecord>& records, std::string_view grid,
-                                         Factor f, std::string_view level, const LevelCuts& cuts) {
+                                         Breakdown f, std::string_view level, const LevelCuts& cuts) {
   std::vector<campaign::CellRecord> out;
   for (const auto& r : records)
     if ((grid.empty() || r.grid == grid) && level_of(f, r, cuts) == level) out.push_back(r);
@@ -189,7 +189,7 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
     double gap = -1.0;
     std::string where;
   } largest;
-  const auto add_row = [&](std::string label, std::string_view on_grid, Factor f,
+  const auto add_row = [&](std::string label, std::string_view on_grid, Breakdown f,
                            const std::vector<std::string>& levels, const PaperByParameterRow* p) {
     core::Row r{std::move(label)};
     std::vector<std::size_t> counts(levels.size(), 0);
@@ -221,19 +221,19 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
     t.rows.push_back(std::move(r));
   };
 
-  const auto range_label = [&](Factor f, const std::vector<std::string>& levels) {
+  const auto range_label = [&](Breakdown f, const std::vector<std::string>& levels) {
     std::vector<std::string> parts;
     for (const auto& l : levels) parts.push_back(l + " (" + level_range(f, l, cuts) + ")");
     return core::join(parts, " / ");
   };
-  for (Factor f : {Factor::kSpeed, Factor::kTtc, Factor::kFriction, Factor::kPassage}) {
+  for (const Breakdown f : kBreakdownRoles) {
     const auto* p = paper.by_parameter_row(factor_name(f));
     const std::vector<std::string> levels = p ? p->levels : level_names(f);
-    const std::string_view on_grid = f == Factor::kPassage ? passage_grid : grid;
-    const std::string name = f == Factor::kSpeed      ? "Ego speed"
-                             : f == Factor::kTtc      ? "TTC"
-                             : f == Factor::kFriction ? "Friction"
-                                                      : "Passage width";
+    const std::string_view on_grid = f == sim::FactorRole::kPassage ? passage_grid : grid;
+    const std::string name = f == sim::FactorRole::kEgoSpeed   ? "Ego speed"
+                             : f == sim::FactorRole::kTtc      ? "TTC"
+                             : f == sim::FactorRole::kFriction ? "Friction"
+                                                               : "Passage width";
     add_row(fmt::format("{}: {}{}", name, range_label(f, levels),
                         on_grid == grid   ? ""
                         : on_grid.empty() ? std::string(" [all grids]")
@@ -241,9 +241,10 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
             on_grid, f, levels, p);
   }
   if (!friction_grid.empty() && has_grid(records, friction_grid))
-    add_row(fmt::format("Friction: {} [grid '{}', ours only]",
-                        range_label(Factor::kFriction, level_names(Factor::kFriction)), friction_grid),
-            friction_grid, Factor::kFriction, level_names(Factor::kFriction), nullptr);
+    add_row(
+        fmt::format("Friction: {} [grid '{}', ours only]",
+                    range_label(sim::FactorRole::kFriction, level_names(sim::FactorRole::kFriction)), friction_grid),
+        friction_grid, sim::FactorRole::kFriction, level_names(sim::FactorRole::kFriction), nullptr);
 
   t.notes.push_back(
       "Each cell reads \"ours (paper N)\", levels separated by \" / \". The paper's caption calls these "
@@ -253,7 +254,7 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
       "ΔLoss and "
       "impact speeds for every level.");
   if (has_grid(records, passage_grid) || passage_grid.empty()) {
-    const auto narrow = subset(records, passage_grid, Factor::kPassage, "narrow", cuts);
+    const auto narrow = subset(records, passage_grid, sim::FactorRole::kPassage, "narrow", cuts);
     const std::string evasive_name = first_name_of(sim::StrategyRole::kEvasive);
     const std::string baseline_name = first_name_of(sim::StrategyRole::kBaseline);
     const auto evasive = strategy_kpis(narrow, evasive_name);

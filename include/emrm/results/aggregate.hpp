@@ -4,6 +4,7 @@
 // of each strategy over the feasible cells of a grid, overall and by parameter level. Pure
 // functions of the records; no simulation. Definitions: docs/results.md.
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 #include "emrm/campaign/records.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/factors.hpp"
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::results {
@@ -43,9 +45,16 @@ struct RegionCounts {
 /// G, Y, O or R (a corrupt store) throws emrm::Error naming the cell.
 [[nodiscard]] RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std::string_view grid);
 
-/// The factors a breakdown is by. kAll is the whole grid.
-enum class Factor { kAll, kSpeed, kTtc, kFriction, kPassage };
-[[nodiscard]] std::string_view factor_name(Factor f) noexcept;  ///< all, speed, ttc, friction, passage
+/// What a breakdown of the KPIs is by: the factor in a role the method reads (the ego speed, the
+/// TTC, the friction, the passage), or the whole grid (none, kWholeGrid).
+using Breakdown = std::optional<sim::FactorRole>;
+inline constexpr Breakdown kWholeGrid = std::nullopt;
+/// The roles the by-parameter tables break the KPIs down by, in their order.
+inline constexpr std::array<sim::FactorRole, 4> kBreakdownRoles{sim::FactorRole::kEgoSpeed, sim::FactorRole::kTtc,
+                                                                sim::FactorRole::kFriction, sim::FactorRole::kPassage};
+/// all, speed, ttc, friction, passage (kpis.csv's "factor" column); "other" for kOther, which no
+/// breakdown is by.
+[[nodiscard]] std::string_view factor_name(Breakdown f) noexcept;
 
 /// Where the levels of each factor are cut (docs/results.md). Upper bounds are inclusive for speed
 /// and TTC (40 km/h is low, 41 medium; 0.7 s is low, 1.3 s medium), lower bounds inclusive for
@@ -68,18 +77,18 @@ struct LevelCuts {
 
 /// Level names of a factor, in table order: all → {all}; speed, ttc, friction → {low, med, high};
 /// passage → {narrow, wide}.
-[[nodiscard]] const std::vector<std::string>& level_names(Factor f);
+[[nodiscard]] const std::vector<std::string>& level_names(Breakdown f);
 /// Human-readable range of a level, e.g. "30-40 km/h" → "<= 40 km/h", "<= 0.7 s", "< 1.61 m".
-[[nodiscard]] std::string level_range(Factor f, std::string_view level, const LevelCuts& cuts);
+[[nodiscard]] std::string level_range(Breakdown f, std::string_view level, const LevelCuts& cuts);
 /// The level of a cell for a factor. Values within 1e-9 of a cut count as on it (grid values such
 /// as 0.25 + 7·0.06 are not exact in binary).
-[[nodiscard]] std::string level_of(Factor f, const campaign::CellRecord& cell, const LevelCuts& cuts);
+[[nodiscard]] std::string level_of(Breakdown f, const campaign::CellRecord& cell, const LevelCuts& cuts);
 
 /// The KPIs of one strategy over a set of feasible cells (docs/results.md).
 struct StrategyKpis {
   std::string grid;
   std::string strategy;
-  Factor factor = Factor::kAll;
+  Breakdown factor = kWholeGrid;
   std::string level = "all";
   std::size_t cells = 0;                          ///< feasible cells with an outcome of this strategy
   std::size_t avoided = 0;                        ///< of which avoided
@@ -97,7 +106,7 @@ struct StrategyKpis {
 /// KPIs of `strategy` over the feasible records given (any grid mix; `grid`, `factor` and `level`
 /// are only copied into the result). With no matching cell every mean and rate is NaN.
 [[nodiscard]] StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std::string_view strategy,
-                                         std::string_view grid = "", Factor factor = Factor::kAll,
+                                         std::string_view grid = "", Breakdown factor = kWholeGrid,
                                          std::string_view level = "all");
 
 /// Strategy names in order of first appearance in the records' outcomes.
@@ -110,6 +119,6 @@ struct StrategyKpis {
 
 /// The row of `kpis` for a strategy, factor and level, if there is one.
 [[nodiscard]] const StrategyKpis* find_kpis(const std::vector<StrategyKpis>& kpis, std::string_view strategy,
-                                            Factor factor = Factor::kAll, std::string_view level = "all");
+                                            Breakdown factor = kWholeGrid, std::string_view level = "all");
 
 }  // namespace emrm::results

@@ -131,48 +131,48 @@ TEST(StrategyKpis, NoCellsGiveNaN) {
 
 TEST(Levels, EdgesAreWhereTheDesignPutsThem) {
   const LevelCuts cuts = level_cuts(sim::SceneConfig{});
-  const auto at = [&](Factor f, double speed, double ttc, double mu, double passage) {
+  const auto at = [&](Breakdown f, double speed, double ttc, double mu, double passage) {
     return level_of(f, cell("g", 0, speed, ttc, mu, passage, "G", 7), cuts);
   };
-  EXPECT_EQ(at(Factor::kSpeed, 30, 1, 1, 3), "low");
-  EXPECT_EQ(at(Factor::kSpeed, 40, 1, 1, 3), "low");
-  EXPECT_EQ(at(Factor::kSpeed, 41, 1, 1, 3), "med");
-  EXPECT_EQ(at(Factor::kSpeed, 56, 1, 1, 3), "med");
-  EXPECT_EQ(at(Factor::kSpeed, 57, 1, 1, 3), "high");
-  EXPECT_EQ(at(Factor::kTtc, 50, 0.7, 1, 3), "low");
-  EXPECT_EQ(at(Factor::kTtc, 50, 0.25 + 7 * 0.06, 1, 3), "low");  // 0.67
-  EXPECT_EQ(at(Factor::kTtc, 50, 0.73, 1, 3), "med");
-  EXPECT_EQ(at(Factor::kTtc, 50, 1.3, 1, 3), "med");
-  EXPECT_EQ(at(Factor::kTtc, 50, 1.31, 1, 3), "high");
-  EXPECT_EQ(at(Factor::kFriction, 50, 1, 0.3, 3), "low");
-  EXPECT_EQ(at(Factor::kFriction, 50, 1, 0.35, 3), "med");
-  EXPECT_EQ(at(Factor::kFriction, 50, 1, 0.7, 3), "high");
-  EXPECT_EQ(at(Factor::kPassage, 50, 1, 1, 1.0), "narrow");
-  EXPECT_EQ(at(Factor::kPassage, 50, 1, 1, 1.61), "wide");
+  EXPECT_EQ(at(sim::FactorRole::kEgoSpeed, 30, 1, 1, 3), "low");
+  EXPECT_EQ(at(sim::FactorRole::kEgoSpeed, 40, 1, 1, 3), "low");
+  EXPECT_EQ(at(sim::FactorRole::kEgoSpeed, 41, 1, 1, 3), "med");
+  EXPECT_EQ(at(sim::FactorRole::kEgoSpeed, 56, 1, 1, 3), "med");
+  EXPECT_EQ(at(sim::FactorRole::kEgoSpeed, 57, 1, 1, 3), "high");
+  EXPECT_EQ(at(sim::FactorRole::kTtc, 50, 0.7, 1, 3), "low");
+  EXPECT_EQ(at(sim::FactorRole::kTtc, 50, 0.25 + 7 * 0.06, 1, 3), "low");  // 0.67
+  EXPECT_EQ(at(sim::FactorRole::kTtc, 50, 0.73, 1, 3), "med");
+  EXPECT_EQ(at(sim::FactorRole::kTtc, 50, 1.3, 1, 3), "med");
+  EXPECT_EQ(at(sim::FactorRole::kTtc, 50, 1.31, 1, 3), "high");
+  EXPECT_EQ(at(sim::FactorRole::kFriction, 50, 1, 0.3, 3), "low");
+  EXPECT_EQ(at(sim::FactorRole::kFriction, 50, 1, 0.35, 3), "med");
+  EXPECT_EQ(at(sim::FactorRole::kFriction, 50, 1, 0.7, 3), "high");
+  EXPECT_EQ(at(sim::FactorRole::kPassage, 50, 1, 1, 1.0), "narrow");
+  EXPECT_EQ(at(sim::FactorRole::kPassage, 50, 1, 1, 1.61), "wide");
 }
 
 TEST(GridKpis, SplitsByLevelWithCounts) {
   const auto kpis = grid_kpis(four_cells(), "fine", level_cuts(sim::SceneConfig{}));
   // 2 strategies × (1 + 3 + 3 + 3 + 2) levels.
   EXPECT_EQ(kpis.size(), 24u);
-  const auto* low = find_kpis(kpis, "emergency_stop", Factor::kSpeed, "low");
-  const auto* med = find_kpis(kpis, "emergency_stop", Factor::kSpeed, "med");
-  const auto* high = find_kpis(kpis, "emergency_stop", Factor::kSpeed, "high");
+  const auto* low = find_kpis(kpis, "emergency_stop", sim::FactorRole::kEgoSpeed, "low");
+  const auto* med = find_kpis(kpis, "emergency_stop", sim::FactorRole::kEgoSpeed, "med");
+  const auto* high = find_kpis(kpis, "emergency_stop", sim::FactorRole::kEgoSpeed, "high");
   ASSERT_TRUE(low && med && high);
   EXPECT_EQ(low->cells, 1u);   // 40 km/h
   EXPECT_EQ(med->cells, 2u);   // 41 and 56 km/h
   EXPECT_EQ(high->cells, 1u);  // 57 km/h
   EXPECT_DOUBLE_EQ(low->collision_avoidance_rate_pct, 100.0);
   EXPECT_DOUBLE_EQ(med->mean_impact_speed_kph, 25.0);
-  const auto* ttc_low = find_kpis(kpis, "dodge", Factor::kTtc, "low");
-  const auto* ttc_med = find_kpis(kpis, "dodge", Factor::kTtc, "med");
-  const auto* ttc_high = find_kpis(kpis, "dodge", Factor::kTtc, "high");
+  const auto* ttc_low = find_kpis(kpis, "dodge", sim::FactorRole::kTtc, "low");
+  const auto* ttc_med = find_kpis(kpis, "dodge", sim::FactorRole::kTtc, "med");
+  const auto* ttc_high = find_kpis(kpis, "dodge", sim::FactorRole::kTtc, "high");
   EXPECT_EQ(ttc_low->cells, 2u);   // 0.7 and 0.2
   EXPECT_EQ(ttc_med->cells, 1u);   // 1.3
   EXPECT_EQ(ttc_high->cells, 1u);  // 1.31
   EXPECT_DOUBLE_EQ(ttc_low->collision_avoidance_rate_pct, 50.0);
-  EXPECT_EQ(find_kpis(kpis, "dodge", Factor::kPassage, "narrow")->cells, 0u);
-  EXPECT_EQ(find_kpis(kpis, "dodge", Factor::kFriction, "high")->cells, 4u);
+  EXPECT_EQ(find_kpis(kpis, "dodge", sim::FactorRole::kPassage, "narrow")->cells, 0u);
+  EXPECT_EQ(find_kpis(kpis, "dodge", sim::FactorRole::kFriction, "high")->cells, 4u);
 }
 
 }  // namespace aggregate_test
