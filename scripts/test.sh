@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Checks the sources (no .cpp over 600 lines, clang-format), builds emrm and runs every test three
-# times: a normal GCC build (preset dev), GCC under
-# AddressSanitizer + UndefinedBehaviorSanitizer (preset asan), and clang under both sanitizers
-# (preset clang); then clang-tidy over the clang build's unity batches (and the MPI and Python
+# Checks the sources (no .cpp over 600 lines, clang-format), builds emrm three times and runs
+# every test in a normal GCC build (preset dev) and in GCC under AddressSanitizer +
+# UndefinedBehaviorSanitizer (preset asan), and every third test in clang under both sanitizers
+# (preset clang, docs/testing.md); then clang-tidy over the clang build's unity batches (and the MPI and Python
 # sources through the dev build), and a short smoke run of each libFuzzer target (docs/fuzzing.md,
 # docs/testing.md).
 # Run scripts/install-deps.sh first.
