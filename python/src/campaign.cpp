@@ -172,10 +172,12 @@ class Columns {
       py::list text;
       if constexpr (!std::is_same_v<T, sim::CellInput>) {  // the factors: a column each, by key
         add = !columns_.contains(name) && std::find(renamed.begin(), renamed.end(), name) == renamed.end();
-        if (add && std::is_arithmetic_v<T>) {
-          py::array_t<std::conditional_t<std::is_arithmetic_v<T>, T, double>> values(n);
-          data = values.mutable_data();
-          columns_[py::str(name)] = values;
+        if constexpr (std::is_arithmetic_v<T>) {
+          if (add) {
+            py::array_t<T> values(n);
+            data = values.mutable_data();
+            columns_[py::str(name)] = values;
+          }
         } else if (add) {
           text = py::list(n);
           columns_[py::str(name)] = text;

@@ -8,8 +8,6 @@
 #include <fmt/format.h>
 
 #include <cstdint>
-#include <optional>
-#include <utility>
 
 #include "emrm/core/text.hpp"
 #include "emrm/report/report.hpp"
