@@ -75,7 +75,7 @@ void BM_TruckAt(benchmark::State& state) {
   for (auto _ : state) {
     t = t < 4.0 ? t + 0.01 : 0.0;
     benchmark::DoNotOptimize(t);
-    benchmark::DoNotOptimize(scene.truck_at(t));
+    benchmark::DoNotOptimize(scene.hazard_at(t));
   }
 }
 BENCHMARK(BM_TruckAt);

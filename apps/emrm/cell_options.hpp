@@ -11,10 +11,12 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/sim/scene.hpp"
 #include "options.hpp"
 
@@ -23,28 +25,54 @@ namespace emrm::cli {
 struct CellArgs {
   std::string scene_file;
   std::string profile;
-  std::map<std::string, double> given;  ///< the factor flags given: key → value
+  std::map<std::string, double> given;  ///< the factors given (by flag or --factor): key → value
+  std::vector<std::string> required;    ///< the keys a cell must give: the ego's speed and the TTC
   std::uint64_t seed = 1;
 };
 
 /// The options CLI11 made, for commands that relate them to others (excludes, needs).
 struct CellOptionSet {
-  std::vector<CLI::Option*> factors;  ///< one per factor, in the factor table's order
-  CLI::Option* seed = nullptr;        ///< only with_seed
-  [[nodiscard]] CLI::Option* speed() const { return factors[sim::kEgoSpeedFactor]; }
-  [[nodiscard]] CLI::Option* ttc() const { return factors[sim::kTtcFactor]; }
+  std::vector<CLI::Option*> factors;   ///< one per factor, in the factor table's order
+  CLI::Option* seed = nullptr;         ///< only with_seed
+  CLI::Option* assignments = nullptr;  ///< --factor KEY=VALUE
 };
 
-/// Adds --scene, --profile, a flag per factor of the scene (its key with '-' for '_': --speed-kph,
-/// --ttc-s, --mu, ...; the ego speed and the TTC required when `required`; the others default to
-/// the scene's) and, `with_seed`, --seed to `command`, filling `args`.
+/// Records a factor's value, refusing one given twice (by its flag and by --factor, or twice).
+inline void give_factor(CellArgs& args, const std::string& key, double value) {
+  if (!args.given.emplace(key, value).second) throw UsageError(fmt::format("the factor {} is given twice", key));
+}
+
+/// Reads one --factor KEY=VALUE.
+inline void give_assignment(CellArgs& args, const std::string& text) {
+  const std::size_t eq = text.find('=');
+  const std::optional<double> value =
+      eq == std::string::npos ? std::nullopt : core::parse_finite_number(text.substr(eq + 1));
+  if (eq == 0 || !value)
+    throw UsageError(fmt::format("--factor: expected KEY=VALUE with a finite number (speed_kph=80), got '{}'", text));
+  give_factor(args, text.substr(0, eq), *value);
+}
+
+/// Adds --scene, --profile, --factor KEY=VALUE (any factor of the scene's family), a shorthand flag
+/// per factor of the built-in scene (its key with '-' for '_': --speed-kph, --ttc-s, --mu, ...) and,
+/// `with_seed`, --seed to `command`, filling `args`. The ego speed and the TTC must be given when
+/// `required` (cell_of checks: a flag or --factor); the other factors default to the scene's.
 inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<CellArgs>& args, bool required,
                                       bool with_seed) {
   CellOptionSet o;
   command->add_option("--scene", args->scene_file,
                       "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml with instant "
                       "actuators; pass that file for the production car of the shipped campaigns)");
-  // The flags are the default scene's factors (a scene file, read after parsing, keeps their keys).
+  o.assignments = command
+                      ->add_option_function<std::vector<std::string>>(
+                          "--factor",
+                          [args](const std::vector<std::string>& all) {
+                            for (const auto& text : all) give_assignment(*args, text);
+                          },
+                          "Set any factor of the scene's family by its key (repeatable; 'emrm families' lists them)")
+                      ->type_name("KEY=VALUE")
+                      ->expected(1)
+                      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  // The shorthand flags are the default scene's factors (the T-junction's).
   const sim::FactorTable factors = sim::scenario_factors(sim::SceneConfig{});
   for (std::size_t i = 0; i < factors.size(); ++i) {
     const sim::Factor& f = factors[i];
@@ -53,11 +81,11 @@ inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<C
     const bool method = i == sim::kEgoSpeedFactor || i == sim::kTtcFactor;
     const std::string help = fmt::format(
         "{}{}{}", f.what, f.unit == "1" ? "" : " (" + f.unit + ")",
-        required && method ? "" : fmt::format(", {}; default: the scene's, {:g}", f.inequality(), f.default_value));
-    CLI::Option* option = command->add_option_function<double>(
-        flag, [args, key = f.key](double v) { args->given[key] = v; }, help);
-    if (required && method) option->required();
-    o.factors.push_back(option);
+        required && method ? ", required"
+                           : fmt::format(", {}; default: the scene's, {:g}", f.inequality(), f.default_value));
+    o.factors.push_back(command->add_option_function<double>(
+        flag, [args, key = f.key](double v) { give_factor(*args, key, v); }, help));
+    if (required && method) args->required.push_back(f.key);
   }
   if (with_seed)
     o.seed = command->add_option("--seed", args->seed, "Random seed of the planners")
@@ -78,14 +106,24 @@ inline sim::SceneConfig load_scene(const CellArgs& args) {
   return config;
 }
 
+/// The flag that gives a factor: "--speed-kph (or --factor speed_kph=VALUE)".
+inline std::string factor_flag(const std::string& key) {
+  std::string flag = "--" + key;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return fmt::format("{} (or --factor {}=VALUE)", flag, key);
+}
+
 /// The cell the options name: the scene's defaults, overlaid with the factors given. Throws
-/// UsageError for a factor flag the scene has no factor for.
+/// UsageError for a required factor not given, or one the scene's family does not have.
 inline sim::CellInput cell_of(const CellArgs& args, const sim::SceneConfig& config) {
+  for (const auto& key : args.required)
+    if (!args.given.contains(key)) throw UsageError(fmt::format("{} is required", factor_flag(key)));
   const sim::FactorTable factors = sim::scenario_factors(config);
   sim::CellInput cell = factors.defaults();
   for (const auto& [key, value] : args.given)
     if (!factors.set(cell, key, value))
-      throw UsageError(fmt::format("the scene has no factor '{}' (its factors: {})", key, factors.key_list()));
+      throw UsageError(fmt::format("the scene's family {} has no factor '{}' (its factors: {})", config.family, key,
+                                   factors.key_list()));
   return cell;
 }
 

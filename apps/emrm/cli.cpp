@@ -83,6 +83,7 @@ int run_cli(int argc, char** argv, Mode mode) {
   int exit_code = 0;
   emrm::cli::register_analyze_command(app, exit_code);
   emrm::cli::register_fsm_command(app, exit_code);
+  emrm::cli::register_families_command(app, exit_code);
   emrm::cli::register_simulate_command(app, exit_code);
   emrm::cli::register_sweep_commands(app, exit_code);
   emrm::cli::register_reproduce_command(app, exit_code);

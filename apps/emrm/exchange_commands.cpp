@@ -70,9 +70,11 @@ int run_export(const ExportOptions& options) {
   exchange::ExportOptions export_options;
   export_options.tolerance_m = options.tolerance_m;
   if (!options.plan_dir.empty()) return run_plan_export(options, export_options);
-  if (options.cell_options.speed()->count() == 0 || options.cell_options.ttc()->count() == 0)
-    throw UsageError("emrm export: give a cell (--speed-kph and --ttc-s) or a plan (--plan PLAN_DIR)");
   const sim::SceneConfig config = load_scene(*options.cell);
+  const sim::FactorTable method = sim::scenario_factors(config);
+  if (!options.cell->given.contains(method[sim::kEgoSpeedFactor].key) ||
+      !options.cell->given.contains(method[sim::kTtcFactor].key))
+    throw UsageError("emrm export: give a cell (--speed-kph and --ttc-s) or a plan (--plan PLAN_DIR)");
   const sim::CellInput cell = cell_of(*options.cell, config);
   std::unique_ptr<exchange::EgoTrajectory> trajectory;
   if (!options.strategy.empty()) {
@@ -147,7 +149,7 @@ void register_export_command(CLI::App& app, int& exit_code) {
       ->check(finite_in(0.0, 1.0))
       ->capture_default_str();
   std::vector<CLI::Option*> cell_flags = o->cell_options.factors;
-  cell_flags.insert(cell_flags.end(), {o->cell_options.seed, strategy});
+  cell_flags.insert(cell_flags.end(), {o->cell_options.assignments, o->cell_options.seed, strategy});
   for (CLI::Option* cell_option : cell_flags) plan->excludes(cell_option);
   cmd->callback([o, &exit_code] { exit_code = run_export(*o); });
 }

@@ -111,6 +111,7 @@ class Scene(_Part):
 
     def __init__(self) -> None: ...
     name: Final[str]
+    family: Final[str]
     road: Final[RoadConfig]
     truck: Final[TruckConfig]
     ego: Final[VehicleParams]
@@ -189,6 +190,9 @@ class CellResult:
     certificate: Optional[dict[str, Any]]
     unmitigated: dict[str, Any]
     strategies: Final[dict[str, Outcome]]
+    family: str
+    actors: list[dict[str, Any]]
+    road: dict[str, Any]
     def to_json(self, indent: int = 2) -> str: ...
     def to_dict(self) -> dict[str, Any]: ...
 

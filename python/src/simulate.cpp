@@ -101,14 +101,14 @@ py::array trajectory_column(const py::object& self, const std::string& name, boo
   const sim::PathPoint* p = path.data();
   if (name == "t") return column(&p->t_s, n, kPoint, self);
   if (view.truck) {
-    // The truck where sim::to_json puts it: Scene::truck_at at each of the ego's times.
+    // The truck where sim::to_json puts it: Scene::hazard_at at each of the ego's times.
     cell.trucks.resize(cell.result.strategies.size());
     auto& truck = cell.trucks[view.index];
     if (truck.size() != n) {
       const sim::Scene scene(*cell.scene, cell.result.input);
       truck.clear();
       for (const auto& point : path) {
-        const sim::TruckState state = scene.truck_at(point.t_s);
+        const sim::ActorState state = scene.hazard_at(point.t_s);
         truck.push_back({state.box.center.x, state.box.center.y, state.box.heading_rad});
       }
     }
@@ -264,8 +264,8 @@ void bind_simulate(py::module_& m) {
       m, "CellResult",
       "One simulated cell: every key of `emrm simulate --json` as an attribute (docs/simulate.md): input,\n"
       "feasible, region, evidence, mitigation_evidence, strengthened, harm_reduction, certificate,\n"
-      "unmitigated, strategies (name -> Outcome, in evaluation order). Keys the JSON leaves out for a cell\n"
-      "read None.");
+      "unmitigated, strategies (name -> Outcome, in evaluation order), family, actors, road. Keys the JSON\n"
+      "leaves out for a cell read None.");
   result.def_property_readonly("feasible", [](const SimulatedCell& self) { return self.result.feasible; });
   result.def_property_readonly("region",
                                [](const SimulatedCell& self) { return sim::region_name(self.result.region); });
@@ -275,6 +275,12 @@ void bind_simulate(py::module_& m) {
       out[py::str(self->result.strategies[i].strategy)] = OutcomeView{self, i};
     return out;
   });
+  // The actors with their trajectories, as the JSON has them (the other keys' dictionary leaves
+  // trajectories out).
+  result.def_property_readonly(
+      "actors", [](const SimulatedCell& self) { return to_python(self.json(true)["actors"]); },
+      "Every actor (the hazard first): name, kind, length_m, width_m, mass_kg and trajectory, a list of\n"
+      "{t, x, y, psi} at every simulation step.");
   result.def("__getattr__", [](SimulatedCell& self, const std::string& name) {
     return member(self.field_dict(), name, kOptionalCellKeys);
   });

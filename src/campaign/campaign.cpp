@@ -172,6 +172,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
 void validate(const Campaign& campaign, bool force) {
   core::Validator v("campaign");
   v.field("scene", campaign.scene);
+  if (auto why = sim::tjunction_only(campaign.scene, "a campaign")) v.fail("scene", *why);
   {
     const core::Validator::Scope strategies(v, "strategies");
     std::set<std::string> listed;

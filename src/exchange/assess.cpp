@@ -11,6 +11,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/trig.hpp"
+#include "emrm/sim/family.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/vehicle.hpp"
@@ -28,7 +29,7 @@ using sim::kKphPerMps;
 // up to the moment of contact is judged a contact.
 constexpr double kTouch_m = 0.5e-3;
 // A recording that ends moving within this of the truck (or the road's edge) ended at a contact
-// (a departure): the reach of sim::truck_impact's nudge, within which the simulator itself assesses
+// (a departure): the reach of sim::actor_impact's nudge, within which the simulator itself assesses
 // the state it integrated to the first touch as a contact.
 constexpr double kEndTouch_m = 0.01;
 
@@ -37,10 +38,10 @@ class Judge {
   Judge(const sim::Scene& scene, const RecordedTrajectory& trajectory)
       : scene_(scene), samples_(trajectory.samples), has_truck_(trajectory.has_truck) {
     const auto& cfg = scene.config();
-    circumradii_m_ =
-        0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) + 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
+    const sim::ActorBody& hazard = scene.hazard().body();
+    truck_reach_m_ = 0.5 * std::hypot(hazard.length_m, hazard.width_m);
+    circumradii_m_ = 0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) + truck_reach_m_;
     reach_m_ = std::hypot(std::max(cfg.ego.cg_to_front_m(), cfg.ego.cg_to_rear_m()), 0.5 * cfg.ego.width_m);
-    truck_reach_m_ = 0.5 * std::hypot(cfg.truck.length_m, cfg.truck.width_m);
   }
 
   // The pose at time t in segment [i, i+1]: position and heading interpolated linearly.
@@ -83,18 +84,18 @@ class Judge {
     return s;
   }
 
-  [[nodiscard]] sim::TruckState truck(std::size_t i, double t) const {
-    if (!has_truck_) return scene_.truck_at(t);
+  [[nodiscard]] sim::ActorState truck(std::size_t i, double t) const {
+    if (!has_truck_) return scene_.hazard_at(t);
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     const double dt = b.t_s - a.t_s;
     const double u = (t - a.t_s) / dt;
-    const auto& cfg = scene_.config().truck;
-    sim::TruckState out;
+    const sim::ActorBody& body = scene_.hazard().body();
+    sim::ActorState out;
     out.box.center = {a.truck_x_m + u * (b.truck_x_m - a.truck_x_m), a.truck_y_m + u * (b.truck_y_m - a.truck_y_m)};
     out.box.heading_rad = a.truck_yaw_rad + u * (b.truck_yaw_rad - a.truck_yaw_rad);
-    out.box.length_m = cfg.length_m;
-    out.box.width_m = cfg.width_m;
+    out.box.length_m = body.length_m;
+    out.box.width_m = body.width_m;
     out.velocity_mps = {(b.truck_x_m - a.truck_x_m) / dt, (b.truck_y_m - a.truck_y_m) / dt};
     return out;
   }
@@ -220,7 +221,7 @@ class Judge {
       out.safe_state = SafeState::kStopped;
     } else {
       const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;
-      const double truck_far_x = has_truck_ ? sim::extent_of(truck(last, t_end).box).max_x : scene_.truck_far_x_m();
+      const double truck_far_x = has_truck_ ? sim::extent_of(truck(last, t_end).box).max_x : scene_.passed_x_m();
       if (ego_min_x > truck_far_x && sim::stable_with_room_to_stop(scene_, end))
         out.safe_state = SafeState::kStabilised;
     }
@@ -234,7 +235,7 @@ class Judge {
     const sim::VehicleState s = state(i, t);
     core::Contact c;
     out.contact = true;
-    out.impact = sim::truck_impact(scene_, s, truck(i, t), &c);
+    out.impact = sim::actor_impact(scene_, scene_.hazard().body(), s, truck(i, t), &c);
     out.event_time_s = t;
     out.event_point_m = c.point;
     out.end_time_s = t;
@@ -283,6 +284,7 @@ std::string_view safe_state_name(SafeState s) noexcept {
 
 Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, const RecordedTrajectory& trajectory) {
   sim::validate(config);
+  sim::require_tjunction(config, "emrm assess");
   sim::validate_cell(config, cell);
   const sim::Scene scene(config, cell);
   if (!scene.feasible())

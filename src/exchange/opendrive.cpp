@@ -160,14 +160,14 @@ JunctionLayout junction_layout(const sim::SceneConfig& config, const sim::CellIn
   l.right_lanes = road.lanes - l.left_lanes;
   l.reference_line_y_m = road.drivable_max_y_m() - l.left_lanes * w;
   const sim::Scene scene(config, cell);
-  const double truck_x = scene.truck_at(0.0).box.center.x;
+  const double truck_x = scene.hazard_at(0.0).box.center.x;
   l.side_road_x_m = truck_x + w / 2.0;
   l.junction_min_x_m = l.side_road_x_m - w;
   l.junction_max_x_m = l.side_road_x_m + w;
   l.main_start_x_m = std::min(-kApproach_m - config.ego.length_m, l.junction_min_x_m - kApproach_m);
   l.main_end_x_m = l.junction_max_x_m + kRunOut_m;
   l.side_road_start_y_m = road.drivable_max_y_m();
-  const double truck_rear_y = scene.truck_at(0.0).box.center.y + config.truck.length_m / 2.0;
+  const double truck_rear_y = scene.hazard_at(0.0).box.center.y + config.truck.length_m / 2.0;
   l.side_road_length_m = std::max(truck_rear_y - l.side_road_start_y_m, 0.0) + kSideRoadMargin_m;
   return l;
 }

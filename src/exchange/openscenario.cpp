@@ -12,6 +12,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/sim/family.hpp"
 #include "emrm/version.hpp"
 #include "export_support.hpp"
 #include "xml_writer.hpp"
@@ -63,7 +64,7 @@ struct Initial {
 Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, const ExportOptions& options) {
   const sim::Scene scene(config, cell);
   const sim::VehicleState ego = scene.ego_initial();
-  const sim::TruckState truck = scene.truck_at(0.0);
+  const sim::ActorState truck = scene.hazard_at(0.0);
   const double ego_back = ego_reference_offset_m(config.ego);
   const double truck_back = truck_reference_offset_m(config.truck, options);
   Initial i;
@@ -79,7 +80,7 @@ Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, c
                                                                  num(2.0 * config.truck.decel_mps2)
                                                            : p.truck_speed + " / 3.6 * " + p.ttc;
   i.truck_y = {truck.box.center.y + truck_back, "${" + p.passage + " + " + travel + plus(y_constant) + "}"};
-  i.truck_speed = {scene.truck_speed_mps(), "${" + p.truck_speed + " / 3.6}"};
+  i.truck_speed = {scene.hazard_speed_mps(), "${" + p.truck_speed + " / 3.6}"};
   i.mu = {cell.friction(), p.mu};
   return i;
 }
@@ -269,7 +270,7 @@ std::vector<double> truck_vertex_times(const sim::SceneConfig& config, double re
   return times;
 }
 
-// The y of the truck's rear axle at time t: where the scene's truck is (Scene::truck_at), or for
+// The y of the truck's rear axle at time t: where the scene's truck is (Scene::hazard_at), or for
 // the logical scenario the expression of the parameters that gives it: the passage plus the travel
 // still ahead of the truck, max(v − a·t, 0)² / 2a, its max written with the standard's operators as
 // (w + sqrt(w·w)) / 2.
@@ -277,7 +278,7 @@ std::string truck_y_at(const sim::Scene& scene, const Parameters& p, const Expor
                        bool parametric) {
   const sim::SceneConfig& config = scene.config();
   const double back = truck_reference_offset_m(config.truck, options);
-  if (!parametric) return num(scene.truck_at(t_s).box.center.y + back);
+  if (!parametric) return num(scene.hazard_at(t_s).box.center.y + back);
   const double y_constant = config.road.drivable_min_y_m() + config.truck.length_m / 2.0 + back;
   const double a = config.truck.decel_mps2;
   std::string ahead;
@@ -398,7 +399,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
 
 // When the cell's truck comes to rest (infinite when it does not brake).
 double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell) {
-  return config.truck.decel_mps2 > 0.0 ? sim::Scene(config, cell).truck_speed_mps() / config.truck.decel_mps2
+  return config.truck.decel_mps2 > 0.0 ? sim::Scene(config, cell).hazard_speed_mps() / config.truck.decel_mps2
                                        : std::numeric_limits<double>::infinity();
 }
 
@@ -427,6 +428,7 @@ std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInpu
 
 std::vector<fs::path> export_cell(const fs::path& dir, const sim::SceneConfig& config, const sim::CellInput& cell,
                                   const EgoTrajectory* trajectory, const ExportOptions& options) {
+  sim::require_tjunction(config, "the OpenSCENARIO export");
   require_feasible(config, cell);
   const std::vector<core::FileContent> files{
       {dir / kRoadFile, opendrive_xml(config, cell)},

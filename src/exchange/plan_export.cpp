@@ -10,6 +10,7 @@
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/sim/family.hpp"
 #include "export_support.hpp"
 #include "xml_writer.hpp"
 
@@ -37,6 +38,7 @@ std::vector<std::string> plan_parameter_names(const sim::FactorTable& factors) {
 
 PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, const scenario::ScenarioFile& scenarios,
                        const ExportOptions& options) {
+  sim::require_tjunction(config, "the OpenSCENARIO export");
   if (scenarios.rows.empty()) throw InputError({scenarios.file, 1, 1}, "expected at least one scenario in the plan");
   struct Concrete {
     std::string id;

@@ -10,6 +10,7 @@
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/report/gnuplot.hpp"
+#include "emrm/sim/family.hpp"
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::report {
@@ -56,6 +57,7 @@ std::string outcome_text(const sim::StrategyOutcome& o) {
 
 void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& config,
                       const std::filesystem::path& output) {
+  sim::require_tjunction(config, "the trajectory figure");
   const int panels = std::max<int>(1, static_cast<int>(result.strategies.size()));
   const std::string terminal = gnuplot_terminal(output, 1000, 330 * panels);
   core::TempDir dir("emrm-figure");
@@ -64,11 +66,11 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
   const sim::Scene scene(config, result.input);
   const sim::TJunctionCell named = sim::TJunctionCell::of(result.input);
   const double v0 = scene.initial_speed_mps();
-  const double y_min = config.road.drivable_min_y_m();
-  const double y_max = config.road.drivable_max_y_m();
+  const double y_min = scene.road().min_y_m;
+  const double y_max = scene.road().max_y_m;
   const double x_lo = scene.ego_initial().x_m - config.ego.length_m;
-  const double x_hi = scene.truck_far_x_m() + 3.0 * config.ego.length_m;
-  const double truck_top = scene.truck_at(0.0).box.center.y + config.truck.length_m / 2.0;
+  const double x_hi = scene.passed_x_m() + 3.0 * config.ego.length_m;
+  const double truck_top = scene.hazard_at(0.0).box.center.y + scene.hazard().body().length_m / 2.0;
 
   std::string script = terminal + "\n";
   script += "set output " + single_quoted(drawing_path(dir.path(), output).string()) + "\n";
@@ -83,7 +85,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
 
   core::write_file(file("road.dat"), road_edges(x_lo, x_hi, y_min, y_max));
   core::write_file(file("centre.dat"), fmt::format("{0} 0\n{1} 0\n", x_lo, x_hi));
-  core::write_file(file("truck0.dat"), outline(scene.truck_at(0.0).box));
+  core::write_file(file("truck0.dat"), outline(scene.hazard_at(0.0).box));
 
   for (std::size_t i = 0; i < result.strategies.size(); ++i) {
     const auto& o = result.strategies[i];
@@ -95,7 +97,7 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
       path += fmt::format("{:.4f} {:.4f} {:.4f}\n", p.state.x_m, p.state.y_m, p.state.speed_mps());
     core::write_file(file("path" + tag + ".dat"), path.empty() ? "nan nan nan\n" : path);
     const double t_end = o.path.empty() ? 0.0 : o.path.back().t_s;
-    core::write_file(file("truck_end" + tag + ".dat"), outline(scene.truck_at(t_end).box));
+    core::write_file(file("truck_end" + tag + ".dat"), outline(scene.hazard_at(t_end).box));
     std::string ego = outline(scene.ego_box(scene.ego_initial()));
     if (!o.path.empty()) ego += outline(scene.ego_box(o.path.back().state));
     core::write_file(file("ego" + tag + ".dat"), ego);
@@ -217,8 +219,8 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
     core::write_file(file("path" + tag + ".dat"), rows_of(emrm->path, "path", 0));
 
     const sim::Scene scene(config, cell->factors);
-    core::write_file(file("truck0_" + tag + ".dat"), outline(scene.truck_at(0.0).box));
-    core::write_file(file("truck1_" + tag + ".dat"), outline(scene.truck_at(emrm->path.back()[0]).box));
+    core::write_file(file("truck0_" + tag + ".dat"), outline(scene.hazard_at(0.0).box));
+    core::write_file(file("truck1_" + tag + ".dat"), outline(scene.hazard_at(emrm->path.back()[0]).box));
   }
   // The factors the drawing shows (the truck's speed is its motion, not a label), by their keys.
   const sim::FactorTable factors = sim::scenario_factors(config);
@@ -233,7 +235,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   for (const auto& p : panels) {
     const sim::Scene scene(config, p.cell->factors);
     x_lo = std::min(x_lo, scene.ego_initial().x_m - config.ego.length_m);
-    x_hi = std::max(x_hi, scene.truck_far_x_m() + 2.0 * config.ego.length_m);
+    x_hi = std::max(x_hi, scene.passed_x_m() + 2.0 * config.ego.length_m);
   }
   const double y_min = config.road.drivable_min_y_m() - 1.0;
   const double y_max = config.road.drivable_max_y_m() + config.truck.length_m;

@@ -83,22 +83,7 @@ LevelCuts level_cuts(const sim::SceneConfig& scene) {
   return cuts;
 }
 
-std::string_view factor_name(Breakdown f) noexcept {
-  if (!f) return "all";
-  switch (*f) {
-    case sim::FactorRole::kEgoSpeed:
-      return "speed";
-    case sim::FactorRole::kTtc:
-      return "ttc";
-    case sim::FactorRole::kFriction:
-      return "friction";
-    case sim::FactorRole::kPassage:
-      return "passage";
-    case sim::FactorRole::kOther:
-      break;
-  }
-  return "other";
-}
+std::string_view factor_name(Breakdown f) noexcept { return f ? core::enum_name(*f) : "all"; }
 
 const std::vector<std::string>& level_names(Breakdown f) {
   static const std::vector<std::string> all{"all"};

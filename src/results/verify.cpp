@@ -43,7 +43,7 @@ Polygon ego_outline(const sim::VehicleParams& p, double x, double y, double yaw,
 }
 
 Polygon truck_outline(const sim::Scene& scene, double t_s) {
-  const auto box = scene.truck_at(t_s).box;
+  const auto box = scene.hazard_at(t_s).box;
   const core::Vec2 along{std::cos(box.heading_rad), std::sin(box.heading_rad)};
   const core::Vec2 left{-along.y, along.x};
   const core::Vec2 a = along * (0.5 * box.length_m);
@@ -119,8 +119,8 @@ struct AvoidanceCheck {
 AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::PathPoint>& path,
                                const VerifyOptions& options) {
   const auto& config = scene.config();
-  const double low = config.road.drivable_min_y_m() - options.tolerance_m;
-  const double high = config.road.drivable_max_y_m() + options.tolerance_m;
+  const double low = scene.road().min_y_m - options.tolerance_m;
+  const double high = scene.road().max_y_m + options.tolerance_m;
   AvoidanceCheck out;
   // The truck's truncation of a stop in closed form leaves a jump at the very end: the straight
   // stop of the last step is checked at its ends (it is a straight line on a straight road).

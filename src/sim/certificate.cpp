@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "certificate_bounds.hpp"
+#include "emrm/sim/family.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -205,7 +206,7 @@ std::vector<Witness> witnesses(const Setup& c) {
   // Only where the truck still moves as the car's front reaches its near side (at t = TTC at the
   // earliest): a truck at rest by then is in the same place when the car crosses its far side, and
   // the car has had longer to move aside.
-  const core::Vec2 truck_velocity = c.scene->truck_at(c.scene->ttc_s()).velocity_mps;
+  const core::Vec2 truck_velocity = c.scene->hazard_at(c.scene->ttc_s()).velocity_mps;
   if (truck_velocity.x == 0.0 && truck_velocity.y == 0.0) return out;
   const double far_x = section_x(c, WitnessKind::kFlank);
   for (const double part : kFlankParts)
@@ -229,6 +230,9 @@ bool applicable(const Scene& scene) {
 }  // namespace
 
 std::optional<std::string> no_certificate_bound(const SceneConfig& config) {
+  if (!find_family(config.family)->tjunction_analytics)
+    return fmt::format("scenario family '{}' has no certificate bound: no cell is certified unavoidable",
+                       config.family);
   const auto model = find_vehicle_model(config.simulation.vehicle_model);
   if (!model || !model->certificate_bound)
     return fmt::format("vehicle model '{}' has no certificate bound: no cell is certified unavoidable",

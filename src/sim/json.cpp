@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "emrm/core/error.hpp"
@@ -69,10 +70,54 @@ nlohmann::json trajectory_json(const std::vector<PathPoint>& path) {
 nlohmann::json truck_trajectory_json(const Scene& scene, const std::vector<PathPoint>& path) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : path) {
-    const TruckState truck = scene.truck_at(p.t_s);
+    const ActorState truck = scene.hazard_at(p.t_s);
     out.push_back({{"t", p.t_s}, {"x", truck.box.center.x}, {"y", truck.box.center.y}, {"psi", truck.box.heading_rad}});
   }
   return out;
+}
+
+// Every actor's body and, with trajectories, its motion at every simulation step from t = 0 to the
+// end of the longest strategy's trajectory: enough to re-check a witness without emrm.
+nlohmann::json actors_json(const Scene& scene, const CellResult& result, bool trajectories) {
+  double end_s = 0.0;
+  for (const auto& o : result.strategies)
+    if (!o.path.empty()) end_s = std::max(end_s, o.path.back().t_s);
+  const double dt_s = scene.config().simulation.dt_s;
+  const auto steps = static_cast<long long>(std::ceil(end_s / dt_s - 1e-9));
+  nlohmann::json out = nlohmann::json::array();
+  for (const Actor& actor : scene.actors()) {
+    const ActorBody& body = actor.body();
+    nlohmann::json a{{"name", body.name},
+                     {"kind", core::enum_name(body.kind)},
+                     {"length_m", body.length_m},
+                     {"width_m", body.width_m},
+                     {"mass_kg", body.mass_kg}};
+    if (trajectories) {
+      nlohmann::json trajectory = nlohmann::json::array();
+      for (long long k = 0; k <= steps; ++k) {
+        const double t = std::min(static_cast<double>(k) * dt_s, end_s);
+        const ActorState s = actor.at(t);
+        trajectory.push_back({{"t", t}, {"x", s.box.center.x}, {"y", s.box.center.y}, {"psi", s.box.heading_rad}});
+      }
+      a["trajectory"] = std::move(trajectory);
+    }
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
+// The drivable area as one polygon (counter-clockwise, road frame) over the x the cell spans, and
+// what lies beyond each edge.
+nlohmann::json road_json(const Scene& scene, const CellResult& result) {
+  const Road& road = scene.road();
+  double x_lo = scene.ego_initial().x_m - scene.config().ego.length_m;
+  double x_hi = scene.passed_x_m() + scene.config().ego.length_m;
+  for (const auto& o : result.strategies)
+    for (const auto& p : o.path) x_hi = std::max(x_hi, p.state.x_m + scene.config().ego.length_m);
+  const nlohmann::json polygon =
+      nlohmann::json::array({{x_lo, road.min_y_m}, {x_hi, road.min_y_m}, {x_hi, road.max_y_m}, {x_lo, road.max_y_m}});
+  return {{"drivable", nlohmann::json::array({polygon})},
+          {"roadside", {{"right", core::enum_name(road.right)}, {"left", core::enum_name(road.left)}}}};
 }
 
 std::string text(const nlohmann::json& j, const char* key, const std::string& where) {
@@ -89,6 +134,22 @@ nlohmann::json to_json(const CellInput& cell, const FactorTable& factors) {
   nlohmann::json j = nlohmann::json::object();
   for (std::size_t i = 0; i < factors.size() && i < cell.size(); ++i) j[factors[i].key] = cell[i];
   return j;
+}
+
+nlohmann::json to_json(const FactorTable& factors) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Factor& f : factors) {
+    const FactorLimits& l = f.limits;
+    out.push_back({{"key", f.key},
+                   {"unit", f.unit},
+                   {"what", f.what},
+                   {"role", core::enum_name(f.role)},
+                   {"default", f.default_value},
+                   {"low", l.low},
+                   {"low_inclusive", l.low_inclusive},
+                   {"high", std::isinf(l.high) ? nlohmann::json(nullptr) : nlohmann::json(l.high)}});
+  }
+  return out;
 }
 
 nlohmann::json to_json(const Certificate& c, const FactorTable& factors) {
@@ -234,6 +295,9 @@ nlohmann::json to_json(const CellResult& result, const Scene& scene, std::uint64
     strategies[o.strategy] = std::move(s);
   }
   j["strategies"] = std::move(strategies);
+  j["family"] = scene.config().family;
+  j["actors"] = actors_json(scene, result, options.trajectories);
+  j["road"] = road_json(scene, result);
   return j;
 }
 

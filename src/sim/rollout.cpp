@@ -78,7 +78,7 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
     step.t_s += dt;
     schedule.advance();
     step.ego = scene_.ego_box(step.state);
-    step.truck = scene_.truck_at(step.t_s);
+    step.truck = scene_.hazard_at(step.t_s);
 
     Termination why{};
     if (validity_.ends(step, r, why)) return finish(why);
@@ -88,10 +88,10 @@ Roller::Roller(const Scene& scene, const VehicleModel& model, const ControlLimit
     if (termination_.ends(step, r, why)) {
       if (why != Termination::kPassed || !recovery_) return finish(why);
       // Passed: not yet an avoidance. The recovery controller takes over until a safe state.
-      const auto& road = scene_.config().road;
+      const Road& road = scene_.road();
       const double margin = 0.5 * scene_.config().ego.width_m + 0.3;
-      const double low = road.drivable_min_y_m() + margin;
-      const double high = std::max(low, road.drivable_max_y_m() - margin);
+      const double low = road.min_y_m + margin;
+      const double high = std::max(low, road.max_y_m - margin);
       step.recovering = true;
       step.recovery_until_s = step.t_s + scene_.config().safe_state.horizon_s;
       schedule.recover(std::clamp(step.state.y_m, low, high));
@@ -114,7 +114,7 @@ double min_ttc_along(const Scene& scene, const std::vector<PathPoint>& path) {
   double best = detail::kInfinity;
   const double horizon = scene.config().simulation.horizon_s;
   for (const auto& p : path) {
-    const TruckState truck = scene.truck_at(p.t_s);
+    const ActorState truck = scene.hazard_at(p.t_s);
     if (const auto ttc = core::time_to_overlap(scene.ego_box(p.state), detail::world_velocity(p.state), truck.box,
                                                truck.velocity_mps, horizon))
       best = std::min(best, *ttc);

@@ -33,7 +33,7 @@ class Rrt {
   Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
       : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {
     const auto& cfg = scene.config();
-    const double lo = cfg.road.drivable_min_y_m() + cfg.ego.width_m / 2.0 + 0.1;
+    const double lo = scene.road().min_y_m + cfg.ego.width_m / 2.0 + 0.1;
     const double hi = scene.truck_front_y_at(cfg.simulation.horizon_s) - cfg.ego.width_m / 2.0 - 0.1;
     if (hi > lo) passage_band_ = std::pair{lo, hi};
   }
@@ -96,12 +96,12 @@ class Rrt {
   }
 
   core::Vec2 sample_target(bool towards_passage) {
-    const auto& road = scene_.config().road;
+    const Road& road = scene_.road();
     const auto& ego = scene_.config().ego;
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const double y_min = road.drivable_min_y_m();
+    const double y_min = road.min_y_m;
     const double x0 = nodes_.front().state.x_m;
-    const double far_x = scene_.truck_far_x_m() + ego.length_m;
+    const double far_x = scene_.passed_x_m() + ego.length_m;
     if (towards_passage) {
       // The free band between the road edge and the truck's front once it has stopped (or later).
       const double front = scene_.truck_front_y_at(scene_.config().simulation.horizon_s);
@@ -110,7 +110,7 @@ class Rrt {
       const double near_x = scene_.initial_distance_m() - ego.length_m;
       return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
     }
-    return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.drivable_max_y_m() - y_min)};
+    return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.max_y_m - y_min)};
   }
 
   // Nodes never change once added: what the sampling loops read of them is worked out here once,

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+#include <stdexcept>
 #include <string_view>
 
 #include "emrm/core/error.hpp"
@@ -13,12 +13,6 @@
 
 namespace emrm::sim {
 namespace {
-
-using tjunction::kMu;
-using tjunction::kPassage;
-using tjunction::kSpeed;
-using tjunction::kTruckSpeed;
-using tjunction::kTtc;
 
 SceneConfig read_scene(const core::YamlNode& root) {
   SceneConfig config;
@@ -95,108 +89,14 @@ std::string apply_profile(SceneConfig& config, const std::string& profile, const
   return overlay.description;
 }
 
-namespace {
-
-constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
-
-double drivable_width_m(const SceneConfig& config) noexcept {
-  return config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
-}
-
-// The values each factor accepts, in cell order: the one owner of scenario_factors' limits, which
-// validate_cell reads without building the table's texts (it runs for every cell simulated).
-std::array<FactorLimits, tjunction::kFactors> factor_limits(const SceneConfig& config) noexcept {
-  std::array<FactorLimits, tjunction::kFactors> limits{};
-  limits[kSpeed].high = kMaxSpeed_kph;
-  limits[kMu].high = 2.0;
-  limits[kPassage].high = drivable_width_m(config);
-  limits[kTruckSpeed] = {.low = 0.0, .low_inclusive = true, .high = kMaxSpeed_kph};
-  return limits;
-}
-
-}  // namespace
-
-FactorTable scenario_factors(const SceneConfig& config) {
-  constexpr std::string_view kWhySpeed = "faster than any road vehicle drives; the speed is in km/h";
-  const double width_m = drivable_width_m(config);
-  const auto limits = factor_limits(config);
-  const TJunctionCell defaults;
-  std::vector<Factor> factors(tjunction::kFactors);
-  factors[kSpeed] = {.key = "speed_kph",
-                     .unit = "km/h",
-                     .what = "ego speed",
-                     .axis = "ego speed (km/h)",
-                     .plural = "speeds",
-                     .held = "v = {} km/h",
-                     .brief = "{:g} km/h",
-                     .role = FactorRole::kEgoSpeed,
-                     .default_value = defaults.speed_kph,
-                     .limits = limits[kSpeed],
-                     .why_high = std::string(kWhySpeed),
-                     .band = 1.0,
-                     .name = "speed"};
-  factors[kTtc] = {.key = "ttc_s",
-                   .unit = "s",
-                   .what = "time to collision",
-                   .axis = "time to collision TTC (s)",
-                   .plural = "TTCs",
-                   .held = "TTC = {} s",
-                   .brief = "TTC {:g} s",
-                   .role = FactorRole::kTtc,
-                   .default_value = defaults.ttc_s,
-                   .limits = limits[kTtc],
-                   .why_high = "",
-                   .name = "TTC"};
-  factors[kMu] = {.key = "mu",
-                  .unit = "1",
-                  .what = "friction coefficient",
-                  .axis = "road friction μ (–)",
-                  .plural = "μ",
-                  .held = "μ = {}",
-                  .brief = "mu {:g}",
-                  .role = FactorRole::kFriction,
-                  .default_value = defaults.mu,
-                  .limits = limits[kMu],
-                  .why_high = "",
-                  .name = "μ"};
-  factors[kPassage] = {
-      .key = "passage_m",
-      .unit = "m",
-      .what = "passage width",
-      .axis = "passage width (m)",
-      .plural = "passage widths",
-      .held = "passage {} m",
-      .brief = "passage {:g} m",
-      .role = FactorRole::kPassage,
-      .default_value = defaults.passage_m,
-      .limits = limits[kPassage],
-      .why_high = fmt::format("the drivable area is {:g} m wide: a wider passage is wider than the road", width_m),
-      .name = "passage"};
-  factors[kTruckSpeed] = {.key = "truck_speed_kph",
-                          .unit = "km/h",
-                          .what = "truck speed",
-                          .axis = "truck speed (km/h)",
-                          .plural = "truck speeds",
-                          .held = "truck {} km/h",
-                          .brief = "truck {:g} km/h",
-                          .role = FactorRole::kOther,
-                          .default_value = config.truck.speed_kph,
-                          .limits = limits[kTruckSpeed],
-                          .why_high = std::string(kWhySpeed),
-                          .band = 1.0,
-                          .name = "truck speed"};
-  return FactorTable(std::move(factors));
-}
-
-TJunctionCell TJunctionCell::of(const CellInput& cell) noexcept {
-  return {cell[kSpeed], cell[kTtc], cell[kMu], cell[kPassage], cell[kTruckSpeed]};
-}
+FactorTable scenario_factors(const SceneConfig& config) { return find_family(config.family)->factors(config); }
 
 void validate_cell(const SceneConfig& config, const CellInput& cell) {
-  const auto limits = factor_limits(config);
-  bool accepted = cell.size() == limits.size();
-  for (std::size_t i = 0; accepted && i < limits.size(); ++i) accepted = limits[i].accepts(cell[i]);
-  if (!accepted) scenario_factors(config).validate(cell);  // throws, naming the factor and its limits
+  const auto family = find_family(config.family);
+  if (family->validate_cell)
+    family->validate_cell(config, cell);
+  else
+    family->factors(config).validate(cell);
 }
 
 Scene::Scene(const SceneConfig& config, const CellInput& cell)
@@ -205,50 +105,24 @@ Scene::Scene(const SceneConfig& config, const CellInput& cell)
       speed_kph_(cell.ego_speed_kph()),
       ttc_s_(cell.time_to_collision_s()),
       mu_(cell.friction()),
-      initial_distance_m_(speed_kph_ / 3.6 * ttc_s_),
-      truck_speed_mps_(cell[kTruckSpeed] / 3.6) {
-  // passage_m is the gap once the truck stands (or, never stopping, at t = TTC): the truck
-  // starts that far plus its travel until then above the right edge of the drivable area.
-  const double a = config.truck.decel_mps2;
-  const double travel_m = a > 0.0 ? truck_speed_mps_ * truck_speed_mps_ / (2.0 * a) : truck_speed_mps_ * ttc_s_;
-  truck_front_y0_m_ = config.road.drivable_min_y_m() + cell[kPassage] + travel_m;
+      layout_(find_family(config.family)->layout(config, cell)) {
+  if (layout_.actors.empty())
+    throw std::logic_error(fmt::format("scenario family '{}' laid out a cell without a hazard", config.family));
 }
 
 bool Scene::feasible() const noexcept {
   // The tolerance keeps cells whose v·TTC lands exactly on the limit (up to rounding of the
   // grid's steps) feasible.
-  return initial_distance_m_ <= config_->max_initial_distance_m + 1e-9;
+  return layout_.initial_distance_m <= config_->max_initial_distance_m + 1e-9;
 }
 
 VehicleState Scene::ego_initial() const noexcept {
   VehicleState s;
   s.x_m = -config_->ego.cg_to_front_m();
-  s.y_m = config_->road.ego_lane_center_m;
+  s.y_m = layout_.ego_y_m;
   s.yaw_rad = 0.0;
   s.vx_mps = initial_speed_mps();
   return s;
-}
-
-double Scene::truck_front_y_at(double t_s) const noexcept {
-  const double t = std::max(t_s, 0.0);
-  const double a = config_->truck.decel_mps2;
-  if (a <= 0.0) return truck_front_y0_m_ - truck_speed_mps_ * t;
-  const double moving_s = std::min(t, truck_speed_mps_ / a);  // it stops at v/a and stays
-  return truck_front_y0_m_ - (truck_speed_mps_ * moving_s - 0.5 * a * moving_s * moving_s);
-}
-
-TruckState Scene::truck_at(double t_s) const noexcept {
-  const TruckConfig& truck = config_->truck;
-  const double t = std::max(t_s, 0.0);
-  const double speed =
-      truck.decel_mps2 > 0.0 ? std::max(truck_speed_mps_ - truck.decel_mps2 * t, 0.0) : truck_speed_mps_;
-  TruckState out;
-  out.box.center = {initial_distance_m_ + truck.width_m / 2.0, truck_front_y_at(t) + truck.length_m / 2.0};
-  out.box.heading_rad = -std::numbers::pi / 2.0;
-  out.box.length_m = truck.length_m;
-  out.box.width_m = truck.width_m;
-  out.velocity_mps = {0.0, -speed};
-  return out;
 }
 
 core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
@@ -266,10 +140,8 @@ double Scene::edge_gap_m(const core::OrientedBox& box) const noexcept {
   // The lowest and highest corner: the box's half-extent across the road.
   const auto [cos_h, sin_h] = core::cos_sin(box.heading_rad);
   const double half_extent_y = 0.5 * (box.length_m * std::abs(sin_h) + box.width_m * std::abs(cos_h));
-  return std::min(box.center.y - half_extent_y - config_->road.drivable_min_y_m(),
-                  config_->road.drivable_max_y_m() - box.center.y - half_extent_y);
+  return std::min(box.center.y - half_extent_y - layout_.road.min_y_m,
+                  layout_.road.max_y_m - box.center.y - half_extent_y);
 }
-
-double Scene::truck_far_x_m() const noexcept { return initial_distance_m_ + config_->truck.width_m; }
 
 }  // namespace emrm::sim

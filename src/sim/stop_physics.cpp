@@ -36,10 +36,10 @@ namespace {
 // that keeps going clears the lane in the end, so it never stands in the way for certain.
 bool in_the_way_from(const Scene& s, double from_s) {
   const SceneConfig& scene = s.config();
-  if (scene.truck.decel_mps2 <= 0.0 && s.truck_speed_mps() > 0.0) return false;
+  if (scene.truck.decel_mps2 <= 0.0 && s.hazard_speed_mps() > 0.0) return false;
   const double top = scene.road.ego_lane_center_m + scene.ego.width_m / 2.0;
   const double bottom = scene.road.ego_lane_center_m - scene.ego.width_m / 2.0;
-  const double rest_s = scene.truck.decel_mps2 > 0.0 ? s.truck_speed_mps() / scene.truck.decel_mps2 : 0.0;
+  const double rest_s = scene.truck.decel_mps2 > 0.0 ? s.hazard_speed_mps() / scene.truck.decel_mps2 : 0.0;
   const double rear_at_rest = s.truck_front_y_at(rest_s) + scene.truck.length_m;
   constexpr double kOverlap_m = 0.01;  // of the truck and the car's path, for certain
   return s.truck_front_y_at(from_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m;
@@ -63,7 +63,7 @@ bool nothing_to_mitigate(const SceneConfig& scene, const CellInput& cell) {
 
 bool may_pass_early(const SceneConfig& scene, const CellInput& cell) {
   const Scene s(scene, cell);
-  if (!(s.truck_speed_mps() > 0.0)) return false;
+  if (!(s.hazard_speed_mps() > 0.0)) return false;
   // Until the first actuator moves (the perception latency, then the quicker of the brakes' and the
   // steering's dead times) the car goes straight at its speed: its front reaches the truck's near
   // side at t = TTC (v·TTC is the gap; rolling on, it loses a few millimetres, hence the 20 ms).

@@ -14,14 +14,14 @@ namespace detail {
 
 class PassedTruckTest {
  public:
-  explicit PassedTruckTest(const Scene& scene) : truck_far_x_m_(scene.truck_far_x_m()) {}
+  explicit PassedTruckTest(const Scene& scene) : passed_x_m_(scene.passed_x_m()) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    if (step.ego_extent.min_x > truck_far_x_m_) return end(why, Termination::kPassed);
+    if (step.ego_extent.min_x > passed_x_m_) return end(why, Termination::kPassed);
     return false;
   }
 
  private:
-  double truck_far_x_m_;
+  double passed_x_m_;
 };
 
 class StoppedTest {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "check_chain.hpp"
 #include "check_support.hpp"
@@ -38,19 +39,20 @@ class RearSlidingCheck {
 // produce add within the step (tire forces within mu·m·g, doubled for the low-speed blend).
 class MotionBound {
  public:
-  MotionBound(const Scene& scene, const VehicleParams& p)
+  MotionBound(const Scene& scene, const VehicleParams& p, double actor_speed_mps = 0.0)
       : reach_m_(std::hypot(std::max(p.cg_to_front_m(), p.cg_to_rear_m()), 0.5 * p.width_m)),
         accel_mps2_(2.0 * scene.friction() * kGravity_mps2),
         yaw_accel_radps2_(2.0 * std::max(p.cg_to_front_axle_m, p.cg_to_rear_axle_m) * scene.friction() * p.mass_kg *
                               kGravity_mps2 / p.yaw_inertia_kgm2 +
                           10.0),
-        truck_speed_mps_(scene.truck_speed_mps()) {}
+        actor_speed_mps_(actor_speed_mps) {}
 
-  [[nodiscard]] double rate_mps(const Step& step, bool with_truck) const noexcept {
+  /// How fast the gap to an actor (with `with_actor`) or to the road's edge can close in the step.
+  [[nodiscard]] double rate_mps(const Step& step, bool with_actor) const noexcept {
     const double speed = std::max(step.before.speed_mps(), step.state.speed_mps()) + accel_mps2_ * step.dt_s;
     const double yaw_rate = std::max(std::abs(step.before.yaw_rate_radps), std::abs(step.state.yaw_rate_radps)) +
                             yaw_accel_radps2_ * step.dt_s;
-    return speed + yaw_rate * reach_m_ + (with_truck ? truck_speed_mps_ : 0.0);
+    return speed + yaw_rate * reach_m_ + (with_actor ? actor_speed_mps_ : 0.0);
   }
   [[nodiscard]] double reach_m() const noexcept { return reach_m_; }
 
@@ -58,8 +60,15 @@ class MotionBound {
   double reach_m_;
   double accel_mps2_;
   double yaw_accel_radps2_;
-  double truck_speed_mps_;
+  double actor_speed_mps_;
 };
+
+// The fastest an actor ever moves: its motion only slows along its direction, and drifts sideways
+// at a constant speed.
+double top_speed_mps(const Actor& actor) noexcept {
+  const ActorMotion& m = actor.motion();
+  return m.speed_mps + std::abs(m.lateral_mps);
+}
 
 // Conservative advancement inside a step: walks τ from the step's start, each time by no more
 // than the distance `gap(τ)` (a lower bound on the true distance) plus kTolerance_m can shrink at
@@ -127,41 +136,47 @@ std::optional<double> first_touch(double dt_s, double rate_mps, Gap&& gap) {
   }
 }
 
-// Contact with the truck, between samples too: the moment it began is found inside the step,
-// so the impact speed is not a step late, and the impact is assessed there.
-class TruckContactCheck {
+// Contact with an actor, between samples too: the moment it began is found inside the step, so the
+// impact speed is not a step late, and the impact is assessed there. The hazard (actor 0) is where
+// the step put it (Step::truck); any other actor is placed here.
+class ActorContactCheck {
  public:
-  TruckContactCheck(const Scene& scene, const VehicleModel& model)
+  ActorContactCheck(const Scene& scene, const VehicleModel& model, std::size_t actor)
       : scene_(scene),
         model_(model),
-        motion_(scene, model.params()),
+        actor_(&scene.actors()[actor]),
+        hazard_(actor == 0),
+        motion_(scene, model.params(), top_speed_mps(*actor_)),
         circumradii_m_(0.5 * std::hypot(scene.config().ego.length_m, scene.config().ego.width_m) +
-                       0.5 * std::hypot(scene.config().truck.length_m, scene.config().truck.width_m)) {}
+                       0.5 * std::hypot(actor_->body().length_m, actor_->body().width_m)) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
     const double rate = motion_.rate_mps(step, true);
     const double move = rate * step.dt_s;
+    const core::OrientedBox box = hazard_ ? step.truck.box : actor_->at(step.t_s).box;
     // Far apart (the common case): farther than the step can close, by the boxes' centres alone.
-    const core::Vec2 d = step.ego.center - step.truck.box.center;
+    const core::Vec2 d = step.ego.center - box.center;
     const double reach = circumradii_m_ + move;
     if (d.dot(d) > reach * reach) return false;
-    if (core::separation_lower_bound(step.ego, step.truck.box) > move) return false;
+    if (core::separation_lower_bound(step.ego, box) > move) return false;
     const double mu = scene_.friction();
     const double start = step.t_s - step.dt_s;
     const PoseInStep pose(step);
     const auto touch = first_touch(step.dt_s, rate, [&](double tau) {
-      return core::separation_lower_bound(scene_.ego_box(pose.at(tau)), scene_.truck_at(start + tau).box);
+      return core::separation_lower_bound(scene_.ego_box(pose.at(tau)), actor_->at(start + tau).box);
     });
     if (!touch) return false;
     step.state = model_.step(step.before, step.applied, mu, *touch);
     step.t_s = start + *touch;
     step.ego = scene_.ego_box(step.state);
-    result.impact = truck_impact(scene_, step.state, scene_.truck_at(step.t_s));
+    result.impact = actor_impact(scene_, actor_->body(), step.state, actor_->at(step.t_s));
     return end(why, Termination::kContact);
   }
 
  private:
   const Scene& scene_;
   const VehicleModel& model_;
+  const Actor* actor_;
+  bool hazard_;
   MotionBound motion_;
   double circumradii_m_;
 };
@@ -175,8 +190,8 @@ class RoadDepartureCheck {
       : scene_(scene),
         model_(model),
         motion_(scene, model.params()),
-        min_y_m_(scene.config().road.drivable_min_y_m()),
-        max_y_m_(scene.config().road.drivable_max_y_m()) {}
+        min_y_m_(scene.road().min_y_m),
+        max_y_m_(scene.road().max_y_m) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
     const double rate = motion_.rate_mps(step, false);
     const double move = rate * step.dt_s;
@@ -205,7 +220,7 @@ class RoadDepartureCheck {
 
 }  // namespace detail
 
-ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const TruckState& truck,
+ImpactAssessment actor_impact(const Scene& scene, const ActorBody& body, const VehicleState& s, const ActorState& truck,
                               core::Contact* contact_out) noexcept {
   const auto& cfg = scene.config();
   const core::OrientedBox ego_box = scene.ego_box(s);
@@ -223,22 +238,22 @@ ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const T
   if (contact_out != nullptr) *contact_out = c;
   const ImpactBody ego{
       cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, detail::world_velocity(s), s.yaw_rate_radps};
-  const ImpactBody other{cfg.truck.mass_kg, cfg.truck.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps, 0.0};
+  const ImpactBody other{body.mass_kg, body.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps, 0.0};
   return assess_impact(ego, other, c, cfg.severity);
 }
 
 ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s, core::Vec2* point_out) noexcept {
   const auto& cfg = scene.config();
   const core::OrientedBox ego_box = scene.ego_box(s);
-  const double min_y = cfg.road.drivable_min_y_m();
-  const double max_y = cfg.road.drivable_max_y_m();
+  const double min_y = scene.road().min_y_m;
+  const double max_y = scene.road().max_y_m;
   // The corner nearest to (or across) the edge it meets; the barrier's normal points out of the road.
   const bool right = ego_box.center.y - min_y < max_y - ego_box.center.y;
   core::Vec2 corner = ego_box.corners()[0];
   for (const auto& c : ego_box.corners())
     if (right ? c.y < corner.y : c.y > corner.y) corner = c;
   if (point_out != nullptr) *point_out = corner;
-  if (!cfg.roadside.barrier()) {
+  if (scene.road().beyond(right) == Roadside::kOpen) {
     ImpactAssessment open;
     open.impact_speed_mps = s.speed_mps();
     open.loss_level = loss_level(false, true, 0.0, 0.0, cfg.severity);
@@ -259,12 +274,15 @@ namespace detail {
 // The built-in validity checks, in their order (CheckChain calls ends() each step).
 struct ValidityChecks {
   std::optional<RearSlidingCheck> rear_sliding;
-  TruckContactCheck contact;
+  ActorContactCheck contact;              // the hazard
+  std::vector<ActorContactCheck> others;  // every other actor, in the layout's order
   RoadDepartureCheck departure;
 
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
-    return (rear_sliding && rear_sliding->ends(step, result, why)) || contact.ends(step, result, why) ||
-           departure.ends(step, result, why);
+    if ((rear_sliding && rear_sliding->ends(step, result, why)) || contact.ends(step, result, why)) return true;
+    for (const auto& other : others)
+      if (other.ends(step, result, why)) return true;
+    return departure.ends(step, result, why);
   }
 };
 
@@ -272,10 +290,21 @@ struct ValidityChecks {
 
 template class CheckChain<ValidityChecker, detail::ValidityChecks>;
 
+namespace {
+
+std::vector<detail::ActorContactCheck> other_actors(const Scene& scene, const VehicleModel& model) {
+  std::vector<detail::ActorContactCheck> out;
+  for (std::size_t i = 1; i < scene.actors().size(); ++i) out.emplace_back(scene, model, i);
+  return out;
+}
+
+}  // namespace
+
 ValidityChecker::ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits)
     : CheckChain(std::make_unique<const detail::ValidityChecks>(detail::ValidityChecks{
           limits.forbid_rear_sliding ? std::optional<detail::RearSlidingCheck>(std::in_place, model, scene.friction())
                                      : std::nullopt,
-          detail::TruckContactCheck(scene, model), detail::RoadDepartureCheck(scene, model)})) {}
+          detail::ActorContactCheck(scene, model, 0), other_actors(scene, model),
+          detail::RoadDepartureCheck(scene, model)})) {}
 
 }  // namespace emrm::sim

@@ -15,7 +15,7 @@ STUBS = Path(_emrm.__file__).with_name("_emrm.pyi")
 def test_attributes_are_the_yaml_fields(examples):
     scene = emrm.Scene.load(examples / "scene.yaml")
     fields = scene.to_dict()
-    assert list(fields)[:3] == ["name", "road", "truck"]
+    assert list(fields)[:4] == ["name", "family", "road", "truck"]
     for key, value in fields.items():
         attribute = getattr(scene, key)
         assert (attribute.to_dict() if isinstance(value, dict) else attribute) == value

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 namespace emrm::core {
 
@@ -51,6 +52,14 @@ template <NamedEnum E>
     if (i > 0) out += (i + 1 == names.size()) ? " or " : ", ";
     out += names[i].second.empty() ? std::string_view("''") : names[i].second;
   }
+  return out;
+}
+
+/// The names of an enum's values, in the table's order.
+template <NamedEnum E>
+[[nodiscard]] std::vector<std::string> enum_names() {
+  std::vector<std::string> out;
+  for (const auto& [v, name] : EnumNames<E>::kNames) out.emplace_back(name);
   return out;
 }
 

@@ -145,6 +145,7 @@ class YamlReader {
 class YamlWriter {
  public:
   static constexpr bool kReading = false;
+  static constexpr bool kWritesFile = true;  ///< a serialize() may leave out a field that a file need not have
 
   template <class T, class... Constraints>
   void required(std::string_view key, const T& value, const Constraints&... /*checked by Validator*/) {

@@ -3,7 +3,7 @@
 // `emrm assess`: a trajectory recorded by another simulator, judged by emrm's own models
 // (docs/openscenario.md, "Judging a recorded trajectory"): contact with the truck and leaving the
 // drivable area, between samples too, assessed by the same functions a rollout's checks call
-// (sim::truck_impact, sim::roadside_impact: the impact model, Δv, injury risks, loss level), and
+// (sim::actor_impact, sim::roadside_impact: the impact model, Δv, injury risks, loss level), and
 // the safe state at the end (stopped, or past the truck and sim::stable_with_room_to_stop). No
 // vehicle dynamics run: the recorded motion is what is judged.
 

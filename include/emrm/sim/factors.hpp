@@ -17,7 +17,10 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
+
+#include "emrm/core/enum_names.hpp"
 
 namespace emrm::sim {
 
@@ -137,3 +140,15 @@ class FactorTable {
 [[nodiscard]] std::string cell_text(const FactorTable& factors, const CellInput& cell);
 
 }  // namespace emrm::sim
+
+/// The roles' names: in the tables' breakdowns ("by speed") and in `emrm families --json`.
+template <>
+struct emrm::core::EnumNames<emrm::sim::FactorRole> {
+  static constexpr std::array<std::pair<emrm::sim::FactorRole, std::string_view>, 5> kNames{{
+      {emrm::sim::FactorRole::kEgoSpeed, "speed"},
+      {emrm::sim::FactorRole::kTtc, "ttc"},
+      {emrm::sim::FactorRole::kFriction, "friction"},
+      {emrm::sim::FactorRole::kPassage, "passage"},
+      {emrm::sim::FactorRole::kOther, "other"},
+  }};
+};

@@ -33,6 +33,9 @@ struct JsonOptions {
 
 /// A cell as JSON: {key: value} for each of the scenario's factors.
 [[nodiscard]] nlohmann::json to_json(const CellInput& cell, const FactorTable& factors);
+/// A factor table as JSON: [{key, unit, what, role, default, low, low_inclusive, high}] in cell
+/// order (`high` null when unbounded): `emrm families --json`.
+[[nodiscard]] nlohmann::json to_json(const FactorTable& factors);
 /// A certificate as JSON, every number to full precision (check_certificate re-derives it); its cell
 /// named by the scenario's factors.
 [[nodiscard]] nlohmann::json to_json(const Certificate& certificate, const FactorTable& factors);

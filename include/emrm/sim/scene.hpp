@@ -5,13 +5,17 @@
 // +x), y to the left; the ego's front bumper is at x = 0 when the hazard appears (t = 0).
 
 #include <filesystem>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emrm/core/config.hpp"
 #include "emrm/core/geometry.hpp"
+#include "emrm/sim/actor.hpp"
 #include "emrm/sim/actuation.hpp"
 #include "emrm/sim/factors.hpp"
+#include "emrm/sim/family.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -83,7 +87,7 @@ struct RoadsideConfig {
   void serialize(A& a) {
     EMRM_FIELD(a, type, core::one_of(roadside_types, "roadside type"));
   }
-  [[nodiscard]] static std::vector<std::string> roadside_types() { return {"barrier", "open"}; }
+  [[nodiscard]] static std::vector<std::string> roadside_types() { return core::enum_names<Roadside>(); }
   [[nodiscard]] bool barrier() const noexcept { return type == "barrier"; }
 };
 
@@ -160,6 +164,8 @@ struct PlannerConfig {
 /// Everything about the scene; one YAML file (examples/tjunction/scene.yaml, docs/scene-yaml.md).
 struct SceneConfig {
   std::string name = "EMRM Scene 1";
+  static constexpr std::string_view kDefaultFamily = "tjunction";
+  std::string family{kDefaultFamily};  ///< the scenario family (family.hpp) that lays out its cells
   RoadConfig road;
   TruckConfig truck;
   VehicleParams ego;
@@ -174,6 +180,11 @@ struct SceneConfig {
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, name);
+    // The T-junction was the only scene before families: a scene of it is written without the key, so
+    // that stores and configuration hashes written before families existed stay valid
+    // (docs/decisions.md, "A scene names its family").
+    if (!(requires { A::kWritesFile; } && family == kDefaultFamily))
+      EMRM_FIELD(a, family, core::one_of(family_names, "scenario family"));
     EMRM_FIELD(a, road);
     EMRM_FIELD(a, truck);
     EMRM_FIELD(a, ego);
@@ -274,36 +285,38 @@ struct TJunctionCell {
 /// Throws UsageError naming the factor and its accepted range.
 void validate_cell(const SceneConfig& config, const CellInput& cell);
 
-/// Where the truck is at a time, and how fast it moves.
-struct TruckState {
-  core::OrientedBox box;
-  core::Vec2 velocity_mps;
-};
-
-/// One cell's scene: the ego's start, the truck's motion, the drivable area. Cheap to copy.
+/// One cell's scene as its family lays it out (family.hpp): the ego's start, the road, the other
+/// road users and their motion.
 class Scene {
  public:
+  /// Lays out the cell by the scene's family (SceneConfig::family).
   Scene(const SceneConfig& config, const CellInput& cell);
 
   [[nodiscard]] const SceneConfig& config() const noexcept { return *config_; }
   [[nodiscard]] const CellInput& cell() const noexcept { return cell_; }
   /// v·TTC ≤ max_initial_distance_m.
   [[nodiscard]] bool feasible() const noexcept;
-  /// Distance from the ego's front bumper to the truck's near side at t = 0: v·TTC.
-  [[nodiscard]] double initial_distance_m() const noexcept { return initial_distance_m_; }
+  /// Distance from the ego's front bumper to the hazard's near side at t = 0.
+  [[nodiscard]] double initial_distance_m() const noexcept { return layout_.initial_distance_m; }
   [[nodiscard]] double initial_speed_mps() const noexcept { return speed_kph_ / 3.6; }
   /// The cell's factors the physics reads: the ego's speed (km/h), the TTC (s), the road's friction.
   [[nodiscard]] double speed_kph() const noexcept { return speed_kph_; }
   [[nodiscard]] double ttc_s() const noexcept { return ttc_s_; }
   [[nodiscard]] double friction() const noexcept { return mu_; }
-  /// The truck's speed when the hazard appears (m/s).
-  [[nodiscard]] double truck_speed_mps() const noexcept { return truck_speed_mps_; }
+  /// The drivable area and its roadsides.
+  [[nodiscard]] const Road& road() const noexcept { return layout_.road; }
+  /// The other road users; the first is the hazard.
+  [[nodiscard]] std::span<const Actor> actors() const noexcept { return layout_.actors; }
+  /// The actor the TTC is measured against (the T-junction's truck).
+  [[nodiscard]] const Actor& hazard() const noexcept { return layout_.actors.front(); }
+  /// The hazard's speed when it appears (m/s).
+  [[nodiscard]] double hazard_speed_mps() const noexcept { return hazard().motion().speed_mps; }
   /// Ego CG in its lane, front bumper at x = 0, heading +x at the cell's speed.
   [[nodiscard]] VehicleState ego_initial() const noexcept;
-  /// The truck at time t ≥ 0 (closed-form braking to a standstill).
-  [[nodiscard]] TruckState truck_at(double t_s) const noexcept;
-  /// y of the truck's front (its lowest y) at time t.
-  [[nodiscard]] double truck_front_y_at(double t_s) const noexcept;
+  /// The hazard at time t ≥ 0.
+  [[nodiscard]] ActorState hazard_at(double t_s) const noexcept { return hazard().at(t_s); }
+  /// y of the hazard's leading edge at time t: the T-junction's truck's front, its lowest y.
+  [[nodiscard]] double truck_front_y_at(double t_s) const noexcept { return hazard().motion().front_at(t_s).y; }
   /// The ego's footprint at a state.
   [[nodiscard]] core::OrientedBox ego_box(const VehicleState& s) const noexcept;
   /// All four corners within the drivable band y ∈ [min, max].
@@ -311,8 +324,8 @@ class Scene {
   /// How far the box is from the nearer edge of the drivable band (m): its lowest corner above
   /// y_min or its highest below y_max; negative once a corner is across.
   [[nodiscard]] double edge_gap_m(const core::OrientedBox& box) const noexcept;
-  /// x of the truck's far side: an ego whose rear is beyond it has passed the truck.
-  [[nodiscard]] double truck_far_x_m() const noexcept;
+  /// The hazard's far side: an ego whose rear is beyond it has got past the hazard.
+  [[nodiscard]] double passed_x_m() const noexcept { return layout_.passed_x_m; }
 
  private:
   const SceneConfig* config_;  // borrowed: the config outlives every Scene made from it
@@ -320,9 +333,7 @@ class Scene {
   double speed_kph_ = 0.0;
   double ttc_s_ = 0.0;
   double mu_ = 0.0;
-  double initial_distance_m_ = 0.0;
-  double truck_front_y0_m_ = 0.0;
-  double truck_speed_mps_ = 0.0;
+  SceneLayout layout_;
 };
 
 }  // namespace emrm::sim

@@ -97,7 +97,7 @@ struct Step {
   /// The brake stays at its full demand from here (pressure built, every command in flight asks for it).
   bool full_brake_held = false;
   core::OrientedBox ego;  ///< the ego's footprint at `state`
-  TruckState truck;       ///< the truck at `t_s`
+  ActorState truck;       ///< the truck at `t_s`
   /// Extents of `ego` and of the truck's box, filled once the step is valid (for the termination
   /// test; validity checks must not read them).
   Extent ego_extent, truck_extent;

@@ -22,23 +22,25 @@ struct ValidityChecks;  ///< the built-in checks (validity.cpp)
 }  // namespace detail
 
 /// When a step is no longer valid. The built-in checks come first, in this order: the strategy's
-/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the truck,
-/// leaving the drivable area; then the checks added with add() (CheckChain, step.hpp). Contact and
-/// departure are found between samples too (conservative advancement inside the step,
-/// docs/physics.md "Continuous collision checking"), timed by bisection, and assessed: the truck by
-/// the impact model, the roadside by the scene's roadside model. Borrows the scene and the model.
+/// constraint (when `limits` has one: no locked or sliding rear axle), contact with the hazard, then
+/// with each other actor of the scene in its order, leaving the drivable area; then the checks added
+/// with add() (CheckChain, step.hpp). Contact and departure are found between samples too
+/// (conservative advancement inside the step, docs/physics.md "Continuous collision checking"),
+/// timed by bisection, and assessed: an actor by the impact model, the roadside by the scene's
+/// roadside model. Borrows the scene and the model.
 class ValidityChecker : public CheckChain<ValidityChecker, detail::ValidityChecks> {
  public:
   ValidityChecker(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
 };
 extern template class CheckChain<ValidityChecker, detail::ValidityChecks>;
 
-/// The impact of the ego at state `s` on the truck, as a rollout's contact check assesses it when
-/// the two first touch: the contact test (nudging the ego on by up to 1 cm along the closing motion
-/// when the boxes only touch), then assess_impact with the truck's mass and inertia. The contact
-/// found goes to `contact_out` when given. Used by recorded trajectories too (exchange::assess).
-[[nodiscard]] ImpactAssessment truck_impact(const Scene& scene, const VehicleState& s, const TruckState& truck,
-                                            core::Contact* contact_out = nullptr) noexcept;
+/// The impact of the ego at state `s` on an actor of `body` at `actor`, as a rollout's contact check
+/// assesses it when the two first touch: the contact test (nudging the ego on by up to 1 cm along the
+/// closing motion when the boxes only touch), then assess_impact with the actor's mass and inertia.
+/// The contact found goes to `contact_out` when given. Used by recorded trajectories too
+/// (exchange::assess).
+[[nodiscard]] ImpactAssessment actor_impact(const Scene& scene, const ActorBody& body, const VehicleState& s,
+                                            const ActorState& actor, core::Contact* contact_out = nullptr) noexcept;
 /// The ego leaving the drivable area at state `s`, assessed against the scene's roadside: a barrier
 /// is an immovable body met by the corner nearest the edge (written to `point_out` when given);
 /// open ground scores L4 with no impact.

@@ -187,14 +187,14 @@ TEST(OpenScenario, TruckTrajectoryIsTheScenesTruckAtEveryFrame) {
         EXPECT_GE(p.t.back(), end);
         for (std::size_t i = 0; i < p.t.size(); ++i) {
           const core::Vec2 c = p.center_at(p.t[i], back);
-          const core::Vec2 expected = scene.truck_at(p.t[i]).box.center;
+          const core::Vec2 expected = scene.hazard_at(p.t[i]).box.center;
           EXPECT_NEAR(c.x, expected.x, 1e-3) << "vertex " << i << " at " << p.t[i] << " s";
           EXPECT_NEAR(c.y, expected.y, 1e-3) << "vertex " << i << " at " << p.t[i] << " s";
           EXPECT_NEAR(p.h[i], -std::numbers::pi / 2.0, 1e-12);
         }
         for (int f = 0; f * dt <= end; ++f) {
           const double t = f * dt;
-          EXPECT_NEAR(p.center_at(t, back).y, scene.truck_at(t).box.center.y, 1e-3) << "frame at " << t << " s";
+          EXPECT_NEAR(p.center_at(t, back).y, scene.hazard_at(t).box.center.y, 1e-3) << "frame at " << t << " s";
         }
       }
     }
@@ -424,8 +424,8 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
     ASSERT_GE(path.t.size(), 2u);
     for (std::size_t i = 0; i < path.t.size(); ++i) {
       const core::Vec2 c = path.center_at(path.t[i], back);
-      EXPECT_NEAR(c.x, scene.truck_at(path.t[i]).box.center.x, 1e-6) << row.id << " vertex " << i;
-      EXPECT_NEAR(c.y, scene.truck_at(path.t[i]).box.center.y, 1e-6) << row.id << " vertex " << i;
+      EXPECT_NEAR(c.x, scene.hazard_at(path.t[i]).box.center.x, 1e-6) << row.id << " vertex " << i;
+      EXPECT_NEAR(c.y, scene.hazard_at(path.t[i]).box.center.y, 1e-6) << row.id << " vertex " << i;
     }
     // Its road network has the cell's junction, and a side road long enough for its truck.
     const Document road(read(dir / assigned[5]));

@@ -318,7 +318,7 @@ TEST(Loss, ImpactFromTheSceneGeometry) {
   const Scene scene(config, CellInput{50.0, 1.0, 1.0, 1.0, 10.0});
   auto s = scene.ego_initial();
   s.x_m += scene.initial_distance_m() + 0.1;
-  const auto truck = scene.truck_at(0.0);
+  const auto truck = scene.hazard_at(0.0);
   const auto c = core::contact(scene.ego_box(s), truck.box);
   ASSERT_TRUE(c.touching);
   const auto ego_body = body(config.ego.mass_kg, config.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, {s.vx_mps, 0});

@@ -100,7 +100,7 @@ TEST(SafeState, PassingTheTruckHandsOverToRecoveryUntilStable) {
   const RolloutResult r = roller.roll(scene.ego_initial(), 0.0, plan, Tail{}, 1);
   ASSERT_TRUE(r.avoided()) << static_cast<int>(r.termination);
   EXPECT_TRUE(r.termination == Termination::kStabilised || r.termination == Termination::kStopped);
-  EXPECT_GT(scene.ego_box(r.end_state).center.x, scene.truck_far_x_m());
+  EXPECT_GT(scene.ego_box(r.end_state).center.x, scene.passed_x_m());
 
   Roller without(scene, *model, ControlLimits{});
   without.set_recovery(false);

@@ -38,7 +38,7 @@ Step first_step(const Scene& scene, const SceneConfig& config) {
   free.before = free.state = scene.ego_initial();
   free.t_s = free.dt_s = config.simulation.dt_s;
   free.ego = scene.ego_box(free.state);
-  free.truck = scene.truck_at(free.t_s);
+  free.truck = scene.hazard_at(free.t_s);
   free.ego_extent = extent_of(free.ego);
   free.truck_extent = extent_of(free.truck.box);
   return free;
@@ -61,8 +61,8 @@ TEST(Roller, CheckersAnswerThroughCheckAsTheyDoPerStep) {
   EXPECT_EQ(termination.check(late, result), Termination::kHorizon);
 
   Step inside = free;
-  inside.state.x_m = inside.before.x_m = scene.truck_at(free.t_s).box.center.x;
-  inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
+  inside.state.x_m = inside.before.x_m = scene.hazard_at(free.t_s).box.center.x;
+  inside.state.y_m = inside.before.y_m = scene.hazard_at(free.t_s).box.center.y;
   inside.ego = scene.ego_box(inside.state);
   EXPECT_EQ(validity.check(inside, result), Termination::kContact);
 }
@@ -97,8 +97,8 @@ TEST(Roller, ChecksAddedToEitherCheckerRunAfterItsBuiltInOnes) {
 
   Step free = first_step(scene, config);
   Step inside = free;
-  inside.state.x_m = inside.before.x_m = scene.truck_at(free.t_s).box.center.x;
-  inside.state.y_m = inside.before.y_m = scene.truck_at(free.t_s).box.center.y;
+  inside.state.x_m = inside.before.x_m = scene.hazard_at(free.t_s).box.center.x;
+  inside.state.y_m = inside.before.y_m = scene.hazard_at(free.t_s).box.center.y;
   inside.ego = scene.ego_box(inside.state);
   EXPECT_EQ(validity.check(inside, result), Termination::kContact);
   EXPECT_EQ(validity_calls, 0);

@@ -1,0 +1,86 @@
+#pragma once
+
+// Scenario families (docs/families.md): a family is a kind of scene — the T-junction, a highway
+// obstacle, a cut-in — that a scene file names (`family: tjunction`). It owns its factors (the
+// factor table) and, for each cell, lays out the road, the other road users (actors) and where the
+// ego starts. Families are registered by name like strategies and vehicle models: the shipped ones
+// are always there, and a program or a test adds its own with a FamilyRegistration.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emrm/sim/actor.hpp"
+#include "emrm/sim/factors.hpp"
+#include "emrm/sim/road.hpp"
+
+namespace emrm::sim {
+
+struct SceneConfig;
+
+/// One cell's scene as its family lays it out, in the road frame; the ego's front bumper is at
+/// x = 0 when the hazard appears (t = 0), and it drives +x.
+struct SceneLayout {
+  Road road;
+  /// The other road users. The first is the hazard: the cell's time to collision is measured
+  /// against it, and an ego whose rear is beyond `passed_x_m` has got past it.
+  std::vector<Actor> actors;
+  double ego_y_m = 0.0;  ///< the ego's centre line (its lane)
+  /// From the ego's front bumper to the hazard's near side at t = 0 (v·TTC for a hazard across the
+  /// ego's path).
+  double initial_distance_m = 0.0;
+  double passed_x_m = 0.0;  ///< the hazard's far side
+};
+
+/// A scenario family as the registry knows it.
+struct ScenarioFamilyInfo {
+  std::string name;         ///< as scene files name it: "tjunction"
+  std::string description;  ///< one line, for `emrm families`
+  /// The family's factors for a scene (their limits may depend on it: a passage no wider than the
+  /// road). The first three are the ego's speed, the TTC and the friction (FactorTable).
+  std::function<FactorTable(const SceneConfig&)> factors;
+  /// The layout of one cell, for a cell that factors(config).validate() accepted.
+  std::function<SceneLayout(const SceneConfig&, const CellInput&)> layout;
+  /// Optional: a cheaper check of a cell with the same outcome as factors(config).validate(cell)
+  /// (it runs for every cell simulated). Unset: the table's.
+  std::function<void(const SceneConfig&, const CellInput&)> validate_cell = nullptr;
+  /// Whether the analytic results derived for the T-junction's geometry hold for this family: the
+  /// stop boundary with the actuators (stop_physics.hpp) and the unavoidability certificate
+  /// (certificate.hpp). Without them a family's unavoidable cells stay `undecided`.
+  bool tjunction_analytics = false;
+};
+
+/// Registers a family for as long as the object lives. Throws UsageError for a name already
+/// registered, or a family without factors or layout.
+class FamilyRegistration {
+ public:
+  explicit FamilyRegistration(ScenarioFamilyInfo info);
+  ~FamilyRegistration();
+  FamilyRegistration(const FamilyRegistration&) = delete;
+  FamilyRegistration& operator=(const FamilyRegistration&) = delete;
+
+ private:
+  std::string name_;
+};
+
+/// The registered family of that name. Throws UsageError for an unknown name, listing the known ones.
+[[nodiscard]] std::shared_ptr<const ScenarioFamilyInfo> find_family(std::string_view name);
+/// The registered families' names, in registration order (the shipped ones first).
+[[nodiscard]] std::vector<std::string> family_names();
+/// The registered families, in registration order.
+[[nodiscard]] std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families();
+
+/// Why `what` (a command or an output: "emrm export") cannot take the scene's family yet, or nothing:
+/// it is written for the T-junction's geometry and analytics, and the family has not got them
+/// (ScenarioFamilyInfo::tjunction_analytics; docs/families.md, "What is still the T-junction's").
+[[nodiscard]] std::optional<std::string> tjunction_only(const SceneConfig& config, std::string_view what);
+/// Throws UsageError with tjunction_only's reason, if any.
+void require_tjunction(const SceneConfig& config, std::string_view what);
+
+/// The shipped T-junction family ("tjunction", sim/tjunction.cpp).
+[[nodiscard]] ScenarioFamilyInfo tjunction_family();
+
+}  // namespace emrm::sim

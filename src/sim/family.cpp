@@ -1,0 +1,66 @@
+// The registry of scenario families (family.hpp): the shipped ones, then whatever a program or a
+// test registers.
+
+#include "emrm/sim/family.hpp"
+
+#include <fmt/format.h>
+
+#include "emrm/core/error.hpp"
+#include "emrm/core/registry.hpp"
+#include "emrm/sim/scene.hpp"
+
+namespace emrm::sim {
+namespace {
+
+core::Registry<ScenarioFamilyInfo>& registry() {
+  static core::Registry<ScenarioFamilyInfo> families(
+      "scenario family", {tjunction_family()}, [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
+  return families;
+}
+
+}  // namespace
+
+FamilyRegistration::FamilyRegistration(ScenarioFamilyInfo info) : name_(info.name) {
+  if (!info.factors || !info.layout)
+    throw UsageError(fmt::format("scenario family '{}' needs its factors and its layout", info.name));
+  registry().add(std::move(info));
+}
+
+FamilyRegistration::~FamilyRegistration() { registry().remove(name_); }
+
+std::shared_ptr<const ScenarioFamilyInfo> find_family(std::string_view name) {
+  auto table = registry().table();
+  for (const auto& f : *table)
+    if (f.name == name) return {table, &f};  // shares the table's ownership
+  throw UsageError(fmt::format("unknown scenario family '{}' (known: {})", name, fmt::join(family_names(), ", ")));
+}
+
+std::vector<std::string> family_names() {
+  const auto table = registry().table();
+  std::vector<std::string> names;
+  names.reserve(table->size());
+  for (const auto& f : *table) names.push_back(f.name);
+  return names;
+}
+
+std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families() {
+  auto table = registry().table();
+  std::vector<std::shared_ptr<const ScenarioFamilyInfo>> out;
+  out.reserve(table->size());
+  for (const auto& f : *table) out.emplace_back(table, &f);
+  return out;
+}
+
+std::optional<std::string> tjunction_only(const SceneConfig& config, std::string_view what) {
+  if (find_family(config.family)->tjunction_analytics) return std::nullopt;
+  return fmt::format(
+      "{} is written for the T-junction so far: the scene's family '{}' is not supported by it yet "
+      "(docs/families.md)",
+      what, config.family);
+}
+
+void require_tjunction(const SceneConfig& config, std::string_view what) {
+  if (auto why = tjunction_only(config, what)) throw UsageError(*why);
+}
+
+}  // namespace emrm::sim
