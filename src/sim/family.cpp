@@ -12,7 +12,7 @@
 namespace emrm::sim {
 namespace {
 
-core::Registry<ScenarioFamilyInfo>& registry() {
+core::Registry<ScenarioFamilyInfo>& family_registry() {
   static core::Registry<ScenarioFamilyInfo> families(
       "scenario family", {tjunction_family()}, [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
   return families;
@@ -23,20 +23,20 @@ core::Registry<ScenarioFamilyInfo>& registry() {
 FamilyRegistration::FamilyRegistration(ScenarioFamilyInfo info) : name_(info.name) {
   if (!info.factors || !info.layout)
     throw UsageError(fmt::format("scenario family '{}' needs its factors and its layout", info.name));
-  registry().add(std::move(info));
+  family_registry().add(std::move(info));
 }
 
-FamilyRegistration::~FamilyRegistration() { registry().remove(name_); }
+FamilyRegistration::~FamilyRegistration() { family_registry().remove(name_); }
 
 std::shared_ptr<const ScenarioFamilyInfo> find_family(std::string_view name) {
-  auto table = registry().table();
+  auto table = family_registry().table();
   for (const auto& f : *table)
     if (f.name == name) return {table, &f};  // shares the table's ownership
   throw UsageError(fmt::format("unknown scenario family '{}' (known: {})", name, fmt::join(family_names(), ", ")));
 }
 
 std::vector<std::string> family_names() {
-  const auto table = registry().table();
+  const auto table = family_registry().table();
   std::vector<std::string> names;
   names.reserve(table->size());
   for (const auto& f : *table) names.push_back(f.name);
@@ -44,7 +44,7 @@ std::vector<std::string> family_names() {
 }
 
 std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families() {
-  auto table = registry().table();
+  auto table = family_registry().table();
   std::vector<std::shared_ptr<const ScenarioFamilyInfo>> out;
   out.reserve(table->size());
   for (const auto& f : *table) out.emplace_back(table, &f);
