@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "emrm/core/error.hpp"
@@ -25,8 +26,10 @@ namespace emrm::cli {
 struct CellArgs {
   std::string scene_file;
   std::string profile;
-  std::map<std::string, double> given;  ///< the factors given (by flag or --factor): key → value
-  std::vector<std::string> required;    ///< the keys a cell must give: the ego's speed and the TTC
+  /// The factors given: key → the number a shorthand flag read, or the text of --factor KEY=VALUE
+  /// (a number, or a categorical factor's level), read against the scene's family by cell_of.
+  std::map<std::string, std::variant<double, std::string>> given;
+  std::vector<std::string> required;  ///< the keys a cell must give: the ego's speed and the TTC
   std::uint64_t seed = 1;
 };
 
@@ -38,18 +41,24 @@ struct CellOptionSet {
 };
 
 /// Records a factor's value, refusing one given twice (by its flag and by --factor, or twice).
-inline void give_factor(CellArgs& args, const std::string& key, double value) {
-  if (!args.given.emplace(key, value).second) throw UsageError(fmt::format("the factor {} is given twice", key));
+inline void give_factor(CellArgs& args, const std::string& key, std::variant<double, std::string> value) {
+  if (!args.given.emplace(key, std::move(value)).second)
+    throw UsageError(fmt::format("the factor {} is given twice", key));
 }
 
-/// Reads one --factor KEY=VALUE.
+/// A factor's shorthand flag: its key with '-' for '_' (--speed-kph).
+inline std::string shorthand_flag(const std::string& key) {
+  std::string flag = "--" + key;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+/// Reads one --factor KEY=VALUE (the value is read by cell_of, against the factor it sets).
 inline void give_assignment(CellArgs& args, const std::string& text) {
   const std::size_t eq = text.find('=');
-  const std::optional<double> value =
-      eq == std::string::npos ? std::nullopt : core::parse_finite_number(text.substr(eq + 1));
-  if (eq == 0 || !value)
-    throw UsageError(fmt::format("--factor: expected KEY=VALUE with a finite number (speed_kph=80), got '{}'", text));
-  give_factor(args, text.substr(0, eq), *value);
+  if (eq == 0 || eq == std::string::npos || eq + 1 == text.size())
+    throw UsageError(fmt::format("--factor: expected KEY=VALUE (speed_kph=80, obstacle=deer), got '{}'", text));
+  give_factor(args, text.substr(0, eq), text.substr(eq + 1));
 }
 
 /// Adds --scene, --profile, --factor KEY=VALUE (any factor of the scene's family), a shorthand flag
@@ -76,8 +85,7 @@ inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<C
   const sim::FactorTable factors = sim::scenario_factors(sim::SceneConfig{});
   for (std::size_t i = 0; i < factors.size(); ++i) {
     const sim::Factor& f = factors[i];
-    std::string flag = "--" + f.key;
-    std::replace(flag.begin(), flag.end(), '_', '-');
+    const std::string flag = shorthand_flag(f.key);
     const bool method = i == sim::kEgoSpeedFactor || i == sim::kTtcFactor;
     const std::string help = fmt::format(
         "{}{}{}", f.what, f.unit == "1" ? "" : " (" + f.unit + ")",
@@ -108,9 +116,7 @@ inline sim::SceneConfig load_scene(const CellArgs& args) {
 
 /// The flag that gives a factor: "--speed-kph (or --factor speed_kph=VALUE)".
 inline std::string factor_flag(const std::string& key) {
-  std::string flag = "--" + key;
-  std::replace(flag.begin(), flag.end(), '_', '-');
-  return fmt::format("{} (or --factor {}=VALUE)", flag, key);
+  return fmt::format("{} (or --factor {}=VALUE)", shorthand_flag(key), key);
 }
 
 /// The cell the options name: the scene's defaults, overlaid with the factors given. Throws
@@ -120,10 +126,14 @@ inline sim::CellInput cell_of(const CellArgs& args, const sim::SceneConfig& conf
     if (!args.given.contains(key)) throw UsageError(fmt::format("{} is required", factor_flag(key)));
   const sim::FactorTable factors = sim::scenario_factors(config);
   sim::CellInput cell = factors.defaults();
-  for (const auto& [key, value] : args.given)
-    if (!factors.set(cell, key, value))
+  for (const auto& [key, value] : args.given) {
+    const auto i = factors.find(key);
+    if (!i)
       throw UsageError(fmt::format("the scene's family {} has no factor '{}' (its factors: {})", config.family, key,
                                    factors.key_list()));
+    const auto* number = std::get_if<double>(&value);
+    cell[*i] = number != nullptr ? *number : factors[*i].parse(std::get<std::string>(value));
+  }
   return cell;
 }
 

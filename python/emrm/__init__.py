@@ -25,8 +25,10 @@ from ._emrm import (
     CellResult,
     Error,
     FsmReport,
+    HighwayConfig,
     InputError,
     Interrupted,
+    ObstacleConfig,
     Outcome,
     PlannerConfig,
     RoadConfig,
@@ -54,8 +56,8 @@ if TYPE_CHECKING:
 PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
-    "ActuationConfig", "Analysis", "CellResult", "Error", "FindingsError", "FsmReport", "InputError",
-    "Interrupted", "Outcome", "Plan", "PlannerConfig", "Results", "RoadConfig", "RoadsideConfig",
+    "ActuationConfig", "Analysis", "CellResult", "Error", "FindingsError", "FsmReport", "HighwayConfig",
+    "InputError", "Interrupted", "ObstacleConfig", "Outcome", "Plan", "PlannerConfig", "Results", "RoadConfig", "RoadsideConfig",
     "SafeStateConfig", "Scene", "SeverityConfig", "SimulationConfig", "Trajectory", "TruckConfig",
     "UsageError", "VehicleParams", "__version__", "analyze", "check_covering_array", "check_fsm",
     "covering_array", "covering_array_model", "load_results", "merge", "plan", "simulate",

@@ -3,7 +3,7 @@
 tests/python/test_stubs.py checks that the classes and fields below are the module's."""
 
 import os
-from typing import Any, Callable, Final, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Final, Mapping, Optional, Sequence, TypeAlias, Union
 
 import numpy
 import numpy.typing
@@ -42,13 +42,15 @@ class RoadConfig(_Part):
     shoulder_m: Final[float]
     ego_lane_center_m: Final[float]
 
-class TruckConfig(_Part):
+class ObstacleConfig(_Part):
     length_m: Final[float]
     width_m: Final[float]
     mass_kg: Final[float]
     yaw_inertia_kgm2: Final[float]
     speed_kph: Final[float]
     decel_mps2: Final[float]
+
+TruckConfig: TypeAlias = ObstacleConfig
 
 class VehicleParams(_Part):
     length_m: Final[float]
@@ -86,6 +88,8 @@ class SeverityConfig(_Part):
     fatal_exponent: Final[float]
     l6_p_mais3: Final[float]
     l7_p_fatal: Final[float]
+    critical_slope_h: Final[float]
+    rollover_p_fatal: Final[float]
 
 class PlannerConfig(_Part):
     max_nodes: Final[int]
@@ -98,6 +102,7 @@ class PlannerConfig(_Part):
 
 class RoadsideConfig(_Part):
     type: Final[str]
+    embankment_slope_h: Final[float]
 
 class SafeStateConfig(_Part):
     horizon_s: Final[float]
@@ -106,6 +111,15 @@ class SafeStateConfig(_Part):
     max_heading_error_rad: Final[float]
     max_steer_rad: Final[float]
 
+class HighwayConfig(_Part):
+    lanes: Final[int]
+    lane_width_m: Final[float]
+    shoulder_m: Final[float]
+    ego_lane: Final[int]
+    embankment_slope_h: Final[float]
+    truck: Final[ObstacleConfig]
+    deer: Final[ObstacleConfig]
+
 class Scene(_Part):
     """Scene() is the built-in scene; every field of scene.yaml is a read-only attribute."""
 
@@ -113,7 +127,7 @@ class Scene(_Part):
     name: Final[str]
     family: Final[str]
     road: Final[RoadConfig]
-    truck: Final[TruckConfig]
+    truck: Final[ObstacleConfig]
     ego: Final[VehicleParams]
     simulation: Final[SimulationConfig]
     actuation: Final[ActuationConfig]
@@ -121,6 +135,7 @@ class Scene(_Part):
     planner: Final[PlannerConfig]
     roadside: Final[RoadsideConfig]
     safe_state: Final[SafeStateConfig]
+    highway: Final[HighwayConfig]
     max_initial_distance_m: Final[float]
     @staticmethod
     def load(path: _Path, profile: Optional[str] = None) -> "Scene": ...

@@ -156,7 +156,10 @@ std::shared_ptr<const sim::SceneConfig> scene_from(py::handle scene) {
 
 void bind_config(py::module_& m) {
   bind_part<sim::RoadConfig>(m, "RoadConfig", "The main road (docs/scene-yaml.md, `road:`).");
-  bind_part<sim::TruckConfig>(m, "TruckConfig", "The crossing truck (`truck:`).");
+  bind_part<sim::ObstacleConfig>(m, "ObstacleConfig",
+                                 "A body entering the road: the T-junction's truck (`truck:`), the highway's truck "
+                                 "and deer (`highway.truck:`, `highway.deer:`).");
+  m.attr("TruckConfig") = m.attr("ObstacleConfig");  // the T-junction's truck, by its earlier name
   bind_part<sim::VehicleParams>(m, "VehicleParams", "The ego car (`ego:`).");
   bind_part<sim::SimulationConfig>(m, "SimulationConfig", "Vehicle model, time step and horizon (`simulation:`).");
   bind_part<sim::ActuationConfig>(m, "ActuationConfig",
@@ -165,10 +168,12 @@ void bind_config(py::module_& m) {
   bind_part<sim::PlannerConfig>(m, "PlannerConfig", "The RRT planners' budget (`planner:`).");
   bind_part<sim::RoadsideConfig>(m, "RoadsideConfig", "What lies beyond the road's edges (`roadside:`).");
   bind_part<sim::SafeStateConfig>(m, "SafeStateConfig", "When an avoidance counts: the safe state (`safe_state:`).");
+  bind_part<sim::HighwayConfig>(
+      m, "HighwayConfig", "The road and obstacles of the family highway_obstacle (`highway:`, docs/families.md).");
 
   py::class_<sim::SceneConfig, std::shared_ptr<sim::SceneConfig>> scene(
       m, "Scene",
-      "The T-junction scene (docs/scene-yaml.md): every field of scene.yaml as a read-only attribute under its\n"
+      "A scene (docs/scene-yaml.md): every field of scene.yaml as a read-only attribute under its\n"
       "YAML name. Scene() is the built-in scene, the one `emrm simulate` runs without --scene.");
   scene.def(py::init([] { return std::make_shared<sim::SceneConfig>(); }), "The built-in scene.");
   add_fields(scene, "Scene");

@@ -159,16 +159,23 @@ sim::CellInput cell_from(const sim::SceneConfig& scene, const py::kwargs& given)
   sim::CellInput cell = factors.defaults();
   for (const auto& [key, value] : given) {
     const std::string name = py::str(key);
-    double number = 0;
-    try {
-      number = value.cast<double>();
-    } catch (const py::cast_error&) {
-      throw py::type_error(fmt::format("emrm.simulate: {} must be a number, not {}", name,
-                                       py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
-    }
-    if (!factors.set(cell, name, number))
+    const auto i = factors.find(name);
+    if (!i)
       throw UsageError(
           fmt::format("emrm.simulate: the scene has no factor '{}' (its factors: {})", name, factors.key_list()));
+    const sim::Factor& factor = factors[*i];
+    // A categorical factor by its level's name (obstacle="deer"), every factor by a number.
+    if (factor.categorical() && py::isinstance<py::str>(value)) {
+      cell[*i] = factor.parse(value.cast<std::string>());
+      continue;
+    }
+    try {
+      cell[*i] = value.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(fmt::format("emrm.simulate: {} must be {}, not {}", name,
+                                       factor.categorical() ? "a level's name or a number" : "a number",
+                                       py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
+    }
   }
   for (const std::size_t required : {sim::kEgoSpeedFactor, sim::kTtcFactor})
     if (!given.contains(factors[required].key))

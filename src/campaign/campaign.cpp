@@ -77,7 +77,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
       grid.adaptive = value.as_bool();
       nodes.adaptive = value;
     } else if (auto f = table.find(k)) {
-      factors[*f] = core::expand_values(value);
+      factors[*f] = core::expand_values(value, table[*f].levels);
       nodes.factors[*f] = value;
     } else {
       key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, adaptive, cells or a factor (" +
@@ -116,7 +116,8 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
         }
         const auto f = table.find(k);
         if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list(table) + " (or name, description)");
-        cell[*f] = round_1e9(scalar_number(value));
+        cell[*f] = table[*f].categorical() && value.is_scalar() ? core::expand_values(value, table[*f].levels).front()
+                                                                : round_1e9(scalar_number(value));
       }
       grid.cells.push_back(cell);
     }
@@ -154,7 +155,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
                                   const std::string& message) {
   for (std::size_t f = 0; f < nodes.factors.size(); ++f) {
     if (!nodes.factors[f]) continue;
-    for (double v : core::expand_values(*nodes.factors[f])) {
+    for (double v : core::expand_values(*nodes.factors[f], table[f].levels)) {
       sim::CellInput cell = table.defaults();
       cell[f] = v;
       try {
@@ -172,7 +173,6 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
 void validate(const Campaign& campaign, bool force) {
   core::Validator v("campaign");
   v.field("scene", campaign.scene);
-  if (auto why = sim::tjunction_only(campaign.scene, "a campaign")) v.fail("scene", *why);
   {
     const core::Validator::Scope strategies(v, "strategies");
     std::set<std::string> listed;

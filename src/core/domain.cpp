@@ -10,6 +10,10 @@
 namespace emrm::core {
 namespace {
 
+[[noreturn]] void too_many_values(const YamlNode& element) {
+  element.fail(fmt::format("the list has more than the {} values a factor may have", kMaxFactorValues));
+}
+
 std::vector<double> expand_range(const YamlNode& node) {
   std::optional<YamlNode> from, to, step, levels;
   for (const auto& [key, value] : node.entries()) {
@@ -72,8 +76,7 @@ std::vector<double> expand_values(const YamlNode& node) {
   if (node.is_sequence()) {
     std::vector<double> values;
     for (const auto& element : node.elements()) {
-      if (values.size() == kMaxFactorValues)
-        element.fail(fmt::format("the list has more than the {} values a factor may have", kMaxFactorValues));
+      if (values.size() == kMaxFactorValues) too_many_values(element);
       values.push_back(round_1e9(scalar_number(element)));
     }
     if (values.empty()) node.fail("empty list of values");
@@ -81,6 +84,28 @@ std::vector<double> expand_values(const YamlNode& node) {
   }
   if (node.is_map()) return expand_range(node);
   node.fail("expected a value, a list, {from, to, step} or {from, to, levels}, got " + node.describe());
+}
+
+std::vector<double> expand_values(const YamlNode& node, std::span<const std::string> levels) {
+  if (levels.empty()) return expand_values(node);
+  const auto level_of = [&](const YamlNode& element) {
+    if (element.is_scalar()) {
+      const std::string name = element.as_string();
+      for (std::size_t i = 0; i < levels.size(); ++i)
+        if (levels[i] == name) return static_cast<double>(i);
+    }
+    element.fail(fmt::format("expected one of the levels {}, got {}", fmt::join(levels, ", "), element.describe()));
+  };
+  if (node.is_sequence()) {
+    std::vector<double> values;
+    for (const auto& element : node.elements()) {
+      if (values.size() == kMaxFactorValues) too_many_values(element);
+      values.push_back(level_of(element));
+    }
+    if (values.empty()) node.fail("empty list of values");
+    return values;
+  }
+  return {level_of(node)};
 }
 
 }  // namespace emrm::core

@@ -326,13 +326,17 @@ std::string held_text(const sim::FactorTable& table, const GridCut& cut, const G
   return core::join(parts, ", ");
 }
 
-/// "map_GRID", then "_FACTOR_VALUE" for each factor the slice is cut along.
+/// "map_GRID", then "_FACTOR_VALUE" for each factor the slice is cut along (a categorical factor's
+/// value by its level's name).
 std::string slice_stem(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
                        const GridSlice& slice) {
   std::string stem = "map_" + file_stem(grid);
   for (std::size_t i = 0; i < cut.held.size(); ++i)
-    if (std::find(cut.sliced.begin(), cut.sliced.end(), cut.held[i]) != cut.sliced.end())
-      stem += fmt::format("_{}_{}", factor_of(factors, cut.held[i]).key, file_stem(plot_number(slice.held_values[i])));
+    if (std::find(cut.sliced.begin(), cut.sliced.end(), cut.held[i]) != cut.sliced.end()) {
+      const sim::Factor& f = factor_of(factors, cut.held[i]);
+      const double v = slice.held_values[i];
+      stem += fmt::format("_{}_{}", f.key, file_stem(f.categorical() ? f.value_text(v) : plot_number(v)));
+    }
   return stem;
 }
 

@@ -57,26 +57,24 @@ std::string outcome_text(const sim::StrategyOutcome& o) {
 
 void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& config,
                       const std::filesystem::path& output) {
-  sim::require_tjunction(config, "the trajectory figure");
   const int panels = std::max<int>(1, static_cast<int>(result.strategies.size()));
   const std::string terminal = gnuplot_terminal(output, 1000, 330 * panels);
   core::TempDir dir("emrm-figure");
   const auto file = [&](const std::string& name) { return (dir.path() / name).string(); };
 
   const sim::Scene scene(config, result.input);
-  const sim::TJunctionCell named = sim::TJunctionCell::of(result.input);
   const double v0 = scene.initial_speed_mps();
   const double y_min = scene.road().min_y_m;
   const double y_max = scene.road().max_y_m;
   const double x_lo = scene.ego_initial().x_m - config.ego.length_m;
   const double x_hi = scene.passed_x_m() + 3.0 * config.ego.length_m;
-  const double truck_top = scene.hazard_at(0.0).box.center.y + scene.hazard().body().length_m / 2.0;
+  const double truck_top = scene.hazard().y_extent_at(0.0).second;
+  const std::string hazard = scene.hazard().body().name.empty() ? "hazard" : scene.hazard().body().name;
 
   std::string script = terminal + "\n";
   script += "set output " + single_quoted(drawing_path(dir.path(), output).string()) + "\n";
-  script += fmt::format(
-      "set multiplot layout {},1 title '{:.0f} km/h, TTC {:.2f} s, {} {:.2f}, passage {:.2f} m: region {}'\n", panels,
-      named.speed_kph, named.ttc_s, "{/Symbol m}", named.mu, named.passage_m, sim::region_name(result.region));
+  script += fmt::format("set multiplot layout {},1 title '{}: region {}' noenhanced\n", panels,
+                        sim::cell_text(sim::scenario_factors(config), result.input), sim::region_name(result.region));
   script += "set size ratio -1\nset key outside right top font ',8'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
   script += fmt::format("set xrange [{:.2f}:{:.2f}]\nset yrange [{:.2f}:{:.2f}]\n", x_lo, x_hi, y_min - 1.0,
                         std::max(y_max, truck_top) + 1.0);
@@ -106,10 +104,11 @@ void draw_cell_figure(const sim::CellResult& result, const sim::SceneConfig& con
     script += fmt::format(
         "plot '{}' w l lc 'black' lw 1.5 notitle, '{}' w l lc 'gray50' dt 2 notitle, "
         "'{}' w l lc rgb '#2ca02c' lw 0.6 title 'goal tree', '{}' w l lc rgb '#ff7f0e' lw 0.6 title 'fail-safe', "
-        "'{}' w l dt 2 lc 'gray40' title 'truck t=0', '{}' w l lc 'gray20' lw 1.5 title 'truck at end', "
+        "'{}' w l dt 2 lc 'gray40' title '{} t=0', '{}' w l lc 'gray20' lw 1.5 title '{} at end', "
         "'{}' w l lc rgb '#1f77b4' lw 1.2 title 'ego', '{}' u 1:2:3 w l lw 3 lc palette title 'executed'\n",
         file("road.dat"), file("centre.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"),
-        file("truck0.dat"), file("truck_end" + tag + ".dat"), file("ego" + tag + ".dat"), file("path" + tag + ".dat"));
+        file("truck0.dat"), hazard, file("truck_end" + tag + ".dat"), hazard, file("ego" + tag + ".dat"),
+        file("path" + tag + ".dat"));
   }
   script += "unset multiplot\n";
   run_gnuplot(script, dir.path(), {output});
@@ -172,6 +171,10 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   }
   if (panels.empty()) {
     figure.note = fmt::format("no stored trajectories for grid '{}' (sweep it with keep_trees: true)", grid);
+    return figure;
+  }
+  if (auto why = sim::tjunction_only(config, "the trajectory grid")) {
+    figure.note = *why;
     return figure;
   }
 

@@ -8,19 +8,53 @@
 #include <stdexcept>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
 
 namespace emrm::sim {
 
 std::string Factor::inequality() const {
+  if (categorical()) return fmt::format("{} one of {}", key, fmt::join(levels, ", "));
   const std::string_view op = limits.low_inclusive ? "<=" : "<";
   if (std::isinf(limits.high)) return fmt::format("{} {} {:g}", key, limits.low_inclusive ? ">=" : ">", limits.low);
   return fmt::format("{:g} {} {} <= {:g}", limits.low, op, key, limits.high);
 }
 
 std::string Factor::refusal(double value) const {
+  if (categorical()) {
+    std::vector<std::string> indexed;
+    for (std::size_t i = 0; i < levels.size(); ++i) indexed.push_back(fmt::format("{} ({})", levels[i], i));
+    return fmt::format("{} must be one of the levels {}, got {}", key, fmt::join(indexed, ", "), value);
+  }
   return fmt::format("{} must be a finite {} with {}{}, got {}{}", key, what, inequality(),
                      unit == "1" ? "" : " " + unit, value,
                      value > limits.high && !why_high.empty() ? ": " + why_high : std::string());
+}
+
+std::optional<std::size_t> Factor::level(std::string_view level_name) const noexcept {
+  for (std::size_t i = 0; i < levels.size(); ++i)
+    if (levels[i] == level_name) return i;
+  return std::nullopt;
+}
+
+std::string Factor::value_text(double value) const {
+  if (categorical() && accepts(value)) return levels[static_cast<std::size_t>(value)];
+  return fmt::format("{:g}", value);
+}
+
+std::string Factor::format(std::string_view pattern, double value) const {
+  if (categorical() && accepts(value))
+    return fmt::format(fmt::runtime(pattern), levels[static_cast<std::size_t>(value)]);
+  return fmt::format(fmt::runtime(pattern), value);
+}
+
+double Factor::parse(std::string_view text) const {
+  if (categorical()) {
+    if (const auto i = level(text)) return static_cast<double>(*i);
+    throw UsageError(fmt::format("{} is one of {}, got '{}'", key, fmt::join(levels, ", "), text));
+  }
+  if (const auto value = core::parse_finite_number(std::string(text))) return *value;
+  throw UsageError(
+      fmt::format("{} expects a finite number{}, got '{}'", key, unit == "1" ? "" : " (" + unit + ")", text));
 }
 
 CellInput::CellInput(std::initializer_list<double> values)
@@ -52,6 +86,10 @@ FactorTable::FactorTable(std::vector<Factor> factors) : factors_(std::move(facto
       if (f.role != FactorRole::kOther && factors_[j].role == f.role)
         throw std::logic_error(fmt::format("factors '{}' and '{}' have the same role", factors_[j].key, f.key));
     }
+    if (f.categorical() && (f.role != FactorRole::kOther || f.limits.low != 0.0 || !f.limits.low_inclusive ||
+                            f.limits.high != static_cast<double>(f.levels.size()) - 1.0 || !f.limits.whole))
+      throw std::logic_error(
+          fmt::format("categorical factor '{}': role 'other' and FactorLimits::categorical's limits", f.key));
   }
 }
 
@@ -98,10 +136,49 @@ void FactorTable::validate(const CellInput& cell) const {
     if (!factors_[i].accepts(cell[i])) throw UsageError(factors_[i].refusal(cell[i]));
 }
 
+std::vector<Factor> method_factors(double speed_kph, double ttc_s, double mu) {
+  std::vector<Factor> factors(kMethodFactors);
+  factors[kEgoSpeedFactor] = {.key = "speed_kph",
+                              .unit = "km/h",
+                              .what = "ego speed",
+                              .axis = "ego speed (km/h)",
+                              .plural = "speeds",
+                              .held = "v = {} km/h",
+                              .brief = "{:g} km/h",
+                              .role = FactorRole::kEgoSpeed,
+                              .default_value = speed_kph,
+                              .limits = {.high = kMaxEgoSpeed_kph},
+                              .why_high = std::string(kWhyMaxSpeed),
+                              .band = 1.0,
+                              .name = "speed"};
+  factors[kTtcFactor] = {.key = "ttc_s",
+                         .unit = "s",
+                         .what = "time to collision",
+                         .axis = "time to collision TTC (s)",
+                         .plural = "TTCs",
+                         .held = "TTC = {} s",
+                         .brief = "TTC {:g} s",
+                         .role = FactorRole::kTtc,
+                         .default_value = ttc_s,
+                         .name = "TTC"};
+  factors[kFrictionFactor] = {.key = "mu",
+                              .unit = "1",
+                              .what = "friction coefficient",
+                              .axis = "road friction μ (–)",
+                              .plural = "μ",
+                              .held = "μ = {}",
+                              .brief = "mu {:g}",
+                              .role = FactorRole::kFriction,
+                              .default_value = mu,
+                              .limits = {.high = kMaxFriction},
+                              .name = "μ"};
+  return factors;
+}
+
 std::string cell_text(const FactorTable& factors, const CellInput& cell) {
   std::vector<std::string> values;
   for (std::size_t i = 0; i < factors.size() && i < cell.size(); ++i)
-    values.push_back(fmt::format(fmt::runtime(factors[i].brief), cell[i]));
+    values.push_back(factors[i].format(factors[i].brief, cell[i]));
   return fmt::format("{}", fmt::join(values, ", "));
 }
 

@@ -7,6 +7,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/registry.hpp"
+#include "emrm/sim/highway.hpp"
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::sim {
@@ -14,7 +15,8 @@ namespace {
 
 core::Registry<ScenarioFamilyInfo>& family_registry() {
   static core::Registry<ScenarioFamilyInfo> families(
-      "scenario family", {tjunction_family()}, [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
+      "scenario family", {tjunction_family(), highway_obstacle_family()},
+      [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
   return families;
 }
 
@@ -35,13 +37,7 @@ std::shared_ptr<const ScenarioFamilyInfo> find_family(std::string_view name) {
   throw UsageError(fmt::format("unknown scenario family '{}' (known: {})", name, fmt::join(family_names(), ", ")));
 }
 
-std::vector<std::string> family_names() {
-  const auto table = family_registry().table();
-  std::vector<std::string> names;
-  names.reserve(table->size());
-  for (const auto& f : *table) names.push_back(f.name);
-  return names;
-}
+std::vector<std::string> family_names() { return family_registry().names(); }
 
 std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families() {
   auto table = family_registry().table();

@@ -116,8 +116,11 @@ nlohmann::json road_json(const Scene& scene, const CellResult& result) {
     for (const auto& p : o.path) x_hi = std::max(x_hi, p.state.x_m + scene.config().ego.length_m);
   const nlohmann::json polygon =
       nlohmann::json::array({{x_lo, road.min_y_m}, {x_hi, road.min_y_m}, {x_hi, road.max_y_m}, {x_lo, road.max_y_m}});
-  return {{"drivable", nlohmann::json::array({polygon})},
-          {"roadside", {{"right", core::enum_name(road.right)}, {"left", core::enum_name(road.left)}}}};
+  nlohmann::json roadside = {{"right", core::enum_name(road.right)}, {"left", core::enum_name(road.left)}};
+  // An embankment's slope (run per unit of drop) beside its kind.
+  if (road.right == Roadside::kEmbankment) roadside["right_slope_h"] = road.right_slope_h;
+  if (road.left == Roadside::kEmbankment) roadside["left_slope_h"] = road.left_slope_h;
+  return {{"drivable", nlohmann::json::array({polygon})}, {"roadside", std::move(roadside)}};
 }
 
 std::string text(const nlohmann::json& j, const char* key, const std::string& where) {
@@ -148,6 +151,7 @@ nlohmann::json to_json(const FactorTable& factors) {
                    {"low", l.low},
                    {"low_inclusive", l.low_inclusive},
                    {"high", std::isinf(l.high) ? nlohmann::json(nullptr) : nlohmann::json(l.high)}});
+    if (f.categorical()) out.back()["levels"] = f.levels;  // a cell holds a level's index
   }
   return out;
 }

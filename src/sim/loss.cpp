@@ -47,6 +47,8 @@ double p_fatal(double delta_v_mps, const SeverityConfig& c) noexcept {
   return std::min(1.0, std::pow(delta_v_mps / c.fatal_reference_mps, c.fatal_exponent));
 }
 
+bool rolls_over(double slope_h, const SeverityConfig& c) noexcept { return slope_h < c.critical_slope_h; }
+
 int loss_level(bool contact, bool road_departure, double p_mais3_value, double p_fatal_value,
                const SeverityConfig& c) noexcept {
   if (!contact && !road_departure) return 0;

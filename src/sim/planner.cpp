@@ -27,11 +27,7 @@ const Planner* find_planner(std::string_view name) {
   return nullptr;
 }
 
-std::vector<std::string> planner_names() {
-  std::vector<std::string> names;
-  for (const auto& p : *registry().table()) names.emplace_back(p->name());
-  return names;
-}
+std::vector<std::string> planner_names() { return registry().names(); }
 
 PlannerRegistration::PlannerRegistration(std::unique_ptr<Planner> planner) : name_(planner->name()) {
   registry().add(PlannerPtr(std::move(planner)));
@@ -42,13 +38,26 @@ PlannerRegistration::~PlannerRegistration() { registry().remove(name_); }
 double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept {
   if (rollout.passed_truck) return 0.0;
   if (rollout.termination != Termination::kContact) return std::numeric_limits<double>::infinity();
-  double highest = -std::numeric_limits<double>::infinity();
-  for (const auto& corner : scene.ego_box(rollout.end_state).corners()) highest = std::max(highest, corner.y);
-  return std::max(0.0, highest - scene.truck_front_y_at(rollout.end_time_s));
+  double lowest = std::numeric_limits<double>::infinity();
+  double highest = -lowest;
+  for (const auto& corner : scene.ego_box(rollout.end_state).corners()) {
+    lowest = std::min(lowest, corner.y);
+    highest = std::max(highest, corner.y);
+  }
+  // How far the ego reaches across the hazard's edge beside each free band.
+  const auto [low, high] = scene.hazard().y_extent_at(rollout.end_time_s);
+  const FreeBands free = scene.free_bands(rollout.end_time_s);
+  double miss = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < free.count; ++i) miss = std::min(miss, free.right[i] ? highest - low : high - lowest);
+  return std::max(0.0, miss);
 }
 
 bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept {
   if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;
+  // The risks before Δv: a rollover and a pedestrian's injury are not measured in the ego's Δv. For
+  // two impacts both risks grow with Δv, so the order is Δv's.
+  if (a.p_fatal != b.p_fatal) return a.p_fatal < b.p_fatal;
+  if (a.p_mais3 != b.p_mais3) return a.p_mais3 < b.p_mais3;
   return a.delta_v_mps < b.delta_v_mps;
 }
 

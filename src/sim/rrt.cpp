@@ -31,11 +31,18 @@ struct NodeSummary {
 class Rrt {
  public:
   Rrt(const Scene& scene, const VehicleModel& model, const ControlLimits& limits, std::uint64_t seed, bool keep_tree)
-      : scene_(scene), roller_(scene, model, limits), limits_(limits), rng_(seed), keep_tree_(keep_tree) {
-    const auto& cfg = scene.config();
-    const double lo = scene.road().min_y_m + cfg.ego.width_m / 2.0 + 0.1;
-    const double hi = scene.truck_front_y_at(cfg.simulation.horizon_s) - cfg.ego.width_m / 2.0 - 0.1;
-    if (hi > lo) passage_band_ = std::pair{lo, hi};
+      : scene_(scene),
+        roller_(scene, model, limits),
+        limits_(limits),
+        rng_(seed),
+        keep_tree_(keep_tree),
+        free_(scene.free_bands(scene.config().simulation.horizon_s)) {
+    const double half_width = scene.config().ego.width_m / 2.0;
+    for (std::size_t i = 0; i < free_.count; ++i) {
+      const double lo = free_.band[i].low_m + half_width + 0.1;
+      const double hi = free_.band[i].high_m - half_width - 0.1;
+      if (hi > lo) passage_bands_.emplace_back(lo, hi);
+    }
   }
 
   PlanResult run() {
@@ -102,11 +109,11 @@ class Rrt {
     const double y_min = road.min_y_m;
     const double x0 = nodes_.front().state.x_m;
     const double far_x = scene_.passed_x_m() + ego.length_m;
-    if (towards_passage) {
-      // The free band between the road edge and the truck's front once it has stopped (or later).
-      const double front = scene_.truck_front_y_at(scene_.config().simulation.horizon_s);
-      const double lo = y_min + ego.width_m / 2.0;
-      const double hi = std::max(lo, front - ego.width_m / 2.0);
+    if (towards_passage && free_.count > 0) {
+      // A free band beside the hazard once it has stopped (or later); of two, either at random.
+      const FreeBand& band = free_.band[free_.count == 1 || unit(rng_) < 0.5 ? 0 : 1];
+      const double lo = band.low_m + ego.width_m / 2.0;
+      const double hi = std::max(lo, band.high_m - ego.width_m / 2.0);
       const double near_x = scene_.initial_distance_m() - ego.length_m;
       return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
     }
@@ -265,18 +272,21 @@ class Rrt {
     const Node& n = nodes_[static_cast<std::size_t>(index)];
     const auto& p = scene_.config().ego;
     std::vector<Tail> tails{Tail::full_stop()};
-    // A braking swerve: stop as hard as grip allows while steering into the free passage.
-    if (passage_band_) {
+    // A braking swerve: stop as hard as grip allows while steering into a free passage.
+    for (const auto& [lo, hi] : passage_bands_) {
       const double speed = n.state.speed_mps();
       const double reach = speed * speed / (2.0 * scene_.friction() * kGravity_mps2) + 2.0;
-      tails.push_back(Tail{Control{0.0, 1.0, false}, false, true,
-                           core::Vec2{n.state.x_m + reach, 0.5 * (passage_band_->first + passage_band_->second)}});
+      tails.push_back(Tail{Control{0.0, 1.0, false}, false, true, core::Vec2{n.state.x_m + reach, 0.5 * (lo + hi)}});
     }
     if (limits_.accept_contact) {
-      Tail swerve{Control{-p.max_steer_rate_radps, 1.0, false}, false, false, std::nullopt};
-      tails.push_back(swerve);
-      swerve.control.rear_lock = true;
-      tails.push_back(swerve);
+      // Full braking steering towards each side left free of the hazard (right without one).
+      for (std::size_t i = 0; i < std::max<std::size_t>(free_.count, 1); ++i) {
+        const double side = free_.count == 0 || free_.right[i] ? -1.0 : 1.0;
+        Tail swerve{Control{side * p.max_steer_rate_radps, 1.0, false}, false, false, std::nullopt};
+        tails.push_back(swerve);
+        swerve.control.rear_lock = true;
+        tails.push_back(swerve);
+      }
     }
     for (const Tail& tail : tails) {
       RolloutResult r = roller_.roll(n.state, n.t_s, {}, tail, 5, &n.actuators);
@@ -334,9 +344,10 @@ class Rrt {
   bool keep_tree_;
   std::vector<Node> nodes_;
   PlanResult result_;
-  std::optional<std::pair<double, double>> passage_band_;  // y range the ego's CG may use beside the truck
-  std::vector<NodeSummary> summaries_;                     // per node, what random_moving_node and nearest read
-  int iterations_ = 0;                                     // extension attempts, some of which add no node
+  FreeBands free_;                                        // beside the hazard at the horizon
+  std::vector<std::pair<double, double>> passage_bands_;  // y ranges the ego's CG may use beside the hazard
+  std::vector<NodeSummary> summaries_;                    // per node, what random_moving_node and nearest read
+  int iterations_ = 0;                                    // extension attempts, some of which add no node
 };
 
 }  // namespace

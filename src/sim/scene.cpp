@@ -134,6 +134,20 @@ core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
   return {core::Vec2{s.x_m, s.y_m} + heading * offset_m, s.yaw_rad, ego.length_m, ego.width_m};
 }
 
+FreeBands Scene::free_bands(double t_s) const noexcept {
+  const auto [low, high] = hazard().y_extent_at(t_s);
+  FreeBands out;
+  const auto add = [&](double from, double to, bool right) {
+    if (!(to > from)) return;
+    out.band[out.count] = {from, to};
+    out.right[out.count] = right;
+    ++out.count;
+  };
+  add(layout_.road.min_y_m, std::min(low, layout_.road.max_y_m), true);
+  add(std::max(high, layout_.road.min_y_m), layout_.road.max_y_m, false);
+  return out;
+}
+
 bool Scene::on_drivable_area(const core::OrientedBox& ego) const noexcept { return edge_gap_m(ego) >= 0.0; }
 
 double Scene::edge_gap_m(const core::OrientedBox& box) const noexcept {

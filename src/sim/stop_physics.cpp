@@ -1,6 +1,7 @@
 #include "emrm/sim/stop_physics.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "emrm/sim/loss.hpp"
@@ -30,19 +31,24 @@ bool analytically_stoppable(const CellInput& cell, const ActuationConfig& actuat
 
 namespace {
 
-// Whether the truck overlaps the car's straight path across the lane from t = `from_s` until it
-// rests (its front below the car's left side then, its rear above the car's right side at rest):
-// it is then in the way whenever the car, going straight, gets there from `from_s` on. A truck
-// that keeps going clears the lane in the end, so it never stands in the way for certain.
+// Whether the hazard overlaps the car's straight path across the lane from t = `from_s` until it
+// rests (the T-junction's truck: its front below the car's left side then, its rear above the car's
+// right side at rest): it is then in the way whenever the car, going straight, gets there from
+// `from_s` on. Its extent across the road moves one way only (a motion along y, no sideways drift),
+// so overlapping at both ends it overlaps throughout. A hazard that keeps going clears the lane in
+// the end, so it never stands in the way for certain.
 bool in_the_way_from(const Scene& s, double from_s) {
-  const SceneConfig& scene = s.config();
-  if (scene.truck.decel_mps2 <= 0.0 && s.hazard_speed_mps() > 0.0) return false;
-  const double top = scene.road.ego_lane_center_m + scene.ego.width_m / 2.0;
-  const double bottom = scene.road.ego_lane_center_m - scene.ego.width_m / 2.0;
-  const double rest_s = scene.truck.decel_mps2 > 0.0 ? s.hazard_speed_mps() / scene.truck.decel_mps2 : 0.0;
-  const double rear_at_rest = s.truck_front_y_at(rest_s) + scene.truck.length_m;
-  constexpr double kOverlap_m = 0.01;  // of the truck and the car's path, for certain
-  return s.truck_front_y_at(from_s) < top - kOverlap_m && rear_at_rest > bottom + kOverlap_m;
+  const ActorMotion& motion = s.hazard().motion();
+  if (std::isinf(motion.rest_time_s()) || motion.direction.x != 0.0 || motion.lateral_mps != 0.0) return false;
+  const double half_width = s.config().ego.width_m / 2.0;
+  const double top = s.ego_initial().y_m + half_width;
+  const double bottom = s.ego_initial().y_m - half_width;
+  constexpr double kOverlap_m = 0.01;  // of the hazard and the car's path, for certain
+  const auto overlaps = [&](double t_s) {
+    const auto [low, high] = s.hazard().y_extent_at(t_s);
+    return low < top - kOverlap_m && high > bottom + kOverlap_m;
+  };
+  return overlaps(from_s) && overlaps(std::max(from_s, motion.rest_time_s()));
 }
 
 // What doing nothing comes to in a cell; none for a cell the car cannot start in.

@@ -22,8 +22,6 @@ using tjunction::kSpeed;
 using tjunction::kTruckSpeed;
 using tjunction::kTtc;
 
-constexpr double kMaxSpeed_kph = 400.0;  // above every road vehicle: a value beyond is another unit
-
 double drivable_width_m(const SceneConfig& config) noexcept {
   return config.road.drivable_max_y_m() - config.road.drivable_min_y_m();
 }
@@ -32,56 +30,19 @@ double drivable_width_m(const SceneConfig& config) noexcept {
 // validate_cell reads without building the table's texts (it runs for every cell simulated).
 std::array<FactorLimits, tjunction::kFactors> factor_limits(const SceneConfig& config) noexcept {
   std::array<FactorLimits, tjunction::kFactors> limits{};
-  limits[kSpeed].high = kMaxSpeed_kph;
-  limits[kMu].high = 2.0;
+  limits[kSpeed].high = kMaxEgoSpeed_kph;
+  limits[kMu].high = kMaxFriction;
   limits[kPassage].high = drivable_width_m(config);
-  limits[kTruckSpeed] = {.low = 0.0, .low_inclusive = true, .high = kMaxSpeed_kph};
+  limits[kTruckSpeed] = {.low = 0.0, .low_inclusive = true, .high = kMaxEgoSpeed_kph};
   return limits;
 }
 
 FactorTable tjunction_factors(const SceneConfig& config) {
-  constexpr std::string_view kWhySpeed = "faster than any road vehicle drives; the speed is in km/h";
   const double width_m = drivable_width_m(config);
   const auto limits = factor_limits(config);
   const TJunctionCell defaults;
-  std::vector<Factor> factors(tjunction::kFactors);
-  factors[kSpeed] = {.key = "speed_kph",
-                     .unit = "km/h",
-                     .what = "ego speed",
-                     .axis = "ego speed (km/h)",
-                     .plural = "speeds",
-                     .held = "v = {} km/h",
-                     .brief = "{:g} km/h",
-                     .role = FactorRole::kEgoSpeed,
-                     .default_value = defaults.speed_kph,
-                     .limits = limits[kSpeed],
-                     .why_high = std::string(kWhySpeed),
-                     .band = 1.0,
-                     .name = "speed"};
-  factors[kTtc] = {.key = "ttc_s",
-                   .unit = "s",
-                   .what = "time to collision",
-                   .axis = "time to collision TTC (s)",
-                   .plural = "TTCs",
-                   .held = "TTC = {} s",
-                   .brief = "TTC {:g} s",
-                   .role = FactorRole::kTtc,
-                   .default_value = defaults.ttc_s,
-                   .limits = limits[kTtc],
-                   .why_high = "",
-                   .name = "TTC"};
-  factors[kMu] = {.key = "mu",
-                  .unit = "1",
-                  .what = "friction coefficient",
-                  .axis = "road friction μ (–)",
-                  .plural = "μ",
-                  .held = "μ = {}",
-                  .brief = "mu {:g}",
-                  .role = FactorRole::kFriction,
-                  .default_value = defaults.mu,
-                  .limits = limits[kMu],
-                  .why_high = "",
-                  .name = "μ"};
+  std::vector<Factor> factors = method_factors(defaults.speed_kph, defaults.ttc_s, defaults.mu);
+  factors.resize(tjunction::kFactors);
   factors[kPassage] = {
       .key = "passage_m",
       .unit = "m",
@@ -105,7 +66,7 @@ FactorTable tjunction_factors(const SceneConfig& config) {
                           .role = FactorRole::kOther,
                           .default_value = config.truck.speed_kph,
                           .limits = limits[kTruckSpeed],
-                          .why_high = std::string(kWhySpeed),
+                          .why_high = std::string(kWhyMaxSpeed),
                           .band = 1.0,
                           .name = "truck speed"};
   return FactorTable(std::move(factors));
@@ -122,7 +83,8 @@ SceneLayout tjunction_layout(const SceneConfig& config, const CellInput& cell) {
   SceneLayout out;
   const RoadConfig& road = config.road;
   const Roadside roadside = *core::enum_from_name<Roadside>(config.roadside.type);
-  out.road = {road.drivable_min_y_m(), road.drivable_max_y_m(), roadside, roadside};
+  const double slope_h = config.roadside.embankment_slope_h;
+  out.road = {road.drivable_min_y_m(), road.drivable_max_y_m(), roadside, roadside, slope_h, slope_h};
   out.ego_y_m = road.ego_lane_center_m;
   out.initial_distance_m = cell.ego_speed_kph() / 3.6 * cell.time_to_collision_s();
   // passage_m is the gap once the truck stands (or, never stopping, at t = TTC): the truck

@@ -253,11 +253,16 @@ ImpactAssessment roadside_impact(const Scene& scene, const VehicleState& s, core
   for (const auto& c : ego_box.corners())
     if (right ? c.y < corner.y : c.y > corner.y) corner = c;
   if (point_out != nullptr) *point_out = corner;
-  if (scene.road().beyond(right) == Roadside::kOpen) {
-    ImpactAssessment open;
-    open.impact_speed_mps = s.speed_mps();
-    open.loss_level = loss_level(false, true, 0.0, 0.0, cfg.severity);
-    return open;
+  const Roadside roadside = scene.road().beyond(right);
+  if (roadside != Roadside::kBarrier) {
+    ImpactAssessment off_road;
+    off_road.impact_speed_mps = s.speed_mps();
+    if (roadside == Roadside::kEmbankment && rolls_over(scene.road().slope_h(right), cfg.severity)) {
+      off_road.p_fatal = cfg.severity.rollover_p_fatal;
+      off_road.p_mais3 = cfg.severity.rollover_p_fatal;  // every death is a MAIS3+ injury: a lower bound
+    }
+    off_road.loss_level = loss_level(false, true, off_road.p_mais3, off_road.p_fatal, cfg.severity);
+    return off_road;
   }
   core::Contact contact;
   contact.touching = true;

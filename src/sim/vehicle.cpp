@@ -138,13 +138,7 @@ std::unique_ptr<VehicleModel> make_vehicle_model(std::string_view name, const Ve
   throw Error(fmt::format("unknown vehicle model '{}' (known: {})", name, fmt::join(vehicle_model_names(), ", ")));
 }
 
-std::vector<std::string> vehicle_model_names() {
-  const auto table = registry().table();
-  std::vector<std::string> names;
-  names.reserve(table->size());
-  for (const auto& m : *table) names.push_back(m.name);
-  return names;
-}
+std::vector<std::string> vehicle_model_names() { return registry().names(); }
 
 namespace detail {
 

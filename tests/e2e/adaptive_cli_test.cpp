@@ -69,7 +69,7 @@ std::string fmt_count(std::size_t simulated, std::size_t feasible) {
 }
 
 // Exit 2 and the message on the first line (an option's error adds CLI11's "Run with --help").
-void expect_bad_input(const RunResult& r, const std::string& what) {
+void expect_bad_input_first_line(const RunResult& r, const std::string& what) {
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_THAT(r.err.substr(0, r.err.find('\n')), HasSubstr(what)) << r.err;
   EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
@@ -155,15 +155,15 @@ TEST(AdaptiveCli, BadInputIsRefusedWithOneLine) {
   const fs::path out = campaign.parent_path() / "out";
   const std::string sweep = "sweep " + quoted(campaign) + " -o " + quoted(out) + " --adaptive ";
   for (const char* value : {"-1", "nan", "abc", "1e3", "2000000", "inf"})
-    expect_bad_input(run_emrm(sweep + "--verify-sample " + value), "--verify-sample");
-  expect_bad_input(run_emrm(sweep + "--initial-levels 1"), "--initial-levels");
-  expect_bad_input(run_emrm(sweep + "--stride 0"), "--stride");
+    expect_bad_input_first_line(run_emrm(sweep + "--verify-sample " + value), "--verify-sample");
+  expect_bad_input_first_line(run_emrm(sweep + "--initial-levels 1"), "--initial-levels");
+  expect_bad_input_first_line(run_emrm(sweep + "--stride 0"), "--stride");
   for (const char* value : {"0", "-1", "nan", "abc", "1001", "2.5"})
-    expect_bad_input(run_emrm(sweep + "--spread " + value), "--spread");
+    expect_bad_input_first_line(run_emrm(sweep + "--spread " + value), "--spread");
   for (const char* value : {"exact", "", "1", "Predict"})
-    expect_bad_input(run_emrm(sweep + "--brackets '" + value + "'"), "--brackets");
-  expect_bad_input(run_emrm(sweep + "--adaptive-levels 3"), "unknown option '--adaptive-levels'");
-  expect_bad_input(run_emrm(sweep + "--shard 1/2"), "--shard cannot split an adaptive sweep");
+    expect_bad_input_first_line(run_emrm(sweep + "--brackets '" + value + "'"), "--brackets");
+  expect_bad_input_first_line(run_emrm(sweep + "--adaptive-levels 3"), "unknown option '--adaptive-levels'");
+  expect_bad_input_first_line(run_emrm(sweep + "--shard 1/2"), "--shard cannot split an adaptive sweep");
   const fs::path listed = campaign_file("adaptive-listed",
                                         "grids:\n"
                                         "  - name: listed\n"
@@ -171,10 +171,11 @@ TEST(AdaptiveCli, BadInputIsRefusedWithOneLine) {
                                         "    cells:\n"
                                         "      - {speed_kph: 50, ttc_s: 1.0}\n");
   const RunResult r = run_emrm("sweep " + quoted(listed) + " -o " + quoted(listed.parent_path() / "out"));
-  expect_bad_input(r, "adaptive needs a product grid");
+  expect_bad_input_first_line(r, "adaptive needs a product grid");
   EXPECT_THAT(r.err, HasSubstr("campaign.yaml:4:"));
   const fs::path word = campaign_file("adaptive-word", "grids:\n  - name: g\n    adaptive: maybe\n    speed_kph: 50\n");
-  expect_bad_input(run_emrm("sweep " + quoted(word) + " -o " + quoted(word.parent_path() / "out")), "campaign.yaml:4:");
+  expect_bad_input_first_line(run_emrm("sweep " + quoted(word) + " -o " + quoted(word.parent_path() / "out")),
+                              "campaign.yaml:4:");
   EXPECT_FALSE(fs::exists(out / "regions.csv"));
 }
 

@@ -26,7 +26,7 @@ std::filesystem::path edited_case(const std::string& test, const std::string& fr
 }
 
 // Bad input: exit 2, nothing on stdout, exactly one line on stderr naming file:line:column.
-void expect_bad_input(const RunResult& r, const std::string& what) {
+void expect_safety_file_error(const RunResult& r, const std::string& what) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(r.out, "");
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -93,42 +93,45 @@ TEST(AnalyzeCli, StrictTurnsWarningsIntoFailure) {
 }
 
 TEST(AnalyzeCli, MalformedYamlExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("malformed", "losses: [L6, L7]", "losses: [L6, L7"))),
-                   "malformed YAML");
+  expect_safety_file_error(
+      run_emrm("analyze " + quoted(edited_case("malformed", "losses: [L6, L7]", "losses: [L6, L7"))), "malformed YAML");
 }
 
 TEST(AnalyzeCli, WrongTypeExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("type", "reversible: false", "reversible: 12"))),
-                   "expected true or false");
+  expect_safety_file_error(run_emrm("analyze " + quoted(edited_case("type", "reversible: false", "reversible: 12"))),
+                           "expected true or false");
 }
 
 TEST(AnalyzeCli, MissingFieldExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("missing", "    context: >-\n      EMRM fails",
-                                                            "    contxt: >-\n      EMRM fails"))),
-                   "missing required field 'context'");
+  expect_safety_file_error(run_emrm("analyze " + quoted(edited_case("missing", "    context: >-\n      EMRM fails",
+                                                                    "    contxt: >-\n      EMRM fails"))),
+                           "missing required field 'context'");
 }
 
 TEST(AnalyzeCli, DuplicateIdExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("duplicate", "id: UCA4", "id: UCA2"))),
-                   "duplicate id 'UCA2'");
+  expect_safety_file_error(run_emrm("analyze " + quoted(edited_case("duplicate", "id: UCA4", "id: UCA2"))),
+                           "duplicate id 'UCA2'");
 }
 
 TEST(AnalyzeCli, UnknownUcaTypeExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("uca-type", "type: not_provided", "type: not_provide"))),
-                   "got 'not_provide'");
+  expect_safety_file_error(
+      run_emrm("analyze " + quoted(edited_case("uca-type", "type: not_provided", "type: not_provide"))),
+      "got 'not_provide'");
 }
 
 TEST(AnalyzeCli, RatingOutOfRangeExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("rating", "controllability: C3", "controllability: C4"))),
-                   "expected C0, C1, C2 or C3, got 'C4'");
+  expect_safety_file_error(
+      run_emrm("analyze " + quoted(edited_case("rating", "controllability: C3", "controllability: C4"))),
+      "expected C0, C1, C2 or C3, got 'C4'");
 }
 
 TEST(AnalyzeCli, NanInAFactorRangeExitsTwo) {
-  expect_bad_input(run_emrm("analyze " + quoted(edited_case("nan", "max: 1.0,", "max: .nan,"))), "finite number");
+  expect_safety_file_error(run_emrm("analyze " + quoted(edited_case("nan", "max: 1.0,", "max: .nan,"))),
+                           "finite number");
 }
 
 TEST(AnalyzeCli, UnknownFactorInARegionExitsTwo) {
-  expect_bad_input(
+  expect_safety_file_error(
       run_emrm("analyze " + quoted(edited_case("factor", "region: \"ttc_s < 0.7\"", "region: \"ttc < 0.7\""))),
       "unknown name 'ttc'");
 }

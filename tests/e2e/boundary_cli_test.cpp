@@ -40,12 +40,6 @@ std::string campaign_text() {
          "    ttc_s: 1.0\n";
 }
 
-void expect_bad_input(const RunResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what));
-}
-
 std::optional<double> number(const std::string& field) {
   if (field.empty()) return std::nullopt;
   return std::stod(field);

@@ -18,12 +18,6 @@ namespace exchange_cli_test {
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
-void expect_bad_input(const RunResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what));
-}
-
 // An argument CLI11 rejects: its message, then "Run with --help for more information."
 void expect_usage_error(const RunResult& r, const std::string& what) {
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;

@@ -2,6 +2,7 @@
 
 // Runs the real emrm binary for end-to-end tests and captures what it printed.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -114,6 +115,13 @@ inline std::size_t column_of(const std::vector<std::string>& header, const std::
   const auto it = std::find(header.begin(), header.end(), name);
   EXPECT_NE(it, header.end()) << "column " << name;
   return static_cast<std::size_t>(it - header.begin());
+}
+
+/// Bad input as the house has it: exit code 2 and one line naming `what`.
+inline void expect_bad_input(const RunResult& r, const std::string& what) {
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, ::testing::HasSubstr(what));
 }
 
 }  // namespace emrm::e2e

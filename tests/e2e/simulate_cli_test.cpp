@@ -14,12 +14,6 @@ namespace simulate_cli_test {
 
 using ::testing::HasSubstr;
 
-void expect_bad_input(const RunResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what));
-}
-
 TEST(SimulateCli, PrintsATableWithTheRegionAndEveryStrategy) {
   const auto r = run_emrm("simulate --speed-kph 50 --ttc-s 1.0");
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -40,12 +40,6 @@ constexpr const char* kSlowCampaign =
     "    speed_kph: {from: 60, to: 72, levels: 4}\n"
     "    ttc_s: {from: 0.25, to: 0.55, levels: 4}\n";
 
-void expect_bad_input(const RunResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what));
-}
-
 // Runs the sqlite3 shell on a store; nullopt when the shell is not installed.
 std::optional<std::string> sqlite_query(const fs::path& db, const std::string& sql) {
   const std::string command = "sqlite3 -readonly " + quoted(db) + " \"" + sql + "\" 2>/dev/null";

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import emrm
-from conftest import run_emrm
+from conftest import SOURCE_DIR, run_emrm
 
 # One cell of each region (the green one is bench_simulate's BM_CellGreen), an infeasible one, and
 # one with every factor and the seed away from their defaults.
@@ -196,3 +196,22 @@ def test_threads_simulating_side_by_side_give_the_sequential_results():
     with ThreadPoolExecutor(max_workers=4) as pool:
         parallel = list(pool.map(lambda cell: emrm.simulate(**cell).to_json(), CELLS * 2))
     assert parallel == sequential * 2
+
+
+def test_another_family_takes_its_factors_and_its_levels_by_name():
+    # The highway of the paper's introduction: a categorical factor by its level's name, as
+    # `emrm simulate --factor obstacle=deer` takes it; the result is the CLI's, byte for byte.
+    scene = emrm.Scene.load(SOURCE_DIR / "examples" / "highway_obstacle" / "scene.yaml")
+    assert scene.family == "highway_obstacle" and scene.highway.deer.mass_kg == 70
+    cell = emrm.simulate(scene, speed_kph=100, ttc_s=1.2, obstacle="deer", blocked_m=5)
+    run = run_emrm("simulate", "--scene", SOURCE_DIR / "examples" / "highway_obstacle" / "scene.yaml",
+                   "--speed-kph", "100", "--ttc-s", "1.2", "--factor", "obstacle=deer", "--factor", "blocked_m=5",
+                   "--json")
+    assert run.returncode == 0, run.stderr
+    assert cell.to_json() + "\n" == run.stdout
+    assert cell.input["obstacle"] == 1 and cell.actors[0]["kind"] == "animal"
+    assert emrm.simulate(scene, speed_kph=100, ttc_s=1.2, obstacle=1, blocked_m=5).to_json() == cell.to_json()
+    with pytest.raises(emrm.UsageError, match="obstacle is one of truck, deer, got 'moose'"):
+        emrm.simulate(scene, speed_kph=100, ttc_s=1.2, obstacle="moose")
+    with pytest.raises(TypeError, match="blocked_m must be a number, not str"):
+        emrm.simulate(scene, speed_kph=100, ttc_s=1.2, blocked_m="wide")

@@ -4,6 +4,8 @@
 // {from, to, levels}. Used by campaign grids and by the manual baseline grid of an ODD file.
 
 #include <cstddef>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "emrm/core/yaml.hpp"
@@ -26,5 +28,9 @@ inline constexpr std::size_t kMaxFactorValues = 1'000'000;
 /// (empty list, reversed range, step <= 0, levels < 1, more than kMaxFactorValues values, unknown
 /// range field).
 [[nodiscard]] std::vector<double> expand_values(const YamlNode& node);
+/// The same for a factor whose values are named `levels` (a categorical factor; none: a number): a
+/// level's name or a list of names, each read as its index. Throws InputError at the node for a name
+/// that is not a level, or a range.
+[[nodiscard]] std::vector<double> expand_values(const YamlNode& node, std::span<const std::string> levels);
 
 }  // namespace emrm::core

@@ -41,6 +41,15 @@ class Registry {
     return table_;
   }
 
+  /// The entries' names, in the table's order.
+  [[nodiscard]] std::vector<std::string> names() const {
+    const auto current = table();
+    std::vector<std::string> out;
+    out.reserve(current->size());
+    for (const auto& e : *current) out.emplace_back(name_of_(e));
+    return out;
+  }
+
   /// Adds an entry. Throws UsageError if its name is already registered.
   void add(T entry) {
     const std::lock_guard lock(mutex_);

@@ -78,6 +78,9 @@ class Actor {
   [[nodiscard]] ActorState at(double t_s) const noexcept;
   /// Its heading: the direction of its motion.
   [[nodiscard]] double heading_rad() const noexcept { return heading_rad_; }
+  /// The lowest and the highest y its footprint covers at time t: exact for a motion along an axis
+  /// (the leading edge is motion().front_at(t)), from the box's corners otherwise.
+  [[nodiscard]] std::pair<double, double> y_extent_at(double t_s) const noexcept;
 
  private:
   ActorBody body_;
@@ -141,6 +144,21 @@ inline ActorState Actor::at(double t_s) const noexcept {
   out.velocity_mps = motion_.direction * motion_.speed_at_mps(t);
   if (motion_.lateral_mps != 0.0 && t < motion_.lateral_for_s) out.velocity_mps.y += motion_.lateral_mps;
   return out;
+}
+
+inline std::pair<double, double> Actor::y_extent_at(double t_s) const noexcept {
+  const core::Vec2 d = motion_.direction;
+  const core::Vec2 front = motion_.front_at(t_s);
+  if (d.x == 0.0)
+    return d.y < 0.0 ? std::pair{front.y, front.y + body_.length_m} : std::pair{front.y - body_.length_m, front.y};
+  if (d.y == 0.0) return {front.y - body_.width_m / 2.0, front.y + body_.width_m / 2.0};
+  double low = std::numeric_limits<double>::infinity();
+  double high = -low;
+  for (const core::Vec2& corner : at(t_s).box.corners()) {
+    low = std::min(low, corner.y);
+    high = std::max(high, corner.y);
+  }
+  return {low, high};
 }
 
 }  // namespace emrm::sim

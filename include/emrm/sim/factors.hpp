@@ -42,35 +42,54 @@ enum class FactorRole : std::uint8_t {
 inline constexpr std::size_t kEgoSpeedFactor = 0, kTtcFactor = 1, kFrictionFactor = 2, kMethodFactors = 3;
 
 /// The values a factor accepts: finite, above `low` (or equal to it with `low_inclusive`), at most
-/// `high`.
+/// `high`, and a whole number when `whole` (a categorical factor's level).
 struct FactorLimits {
   double low = 0.0;
   bool low_inclusive = false;
   double high = std::numeric_limits<double>::infinity();
+  bool whole = false;
 
   [[nodiscard]] bool accepts(double value) const noexcept {
-    return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high;
+    return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high &&
+           (!whole || value == std::floor(value));
+  }
+  /// The limits of a categorical factor of `levels` levels: 0, 1, ..., levels - 1.
+  [[nodiscard]] static FactorLimits categorical(std::size_t levels) noexcept {
+    return {.low = 0.0, .low_inclusive = true, .high = static_cast<double>(levels) - 1.0, .whole = true};
   }
 };
 
-/// One factor of a scenario.
+/// One factor of a scenario. A factor is a number (a speed, a width) or categorical (the kind of an
+/// obstacle, the roadside): a categorical factor names its `levels`, and a cell holds the index of
+/// one (0, 1, ...); campaigns, ODDs and `--factor` name the level, the maps and texts show it.
 struct Factor {
-  std::string key;     ///< as campaigns, ODDs, stores, exports and Python name it ("mu")
-  std::string unit;    ///< "km/h", "s", "1" (a plain number), "m"
-  std::string what;    ///< "friction coefficient": in messages
-  std::string axis;    ///< "road friction μ (–)": a figure's axis
-  std::string plural;  ///< "μ": how a figure's note counts its values
-  std::string held;    ///< "μ = {}": a map panel's held value ({} is the value)
-  std::string brief;   ///< "mu {:g}": the value in `emrm simulate`'s text ({:g} is the value)
+  std::string key{};     ///< as campaigns, ODDs, stores, exports and Python name it ("mu")
+  std::string unit{};    ///< "km/h", "s", "1" (a plain number), "m"
+  std::string what{};    ///< "friction coefficient": in messages
+  std::string axis{};    ///< "road friction μ (–)": a figure's axis
+  std::string plural{};  ///< "μ": how a figure's note counts its values
+  std::string held{};    ///< "μ = {}": a map panel's held value ({} is the value, or the level's name)
+  std::string brief{};   ///< "mu {:g}": the value in `emrm simulate`'s text ({} for a categorical factor's level)
   FactorRole role = FactorRole::kOther;
-  double default_value = 0.0;  ///< a cell's value when a grid or a command does not set it
-  FactorLimits limits;         ///< the values a cell may hold
-  std::string why_high;        ///< why there is an upper limit, when the scene sets it
-  double band = 0.05;          ///< half the width of a map cell when the factor takes one value only
-  std::string name;            ///< "μ": short, in summaries ("speed × μ × passage")
+  double default_value = 0.0;         ///< a cell's value when a grid or a command does not set it
+  FactorLimits limits{};              ///< the values a cell may hold
+  std::string why_high{};             ///< why there is an upper limit, when the scene sets it
+  double band = 0.05;                 ///< half the width of a map cell when the factor takes one value only
+  std::string name{};                 ///< "μ": short, in summaries ("speed × μ × passage")
+  std::vector<std::string> levels{};  ///< a categorical factor's levels, by index; empty for a number
 
+  [[nodiscard]] bool categorical() const noexcept { return !levels.empty(); }
   [[nodiscard]] bool accepts(double value) const noexcept { return limits.accepts(value); }
-  /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0".
+  /// The index of the level `level_name`, or none (also for a factor that is a number).
+  [[nodiscard]] std::optional<std::size_t> level(std::string_view level_name) const noexcept;
+  /// A value as the user writes it: the level's name for a categorical factor, else the number.
+  [[nodiscard]] std::string value_text(double value) const;
+  /// `pattern` (`held`, `brief`) with the value in it: a categorical factor's level by name.
+  [[nodiscard]] std::string format(std::string_view pattern, double value) const;
+  /// A value as a user gave it: a level's name (a categorical factor) or a number. Throws UsageError
+  /// naming the factor and what it accepts.
+  [[nodiscard]] double parse(std::string_view text) const;
+  /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0", "obstacle one of truck, deer".
   [[nodiscard]] std::string inequality() const;
   /// The message for a value accepts() refuses: "mu must be a finite friction coefficient with 0 < mu <= 2, got 3".
   [[nodiscard]] std::string refusal(double value) const;
@@ -135,6 +154,17 @@ class FactorTable {
  private:
   std::vector<Factor> factors_;
 };
+
+/// The highest ego speed (km/h) and friction coefficient a cell of any family may have: above every
+/// road vehicle and every road, so that a value beyond is another unit.
+inline constexpr double kMaxEgoSpeed_kph = 400.0;
+inline constexpr double kMaxFriction = 2.0;
+/// Why a speed has that limit (a Factor's `why_high`).
+inline constexpr std::string_view kWhyMaxSpeed = "faster than any road vehicle drives; the speed is in km/h";
+
+/// The method's three factors (the ego's speed, the TTC, the friction: kMethodFactors) with the keys,
+/// labels and limits every family shares, at the family's defaults: the start of its factor table.
+[[nodiscard]] std::vector<Factor> method_factors(double speed_kph, double ttc_s, double mu);
 
 /// A cell in words, each factor by its `brief`: "50 km/h, TTC 1 s, mu 1, passage 3 m, truck 10 km/h".
 [[nodiscard]] std::string cell_text(const FactorTable& factors, const CellInput& cell);

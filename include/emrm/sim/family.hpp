@@ -47,9 +47,9 @@ struct ScenarioFamilyInfo {
   /// Optional: a cheaper check of a cell with the same outcome as factors(config).validate(cell)
   /// (it runs for every cell simulated). Unset: the table's.
   std::function<void(const SceneConfig&, const CellInput&)> validate_cell = nullptr;
-  /// Whether the analytic results derived for the T-junction's geometry hold for this family: the
-  /// stop boundary with the actuators (stop_physics.hpp) and the unavoidability certificate
-  /// (certificate.hpp). Without them a family's unavoidable cells stay `undecided`.
+  /// Whether the results derived for the T-junction's geometry hold for this family: the
+  /// unavoidability certificate (certificate.hpp), the exports and `assess`. Without the certificate
+  /// a family's unavoidable cells stay `undecided`.
   bool tjunction_analytics = false;
 };
 
@@ -75,7 +75,8 @@ class FamilyRegistration {
 
 /// Why `what` (a command or an output: "emrm export") cannot take the scene's family yet, or nothing:
 /// it is written for the T-junction's geometry and analytics, and the family has not got them
-/// (ScenarioFamilyInfo::tjunction_analytics; docs/families.md, "What is still the T-junction's").
+/// (ScenarioFamilyInfo::tjunction_analytics; docs/families.md, "What is general, and what is still
+/// the T-junction's").
 [[nodiscard]] std::optional<std::string> tjunction_only(const SceneConfig& config, std::string_view what);
 /// Throws UsageError with tjunction_only's reason, if any.
 void require_tjunction(const SceneConfig& config, std::string_view what);

@@ -34,6 +34,9 @@ struct ImpactAssessment {
 [[nodiscard]] double p_mais3(double delta_v_mps, const SeverityConfig& c) noexcept;
 /// P(fatal) = min(1, (Δv / ref)^n).
 [[nodiscard]] double p_fatal(double delta_v_mps, const SeverityConfig& c) noexcept;
+/// Whether a departure down an embankment of `slope_h` (horizontal run per unit of drop) rolls the
+/// car over: it is steeper than the critical slope (SeverityConfig::critical_slope_h).
+[[nodiscard]] bool rolls_over(double slope_h, const SeverityConfig& c) noexcept;
 /// 0 without contact or departure; L4 on either; L6 when P(MAIS3+) ≥ its threshold; L7 when
 /// P(fatal) ≥ its threshold.
 [[nodiscard]] int loss_level(bool contact, bool road_departure, double p_mais3_value, double p_fatal_value,

@@ -113,12 +113,14 @@ class PlannerRegistration {
 /// direction, peak steer, hold and counter-steer timing, brake level, rear lock).
 [[nodiscard]] PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const ControlLimits& limits);
 
-/// How far a rollout that hit the truck was from squeezing past its front: the height of the
-/// ego's highest corner above the truck's front at the contact (0 when it got past the truck;
-/// infinity for any other end).
+/// How far a rollout that hit the hazard was from squeezing past it: how far the ego reaches across
+/// the hazard's edge beside a free band at the contact, the least over the bands (the T-junction's:
+/// the ego's highest corner above the truck's front); 0 when it got past the hazard; infinity for
+/// any other end, or with no band free.
 [[nodiscard]] double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept;
 
-/// Least-loss order: lower level first, then lower Δv.
+/// Least-loss order: lower level first, then lower P(fatal), lower P(MAIS3+), lower Δv (for two
+/// impacts, Δv's order; a rollover or a pedestrian's injury is weighed by its risks).
 [[nodiscard]] bool less_loss(const ImpactAssessment& a, const ImpactAssessment& b) noexcept;
 
 }  // namespace emrm::sim

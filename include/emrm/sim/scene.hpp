@@ -4,6 +4,7 @@
 // geometry and truck motion of one scenario cell. Road frame: x along the main road (ego drives
 // +x), y to the left; the ego's front bumper is at x = 0 when the hazard appears (t = 0).
 
+#include <array>
 #include <filesystem>
 #include <span>
 #include <string>
@@ -16,6 +17,7 @@
 #include "emrm/sim/actuation.hpp"
 #include "emrm/sim/factors.hpp"
 #include "emrm/sim/family.hpp"
+#include "emrm/sim/highway.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -38,25 +40,8 @@ struct RoadConfig {
   }
 };
 
-/// A rigid truck crossing the main road from the side road on the left, heading -y.
-struct TruckConfig {
-  double length_m = 10.0;
-  double width_m = 2.5;
-  double mass_kg = 12000.0;
-  double yaw_inertia_kgm2 = 130000.0;  ///< ≈ m (L² + W²) / 12
-  double speed_kph = 10.0;             ///< default crossing speed when the hazard appears
-  double decel_mps2 = 4.0;             ///< its driver brakes to a standstill; 0: it keeps going
-
-  template <class A>
-  void serialize(A& a) {
-    EMRM_FIELD(a, length_m, core::positive);
-    EMRM_FIELD(a, width_m, core::positive);
-    EMRM_FIELD(a, mass_kg, core::positive);
-    EMRM_FIELD(a, yaw_inertia_kgm2, core::positive);
-    EMRM_FIELD(a, speed_kph, core::non_negative);
-    EMRM_FIELD(a, decel_mps2, core::non_negative);
-  }
-};
+/// The T-junction's rigid truck, crossing the main road from the side road on the left, heading -y.
+using TruckConfig = ObstacleConfig;
 
 struct SimulationConfig {
   static constexpr double kMinStep_s = 1e-4, kMaxStep_s = 0.1, kMaxHorizon_s = 60.0;
@@ -81,11 +66,16 @@ struct RoadsideConfig {
   /// "barrier": a rigid wall or guardrail along both edges; a departure is an impact against an
   /// immovable body, assessed by the same impact model as a contact with the truck.
   /// "open": clear, traversable ground; a departure hits nothing (Δv 0) and scores L4.
+  /// "embankment": a slope down from both edges, `embankment_slope_h` of run per unit of drop;
+  /// steeper than the critical 1V:3H the car rolls over (SeverityConfig::rollover_p_fatal).
   std::string type = "barrier";
+  double embankment_slope_h = 2.0;
 
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, type, core::one_of(roadside_types, "roadside type"));
+    // Written for an embankment only: stores and configuration hashes written before it stay valid.
+    if (!(requires { A::kWritesFile; } && type != "embankment")) EMRM_FIELD(a, embankment_slope_h, core::positive);
   }
   [[nodiscard]] static std::vector<std::string> roadside_types() { return core::enum_names<Roadside>(); }
   [[nodiscard]] bool barrier() const noexcept { return type == "barrier"; }
@@ -121,6 +111,11 @@ struct SeverityConfig {
   double fatal_exponent = 4.0;
   double l6_p_mais3 = 0.10;  ///< L6 when P(MAIS3+) reaches this
   double l7_p_fatal = 0.10;  ///< L7 when P(fatal) reaches this
+  /// A departure down an embankment steeper than `critical_slope_h` (run per unit of drop) rolls the
+  /// car over (AASHTO's critical slopes, steeper than 1V:3H); a rollover kills this share of the
+  /// occupants (NHTSA, Strashny 2007), and injures at least as many seriously (docs/physics.md).
+  double critical_slope_h = 3.0;
+  double rollover_p_fatal = 0.027;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, restitution, core::within(0.0, 1.0));
@@ -131,6 +126,12 @@ struct SeverityConfig {
     EMRM_FIELD(a, fatal_exponent, core::positive);
     EMRM_FIELD(a, l6_p_mais3, core::probability);
     EMRM_FIELD(a, l7_p_fatal, core::probability);
+    // The rollover's two are written only when changed: stores written before them stay valid.
+    constexpr bool kWrites = requires { A::kWritesFile; };
+    if (!kWrites || critical_slope_h != SeverityConfig{}.critical_slope_h)
+      EMRM_FIELD(a, critical_slope_h, core::positive);
+    if (!kWrites || rollover_p_fatal != SeverityConfig{}.rollover_p_fatal)
+      EMRM_FIELD(a, rollover_p_fatal, core::probability);
   }
 };
 
@@ -175,6 +176,7 @@ struct SceneConfig {
   PlannerConfig planner;
   RoadsideConfig roadside;
   SafeStateConfig safe_state;
+  HighwayConfig highway;                 ///< the family highway_obstacle's road and obstacles
   double max_initial_distance_m = 24.5;  ///< cells with v·TTC beyond this are infeasible (grey)
 
   template <class A>
@@ -194,12 +196,21 @@ struct SceneConfig {
     EMRM_FIELD(a, planner);
     EMRM_FIELD(a, roadside);
     EMRM_FIELD(a, safe_state);
+    // A family's own block is written for a scene of that family only.
+    if (!(requires { A::kWritesFile; } && family != "highway_obstacle")) EMRM_FIELD(a, highway);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
+    const double half_width = ego.width_m / 2.0;
+    if (family == "highway_obstacle") {
+      a.ensure(
+          highway.ego_y_m() - half_width >= highway.min_y_m() && highway.ego_y_m() + half_width <= highway.max_y_m(),
+          "highway.ego_lane", "the ego ({} m wide) in lane {} does not fit on the drivable area y in [{}, {}] m",
+          ego.width_m, highway.ego_lane, highway.min_y_m(), highway.max_y_m());
+      return;
+    }
     const double low = road.drivable_min_y_m();
     const double high = road.drivable_max_y_m();
-    const double half_width = ego.width_m / 2.0;
     a.ensure(road.ego_lane_center_m - half_width >= low && road.ego_lane_center_m + half_width <= high,
              "road.ego_lane_center_m",
              "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m", ego.width_m,
@@ -285,6 +296,19 @@ struct TJunctionCell {
 /// Throws UsageError naming the factor and its accepted range.
 void validate_cell(const SceneConfig& config, const CellInput& cell);
 
+/// A band of the road, y ∈ [low_m, high_m], free of the hazard (Scene::free_bands).
+struct FreeBand {
+  double low_m = 0.0;
+  double high_m = 0.0;
+};
+
+/// The free bands beside the hazard: right of it first (below its lowest y), then left of it.
+struct FreeBands {
+  std::array<FreeBand, 2> band{};
+  std::array<bool, 2> right{};  ///< whether band i is right of the hazard
+  std::size_t count = 0;
+};
+
 /// One cell's scene as its family lays it out (family.hpp): the ego's start, the road, the other
 /// road users and their motion.
 class Scene {
@@ -324,6 +348,9 @@ class Scene {
   /// How far the box is from the nearer edge of the drivable band (m): its lowest corner above
   /// y_min or its highest below y_max; negative once a corner is across.
   [[nodiscard]] double edge_gap_m(const core::OrientedBox& box) const noexcept;
+  /// The parts of the drivable band beside the hazard at time t (by its extent across the road; the
+  /// T-junction's passage is the right one): where a path past it may lie. Bands of no width are left out.
+  [[nodiscard]] FreeBands free_bands(double t_s) const noexcept;
   /// The hazard's far side: an ego whose rear is beyond it has got past the hazard.
   [[nodiscard]] double passed_x_m() const noexcept { return layout_.passed_x_m; }
 

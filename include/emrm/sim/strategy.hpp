@@ -139,7 +139,7 @@ class StrategyRegistration {
                                          const ImpactAssessment& unmitigated, const Scene& scene);
 
 /// Whether outcome `a` is better than `b`: an avoidance beats a failure; between failures the lower
-/// loss level, then the lower Δv (less_loss). EMRM is never worse than its options by this order.
+/// loss level, then the lower risks and Δv (less_loss). EMRM is never worse than its options by this order.
 [[nodiscard]] bool better_outcome(const StrategyOutcome& a, const StrategyOutcome& b) noexcept;
 
 /// Whether an avoidance found under `found_with` obeys `limits` too: no rear lock unless `limits`

@@ -60,6 +60,29 @@ TEST(ExpandFactor, LevelsAreEvenlySpacedFromTo) {
   EXPECT_THAT(expand("{from: 2, to: 2, levels: 1}"), ElementsAre(2.0));
 }
 
+// A categorical factor's values are its levels' names, read as their indices.
+TEST(ExpandFactor, ACategoricalFactorTakesItsLevelsByName) {
+  const std::vector<std::string> levels{"truck", "deer"};
+  const auto expand_levels = [&](const std::string& yaml) {
+    return core::expand_values(core::YamlNode::parse(yaml, "f.yaml"), levels);
+  };
+  EXPECT_THAT(expand_levels("deer"), ElementsAre(1.0));
+  EXPECT_THAT(expand_levels("[deer, truck]"), ElementsAre(1.0, 0.0));
+  for (const auto& [yaml, what] : std::vector<std::pair<std::string, std::string>>{
+           {"moose", "f.yaml:1:1: error: expected one of the levels truck, deer, got 'moose'"},
+           {"[truck, 1]", "f.yaml:1:9: error: expected one of the levels truck, deer, got '1'"},
+           {"{from: 0, to: 1, step: 1}", "f.yaml:1:1: error: expected one of the levels truck, deer, got a mapping"},
+           {"[]", "empty list of values"}}) {
+    try {
+      (void)expand_levels(yaml);
+      ADD_FAILURE() << yaml << " was read";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(what)) << yaml;
+    }
+  }
+  EXPECT_THAT(core::expand_values(core::YamlNode::parse("[1, 2]", "f.yaml"), {}), ElementsAre(1.0, 2.0));
+}
+
 TEST(ExpandFactor, RejectsBadRangesAtTheirPlace) {
   EXPECT_THROW(expand("{from: 2, to: 1, step: 0.5}"), InputError);
   EXPECT_THROW(expand("{from: 1, to: 2, step: 0}"), InputError);

@@ -1,0 +1,123 @@
+// End-to-end: scenario families as a user meets them — `emrm families`, a scene of another family,
+// its factors set by --factor, categorical factors by their levels.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace families_cli_test {
+
+using ::testing::HasSubstr;
+
+const std::string kHighway = std::string("--scene ") + EMRM_SOURCE_DIR + "/examples/highway_obstacle/scene.yaml";
+
+TEST(FamiliesCli, ListsEveryShippedFamilyWithItsFactors) {
+  const auto text = run_emrm("families");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("highway_obstacle: "));
+  EXPECT_THAT(text.out, HasSubstr("obstacle one of truck, deer"));
+  EXPECT_THAT(text.out, HasSubstr("default truck"));
+  const auto json = run_emrm("families --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  std::vector<std::string> names;
+  for (const auto& f : j["families"]) names.push_back(f["name"].get<std::string>());
+  EXPECT_THAT(names, ::testing::IsSupersetOf({"tjunction", "highway_obstacle"}));
+  for (const auto& f : j["families"]) {
+    if (f["name"] != "highway_obstacle") continue;
+    EXPECT_FALSE(f["certificate"].get<bool>());
+    ASSERT_EQ(f["factors"].size(), 6u);
+    EXPECT_EQ(f["factors"][3]["key"], "obstacle");
+    EXPECT_EQ(f["factors"][3]["levels"], nlohmann::json({"truck", "deer"}));
+    EXPECT_FALSE(f["factors"][4].contains("levels"));
+  }
+}
+
+TEST(FamiliesCli, SimulatesAHighwayCellWithADeer) {
+  const auto r = run_emrm("simulate " + kHighway +
+                          " --speed-kph 100 --ttc-s 1.2 --factor obstacle=deer --factor blocked_m=5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["family"], "highway_obstacle");
+  EXPECT_EQ(j["input"]["obstacle"].get<double>(), 1.0);  // the level's index
+  ASSERT_EQ(j["actors"].size(), 1u);
+  EXPECT_EQ(j["actors"][0]["kind"], "animal");
+  EXPECT_EQ(j["actors"][0]["name"], "deer");
+  EXPECT_EQ(j["road"]["roadside"]["left"], "barrier");
+  const auto text = run_emrm("simulate " + kHighway +
+                             " --speed-kph 100 --ttc-s 1.2 --factor obstacle=deer --factor roadside=embankment");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("Cell: 100 km/h, TTC 1.2 s, mu 0.8, deer, blocked 6.25 m, embankment"));
+}
+
+TEST(FamiliesCli, BadFactorsExitTwoWithOneMessage) {
+  const std::string cell = "simulate " + kHighway + " --speed-kph 100 --ttc-s 1.2 ";
+  expect_bad_input(run_emrm(cell + "--factor obstacle=moose"), "obstacle is one of truck, deer, got 'moose'");
+  expect_bad_input(run_emrm(cell + "--factor blocked_m=wide"), "blocked_m expects a finite number (m), got 'wide'");
+  expect_bad_input(run_emrm(cell + "--factor blocked_m=nan"), "blocked_m expects a finite number");
+  expect_bad_input(run_emrm(cell + "--factor blocked_m=11"), "blocked_m");
+  expect_bad_input(run_emrm(cell + "--factor passage_m=2"), "has no factor 'passage_m'");
+  expect_bad_input(run_emrm(cell + "--factor obstacle"), "expected KEY=VALUE");
+  expect_bad_input(run_emrm(cell + "--factor obstacle=deer --factor obstacle=truck"), "given twice");
+}
+
+// A campaign over the highway family as a user writes one: its factors by their keys, the obstacle
+// and the roadside by their levels' names; then every command that reads the store.
+TEST(FamiliesCli, AHighwayCampaignSweepsVerifiesDiagnosesAndReports) {
+  const auto dir = scratch_dir("highway_campaign");
+  const std::string scene = std::string(EMRM_SOURCE_DIR) + "/examples/highway_obstacle/scene.yaml";
+  std::ofstream(dir / "campaign.yaml") << "scene: " << scene << R"(
+seed: 1
+grids:
+  - name: contrast
+    speed_kph: [80, 120]
+    ttc_s: [0.8, 1.6]
+    mu: 0.8
+    obstacle: [truck, deer]
+    blocked_m: 5
+    roadside: embankment
+)";
+  const std::string out = (dir / "out").string();
+  const auto sweep = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + out + " --threads 2");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
+  const auto verify = run_emrm("verify " + out);
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+  const auto diagnose = run_emrm("diagnose " + out);
+  EXPECT_EQ(diagnose.exit_code, 0) << diagnose.err;
+  EXPECT_THAT(diagnose.out,
+              HasSubstr("0 analytically stoppable cells classified R; 0 G cells below the stop boundary"));
+  const auto boundary = run_emrm("boundary " + out);
+  EXPECT_EQ(boundary.exit_code, 0) << boundary.err;
+  EXPECT_THAT(boundary.out, HasSubstr("every line is monotone in TTC"));
+  const auto report = run_emrm("report " + out);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  // The maps are sliced by the levels' names.
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "figures" / "map_contrast_obstacle_deer.svg")) << report.out;
+}
+
+TEST(FamiliesCli, AGridNamesALevelOrIsRefusedAtItsPlace) {
+  const auto dir = scratch_dir("highway_bad_level");
+  std::ofstream(dir / "campaign.yaml") << "scene: " << EMRM_SOURCE_DIR << "/examples/highway_obstacle/scene.yaml"
+                                       << R"(
+grids:
+  - name: g
+    speed_kph: 100
+    ttc_s: 1
+    obstacle: [truck, moose]
+)";
+  const auto r = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + (dir / "out").string());
+  expect_bad_input(r, "campaign.yaml:6:23: error: expected one of the levels truck, deer, got 'moose'");
+}
+
+}  // namespace families_cli_test
+}  // namespace emrm::e2e
