@@ -16,7 +16,6 @@
 namespace emrm::campaign {
 namespace {
 
-using core::round_1e9;
 using core::scalar_number;
 
 /// "A, B, C or D": the scenario's factors' keys, for messages.
@@ -116,8 +115,8 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
         }
         const auto f = table.find(k);
         if (!f) key.fail("unknown factor '" + k + "'; expected " + factor_list(table) + " (or name, description)");
-        cell[*f] = table[*f].categorical() && value.is_scalar() ? core::expand_values(value, table[*f].levels).front()
-                                                                : round_1e9(scalar_number(value));
+        // One value (a level by name for a categorical factor); a list or a range is refused.
+        cell[*f] = value.is_scalar() ? core::expand_values(value, table[*f].levels).front() : scalar_number(value);
       }
       grid.cells.push_back(cell);
     }

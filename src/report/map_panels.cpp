@@ -49,7 +49,11 @@ constexpr std::string_view kBoundaryStyle = "with lines dt 2 lw 2.5 lc rgb 'blac
 
 std::string fixed_text(const sim::FactorTable& factors, Axis a, double v) {
   const sim::Factor& f = factor_of(factors, a);
-  return f.categorical() ? f.format(f.held, v) : fmt::format(fmt::runtime(f.held), plot_number(v));
+  return fmt::format(fmt::runtime(f.held), value_label(f, v));
+}
+
+std::string value_label(const sim::Factor& factor, double v) {
+  return factor.categorical() ? factor.value_text(v) : plot_number(v);
 }
 
 std::string region_of(const CellRecord& r) { return core::enum_text(r.feasible ? r.region : sim::Region::kInfeasible); }

@@ -33,6 +33,8 @@ inline constexpr std::array<RegionStyle, 5> kRegions{{
 
 /// "v = 50 km/h", "μ = 1", …: the factor at the value, as a panel's heading says what it holds.
 [[nodiscard]] std::string fixed_text(const sim::FactorTable& factors, Axis a, double v);
+/// A factor's value as the figures write it: a categorical factor's level by name, else the number.
+[[nodiscard]] std::string value_label(const sim::Factor& factor, double v);
 
 /// The cell's region as a map shows it: G, Y, O, R, or "infeasible".
 [[nodiscard]] std::string region_of(const campaign::CellRecord& r);

@@ -60,6 +60,7 @@ using detail::panel_script;
 using detail::region_colour;
 using detail::region_of;
 using detail::StemSet;
+using detail::value_label;
 using detail::value_of;
 using detail::write_csv;
 
@@ -334,8 +335,7 @@ std::string slice_stem(const sim::FactorTable& factors, const std::string& grid,
   for (std::size_t i = 0; i < cut.held.size(); ++i)
     if (std::find(cut.sliced.begin(), cut.sliced.end(), cut.held[i]) != cut.sliced.end()) {
       const sim::Factor& f = factor_of(factors, cut.held[i]);
-      const double v = slice.held_values[i];
-      stem += fmt::format("_{}_{}", f.key, file_stem(f.categorical() ? f.value_text(v) : plot_number(v)));
+      stem += fmt::format("_{}_{}", f.key, file_stem(value_label(f, slice.held_values[i])));
     }
   return stem;
 }

@@ -86,8 +86,7 @@ FactorTable::FactorTable(std::vector<Factor> factors) : factors_(std::move(facto
       if (f.role != FactorRole::kOther && factors_[j].role == f.role)
         throw std::logic_error(fmt::format("factors '{}' and '{}' have the same role", factors_[j].key, f.key));
     }
-    if (f.categorical() && (f.role != FactorRole::kOther || f.limits.low != 0.0 || !f.limits.low_inclusive ||
-                            f.limits.high != static_cast<double>(f.levels.size()) - 1.0 || !f.limits.whole))
+    if (f.categorical() && (f.role != FactorRole::kOther || f.limits != FactorLimits::categorical(f.levels.size())))
       throw std::logic_error(
           fmt::format("categorical factor '{}': role 'other' and FactorLimits::categorical's limits", f.key));
   }
@@ -173,6 +172,22 @@ std::vector<Factor> method_factors(double speed_kph, double ttc_s, double mu) {
                               .limits = {.high = kMaxFriction},
                               .name = "μ"};
   return factors;
+}
+
+Factor categorical_factor(std::string key, const std::string& what, std::vector<std::string> levels) {
+  const FactorLimits limits = FactorLimits::categorical(levels.size());
+  return {.key = std::move(key),
+          .unit = "",
+          .what = what,
+          .axis = what,
+          .plural = what + "s",
+          .held = "{}",
+          .brief = "{}",
+          .default_value = 0.0,
+          .limits = limits,
+          .band = 0.5,
+          .name = what,
+          .levels = std::move(levels)};
 }
 
 std::string cell_text(const FactorTable& factors, const CellInput& cell) {

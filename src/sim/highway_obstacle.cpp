@@ -29,22 +29,9 @@ using highway_cell::kRoadside;
 FactorTable highway_factors(const SceneConfig& config) {
   const HighwayConfig& highway = config.highway;
   const double width_m = highway.max_y_m() - highway.min_y_m();
-  const std::vector<std::string> obstacles = core::enum_names<HighwayObstacle>();
-  const std::vector<std::string> roadsides = core::enum_names<HighwayRoadside>();
   std::vector<Factor> factors = method_factors(100.0, 1.2, 0.8);
   factors.resize(kFactors);
-  factors[kObstacle] = {.key = "obstacle",
-                        .unit = "",
-                        .what = "obstacle",
-                        .axis = "obstacle",
-                        .plural = "obstacles",
-                        .held = "{}",
-                        .brief = "{}",
-                        .default_value = 0.0,
-                        .limits = FactorLimits::categorical(obstacles.size()),
-                        .band = 0.5,
-                        .name = "obstacle",
-                        .levels = obstacles};
+  factors[kObstacle] = categorical_factor("obstacle", "obstacle", core::enum_names<HighwayObstacle>());
   factors[kBlocked] = {
       .key = "blocked_m",
       .unit = "m",
@@ -57,18 +44,7 @@ FactorTable highway_factors(const SceneConfig& config) {
       .limits = {.high = width_m},
       .why_high = fmt::format("the drivable area is {:g} m wide: the obstacle cannot reach further into it", width_m),
       .name = "blocked width"};
-  factors[kRoadside] = {.key = "roadside",
-                        .unit = "",
-                        .what = "roadside",
-                        .axis = "roadside",
-                        .plural = "roadsides",
-                        .held = "{}",
-                        .brief = "{}",
-                        .default_value = 0.0,
-                        .limits = FactorLimits::categorical(roadsides.size()),
-                        .band = 0.5,
-                        .name = "roadside",
-                        .levels = roadsides};
+  factors[kRoadside] = categorical_factor("roadside", "roadside", core::enum_names<HighwayRoadside>());
   return FactorTable(std::move(factors));
 }
 

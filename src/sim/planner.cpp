@@ -45,10 +45,10 @@ double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept
     highest = std::max(highest, corner.y);
   }
   // How far the ego reaches across the hazard's edge beside each free band.
-  const auto [low, high] = scene.hazard().y_extent_at(rollout.end_time_s);
   const FreeBands free = scene.free_bands(rollout.end_time_s);
   double miss = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < free.count; ++i) miss = std::min(miss, free.right[i] ? highest - low : high - lowest);
+  for (std::size_t i = 0; i < free.count; ++i)
+    miss = std::min(miss, free.band[i].right ? highest - free.hazard_low_m : free.hazard_high_m - lowest);
   return std::max(0.0, miss);
 }
 

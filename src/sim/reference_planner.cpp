@@ -37,7 +37,7 @@ PlanResult plan_reference(const Scene& scene, const VehicleModel& model, const C
   // peak, hold, counter-steer, then brake out.
   const FreeBands free = scene.free_bands(cfg.simulation.horizon_s);
   std::vector<double> sides;
-  for (std::size_t i = 0; i < free.count; ++i) sides.push_back(free.right[i] ? 1.0 : -1.0);
+  for (std::size_t i = 0; i < free.count; ++i) sides.push_back(free.band[i].right ? 1.0 : -1.0);
   const std::vector<double> peaks{0.1, 0.2, 0.3, 0.45, 0.6};
   const std::vector<double> holds{0.0, 0.2, 0.4, 0.7, 1.0};
   const std::vector<double> counters{0.0, 0.5, 1.0};

@@ -281,7 +281,7 @@ class Rrt {
     if (limits_.accept_contact) {
       // Full braking steering towards each side left free of the hazard (right without one).
       for (std::size_t i = 0; i < std::max<std::size_t>(free_.count, 1); ++i) {
-        const double side = free_.count == 0 || free_.right[i] ? -1.0 : 1.0;
+        const double side = free_.count == 0 || free_.band[i].right ? -1.0 : 1.0;
         Tail swerve{Control{side * p.max_steer_rate_radps, 1.0, false}, false, false, std::nullopt};
         tails.push_back(swerve);
         swerve.control.rear_lock = true;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/trig.hpp"
@@ -135,16 +136,11 @@ core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
 }
 
 FreeBands Scene::free_bands(double t_s) const noexcept {
-  const auto [low, high] = hazard().y_extent_at(t_s);
   FreeBands out;
-  const auto add = [&](double from, double to, bool right) {
-    if (!(to > from)) return;
-    out.band[out.count] = {from, to};
-    out.right[out.count] = right;
-    ++out.count;
-  };
-  add(layout_.road.min_y_m, std::min(low, layout_.road.max_y_m), true);
-  add(std::max(high, layout_.road.min_y_m), layout_.road.max_y_m, false);
+  std::tie(out.hazard_low_m, out.hazard_high_m) = hazard().y_extent_at(t_s);
+  for (const FreeBand band : {FreeBand{layout_.road.min_y_m, std::min(out.hazard_low_m, layout_.road.max_y_m), true},
+                              FreeBand{std::max(out.hazard_high_m, layout_.road.min_y_m), layout_.road.max_y_m, false}})
+    if (band.high_m > band.low_m) out.band[out.count++] = band;
   return out;
 }
 

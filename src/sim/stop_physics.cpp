@@ -40,9 +40,10 @@ namespace {
 bool in_the_way_from(const Scene& s, double from_s) {
   const ActorMotion& motion = s.hazard().motion();
   if (std::isinf(motion.rest_time_s()) || motion.direction.x != 0.0 || motion.lateral_mps != 0.0) return false;
+  const double lane_y = s.ego_initial().y_m;
   const double half_width = s.config().ego.width_m / 2.0;
-  const double top = s.ego_initial().y_m + half_width;
-  const double bottom = s.ego_initial().y_m - half_width;
+  const double top = lane_y + half_width;
+  const double bottom = lane_y - half_width;
   constexpr double kOverlap_m = 0.01;  // of the hazard and the car's path, for certain
   const auto overlaps = [&](double t_s) {
     const auto [low, high] = s.hazard().y_extent_at(t_s);

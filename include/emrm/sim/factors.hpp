@@ -53,6 +53,7 @@ struct FactorLimits {
     return std::isfinite(value) && (low_inclusive ? value >= low : value > low) && value <= high &&
            (!whole || value == std::floor(value));
   }
+  [[nodiscard]] bool operator==(const FactorLimits&) const = default;
   /// The limits of a categorical factor of `levels` levels: 0, 1, ..., levels - 1.
   [[nodiscard]] static FactorLimits categorical(std::size_t levels) noexcept {
     return {.low = 0.0, .low_inclusive = true, .high = static_cast<double>(levels) - 1.0, .whole = true};
@@ -165,6 +166,10 @@ inline constexpr std::string_view kWhyMaxSpeed = "faster than any road vehicle d
 /// The method's three factors (the ego's speed, the TTC, the friction: kMethodFactors) with the keys,
 /// labels and limits every family shares, at the family's defaults: the start of its factor table.
 [[nodiscard]] std::vector<Factor> method_factors(double speed_kph, double ttc_s, double mu);
+
+/// A categorical factor (FactorRole::kOther) named `key`, described as `what` in messages and
+/// figures, with its `levels` in index order; the first is the default.
+[[nodiscard]] Factor categorical_factor(std::string key, const std::string& what, std::vector<std::string> levels);
 
 /// A cell in words, each factor by its `brief`: "50 km/h, TTC 1 s, mu 1, passage 3 m, truck 10 km/h".
 [[nodiscard]] std::string cell_text(const FactorTable& factors, const CellInput& cell);

@@ -300,13 +300,16 @@ void validate_cell(const SceneConfig& config, const CellInput& cell);
 struct FreeBand {
   double low_m = 0.0;
   double high_m = 0.0;
+  bool right = false;  ///< right of the hazard (below its lowest y), else left of it
 };
 
-/// The free bands beside the hazard: right of it first (below its lowest y), then left of it.
+/// The free bands beside the hazard, the right one first, and the hazard's extent across the road
+/// they were cut from.
 struct FreeBands {
   std::array<FreeBand, 2> band{};
-  std::array<bool, 2> right{};  ///< whether band i is right of the hazard
   std::size_t count = 0;
+  double hazard_low_m = 0.0;   ///< the hazard's lowest y
+  double hazard_high_m = 0.0;  ///< and its highest
 };
 
 /// One cell's scene as its family lays it out (family.hpp): the ego's start, the road, the other

@@ -88,6 +88,27 @@ TEST(FactorTable, RefusesATableWithoutTheMethodsFactorsFirst) {
   EXPECT_THROW(FactorTable{many}, std::logic_error);
 }
 
+// A categorical factor holds a level's index: whole numbers from 0 to its last level, and nothing
+// else; its role is the scenario's own and its limits follow from its levels.
+TEST(FactorTable, ACategoricalFactorTakesTheIndicesOfItsLevels) {
+  std::vector<Factor> factors = method_factors(50.0, 1.0, 1.0);
+  factors.push_back(categorical_factor("kind", "kind", {"car", "van", "bus"}));
+  const FactorTable table(factors);
+  const Factor& kind = table[3];
+  for (const double v : {0.0, 1.0, 2.0}) EXPECT_TRUE(kind.accepts(v)) << v;
+  for (const double v : {-1.0, 0.5, 3.0, std::nan("")}) EXPECT_FALSE(kind.accepts(v)) << v;
+  EXPECT_EQ(kind.value_text(2.0), "bus");
+  EXPECT_EQ(kind.parse("van"), 1.0);
+  EXPECT_EQ(cell_text(table, {50.0, 1.0, 1.0, 2.0}), "50 km/h, TTC 1 s, mu 1, bus");
+  EXPECT_THAT(kind.refusal(3.0), HasSubstr("kind must be one of the levels car (0), van (1), bus (2), got 3"));
+  std::vector<Factor> passage = factors;
+  passage[3].role = FactorRole::kPassage;
+  EXPECT_THROW(FactorTable{passage}, std::logic_error);
+  std::vector<Factor> wide = factors;
+  wide[3].limits.high = 5.0;
+  EXPECT_THROW(FactorTable{wide}, std::logic_error);
+}
+
 TEST(CellInput, ComparesValueByValueAndReadsTheMethodsFactors) {
   const CellInput a{50.0, 1.2, 0.8, 3.0};
   EXPECT_EQ(a, (CellInput{50.0, 1.2, 0.8, 3.0}));

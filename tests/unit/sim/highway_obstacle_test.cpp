@@ -102,14 +102,14 @@ TEST(HighwayObstacle, FreeBandsLieBesideTheObstacle) {
   const Scene truck(config, cell(config, 100, 1.2, 0.8, "truck", 6.25, "guardrail"));
   const FreeBands t_bands = truck.free_bands(t);
   ASSERT_EQ(t_bands.count, 1u);
-  EXPECT_FALSE(t_bands.right[0]);
+  EXPECT_FALSE(t_bands.band[0].right);
   EXPECT_NEAR(t_bands.band[0].low_m, 3.75, 1e-12);
   EXPECT_EQ(t_bands.band[0].high_m, truck.road().max_y_m);
   // A deer 1.6 m long standing 5 m into the road leaves room on both sides.
   const Scene deer(config, cell(config, 100, 1.2, 0.8, "deer", 5.0, "guardrail"));
   const FreeBands d_bands = deer.free_bands(t);
   ASSERT_EQ(d_bands.count, 2u);
-  EXPECT_TRUE(d_bands.right[0]);
+  EXPECT_TRUE(d_bands.band[0].right);
   EXPECT_EQ(d_bands.band[0].low_m, deer.road().min_y_m);
   EXPECT_NEAR(d_bands.band[0].high_m, -2.5 + 5.0 - 1.6, 1e-12);
   EXPECT_NEAR(d_bands.band[1].low_m, -2.5 + 5.0, 1e-12);
