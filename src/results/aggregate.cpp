@@ -83,6 +83,29 @@ LevelCuts level_cuts(const sim::SceneConfig& scene) {
   return cuts;
 }
 
+LevelCuts level_cuts_by_thirds(const sim::SceneConfig& scene, const std::vector<campaign::CellRecord>& records,
+                               std::string_view grid) {
+  LevelCuts cuts = level_cuts(scene);
+  double v_low = INFINITY, v_high = -INFINITY, t_low = INFINITY, t_high = -INFINITY;
+  for (const auto& r : records) {
+    if (!r.feasible || r.grid != grid) continue;
+    v_low = std::min(v_low, r.factors.ego_speed_kph());
+    v_high = std::max(v_high, r.factors.ego_speed_kph());
+    t_low = std::min(t_low, r.factors.time_to_collision_s());
+    t_high = std::max(t_high, r.factors.time_to_collision_s());
+  }
+  if (v_low > v_high) return cuts;  // no feasible cell: the defaults
+  // A third of the range, rounded to the grid's own precision so that the labels read as written.
+  const auto third = [](double low, double high, double k, double unit) {
+    return std::round((low + k * (high - low) / 3.0) / unit) * unit;
+  };
+  cuts.speed_low_max_kph = third(v_low, v_high, 1.0, 1.0);
+  cuts.speed_med_max_kph = third(v_low, v_high, 2.0, 1.0);
+  cuts.ttc_low_max_s = third(t_low, t_high, 1.0, 0.01);
+  cuts.ttc_med_max_s = third(t_low, t_high, 2.0, 0.01);
+  return cuts;
+}
+
 std::string_view factor_name(Breakdown f) noexcept { return f ? core::enum_name(*f) : "all"; }
 
 const std::vector<std::string>& level_names(Breakdown f) {

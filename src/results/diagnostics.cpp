@@ -111,8 +111,10 @@ StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& r
   return check_stop_boundary(records, actuation);
 }
 
-StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
-                                      const sim::ActuationConfig& actuation) {
+namespace {
+
+StopBoundaryCheck stop_boundary_check(const std::vector<campaign::CellRecord>& records,
+                                      const sim::ActuationConfig& actuation, const sim::SceneConfig* scene) {
   StopBoundaryCheck c;
   c.latency_s = actuation.perception_latency_s;
   c.actuation = actuation;
@@ -125,10 +127,22 @@ StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& r
       if (r.region == sim::Region::kR) c.stoppable_red.push_back(cell_ref(r));
       if (r.region != sim::Region::kG) c.stoppable_not_green.push_back(cell_ref(r));
     } else if (r.region == sim::Region::kG) {
-      c.green_not_stoppable.push_back(cell_ref(r));
+      const bool in_the_way = scene == nullptr || sim::hazard_in_the_way(*scene, r.factors);
+      (in_the_way ? c.green_not_stoppable : c.green_clear_path).push_back(cell_ref(r));
     }
   }
   return c;
+}
+
+}  // namespace
+
+StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
+                                      const sim::ActuationConfig& actuation) {
+  return stop_boundary_check(records, actuation, nullptr);
+}
+
+StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records, const sim::SceneConfig& scene) {
+  return stop_boundary_check(records, scene.actuation, &scene);
 }
 
 MonotonicityCheck check_monotonicity(const std::vector<campaign::CellRecord>& records, std::size_t max_examples) {
@@ -244,7 +258,7 @@ Diagnostics run_diagnostics(const std::vector<campaign::CellRecord>& records, co
                             const DiagnosticsOptions& options) {
   Diagnostics d;
   d.factors = sim::scenario_factors(scene);
-  d.stop_boundary = check_stop_boundary(records, scene.actuation);
+  d.stop_boundary = check_stop_boundary(records, scene);
   d.monotonicity = check_monotonicity(records);
   d.reference = check_against_reference(records, scene, options.reference_sample, options.seed, options.threads);
   d.emrm_fsm = emrm_fsm_coverage(records, sim::default_emrm_fsm());
@@ -269,7 +283,9 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
             {"stoppable_not_green_count", sb.stoppable_not_green.size()},
             {"stoppable_not_green", cells_json(sb.stoppable_not_green, d.factors)},
             {"green_not_stoppable_count", sb.green_not_stoppable.size()},
-            {"green_not_stoppable", cells_json(sb.green_not_stoppable, d.factors)}};
+            {"green_not_stoppable", cells_json(sb.green_not_stoppable, d.factors)},
+            {"green_clear_path_count", sb.green_clear_path.size()},
+            {"green_clear_path", cells_json(sb.green_clear_path, d.factors)}};
   Json counts = Json::array();
   for (const auto& c : d.monotonicity.counts)
     counts.push_back({{"grid", c.grid},
@@ -319,11 +335,16 @@ std::string summary(const Diagnostics& d) {
   std::vector<std::string> missed;
   for (const auto& c : rc.strategies) missed.push_back(fmt::format("{} {}", c.missed, c.strategy));
   return fmt::format(
-      "{} analytically stoppable cells classified R{}; {} G cells below the stop boundary; {} monotonicity "
+      "{} analytically stoppable cells classified R{}; {} G cells below the stop boundary{}; {} monotonicity "
       "reversals; reference planner on {} cells: RRT missed {}; FSM transition coverage {}/{} (EMRM), {}/{} "
       "(loss evaluation)",
       sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
-      sb.green_not_stoppable.size(), d.monotonicity.total_reversals, rc.sampled,
+      sb.green_not_stoppable.size(),
+      sb.green_clear_path.empty()
+          ? std::string()
+          : fmt::format(" with the hazard in the car's path ({} more where it leaves the path clear)",
+                        sb.green_clear_path.size()),
+      d.monotonicity.total_reversals, rc.sampled,
       missed.empty() ? std::string("nothing (no strategy checked)") : core::join(missed, ", "),
       d.emrm_fsm.coverage.covered, d.emrm_fsm.coverage.counts.size(), d.loss_evaluation_fsm.coverage.covered,
       d.loss_evaluation_fsm.coverage.counts.size());

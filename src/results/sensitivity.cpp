@@ -50,11 +50,13 @@ core::Table brake_sensitivity_table(const std::vector<campaign::CellRecord>& rec
   core::Table t;
   t.title =
       fmt::format("G (emergency stop avoids) on grid '{}' against the brakes' dead time and peak deceleration", grid);
-  t.header = {"brakes", "G (%)", "change (points)", "paper G (%)"};
+  t.header = {"brakes", "G (%)", "change (points)"};
+  if (!paper.empty()) t.header.emplace_back("paper G (%)");
   const double paper_g = paper.fine_grid.grid == grid ? paper.fine_grid.regions_pct.g : NAN;
   const std::string paper_text = std::isnan(paper_g) ? std::string(core::kNoValue) : core::format_number(paper_g, 1);
   const auto row = [&](const std::string& label, double g) {
-    t.rows.push_back({label, core::format_number(g, 1), core::format_number(g - s.base_g_pct, 1), paper_text});
+    t.rows.push_back({label, core::format_number(g, 1), core::format_number(g - s.base_g_pct, 1)});
+    if (!paper.empty()) t.rows.back().push_back(paper_text);
   };
   row(fmt::format("this scene (dead time {:g} s, ramp {:g} s, cap {})", base.brake_dead_time_s, base.brake_ramp_s,
                   base.max_decel_mps2 > 0.0 ? fmt::format("{:g} m/s²", base.max_decel_mps2) : std::string("none")),

@@ -91,8 +91,8 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   const auto cells = records_of_grid(records, grid);
   const auto feasible = feasible_of(records, grid).size();
   Table t;
-  t.title = fmt::format("EMRM vs emergency stop (grid '{}', {} feasible cells; paper: {} cells)", grid, feasible,
-                        paper.emrm_vs_baseline.cells);
+  t.title = fmt::format("EMRM vs emergency stop (grid '{}', {} feasible cells{})", grid, feasible,
+                        paper.empty() ? "" : fmt::format("; paper: {} cells", paper.emrm_vs_baseline.cells));
   t.header = {"Metric"};
   std::vector<StrategyKpis> kpis;
   std::vector<const PaperBaselineColumn*> columns;
@@ -106,7 +106,7 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   for (const auto& entry : sim::registered_strategies().entries()) {
     const auto& info = entry.info;
     if (std::any_of(columns.begin(), columns.end(), [&](const auto* c) { return c->strategy == info.name; })) continue;
-    t.header.push_back(fmt::format("{} ({}, ours only)", info.title, info.name));
+    t.header.push_back(fmt::format("{} ({}{})", info.title, info.name, paper.empty() ? "" : ", ours only"));
     kpis.push_back(strategy_kpis(cells, info.name, grid));
     ours_only.push_back(fmt::format("`{}`", info.name));
   }
@@ -131,6 +131,25 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   row("Mean impact speed, collisions only (km/h)", 1, 1, &StrategyKpis::mean_impact_speed_collisions_kph, nullptr);
   row("Mean minimum TTC (s)", 2, 2, &StrategyKpis::mean_min_ttc_s, nullptr);
 
+  // ΔLoss cannot exceed the mean unmitigated level: the number that explains a ΔLoss gap.
+  double unmitigated_sum = 0.0;
+  for (const auto* r : feasible_of(records, grid)) unmitigated_sum += r->unmitigated_loss_level;
+  const double mean_unmitigated =
+      feasible == 0 ? std::numeric_limits<double>::quiet_NaN() : unmitigated_sum / static_cast<double>(feasible);
+  const auto delta_loss_bound = [&](std::string_view levels) {
+    return fmt::format(
+        "ΔLoss counts levels {} (an avoided L7 cell counts 7), so it is bounded by the mean unmitigated level, {} on "
+        "our cells; mitigability success counts a cell when its level is below the unmitigated level.",
+        levels, format_number(mean_unmitigated, 2));
+  };
+  if (paper.empty()) {
+    t.notes.push_back(
+        "Each column is one of our strategies; no published numbers stand beside them (the example has no "
+        "paper_reference.yaml). Our emergency stop avoids exactly the cells on or above its stop boundary through "
+        "the actuators (diagnostics.json); the evasive strategies are a seeded RRT on our single-track model. " +
+        delta_loss_bound("L0-L7"));
+    return t;
+  }
   std::vector<std::string> mapping;
   for (const auto* c : columns) mapping.push_back(fmt::format("\"{}\" is our `{}`", c->label, c->strategy));
   t.notes.push_back("Each cell reads \"ours (paper N)\". Columns: " + core::join(mapping, ", ") +
@@ -151,22 +170,14 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
                     format_number(k.mean_impact_speed_kph, 1), c.mean_residual_impact_speed_kph));
   }
   t.notes.push_back("Where ours differ: " + core::join(diffs, "; ") + ".");
-  // ΔLoss cannot exceed the mean unmitigated level: the number that explains a ΔLoss gap.
-  double unmitigated_sum = 0.0;
-  for (const auto* r : feasible_of(records, grid)) unmitigated_sum += r->unmitigated_loss_level;
-  const double mean_unmitigated =
-      feasible == 0 ? std::numeric_limits<double>::quiet_NaN() : unmitigated_sum / static_cast<double>(feasible);
   std::string why = fmt::format(
       "Why: our grid has {} feasible cells against the paper's {} (feasibility is v·TTC within the scene's "
       "max_initial_distance_m). Our emergency stop is full ABS braking, so it avoids exactly the cells above "
       "the "
       "analytic stop boundary TTC ≥ v/(2μg) (see diagnostics.json), and the evasive strategies are a "
-      "seeded RRT on our single-track model, not the paper's planner. ΔLoss counts levels L0/L4/L6/L7 "
-      "(an avoided L7 cell counts 7), so it is bounded by the mean unmitigated level, {} on our cells; "
-      "mitigability success counts a cell when its level is below the "
-      "unmitigated "
-      "level. Road departures are L4 (docs/decisions.md).",
-      feasible, paper.emrm_vs_baseline.cells, format_number(mean_unmitigated, 2));
+      "seeded RRT on our single-track model, not the paper's planner. {} Road departures are L4 "
+      "(docs/decisions.md).",
+      feasible, paper.emrm_vs_baseline.cells, delta_loss_bound("L0/L4/L6/L7"));
   t.notes.push_back(why);
   return t;
 }
@@ -175,8 +186,10 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
                          std::string_view grid, std::string_view passage_grid, std::string_view friction_grid,
                          const LevelCuts& cuts) {
   Table t;
-  t.title = fmt::format("Collision avoidance (%) by parameter level (grid '{}'; passage: '{}')", grid,
-                        passage_grid.empty() ? "all grids" : passage_grid);
+  t.title = fmt::format("Collision avoidance (%) by parameter level (grid '{}'{})", grid,
+                        !cuts.passage_factor   ? ""
+                        : passage_grid.empty() ? "; passage: 'all grids'"
+                                               : fmt::format("; passage: '{}'", passage_grid));
   std::vector<std::string> strategies = paper.by_parameter.strategies;
   if (strategies.empty())  // the paper's columns; without them, ours in evaluation order
     for (const auto& entry : sim::registered_strategies().entries())
@@ -227,6 +240,7 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
     return core::join(parts, " / ");
   };
   for (const Breakdown f : kBreakdownRoles) {
+    if (f == sim::FactorRole::kPassage && !cuts.passage_factor) continue;  // a scene without a passage
     const auto* p = paper.by_parameter_row(factor_name(f));
     const std::vector<std::string> levels = p ? p->levels : level_names(f);
     const std::string_view on_grid = f == sim::FactorRole::kPassage ? passage_grid : grid;
@@ -246,14 +260,18 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
                     range_label(sim::FactorRole::kFriction, level_names(sim::FactorRole::kFriction)), friction_grid),
         friction_grid, sim::FactorRole::kFriction, level_names(sim::FactorRole::kFriction), nullptr);
 
-  t.notes.push_back(
-      "Each cell reads \"ours (paper N)\", levels separated by \" / \". The paper's caption calls these "
-      "numbers "
-      "mitigability success, but its friction row (81/81/81/45) equals the collision-avoidance rates of its "
-      "EMRM-vs-baseline table, so we show collision-avoidance rates; kpis.csv has mitigability success, "
-      "ΔLoss and "
-      "impact speeds for every level.");
-  if (has_grid(records, passage_grid) || passage_grid.empty()) {
+  if (paper.empty())
+    t.notes.push_back(
+        "Collision-avoidance rates per level, levels separated by \" / \"; speed and TTC are cut into thirds of "
+        "the grid's range (docs/results.md). kpis.csv has mitigability success, ΔLoss and impact speeds for every "
+        "level.");
+  else
+    t.notes.push_back(
+        "Each cell reads \"ours (paper N)\", levels separated by \" / \". The paper's caption calls these "
+        "numbers mitigability success, but its friction row (81/81/81/45) equals the collision-avoidance rates of "
+        "its EMRM-vs-baseline table, so we show collision-avoidance rates; kpis.csv has mitigability success, ΔLoss "
+        "and impact speeds for every level.");
+  if (cuts.passage_factor && (has_grid(records, passage_grid) || passage_grid.empty())) {
     const auto narrow = subset(records, passage_grid, sim::FactorRole::kPassage, "narrow", cuts);
     const std::string evasive_name = first_name_of(sim::StrategyRole::kEvasive);
     const std::string baseline_name = first_name_of(sim::StrategyRole::kBaseline);
@@ -294,13 +312,20 @@ Table regions_table(const std::vector<campaign::CellRecord>& records, const Pape
     t.rows.push_back({grid, std::to_string(c.cells), std::to_string(c.feasible), std::to_string(c.infeasible),
                       format_number(c.pct(c.g), 1), format_number(c.pct(c.y), 1), format_number(c.pct(c.o), 1),
                       format_number(c.pct(c.r), 1)});
-    if (grid == paper.fine_grid.grid) {
+    if (!paper.empty() && grid == paper.fine_grid.grid) {
       fine = c;
       const auto& pr = paper.fine_grid.regions_pct;
       t.rows.push_back({grid + " (paper)", std::string(kNoValue), std::to_string(paper.fine_grid.feasible_cells),
                         std::string(kNoValue), paper_number(pr.g), paper_number(pr.y), paper_number(pr.o),
                         paper_number(pr.r)});
     }
+  }
+  if (paper.empty()) {
+    t.notes.push_back(
+        "No published regions stand beside these (the example has no paper_reference.yaml). G is where the "
+        "emergency stop avoids, Y where only an evasive maneuver does, O where one lowers the loss level, R where "
+        "nothing does (docs/verify.md has the evidence of each cell).");
+    return t;
   }
   if (!fine) {
     const auto& pr = paper.fine_grid.regions_pct;
@@ -422,7 +447,8 @@ Table claims_table(const std::vector<campaign::CellRecord>& records, const Paper
 Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& reports, const PaperReference& paper) {
   Table t;
   t.title = "Coverage comparison: the minimum scenario set vs traditional methods (%)";
-  t.header = {"Method", "Scenarios", "Hazard", "UCA", "FSM transition", "Cell", "t-wise", "Boundary", "C1-C4", "Paper"};
+  t.header = {"Method", "Scenarios", "Hazard", "UCA", "FSM transition", "Cell", "t-wise", "Boundary", "C1-C4"};
+  if (!paper.empty()) t.header.push_back("Paper");
   const auto& pc = paper.claims.coverage_pct;
   const auto paper_figure = [&](const std::string& name) -> std::string {
     if (name == "emrm plan") return fmt::format("{:g}", pc.framework);
@@ -438,7 +464,16 @@ Table coverage_comparison_table(const std::vector<scenario::CoverageReport>& rep
       if (holds) flags += flags.empty() ? label : std::string(" ") + label;
     t.rows.push_back({r.name, std::to_string(r.scenarios), percent(r.hazards), percent(r.malfunctions),
                       percent(r.transitions), percent(r.cells), percent(r.twise), percent(r.boundaries),
-                      flags.empty() ? std::string("none") : flags, paper_figure(r.name)});
+                      flags.empty() ? std::string("none") : flags});
+    if (!paper.empty()) t.rows.back().push_back(paper_figure(r.name));
+  }
+  if (paper.empty()) {
+    t.notes.push_back(
+        "Measured by one checker (docs/plan.md) on the example's ODD: hazard and UCA coverage count the hazards and "
+        "UCAs whose region some test lies in, cell coverage the ODD's relevant cells. HARA only tests each hazard "
+        "once at the nominal operating point, STPA only each UCA once inside its region, the manual grid the ODD's "
+        "`baselines: manual` points.");
+    return t;
   }
   t.notes.push_back(
       "Ours are measured by one checker (docs/plan.md) on the ODD of examples/tjunction/odd.yaml: hazard and UCA "
@@ -496,7 +531,7 @@ std::vector<std::filesystem::path> write_tables(const std::filesystem::path& dir
                                          has_grid(records, options.passage_grid) ? options.passage_grid : "",
                                          options.friction_grid, options.cuts));
   add("regions", regions_table(records, paper, options.actuation));
-  add("claims", claims_table(records, paper, options.grid));
+  if (!paper.empty()) add("claims", claims_table(records, paper, options.grid));
   files.push_back({ResultsDir(dir).kpis_csv(), kpis_csv(records, options.cuts)});
   core::write_files(files);
   std::vector<std::filesystem::path> written;

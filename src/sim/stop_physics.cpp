@@ -62,6 +62,11 @@ std::optional<RolloutResult> no_action_of(const SceneConfig& scene, const CellIn
 
 }  // namespace
 
+bool hazard_in_the_way(const SceneConfig& scene, const CellInput& cell) {
+  const Scene s(scene, cell);
+  return in_the_way_from(s, s.ttc_s());
+}
+
 bool nothing_to_mitigate(const SceneConfig& scene, const CellInput& cell) {
   const auto nothing = no_action_of(scene, cell);
   return nothing && nothing->termination == Termination::kContact &&

@@ -9,6 +9,7 @@
 
 #include "emrm/campaign/campaign.hpp"
 #include "emrm/core/error.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
 
 namespace emrm::workflow {
@@ -63,7 +64,35 @@ std::string hint(const sim::Factor& l, double v) {
   return "";
 }
 
+// A categorical factor of the family: the ODD names its levels as classes, each class's number the
+// level's index (the number a cell holds), so that a class is simulated as the level it names.
+void check_categorical_factor(const OddFactor& f, const sim::Factor& l) {
+  const std::string levels = core::join(l.levels, ", ");
+  if (f.type != FactorType::kCategorical && f.type != FactorType::kConstant)
+    throw InputError(f.where, fmt::format("{}: a {} factor of {} levels ({}): expected type: categorical with "
+                                          "classes: [{}] (or some of them)",
+                                          f.name, core::enum_name(f.type), l.levels.size(), levels, levels));
+  if (f.type == FactorType::kConstant) return;  // its number is checked against the levels' indices below
+  for (std::size_t k = 0; k < f.classes.size(); ++k) {
+    const auto at = l.level(f.classes[k]);
+    const SourceLocation where = k < f.value_where.size() ? f.value_where[k] : f.where;
+    if (!at)
+      throw InputError(where, fmt::format("{}: class '{}': expected one of the levels {} of the scene's family", f.name,
+                                          f.classes[k], levels));
+    if (f.class_values[k] != static_cast<double>(*at))
+      throw InputError(where,
+                       fmt::format("{}: class '{}' has the number {:g}, but the simulator reads {:g} as '{}'; "
+                                   "leave out `values:` and list the classes in the levels' order ({}), or "
+                                   "give '{}' the number {}",
+                                   f.name, f.classes[k], f.class_values[k], f.class_values[k],
+                                   l.accepts(f.class_values[k]) ? l.levels[static_cast<std::size_t>(f.class_values[k])]
+                                                                : std::string("no level"),
+                                   levels, f.classes[k], *at));
+  }
+}
+
 void check_factor(const OddFactor& f, const sim::Factor& l) {
+  if (l.categorical()) check_categorical_factor(f, l);
   if (!f.unit.empty() && canonical_unit(f.unit) != canonical_unit(l.unit))
     throw InputError(f.unit_where, fmt::format("{}: unit '{}': expected {} (the simulator reads {} as {}); convert "
                                                "the values or rename the factor",

@@ -38,6 +38,7 @@
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "emrm/workflow/plan_checks.hpp"
 #include "emrm/workflow/profiles.hpp"
 #include "emrm/workflow/run.hpp"
 #include "emrm/workflow/safety_case.hpp"
@@ -47,8 +48,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kExampleFiles[] = {"safety.yaml",   "emrm_fsm.yaml", "loss_evaluation_fsm.yaml",
-                                         "campaign.yaml", "odd.yaml",      "paper_reference.yaml"};
+// What an example folder holds; paper_reference.yaml (published numbers to show beside ours) is optional.
+constexpr const char* kExampleFiles[] = {"safety.yaml", "emrm_fsm.yaml", "loss_evaluation_fsm.yaml", "campaign.yaml",
+                                         "odd.yaml"};
+constexpr const char* kPaperReferenceFile = "paper_reference.yaml";
 
 bool is_example_dir(const fs::path& dir) {
   std::error_code ec;
@@ -131,8 +134,11 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   // Read every input before any long work, so bad input fails in a second and not after the sweep.
   campaign::Campaign plan = campaign::load_campaign(examples / "campaign.yaml");
   if (!options.profile.empty()) campaign::apply_profile(plan, options.profile);
-  const results::PaperReference paper = results::load_paper_reference(examples / "paper_reference.yaml");
+  const results::PaperReference paper = fs::is_regular_file(examples / kPaperReferenceFile)
+                                            ? results::load_paper_reference(examples / kPaperReferenceFile)
+                                            : results::PaperReference{};
   const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml");
+  workflow::check_odd_against_scene(odd, workflow::plan_scene(odd));
   fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
 
   bool ok = run_analysis(examples, out);
@@ -163,14 +169,16 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto records = campaign::read_results(folder.store());
   results::TableOptions table_options;
   table_options.grid = results::headline_grid(records, paper.fine_grid.grid);
-  table_options.cuts = results::level_cuts(plan.scene);
+  table_options.cuts = paper.empty() ? results::level_cuts_by_thirds(plan.scene, records, table_options.grid)
+                                     : results::level_cuts(plan.scene);
   table_options.actuation = plan.scene.actuation;
   results::write_tables(out, records, paper, table_options);
   core::write_table(folder.tables_dir(), "brake_sensitivity",
                     results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
 
   // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
-  if (const auto profiles = results::scene_profiles(plan); !profiles.empty()) {
+  const auto profiles = results::scene_profiles(plan);
+  if (!profiles.empty()) {
     const auto runs = workflow::sweep_profiles(plan, table_options.grid, profiles, sweep_options);
     std::vector<std::vector<campaign::CellRecord>> per_profile;
     std::vector<std::string> parts;
@@ -231,21 +239,29 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   // The summary: the headline numbers, ours beside the paper's.
   const auto regions = results::count_regions(records, table_options.grid);
   const auto& pr = paper.fine_grid.regions_pct;
-  fmt::print("\nRegions of grid '{}' (% of feasible cells), ours vs paper:\n", table_options.grid);
-  fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n", regions.feasible,
-             paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g, pct(regions.pct(regions.y)), pr.y,
-             pct(regions.pct(regions.o)), pr.o, pct(regions.pct(regions.r)), pr.r);
+  if (paper.empty()) {
+    fmt::print("\nRegions of grid '{}' (% of feasible cells; no published numbers beside them):\n", table_options.grid);
+    fmt::print("  feasible {}; G {}; Y {}; O {}; R {}\n", regions.feasible, pct(regions.pct(regions.g)),
+               pct(regions.pct(regions.y)), pct(regions.pct(regions.o)), pct(regions.pct(regions.r)));
+  } else {
+    fmt::print("\nRegions of grid '{}' (% of feasible cells), ours vs paper:\n", table_options.grid);
+    fmt::print("  feasible {} vs {}; G {} vs {:g}; Y {} vs {:g}; O {} vs {:g}; R {} vs {:g}\n", regions.feasible,
+               paper.fine_grid.feasible_cells, pct(regions.pct(regions.g)), pr.g, pct(regions.pct(regions.y)), pr.y,
+               pct(regions.pct(regions.o)), pr.o, pct(regions.pct(regions.r)), pr.r);
+  }
   const auto table = results::emrm_vs_baseline_table(records, paper, table_options.grid);
   fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
   fmt::print("\nDiagnostics: {}\n", results::summary(diagnostics));
   const auto report = report::write_report(out);
+  std::vector<std::string> table_stems{"emrm_vs_baseline", "by_parameter", "regions"};
+  if (!profiles.empty()) table_stems.emplace_back("regions_by_profile");
+  if (!paper.empty()) table_stems.emplace_back("claims");
+  table_stems.insert(table_stems.end(), {"coverage", "brake_sensitivity"});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
-      "\nTables: "
-      "{}/tables/{{emrm_vs_baseline,by_parameter,regions,regions_by_profile,claims,coverage,brake_sensitivity}}"
-      ".{{md,csv,tex}}, kpis.csv; "
-      "diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; analysis: {}/analysis ({:.1f} s)\n",
-      out.string(), out.string(), out.string(), out.string(), seconds);
+      "\nTables: {}/tables/{{{}}}.{{md,csv,tex}}, kpis.csv; diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; "
+      "analysis: {}/analysis ({:.1f} s)\n",
+      out.string(), core::join(table_stems, ","), out.string(), out.string(), out.string(), seconds);
   fmt::print("Report: {} (figures in {}/figures, drawn in {:.1f} s)\n", report.html.string(), out.string(),
              report.figure_seconds);
   if (!ok)

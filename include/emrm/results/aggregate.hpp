@@ -75,6 +75,12 @@ struct LevelCuts {
 /// The cuts for a scene: the defaults with its car's width and its passage factor.
 [[nodiscard]] LevelCuts level_cuts(const sim::SceneConfig& scene);
 
+/// The cuts for a scene without the paper's levels (an example without a paper_reference.yaml):
+/// speed and TTC cut into thirds of their range over the feasible cells of `grid` (rounded to
+/// 1 km/h and 0.01 s), friction at the defaults; the defaults when the grid has no feasible cell.
+[[nodiscard]] LevelCuts level_cuts_by_thirds(const sim::SceneConfig& scene,
+                                             const std::vector<campaign::CellRecord>& records, std::string_view grid);
+
 /// Level names of a factor, in table order: all → {all}; speed, ttc, friction → {low, med, high};
 /// passage → {narrow, wide}.
 [[nodiscard]] const std::vector<std::string>& level_names(Breakdown f);

@@ -38,12 +38,20 @@ struct StopBoundaryCheck {
   std::size_t stoppable = 0;                 ///< feasible cells above the boundary
   std::vector<CellRef> stoppable_red;        ///< must be empty: a car that can stop is never R
   std::vector<CellRef> stoppable_not_green;  ///< above the boundary but not G (R included)
-  std::vector<CellRef> green_not_stoppable;  ///< G below the boundary
+  std::vector<CellRef> green_not_stoppable;  ///< G below the boundary, the hazard in the car's path
+  /// G below the boundary where the hazard never stands in the car's straight path for certain
+  /// (sim::hazard_in_the_way: it leaves the lane free, or keeps going): braking need not stop short
+  /// of it, so these are no contradiction. Only with a scene; without one they count above.
+  std::vector<CellRef> green_clear_path;
 };
 [[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
                                                     double latency_s = 0.0);
 [[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
                                                     const sim::ActuationConfig& actuation);
+/// The same through the scene's actuators, a G cell below the boundary told apart by whether the
+/// scene's hazard stands in the car's path (green_not_stoppable) or not (green_clear_path).
+[[nodiscard]] StopBoundaryCheck check_stop_boundary(const std::vector<campaign::CellRecord>& records,
+                                                    const sim::SceneConfig& scene);
 
 /// (b) One monotonicity reversal: a strategy avoided at a lower TTC (or μ) but not at the next
 /// higher one, all other factors equal.

@@ -25,7 +25,7 @@ struct PaperRegions {
 };
 
 struct PaperFineGrid {
-  std::string grid = "fine";
+  std::string grid;  ///< the campaign grid the regions are of; empty: none
   int feasible_cells = 0;
   PaperRegions regions_pct;
   template <class A>
@@ -58,7 +58,7 @@ struct PaperBaselineColumn {
 };
 
 struct PaperBaseline {
-  std::string grid = "fine";
+  std::string grid;
   int cells = 0;
   std::vector<PaperBaselineColumn> columns;
   template <class A>
@@ -130,7 +130,8 @@ struct PaperClaims {
   }
 };
 
-/// Every number of the paper's evaluation that we show beside ours.
+/// Every number of the paper's evaluation that we show beside ours. Default-constructed, it holds
+/// none (empty()): an example without a paper_reference.yaml, whose tables show ours alone.
 struct PaperReference {
   std::string file;
   int version = 1;
@@ -147,6 +148,10 @@ struct PaperReference {
     a.required("emrm_vs_baseline", emrm_vs_baseline);
     a.required("by_parameter", by_parameter);
     a.required("claims", claims);
+  }
+  /// True when there is no published number to show (no regions, no columns, no rows).
+  [[nodiscard]] bool empty() const noexcept {
+    return fine_grid.grid.empty() && emrm_vs_baseline.columns.empty() && by_parameter.rows.empty();
   }
   /// The by-parameter row of a factor, if the paper has one.
   [[nodiscard]] const PaperByParameterRow* by_parameter_row(std::string_view factor) const;

@@ -33,6 +33,12 @@ inline constexpr double kStopAgreement_m = 0.1;
 /// The same for a cell: its ego speed, TTC and friction (CellInput's method factors).
 [[nodiscard]] bool analytically_stoppable(const CellInput& cell, const ActuationConfig& actuation) noexcept;
 
+/// Whether the hazard stands in the car's straight path from t = TTC (the earliest the car, braking
+/// straight, can reach it) until it comes to rest: then braking short of the stop boundary cannot
+/// avoid it. False for a hazard that keeps going, drifts sideways, or leaves the car's lane free (the
+/// highway's truck on the shoulder alone): a G cell below the boundary is then no contradiction.
+[[nodiscard]] bool hazard_in_the_way(const SceneConfig& scene, const CellInput& cell);
+
 /// What physics says of a cell's emergency stop without simulating it: braking alone stops before
 /// the truck with a margin (so the cell is G); it cannot avoid (it does not stop in time and the
 /// truck stands in its way throughout); or only a simulation can tell (near the boundary, or a truck

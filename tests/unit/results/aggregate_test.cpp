@@ -151,6 +151,23 @@ TEST(Levels, EdgesAreWhereTheDesignPutsThem) {
   EXPECT_EQ(at(sim::FactorRole::kPassage, 50, 1, 1, 1.61), "wide");
 }
 
+// Without the paper's cuts, speed and TTC are cut into thirds of the grid's feasible range.
+TEST(Levels, ThirdsOfTheGridsRangeWithoutThePapersCuts) {
+  std::vector<campaign::CellRecord> cells{cell("h", 0, 60, 0.5, 0.8, 3, "G", 7), cell("h", 1, 150, 2.0, 0.8, 3, "R", 7),
+                                          cell("other", 0, 10, 9.0, 0.8, 3, "G", 7)};
+  const LevelCuts cuts = level_cuts_by_thirds(sim::SceneConfig{}, cells, "h");
+  EXPECT_DOUBLE_EQ(cuts.speed_low_max_kph, 90.0);
+  EXPECT_DOUBLE_EQ(cuts.speed_med_max_kph, 120.0);
+  EXPECT_DOUBLE_EQ(cuts.ttc_low_max_s, 1.0);
+  EXPECT_DOUBLE_EQ(cuts.ttc_med_max_s, 1.5);
+  EXPECT_DOUBLE_EQ(cuts.mu_med_min, LevelCuts{}.mu_med_min);
+  EXPECT_EQ(level_of(sim::FactorRole::kEgoSpeed, cells[0], cuts), "low");
+  EXPECT_EQ(level_of(sim::FactorRole::kEgoSpeed, cells[1], cuts), "high");
+  // A grid without a feasible cell keeps the defaults.
+  const LevelCuts none = level_cuts_by_thirds(sim::SceneConfig{}, cells, "missing");
+  EXPECT_DOUBLE_EQ(none.speed_low_max_kph, LevelCuts{}.speed_low_max_kph);
+}
+
 TEST(GridKpis, SplitsByLevelWithCounts) {
   const auto kpis = grid_kpis(four_cells(), "fine", level_cuts(sim::SceneConfig{}));
   // 2 strategies × (1 + 3 + 3 + 3 + 2) levels.

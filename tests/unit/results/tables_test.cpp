@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "emrm/sim/strategy.hpp"
+
 namespace emrm::results {
 namespace tables_test {
 
@@ -91,6 +93,35 @@ TEST(Tables, WritesEveryFile) {
   std::string header;
   std::getline(in, header);
   EXPECT_THAT(header, HasSubstr("mitigability_success_pct"));
+  std::filesystem::remove_all(dir);
+}
+
+// An example without a paper_reference.yaml: every table shows ours alone, and there are no claims.
+TEST(Tables, WithoutThePapersNumbersOursStandAlone) {
+  const PaperReference none;
+  ASSERT_TRUE(none.empty());
+  EXPECT_FALSE(shipped().empty());
+  const auto baseline = emrm_vs_baseline_table(two_cells(), none, "fine");
+  EXPECT_EQ(baseline.rows[0][1], "50.0");   // emergency stop, without "(paper ...)"
+  EXPECT_EQ(baseline.rows[0][2], "100.0");  // dodge
+  EXPECT_EQ(baseline.header.size(), 1u + sim::registered_strategies().entries().size());
+  const auto by_parameter = by_parameter_table(two_cells(), none, "fine", "", "", level_cuts(sim::SceneConfig{}));
+  // Ego speed: the emergency stop avoids the low cell only, the evasive strategies both.
+  EXPECT_THAT(by_parameter.rows[0], ::testing::Contains("100 / — / 0"));
+  EXPECT_THAT(by_parameter.rows[0], ::testing::Contains("100 / — / 100"));
+  EXPECT_EQ(by_parameter.rows[0].size(), by_parameter.header.size());
+  const auto regions = regions_table(two_cells(), none);
+  ASSERT_EQ(regions.rows.size(), 1u);
+  for (const auto* t : {&baseline, &by_parameter, &regions})
+    EXPECT_THAT(core::to_markdown(*t), ::testing::Not(HasSubstr("paper "))) << t->title;
+
+  const auto dir = std::filesystem::temp_directory_path() / "emrm-tables-no-paper-test";
+  std::filesystem::remove_all(dir);
+  TableOptions options;
+  options.cuts = level_cuts(sim::SceneConfig{});
+  const auto files = write_tables(dir, two_cells(), none, options);
+  EXPECT_EQ(files.size(), 10u);  // no claims.{md,csv,tex}
+  EXPECT_FALSE(std::filesystem::exists(dir / "tables" / "claims.md"));
   std::filesystem::remove_all(dir);
 }
 

@@ -18,6 +18,7 @@
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/stop_physics.hpp"
 #include "emrm/sim/validity.hpp"
 #include "test_scale.hpp"
 
@@ -113,6 +114,21 @@ TEST(HighwayObstacle, FreeBandsLieBesideTheObstacle) {
   EXPECT_EQ(d_bands.band[0].low_m, deer.road().min_y_m);
   EXPECT_NEAR(d_bands.band[0].high_m, -2.5 + 5.0 - 1.6, 1e-12);
   EXPECT_NEAR(d_bands.band[1].low_m, -2.5 + 5.0, 1e-12);
+}
+
+// Whether the obstacle stands in the car's straight path, from its extent across the road: the car
+// in the right lane spans y in [1.875 - w/2, 1.875 + w/2]; an obstacle whose front stops short of it
+// (the shoulder alone) leaves the lane free, so braking need not stop short of it.
+TEST(HighwayObstacle, TheObstacleIsInTheWayOnlyWhereItReachesTheCarsPath) {
+  const SceneConfig config = highway_scene();
+  const double right_side = config.highway.shoulder_m + 1.875 - config.ego.width_m / 2.0;  // as blocked_m
+  EXPECT_FALSE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "truck", 2.5, "guardrail")));
+  EXPECT_FALSE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "truck", right_side - 0.05, "guardrail")));
+  EXPECT_TRUE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "truck", right_side + 0.05, "guardrail")));
+  EXPECT_TRUE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "truck", 6.25, "guardrail")));
+  // A deer 1.6 m long standing 9.5 m into the road has passed beyond the car's lane.
+  EXPECT_FALSE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "deer", 9.5, "guardrail")));
+  EXPECT_TRUE(hazard_in_the_way(config, cell(config, 100, 1.2, 0.8, "deer", 5.0, "guardrail")));
 }
 
 // A departure down the embankment: AASHTO's critical slope (steeper than 1V:3H) rolls the car over,
