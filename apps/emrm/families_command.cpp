@@ -34,7 +34,7 @@ int run(bool json) {
     }
     std::cout << fmt::format("{}: {}\n", family->name, family->description);
     for (const sim::Factor& f : factors)
-      std::cout << fmt::format("  {:<18} {:<6} {:<22} {:<40} default {}\n", f.key, f.unit == "1" ? "" : f.unit, f.what,
+      std::cout << fmt::format("  {:<20} {:<6} {:<22} {:<40} default {}\n", f.key, f.unit == "1" ? "" : f.unit, f.what,
                                f.inequality(), f.value_text(f.default_value));
   }
   if (json) std::cout << nlohmann::json{{"families", out}}.dump(2) << "\n";

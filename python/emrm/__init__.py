@@ -24,6 +24,7 @@ from ._emrm import (
     ActuationConfig,
     CellResult,
     Error,
+    CrossingConfig,
     FsmReport,
     HighwayConfig,
     InputError,
@@ -56,7 +57,7 @@ if TYPE_CHECKING:
 PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
-    "ActuationConfig", "Analysis", "CellResult", "Error", "FindingsError", "FsmReport", "HighwayConfig",
+    "ActuationConfig", "Analysis", "CellResult", "CrossingConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",
     "InputError", "Interrupted", "ObstacleConfig", "Outcome", "Plan", "PlannerConfig", "Results", "RoadConfig", "RoadsideConfig",
     "SafeStateConfig", "Scene", "SeverityConfig", "SimulationConfig", "Trajectory", "TruckConfig",
     "UsageError", "VehicleParams", "__version__", "analyze", "check_covering_array", "check_fsm",

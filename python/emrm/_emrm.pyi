@@ -90,6 +90,10 @@ class SeverityConfig(_Part):
     l7_p_fatal: Final[float]
     critical_slope_h: Final[float]
     rollover_p_fatal: Final[float]
+    pedestrian_fatal_intercept: Final[float]
+    pedestrian_fatal_slope_per_kph: Final[float]
+    pedestrian_serious_intercept: Final[float]
+    pedestrian_serious_slope_per_kph: Final[float]
 
 class PlannerConfig(_Part):
     max_nodes: Final[int]
@@ -120,6 +124,13 @@ class HighwayConfig(_Part):
     truck: Final[ObstacleConfig]
     deer: Final[ObstacleConfig]
 
+class CrossingConfig(_Part):
+    lane_width_m: Final[float]
+    parked_gap_m: Final[float]
+    parked: Final[ObstacleConfig]
+    pedestrian: Final[ObstacleConfig]
+    oncoming: Final[ObstacleConfig]
+
 class Scene(_Part):
     """Scene() is the built-in scene; every field of scene.yaml is a read-only attribute."""
 
@@ -136,6 +147,7 @@ class Scene(_Part):
     roadside: Final[RoadsideConfig]
     safe_state: Final[SafeStateConfig]
     highway: Final[HighwayConfig]
+    crossing: Final[CrossingConfig]
     max_initial_distance_m: Final[float]
     @staticmethod
     def load(path: _Path, profile: Optional[str] = None) -> "Scene": ...

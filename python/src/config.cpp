@@ -158,7 +158,8 @@ void bind_config(py::module_& m) {
   bind_part<sim::RoadConfig>(m, "RoadConfig", "The main road (docs/scene-yaml.md, `road:`).");
   bind_part<sim::ObstacleConfig>(m, "ObstacleConfig",
                                  "A body entering the road: the T-junction's truck (`truck:`), the highway's truck "
-                                 "and deer (`highway.truck:`, `highway.deer:`).");
+                                 "and deer (`highway.truck:`, `highway.deer:`), the street's parked car, pedestrian "
+                                 "and oncoming car (`crossing.parked:`, ...).");
   m.attr("TruckConfig") = m.attr("ObstacleConfig");  // the T-junction's truck, by its earlier name
   bind_part<sim::VehicleParams>(m, "VehicleParams", "The ego car (`ego:`).");
   bind_part<sim::SimulationConfig>(m, "SimulationConfig", "Vehicle model, time step and horizon (`simulation:`).");
@@ -170,6 +171,8 @@ void bind_config(py::module_& m) {
   bind_part<sim::SafeStateConfig>(m, "SafeStateConfig", "When an avoidance counts: the safe state (`safe_state:`).");
   bind_part<sim::HighwayConfig>(
       m, "HighwayConfig", "The road and obstacles of the family highway_obstacle (`highway:`, docs/families.md).");
+  bind_part<sim::CrossingConfig>(
+      m, "CrossingConfig", "The street and actors of the family pedestrian_crossing (`crossing:`, docs/families.md).");
 
   py::class_<sim::SceneConfig, std::shared_ptr<sim::SceneConfig>> scene(
       m, "Scene",

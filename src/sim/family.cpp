@@ -7,6 +7,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/registry.hpp"
+#include "emrm/sim/crossing.hpp"
 #include "emrm/sim/highway.hpp"
 #include "emrm/sim/scene.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 
 core::Registry<ScenarioFamilyInfo>& family_registry() {
   static core::Registry<ScenarioFamilyInfo> families(
-      "scenario family", {tjunction_family(), highway_obstacle_family()},
+      "scenario family", {tjunction_family(), highway_obstacle_family(), pedestrian_crossing_family()},
       [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
   return families;
 }

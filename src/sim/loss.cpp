@@ -47,6 +47,23 @@ double p_fatal(double delta_v_mps, const SeverityConfig& c) noexcept {
   return std::min(1.0, std::pow(delta_v_mps / c.fatal_reference_mps, c.fatal_exponent));
 }
 
+double pedestrian_p_fatal(double impact_kph, const SeverityConfig& c) noexcept {
+  return 1.0 / (1.0 + std::exp(c.pedestrian_fatal_intercept - c.pedestrian_fatal_slope_per_kph * impact_kph));
+}
+
+double pedestrian_p_serious(double impact_kph, const SeverityConfig& c) noexcept {
+  return 1.0 / (1.0 + std::exp(c.pedestrian_serious_intercept - c.pedestrian_serious_slope_per_kph * impact_kph));
+}
+
+ImpactAssessment with_pedestrian(ImpactAssessment occupants, double closing_speed_mps,
+                                 const SeverityConfig& c) noexcept {
+  const double kph = std::abs(closing_speed_mps) * 3.6;
+  occupants.p_fatal = std::max(occupants.p_fatal, pedestrian_p_fatal(kph, c));
+  occupants.p_mais3 = std::max(occupants.p_mais3, pedestrian_p_serious(kph, c));
+  occupants.loss_level = occupants.p_fatal >= c.l7_p_fatal ? 7 : 6;
+  return occupants;
+}
+
 bool rolls_over(double slope_h, const SeverityConfig& c) noexcept { return slope_h < c.critical_slope_h; }
 
 int loss_level(bool contact, bool road_departure, double p_mais3_value, double p_fatal_value,

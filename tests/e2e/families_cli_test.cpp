@@ -30,7 +30,7 @@ TEST(FamiliesCli, ListsEveryShippedFamilyWithItsFactors) {
   const auto j = nlohmann::json::parse(json.out);
   std::vector<std::string> names;
   for (const auto& f : j["families"]) names.push_back(f["name"].get<std::string>());
-  EXPECT_THAT(names, ::testing::IsSupersetOf({"tjunction", "highway_obstacle"}));
+  EXPECT_THAT(names, ::testing::IsSupersetOf({"tjunction", "highway_obstacle", "pedestrian_crossing"}));
   for (const auto& f : j["families"]) {
     if (f["name"] != "highway_obstacle") continue;
     EXPECT_FALSE(f["certificate"].get<bool>());
@@ -103,6 +103,40 @@ grids:
   ASSERT_EQ(report.exit_code, 0) << report.err;
   // The maps are sliced by the levels' names.
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "figures" / "map_contrast_obstacle_deer.svg")) << report.out;
+}
+
+// A pedestrian stepping out from behind a parked car: every actor in the JSON (the pedestrian, the
+// parked car, the oncoming car), harm by impact speed, and a small campaign that sweeps and verifies.
+TEST(FamiliesCli, APedestrianCrossingSimulatesSweepsAndVerifies) {
+  const std::string scene = std::string(EMRM_SOURCE_DIR) + "/examples/pedestrian_crossing/scene.yaml";
+  const auto one = run_emrm("simulate --scene " + scene + " --speed-kph 40 --ttc-s 0.9 --factor oncoming=car --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto j = nlohmann::json::parse(one.out);
+  ASSERT_EQ(j["actors"].size(), 3u);
+  EXPECT_EQ(j["actors"][0]["kind"], "pedestrian");
+  EXPECT_EQ(j["actors"][2]["name"], "oncoming car");
+  EXPECT_EQ(j["road"]["roadside"]["right"], "barrier");
+  EXPECT_EQ(j["unmitigated"]["loss_level"], 7);  // 40 km/h into a pedestrian: P(fatal) above 10 %
+
+  const auto dir = scratch_dir("pedestrian_campaign");
+  std::ofstream(dir / "campaign.yaml") << "scene: " << scene << R"(
+seed: 1
+grids:
+  - name: crossing
+    speed_kph: [30, 50]
+    ttc_s: [0.7, 1.4]
+    pedestrian_speed_kph: 8
+    oncoming: [none, car]
+)";
+  const std::string out = (dir / "out").string();
+  const auto sweep = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + out + " --threads 2");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
+  const auto verify = run_emrm("verify " + out);
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+  const auto diagnose = run_emrm("diagnose " + out);
+  EXPECT_EQ(diagnose.exit_code, 0) << diagnose.out << diagnose.err;
 }
 
 TEST(FamiliesCli, AGridNamesALevelOrIsRefusedAtItsPlace) {

@@ -215,3 +215,9 @@ def test_another_family_takes_its_factors_and_its_levels_by_name():
         emrm.simulate(scene, speed_kph=100, ttc_s=1.2, obstacle="moose")
     with pytest.raises(TypeError, match="blocked_m must be a number, not str"):
         emrm.simulate(scene, speed_kph=100, ttc_s=1.2, blocked_m="wide")
+    # A pedestrian stepping out from behind a parked car, an oncoming car in the other lane.
+    street = emrm.Scene.load(SOURCE_DIR / "examples" / "pedestrian_crossing" / "scene.yaml")
+    assert isinstance(street.crossing, emrm.CrossingConfig) and street.crossing.pedestrian.mass_kg == 75
+    met = emrm.simulate(street, speed_kph=40, ttc_s=0.9, oncoming="car")
+    assert [a["name"] for a in met.actors] == ["pedestrian", "parked car", "oncoming car"]
+    assert met.unmitigated["loss_level"] == 7

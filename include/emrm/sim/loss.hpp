@@ -34,6 +34,19 @@ struct ImpactAssessment {
 [[nodiscard]] double p_mais3(double delta_v_mps, const SeverityConfig& c) noexcept;
 /// P(fatal) = min(1, (Δv / ref)^n).
 [[nodiscard]] double p_fatal(double delta_v_mps, const SeverityConfig& c) noexcept;
+/// A pedestrian's risk of death when struck at `impact_kph` (the closing speed, km/h):
+/// 1 / (1 + exp(a − b·v)) with SeverityConfig's pedestrian_fatal_* (Hussain et al. 2019).
+[[nodiscard]] double pedestrian_p_fatal(double impact_kph, const SeverityConfig& c) noexcept;
+/// A pedestrian's risk of a serious injury (AIS 4+, which bounds MAIS3+ from below) when struck at
+/// `impact_kph`: the pedestrian_serious_* logistic (fitted to Tefft 2013).
+[[nodiscard]] double pedestrian_p_serious(double impact_kph, const SeverityConfig& c) noexcept;
+/// The impact on the car's occupants (`occupants`, from assess_impact) with a pedestrian struck at
+/// `closing_speed_mps`: the risks are the worse of the occupants' and the pedestrian's, and the level
+/// is L7 when that P(fatal) reaches l7_p_fatal, else L6 — a person struck is injured
+/// (docs/physics.md, "Pedestrians").
+[[nodiscard]] ImpactAssessment with_pedestrian(ImpactAssessment occupants, double closing_speed_mps,
+                                               const SeverityConfig& c) noexcept;
+
 /// Whether a departure down an embankment of `slope_h` (horizontal run per unit of drop) rolls the
 /// car over: it is steeper than the critical slope (SeverityConfig::critical_slope_h).
 [[nodiscard]] bool rolls_over(double slope_h, const SeverityConfig& c) noexcept;

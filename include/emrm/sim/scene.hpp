@@ -15,6 +15,7 @@
 #include "emrm/core/geometry.hpp"
 #include "emrm/sim/actor.hpp"
 #include "emrm/sim/actuation.hpp"
+#include "emrm/sim/crossing.hpp"
 #include "emrm/sim/factors.hpp"
 #include "emrm/sim/family.hpp"
 #include "emrm/sim/highway.hpp"
@@ -116,6 +117,14 @@ struct SeverityConfig {
   /// occupants (NHTSA, Strashny 2007), and injures at least as many seriously (docs/physics.md).
   double critical_slope_h = 3.0;
   double rollover_p_fatal = 0.027;
+  /// A pedestrian struck by the car's front, by the impact (closing) speed in km/h: P = 1 / (1 +
+  /// exp(intercept − slope · v)). Death: Hussain et al. 2019 (meta-analysis; odds ratio 1.11 per
+  /// km/h, 50 % at 59 km/h); serious injury (AIS 4+): fitted to Tefft 2013's five published points
+  /// (docs/physics.md, "Pedestrians").
+  double pedestrian_fatal_intercept = 6.157;
+  double pedestrian_fatal_slope_per_kph = 0.10436;
+  double pedestrian_serious_intercept = 4.621;
+  double pedestrian_serious_slope_per_kph = 0.08759;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, restitution, core::within(0.0, 1.0));
@@ -132,6 +141,16 @@ struct SeverityConfig {
       EMRM_FIELD(a, critical_slope_h, core::positive);
     if (!kWrites || rollover_p_fatal != SeverityConfig{}.rollover_p_fatal)
       EMRM_FIELD(a, rollover_p_fatal, core::probability);
+    // The pedestrians' curves likewise (written only when changed).
+    const SeverityConfig defaults;
+    if (!kWrites || pedestrian_fatal_intercept != defaults.pedestrian_fatal_intercept)
+      EMRM_FIELD(a, pedestrian_fatal_intercept);
+    if (!kWrites || pedestrian_fatal_slope_per_kph != defaults.pedestrian_fatal_slope_per_kph)
+      EMRM_FIELD(a, pedestrian_fatal_slope_per_kph, core::positive);
+    if (!kWrites || pedestrian_serious_intercept != defaults.pedestrian_serious_intercept)
+      EMRM_FIELD(a, pedestrian_serious_intercept);
+    if (!kWrites || pedestrian_serious_slope_per_kph != defaults.pedestrian_serious_slope_per_kph)
+      EMRM_FIELD(a, pedestrian_serious_slope_per_kph, core::positive);
   }
 };
 
@@ -177,6 +196,7 @@ struct SceneConfig {
   RoadsideConfig roadside;
   SafeStateConfig safe_state;
   HighwayConfig highway;                 ///< the family highway_obstacle's road and obstacles
+  CrossingConfig crossing;               ///< the family pedestrian_crossing's street and its actors
   double max_initial_distance_m = 24.5;  ///< cells with v·TTC beyond this are infeasible (grey)
 
   template <class A>
@@ -198,6 +218,7 @@ struct SceneConfig {
     EMRM_FIELD(a, safe_state);
     // A family's own block is written for a scene of that family only.
     if (!(requires { A::kWritesFile; } && family != "highway_obstacle")) EMRM_FIELD(a, highway);
+    if (!(requires { A::kWritesFile; } && family != "pedestrian_crossing")) EMRM_FIELD(a, crossing);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
@@ -207,6 +228,11 @@ struct SceneConfig {
           highway.ego_y_m() - half_width >= highway.min_y_m() && highway.ego_y_m() + half_width <= highway.max_y_m(),
           "highway.ego_lane", "the ego ({} m wide) in lane {} does not fit on the drivable area y in [{}, {}] m",
           ego.width_m, highway.ego_lane, highway.min_y_m(), highway.max_y_m());
+      return;
+    }
+    if (family == "pedestrian_crossing") {
+      a.ensure(ego.width_m <= crossing.lane_width_m, "crossing.lane_width_m",
+               "the ego ({} m wide) does not fit in its lane of {} m", ego.width_m, crossing.lane_width_m);
       return;
     }
     const double low = road.drivable_min_y_m();
