@@ -17,6 +17,7 @@
 #include "emrm/results/results_dir.hpp"
 #include "emrm/sim/certificate.hpp"
 #include "emrm/sim/json.hpp"
+#include "emrm/sim/planner.hpp"
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
@@ -42,8 +43,8 @@ Polygon ego_outline(const sim::VehicleParams& p, double x, double y, double yaw,
           cg - along * rear - left * half};
 }
 
-Polygon truck_outline(const sim::Scene& scene, double t_s) {
-  const auto box = scene.hazard_at(t_s).box;
+Polygon actor_outline(const sim::Actor& actor, double t_s) {
+  const auto box = actor.at(t_s).box;
   const core::Vec2 along{std::cos(box.heading_rad), std::sin(box.heading_rad)};
   const core::Vec2 left{-along.y, along.x};
   const core::Vec2 a = along * (0.5 * box.length_m);
@@ -135,12 +136,16 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
       const double t = a.t_s + (b.t_s - a.t_s) * i / samples;
       const Pose pose = closed_form_jump || k == 0 ? Pose{b.state.x_m, b.state.y_m, b.state.yaw_rad} : between(a, b, t);
       const Polygon ego = ego_outline(config.ego, pose.x, pose.y, pose.yaw, 0.0);
-      const Polygon truck = truck_outline(scene, t);
-      if (overlap(ego_outline(config.ego, pose.x, pose.y, pose.yaw, options.tolerance_m), truck)) {
-        out.failure = fmt::format("overlaps the truck at t = {:.3f} s", t);
-        return out;
+      // Every actor of the scene, the hazard first; the clearance is to the nearest of them.
+      const Polygon shrunk = ego_outline(config.ego, pose.x, pose.y, pose.yaw, options.tolerance_m);
+      for (const sim::Actor& actor : scene.actors()) {
+        const Polygon other = actor_outline(actor, t);
+        if (overlap(shrunk, other)) {
+          out.failure = fmt::format("overlaps the {} at t = {:.3f} s", actor.body().name, t);
+          return out;
+        }
+        if (!overlap(ego, other)) out.clearance_m = std::min(out.clearance_m, distance(ego, other));
       }
-      if (!overlap(ego, truck)) out.clearance_m = std::min(out.clearance_m, distance(ego, truck));
       for (const auto& corner : ego)
         if (corner.y < low || corner.y > high) {
           out.failure = fmt::format("leaves the road at t = {:.3f} s (corner at y = {:.4f} m)", t, corner.y);
@@ -190,13 +195,20 @@ sim::Region region_from(const sim::StrategyTable& table, const campaign::CellRec
   return best < r.unmitigated_loss_level ? sim::Region::kO : sim::Region::kR;
 }
 
-// An avoidance beats a failure; between failures the lower level, then the lower Δv (the order
-// sim::better_outcome uses).
+// An avoidance beats a failure; between failures sim::less_loss's order (the level, P(fatal),
+// P(MAIS3+), then Δv), as sim::better_outcome has it.
 bool better(const campaign::OutcomeRecord& a, const campaign::OutcomeRecord& b) {
   if (a.avoided != b.avoided) return a.avoided;
   if (a.avoided) return false;
-  if (a.loss_level != b.loss_level) return a.loss_level < b.loss_level;
-  return a.delta_v_kph < b.delta_v_kph;
+  const auto impact = [](const campaign::OutcomeRecord& o) {
+    sim::ImpactAssessment i;
+    i.loss_level = o.loss_level;
+    i.p_fatal = o.p_fatal;
+    i.p_mais3 = o.p_mais3;
+    i.delta_v_mps = o.delta_v_kph / 3.6;
+    return i;
+  };
+  return sim::less_loss(impact(a), impact(b));
 }
 
 }  // namespace
@@ -341,7 +353,7 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
 std::string to_text(const VerifyReport& report) {
   std::string out = fmt::format(
       "Verified {} feasible cells: {} maneuvers replayed, {} avoidances re-checked every millisecond "
-      "(least clearance to the truck {:.4g} m), {} certificates re-derived, {} undecided cells\n",
+      "(least clearance to an actor {:.4g} m), {} certificates re-derived, {} undecided cells\n",
       report.cells, report.witnesses, report.avoidances, report.least_clearance_m, report.certificates,
       report.undecided);
   if (report.inferred > 0)

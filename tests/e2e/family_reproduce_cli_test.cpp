@@ -111,5 +111,23 @@ TEST(FamilyReproduceCli, AnOddClassNumberedAsAnotherLevelIsRefused) {
                    "'truck'");
 }
 
+// Every shipped family's example folder (beside the T-junction's, which ReproduceCli runs): its
+// safety case analyses without an error, both FSMs pass their checks, and its ODD plans a scenario
+// set meeting C1-C4 against its own scene; the whole reproduce is the README's (docs/families.md).
+TEST(FamilyReproduceCli, EveryShippedExampleFolderAnalysesChecksAndPlans) {
+  for (const char* family : {"highway_obstacle", "pedestrian_crossing"}) {
+    const fs::path folder = fs::path(EMRM_SOURCE_DIR) / "examples" / family;
+    const auto analysis = run_emrm("analyze " + quoted(folder / "safety.yaml"));
+    EXPECT_EQ(analysis.exit_code, 0) << family << analysis.out << analysis.err;
+    for (const char* fsm : {"emrm_fsm.yaml", "loss_evaluation_fsm.yaml"}) {
+      const auto check = run_emrm("fsm " + quoted(folder / fsm) + " --check");
+      EXPECT_EQ(check.exit_code, 0) << family << " " << fsm << check.out << check.err;
+    }
+    const auto plan = run_emrm("plan " + quoted(folder / "odd.yaml") + " -o " + quoted(scratch_dir(family) / "plan"));
+    EXPECT_EQ(plan.exit_code, 0) << family << plan.out << plan.err;
+    EXPECT_THAT(plan.out, HasSubstr("C1 holds, C2 holds, C3 holds, C4 holds")) << family;
+  }
+}
+
 }  // namespace family_reproduce_cli_test
 }  // namespace emrm::e2e
