@@ -97,4 +97,23 @@ void BM_CellMedianOverHighwayGrid(benchmark::State& state) {
 }
 BENCHMARK(BM_CellMedianOverHighwayGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// The same for the family pedestrian_crossing: 20–60 km/h × TTC 0.5–2.5 s on a dry road, a walking
+// and a running pedestrian, with and without the oncoming car, every 2nd cell.
+void BM_CellMedianOverPedestrianGrid(benchmark::State& state) {
+  SceneConfig config;
+  config.family = "pedestrian_crossing";
+  config.max_initial_distance_m = 40.0;
+  std::vector<CellInput> cells;
+  int i = 0;
+  for (int s = 20; s <= 60; s += 5)
+    for (int k = 0; k <= 8; ++k)
+      for (const double pedestrian_kph : {5.0, 8.0})
+        for (const double oncoming : {0.0, 1.0}) {
+          const CellInput cell{double(s), 0.5 + 0.25 * k, 1.0, pedestrian_kph, oncoming};
+          if (emrm::sim::Scene(config, cell).feasible() && i++ % 2 == 0) cells.push_back(cell);
+        }
+  time_cells(state, config, cells);
+}
+BENCHMARK(BM_CellMedianOverPedestrianGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 }  // namespace
