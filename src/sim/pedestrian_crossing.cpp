@@ -17,21 +17,18 @@ namespace emrm::sim {
 namespace {
 
 // The family's own factors' positions in its cells, after the method's three (a namespace of their
-// own: the unity builds put this file beside the other families).
+// own, named in full where used: the unity builds put this file beside the other families).
 namespace crossing_cell {
 enum Position : std::size_t { kPedestrianSpeed = kMethodFactors, kOncoming, kFactors };
 }  // namespace crossing_cell
-using crossing_cell::kFactors;
-using crossing_cell::kOncoming;
-using crossing_cell::kPedestrianSpeed;
 
 // The fastest a pedestrian runs: a sprinter's 36 km/h bounds any walking or running speed.
 constexpr double kMaxPedestrianSpeed_kph = 36.0;
 
 FactorTable crossing_factors(const SceneConfig& config) {
   std::vector<Factor> factors = method_factors(40.0, 1.2, 1.0);
-  factors.resize(kFactors);
-  factors[kPedestrianSpeed] = {
+  factors.resize(crossing_cell::kFactors);
+  factors[crossing_cell::kPedestrianSpeed] = {
       .key = "pedestrian_speed_kph",
       .unit = "km/h",
       .what = "pedestrian speed",
@@ -43,7 +40,8 @@ FactorTable crossing_factors(const SceneConfig& config) {
       .limits = {.high = kMaxPedestrianSpeed_kph},
       .why_high = fmt::format("a pedestrian runs at most about {:g} km/h", kMaxPedestrianSpeed_kph),
       .name = "pedestrian speed"};
-  factors[kOncoming] = categorical_factor("oncoming", "oncoming traffic", core::enum_names<OncomingTraffic>());
+  factors[crossing_cell::kOncoming] =
+      categorical_factor("oncoming", "oncoming traffic", core::enum_names<OncomingTraffic>());
   return FactorTable(std::move(factors));
 }
 
@@ -64,7 +62,7 @@ SceneLayout crossing_layout(const SceneConfig& config, const CellInput& cell) {
       ActorBody{ActorKind::kPedestrian, p.length_m, p.width_m, p.mass_kg, p.yaw_inertia_kgm2, "pedestrian"},
       ActorMotion{.front = {pedestrian_x, -crossing.parked_gap_m},
                   .direction = {0.0, 1.0},
-                  .speed_mps = cell[kPedestrianSpeed] / 3.6});
+                  .speed_mps = cell[crossing_cell::kPedestrianSpeed] / 3.6});
   // The parked car it stepped out from behind, just short of it, beyond the right edge.
   const ObstacleConfig& parked = crossing.parked;
   constexpr double kBehind_m = 0.1;
@@ -73,7 +71,7 @@ SceneLayout crossing_layout(const SceneConfig& config, const CellInput& cell) {
                 "parked car"},
       ActorMotion{.front = {out.initial_distance_m - kBehind_m, -crossing.parked_gap_m - parked.width_m / 2.0}});
   // The oncoming car: centred in the left lane, level with the pedestrian at t = TTC.
-  if (static_cast<OncomingTraffic>(cell[kOncoming]) == OncomingTraffic::kCar) {
+  if (static_cast<OncomingTraffic>(cell[crossing_cell::kOncoming]) == OncomingTraffic::kCar) {
     const ObstacleConfig& o = crossing.oncoming;
     const double oncoming_mps = o.speed_kph / 3.6;
     out.actors.emplace_back(
