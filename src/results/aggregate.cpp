@@ -86,7 +86,8 @@ LevelCuts level_cuts(const sim::SceneConfig& scene) {
 LevelCuts level_cuts_by_thirds(const sim::SceneConfig& scene, const std::vector<campaign::CellRecord>& records,
                                std::string_view grid) {
   LevelCuts cuts = level_cuts(scene);
-  double v_low = INFINITY, v_high = -INFINITY, t_low = INFINITY, t_high = -INFINITY;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double v_low = kInf, v_high = -kInf, t_low = kInf, t_high = -kInf;
   for (const auto& r : records) {
     if (!r.feasible || r.grid != grid) continue;
     v_low = std::min(v_low, r.factors.ego_speed_kph());
