@@ -172,13 +172,19 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   table_options.cuts = paper.empty() ? results::level_cuts_by_thirds(plan.scene, records, table_options.grid)
                                      : results::level_cuts(plan.scene);
   table_options.actuation = plan.scene.actuation;
-  results::write_tables(out, records, paper, table_options);
-  core::write_table(folder.tables_dir(), "brake_sensitivity",
-                    results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation));
+  // The tables written, by stem, in the order written (what the summary lists).
+  std::vector<std::string> table_stems;
+  const auto written = [&](const std::vector<fs::path>& files) {
+    for (const auto& f : files)
+      if (f.extension() == ".md") table_stems.push_back(f.stem().string());
+  };
+  written(results::write_tables(out, records, paper, table_options));
+  written(
+      core::write_table(folder.tables_dir(), "brake_sensitivity",
+                        results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation)));
 
   // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
-  const auto profiles = results::scene_profiles(plan);
-  if (!profiles.empty()) {
+  if (const auto profiles = results::scene_profiles(plan); !profiles.empty()) {
     const auto runs = workflow::sweep_profiles(plan, table_options.grid, profiles, sweep_options);
     std::vector<std::vector<campaign::CellRecord>> per_profile;
     std::vector<std::string> parts;
@@ -189,8 +195,8 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
           "{} G {} Y {} O {} R {}{}", run.name, pct(c.pct(c.g)), pct(c.pct(c.y)), pct(c.pct(c.o)), pct(c.pct(c.r)),
           run.reused ? " (this scene)" : fmt::format(" ({} simulated in {:.1f} s)", run.simulated, run.seconds)));
     }
-    core::write_table(folder.tables_dir(), "regions_by_profile",
-                      results::profiles_table(runs, per_profile, paper, table_options.grid));
+    written(core::write_table(folder.tables_dir(), "regions_by_profile",
+                              results::profiles_table(runs, per_profile, paper, table_options.grid)));
     fmt::print("profiles  grid '{}' per profile (%): {} -> {}\n", table_options.grid, core::join(parts, "; "),
                folder.profiles_dir().string());
   }
@@ -208,7 +214,7 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const auto coverage = scenario::coverage_comparison(odd, scenario_plan);
   scenario::write_plan(folder.plan().root(), odd, scenario_plan, coverage);
   const core::Table coverage_table = results::coverage_comparison_table(coverage, paper);
-  core::write_table(folder.tables_dir(), "coverage", coverage_table);
+  written(core::write_table(folder.tables_dir(), "coverage", coverage_table));
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - plan_start).count();
   const auto& ours = coverage.front();
   ok = ours.all() && ok;
@@ -253,10 +259,6 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   fmt::print("\n{}\n{}", table.title, core::markdown_table(table.header, table.rows));
   fmt::print("\nDiagnostics: {}\n", results::summary(diagnostics));
   const auto report = report::write_report(out);
-  std::vector<std::string> table_stems{"emrm_vs_baseline", "by_parameter", "regions"};
-  if (!profiles.empty()) table_stems.emplace_back("regions_by_profile");
-  if (!paper.empty()) table_stems.emplace_back("claims");
-  table_stems.insert(table_stems.end(), {"coverage", "brake_sensitivity"});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fmt::print(
       "\nTables: {}/tables/{{{}}}.{{md,csv,tex}}, kpis.csv; diagnostics: {}/diagnostics.json; FSM diagrams: {}/fsm; "

@@ -71,12 +71,25 @@ TEST(FamiliesCli, BadFactorsExitTwoWithOneMessage) {
 
 // A campaign over the highway family as a user writes one: its factors by their keys, the obstacle
 // and the roadside by their levels' names; then every command that reads the store.
+// Sweeps a campaign of 8 cells over a shipped example's scene (`grids`: its grids, in YAML) into a
+// scratch folder, checks that `emrm verify` finds every claim holding and returns the results folder.
+std::string swept_and_verified(const std::string& name, const std::string& example, const std::string& grids) {
+  const auto dir = scratch_dir(name);
+  std::ofstream(dir / "campaign.yaml") << "scene: " << EMRM_SOURCE_DIR << "/examples/" << example
+                                       << "/scene.yaml\nseed: 1\n"
+                                       << grids;
+  const std::string out = (dir / "out").string();
+  const auto sweep = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + out + " --threads 2");
+  EXPECT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
+  const auto verify = run_emrm("verify " + out);
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+  return out;
+}
+
 TEST(FamiliesCli, AHighwayCampaignSweepsVerifiesDiagnosesAndReports) {
-  const auto dir = scratch_dir("highway_campaign");
-  const std::string scene = std::string(EMRM_SOURCE_DIR) + "/examples/highway_obstacle/scene.yaml";
-  std::ofstream(dir / "campaign.yaml") << "scene: " << scene << R"(
-seed: 1
-grids:
+  const std::string out = swept_and_verified("highway_campaign", "highway_obstacle", R"(grids:
   - name: contrast
     speed_kph: [80, 120]
     ttc_s: [0.8, 1.6]
@@ -84,14 +97,8 @@ grids:
     obstacle: [truck, deer]
     blocked_m: 5
     roadside: embankment
-)";
-  const std::string out = (dir / "out").string();
-  const auto sweep = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + out + " --threads 2");
-  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
-  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
-  const auto verify = run_emrm("verify " + out);
-  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
-  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+)");
+  ASSERT_FALSE(HasFailure());
   const auto diagnose = run_emrm("diagnose " + out);
   EXPECT_EQ(diagnose.exit_code, 0) << diagnose.err;
   EXPECT_THAT(diagnose.out,
@@ -102,7 +109,8 @@ grids:
   const auto report = run_emrm("report " + out);
   ASSERT_EQ(report.exit_code, 0) << report.err;
   // The maps are sliced by the levels' names.
-  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "figures" / "map_contrast_obstacle_deer.svg")) << report.out;
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / "figures" / "map_contrast_obstacle_deer.svg"))
+      << report.out;
 }
 
 // A pedestrian stepping out from behind a parked car: every actor in the JSON (the pedestrian, the
@@ -118,24 +126,15 @@ TEST(FamiliesCli, APedestrianCrossingSimulatesSweepsAndVerifies) {
   EXPECT_EQ(j["road"]["roadside"]["right"], "barrier");
   EXPECT_EQ(j["unmitigated"]["loss_level"], 7);  // 40 km/h into a pedestrian: P(fatal) above 10 %
 
-  const auto dir = scratch_dir("pedestrian_campaign");
-  std::ofstream(dir / "campaign.yaml") << "scene: " << scene << R"(
-seed: 1
-grids:
+  // At 25 km/h and TTC 0.5 s every strategy strikes the pedestrian, at L6: EMRM takes the strike of
+  // the lowest risk, which is not the lowest Δv of the car's occupants; verify weighs the same way.
+  const std::string out = swept_and_verified("pedestrian_campaign", "pedestrian_crossing", R"(grids:
   - name: crossing
     speed_kph: [25, 50]
     ttc_s: [0.5, 1.4]
     oncoming: [none, car]
-)";
-  // At 25 km/h and TTC 0.5 s every strategy strikes the pedestrian, at L6: EMRM takes the strike of
-  // the lowest risk, which is not the lowest Δv of the car's occupants; verify weighs the same way.
-  const std::string out = (dir / "out").string();
-  const auto sweep = run_emrm("sweep " + (dir / "campaign.yaml").string() + " -o " + out + " --threads 2");
-  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
-  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
-  const auto verify = run_emrm("verify " + out);
-  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
-  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+)");
+  ASSERT_FALSE(HasFailure());
   const auto diagnose = run_emrm("diagnose " + out);
   EXPECT_EQ(diagnose.exit_code, 0) << diagnose.out << diagnose.err;
 }

@@ -28,8 +28,27 @@
 #define EMRM_FIELD(archive, field, ...) (archive).optional(#field, field __VA_OPT__(, ) __VA_ARGS__)
 /// `a.required("field", field, constraints...)` with the field's name written once.
 #define EMRM_REQUIRED_FIELD(archive, field, ...) (archive).required(#field, field __VA_OPT__(, ) __VA_ARGS__)
+/// EMRM_FIELD, but left out of a file written while the field holds `default_value`: a field added
+/// after stores and configuration hashes were written keeps them valid (core::field_unless_default).
+#define EMRM_FIELD_UNLESS_DEFAULT(archive, field, default_value, ...) \
+  ::emrm::core::field_unless_default(archive, #field, field, default_value __VA_OPT__(, ) __VA_ARGS__)
 
 namespace emrm::core {
+
+/// Whether the archive `A` writes a file (YamlWriter): a serialize() may then leave out a field that
+/// the file need not have (one at its default, a block another family reads).
+template <class A>
+inline constexpr bool writes_file = requires {
+  A::kWritesFile;
+};
+
+/// `a.optional(key, field, constraints...)`, except when `A` writes a file and the field holds
+/// `default_value` (EMRM_FIELD_UNLESS_DEFAULT).
+template <class A, class T, class... Constraints>
+void field_unless_default(A& a, std::string_view key, T& field, const T& default_value,
+                          const Constraints&... constraints) {
+  if (!writes_file<A> || field != default_value) a.optional(key, field, constraints...);
+}
 
 // ---- formatting values for messages --------------------------------------------------------
 

@@ -76,7 +76,7 @@ struct RoadsideConfig {
   void serialize(A& a) {
     EMRM_FIELD(a, type, core::one_of(roadside_types, "roadside type"));
     // Written for an embankment only: stores and configuration hashes written before it stay valid.
-    if (!(requires { A::kWritesFile; } && type != "embankment")) EMRM_FIELD(a, embankment_slope_h, core::positive);
+    if (!core::writes_file<A> || type == "embankment") EMRM_FIELD(a, embankment_slope_h, core::positive);
   }
   [[nodiscard]] static std::vector<std::string> roadside_types() { return core::enum_names<Roadside>(); }
   [[nodiscard]] bool barrier() const noexcept { return type == "barrier"; }
@@ -135,22 +135,17 @@ struct SeverityConfig {
     EMRM_FIELD(a, fatal_exponent, core::positive);
     EMRM_FIELD(a, l6_p_mais3, core::probability);
     EMRM_FIELD(a, l7_p_fatal, core::probability);
-    // The rollover's two are written only when changed: stores written before them stay valid.
-    constexpr bool kWrites = requires { A::kWritesFile; };
-    if (!kWrites || critical_slope_h != SeverityConfig{}.critical_slope_h)
-      EMRM_FIELD(a, critical_slope_h, core::positive);
-    if (!kWrites || rollover_p_fatal != SeverityConfig{}.rollover_p_fatal)
-      EMRM_FIELD(a, rollover_p_fatal, core::probability);
-    // The pedestrians' curves likewise (written only when changed).
+    // The rollover's and the pedestrians' fields came later: written only when changed, so that
+    // stores written before them stay valid.
     const SeverityConfig defaults;
-    if (!kWrites || pedestrian_fatal_intercept != defaults.pedestrian_fatal_intercept)
-      EMRM_FIELD(a, pedestrian_fatal_intercept);
-    if (!kWrites || pedestrian_fatal_slope_per_kph != defaults.pedestrian_fatal_slope_per_kph)
-      EMRM_FIELD(a, pedestrian_fatal_slope_per_kph, core::positive);
-    if (!kWrites || pedestrian_serious_intercept != defaults.pedestrian_serious_intercept)
-      EMRM_FIELD(a, pedestrian_serious_intercept);
-    if (!kWrites || pedestrian_serious_slope_per_kph != defaults.pedestrian_serious_slope_per_kph)
-      EMRM_FIELD(a, pedestrian_serious_slope_per_kph, core::positive);
+    EMRM_FIELD_UNLESS_DEFAULT(a, critical_slope_h, defaults.critical_slope_h, core::positive);
+    EMRM_FIELD_UNLESS_DEFAULT(a, rollover_p_fatal, defaults.rollover_p_fatal, core::probability);
+    EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_fatal_intercept, defaults.pedestrian_fatal_intercept);
+    EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_fatal_slope_per_kph, defaults.pedestrian_fatal_slope_per_kph,
+                              core::positive);
+    EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_serious_intercept, defaults.pedestrian_serious_intercept);
+    EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_serious_slope_per_kph, defaults.pedestrian_serious_slope_per_kph,
+                              core::positive);
   }
 };
 
@@ -205,7 +200,7 @@ struct SceneConfig {
     // The T-junction was the only scene before families: a scene of it is written without the key, so
     // that stores and configuration hashes written before families existed stay valid
     // (docs/decisions.md, "A scene names its family").
-    if (!(requires { A::kWritesFile; } && family == kDefaultFamily))
+    if (!core::writes_file<A> || family != kDefaultFamily)
       EMRM_FIELD(a, family, core::one_of(family_names, "scenario family"));
     EMRM_FIELD(a, road);
     EMRM_FIELD(a, truck);
@@ -217,30 +212,30 @@ struct SceneConfig {
     EMRM_FIELD(a, roadside);
     EMRM_FIELD(a, safe_state);
     // A family's own block is written for a scene of that family only.
-    if (!(requires { A::kWritesFile; } && family != "highway_obstacle")) EMRM_FIELD(a, highway);
-    if (!(requires { A::kWritesFile; } && family != "pedestrian_crossing")) EMRM_FIELD(a, crossing);
+    if (!core::writes_file<A> || family == "highway_obstacle") EMRM_FIELD(a, highway);
+    if (!core::writes_file<A> || family == "pedestrian_crossing") EMRM_FIELD(a, crossing);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
+    const EgoStart start = ego_start();
     const double half_width = ego.width_m / 2.0;
-    if (family == "highway_obstacle") {
-      a.ensure(
-          highway.ego_y_m() - half_width >= highway.min_y_m() && highway.ego_y_m() + half_width <= highway.max_y_m(),
-          "highway.ego_lane", "the ego ({} m wide) in lane {} does not fit on the drivable area y in [{}, {}] m",
-          ego.width_m, highway.ego_lane, highway.min_y_m(), highway.max_y_m());
-      return;
-    }
-    if (family == "pedestrian_crossing") {
-      a.ensure(ego.width_m <= crossing.lane_width_m, "crossing.lane_width_m",
-               "the ego ({} m wide) does not fit in its lane of {} m", ego.width_m, crossing.lane_width_m);
-      return;
-    }
-    const double low = road.drivable_min_y_m();
-    const double high = road.drivable_max_y_m();
-    a.ensure(road.ego_lane_center_m - half_width >= low && road.ego_lane_center_m + half_width <= high,
-             "road.ego_lane_center_m",
+    a.ensure(start.y_m - half_width >= start.min_y_m && start.y_m + half_width <= start.max_y_m, start.field,
              "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m", ego.width_m,
-             road.ego_lane_center_m, low, high);
+             start.y_m, start.min_y_m, start.max_y_m);
+  }
+
+  /// Where the ego starts across the road and the drivable area it must fit on, from the block of
+  /// the scene's family that sets them (`field`, for messages).
+  struct EgoStart {
+    double y_m, min_y_m, max_y_m;
+    std::string_view field;
+  };
+  [[nodiscard]] EgoStart ego_start() const noexcept {
+    if (family == "highway_obstacle")
+      return {highway.ego_y_m(), highway.min_y_m(), highway.max_y_m(), "highway.ego_lane"};
+    if (family == "pedestrian_crossing")
+      return {crossing.ego_y_m(), crossing.min_y_m(), crossing.max_y_m(), "crossing.lane_width_m"};
+    return {road.ego_lane_center_m, road.drivable_min_y_m(), road.drivable_max_y_m(), "road.ego_lane_center_m"};
   }
 };
 

@@ -20,10 +20,13 @@
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "emrm/sim/validity.hpp"
+#include "outcomes.hpp"
 #include "test_scale.hpp"
 
 namespace emrm::sim {
 namespace {
+
+using test::outcome;
 
 using ::testing::HasSubstr;
 
@@ -182,12 +185,6 @@ TEST(HighwayObstacle, LeastLossOrdersImpactsByDeltaV) {
 
 // The shipped example: the production car's actuation (its delays matter at 100 km/h).
 SceneConfig example_scene() { return load_scene_config(EMRM_SOURCE_DIR "/examples/highway_obstacle/scene.yaml"); }
-
-const StrategyOutcome& outcome(const CellResult& r, std::string_view name) {
-  for (const auto& o : r.strategies)
-    if (o.strategy == name) return o;
-  throw std::logic_error("no outcome of " + std::string(name));
-}
 
 // The deer/truck contrast of the paper's introduction at 100 km/h on μ 0.8, TTC 1.0–1.5 s (issue 37).
 // A deer standing in the ego's lane: where EMRM cannot get past it, it brakes into it rather than

@@ -21,15 +21,12 @@
 #include "emrm/sim/rollout.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/strategy.hpp"
+#include "outcomes.hpp"
 
 namespace emrm::sim {
 namespace outcome_model_test {
 
-const StrategyOutcome& outcome(const CellResult& r, const std::string& name) {
-  for (const auto& o : r.strategies)
-    if (o.strategy == name) return o;
-  throw std::logic_error("no outcome for " + name);
-}
+using test::outcome;
 
 // The safe state written out independently of the termination tests: at rest on the road, or
 // stable (the scene's bounds) with a straight full stop from here staying on the road.

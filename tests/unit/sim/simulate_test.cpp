@@ -8,10 +8,13 @@
 #include <cmath>
 
 #include "emrm/sim/json.hpp"
+#include "outcomes.hpp"
 #include "test_scale.hpp"
 
 namespace emrm::sim {
 namespace simulate_test {
+
+using test::outcome;
 
 // A scene in which every physically possible cell is feasible and long enough to stop in. The
 // emergency stop needs no search, so the planners get a token budget to keep these tests quick.
@@ -33,12 +36,6 @@ CellOptions only(std::vector<std::string> strategies) {
   CellOptions o;
   o.strategies = std::move(strategies);
   return o;
-}
-
-const StrategyOutcome& outcome(const CellResult& r, const std::string& name) {
-  for (const auto& o : r.strategies)
-    if (o.strategy == name) return o;
-  throw std::logic_error("no outcome for " + name);
 }
 
 TEST(EmergencyStop, AvoidsExactlyAboveTheAnalyticBoundary) {
