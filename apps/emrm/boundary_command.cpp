@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.hpp"
@@ -18,6 +19,7 @@
 #include "emrm/results/aggregate.hpp"
 #include "emrm/results/boundary.hpp"
 #include "emrm/sim/scene.hpp"
+#include "emrm/sim/stop_physics.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -57,7 +59,8 @@ int run(const BoundaryOptions& options) {
   const sim::SceneConfig scene = sim::parse_stored_scene_config(meta.scene_yaml, store.string() + " (scene)");
   const auto records = campaign::read_results(store);
   const results::BoundaryReport boundaries =
-      results::compute_boundaries(records, sim::scenario_factors(scene), scene.actuation);
+      results::compute_boundaries(records, sim::scenario_factors(scene),
+                                  sim::stop_boundary_applies(scene) ? std::optional(scene.actuation) : std::nullopt);
   const fs::path out = options.output.empty() ? dir / "boundary" : fs::path(options.output);
 
   std::vector<report::Figure> figures;

@@ -22,9 +22,11 @@ from typing import TYPE_CHECKING, Any, Mapping, Optional, Union
 from . import _emrm
 from ._emrm import (
     ActuationConfig,
+    CarBody,
     CellResult,
     Error,
     CrossingConfig,
+    CutInConfig,
     FsmReport,
     HighwayConfig,
     InputError,
@@ -57,7 +59,7 @@ if TYPE_CHECKING:
 PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
-    "ActuationConfig", "Analysis", "CellResult", "CrossingConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",
+    "ActuationConfig", "Analysis", "CarBody", "CellResult", "CrossingConfig", "CutInConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",
     "InputError", "Interrupted", "ObstacleConfig", "Outcome", "Plan", "PlannerConfig", "Results", "RoadConfig", "RoadsideConfig",
     "SafeStateConfig", "Scene", "SeverityConfig", "SimulationConfig", "Trajectory", "TruckConfig",
     "UsageError", "VehicleParams", "__version__", "analyze", "check_covering_array", "check_fsm",

@@ -131,6 +131,21 @@ class CrossingConfig(_Part):
     pedestrian: Final[ObstacleConfig]
     oncoming: Final[ObstacleConfig]
 
+class CarBody(_Part):
+    length_m: Final[float]
+    width_m: Final[float]
+    mass_kg: Final[float]
+    yaw_inertia_kgm2: Final[float]
+
+class CutInConfig(_Part):
+    lane_width_m: Final[float]
+    shoulder_m: Final[float]
+    cutting: Final[CarBody]
+    brake_delay_s: Final[float]
+    follower: Final[CarBody]
+    following_gap_s: Final[float]
+    follower_faster_kph: Final[float]
+
 class Scene(_Part):
     """Scene() is the built-in scene; every field of scene.yaml is a read-only attribute."""
 
@@ -148,6 +163,7 @@ class Scene(_Part):
     safe_state: Final[SafeStateConfig]
     highway: Final[HighwayConfig]
     crossing: Final[CrossingConfig]
+    cut_in: Final[CutInConfig]
     max_initial_distance_m: Final[float]
     @staticmethod
     def load(path: _Path, profile: Optional[str] = None) -> "Scene": ...

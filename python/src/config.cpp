@@ -173,6 +173,9 @@ void bind_config(py::module_& m) {
       m, "HighwayConfig", "The road and obstacles of the family highway_obstacle (`highway:`, docs/families.md).");
   bind_part<sim::CrossingConfig>(
       m, "CrossingConfig", "The street and actors of the family pedestrian_crossing (`crossing:`, docs/families.md).");
+  bind_part<sim::CarBody>(m, "CarBody", "A car of the cut-in's traffic (`cut_in.cutting:`, `cut_in.follower:`).");
+  bind_part<sim::CutInConfig>(m, "CutInConfig",
+                              "The highway and cars of the family cut_in (`cut_in:`, docs/families.md).");
 
   py::class_<sim::SceneConfig, std::shared_ptr<sim::SceneConfig>> scene(
       m, "Scene",

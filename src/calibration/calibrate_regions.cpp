@@ -39,11 +39,12 @@ const campaign::GridSpec& grid_named(const campaign::Campaign& campaign, const R
 }
 
 // The region fractions of a grid's feasible cells under one actuation: G from the closed form, and
-// with `simulate` the others from the planners (cells the stop saves are not simulated).
+// with `simulate` the others from the planners (cells the stop saves are not simulated). A family
+// without the stop boundary (sim::stop_boundary_applies) has no closed form: every cell is simulated.
 class RegionCounter {
  public:
   RegionCounter(const campaign::Campaign& campaign, const campaign::GridSpec& grid, int threads)
-      : campaign_(campaign), grid_(grid) {
+      : campaign_(campaign), grid_(grid), closed_form_(sim::stop_boundary_applies(campaign.scene)) {
     if (threads < 0) throw UsageError(fmt::format("--threads must be >= 0, got {}", threads));
     if (threads > 0) limit_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     for (std::size_t i = 0; i < grid.cells.size(); ++i)
@@ -52,6 +53,8 @@ class RegionCounter {
 
   [[nodiscard]] std::size_t feasible() const noexcept { return feasible_.size(); }
   [[nodiscard]] std::size_t sweeps() const noexcept { return sweeps_; }
+  /// Whether G has the closed form (else percent() must simulate).
+  [[nodiscard]] bool closed_form() const noexcept { return closed_form_; }
 
   /// Percent of the feasible cells in each region (only G without `simulate`).
   std::map<std::string, double> percent(const sim::ActuationConfig& a, bool simulate) {
@@ -59,7 +62,7 @@ class RegionCounter {
     std::map<std::string, double> count{{"G", 0.0}};
     for (const std::size_t i : feasible_) {
       const sim::CellInput& c = grid_.cells[i];
-      if (sim::analytically_stoppable(c, a))
+      if (closed_form_ && sim::analytically_stoppable(c, a))
         count["G"] += 1.0;
       else
         rest.push_back(i);
@@ -91,6 +94,7 @@ class RegionCounter {
 
   const campaign::Campaign& campaign_;
   const campaign::GridSpec& grid_;
+  bool closed_form_;
   std::optional<tbb::global_control> limit_;
   std::vector<std::size_t> feasible_;
   std::size_t sweeps_ = 0;
@@ -164,7 +168,8 @@ RegionCalibration calibrate_regions(const campaign::Campaign& campaign, const Re
   const double n = static_cast<double>(counter.feasible());
   if (counter.feasible() == 0)
     throw InputError(target.grid_at, fmt::format("grid '{}' has no feasible cell to compare fractions on", grid.name));
-  const bool simulate = std::ranges::any_of(matched, [](const std::string& m) { return m != "G"; });
+  const bool simulate =
+      !counter.closed_form() || std::ranges::any_of(matched, [](const std::string& m) { return m != "G"; });
 
   fit::Problem p;
   fit::add_fitted(p, request);

@@ -15,6 +15,7 @@
 
 #include "emrm/campaign/adaptive.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/sim/stop_physics.hpp"
 #include "emrm/sim/strategy.hpp"
 #include "sweep_parts.hpp"
@@ -282,6 +283,32 @@ AdaptiveSummary summarize(const GridSpec& grid, const adaptive::Result& result, 
   return s;
 }
 
+// The grid as the search's lattice: every factor when the search takes that many; else the factors
+// the grid varies, and the TTC and the friction always (the search's monotone axes). A factor held at
+// one level adds nothing to a cell's index in the grid's expansion order, so the lattice's indices
+// are the grid's either way. Throws UsageError for a grid that varies more factors than the search
+// takes.
+adaptive::Lattice lattice_of(const GridSpec& grid, std::size_t ttc, std::size_t friction,
+                             const sim::FactorTable& factors) {
+  if (grid.levels.size() <= adaptive::Lattice::kMaxAxes) return {grid.levels, ttc, friction};
+  adaptive::Lattice lattice;
+  std::vector<std::string> varied;
+  for (std::size_t i = 0; i < grid.levels.size(); ++i) {
+    if (i == ttc) lattice.ttc_axis = lattice.levels.size();
+    if (i == friction) lattice.friction_axis = lattice.levels.size();
+    if (grid.levels[i].size() > 1 || i == ttc || i == friction) {
+      lattice.levels.push_back(grid.levels[i]);
+      varied.push_back(factors[i].key);
+    }
+  }
+  if (lattice.levels.size() > adaptive::Lattice::kMaxAxes)
+    throw UsageError(fmt::format(
+        "grid '{}': the adaptive search takes at most {} factors with more than one level, the TTC and the "
+        "friction among them; this grid varies {} ({}): hold some at one level, or sweep it without --adaptive",
+        grid.name, adaptive::Lattice::kMaxAxes, lattice.levels.size(), core::join(varied, ", ")));
+  return lattice;
+}
+
 }  // namespace
 
 namespace detail {
@@ -299,7 +326,8 @@ AdaptiveSummary sweep_adaptive(const Campaign& campaign, std::size_t g, ResultSt
           fmt::format("grid '{}': the adaptive search needs the scenario's TTC and friction factors", grid.name));
     return *i;
   };
-  const adaptive::Lattice lattice{grid.levels, axis(sim::FactorRole::kTtc), axis(sim::FactorRole::kFriction)};
+  const adaptive::Lattice lattice =
+      lattice_of(grid, axis(sim::FactorRole::kTtc), axis(sim::FactorRole::kFriction), factors);
   adaptive::Options search_options = options.search;
   search_options.seed = core::derive_seed(campaign.seed, "adaptive verification " + grid.name);
   adaptive::Result result;

@@ -106,6 +106,7 @@ int expected_cost(const Campaign& campaign, const WorkItem& item) {
   const sim::CellInput& cell = campaign.grids[item.grid].cells[item.index];
   const sim::Scene scene(campaign.scene, cell);
   if (!scene.feasible()) return 0;
+  if (!sim::stop_boundary_applies(campaign.scene)) return 2;  // no closed form: assume the dearer class
   return sim::stop_margin_m(scene.speed_kph(), scene.ttc_s(), scene.friction(), campaign.scene.actuation) < 0.0 ? 2 : 1;
 }
 

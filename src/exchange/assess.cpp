@@ -287,11 +287,7 @@ Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, co
   sim::require_tjunction(config, "emrm assess");
   sim::validate_cell(config, cell);
   const sim::Scene scene(config, cell);
-  if (!scene.feasible())
-    throw UsageError(
-        fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
-                    "scene's max_initial_distance_m = {} m",
-                    scene.initial_distance_m(), config.max_initial_distance_m));
+  if (!scene.feasible()) throw UsageError("the cell is infeasible: " + scene.infeasible_reason());
   Assessment out = Judge(scene, trajectory).run();
   if (out.avoided) out.impact = {};
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);

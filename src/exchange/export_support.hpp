@@ -28,6 +28,12 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
                          const ExportOptions& options, const std::string& road_file, bool parametric,
                          const std::string& scenario_id, double truck_rest_s);
 
+// One cell of a family other than the T-junction (family_scenario.cpp): the ego and every actor
+// of the cell, each actor's motion as a timed trajectory.
+std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
+                                const EgoTrajectory* trajectory, const ExportOptions& options,
+                                const std::string& road_file);
+
 // When the cell's truck comes to rest (infinite when it does not brake).
 double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell);
 

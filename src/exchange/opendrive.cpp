@@ -6,7 +6,9 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include "emrm/sim/family.hpp"
 #include "export_support.hpp"
 #include "xml_writer.hpp"
 
@@ -150,6 +152,14 @@ void one_lane_road_lanes(XmlWriter& x, double lane_width_m, LaneLink link) {
   x.close();
 }
 
+// A straight road's lanes from the family (sim::RoadLane), from the right edge leftwards: one
+// driving lane over the drivable width when the family names none.
+std::vector<sim::RoadLane> lanes_of(const sim::SceneConfig& config, const sim::Road& road) {
+  const auto family = sim::find_family(config.family);
+  if (!family->lanes) return {{road.width_m(), "driving"}};
+  return family->lanes(config);
+}
+
 }  // namespace
 
 JunctionLayout junction_layout(const sim::SceneConfig& config, const sim::CellInput& cell) {
@@ -265,6 +275,66 @@ std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& 
     x.leaf("laneLink", {{"from", "1"}, {"to", "-1"}});
     x.close();
   }
+  x.close();
+  x.close();
+  return std::move(x).str();
+}
+
+std::string straight_road_xml(const sim::SceneConfig& config, const sim::CellInput& cell) {
+  const sim::Scene scene(config, cell);
+  const sim::Road& road = scene.road();
+  const std::vector<sim::RoadLane> lanes = lanes_of(config, road);
+  // The reference line between the lanes of the ego's direction (right of it, ids −1 …) and the
+  // oncoming ones (left of it, ids 1 …).
+  double reference_y = road.min_y_m;
+  for (const auto& l : lanes)
+    if (!l.oncoming) reference_y += l.width_m;
+  // Long enough for the whole run at the ego's speed, past the hazard.
+  const double run_s = config.simulation.horizon_s + config.safe_state.horizon_s;
+  const double start_x = -kApproach_m - config.ego.length_m;
+  const double end_x = scene.initial_distance_m() + std::max(kRunOut_m, scene.initial_speed_mps() * run_s);
+  XmlWriter x;
+  x.open("OpenDRIVE");
+  x.leaf("header", {{"revMajor", "1"},
+                    {"revMinor", "6"},
+                    {"name", config.name},
+                    {"version", "1"},
+                    {"date", kDate},
+                    {"north", num(road.max_y_m)},
+                    {"south", num(road.min_y_m)},
+                    {"east", num(end_x)},
+                    {"west", num(start_x)},
+                    {"vendor", "emrm"}});
+  x.open("road",
+         {{"name", config.family}, {"length", num(end_x - start_x)}, {"id", "1"}, {"junction", "-1"}, {"rule", "RHT"}});
+  x.open("planView");
+  straight(x, 0.0, start_x, reference_y, 0.0, end_x - start_x);
+  x.close();
+  x.open("lanes");
+  x.open("laneSection", {{"s", "0"}});
+  const auto side = [&](const char* tag, bool oncoming, int sign) {
+    std::vector<const sim::RoadLane*> these;
+    for (const auto& l : lanes)
+      if (l.oncoming == oncoming) these.push_back(&l);
+    if (these.empty()) return;
+    if (!oncoming) std::reverse(these.begin(), these.end());  // outwards from the reference line
+    x.open(tag);
+    // Left lanes are written outermost first (descending ids), right lanes innermost first.
+    for (std::size_t k = 0; k < these.size(); ++k) {
+      const std::size_t i = oncoming ? these.size() - 1 - k : k;
+      const bool outermost = i + 1 == these.size();
+      lane(x, sign * static_cast<int>(i + 1), these[i]->type.c_str(), these[i]->width_m,
+           these[i]->type != "driving" ? "none"
+           : outermost                 ? "solid"
+                                       : "broken");
+    }
+    x.close();
+  };
+  side("left", true, 1);
+  center_lane(x);
+  side("right", false, -1);
+  x.close();
+  x.close();
   x.close();
   x.close();
   return std::move(x).str();

@@ -16,6 +16,7 @@
 #include "emrm/version.hpp"
 #include "export_support.hpp"
 #include "xml_writer.hpp"
+#include "xosc_parts.hpp"
 
 namespace emrm::exchange {
 namespace {
@@ -25,6 +26,22 @@ using detail::num;
 using detail::require_feasible;
 using detail::scenario_xml;
 using detail::truck_rest_s;
+// The parts of a scenario document (xosc_parts.hpp).
+using detail::axles;
+using detail::bounding_box;
+using detail::ego_entity;
+using detail::ego_maneuver;
+using detail::ego_vertices;
+using detail::follow_trajectory;
+using detail::maneuver_group;
+using detail::maneuver_group_end;
+using detail::parameter_declarations;
+using detail::pline_interpolation;
+using detail::road_friction;
+using detail::start_at_zero;
+using detail::start_state;
+using detail::time_condition;
+using detail::world_position;
 
 using sim::kKphPerMps;
 
@@ -84,70 +101,10 @@ Initial initial_of(const sim::SceneConfig& config, const sim::CellInput& cell, c
   i.mu = {cell.friction(), p.mu};
   return i;
 }
-void time_condition(XmlWriter& x, const std::string& name, const char* rule, double t_s) {
-  x.open("ConditionGroup");
-  x.open("Condition", {{"name", name}, {"delay", "0"}, {"conditionEdge", "none"}});
-  x.open("ByValueCondition");
-  x.leaf("SimulationTimeCondition", {{"value", num(t_s)}, {"rule", rule}});
-  x.close();
-  x.close();
-  x.close();
-}
-
-void start_at_zero(XmlWriter& x, const std::string& name) {
-  x.open("StartTrigger");
-  time_condition(x, name, "greaterOrEqual", 0.0);
-  x.close();
-}
-
-void bounding_box(XmlWriter& x, double center_x, double height, double length, double width) {
-  x.open("BoundingBox");
-  x.leaf("Center", {{"x", num(center_x)}, {"y", "0"}, {"z", num(height / 2.0)}});
-  x.leaf("Dimensions", {{"width", num(width)}, {"length", num(length)}, {"height", num(height)}});
-  x.close();
-}
-
-void axles(XmlWriter& x, double wheelbase, double max_steer, double track, double wheel_diameter) {
-  x.open("Axles");
-  x.leaf("FrontAxle", {{"maxSteering", num(max_steer)},
-                       {"wheelDiameter", num(wheel_diameter)},
-                       {"trackWidth", num(track)},
-                       {"positionX", num(wheelbase)},
-                       {"positionZ", num(wheel_diameter / 2.0)}});
-  x.leaf("RearAxle", {{"maxSteering", "0"},
-                      {"wheelDiameter", num(wheel_diameter)},
-                      {"trackWidth", num(track)},
-                      {"positionX", "0"},
-                      {"positionZ", num(wheel_diameter / 2.0)}});
-  x.close();
-}
-
-// esmini's own switch (an entity property, which other engines ignore): the heading interpolated
-// linearly over each segment of a trajectory, so that it is the vertices' at their times. Without
-// it, followingMode "position" makes esmini blend the headings of neighbouring vertices, half a
-// step late, and snap to the last one at the end (docs/openscenario.md, "esmini").
-void pline_interpolation(XmlWriter& x) { x.leaf("Property", {{"name", "plineInterpolation"}, {"value", "segment"}}); }
-
 void entities(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions& options) {
-  const sim::VehicleParams& ego = config.ego;
   const sim::TruckConfig& truck = config.truck;
   x.open("Entities");
-  x.open("ScenarioObject", {{"name", kEgoEntity}});
-  x.open("Vehicle", {{"name", "emrm_ego"}, {"vehicleCategory", "car"}, {"mass", num(ego.mass_kg)}});
-  // The box's centre ahead of the rear axle: CG to rear axle plus the CG's offset from the middle.
-  bounding_box(x, ego_reference_offset_m(ego) + (ego.cg_to_front_m() - ego.cg_to_rear_m()) / 2.0, options.ego_height_m,
-               ego.length_m, ego.width_m);
-  x.leaf("Performance", {{"maxSpeed", num(options.ego_max_speed_mps)},
-                         {"maxAcceleration", num(options.ego_max_acceleration_mps2)},
-                         {"maxDeceleration", num(config.actuation.full_decel_mps2(2.0))}});
-  axles(x, ego.wheelbase_m(), ego.max_steer_rad, std::max(ego.width_m - 0.2, 0.1), options.ego_wheel_diameter_m);
-  x.open("Properties");
-  x.leaf("Property", {{"name", "yaw_inertia_kgm2"}, {"value", num(ego.yaw_inertia_kgm2)}});
-  x.leaf("Property", {{"name", "cg_to_rear_axle_m"}, {"value", num(ego.cg_to_rear_axle_m)}});
-  pline_interpolation(x);
-  x.close();
-  x.close();
-  x.close();
+  ego_entity(x, config, options);
 
   x.open("ScenarioObject", {{"name", kTruckEntity}});
   x.open("Vehicle", {{"name", "emrm_truck"}, {"vehicleCategory", "truck"}, {"mass", num(truck.mass_kg)}});
@@ -166,92 +123,13 @@ void entities(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions&
   x.close();
 }
 
-void world_position(XmlWriter& x, const std::string& px, const std::string& py, const std::string& heading) {
-  x.open("Position");
-  x.leaf("WorldPosition", {{"x", px}, {"y", py}, {"z", "0"}, {"h", heading}, {"p", "0"}, {"r", "0"}});
-  x.close();
-}
-
-void speed_action(XmlWriter& x, const char* shape, const char* dimension, const std::string& value,
-                  const std::string& target) {
-  x.open("LongitudinalAction");
-  x.open("SpeedAction");
-  x.leaf("SpeedActionDynamics", {{"dynamicsShape", shape}, {"value", value}, {"dynamicsDimension", dimension}});
-  x.open("SpeedActionTarget");
-  x.leaf("AbsoluteTargetSpeed", {{"value", target}});
-  x.close();
-  x.close();
-  x.close();
-}
-
 void init(XmlWriter& x, const Initial& i, bool parametric) {
   x.open("Init");
   x.open("Actions");
-  x.open("GlobalAction");
-  x.open("EnvironmentAction");
-  x.open("Environment", {{"name", "emrm_road"}});
-  x.leaf("RoadCondition", {{"frictionScaleFactor", i.mu.text(parametric)}});
-  x.close();
-  x.close();
-  x.close();
-  const std::string truck_heading = num(-std::numbers::pi / 2.0);
-  for (const auto& [entity, px, py, heading, speed] :
-       {std::tuple{kEgoEntity, &i.ego_x, &i.ego_y, std::string("0"), &i.ego_speed},
-        std::tuple{kTruckEntity, &i.truck_x, &i.truck_y, truck_heading, &i.truck_speed}}) {
-    x.open("Private", {{"entityRef", entity}});
-    x.open("PrivateAction");
-    x.open("TeleportAction");
-    world_position(x, px->text(parametric), py->text(parametric), heading);
-    x.close();
-    x.close();
-    x.open("PrivateAction");
-    speed_action(x, "step", "time", "0", speed->text(parametric));
-    x.close();
-    x.close();
-  }
-  x.close();
-  x.close();
-}
-
-void maneuver_group(XmlWriter& x, const std::string& name, const char* entity) {
-  x.open("ManeuverGroup", {{"name", name}, {"maximumExecutionCount", "1"}});
-  x.open("Actors", {{"selectTriggeringEntities", "false"}});
-  x.leaf("EntityRef", {{"entityRef", entity}});
-  x.close();
-}
-
-void maneuver_group_end(XmlWriter& x, const std::string& trigger) {
-  start_at_zero(x, trigger);
-  x.close();
-  x.close();
-  x.close();
-}
-
-// A FollowTrajectoryAction along a timed polyline (absolute times from the hazard); `vertex`
-// writes the position of the k-th of `times`.
-template <class Vertex>
-void follow_trajectory(XmlWriter& x, const std::string& name, const std::vector<double>& times, Vertex&& vertex) {
-  x.open("PrivateAction");
-  x.open("RoutingAction");
-  x.open("FollowTrajectoryAction");
-  x.open("TrajectoryRef");
-  x.open("Trajectory", {{"name", name}, {"closed", "false"}});
-  x.open("Shape");
-  x.open("Polyline");
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    x.open("Vertex", {{"time", num(times[k])}});
-    vertex(k);
-    x.close();
-  }
-  x.close();
-  x.close();
-  x.close();
-  x.close();
-  x.open("TimeReference");
-  x.leaf("Timing", {{"domainAbsoluteRelative", "absolute"}, {"scale", "1"}, {"offset", "0"}});
-  x.close();
-  x.leaf("TrajectoryFollowingMode", {{"followingMode", "position"}});
-  x.close();
+  road_friction(x, i.mu.text(parametric));
+  start_state(x, kEgoEntity, i.ego_x.text(parametric), i.ego_y.text(parametric), "0", i.ego_speed.text(parametric));
+  start_state(x, kTruckEntity, i.truck_x.text(parametric), i.truck_y.text(parametric), num(-std::numbers::pi / 2.0),
+              i.truck_speed.text(parametric));
   x.close();
   x.close();
 }
@@ -313,34 +191,6 @@ void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::Cel
   maneuver_group_end(x, "TruckBrakesAtHazard");
 }
 
-// The ego follows its executed trajectory, reference point (rear axle) at each vertex's time.
-void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory& trajectory,
-                  const std::vector<sim::PathPoint>& vertices) {
-  const double back = ego_reference_offset_m(config.ego);
-  maneuver_group(x, "EgoManeuverGroup", kEgoEntity);
-  x.open("Maneuver", {{"name", "EgoExecutedTrajectory"}});
-  x.open("Event", {{"name", "EgoFollowsTrajectory"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
-  x.open("Action", {{"name", "EgoFollowTrajectory"}});
-  std::vector<double> times;
-  for (const auto& p : vertices) times.push_back(p.t_s);
-  follow_trajectory(x, "emrm_" + trajectory.strategy, times, [&](std::size_t k) {
-    const auto& s = vertices[k].state;
-    world_position(x, num(s.x_m - back * std::cos(s.yaw_rad)), num(s.y_m - back * std::sin(s.yaw_rad)), num(s.yaw_rad));
-  });
-  x.close();
-  maneuver_group_end(x, "EgoStartsAtHazard");
-}
-
-void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const sim::CellInput& cell,
-                            const std::string& road_file, const std::string& scenario_id) {
-  x.open("ParameterDeclarations");
-  for (std::size_t f = 0; f < factors.size(); ++f)
-    x.leaf("ParameterDeclaration", {{"name", factors[f].key}, {"parameterType", "double"}, {"value", num(cell[f])}});
-  x.leaf("ParameterDeclaration", {{"name", "road_network"}, {"parameterType", "string"}, {"value", road_file}});
-  x.leaf("ParameterDeclaration", {{"name", "scenario_id"}, {"parameterType", "string"}, {"value", scenario_id}});
-  x.close();
-}
-
 }  // namespace
 
 namespace detail {
@@ -361,10 +211,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
   const Initial i = initial_of(config, cell, options);
   const sim::FactorTable factors = sim::scenario_factors(config);
   std::vector<sim::PathPoint> vertices;
-  if (trajectory != nullptr)
-    vertices =
-        ended_on_frame_grid(thin_path(with_final_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m),
-                            config.simulation.dt_s);
+  if (trajectory != nullptr) vertices = ego_vertices(config, *trajectory, options);
   // The storyboard ends with the trajectory (the ego's final state), else after the longest run
   // the simulator would make: the horizon, then the recovery after the truck.
   const double end_s =
@@ -405,11 +252,8 @@ double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell) 
 
 void require_feasible(const sim::SceneConfig& config, const sim::CellInput& cell) {
   sim::validate_cell(config, cell);
-  if (!sim::Scene(config, cell).feasible())
-    throw UsageError(
-        fmt::format("the cell is infeasible: the truck would appear {} m ahead (v·TTC), beyond the "
-                    "scene's max_initial_distance_m = {} m",
-                    sim::Scene(config, cell).initial_distance_m(), config.max_initial_distance_m));
+  if (const sim::Scene scene(config, cell); !scene.feasible())
+    throw UsageError("the cell is infeasible: " + scene.infeasible_reason());
 }
 
 }  // namespace detail
@@ -423,16 +267,27 @@ double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptio
 std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                              const EgoTrajectory* trajectory, const ExportOptions& options,
                              const std::string& road_file) {
+  if (sim::tjunction_only(config, "the export"))
+    return detail::family_scenario_xml(config, cell, trajectory, options, road_file);
   return scenario_xml(config, cell, trajectory, options, road_file, false, "cell", truck_rest_s(config, cell));
+}
+
+std::string road_file_of(const sim::SceneConfig& config) {
+  return sim::tjunction_only(config, "the export") ? config.family + ".xodr" : kRoadFile;
+}
+
+std::string scenario_file_of(const sim::SceneConfig& config) {
+  return sim::tjunction_only(config, "the export") ? config.family + ".xosc" : kScenarioFile;
 }
 
 std::vector<fs::path> export_cell(const fs::path& dir, const sim::SceneConfig& config, const sim::CellInput& cell,
                                   const EgoTrajectory* trajectory, const ExportOptions& options) {
-  sim::require_tjunction(config, "the OpenSCENARIO export");
   require_feasible(config, cell);
+  const bool tjunction = !sim::tjunction_only(config, "the export");
+  const std::string road = road_file_of(config);
   const std::vector<core::FileContent> files{
-      {dir / kRoadFile, opendrive_xml(config, cell)},
-      {dir / kScenarioFile, openscenario_xml(config, cell, trajectory, options, kRoadFile)}};
+      {dir / road, tjunction ? opendrive_xml(config, cell) : straight_road_xml(config, cell)},
+      {dir / scenario_file_of(config), openscenario_xml(config, cell, trajectory, options, road)}};
   core::write_files(files);
   return {files[0].path, files[1].path};
 }

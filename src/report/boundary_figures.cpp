@@ -142,21 +142,22 @@ void add_step_line(SliceDrawing& d, const std::string& boundary, const std::vect
 /// The analytic stop boundary at the slice's μ, sampled across the speed axis.
 void add_analytic_line(SliceDrawing& d, const BoundaryReport& report, double mu, const std::vector<double>& xs,
                        double hx) {
+  d.map.layers = d.halos;
+  d.map.layers.insert(d.map.layers.end(), d.lines.begin(), d.lines.end());
+  d.map.layers.insert(d.map.layers.end(), d.circles.begin(), d.circles.end());
+  if (!report.actuation) return;  // the family has none (sim::stop_boundary_applies)
   const double low = std::max(xs.front() - hx, 0.5 * xs.front());
   const double high = xs.back() + hx;
   std::vector<std::string> points;
   for (int i = 0; i <= kAnalyticSamples; ++i) {
     const double v = low + (high - low) * i / kAnalyticSamples;
-    const double ttc = sim::stop_boundary_ttc_s(v, mu, report.actuation);
+    const double ttc = sim::stop_boundary_ttc_s(v, mu, *report.actuation);
     points.push_back(fmt::format("{} {}", plot_number(v), plot_number(ttc)));
     d.csv.push_back({"analytic_stop", plot_number(v), "", "", plot_number(ttc), ""});
   }
   d.map.data += datablock("analytic_stop", points);
   const LineStyle style{std::string(kAnalyticColour), 2.5, 2, "analytic stop boundary"};
   // On top of everything: the step lines are read against it.
-  d.map.layers = d.halos;
-  d.map.layers.insert(d.map.layers.end(), d.lines.begin(), d.lines.end());
-  d.map.layers.insert(d.map.layers.end(), d.circles.begin(), d.circles.end());
   d.map.layers.push_back(halo("$analytic_stop", style));
   d.map.layers.push_back(line("$analytic_stop", style));
   d.map.key.push_back(key_entry(style));
@@ -218,9 +219,11 @@ Figure draw_slice(const BoundaryReport& report, const BoundarySlice& slice, std:
       "Boundaries of grid '{}': {} ({} cells; {}). Each rectangle is one cell in its region's colour. Each step "
       "line sits, at every speed, between the highest TTC level that fails and the lowest from which every level "
       "passes: the cells are G (stop), G or Y (avoid), G, Y or O (mitigate), or avoided by the strategy (dashed, "
-      "in its colour); a speed where no level passes has no step. Dashed black: the analytic stop boundary "
-      "through the scene's actuators ({}).{}{}",
-      slice.grid, caption.extent, d.map.cells.size(), caption.shares, report.actuation.summary(),
+      "in its colour); a speed where no level passes has no step.{}{}{}",
+      slice.grid, caption.extent, d.map.cells.size(), caption.shares,
+      report.actuation ? fmt::format(" Dashed black: the analytic stop boundary through the scene's actuators ({}).",
+                                     report.actuation->summary())
+                       : std::string(" The scene's family has no analytic stop boundary (docs/families.md)."),
       non_monotone ? " A circle marks a line that is not monotone in TTC: a cell below its threshold passes." : "",
       caption.evidence);
   return figure;

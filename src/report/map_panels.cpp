@@ -169,6 +169,7 @@ std::string boundary_text(double latency_s) {
 }
 
 std::string boundary_function(const MapPanel& p, double latency_s) {
+  if (std::isnan(latency_s)) return "";  // the scene's family has no stop boundary
   const double two_g = 2.0 * sim::kGravity_mps2;
   const PanelSpec& s = p.spec;
   if (s.x == Axis::kSpeed && s.y == Axis::kTtc)

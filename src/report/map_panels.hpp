@@ -122,7 +122,8 @@ inline constexpr double kMapTop = 0.955;  // below the multiplot's title
 [[nodiscard]] std::string boundary_text(double latency_s);
 
 /// The dashed analytic stop boundary TTC = L + v/(2μg) as a gnuplot function of the panel's x;
-/// "" when there is none to draw over the panel's factors.
+/// "" when there is none to draw over the panel's factors, or none at all (a NaN latency: the scene's
+/// family has no stop boundary).
 [[nodiscard]] std::string boundary_function(const MapPanel& p, double latency_s);
 
 /// One panel of the multiplot: its place, its heading with `subtitle` under it, its axes, then

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -24,6 +25,7 @@
 #include "emrm/results/results_dir.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/stop_physics.hpp"
 #include "emrm/version.hpp"
 #include "html.hpp"
 #include "side_sections.hpp"
@@ -371,9 +373,13 @@ ReportSummary write_report(const fs::path& dir) {
   const auto start = Clock::now();
   const std::string grid = results::headline_grid(records);
   // The dashed stop boundary as a latency: perception, brake dead time and half the ramp (the ramp's
-  // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check).
+  // a·t_r²/(24 v) and a brake cap below mu·g are left out of the line, not out of the check). NaN, no
+  // line, for a family without the boundary.
   const auto& act = scene.actuation;
-  const double boundary_latency_s = act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s;
+  const bool stop_boundary = sim::stop_boundary_applies(scene);
+  const double boundary_latency_s = stop_boundary
+                                        ? act.perception_latency_s + act.brake_dead_time_s + 0.5 * act.brake_ramp_s
+                                        : std::numeric_limits<double>::quiet_NaN();
   // The paper's four-panel maps when the store holds one of their grids; any other grid its own maps.
   const MapPanels paper;
   const std::vector<std::string> paper_grids{paper.coarse, paper.fine, paper.speed_mu, paper.ttc_mu};
@@ -390,7 +396,7 @@ ReportSummary write_report(const fs::path& dir) {
   for (Figure& f : draw_grid_maps(records, factors, figures_dir, grid_maps)) summary.figures.push_back(std::move(f));
   if (planned)
     for (Figure& f : draw_plan_maps(*planned, figures_dir)) summary.figures.push_back(std::move(f));
-  summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
+  if (stop_boundary) summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
   if (!in.runs.empty())
     summary.figures.push_back(draw_profile_maps(in.runs, in.per_profile, factors, grid, figures_dir));
   summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));

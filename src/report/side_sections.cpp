@@ -53,9 +53,11 @@ std::string findings_html(const fs::path& dir) {
 std::string diagnostics_table(const results::DiagnosticsSummary& d) {
   core::Row header{"check", "result"};
   std::vector<core::Row> rows;
-  rows.push_back({"stop boundary", fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
-                                               "(must be 0), {} G cells below the boundary (must be 0)",
-                                               d.stoppable, d.feasible, d.stoppable_red, d.green_not_stoppable)});
+  rows.push_back({"stop boundary", d.stop_boundary
+                                       ? fmt::format("{} of {} feasible cells can stop analytically; {} of them R "
+                                                     "(must be 0), {} G cells below the boundary (must be 0)",
+                                                     d.stoppable, d.feasible, d.stoppable_red, d.green_not_stoppable)
+                                       : std::string("none: the scene's family has no analytic stop boundary")});
   std::vector<std::string> reversals;
   for (const auto& c : d.reversal_counts)
     if (c.reversals > 0)

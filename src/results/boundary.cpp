@@ -80,8 +80,8 @@ void add_analytic_rows(const std::string& grid, const std::vector<const campaign
   std::set<std::pair<double, double>> mu_speed;
   for (const auto* c : cells) mu_speed.emplace(c->factors.friction(), c->factors.ego_speed_kph());
   for (const auto& [mu, speed] : mu_speed) {
-    const double distance = report.actuation.stopping_distance_m(speed / 3.6, mu, true);
-    report.analytic.push_back({grid, mu, speed, distance, sim::stop_boundary_ttc_s(speed, mu, report.actuation)});
+    const double distance = report.actuation->stopping_distance_m(speed / 3.6, mu, true);
+    report.analytic.push_back({grid, mu, speed, distance, sim::stop_boundary_ttc_s(speed, mu, *report.actuation)});
   }
 }
 
@@ -103,7 +103,7 @@ void add_grid(const std::string& grid, const std::vector<const campaign::CellRec
     report.lines += lines.size();
     add_slice_rows(report.slices.back(), lines, strategies, report);
   }
-  add_analytic_rows(grid, cells, report);
+  if (report.actuation) add_analytic_rows(grid, cells, report);
 }
 
 // "speed × μ × passage × truck speed": what names a line, every factor but the TTC.
@@ -158,7 +158,7 @@ std::size_t BoundaryReport::non_monotone() const noexcept {
 }
 
 BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
-                                  const sim::ActuationConfig& actuation) {
+                                  const std::optional<sim::ActuationConfig>& actuation) {
   BoundaryReport report;
   report.actuation = actuation;
   report.factors = factors;

@@ -118,9 +118,11 @@ StopBoundaryCheck stop_boundary_check(const std::vector<campaign::CellRecord>& r
   StopBoundaryCheck c;
   c.latency_s = actuation.perception_latency_s;
   c.actuation = actuation;
+  c.applies = scene == nullptr || sim::stop_boundary_applies(*scene);
   for (const auto& r : records) {
     if (!r.feasible) continue;
     ++c.feasible;
+    if (!c.applies) continue;
     const bool stoppable = sim::analytically_stoppable(r.factors, actuation);
     if (stoppable) {
       ++c.stoppable;
@@ -286,6 +288,10 @@ nlohmann::ordered_json to_json(const Diagnostics& d) {
             {"green_not_stoppable", cells_json(sb.green_not_stoppable, d.factors)},
             {"green_clear_path_count", sb.green_clear_path.size()},
             {"green_clear_path", cells_json(sb.green_clear_path, d.factors)}};
+  if (!sb.applies) {  // a family without the boundary (a key of its own: the T-junction's file stays as it was)
+    stop["applies"] = false;
+    stop["definition"] = "the scene's family has no analytic stop boundary (its hazard does not stand v TTC ahead)";
+  }
   Json counts = Json::array();
   for (const auto& c : d.monotonicity.counts)
     counts.push_back({{"grid", c.grid},
@@ -334,17 +340,20 @@ std::string summary(const Diagnostics& d) {
   const auto& rc = d.reference;
   std::vector<std::string> missed;
   for (const auto& c : rc.strategies) missed.push_back(fmt::format("{} {}", c.missed, c.strategy));
+  const std::string stop =
+      !sb.applies
+          ? std::string("no analytic stop boundary in this scene's family")
+          : fmt::format("{} analytically stoppable cells classified R{}; {} G cells below the stop boundary{}",
+                        sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
+                        sb.green_not_stoppable.size(),
+                        sb.green_clear_path.empty()
+                            ? std::string()
+                            : fmt::format(" with the hazard in the car's path ({} more where it leaves the path clear)",
+                                          sb.green_clear_path.size()));
   return fmt::format(
-      "{} analytically stoppable cells classified R{}; {} G cells below the stop boundary{}; {} monotonicity "
-      "reversals; reference planner on {} cells: RRT missed {}; FSM transition coverage {}/{} (EMRM), {}/{} "
-      "(loss evaluation)",
-      sb.stoppable_red.size(), sb.stoppable_red.empty() ? "" : " (WARNING: see diagnostics.json)",
-      sb.green_not_stoppable.size(),
-      sb.green_clear_path.empty()
-          ? std::string()
-          : fmt::format(" with the hazard in the car's path ({} more where it leaves the path clear)",
-                        sb.green_clear_path.size()),
-      d.monotonicity.total_reversals, rc.sampled,
+      "{}; {} monotonicity reversals; reference planner on {} cells: RRT missed {}; FSM transition coverage {}/{} "
+      "(EMRM), {}/{} (loss evaluation)",
+      stop, d.monotonicity.total_reversals, rc.sampled,
       missed.empty() ? std::string("nothing (no strategy checked)") : core::join(missed, ", "),
       d.emrm_fsm.coverage.covered, d.emrm_fsm.coverage.counts.size(), d.loss_evaluation_fsm.coverage.covered,
       d.loss_evaluation_fsm.coverage.counts.size());
@@ -384,6 +393,7 @@ DiagnosticsSummary read_diagnostics_summary(const std::filesystem::path& path) {
   };
   DiagnosticsSummary s;
   const auto stop = root.at("stop_boundary");
+  if (const auto applies = stop.find("applies")) core::YamlCodec<bool>::read(*applies, s.stop_boundary);
   s.feasible = count(stop, "feasible");
   s.stoppable = count(stop, "stoppable");
   s.stoppable_red = count(stop, "stoppable_red_count");

@@ -108,6 +108,19 @@ Pose between(const sim::PathPoint& a, const sim::PathPoint& b, double t_s) {
               h11 * b.state.yaw_rate_radps * h};
 }
 
+// The pose at time t of a straight stop at constant deceleration from a (moving) to b (at rest):
+// the deceleration is the one that stops a's speed within the distance from a to b.
+Pose braking(const sim::PathPoint& a, const sim::PathPoint& b, double t_s) {
+  const double distance = std::hypot(b.state.x_m - a.state.x_m, b.state.y_m - a.state.y_m);
+  const double v = a.state.speed_mps();
+  if (!(distance > 0.0) || !(v > 0.0)) return {b.state.x_m, b.state.y_m, b.state.yaw_rad};
+  const double decel = v * v / (2.0 * distance);
+  const double tau = std::min(t_s - a.t_s, v / decel);
+  const double along = v * tau - 0.5 * decel * tau * tau;
+  return {a.state.x_m + along * std::cos(a.state.yaw_rad), a.state.y_m + along * std::sin(a.state.yaw_rad),
+          a.state.yaw_rad};
+}
+
 // ---- the checks -------------------------------------------------------------------------------
 
 struct AvoidanceCheck {
@@ -123,18 +136,24 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
   const double low = scene.road().min_y_m - options.tolerance_m;
   const double high = scene.road().max_y_m + options.tolerance_m;
   AvoidanceCheck out;
-  // The truck's truncation of a stop in closed form leaves a jump at the very end: the straight
-  // stop of the last step is checked at its ends (it is a straight line on a straight road).
+  // The truncation of a stop in closed form leaves a jump at the very end: a straight line on a
+  // straight road, checked at its ends when every actor keeps its place along the road; where one
+  // drives along it (a car cutting in), every check_step_s along the stop's own motion.
+  const bool actor_drives =
+      std::ranges::any_of(scene.actors(), [](const sim::Actor& actor) { return actor.motion().direction.x != 0.0; });
   for (std::size_t k = 0; k < path.size(); ++k) {
     const sim::PathPoint& b = path[k];
     const sim::PathPoint& a = k > 0 ? path[k - 1] : path[k];
     const bool closed_form_jump = b.t_s - a.t_s > 1.5 * config.simulation.dt_s;
-    const int samples = k == 0 || closed_form_jump
+    const int samples = k == 0 || (closed_form_jump && !actor_drives)
                             ? 1
                             : std::max(1, static_cast<int>(std::ceil((b.t_s - a.t_s) / options.check_step_s)));
     for (int i = 1; i <= samples; ++i) {
       const double t = a.t_s + (b.t_s - a.t_s) * i / samples;
-      const Pose pose = closed_form_jump || k == 0 ? Pose{b.state.x_m, b.state.y_m, b.state.yaw_rad} : between(a, b, t);
+      const Pose pose = k == 0 ? Pose{b.state.x_m, b.state.y_m, b.state.yaw_rad}
+                        : closed_form_jump
+                            ? (actor_drives ? braking(a, b, t) : Pose{b.state.x_m, b.state.y_m, b.state.yaw_rad})
+                            : between(a, b, t);
       const Polygon ego = ego_outline(config.ego, pose.x, pose.y, pose.yaw, 0.0);
       // Every actor of the scene, the hazard first; the clearance is to the nearest of them.
       const Polygon shrunk = ego_outline(config.ego, pose.x, pose.y, pose.yaw, options.tolerance_m);

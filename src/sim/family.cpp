@@ -8,6 +8,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/registry.hpp"
 #include "emrm/sim/crossing.hpp"
+#include "emrm/sim/cut_in.hpp"
 #include "emrm/sim/highway.hpp"
 #include "emrm/sim/scene.hpp"
 
@@ -16,7 +17,7 @@ namespace {
 
 core::Registry<ScenarioFamilyInfo>& family_registry() {
   static core::Registry<ScenarioFamilyInfo> families(
-      "scenario family", {tjunction_family(), highway_obstacle_family(), pedestrian_crossing_family()},
+      "scenario family", {tjunction_family(), highway_obstacle_family(), pedestrian_crossing_family(), cut_in_family()},
       [](const ScenarioFamilyInfo& f) -> std::string_view { return f.name; });
   return families;
 }

@@ -76,6 +76,14 @@ SceneLayout highway_layout(const SceneConfig& config, const CellInput& cell) {
   return out;
 }
 
+std::vector<RoadLane> highway_lanes(const SceneConfig& config) {
+  const HighwayConfig& highway = config.highway;
+  std::vector<RoadLane> lanes;
+  if (highway.shoulder_m > 0.0) lanes.push_back({highway.shoulder_m, "shoulder"});
+  for (int i = 0; i < highway.lanes; ++i) lanes.push_back({highway.lane_width_m, "driving"});
+  return lanes;
+}
+
 }  // namespace
 
 ScenarioFamilyInfo highway_obstacle_family() {
@@ -84,7 +92,8 @@ ScenarioFamilyInfo highway_obstacle_family() {
               "the paper's introduction: on a multi-lane highway a truck or a deer enters from the right "
               "roadside and stops blocking the road; a guardrail or an embankment beyond the shoulder",
           .factors = highway_factors,
-          .layout = highway_layout};
+          .layout = highway_layout,
+          .lanes = highway_lanes};
 }
 
 }  // namespace emrm::sim

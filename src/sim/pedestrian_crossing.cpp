@@ -84,6 +84,12 @@ SceneLayout crossing_layout(const SceneConfig& config, const CellInput& cell) {
   return out;
 }
 
+// The ego's lane and the oncoming one.
+std::vector<RoadLane> crossing_lanes(const SceneConfig& config) {
+  const double w = config.crossing.lane_width_m;
+  return {{w, "driving"}, {w, "driving", true}};
+}
+
 }  // namespace
 
 ScenarioFamilyInfo pedestrian_crossing_family() {
@@ -92,7 +98,8 @@ ScenarioFamilyInfo pedestrian_crossing_family() {
               "Euro NCAP's CPNC: on a two-lane street a pedestrian steps out from behind a parked car on the right "
               "and walks across; an oncoming car may fill the other lane",
           .factors = crossing_factors,
-          .layout = crossing_layout};
+          .layout = crossing_layout,
+          .lanes = crossing_lanes};
 }
 
 }  // namespace emrm::sim

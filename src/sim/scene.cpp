@@ -114,7 +114,17 @@ Scene::Scene(const SceneConfig& config, const CellInput& cell)
 bool Scene::feasible() const noexcept {
   // The tolerance keeps cells whose v·TTC lands exactly on the limit (up to rounding of the
   // grid's steps) feasible.
-  return layout_.initial_distance_m <= config_->max_initial_distance_m + 1e-9;
+  return layout_.infeasible.empty() && layout_.initial_distance_m <= config_->max_initial_distance_m + 1e-9;
+}
+
+std::string Scene::infeasible_reason() const {
+  if (!layout_.infeasible.empty()) return layout_.infeasible;
+  if (feasible()) return {};
+  const bool v_ttc = find_family(config_->family)->stop_boundary;
+  return fmt::format(
+      "the {} would appear {:.2f} m ahead ({}), beyond the scene's max_initial_distance_m = {:g} m (the speed is in "
+      "km/h, the TTC in seconds)",
+      hazard().body().name, layout_.initial_distance_m, v_ttc ? "v·TTC" : "its gap", config_->max_initial_distance_m);
 }
 
 VehicleState Scene::ego_initial() const noexcept {

@@ -10,6 +10,8 @@
 
 namespace emrm::sim {
 
+bool stop_boundary_applies(const SceneConfig& scene) { return find_family(scene.family)->stop_boundary; }
+
 double stop_boundary_ttc_s(double speed_kph, double mu, const ActuationConfig& actuation) noexcept {
   const double v = speed_kph / 3.6;
   return actuation.stopping_distance_m(v, mu, true) / v;
@@ -94,6 +96,7 @@ bool may_pass_early(const SceneConfig& scene, const CellInput& cell) {
 }
 
 StopCall stop_call(const SceneConfig& scene, const CellInput& cell) {
+  if (!stop_boundary_applies(scene)) return StopCall::kUnknown;
   const Scene s(scene, cell);
   const double margin = stop_margin_m(s.speed_kph(), s.ttc_s(), s.friction(), scene.actuation);
   if (margin > kStopAgreement_m) return StopCall::kStops;

@@ -3,7 +3,10 @@
 
 #include "emrm/sim/termination.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "check_chain.hpp"
 #include "check_support.hpp"
@@ -14,14 +17,14 @@ namespace detail {
 
 class PassedTruckTest {
  public:
-  explicit PassedTruckTest(const Scene& scene) : passed_x_m_(scene.passed_x_m()) {}
+  explicit PassedTruckTest(const Scene& scene) : scene_(scene) {}
   bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    if (step.ego_extent.min_x > passed_x_m_) return end(why, Termination::kPassed);
+    if (step.ego_extent.min_x > scene_.passed_x_m(step.t_s)) return end(why, Termination::kPassed);
     return false;
   }
 
  private:
-  double passed_x_m_;
+  const Scene& scene_;
 };
 
 class StoppedTest {
@@ -32,13 +35,49 @@ class StoppedTest {
   }
 };
 
+// The least gap, from time t_s until both are at rest, between a hazard's near side that drives
+// along the road (its direction's x component) and the ego's front at front_x_m, braking straight at
+// decel_mps2 from speed_mps; −∞ when the hazard comes on towards the car and never rests. Both
+// motions are piecewise quadratic in closed form: the least gap lies at a breakpoint (the car's stop,
+// the hazard's braking onset or rest) or where the two speeds are equal.
+double least_gap_while_braking(const Scene& scene, double t_s, double front_x_m, double speed_mps, double decel_mps2) {
+  const ActorMotion& m = scene.hazard().motion();
+  const double along = m.direction.x;
+  if (along < 0.0 && std::isinf(m.rest_time_s())) return -std::numeric_limits<double>::infinity();
+  const double stop_s = speed_mps / decel_mps2;
+  const auto gap = [&](double tau) {
+    const double ego_m =
+        tau < stop_s ? speed_mps * tau - 0.5 * decel_mps2 * tau * tau : speed_mps * speed_mps / (2.0 * decel_mps2);
+    return scene.initial_distance_m() + along * m.travelled_m(t_s + tau) - (front_x_m + ego_m);
+  };
+  const auto closing = [&](double tau) {  // the car's speed less the hazard's along the road
+    return std::max(speed_mps - decel_mps2 * tau, 0.0) - along * m.speed_at_mps(t_s + tau);
+  };
+  std::array<double, 4> breaks{0.0, stop_s, m.brake_from_s - t_s, m.rest_time_s() - t_s};
+  std::sort(breaks.begin(), breaks.end());
+  double least = std::numeric_limits<double>::infinity();
+  double previous = 0.0;
+  for (const double b : breaks) {
+    if (!(b >= 0.0) || std::isinf(b)) continue;
+    least = std::min(least, gap(b));
+    // Both speeds are linear in between: the gap is least where the closing speed falls through 0.
+    const double c0 = closing(previous), c1 = closing(b);
+    if (c0 > 0.0 && c1 < 0.0) least = std::min(least, gap(previous + (b - previous) * c0 / (c0 - c1)));
+    previous = b;
+  }
+  return least;
+}
+
 // Braking straight at full demand (the friction limit, or the brakes' cap), the rest is closed form:
-// the car stops short of the truck, and the rollout jumps to where and when it comes to rest.
+// the car stops short of the truck, and the rollout jumps to where and when it comes to rest. Short
+// of a hazard that drives along the road (a car cutting in) means behind it until both rest.
 class StopsShortTest {
  public:
   explicit StopsShortTest(const Scene& scene)
-      : truck_near_x_m_(scene.initial_distance_m()),
-        decel_mps2_(scene.config().actuation.full_decel_mps2(scene.friction())) {}
+      : scene_(scene),
+        truck_near_x_m_(scene.initial_distance_m()),
+        decel_mps2_(scene.config().actuation.full_decel_mps2(scene.friction())),
+        hazard_drives_(scene.hazard().motion().direction.x != 0.0) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
     const Control& u = step.control;
     VehicleState& s = step.state;
@@ -48,9 +87,11 @@ class StopsShortTest {
       return false;
     const double speed = s.speed_mps();
     const double stop_distance = speed * speed / (2.0 * decel_mps2_);
-    if (!(step.ego_extent.max_x + stop_distance + 0.05 < truck_near_x_m_ &&
-          step.truck_extent.max_y > step.ego_extent.min_y))
-      return false;
+    constexpr double kMargin_m = 0.05;
+    const bool short_of_it = hazard_drives_ ? least_gap_while_braking(scene_, step.t_s, step.ego_extent.max_x, speed,
+                                                                      decel_mps2_) > kMargin_m
+                                            : step.ego_extent.max_x + stop_distance + kMargin_m < truck_near_x_m_;
+    if (!(short_of_it && step.truck_extent.max_y > step.ego_extent.min_y)) return false;
     if (result.path.empty() || result.path.back().t_s != step.t_s) result.path.push_back({step.t_s, s, u});
     s.x_m += stop_distance * std::cos(s.yaw_rad);
     s.y_m += stop_distance * std::sin(s.yaw_rad);
@@ -60,8 +101,10 @@ class StopsShortTest {
   }
 
  private:
+  const Scene& scene_;
   double truck_near_x_m_;
   double decel_mps2_;
+  bool hazard_drives_;
 };
 
 class HorizonTest {

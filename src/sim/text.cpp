@@ -21,13 +21,13 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   out += fmt::format("Cell: {} (seed {})\n", cell_text(scenario_factors(config), r.input), seed);
   const Scene scene(config, r.input);
   const double v = scene.initial_speed_mps();
-  out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
-                     scene.initial_distance_m(), v / (2.0 * scene.friction() * kGravity_mps2));
+  if (find_family(config.family)->stop_boundary)
+    out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
+                       scene.initial_distance_m(), v / (2.0 * scene.friction() * kGravity_mps2));
+  else
+    out += fmt::format("Initial gap {:.2f} m\n", scene.initial_distance_m());
   if (!r.feasible) {
-    out += fmt::format(
-        "Infeasible: the initial distance v·TTC = {:.2f} m exceeds the scene's max_initial_distance_m = {:g} m "
-        "(the speed is in km/h, the TTC in seconds)\n",
-        scene.initial_distance_m(), config.max_initial_distance_m);
+    out += fmt::format("Infeasible: {}\n", scene.infeasible_reason());
     return out;
   }
   const auto& u = r.unmitigated;

@@ -38,6 +38,7 @@
 #include "emrm/scenario/odd.hpp"
 #include "emrm/scenario/plan.hpp"
 #include "emrm/scenario/plan_io.hpp"
+#include "emrm/sim/stop_physics.hpp"
 #include "emrm/workflow/plan_checks.hpp"
 #include "emrm/workflow/profiles.hpp"
 #include "emrm/workflow/run.hpp"
@@ -179,9 +180,10 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
       if (f.extension() == ".md") table_stems.push_back(f.stem().string());
   };
   written(results::write_tables(out, records, paper, table_options));
-  written(
-      core::write_table(folder.tables_dir(), "brake_sensitivity",
-                        results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation)));
+  if (sim::stop_boundary_applies(plan.scene))  // the closed form: a family without the stop boundary has none
+    written(
+        core::write_table(folder.tables_dir(), "brake_sensitivity",
+                          results::brake_sensitivity_table(records, paper, table_options.grid, plan.scene.actuation)));
 
   // The headline grid under every profile of the scene's folder, side by side (docs/actuation.md).
   if (const auto profiles = results::scene_profiles(plan); !profiles.empty()) {

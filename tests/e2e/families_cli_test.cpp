@@ -30,7 +30,7 @@ TEST(FamiliesCli, ListsEveryShippedFamilyWithItsFactors) {
   const auto j = nlohmann::json::parse(json.out);
   std::vector<std::string> names;
   for (const auto& f : j["families"]) names.push_back(f["name"].get<std::string>());
-  EXPECT_THAT(names, ::testing::IsSupersetOf({"tjunction", "highway_obstacle", "pedestrian_crossing"}));
+  EXPECT_THAT(names, ::testing::IsSupersetOf({"tjunction", "highway_obstacle", "pedestrian_crossing", "cut_in"}));
   for (const auto& f : j["families"]) {
     if (f["name"] != "highway_obstacle") continue;
     EXPECT_FALSE(f["certificate"].get<bool>());
@@ -137,6 +137,51 @@ TEST(FamiliesCli, APedestrianCrossingSimulatesSweepsAndVerifies) {
   ASSERT_FALSE(HasFailure());
   const auto diagnose = run_emrm("diagnose " + out);
   EXPECT_EQ(diagnose.exit_code, 0) << diagnose.out << diagnose.err;
+}
+
+// A car cutting in: the follower in the JSON, a cell that cannot be one said so, and a campaign
+// that sweeps (also adaptively), verifies, diagnoses and draws its boundaries without the v·TTC stop
+// boundary, which does not hold for it.
+TEST(FamiliesCli, ACutInSimulatesSweepsAndVerifiesWithoutTheStopBoundary) {
+  const std::string scene = std::string(EMRM_SOURCE_DIR) + "/examples/cut_in/scene.yaml";
+  const auto one = run_emrm("simulate --scene " + scene + " --speed-kph 100 --ttc-s 1.0 --factor following=car --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto j = nlohmann::json::parse(one.out);
+  ASSERT_EQ(j["actors"].size(), 2u);
+  EXPECT_EQ(j["actors"][0]["name"], "cutting car");
+  EXPECT_EQ(j["actors"][1]["name"], "following car");
+  const auto slower =
+      run_emrm("simulate --scene " + scene + " --speed-kph 30 --ttc-s 1 --factor relative_speed_kph=40");
+  EXPECT_EQ(slower.exit_code, 0) << slower.err;
+  EXPECT_THAT(slower.out, HasSubstr("Infeasible: the cutting car would be 40 km/h slower than the ego"));
+
+  const std::string out = swept_and_verified("cut_in_campaign", "cut_in", R"(grids:
+  - name: cut
+    speed_kph: [80, 120]
+    ttc_s: [1.0, 2.5]
+    following: [none, car]
+)");
+  ASSERT_FALSE(HasFailure());
+  const auto diagnose = run_emrm("diagnose " + out);
+  EXPECT_EQ(diagnose.exit_code, 0) << diagnose.out << diagnose.err;
+  EXPECT_THAT(diagnose.out, HasSubstr("no analytic stop boundary in this scene's family"));
+  const auto boundary = run_emrm("boundary " + out + " --no-figures");
+  EXPECT_EQ(boundary.exit_code, 0) << boundary.err;
+  const auto adaptive = run_emrm("sweep " + (std::filesystem::path(out).parent_path() / "campaign.yaml").string() +
+                                 " --adaptive -o " + out + "_adaptive --threads 2");
+  EXPECT_EQ(adaptive.exit_code, 0) << adaptive.err;
+  EXPECT_EQ(run_emrm("verify " + out + "_adaptive").exit_code, 0);
+  // The search takes five varied factors: a grid of six is refused before anything runs.
+  const auto six = std::filesystem::path(out).parent_path() / "six.yaml";
+  std::ofstream(six) << "scene: " << EMRM_SOURCE_DIR << R"(/examples/cut_in/scene.yaml
+grids:
+  - {name: six, speed_kph: [80, 120], ttc_s: [1, 2], mu: [0.5, 1], relative_speed_kph: [10, 20],
+     lateral_speed_mps: [1, 2], following: [none, car]}
+)";
+  const auto refused = run_emrm("sweep " + six.string() + " --adaptive -o " + out + "_six");
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_THAT(refused.err, HasSubstr("this grid varies 6 (speed_kph, ttc_s, mu, relative_speed_kph, lateral_speed_mps, "
+                                     "following)"));
 }
 
 TEST(FamiliesCli, AGridNamesALevelOrIsRefusedAtItsPlace) {

@@ -195,7 +195,9 @@ TEST(SimulateCli, MisspellingsNameWhatWasMeant) {
   EXPECT_THAT(key.err, HasSubstr("unknown field 'severty' (did you mean 'severity'?)"));
   const auto far = run_emrm("simulate --speed-kph 50 --ttc-s 800");
   EXPECT_EQ(far.exit_code, 0);
-  EXPECT_THAT(far.out, HasSubstr("v·TTC = 11111.11 m exceeds the scene's max_initial_distance_m = 24.5 m"));
+  EXPECT_THAT(
+      far.out,
+      HasSubstr("the truck would appear 11111.11 m ahead (v·TTC), beyond the scene's max_initial_distance_m = 24.5 m"));
   EXPECT_THAT(far.out, HasSubstr("TTC in seconds"));
 }
 

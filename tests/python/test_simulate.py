@@ -221,3 +221,8 @@ def test_another_family_takes_its_factors_and_its_levels_by_name():
     met = emrm.simulate(street, speed_kph=40, ttc_s=0.9, oncoming="car")
     assert [a["name"] for a in met.actors] == ["pedestrian", "parked car", "oncoming car"]
     assert met.unmitigated["loss_level"] == 7
+    # A car cutting in 30 km/h slower and braking, a car overtaking in the left lane.
+    motorway = emrm.Scene.load(SOURCE_DIR / "examples" / "cut_in" / "scene.yaml")
+    assert isinstance(motorway.cut_in, emrm.CutInConfig) and motorway.cut_in.cutting.mass_kg == 1500
+    cut = emrm.simulate(motorway, speed_kph=100, ttc_s=1.0, relative_speed_kph=30, following="car")
+    assert [a["name"] for a in cut.actors] == ["cutting car", "following car"]

@@ -30,4 +30,9 @@ struct JunctionLayout {
 /// The T-junction of a cell as an OpenDRIVE 1.6 document.
 [[nodiscard]] std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& cell);
 
+/// The straight road of a cell of any other family as an OpenDRIVE 1.6 document: one road along x
+/// from before the ego's start to well past the hazard, its lanes the family's (sim::RoadLane), the
+/// reference line between the ego's direction (right of it) and the oncoming lanes.
+[[nodiscard]] std::string straight_road_xml(const sim::SceneConfig& config, const sim::CellInput& cell);
+
 }  // namespace emrm::exchange

@@ -47,15 +47,22 @@ struct ExportOptions {
 /// From the truck's centre to its reference point (its rear axle), backwards along its heading.
 [[nodiscard]] double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptions& options) noexcept;
 
-/// One cell as an OpenSCENARIO 1.2 scenario referencing `road_file`; the truck follows its motion in
-/// the cell as a timed trajectory; with `trajectory`, the ego follows it (ended on the frame grid,
-/// ended_on_frame_grid) and the storyboard stops at its last vertex.
+/// One cell as an OpenSCENARIO 1.2 scenario referencing `road_file`; the truck (in a family other
+/// than the T-junction: every actor) follows its motion in the cell as a timed trajectory; with
+/// `trajectory`, the ego follows it (ended on the frame grid, ended_on_frame_grid) and the
+/// storyboard stops at its last vertex.
 [[nodiscard]] std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                                            const EgoTrajectory* trajectory, const ExportOptions& options,
                                            const std::string& road_file = kRoadFile);
 
-/// Writes DIR/tjunction.xodr and DIR/tjunction.xosc, both or neither (core::write_files); returns
-/// their paths. Throws UsageError for a cell the scene rejects or that is infeasible.
+/// The files a cell's export writes: tjunction.xodr and tjunction.xosc for the T-junction, else
+/// FAMILY.xodr (its straight road, straight_road_xml) and FAMILY.xosc.
+[[nodiscard]] std::string road_file_of(const sim::SceneConfig& config);
+[[nodiscard]] std::string scenario_file_of(const sim::SceneConfig& config);
+
+/// Writes the road and the scenario (road_file_of, scenario_file_of) into DIR, both or neither
+/// (core::write_files); returns their paths. Throws UsageError for a cell the scene rejects or that
+/// is infeasible.
 std::vector<std::filesystem::path> export_cell(const std::filesystem::path& dir, const sim::SceneConfig& config,
                                                const sim::CellInput& cell, const EgoTrajectory* trajectory,
                                                const ExportOptions& options);

@@ -76,7 +76,9 @@ struct BoundarySlice {
 
 /// Every boundary of a store.
 struct BoundaryReport {
-  sim::ActuationConfig actuation;         ///< of the analytic stop boundary
+  /// The actuators of the analytic stop boundary; none for a family where it does not hold
+  /// (sim::stop_boundary_applies): then there are no analytic rows and no line.
+  std::optional<sim::ActuationConfig> actuation;
   sim::FactorTable factors;               ///< the scenario's: the columns' keys
   std::vector<std::string> grids;         ///< grids with boundaries, in store order
   std::vector<SkippedGrid> skipped;       ///< grids with fewer than two TTC levels
@@ -95,7 +97,8 @@ struct BoundaryReport {
 /// outcomes counts only for the region boundaries). Throws emrm::Error naming the cell when a
 /// feasible cell's region is not G, Y, O or R (a damaged store).
 [[nodiscard]] BoundaryReport compute_boundaries(const std::vector<campaign::CellRecord>& records,
-                                                const sim::FactorTable& factors, const sim::ActuationConfig& actuation);
+                                                const sim::FactorTable& factors,
+                                                const std::optional<sim::ActuationConfig>& actuation);
 
 /// boundary.csv: grid, the held factors' keys (μ on), boundary, the ego speed's key, ttc_below_s,
 /// ttc_at_s, exceptions, cells_used (an absent TTC is an empty field).

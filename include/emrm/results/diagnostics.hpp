@@ -32,6 +32,9 @@ struct CellRef {
 /// (a) The analytic stop boundary TTC >= L + v/(2 mu g) (through the actuators:
 /// v·TTC >= their stopping distance) against the stored regions.
 struct StopBoundaryCheck {
+  /// Whether the scene's family has the boundary (sim::stop_boundary_applies); when not, nothing
+  /// below is checked and only `feasible` is counted.
+  bool applies = true;
   double latency_s = 0.0;  ///< perception latency
   sim::ActuationConfig actuation;
   std::size_t feasible = 0;
@@ -163,6 +166,7 @@ std::vector<std::filesystem::path> write_diagnostics(const std::filesystem::path
 /// What a diagnostics.json says, as the report shows it: the counts of each check (the cells named
 /// and the definitions left in the file).
 struct DiagnosticsSummary {
+  bool stop_boundary = true;  ///< whether the family has the boundary (StopBoundaryCheck::applies)
   std::size_t feasible = 0, stoppable = 0, stoppable_red = 0, green_not_stoppable = 0;
   std::size_t total_reversals = 0;
   std::vector<ReversalCount> reversal_counts;

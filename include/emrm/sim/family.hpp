@@ -32,7 +32,20 @@ struct SceneLayout {
   /// From the ego's front bumper to the hazard's near side at t = 0 (v·TTC for a hazard across the
   /// ego's path).
   double initial_distance_m = 0.0;
-  double passed_x_m = 0.0;  ///< the hazard's far side
+  /// The hazard's far side at t = 0; it moves with the hazard along x (Scene::passed_x_m).
+  double passed_x_m = 0.0;
+  /// Why the cell cannot be laid out as a scenario (factors that contradict each other: a cut-in
+  /// slower than the ego by more than its speed), empty when it can. Such a cell is infeasible.
+  std::string infeasible{};
+};
+
+/// A lane of a family's road across its width, for the exports (an OpenDRIVE lane): its width, its
+/// OpenDRIVE type ("driving", "shoulder", "sidewalk", ...), and whether its traffic comes the other
+/// way. Listed from the road's right edge leftwards; the oncoming lanes, if any, last.
+struct RoadLane {
+  double width_m = 0.0;
+  std::string type = "driving";
+  bool oncoming = false;
 };
 
 /// A scenario family as the registry knows it.
@@ -47,10 +60,19 @@ struct ScenarioFamilyInfo {
   /// Optional: a cheaper check of a cell with the same outcome as factors(config).validate(cell)
   /// (it runs for every cell simulated). Unset: the table's.
   std::function<void(const SceneConfig&, const CellInput&)> validate_cell = nullptr;
+  /// Optional: the lanes of the road across its drivable width, for the exports (their widths add up
+  /// to it). Unset: one driving lane over the whole width.
+  std::function<std::vector<RoadLane>(const SceneConfig&)> lanes = nullptr;
   /// Whether the results derived for the T-junction's geometry hold for this family: the
   /// unavoidability certificate (certificate.hpp), the exports and `assess`. Without the certificate
   /// a family's unavoidable cells stay `undecided`.
   bool tjunction_analytics = false;
+  /// Whether the analytic stop boundary holds (stop_physics.hpp): the hazard's near side is v·TTC
+  /// ahead of the ego's front at t = 0 and never comes closer, so braking straight through the
+  /// actuators avoids it whenever it stops within v·TTC. False for a family whose TTC measures
+  /// another gap (a cut-in's: the gap over the relative speed): its maps are then simulated cell by
+  /// cell, and the stop boundary's checks, lines and tables are left out.
+  bool stop_boundary = true;
 };
 
 /// Registers a family for as long as the object lives. Throws UsageError for a name already

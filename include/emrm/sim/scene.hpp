@@ -16,6 +16,7 @@
 #include "emrm/sim/actor.hpp"
 #include "emrm/sim/actuation.hpp"
 #include "emrm/sim/crossing.hpp"
+#include "emrm/sim/cut_in.hpp"
 #include "emrm/sim/factors.hpp"
 #include "emrm/sim/family.hpp"
 #include "emrm/sim/highway.hpp"
@@ -190,9 +191,11 @@ struct SceneConfig {
   PlannerConfig planner;
   RoadsideConfig roadside;
   SafeStateConfig safe_state;
-  HighwayConfig highway;                 ///< the family highway_obstacle's road and obstacles
-  CrossingConfig crossing;               ///< the family pedestrian_crossing's street and its actors
-  double max_initial_distance_m = 24.5;  ///< cells with v·TTC beyond this are infeasible (grey)
+  HighwayConfig highway;    ///< the family highway_obstacle's road and obstacles
+  CrossingConfig crossing;  ///< the family pedestrian_crossing's street and its actors
+  CutInConfig cut_in;       ///< the family cut_in's highway and its cars
+  /// Cells whose hazard appears farther ahead (v·TTC; a cut-in's gap) are infeasible (grey).
+  double max_initial_distance_m = 24.5;
 
   template <class A>
   void serialize(A& a) {
@@ -214,6 +217,7 @@ struct SceneConfig {
     // A family's own block is written for a scene of that family only.
     if (!core::writes_file<A> || family == "highway_obstacle") EMRM_FIELD(a, highway);
     if (!core::writes_file<A> || family == "pedestrian_crossing") EMRM_FIELD(a, crossing);
+    if (!core::writes_file<A> || family == "cut_in") EMRM_FIELD(a, cut_in);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
@@ -235,6 +239,7 @@ struct SceneConfig {
       return {highway.ego_y_m(), highway.min_y_m(), highway.max_y_m(), "highway.ego_lane"};
     if (family == "pedestrian_crossing")
       return {crossing.ego_y_m(), crossing.min_y_m(), crossing.max_y_m(), "crossing.lane_width_m"};
+    if (family == "cut_in") return {cut_in.ego_y_m(), cut_in.min_y_m(), cut_in.max_y_m(), "cut_in.lane_width_m"};
     return {road.ego_lane_center_m, road.drivable_min_y_m(), road.drivable_max_y_m(), "road.ego_lane_center_m"};
   }
 };
@@ -342,8 +347,12 @@ class Scene {
 
   [[nodiscard]] const SceneConfig& config() const noexcept { return *config_; }
   [[nodiscard]] const CellInput& cell() const noexcept { return cell_; }
-  /// v·TTC ≤ max_initial_distance_m.
+  /// The family laid the cell out (SceneLayout::infeasible) and the hazard appears within
+  /// max_initial_distance_m.
   [[nodiscard]] bool feasible() const noexcept;
+  /// Why the cell is infeasible, for messages ("the hazard would appear 30 m ahead (v·TTC), beyond
+  /// ..."); empty for a feasible cell.
+  [[nodiscard]] std::string infeasible_reason() const;
   /// Distance from the ego's front bumper to the hazard's near side at t = 0.
   [[nodiscard]] double initial_distance_m() const noexcept { return layout_.initial_distance_m; }
   [[nodiscard]] double initial_speed_mps() const noexcept { return speed_kph_ / 3.6; }
@@ -375,8 +384,12 @@ class Scene {
   /// The parts of the drivable band beside the hazard at time t (by its extent across the road; the
   /// T-junction's passage is the right one): where a path past it may lie. Bands of no width are left out.
   [[nodiscard]] FreeBands free_bands(double t_s) const noexcept;
-  /// The hazard's far side: an ego whose rear is beyond it has got past the hazard.
-  [[nodiscard]] double passed_x_m() const noexcept { return layout_.passed_x_m; }
+  /// The hazard's far side at time t: an ego whose rear is beyond it has got past the hazard. It
+  /// moves with a hazard that drives along the road (a cut-in's car); t < 0 counts as 0.
+  [[nodiscard]] double passed_x_m(double t_s = 0.0) const noexcept {
+    const ActorMotion& m = hazard().motion();
+    return m.direction.x == 0.0 ? layout_.passed_x_m : layout_.passed_x_m + m.direction.x * m.travelled_m(t_s);
+  }
 
  private:
   const SceneConfig* config_;  // borrowed: the config outlives every Scene made from it

@@ -11,6 +11,11 @@
 
 namespace emrm::sim {
 
+/// Whether the analytic stop boundary below holds for the scene's family
+/// (ScenarioFamilyInfo::stop_boundary: its hazard stands v·TTC ahead and never comes closer). Where it
+/// does not, stop_call knows nothing and the boundary's checks, lines and tables are left out.
+[[nodiscard]] bool stop_boundary_applies(const SceneConfig& scene);
+
 /// How far the simulated emergency stop may end from the analytic one: it matches within 0.03 m
 /// (docs/adaptive.md), so a cell whose stop margin is larger than this is settled without simulating.
 inline constexpr double kStopAgreement_m = 0.1;
@@ -45,7 +50,8 @@ inline constexpr double kStopAgreement_m = 0.1;
 /// that may not have reached the car's lane yet when the car gets there).
 enum class StopCall { kStops, kCannotStop, kUnknown };
 
-/// The physics of the shipped emergency stop (straight braking through the scene's actuators):
+/// The physics of the shipped emergency stop (straight braking through the scene's actuators), for
+/// a family where the stop boundary applies (kUnknown elsewhere):
 /// kStops when v·TTC exceeds the stopping distance by more than kStopAgreement_m; kCannotStop when
 /// it falls short by more than that and the truck stands in the car's lane from t = TTC (the
 /// earliest the braking car can reach it) until it comes to rest, so that braking can neither stop
