@@ -7,6 +7,7 @@
 #include <chrono>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "emrm/sim/simulate.hpp"
@@ -37,7 +38,8 @@ BENCHMARK(BM_CellYellow)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CellRed)->Unit(benchmark::kMillisecond);
 
 // Times each cell once, one by one, and reports the median and the 90th percentile, over all cells
-// and over the cells of each region (G, Y, and O or R: what a cell costs depends most on its region,
+// and over the cells of each region (G, Y, and O or R, these certified or undecided: what a cell
+// costs depends most on its region and evidence,
 // and grids of two families hold their regions in other shares): Google Benchmark gives no median
 // over a set of different inputs.
 void time_cells(benchmark::State& state, const SceneConfig& config, const std::vector<CellInput>& cells) {
@@ -51,6 +53,9 @@ void time_cells(benchmark::State& state, const SceneConfig& config, const std::v
       const auto region = result.region;
       ms["all"].push_back(taken);
       ms[region == emrm::sim::Region::kG ? "G" : (region == emrm::sim::Region::kY ? "Y" : "OR")].push_back(taken);
+      // An O or R cell without a certificate runs the strengthened search: dearer than a certified one.
+      if (region == emrm::sim::Region::kO || region == emrm::sim::Region::kR)
+        ms[result.evidence == emrm::sim::Evidence::kUndecided ? "OR_undecided" : "OR_certified"].push_back(taken);
     }
   }
   for (auto& [group, times] : ms) {
@@ -115,5 +120,23 @@ void BM_CellMedianOverPedestrianGrid(benchmark::State& state) {
   time_cells(state, config, cells);
 }
 BENCHMARK(BM_CellMedianOverPedestrianGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The same for the family cut_in (examples/cut_in/scene.yaml: no hard shoulder, a 6 s horizon):
+// 60–120 km/h × TTC 0.5–2.5 s on a dry road, a gentle cut-in (20 km/h slower, 1 m/s, 4 m/s²) and a
+// sharp one (30 km/h, 2 m/s, 8 m/s²), with and without the overtaking car, every 2nd cell.
+void BM_CellMedianOverCutInGrid(benchmark::State& state) {
+  const SceneConfig config = emrm::sim::load_scene_config(EMRM_SOURCE_DIR "/examples/cut_in/scene.yaml");
+  std::vector<CellInput> cells;
+  int i = 0;
+  for (int s = 60; s <= 120; s += 10)
+    for (int k = 0; k <= 8; ++k)
+      for (const auto& [relative, lateral, decel] : {std::tuple{20.0, 1.0, 4.0}, std::tuple{30.0, 2.0, 8.0}})
+        for (const double following : {0.0, 1.0}) {
+          const CellInput cell{double(s), 0.5 + 0.25 * k, 1.0, relative, lateral, decel, following};
+          if (emrm::sim::Scene(config, cell).feasible() && i++ % 2 == 0) cells.push_back(cell);
+        }
+  time_cells(state, config, cells);
+}
+BENCHMARK(BM_CellMedianOverCutInGrid)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

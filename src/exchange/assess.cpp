@@ -38,9 +38,11 @@ class Judge {
   Judge(const sim::Scene& scene, const RecordedTrajectory& trajectory)
       : scene_(scene), samples_(trajectory.samples), has_truck_(trajectory.has_truck) {
     const auto& cfg = scene.config();
-    const sim::ActorBody& hazard = scene.hazard().body();
-    truck_reach_m_ = 0.5 * std::hypot(hazard.length_m, hazard.width_m);
-    circumradii_m_ = 0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) + truck_reach_m_;
+    for (const sim::Actor& actor : scene.actors()) {
+      const sim::ActorBody& body = actor.body();
+      actor_reach_m_.push_back(0.5 * std::hypot(body.length_m, body.width_m));
+      circumradii_m_.push_back(0.5 * std::hypot(cfg.ego.length_m, cfg.ego.width_m) + actor_reach_m_.back());
+    }
     reach_m_ = std::hypot(std::max(cfg.ego.cg_to_front_m(), cfg.ego.cg_to_rear_m()), 0.5 * cfg.ego.width_m);
   }
 
@@ -84,8 +86,10 @@ class Judge {
     return s;
   }
 
-  [[nodiscard]] sim::ActorState truck(std::size_t i, double t) const {
-    if (!has_truck_) return scene_.hazard_at(t);
+  // Actor `k` at time t in segment i: the hazard (actor 0) as recorded when the recording has it,
+  // every other actor (and an unrecorded hazard) as the scene moves it.
+  [[nodiscard]] sim::ActorState actor(std::size_t k, std::size_t i, double t) const {
+    if (k != 0 || !has_truck_) return scene_.actors()[k].at(t);
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     const double dt = b.t_s - a.t_s;
@@ -100,8 +104,8 @@ class Judge {
     return out;
   }
 
-  [[nodiscard]] double truck_gap(std::size_t i, double t) const {
-    return core::separation_lower_bound(scene_.ego_box(pose(i, t)), truck(i, t).box);
+  [[nodiscard]] double actor_gap(std::size_t k, std::size_t i, double t) const {
+    return core::separation_lower_bound(scene_.ego_box(pose(i, t)), actor(k, i, t).box);
   }
   [[nodiscard]] double edge_gap(std::size_t i, double t) const { return scene_.edge_gap_m(scene_.ego_box(pose(i, t))); }
 
@@ -113,20 +117,21 @@ class Judge {
 
   // The first time in segment i at which `gap` closes, or nothing, by conservative advancement as
   // the simulator's own check does it: between samples every point of the ego moves (relative to
-  // the truck) at most `motion` (translation, the car's reach swept by its turn, the truck's travel
-  // and turn) spread evenly over the segment, so the gap cannot close faster than motion/Δt; steps
-  // of (gap + kTouch_m) at that rate miss no touch deeper than kTouch_m. The first overlap is timed
-  // by bisection; a probe within kTouch_m without an overlap (a run recorded up to its moment of
-  // contact) counts at the segment's closest approach.
+  // the actor `with`, or to the road's edge without one) at most `motion` (translation, the car's reach
+  // swept by its turn, the actor's travel and turn) spread evenly over the segment, so the gap cannot close faster than
+  // motion/Δt; steps of (gap + kTouch_m) at that rate miss no touch deeper than kTouch_m. The first overlap is timed by
+  // bisection; a probe within kTouch_m without an overlap (a run recorded up to its moment of contact) counts at the
+  // segment's closest approach.
   template <class Gap>
-  [[nodiscard]] std::optional<Touch> first_touch(std::size_t i, double gap_at_start, bool with_truck, Gap&& gap) const {
+  [[nodiscard]] std::optional<Touch> first_touch(std::size_t i, double gap_at_start, std::optional<std::size_t> with,
+                                                 Gap&& gap) const {
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     double motion = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + std::abs(b.yaw_rad - a.yaw_rad) * reach_m_;
-    if (with_truck) {
-      const auto ta = truck(i, a.t_s).box;
-      const auto tb = truck(i, b.t_s).box;
-      motion += (tb.center - ta.center).norm() + std::abs(tb.heading_rad - ta.heading_rad) * truck_reach_m_;
+    if (with) {
+      const auto ta = actor(*with, i, a.t_s).box;
+      const auto tb = actor(*with, i, b.t_s).box;
+      motion += (tb.center - ta.center).norm() + std::abs(tb.heading_rad - ta.heading_rad) * actor_reach_m_[*with];
     }
     if (gap_at_start - kTouch_m > motion) return std::nullopt;
     const double rate_mps = motion / (b.t_s - a.t_s);
@@ -163,54 +168,70 @@ class Judge {
   // A near touch (within kTouch_m, no overlap) followed on while the approach continues into the
   // next segments: their first overlap, else the closest approach.
   template <class GapIn>
-  [[nodiscard]] Touch follow(Touch touch, bool with_truck, GapIn&& gap_in) const {
+  [[nodiscard]] Touch follow(Touch touch, std::optional<std::size_t> with, GapIn&& gap_in) const {
     for (std::size_t j = touch.segment + 1; touch.gap_m > 0.0 && j + 1 < samples_.size(); ++j) {
-      const auto next = first_touch(j, gap_in(j, samples_[j].t_s), with_truck, [&](double t) { return gap_in(j, t); });
+      const auto next = first_touch(j, gap_in(j, samples_[j].t_s), with, [&](double t) { return gap_in(j, t); });
       if (!next || next->gap_m >= touch.gap_m) break;
       touch = *next;
     }
     return touch;
   }
 
-  // Far apart by the centres alone: the truck cannot be reached within the segment.
-  [[nodiscard]] bool truck_far(std::size_t i) const {
+  // Far apart by the centres alone: actor `k` cannot be reached within the segment.
+  [[nodiscard]] bool far_from(std::size_t k, std::size_t i) const {
     const auto& a = samples_[i];
     const auto& b = samples_[i + 1];
     const core::Vec2 ego_a{a.x_m, a.y_m};
-    const core::Vec2 truck_a = truck(i, a.t_s).box.center;
-    const core::Vec2 truck_b = truck(i, b.t_s).box.center;
-    const double move = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + (truck_b - truck_a).norm();
-    const core::Vec2 d = ego_a - truck_a;
-    const double reach = circumradii_m_ + move + 1.0;
+    const core::Vec2 actor_a = actor(k, i, a.t_s).box.center;
+    const core::Vec2 actor_b = actor(k, i, b.t_s).box.center;
+    const double move = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m) + (actor_b - actor_a).norm();
+    const core::Vec2 d = ego_a - actor_a;
+    const double reach = circumradii_m_[k] + move + 1.0;
     return d.dot(d) > reach * reach;
+  }
+
+  // The first contact in segment i with any actor (followed on through the next segments), the
+  // earliest of them, and with which actor.
+  [[nodiscard]] std::optional<std::pair<Touch, std::size_t>> first_contact(std::size_t i) const {
+    std::optional<std::pair<Touch, std::size_t>> out;
+    const double ta = samples_[i].t_s;
+    for (std::size_t k = 0; k < scene_.actors().size(); ++k) {
+      if (far_from(k, i)) continue;
+      auto touch = first_touch(i, actor_gap(k, i, ta), k, [&](double t) { return actor_gap(k, i, t); });
+      if (!touch) continue;
+      const Touch followed = follow(*touch, k, [&](std::size_t j, double t) { return actor_gap(k, j, t); });
+      if (!out || followed.t_s < out->first.t_s) out = std::pair{followed, k};
+    }
+    return out;
   }
 
   [[nodiscard]] Assessment run() const {
     Assessment out;
     const std::size_t n = samples_.size();
+    const std::size_t actors = scene_.actors().size();
     // The first sample itself.
     {
       const double t0 = samples_[0].t_s;
-      if (truck_gap(0, t0) <= kTouch_m) return at_contact(out, 0, t0);
+      for (std::size_t k = 0; k < actors; ++k)
+        if (actor_gap(k, 0, t0) <= kTouch_m) return at_contact(out, k, 0, t0);
       if (edge_gap(0, t0) <= kTouch_m) return at_departure(out, 0, t0);
     }
-    const auto truck_gap_in = [&](std::size_t j, double t) { return truck_gap(j, t); };
     const auto edge_gap_in = [&](std::size_t j, double t) { return edge_gap(j, t); };
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double ta = samples_[i].t_s;
-      std::optional<Touch> contact;
-      if (!truck_far(i)) contact = first_touch(i, truck_gap(i, ta), true, [&](double t) { return truck_gap(i, t); });
-      std::optional<Touch> departure = first_touch(i, edge_gap(i, ta), false, [&](double t) { return edge_gap(i, t); });
-      if (contact) contact = follow(*contact, true, truck_gap_in);
-      if (departure) departure = follow(*departure, false, edge_gap_in);
-      if (contact && (!departure || contact->t_s <= departure->t_s))
-        return at_contact(out, contact->segment, contact->t_s);
+      const auto contact = first_contact(i);
+      std::optional<Touch> departure =
+          first_touch(i, edge_gap(i, ta), std::nullopt, [&](double t) { return edge_gap(i, t); });
+      if (departure) departure = follow(*departure, std::nullopt, edge_gap_in);
+      if (contact && (!departure || contact->first.t_s <= departure->t_s))
+        return at_contact(out, contact->second, contact->first.segment, contact->first.t_s);
       if (departure) return at_departure(out, departure->segment, departure->t_s);
     }
     const std::size_t last = n - 2;
     const double t_end = samples_.back().t_s;
     if (samples_.back().speed_mps >= sim::kStoppedSpeed_mps) {
-      if (truck_gap(last, t_end) <= kEndTouch_m) return at_contact(out, last, t_end);
+      for (std::size_t k = 0; k < actors; ++k)
+        if (actor_gap(k, last, t_end) <= kEndTouch_m) return at_contact(out, k, last, t_end);
       if (edge_gap(last, t_end) <= kEndTouch_m) return at_departure(out, last, t_end);
     }
     // No event: a safe state at the end?
@@ -221,7 +242,8 @@ class Judge {
       out.safe_state = SafeState::kStopped;
     } else {
       const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;
-      const double truck_far_x = has_truck_ ? sim::extent_of(truck(last, t_end).box).max_x : scene_.passed_x_m();
+      const double truck_far_x =
+          has_truck_ ? sim::extent_of(actor(0, last, t_end).box).max_x : scene_.passed_x_m(t_end);
       if (ego_min_x > truck_far_x && sim::stable_with_room_to_stop(scene_, end))
         out.safe_state = SafeState::kStabilised;
     }
@@ -230,12 +252,13 @@ class Judge {
   }
 
  private:
-  Assessment at_contact(Assessment out, std::size_t segment, double t) const {
+  Assessment at_contact(Assessment out, std::size_t k, std::size_t segment, double t) const {
     const std::size_t i = std::min(segment, samples_.size() - 2);
     const sim::VehicleState s = state(i, t);
     core::Contact c;
     out.contact = true;
-    out.impact = sim::actor_impact(scene_, scene_.hazard().body(), s, truck(i, t), &c);
+    out.contact_with = scene_.actors()[k].body().name;
+    out.impact = sim::actor_impact(scene_, scene_.actors()[k].body(), s, actor(k, i, t), &c);
     out.event_time_s = t;
     out.event_point_m = c.point;
     out.end_time_s = t;
@@ -256,9 +279,9 @@ class Judge {
   const sim::Scene& scene_;
   const std::vector<TrajectorySample>& samples_;
   bool has_truck_;
-  double circumradii_m_ = 0.0;
+  std::vector<double> circumradii_m_;  // the ego's and each actor's, by actor
   double reach_m_ = 0.0;
-  double truck_reach_m_ = 0.0;
+  std::vector<double> actor_reach_m_;  // each actor's half diagonal
 };
 
 nlohmann::ordered_json impact_json(const sim::ImpactAssessment& a) {
@@ -284,11 +307,11 @@ std::string_view safe_state_name(SafeState s) noexcept {
 
 Assessment assess(const sim::SceneConfig& config, const sim::CellInput& cell, const RecordedTrajectory& trajectory) {
   sim::validate(config);
-  sim::require_tjunction(config, "emrm assess");
   sim::validate_cell(config, cell);
   const sim::Scene scene(config, cell);
   if (!scene.feasible()) throw UsageError("the cell is infeasible: " + scene.infeasible_reason());
   Assessment out = Judge(scene, trajectory).run();
+  out.hazard = scene.hazard().body().name;
   if (out.avoided) out.impact = {};
   const auto model = sim::make_vehicle_model(config.simulation.vehicle_model, config.ego);
   out.unmitigated = sim::no_action_rollout(scene, *model).impact;
@@ -337,9 +360,9 @@ nlohmann::ordered_json to_json(const Assessment& a, const RecordedTrajectory& tr
 }
 
 std::string to_text(const Assessment& a, const RecordedTrajectory& trajectory, const std::string& strategy) {
-  std::string out = fmt::format("{}: {} samples from {:.3f} s to {:.3f} s{}; truck: {}\n", trajectory.file,
+  std::string out = fmt::format("{}: {} samples from {:.3f} s to {:.3f} s{}; {}: {}\n", trajectory.file,
                                 trajectory.samples.size(), trajectory.samples.front().t_s,
-                                trajectory.samples.back().t_s, strategy.empty() ? "" : " (" + strategy + ")",
+                                trajectory.samples.back().t_s, strategy.empty() ? "" : " (" + strategy + ")", a.hazard,
                                 trajectory.has_truck ? "recorded" : "the scene's nominal motion");
   if (a.avoided) {
     out += fmt::format("Avoided: no contact, no road departure; safe state: {} at {:.3f} s\n",
@@ -348,9 +371,9 @@ std::string to_text(const Assessment& a, const RecordedTrajectory& trajectory, c
     out += fmt::format(
         "{} at {:.4f} s at ({:.3f}, {:.3f}) m: impact speed {:.2f} km/h, Δv {:.2f} km/h, "
         "P(MAIS3+) {:.4f}, P(fatal) {:.4f}, loss level L{}\n",
-        a.contact ? "Contact with the truck" : "Road departure", *a.event_time_s, a.event_point_m.x, a.event_point_m.y,
-        a.impact.impact_speed_mps * kKphPerMps, a.impact.delta_v_mps * kKphPerMps, a.impact.p_mais3, a.impact.p_fatal,
-        a.impact.loss_level);
+        a.contact ? "Contact with the " + a.contact_with : std::string("Road departure"), *a.event_time_s,
+        a.event_point_m.x, a.event_point_m.y, a.impact.impact_speed_mps * kKphPerMps, a.impact.delta_v_mps * kKphPerMps,
+        a.impact.p_mais3, a.impact.p_fatal, a.impact.loss_level);
   } else {
     out += fmt::format("Not avoided: no contact or departure, but no safe state at the last sample ({:.3f} s)\n",
                        a.end_time_s);

@@ -264,26 +264,33 @@ double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptio
   return truck.length_m / 2.0 - options.truck_rear_axle_share * truck.length_m;
 }
 
+namespace {
+
+// Whether the scene is the T-junction's geometry, which its own road and scenario describe; every
+// other family exports its straight road and its actors.
+bool tjunction_geometry(const sim::SceneConfig& config) { return sim::find_family(config.family)->tjunction_analytics; }
+
+}  // namespace
+
 std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                              const EgoTrajectory* trajectory, const ExportOptions& options,
                              const std::string& road_file) {
-  if (sim::tjunction_only(config, "the export"))
-    return detail::family_scenario_xml(config, cell, trajectory, options, road_file);
+  if (!tjunction_geometry(config)) return detail::family_scenario_xml(config, cell, trajectory, options, road_file);
   return scenario_xml(config, cell, trajectory, options, road_file, false, "cell", truck_rest_s(config, cell));
 }
 
 std::string road_file_of(const sim::SceneConfig& config) {
-  return sim::tjunction_only(config, "the export") ? config.family + ".xodr" : kRoadFile;
+  return tjunction_geometry(config) ? kRoadFile : config.family + ".xodr";
 }
 
 std::string scenario_file_of(const sim::SceneConfig& config) {
-  return sim::tjunction_only(config, "the export") ? config.family + ".xosc" : kScenarioFile;
+  return tjunction_geometry(config) ? kScenarioFile : config.family + ".xosc";
 }
 
 std::vector<fs::path> export_cell(const fs::path& dir, const sim::SceneConfig& config, const sim::CellInput& cell,
                                   const EgoTrajectory* trajectory, const ExportOptions& options) {
   require_feasible(config, cell);
-  const bool tjunction = !sim::tjunction_only(config, "the export");
+  const bool tjunction = tjunction_geometry(config);
   const std::string road = road_file_of(config);
   const std::vector<core::FileContent> files{
       {dir / road, tjunction ? opendrive_xml(config, cell) : straight_road_xml(config, cell)},

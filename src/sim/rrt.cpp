@@ -108,13 +108,16 @@ class Rrt {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double y_min = road.min_y_m;
     const double x0 = nodes_.front().state.x_m;
-    const double far_x = scene_.passed_x_m() + ego.length_m;
+    // Where the hazard is when the car, keeping its speed, would reach it (t = TTC): where it stands,
+    // or ahead of where it appeared when it drives along the road.
+    const double ahead_m = scene_.passed_x_m(scene_.ttc_s()) - scene_.passed_x_m();
+    const double far_x = scene_.passed_x_m(scene_.ttc_s()) + ego.length_m;
     if (towards_passage && free_.count > 0) {
       // A free band beside the hazard once it has stopped (or later); of two, either at random.
       const FreeBand& band = free_.band[free_.count == 1 || unit(rng_) < 0.5 ? 0 : 1];
       const double lo = band.low_m + ego.width_m / 2.0;
       const double hi = std::max(lo, band.high_m - ego.width_m / 2.0);
-      const double near_x = scene_.initial_distance_m() - ego.length_m;
+      const double near_x = scene_.initial_distance_m() + ahead_m - ego.length_m;
       return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
     }
     return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.max_y_m - y_min)};

@@ -28,6 +28,8 @@ enum class SafeState { kNone, kStopped, kStabilised };
 struct Assessment {
   bool avoided = false;
   bool contact = false;
+  std::string contact_with;  ///< the actor met (its name in the scene: "truck", "following car")
+  std::string hazard;        ///< the scene's hazard, by its name
   bool road_departure = false;
   std::optional<double> event_time_s;  ///< when the contact or the departure began
   core::Vec2 event_point_m;            ///< where: the contact's point, or the corner across the edge

@@ -13,9 +13,12 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "emrm/core/error.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
 
 namespace emrm::exchange {
@@ -66,6 +69,49 @@ TEST(Assess, ExecutedTrajectoryGivesTheSimulatedOutcome) {
     }
   }
   // The cells exercise both ends of the judgement.
+  EXPECT_GT(contacts, 0);
+  EXPECT_GT(avoided, 0);
+}
+
+// Every family: the trajectory each strategy executed against the family's every actor (a deer, a
+// pedestrian with an oncoming car, a car cutting in with one overtaking) judged again gives the same
+// outcome, and a contact names the actor met.
+TEST(Assess, EveryFamilysExecutedTrajectoryGivesTheSimulatedOutcome) {
+  struct Case {
+    const char* example;
+    std::vector<std::pair<const char*, const char*>> factors;
+    std::vector<std::pair<double, double>> speed_ttc;
+  };
+  const std::vector<Case> cases{
+      {"highway_obstacle", {{"obstacle", "deer"}}, {{100, 1.2}, {130, 0.7}}},
+      {"pedestrian_crossing", {{"oncoming", "car"}}, {{40, 1.0}, {50, 0.6}}},
+      {"cut_in", {{"following", "car"}, {"target_decel_mps2", "8"}}, {{100, 1.5}, {120, 0.8}}},
+  };
+  int contacts = 0, avoided = 0;
+  for (const Case& c : cases) {
+    const sim::SceneConfig config =
+        sim::load_scene_config(std::string(EMRM_SOURCE_DIR) + "/examples/" + c.example + "/scene.yaml");
+    const sim::FactorTable factors = sim::scenario_factors(config);
+    for (const auto& [speed, ttc] : c.speed_ttc) {
+      sim::CellInput cell = factors.defaults();
+      cell[sim::kEgoSpeedFactor] = speed;
+      cell[sim::kTtcFactor] = ttc;
+      for (const auto& [key, value] : c.factors) cell[*factors.find(key)] = factors[*factors.find(key)].parse(value);
+      const sim::CellResult result = sim::simulate_cell(config, cell, {});
+      for (const auto& o : result.strategies) {
+        if (o.path.size() < 2) continue;
+        const std::string what = fmt::format("{} {} km/h TTC {} s: {}", c.example, speed, ttc, o.strategy);
+        const auto recorded = parse_trajectory_csv(emrm_csv(o.path), "emrm.csv", TrajectoryFormat::kEmrm, config);
+        const Assessment a = assess(config, cell, recorded);
+        expect_same_outcome(o, a, what);
+        if (a.contact) {
+          EXPECT_FALSE(a.contact_with.empty()) << what;
+        }
+        contacts += a.contact ? 1 : 0;
+        avoided += a.avoided ? 1 : 0;
+      }
+    }
+  }
   EXPECT_GT(contacts, 0);
   EXPECT_GT(avoided, 0);
 }
