@@ -22,10 +22,10 @@
 namespace emrm::exchange {
 namespace {
 
+using detail::act_end;
 using detail::axles;
 using detail::bounding_box;
 using detail::ego_entity;
-using detail::ego_maneuver;
 using detail::ego_vertices;
 using detail::file_header;
 using detail::follow_trajectory;
@@ -35,9 +35,7 @@ using detail::num;
 using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
-using detail::start_at_zero;
 using detail::start_state;
-using detail::time_condition;
 using detail::world_position;
 
 // How tall each kind of actor is drawn (the scene models bodies on the road plane): a car and a
@@ -213,15 +211,7 @@ std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellI
   x.open("Act", {{"name", "EmrmAct"}});
   for (std::size_t a = 0; a < names.size(); ++a)
     actor_maneuver(x, names[a], scene.actors()[a], a == 0, config.simulation.dt_s, end_s);
-  if (!vertices.empty()) ego_maneuver(x, config, *trajectory, vertices);
-  start_at_zero(x, "ActStartsAtHazard");
-  x.close();
-  x.close();
-  x.open("StopTrigger");
-  time_condition(x, "EndOfRun", "greaterOrEqual", end_s);
-  x.close();
-  x.close();
-  x.close();
+  act_end(x, config, trajectory, vertices, end_s);
   return std::move(x).str();
 }
 

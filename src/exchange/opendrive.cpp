@@ -24,6 +24,20 @@ constexpr double kApproach_m = 100.0;       // main road before the ego's start
 constexpr double kRunOut_m = 300.0;         // main road after the junction: the recovery's room
 constexpr double kSideRoadMargin_m = 30.0;  // side road beyond the truck's rear at t = 0
 
+// The document's header: OpenDRIVE 1.6, the fixed date, and the network's bounds in the road frame.
+void header(XmlWriter& x, const std::string& name, double north, double south, double east, double west) {
+  x.leaf("header", {{"revMajor", "1"},
+                    {"revMinor", "6"},
+                    {"name", name},
+                    {"version", "1"},
+                    {"date", kDate},
+                    {"north", num(north)},
+                    {"south", num(south)},
+                    {"east", num(east)},
+                    {"west", num(west)},
+                    {"vendor", "emrm"}});
+}
+
 void width(XmlWriter& x, double w) {
   x.leaf("width", {{"sOffset", "0"}, {"a", num(w)}, {"b", "0"}, {"c", "0"}, {"d", "0"}});
 }
@@ -187,16 +201,8 @@ std::string opendrive_xml(const sim::SceneConfig& config, const sim::CellInput& 
   const double w = config.road.lane_width_m;
   XmlWriter x;
   x.open("OpenDRIVE");
-  x.leaf("header", {{"revMajor", "1"},
-                    {"revMinor", "6"},
-                    {"name", config.name},
-                    {"version", "1"},
-                    {"date", kDate},
-                    {"north", num(l.side_road_start_y_m + l.side_road_length_m)},
-                    {"south", num(config.road.drivable_min_y_m())},
-                    {"east", num(l.main_end_x_m)},
-                    {"west", num(l.main_start_x_m)},
-                    {"vendor", "emrm"}});
+  header(x, config.name, l.side_road_start_y_m + l.side_road_length_m, config.road.drivable_min_y_m(), l.main_end_x_m,
+         l.main_start_x_m);
   const Link junction{"junction", kJunctionId, nullptr};
   // Roads 1 and 2: the main road up to the junction (where the ego comes from) and beyond it.
   const auto main_road = [&](const char* name, const char* id, double from_x, double to_x, const Link* predecessor,
@@ -295,16 +301,7 @@ std::string straight_road_xml(const sim::SceneConfig& config, const sim::CellInp
   const double end_x = scene.initial_distance_m() + std::max(kRunOut_m, scene.initial_speed_mps() * run_s);
   XmlWriter x;
   x.open("OpenDRIVE");
-  x.leaf("header", {{"revMajor", "1"},
-                    {"revMinor", "6"},
-                    {"name", config.name},
-                    {"version", "1"},
-                    {"date", kDate},
-                    {"north", num(road.max_y_m)},
-                    {"south", num(road.min_y_m)},
-                    {"east", num(end_x)},
-                    {"west", num(start_x)},
-                    {"vendor", "emrm"}});
+  header(x, config.name, road.max_y_m, road.min_y_m, end_x, start_x);
   x.open("road",
          {{"name", config.family}, {"length", num(end_x - start_x)}, {"id", "1"}, {"junction", "-1"}, {"rule", "RHT"}});
   x.open("planView");

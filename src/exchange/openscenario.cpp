@@ -27,10 +27,10 @@ using detail::require_feasible;
 using detail::scenario_xml;
 using detail::truck_rest_s;
 // The parts of a scenario document (xosc_parts.hpp).
+using detail::act_end;
 using detail::axles;
 using detail::bounding_box;
 using detail::ego_entity;
-using detail::ego_maneuver;
 using detail::ego_vertices;
 using detail::follow_trajectory;
 using detail::maneuver_group;
@@ -38,9 +38,7 @@ using detail::maneuver_group_end;
 using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
-using detail::start_at_zero;
 using detail::start_state;
-using detail::time_condition;
 using detail::world_position;
 
 using sim::kKphPerMps;
@@ -232,15 +230,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
   x.open("Story", {{"name", "EmrmStory"}});
   x.open("Act", {{"name", "EmrmAct"}});
   truck_maneuver(x, config, cell, i, options, parametric, truck_rest_s, end_s);
-  if (!vertices.empty()) ego_maneuver(x, config, *trajectory, vertices);
-  start_at_zero(x, "ActStartsAtHazard");
-  x.close();
-  x.close();
-  x.open("StopTrigger");
-  time_condition(x, "EndOfRun", "greaterOrEqual", end_s);
-  x.close();
-  x.close();
-  x.close();
+  act_end(x, config, trajectory, vertices, end_s);
   return std::move(x).str();
 }
 

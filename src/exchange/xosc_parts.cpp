@@ -156,4 +156,17 @@ void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const
   x.close();
 }
 
+void act_end(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory* trajectory,
+             const std::vector<sim::PathPoint>& vertices, double end_s) {
+  if (trajectory != nullptr && !vertices.empty()) ego_maneuver(x, config, *trajectory, vertices);
+  start_at_zero(x, "ActStartsAtHazard");
+  x.close();
+  x.close();
+  x.open("StopTrigger");
+  time_condition(x, "EndOfRun", "greaterOrEqual", end_s);
+  x.close();
+  x.close();
+  x.close();
+}
+
 }  // namespace emrm::exchange::detail

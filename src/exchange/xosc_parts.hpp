@@ -44,6 +44,10 @@ void start_state(XmlWriter& x, const std::string& entity, const std::string& px,
 // options.tolerance_m, ended on the frame grid.
 [[nodiscard]] std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
                                                        const ExportOptions& options);
+// The end of a cell's document: the ego's maneuver (with `vertices`), the Act's start, the stop at
+// `end_s`, and the closing of the Act, the Story, the Storyboard and the document.
+void act_end(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory* trajectory,
+             const std::vector<sim::PathPoint>& vertices, double end_s);
 // The ego follows its executed trajectory, reference point (rear axle) at each vertex's time.
 void ego_maneuver(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory& trajectory,
                   const std::vector<sim::PathPoint>& vertices);

@@ -1,5 +1,5 @@
-// The T-junction's trajectory figures: the ego's paths past the crossing truck, titled by the T-junction's
-// factors (sim::TJunctionCell).
+// The trajectory figures: the ego's paths past the hazard and every other actor, titled by the
+// T-junction's factors (sim::TJunctionCell) or, in another family, by the cell's own.
 
 #include "emrm/report/trajectory_figure.hpp"
 
@@ -143,10 +143,29 @@ bool is_chooser(std::string_view strategy) {
   return info != nullptr && info->role == sim::StrategyRole::kChooser;
 }
 
+// The factors a panel's row names: the T-junction's speed, TTC, friction and passage (its truck's
+// speed is its motion, not a label); another family's every factor.
+std::vector<std::size_t> shown_factors(const sim::FactorTable& factors, bool tjunction) {
+  if (tjunction) return {sim::tjunction::kSpeed, sim::tjunction::kTtc, sim::tjunction::kMu, sim::tjunction::kPassage};
+  std::vector<std::size_t> all(factors.size());
+  for (std::size_t f = 0; f < all.size(); ++f) all[f] = f;
+  return all;
+}
+
 std::string outcome_label(const campaign::OutcomeRecord& o) {
   std::string text = o.avoided ? "avoided" : fmt::format("{:.0f} km/h, L{}", o.impact_speed_kph, o.loss_level);
   if (!o.chosen_strategy.empty()) text += " (" + o.chosen_strategy + ")";
   return text;
+}
+
+// A panel of another family than the T-junction in three lines: the method's factors, the
+// family's own, and the outcome ("\n" is a line break in a gnuplot title).
+std::string panel_title(const sim::FactorTable& factors, const campaign::CellRecord& cell,
+                        const campaign::OutcomeRecord& emrm) {
+  std::vector<std::string> method, own;
+  for (std::size_t f = 0; f < factors.size() && f < cell.factors.size(); ++f)
+    (f < sim::kMethodFactors ? method : own).push_back(factors[f].format(factors[f].brief, cell.factors[f]));
+  return fmt::format("{}\\n{}\\n{}", core::join(method, ", "), core::join(own, ", "), outcome_label(emrm));
 }
 
 }  // namespace
@@ -173,10 +192,9 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
     figure.note = fmt::format("no stored trajectories for grid '{}' (sweep it with keep_trees: true)", grid);
     return figure;
   }
-  if (auto why = sim::tjunction_only(config, "the trajectory grid")) {
-    figure.note = *why;
-    return figure;
-  }
+  // The T-junction's panels keep their own titles and columns; another family's name every factor.
+  const bool tjunction = !sim::tjunction_only(config, "the trajectory grid");
+  const sim::FactorTable factors = sim::scenario_factors(config);
 
   std::filesystem::create_directories(dir);
   figure.png = dir / (figure.name + ".png");
@@ -190,15 +208,9 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
   for (std::size_t k = 0; k < panels.size(); ++k) {
     const auto& [cell, emrm, trees] = panels[k];
     const std::string tag = std::to_string(k);
-    const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
-    const core::Row lead{tag,
-                         std::to_string(cell->index),
-                         fmt::format("{:g}", named.speed_kph),
-                         fmt::format("{:g}", named.ttc_s),
-                         fmt::format("{:g}", named.mu),
-                         fmt::format("{:g}", named.passage_m),
-                         core::enum_text(cell->region),
-                         outcome_label(*emrm)};
+    core::Row lead{tag, std::to_string(cell->index)};
+    for (const std::size_t f : shown_factors(factors, tjunction)) lead.push_back(fmt::format("{:g}", cell->factors[f]));
+    lead.insert(lead.end(), {core::enum_text(cell->region), outcome_label(*emrm)});
     const auto rows_of = [&](const campaign::Polyline& line, const std::string& kind, std::size_t edge) {
       std::string data;
       for (const auto& p : line) {
@@ -221,30 +233,50 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
     core::write_file(file("failsafe" + tag + ".dat"), failsafe.empty() ? "nan nan nan\n" : failsafe);
     core::write_file(file("path" + tag + ".dat"), rows_of(emrm->path, "path", 0));
 
+    // Every actor at the start and at the end of the path (the T-junction's one: its truck).
     const sim::Scene scene(config, cell->factors);
-    core::write_file(file("truck0_" + tag + ".dat"), outline(scene.hazard_at(0.0).box));
-    core::write_file(file("truck1_" + tag + ".dat"), outline(scene.hazard_at(emrm->path.back()[0]).box));
+    std::string start, end;
+    for (const sim::Actor& actor : scene.actors()) {
+      start += outline(actor.at(0.0).box);
+      end += outline(actor.at(emrm->path.back()[0]).box);
+    }
+    core::write_file(file("truck0_" + tag + ".dat"), start);
+    core::write_file(file("truck1_" + tag + ".dat"), end);
   }
-  // The factors the drawing shows (the truck's speed is its motion, not a label), by their keys.
-  const sim::FactorTable factors = sim::scenario_factors(config);
+  // The factors the drawing shows, by their keys.
   core::Row header{"panel", "cell_index"};
-  for (const auto i : {sim::tjunction::kSpeed, sim::tjunction::kTtc, sim::tjunction::kMu, sim::tjunction::kPassage})
-    header.push_back(factors[i].key);
+  for (const std::size_t f : shown_factors(factors, tjunction)) header.push_back(factors[f].key);
   header.insert(header.end(), {"region", "outcome", "kind", "edge", "t_s", "x_m", "y_m", "speed_mps"});
   core::write_file(figure.csv, core::csv_table(header, csv));
 
-  // One frame for every panel: the widest scene of the grid.
+  // One frame for every panel: the widest scene of the grid (the T-junction's up the side road its
+  // truck comes from; another family's over its road, its actors and its paths).
   double x_lo = 0.0, x_hi = 0.0;
+  const sim::Road road = sim::Scene(config, panels.front().cell->factors).road();
+  double y_min = road.min_y_m - 1.0;
+  double y_max = tjunction ? road.max_y_m + config.truck.length_m : road.max_y_m + 1.0;
   for (const auto& p : panels) {
     const sim::Scene scene(config, p.cell->factors);
     x_lo = std::min(x_lo, scene.ego_initial().x_m - config.ego.length_m);
     x_hi = std::max(x_hi, scene.passed_x_m() + 2.0 * config.ego.length_m);
+    if (tjunction) continue;
+    const double end_s = p.emrm->path.back()[0];
+    x_hi = std::max(x_hi, scene.passed_x_m(end_s) + 2.0 * config.ego.length_m);
+    for (const auto& point : p.emrm->path) x_hi = std::max(x_hi, point[1] + config.ego.length_m);
+    for (const sim::Actor& actor : scene.actors())
+      for (const double t : {0.0, end_s}) {
+        const auto [low, high] = actor.y_extent_at(t);
+        y_min = std::min(y_min, low - 0.5);
+        y_max = std::max(y_max, high + 0.5);
+        const double reach = 0.5 * std::max(actor.body().length_m, actor.body().width_m) + 1.0;
+        x_lo = std::min(x_lo, actor.at(t).box.center.x - reach);
+        x_hi = std::max(x_hi, actor.at(t).box.center.x + reach);
+      }
   }
-  const double y_min = config.road.drivable_min_y_m() - 1.0;
-  const double y_max = config.road.drivable_max_y_m() + config.truck.length_m;
-  core::write_file(file("road.dat"),
-                   road_edges(x_lo, x_hi, config.road.drivable_min_y_m(), config.road.drivable_max_y_m()));
+  core::write_file(file("road.dat"), road_edges(x_lo, x_hi, road.min_y_m, road.max_y_m));
 
+  // The actors drawn: the T-junction's truck, or every actor of another family's cell.
+  const std::string actors_label = tjunction ? "truck" : "actors";
   const int columns = 4;
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   for (const auto& output : {figure.png, figure.svg}) {
@@ -263,17 +295,22 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
       const std::string tag = std::to_string(k);
       // One colour bar, beside the last panel of each row.
       script += (k % columns == columns - 1 || k + 1 == panels.size()) ? "set colorbox\n" : "unset colorbox\n";
-      const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
-      script += fmt::format("set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n",
-                            named.speed_kph, named.mu, named.passage_m, outcome_label(*emrm));
+      if (tjunction) {
+        const sim::TJunctionCell named = sim::TJunctionCell::of(cell->factors);
+        script += fmt::format("set title \"{:.1f} km/h, mu {:.2f}, passage {:.1f} m: {}\" font ',8' noenhanced\n",
+                              named.speed_kph, named.mu, named.passage_m, outcome_label(*emrm));
+      } else {
+        script += fmt::format("set title \"{}\" font ',8' noenhanced\n", panel_title(factors, *cell, *emrm));
+      }
       // Each curve titled (the key is off; an SVG names its curves by their titles, which would
       // otherwise be the temporary files' paths, a new name every run).
       script += fmt::format(
           "plot '{}' t 'road' w l lc 'black' lw 1.2, '{}' t 'goal tree' w l lc rgb '#2ca02c' lw 0.5, "
-          "'{}' t 'fail-safe tree' w l lc rgb '#ff7f0e' lw 0.5, '{}' t 'truck at the start' w l dt 2 lc 'gray40', "
-          "'{}' t 'truck at the end' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 t 'EMRM path' w l lw 2.5 lc palette\n",
+          "'{}' t 'fail-safe tree' w l lc rgb '#ff7f0e' lw 0.5, '{}' t '{} at the start' w l dt 2 lc 'gray40', "
+          "'{}' t '{} at the end' w l lc 'gray20' lw 1.2, '{}' u 1:2:3 t 'EMRM path' w l lw 2.5 lc palette\n",
           file("road.dat"), file("goal" + tag + ".dat"), file("failsafe" + tag + ".dat"),
-          file("truck0_" + tag + ".dat"), file("truck1_" + tag + ".dat"), file("path" + tag + ".dat"));
+          file("truck0_" + tag + ".dat"), actors_label, file("truck1_" + tag + ".dat"), actors_label,
+          file("path" + tag + ".dat"));
     }
     script += "unset multiplot\n";
     run_gnuplot(script, work.path(), {output});

@@ -157,6 +157,7 @@ TEST(FamiliesCli, ACutInSimulatesSweepsAndVerifiesWithoutTheStopBoundary) {
 
   const std::string out = swept_and_verified("cut_in_campaign", "cut_in", R"(grids:
   - name: cut
+    keep_trees: true
     speed_kph: [80, 120]
     ttc_s: [1.0, 2.5]
     following: [none, car]
@@ -167,6 +168,15 @@ TEST(FamiliesCli, ACutInSimulatesSweepsAndVerifiesWithoutTheStopBoundary) {
   EXPECT_THAT(diagnose.out, HasSubstr("no analytic stop boundary in this scene's family"));
   const auto boundary = run_emrm("boundary " + out + " --no-figures");
   EXPECT_EQ(boundary.exit_code, 0) << boundary.err;
+  // The trajectory grid draws the family's cells with every actor.
+  const auto report = run_emrm("report " + out);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const auto grid_csv = std::filesystem::path(out) / "figures" / "trajectory_grid.csv";
+  ASSERT_TRUE(std::filesystem::exists(grid_csv)) << report.out;
+  std::ifstream csv(grid_csv);
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_THAT(header, HasSubstr("relative_speed_kph,lateral_speed_mps,target_decel_mps2,following"));
   const auto adaptive = run_emrm("sweep " + (std::filesystem::path(out).parent_path() / "campaign.yaml").string() +
                                  " --adaptive -o " + out + "_adaptive --threads 2");
   EXPECT_EQ(adaptive.exit_code, 0) << adaptive.err;
