@@ -10,7 +10,7 @@ namespace {
 
 using PlannerPtr = std::shared_ptr<const Planner>;
 
-core::Registry<PlannerPtr>& registry() {
+core::Registry<PlannerPtr>& planner_registry() {
   static core::Registry<PlannerPtr> planners("planner",
                                              {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>()},
                                              [](const PlannerPtr& p) { return p->name(); });
@@ -22,18 +22,18 @@ core::Registry<PlannerPtr>& registry() {
 const Planner* find_planner(std::string_view name) {
   // Entries are never destroyed while registered, and registrations outlive the simulations that
   // use them (see PlannerRegistration), so the pointer stays valid for its user.
-  for (const auto& p : *registry().table())
+  for (const auto& p : *planner_registry().table())
     if (p->name() == name) return p.get();
   return nullptr;
 }
 
-std::vector<std::string> planner_names() { return registry().names(); }
+std::vector<std::string> planner_names() { return planner_registry().names(); }
 
 PlannerRegistration::PlannerRegistration(std::unique_ptr<Planner> planner) : name_(planner->name()) {
-  registry().add(PlannerPtr(std::move(planner)));
+  planner_registry().add(PlannerPtr(std::move(planner)));
 }
 
-PlannerRegistration::~PlannerRegistration() { registry().remove(name_); }
+PlannerRegistration::~PlannerRegistration() { planner_registry().remove(name_); }
 
 double lateral_miss_m(const Scene& scene, const RolloutResult& rollout) noexcept {
   if (rollout.passed_truck) return 0.0;

@@ -12,7 +12,7 @@
 namespace emrm::sim {
 namespace {
 
-core::Registry<RegisteredStrategy>& registry() {
+core::Registry<RegisteredStrategy>& strategy_registry() {
   static core::Registry<RegisteredStrategy> strategies(
       "strategy", builtin_strategies(), [](const RegisteredStrategy& s) -> std::string_view { return s.info.name; },
       [](const RegisteredStrategy& a, const RegisteredStrategy& b) { return a.info.order < b.info.order; });
@@ -165,7 +165,7 @@ const StrategyInfo* StrategyTable::first_of(StrategyRole role) const noexcept {
   return nullptr;
 }
 
-StrategyTable registered_strategies() { return StrategyTable(registry().table()); }
+StrategyTable registered_strategies() { return StrategyTable(strategy_registry().table()); }
 
 StrategyRegistration::StrategyRegistration(StrategyInfo info, std::shared_ptr<const Strategy> strategy)
     : name_(info.name) {
@@ -178,9 +178,9 @@ StrategyRegistration::StrategyRegistration(StrategyInfo info, std::shared_ptr<co
     if (const StrategyInfo* o = table.info(other); o == nullptr || o->order >= info.order)
       throw UsageError(
           fmt::format("strategy '{}' may adopt '{}', which is not a strategy evaluated before it", info.name, other));
-  registry().add({std::move(info), std::move(strategy)});
+  strategy_registry().add({std::move(info), std::move(strategy)});
 }
 
-StrategyRegistration::~StrategyRegistration() { registry().remove(name_); }
+StrategyRegistration::~StrategyRegistration() { strategy_registry().remove(name_); }
 
 }  // namespace emrm::sim
