@@ -79,7 +79,10 @@ RegionCounts count_regions(const std::vector<campaign::CellRecord>& records, std
 LevelCuts level_cuts(const sim::SceneConfig& scene) {
   LevelCuts cuts;
   cuts.car_width_m = scene.ego.width_m;
-  cuts.passage_factor = sim::scenario_factors(scene).find(sim::FactorRole::kPassage);
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  cuts.passage_factor = factors.find(sim::FactorRole::kPassage);
+  for (std::size_t i = 0; i < factors.size(); ++i)
+    if (factors[i].categorical()) cuts.categorical.push_back({i, factors[i].key, factors[i].what, factors[i].levels});
   return cuts;
 }
 

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -42,6 +44,17 @@ std::vector<campaign::CellRecord> subset(const std::vector<campaign::CellRecord>
   std::vector<campaign::CellRecord> out;
   for (const auto& r : records)
     if ((grid.empty() || r.grid == grid) && level_of(f, r, cuts) == level) out.push_back(r);
+  return out;
+}
+
+// The cells of `grid` (all grids when empty) at level `level` of a categorical factor.
+std::vector<campaign::CellRecord> subset(const std::vector<campaign::CellRecord>& records, std::string_view grid,
+                                         const LevelCuts::Categorical& factor, std::size_t level) {
+  std::vector<campaign::CellRecord> out;
+  for (const auto& r : records)
+    if ((grid.empty() || r.grid == grid) && factor.index < r.factors.size() &&
+        r.factors[factor.index] == static_cast<double>(level))
+      out.push_back(r);
   return out;
 }
 
@@ -202,14 +215,16 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
     double gap = -1.0;
     std::string where;
   } largest;
-  const auto add_row = [&](std::string label, std::string_view on_grid, Breakdown f,
-                           const std::vector<std::string>& levels, const PaperByParameterRow* p) {
+  // A row over `levels`, the cells of level i those cells_of(i) gives.
+  const auto add_levels_row = [&](std::string label, std::string_view on_grid, Breakdown f,
+                                  const std::vector<std::string>& levels, const PaperByParameterRow* p,
+                                  const std::function<std::vector<campaign::CellRecord>(std::size_t)>& cells_of) {
     core::Row r{std::move(label)};
     std::vector<std::size_t> counts(levels.size(), 0);
     for (const auto& s : strategies) {
       std::vector<std::string> ours, theirs;
       for (std::size_t i = 0; i < levels.size(); ++i) {
-        const auto k = strategy_kpis(subset(records, on_grid, f, levels[i], cuts), s, on_grid, f, levels[i]);
+        const auto k = strategy_kpis(cells_of(i), s, on_grid, f, levels[i]);
         counts[i] = k.cells;
         ours.push_back(format_number(k.collision_avoidance_rate_pct, 0));
         if (p != nullptr && p->values.of(s) != nullptr) {
@@ -233,6 +248,11 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
     r.push_back(core::join(n, " / ") + (p ? " (paper " + core::join(pn, " / ") + ")" : ""));
     t.rows.push_back(std::move(r));
   };
+  const auto add_row = [&](std::string label, std::string_view on_grid, Breakdown f,
+                           const std::vector<std::string>& levels, const PaperByParameterRow* p) {
+    add_levels_row(std::move(label), on_grid, f, levels, p,
+                   [&](std::size_t i) { return subset(records, on_grid, f, levels[i], cuts); });
+  };
 
   const auto range_label = [&](Breakdown f, const std::vector<std::string>& levels) {
     std::vector<std::string> parts;
@@ -253,6 +273,13 @@ Table by_parameter_table(const std::vector<campaign::CellRecord>& records, const
                         : on_grid.empty() ? std::string(" [all grids]")
                                           : fmt::format(" [grid '{}']", on_grid)),
             on_grid, f, levels, p);
+  }
+  // A categorical factor by its levels (ours only: the paper has none).
+  for (const auto& c : cuts.categorical) {
+    std::string what = c.what;
+    if (!what.empty()) what[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])));
+    add_levels_row(fmt::format("{}: {}", what, core::join(c.levels, " / ")), grid, kWholeGrid, c.levels, nullptr,
+                   [&](std::size_t i) { return subset(records, grid, c, i); });
   }
   if (!friction_grid.empty() && has_grid(records, friction_grid))
     add_row(
@@ -507,13 +534,21 @@ std::string kpis_csv(const std::vector<campaign::CellRecord>& records, const Lev
                          "mean_delta_loss"};
   const auto num = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.6g}", v); };
   std::vector<core::Row> rows;
-  for (const auto& grid : grid_names(records))
+  const auto row = [&](const StrategyKpis& k, const std::string& factor, const std::string& range) {
+    rows.push_back({k.grid, k.strategy, factor, k.level, range, std::to_string(k.cells), std::to_string(k.avoided),
+                    std::to_string(k.collisions), std::to_string(k.mitigated), num(k.collision_avoidance_rate_pct),
+                    num(k.mean_impact_speed_kph), num(k.mean_impact_speed_collisions_kph), num(k.mean_min_ttc_s),
+                    std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss)});
+  };
+  for (const auto& grid : grid_names(records)) {
     for (const auto& k : grid_kpis(records, grid, cuts))
-      rows.push_back({k.grid, k.strategy, std::string(factor_name(k.factor)), k.level,
-                      level_range(k.factor, k.level, cuts), std::to_string(k.cells), std::to_string(k.avoided),
-                      std::to_string(k.collisions), std::to_string(k.mitigated), num(k.collision_avoidance_rate_pct),
-                      num(k.mean_impact_speed_kph), num(k.mean_impact_speed_collisions_kph), num(k.mean_min_ttc_s),
-                      std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss)});
+      row(k, std::string(factor_name(k.factor)), level_range(k.factor, k.level, cuts));
+    // Each categorical factor's levels, the factor by its key and a level by its name.
+    for (const auto& s : strategy_names_of(records))
+      for (const auto& c : cuts.categorical)
+        for (std::size_t i = 0; i < c.levels.size(); ++i)
+          row(strategy_kpis(subset(records, grid, c, i), s, grid, kWholeGrid, c.levels[i]), c.key, c.levels[i]);
+  }
   return core::csv_table(header, rows);
 }
 

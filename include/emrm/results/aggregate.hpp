@@ -70,6 +70,16 @@ struct LevelCuts {
   /// Where the passage stands in the cells (sim::FactorRole::kPassage, set by level_cuts() from the
   /// scene's factor table); none: the scenario has no passage, and every cell counts as wide.
   std::optional<std::size_t> passage_factor;
+  /// The scenario's categorical factors (the highway's obstacle and roadside, the street's oncoming
+  /// car, the cut-in's following car), set by level_cuts() from the factor table: the by-parameter
+  /// table and kpis.csv break the KPIs down by each one's levels too.
+  struct Categorical {
+    std::size_t index = 0;            ///< its position in the cells
+    std::string key;                  ///< "obstacle": kpis.csv's factor
+    std::string what;                 ///< "obstacle": the table's row
+    std::vector<std::string> levels;  ///< by index: kpis.csv's levels
+  };
+  std::vector<Categorical> categorical;
 };
 
 /// The cuts for a scene: the defaults with its car's width and its passage factor.

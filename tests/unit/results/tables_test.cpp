@@ -3,9 +3,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
+#include "emrm/results/aggregate.hpp"
+#include "emrm/sim/scene.hpp"
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::results {
@@ -97,6 +102,33 @@ TEST(Tables, WritesEveryFile) {
 }
 
 // An example without a paper_reference.yaml: every table shows ours alone, and there are no claims.
+// A family's categorical factor (the highway's obstacle) breaks the by-parameter table and kpis.csv
+// down by its levels: here the emergency stop avoids the truck's cell and not the deer's.
+TEST(Tables, ACategoricalFactorIsBrokenDownByItsLevels) {
+  sim::SceneConfig highway;
+  highway.family = "highway_obstacle";
+  const LevelCuts cuts = level_cuts(highway);
+  ASSERT_EQ(cuts.categorical.size(), 2u);
+  EXPECT_EQ(cuts.categorical[0].key, "obstacle");
+  EXPECT_EQ(cuts.categorical[0].levels, (std::vector<std::string>{"truck", "deer"}));
+  EXPECT_EQ(cuts.categorical[1].key, "roadside");
+  EXPECT_TRUE(level_cuts(sim::SceneConfig{}).categorical.empty());  // the T-junction has none
+
+  auto cells = two_cells();
+  for (auto& c : cells) c.factors = sim::CellInput{c.factors.ego_speed_kph(), 1.2, 0.8, double(c.index), 6.25, 0.0};
+  const auto t = by_parameter_table(cells, PaperReference{}, "fine", "", "", cuts);
+  const auto row = std::find_if(t.rows.begin(), t.rows.end(),
+                                [](const core::Row& r) { return r.front() == "Obstacle: truck / deer"; });
+  ASSERT_NE(row, t.rows.end());
+  EXPECT_EQ((*row)[1], "100 / 0");    // the emergency stop
+  EXPECT_EQ((*row)[2], "100 / 100");  // the dodge
+  EXPECT_EQ(row->back(), "1 / 1");
+  const std::string csv = kpis_csv(cells, cuts);
+  EXPECT_THAT(csv, HasSubstr("fine,emergency_stop,obstacle,truck,truck,1,1,0,"));
+  EXPECT_THAT(csv, HasSubstr("fine,emergency_stop,obstacle,deer,deer,1,0,1,"));
+  EXPECT_THAT(csv, HasSubstr("fine,emergency_stop,roadside,guardrail,guardrail,2,1,1,"));
+}
+
 TEST(Tables, WithoutThePapersNumbersOursStandAlone) {
   const PaperReference none;
   ASSERT_TRUE(none.empty());
