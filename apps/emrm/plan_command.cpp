@@ -58,7 +58,7 @@ int run(const PlanOptions& o) {
   std::optional<fs::path> safety;
   if (!o.safety_file.empty()) safety = o.safety_file;
   const auto start = std::chrono::steady_clock::now();
-  const scenario::Odd odd = scenario::load_odd(o.odd_file, safety);
+  const scenario::Odd odd = scenario::load_odd(o.odd_file, safety, workflow::family_levels);
   const sim::SceneConfig scene = workflow::plan_scene(odd);
   workflow::check_odd_against_scene(odd, scene);
   std::vector<std::string> warnings;

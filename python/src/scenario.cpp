@@ -149,10 +149,10 @@ scenario::Odd odd_from(py::handle source, const std::optional<std::filesystem::p
   if (is_path(source)) {
     const std::filesystem::path file = to_path(source);
     if (!std::filesystem::is_regular_file(file)) throw UsageError("emrm.plan: '" + file.string() + "' does not exist");
-    return scenario::load_odd(file, safety);
+    return scenario::load_odd(file, safety, workflow::family_levels);
   }
   return parse_mapping(source, [&safety](const std::string& text) {
-    return scenario::parse_odd(text, "<odd mapping>", std::filesystem::current_path(), safety);
+    return scenario::parse_odd(text, "<odd mapping>", std::filesystem::current_path(), safety, workflow::family_levels);
   });
 }
 

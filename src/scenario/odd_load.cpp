@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <numeric>
 
@@ -48,7 +49,7 @@ struct FactorYaml {
   std::vector<double> kinks;
   std::optional<std::vector<std::string>> classes;
   std::optional<std::vector<double>> values;
-  std::optional<double> value;
+  RawNode value;  // a number, or a level's name (LevelLookup)
   std::optional<std::vector<double>> prior;
   std::optional<bool> influential;
   RawNode nominal;
@@ -187,7 +188,25 @@ std::vector<SourceLocation> value_locations(const core::YamlNode& node) {
 
 // A factor as an OddFactor: first the keys its type takes and needs, then, at factors[index], its
 // domain, its prior and its nominal value, each checked before the next is derived from it.
-OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root, std::size_t index) {
+// A constant's value: a number, or with a lookup the name of a level of the scene's categorical
+// factor of the same name (its index).
+double constant_value(const core::YamlNode& n, const std::string& factor, const std::optional<fs::path>& scene_file,
+                      const LevelLookup& levels) {
+  const std::string text = n.is_scalar() ? n.as_string() : std::string();
+  if (text.empty() || std::isalpha(static_cast<unsigned char>(text.front())) == 0) return core::scalar_number(n);
+  const std::vector<std::string> names = levels ? levels(scene_file, factor) : std::vector<std::string>{};
+  const auto it = std::find(names.begin(), names.end(), text);
+  if (it != names.end()) return static_cast<double>(it - names.begin());
+  if (names.empty())
+    n.fail(fmt::format(
+        "value '{}': expected a number{}", text,
+        levels ? fmt::format(" (a level's name needs a categorical factor '{}' of the scene's family)", factor)
+               : std::string()));
+  n.fail(fmt::format("value '{}': expected one of the levels {} of the scene's family", text, core::join(names, ", ")));
+}
+
+OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const core::YamlNode& root, std::size_t index,
+                      const std::optional<fs::path>& scene_file, const LevelLookup& levels) {
   OddFactor f;
   f.name = y.name;
   f.unit = y.unit;
@@ -205,7 +224,7 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
       const auto type = core::enum_name(y.type);
       forbid(y.classes.has_value(), "classes", type);
       forbid(y.values.has_value(), "values", type);
-      forbid(y.value.has_value(), "value", type);
+      forbid(y.value.node.has_value(), "value", type);
       if (!y.bins) node.fail(fmt::format("a {} factor needs 'bins': at least two increasing edges", type));
       f.edges = *y.bins;
       break;
@@ -213,7 +232,7 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
     case FactorType::kCategorical:
       forbid(y.bins.has_value(), "bins", "categorical");
       forbid(!y.kinks.empty(), "kinks", "categorical");
-      forbid(y.value.has_value(), "value", "categorical");
+      forbid(y.value.node.has_value(), "value", "categorical");
       if (!y.classes) node.fail("a categorical factor needs 'classes': a list of names");
       f.classes = *y.classes;
       if (y.values) {
@@ -229,8 +248,8 @@ OddFactor make_factor(const FactorYaml& y, const core::YamlNode& node, const cor
       forbid(y.classes.has_value(), "classes", "constant");
       forbid(y.values.has_value(), "values", "constant");
       forbid(y.prior.has_value(), "prior", "constant");
-      if (!y.value) node.fail("a constant factor needs 'value'");
-      f.nominal = *y.value;
+      if (!y.value.node) node.fail("a constant factor needs 'value'");
+      f.nominal = constant_value(*y.value.node, y.name, scene_file, levels);
       break;
   }
   const auto check = [&](auto&& rules) { check_at(root, "factors", index, rules); };
@@ -287,7 +306,7 @@ std::vector<Malfunction> malfunctions_from(const safety::SafetyCase& sc, const s
 }
 
 Odd parse_odd(const std::string& text, const std::string& file_name, const fs::path& base_dir,
-              const std::optional<fs::path>& safety_override) {
+              const std::optional<fs::path>& safety_override, const LevelLookup& levels) {
   const core::YamlNode root = core::YamlNode::parse(text, file_name);
   if (!root.is_map())
     root.fail("expected an ODD (a mapping with name, factors, coverage, ...), got " + root.describe());
@@ -346,7 +365,7 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   for (std::size_t i = 0; i < factor_elements.size(); ++i) {
     FactorYaml y;
     core::read_yaml(factor_elements[i], y);
-    odd.factors.push_back(make_factor(y, factor_elements[i], root, i));
+    odd.factors.push_back(make_factor(y, factor_elements[i], root, i, odd.scene_file, levels));
     check_at(root, "factors", i, [&](core::Validator& v) { detail::check_factor_unique(v, odd, i); });
   }
   check_at(root, [&](core::Validator& v) { detail::check_factor_count(v, odd); });
@@ -449,9 +468,9 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
   return odd;
 }
 
-Odd load_odd(const fs::path& path, const std::optional<fs::path>& safety_override) {
+Odd load_odd(const fs::path& path, const std::optional<fs::path>& safety_override, const LevelLookup& levels) {
   const std::string text = core::read_input_file(path);
-  return parse_odd(text, path.string(), path.parent_path(), safety_override);
+  return parse_odd(text, path.string(), path.parent_path(), safety_override, levels);
 }
 
 }  // namespace emrm::scenario

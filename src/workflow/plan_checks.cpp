@@ -113,6 +113,14 @@ std::string distance_limit_place(const scenario::Odd& odd) {
 
 }  // namespace
 
+std::vector<std::string> family_levels(const std::optional<std::filesystem::path>& scene_file,
+                                       const std::string& factor) {
+  const sim::SceneConfig scene = scene_file ? sim::load_scene_config(*scene_file) : sim::SceneConfig{};
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  const auto i = factors.find(factor);
+  return i ? factors[*i].levels : std::vector<std::string>{};
+}
+
 sim::SceneConfig plan_scene(const scenario::Odd& odd) {
   return odd.scene_file ? sim::load_scene_config(*odd.scene_file) : sim::SceneConfig{};
 }

@@ -138,7 +138,7 @@ bool reproduce(const ReproduceOptions& options, campaign::Distributor* distribut
   const results::PaperReference paper = fs::is_regular_file(examples / kPaperReferenceFile)
                                             ? results::load_paper_reference(examples / kPaperReferenceFile)
                                             : results::PaperReference{};
-  const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml");
+  const scenario::Odd odd = scenario::load_odd(examples / "odd.yaml", std::nullopt, workflow::family_levels);
   workflow::check_odd_against_scene(odd, workflow::plan_scene(odd));
   fmt::print("emrm reproduce: example {} -> {}\n", examples.string(), out.string());
 

@@ -111,11 +111,31 @@ TEST(FamilyReproduceCli, AnOddClassNumberedAsAnotherLevelIsRefused) {
                    "'truck'");
 }
 
+// A constant ODD factor may name one of the family's levels (`value: deer`): its index is the value
+// every planned scenario gets; a name the family lacks is refused at its place.
+TEST(FamilyReproduceCli, AConstantOddFactorNamesALevel) {
+  const auto deer = small_highway_example("plan_highway_constant_deer",
+                                          "  - {name: obstacle, type: constant, value: deer}\n  - {name: roadside, "
+                                          "type: constant, value: embankment}\n");
+  const auto plan = run_emrm("plan " + quoted(deer / "odd.yaml") + " -o " + quoted(deer.parent_path() / "plan"));
+  ASSERT_EQ(plan.exit_code, 0) << plan.out << plan.err;
+  const auto j = nlohmann::json::parse(read_text(deer.parent_path() / "plan" / "scenarios.json"));
+  ASSERT_FALSE(j["scenarios"].empty());
+  for (const auto& scenario : j["scenarios"]) {
+    EXPECT_EQ(scenario["values"]["obstacle"].get<double>(), 1.0);
+    EXPECT_EQ(scenario["values"]["roadside"].get<double>(), 1.0);
+  }
+  const auto moose =
+      small_highway_example("plan_highway_constant_moose", "  - {name: obstacle, type: constant, value: moose}\n");
+  expect_bad_input(run_emrm("plan " + quoted(moose / "odd.yaml") + " -o " + quoted(moose.parent_path() / "plan")),
+                   "odd.yaml:9:45: error: value 'moose': expected one of the levels truck, deer of the scene's family");
+}
+
 // Every shipped family's example folder (beside the T-junction's, which ReproduceCli runs): its
 // safety case analyses without an error, both FSMs pass their checks, and its ODD plans a scenario
 // set meeting C1-C4 against its own scene; the whole reproduce is the README's (docs/families.md).
 TEST(FamilyReproduceCli, EveryShippedExampleFolderAnalysesChecksAndPlans) {
-  for (const char* family : {"highway_obstacle", "pedestrian_crossing"}) {
+  for (const char* family : {"highway_obstacle", "pedestrian_crossing", "cut_in"}) {
     const fs::path folder = fs::path(EMRM_SOURCE_DIR) / "examples" / family;
     const auto analysis = run_emrm("analyze " + quoted(folder / "safety.yaml"));
     EXPECT_EQ(analysis.exit_code, 0) << family << analysis.out << analysis.err;

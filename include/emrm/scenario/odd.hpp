@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -128,6 +129,13 @@ struct Odd {
 /// core::ConfigError (an InputError): "odd: coverage.n_c: n_c must be >= 1, got 0".
 void validate(const Odd& odd);
 
+/// The levels of the scene's categorical factor `factor`, in index order (empty: the scene has no
+/// categorical factor of that name), the scene being the one the ODD names (none: the default
+/// scene). For a constant factor given by a level's name (`value: deer`): the ODD does not know the
+/// simulator's families, so its caller supplies the lookup (workflow::family_levels).
+using LevelLookup = std::function<std::vector<std::string>(const std::optional<std::filesystem::path>& scene_file,
+                                                           const std::string& factor)>;
+
 /// Loads an ODD file. Malfunction modes come from the file's `malfunctions:` list, or from the
 /// UCAs of a safety case: `safety_override` when given, else the file's `safety:` entry. UCA
 /// regions are recompiled against the ODD's factor names. Throws InputError (file:line:column)
@@ -135,12 +143,16 @@ void validate(const Odd& odd);
 /// unknown factor in a predicate, the default strength 2 without two influential factors, a bad
 /// safety file, and for what validate() rejects, at the node of the field it names (each part is
 /// checked as soon as it is read); UsageError when a named file does not exist.
+/// With `levels`, a constant factor may be given by the name of a level of the scene's categorical
+/// factor of its name (its index is the value); without, its value is a number.
 [[nodiscard]] Odd load_odd(const std::filesystem::path& path,
-                           const std::optional<std::filesystem::path>& safety_override = std::nullopt);
+                           const std::optional<std::filesystem::path>& safety_override = std::nullopt,
+                           const LevelLookup& levels = nullptr);
 /// As load_odd, from text; relative paths are resolved against `base_dir`.
 [[nodiscard]] Odd parse_odd(const std::string& text, const std::string& file_name,
                             const std::filesystem::path& base_dir,
-                            const std::optional<std::filesystem::path>& safety_override = std::nullopt);
+                            const std::optional<std::filesystem::path>& safety_override = std::nullopt,
+                            const LevelLookup& levels = nullptr);
 
 /// The malfunction modes of a safety case: one per UCA, its region recompiled against `factors`.
 [[nodiscard]] std::vector<Malfunction> malfunctions_from(const safety::SafetyCase& sc,

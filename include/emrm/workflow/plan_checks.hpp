@@ -4,6 +4,8 @@
 // against what the scene and the simulator accept, the safety case's factor ranges against the
 // ODD's, and the planned scenarios against the scene's limit on the initial distance.
 
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,12 @@ namespace emrm::workflow {
 /// The scene a plan's scenarios will run in: the ODD's `scene:` file, else the default scene.
 /// Throws InputError for a bad scene file.
 [[nodiscard]] sim::SceneConfig plan_scene(const scenario::Odd& odd);
+
+/// The levels of the categorical factor `factor` of the scene in `scene_file` (none: the default
+/// scene), in index order; empty when it has none of that name. The scenario::LevelLookup every ODD
+/// is loaded with, so that a constant factor may name a level (`value: deer`).
+[[nodiscard]] std::vector<std::string> family_levels(const std::optional<std::filesystem::path>& scene_file,
+                                                     const std::string& factor);
 
 /// Checks every ODD factor the simulator reads (sim::scenario_factors) against the scene: its
 /// unit, then each value of its domain (bin edges, class values, the constant). Throws InputError at
