@@ -36,6 +36,7 @@ using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
 using detail::start_state;
+using detail::storyboard_end_s;
 using detail::world_position;
 
 // How tall each kind of actor is drawn (the scene models bodies on the road plane): a car and a
@@ -176,10 +177,7 @@ std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellI
   const std::vector<std::string> names = entity_names(scene);
   std::vector<sim::PathPoint> vertices;
   if (trajectory != nullptr) vertices = ego_vertices(config, *trajectory, options);
-  // The storyboard ends with the trajectory (the ego's final state), else after the longest run
-  // the simulator would make: the horizon, then the recovery after the hazard.
-  const double end_s =
-      !vertices.empty() ? vertices.back().t_s : config.simulation.horizon_s + config.safe_state.horizon_s;
+  const double end_s = storyboard_end_s(config, vertices);
   XmlWriter x;
   x.open("OpenSCENARIO");
   file_header(x, fmt::format("{}: {}{}", config.name, cell_text(factors, cell),

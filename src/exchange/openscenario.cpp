@@ -39,6 +39,7 @@ using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
 using detail::start_state;
+using detail::storyboard_end_s;
 using detail::world_position;
 
 using sim::kKphPerMps;
@@ -210,10 +211,7 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
   const sim::FactorTable factors = sim::scenario_factors(config);
   std::vector<sim::PathPoint> vertices;
   if (trajectory != nullptr) vertices = ego_vertices(config, *trajectory, options);
-  // The storyboard ends with the trajectory (the ego's final state), else after the longest run
-  // the simulator would make: the horizon, then the recovery after the truck.
-  const double end_s =
-      !vertices.empty() ? vertices.back().t_s : config.simulation.horizon_s + config.safe_state.horizon_s;
+  const double end_s = storyboard_end_s(config, vertices);
   XmlWriter x;
   x.open("OpenSCENARIO");
   file_header(x, parametric ? fmt::format("{}: logical scenario of an emrm plan", config.name)

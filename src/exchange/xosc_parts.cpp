@@ -156,6 +156,10 @@ void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const
   x.close();
 }
 
+double storyboard_end_s(const sim::SceneConfig& config, const std::vector<sim::PathPoint>& vertices) {
+  return !vertices.empty() ? vertices.back().t_s : config.simulation.horizon_s + config.safe_state.horizon_s;
+}
+
 void act_end(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory* trajectory,
              const std::vector<sim::PathPoint>& vertices, double end_s) {
   if (trajectory != nullptr && !vertices.empty()) ego_maneuver(x, config, *trajectory, vertices);

@@ -44,6 +44,9 @@ void start_state(XmlWriter& x, const std::string& entity, const std::string& px,
 // options.tolerance_m, ended on the frame grid.
 [[nodiscard]] std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
                                                        const ExportOptions& options);
+// When a cell's storyboard stops: at the ego's last vertex when it follows a trajectory, else after
+// the longest run the simulator would make (the horizon, then the recovery after the hazard).
+[[nodiscard]] double storyboard_end_s(const sim::SceneConfig& config, const std::vector<sim::PathPoint>& vertices);
 // The end of a cell's document: the ego's maneuver (with `vertices`), the Act's start, the stop at
 // `end_s`, and the closing of the Act, the Story, the Storyboard and the document.
 void act_end(XmlWriter& x, const sim::SceneConfig& config, const EgoTrajectory* trajectory,
