@@ -36,7 +36,12 @@ class Rrt {
         limits_(limits),
         rng_(seed),
         keep_tree_(keep_tree),
-        free_(scene.free_bands(scene.config().simulation.horizon_s)) {
+        free_(scene.free_bands(scene.config().simulation.horizon_s)),
+        // Where the hazard is when the car, keeping its speed, would reach it (t = TTC): where it
+        // stands, or ahead of where it appeared when it drives along the road; the goal's x range.
+        goal_near_x_m_(scene.initial_distance_m() + (scene.passed_x_m(scene.ttc_s()) - scene.passed_x_m()) -
+                       scene.config().ego.length_m),
+        goal_far_x_m_(scene.passed_x_m(scene.ttc_s()) + scene.config().ego.length_m) {
     const double half_width = scene.config().ego.width_m / 2.0;
     for (std::size_t i = 0; i < free_.count; ++i) {
       const double lo = free_.band[i].low_m + half_width + 0.1;
@@ -108,16 +113,13 @@ class Rrt {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double y_min = road.min_y_m;
     const double x0 = nodes_.front().state.x_m;
-    // Where the hazard is when the car, keeping its speed, would reach it (t = TTC): where it stands,
-    // or ahead of where it appeared when it drives along the road.
-    const double ahead_m = scene_.passed_x_m(scene_.ttc_s()) - scene_.passed_x_m();
-    const double far_x = scene_.passed_x_m(scene_.ttc_s()) + ego.length_m;
+    const double far_x = goal_far_x_m_;
     if (towards_passage && free_.count > 0) {
       // A free band beside the hazard once it has stopped (or later); of two, either at random.
       const FreeBand& band = free_.band[free_.count == 1 || unit(rng_) < 0.5 ? 0 : 1];
       const double lo = band.low_m + ego.width_m / 2.0;
       const double hi = std::max(lo, band.high_m - ego.width_m / 2.0);
-      const double near_x = scene_.initial_distance_m() + ahead_m - ego.length_m;
+      const double near_x = goal_near_x_m_;
       return {near_x + unit(rng_) * (far_x + ego.length_m - near_x), lo + unit(rng_) * (hi - lo)};
     }
     return {x0 + unit(rng_) * (far_x + ego.length_m - x0), y_min + unit(rng_) * (road.max_y_m - y_min)};
@@ -347,7 +349,9 @@ class Rrt {
   bool keep_tree_;
   std::vector<Node> nodes_;
   PlanResult result_;
-  FreeBands free_;                                        // beside the hazard at the horizon
+  FreeBands free_;        // beside the hazard at the horizon
+  double goal_near_x_m_;  // the goal's x range beside the hazard
+  double goal_far_x_m_;
   std::vector<std::pair<double, double>> passage_bands_;  // y ranges the ego's CG may use beside the hazard
   std::vector<NodeSummary> summaries_;                    // per node, what random_moving_node and nearest read
   int iterations_ = 0;                                    // extension attempts, some of which add no node

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "emrm/core/text.hpp"
+#include "emrm/sim/stop_physics.hpp"
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::sim {
@@ -21,7 +22,7 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   out += fmt::format("Cell: {} (seed {})\n", cell_text(scenario_factors(config), r.input), seed);
   const Scene scene(config, r.input);
   const double v = scene.initial_speed_mps();
-  if (find_family(config.family)->stop_boundary)
+  if (stop_boundary_applies(config))
     out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
                        scene.initial_distance_m(), v / (2.0 * scene.friction() * kGravity_mps2));
   else
