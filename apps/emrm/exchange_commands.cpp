@@ -59,10 +59,15 @@ int run_plan_export(const ExportOptions& options, const exchange::ExportOptions&
   const sim::SceneConfig config = load_scene(args);
   const scenario::ScenarioFile scenarios = scenario::read_scenarios_csv(csv);
   const exchange::PlanExport out = exchange::export_plan(options.output, config, scenarios, export_options);
-  fmt::print("Exported {} as one logical scenario: {}, {} and {} in {}\n",
-             core::counted(out.scenarios, "scenario", "scenarios"), exchange::kScenarioFile,
-             exchange::kDistributionFile, core::counted(out.road_networks, "road network", "road networks"),
-             options.output);
+  if (out.logical)
+    fmt::print("Exported {} as one logical scenario: {}, {} and {} in {}\n",
+               core::counted(out.scenarios, "scenario", "scenarios"), exchange::kScenarioFile,
+               exchange::kDistributionFile, core::counted(out.road_networks, "road network", "road networks"),
+               options.output);
+  else
+    fmt::print("Exported {} as concrete scenarios, each ID/{} beside its road ID/{}, in {}\n",
+               core::counted(out.scenarios, "scenario", "scenarios"), exchange::scenario_file_of(config),
+               exchange::road_file_of(config), options.output);
   return static_cast<int>(ExitCode::kSuccess);
 }
 

@@ -29,10 +29,10 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
                          const std::string& scenario_id, double truck_rest_s);
 
 // One cell of a family other than the T-junction (family_scenario.cpp): the ego and every actor
-// of the cell, each actor's motion as a timed trajectory.
+// of the cell, each actor's motion as a timed trajectory; `scenario_id` its parameter scenario_id.
 std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                                 const EgoTrajectory* trajectory, const ExportOptions& options,
-                                const std::string& road_file);
+                                const std::string& road_file, const std::string& scenario_id);
 
 // When the cell's truck comes to rest (infinite when it does not brake).
 double truck_rest_s(const sim::SceneConfig& config, const sim::CellInput& cell);

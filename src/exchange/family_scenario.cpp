@@ -171,7 +171,7 @@ namespace detail {
 
 std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                                 const EgoTrajectory* trajectory, const ExportOptions& options,
-                                const std::string& road_file) {
+                                const std::string& road_file, const std::string& scenario_id) {
   const sim::Scene scene(config, cell);
   const sim::FactorTable factors = sim::scenario_factors(config);
   const std::vector<std::string> names = entity_names(scene);
@@ -182,7 +182,7 @@ std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellI
   x.open("OpenSCENARIO");
   file_header(x, fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
                              trajectory != nullptr ? ", strategy " + trajectory->strategy : ""));
-  parameter_declarations(x, factors, cell, road_file, "cell");
+  parameter_declarations(x, factors, cell, road_file, scenario_id);
   x.leaf("CatalogLocations");
   x.open("RoadNetwork");
   x.leaf("LogicFile", {{"filepath", road_file}});

@@ -263,7 +263,8 @@ bool tjunction_geometry(const sim::SceneConfig& config) { return sim::find_famil
 std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                              const EgoTrajectory* trajectory, const ExportOptions& options,
                              const std::string& road_file) {
-  if (!tjunction_geometry(config)) return detail::family_scenario_xml(config, cell, trajectory, options, road_file);
+  if (!tjunction_geometry(config))
+    return detail::family_scenario_xml(config, cell, trajectory, options, road_file, "cell");
   return scenario_xml(config, cell, trajectory, options, road_file, false, "cell", truck_rest_s(config, cell));
 }
 

@@ -49,16 +49,4 @@ std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families() {
   return out;
 }
 
-std::optional<std::string> tjunction_only(const SceneConfig& config, std::string_view what) {
-  if (find_family(config.family)->tjunction_analytics) return std::nullopt;
-  return fmt::format(
-      "{} is written for the T-junction so far: the scene's family '{}' is not supported by it yet "
-      "(docs/families.md)",
-      what, config.family);
-}
-
-void require_tjunction(const SceneConfig& config, std::string_view what) {
-  if (auto why = tjunction_only(config, what)) throw UsageError(*why);
-}
-
 }  // namespace emrm::sim

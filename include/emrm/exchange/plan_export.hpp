@@ -1,8 +1,9 @@
 #pragma once
 
-// A plan exported as one logical OpenSCENARIO scenario (docs/openscenario.md, "Exporting a plan"):
-// the scenario with its positions and speeds as expressions of parameters, a value-set
-// distribution of one parameter set per planned scenario, and the road networks they need.
+// A plan exported to OpenSCENARIO (docs/openscenario.md, "Exporting a plan"): the T-junction's as one
+// logical scenario — its positions and speeds as expressions of parameters, a value-set distribution
+// of one parameter set per planned scenario, and the road networks they need —, every other
+// family's as one concrete scenario per planned scenario beside its road.
 
 #include <cstddef>
 #include <filesystem>
@@ -15,16 +16,19 @@
 
 namespace emrm::exchange {
 
-/// A plan as a logical scenario: DIR/tjunction.xosc (ParameterDeclarations, positions and speeds as
-/// expressions of them), DIR/tjunction_distribution.xosc (a deterministic ValueSetDistribution, one
-/// ParameterValueSet per scenario) and one road network per distinct junction position in
-/// DIR/roads/. Written all or none.
+/// The T-junction's plan as a logical scenario (`logical`): DIR/tjunction.xosc (ParameterDeclarations,
+/// positions and speeds as expressions of them), DIR/tjunction_distribution.xosc (a deterministic
+/// ValueSetDistribution, one ParameterValueSet per scenario) and one road network per distinct
+/// junction position in DIR/roads/. Every other family's: DIR/ID/FAMILY.xosc and DIR/ID/FAMILY.xodr
+/// for each scenario ID of the plan. Written all or none.
 struct PlanExport {
   std::vector<std::filesystem::path> files;
   std::size_t scenarios = 0;
   std::size_t road_networks = 0;
+  bool logical = false;
 };
-/// Throws InputError at the scenario's row for a scenario the scene rejects or that is infeasible.
+/// Throws InputError at the scenario's row for a scenario the scene rejects or that is infeasible,
+/// and (other families) for an id that cannot name a folder.
 PlanExport export_plan(const std::filesystem::path& dir, const sim::SceneConfig& config,
                        const scenario::ScenarioFile& scenarios, const ExportOptions& options);
 

@@ -8,7 +8,6 @@
 
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -94,14 +93,6 @@ class FamilyRegistration {
 [[nodiscard]] std::vector<std::string> family_names();
 /// The registered families, in registration order.
 [[nodiscard]] std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families();
-
-/// Why `what` (a command or an output: "emrm export") cannot take the scene's family yet, or nothing:
-/// it is written for the T-junction's geometry and analytics, and the family has not got them
-/// (ScenarioFamilyInfo::tjunction_analytics; docs/families.md, "What is general, and what is still
-/// the T-junction's").
-[[nodiscard]] std::optional<std::string> tjunction_only(const SceneConfig& config, std::string_view what);
-/// Throws UsageError with tjunction_only's reason, if any.
-void require_tjunction(const SceneConfig& config, std::string_view what);
 
 /// The shipped T-junction family ("tjunction", sim/tjunction.cpp).
 [[nodiscard]] ScenarioFamilyInfo tjunction_family();

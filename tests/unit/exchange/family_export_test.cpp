@@ -6,12 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "emrm/core/error.hpp"
 #include "emrm/exchange/opendrive.hpp"
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/exchange/plan_export.hpp"
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "exchange/xml_support.hpp"
@@ -123,6 +128,56 @@ TEST(FamilyExport, FilesAreNamedByTheFamily) {
   EXPECT_EQ(road_file_of(config), "cut_in.xodr");
   EXPECT_EQ(scenario_file_of(config), "cut_in.xosc");
   EXPECT_EQ(road_file_of(sim::SceneConfig{}), kRoadFile);
+}
+
+// A plan of another family exports one concrete scenario per planned scenario, in a folder named by
+// its id: each the single-cell export of its cell (with its id for scenario_id) beside its road;
+// an infeasible scenario or an id that cannot name a folder is exit 2 at its row, nothing written.
+TEST(FamilyExport, PlanExportsEachScenarioAsTheCellsDocument) {
+  const sim::SceneConfig config = scene_of(cases().back());
+  scenario::ScenarioFile plan;
+  plan.file = "scenarios.csv";
+  plan.factors = {"speed_kph", "ttc_s", "following"};
+  plan.rows = {{"S1", "boundary", {100, 1.5, 1}, "c", {}, {}, 1.0, 1, {"scenarios.csv", 2, 1}},
+               {"S-2.b", "pairs", {80, 2.0, 0}, "c", {}, {}, 1.0, 2, {"scenarios.csv", 3, 1}}};
+  const auto dir = std::filesystem::temp_directory_path() / ("emrm-family-plan-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const PlanExport out = export_plan(dir, config, plan, {});
+  EXPECT_FALSE(out.logical);
+  EXPECT_EQ(out.scenarios, 2u);
+  EXPECT_EQ(out.files.size(), 4u);
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const sim::FactorTable factors = sim::scenario_factors(config);
+  for (const auto& row : plan.rows) {
+    sim::CellInput cell = factors.defaults();
+    for (std::size_t i = 0; i < plan.factors.size(); ++i) cell[*factors.find(plan.factors[i])] = row.values[i];
+    const std::string xosc = read(dir / row.id / scenario_file_of(config));
+    EXPECT_EQ(testing::openscenario().errors_of(xosc), "") << row.id;
+    std::string expected = openscenario_xml(config, cell, nullptr, {}, road_file_of(config));
+    const std::string cell_id = R"(name="scenario_id" parameterType="string" value="cell")";
+    expected.replace(expected.find(cell_id), cell_id.size(),
+                     R"(name="scenario_id" parameterType="string" value=")" + row.id + "\"");
+    EXPECT_EQ(xosc, expected) << row.id;
+    EXPECT_EQ(read(dir / row.id / road_file_of(config)), straight_road_xml(config, cell)) << row.id;
+  }
+  std::filesystem::remove_all(dir);
+  for (const std::string bad : {"../up", "a/b", "..", ""}) {
+    auto hostile = plan;
+    hostile.rows[1].id = bad;
+    try {
+      (void)export_plan(dir, config, hostile, {});
+      FAIL() << "the id '" << bad << "' named a folder";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().line, 3) << bad;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir)) << bad;
+  }
+  plan.rows[1].values = {80, 0.0, 0};  // TTC 0: infeasible
+  EXPECT_THROW((void)export_plan(dir, config, plan, {}), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir));
 }
 
 }  // namespace family_export_test
