@@ -94,6 +94,8 @@ class SeverityConfig(_Part):
     pedestrian_fatal_slope_per_kph: Final[float]
     pedestrian_serious_intercept: Final[float]
     pedestrian_serious_slope_per_kph: Final[float]
+    cyclist_serious_intercept: Final[float]
+    cyclist_serious_slope_per_kph: Final[float]
 
 class PlannerConfig(_Part):
     max_nodes: Final[int]

@@ -12,6 +12,7 @@
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/sim/family.hpp"
 #include "slopes.hpp"
 
 namespace emrm::exchange {
@@ -172,6 +173,9 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   const std::size_t h = require_column(c, "h", header, file, kExpected);
   const double ego_back = ego_reference_offset_m(config.ego);
   const double truck_back = truck_reference_offset_m(config.truck, options);
+  // The T-junction's truck is the entity "Truck" about its rear axle; another family's actors are
+  // entities about their boxes' centres (a highway's truck among them), judged as the scene moves them.
+  const bool tjunction_truck = sim::find_family(config.family)->tjunction_analytics;
 
   RecordedTrajectory out;
   out.file = file;
@@ -183,7 +187,7 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
     core::check_row_length(row, header.fields.size(), file);
     const RowReader r(row, file);
     const std::string entity = r.text(name);
-    if (entity != kEgoEntity && entity != kTruckEntity) continue;
+    if (entity != kEgoEntity && !(entity == kTruckEntity && tjunction_truck)) continue;
     const double t = r.number(time, "time");
     const double px = r.number(x, "x");
     const double py = r.number(y, "y");

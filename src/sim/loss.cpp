@@ -55,11 +55,20 @@ double pedestrian_p_serious(double impact_kph, const SeverityConfig& c) noexcept
   return 1.0 / (1.0 + std::exp(c.pedestrian_serious_intercept - c.pedestrian_serious_slope_per_kph * impact_kph));
 }
 
-ImpactAssessment with_pedestrian(ImpactAssessment occupants, double closing_speed_mps,
-                                 const SeverityConfig& c) noexcept {
+double cyclist_p_serious(double impact_kph, const SeverityConfig& c) noexcept {
+  return 1.0 / (1.0 + std::exp(c.cyclist_serious_intercept - c.cyclist_serious_slope_per_kph * impact_kph));
+}
+
+bool vulnerable_road_user(ActorKind kind) noexcept {
+  return kind == ActorKind::kPedestrian || kind == ActorKind::kCyclist;
+}
+
+ImpactAssessment with_road_user(ImpactAssessment occupants, ActorKind kind, double closing_speed_mps,
+                                const SeverityConfig& c) noexcept {
   const double kph = std::abs(closing_speed_mps) * 3.6;
   occupants.p_fatal = std::max(occupants.p_fatal, pedestrian_p_fatal(kph, c));
-  occupants.p_mais3 = std::max(occupants.p_mais3, pedestrian_p_serious(kph, c));
+  occupants.p_mais3 = std::max(occupants.p_mais3,
+                               kind == ActorKind::kCyclist ? cyclist_p_serious(kph, c) : pedestrian_p_serious(kph, c));
   occupants.loss_level = occupants.p_fatal >= c.l7_p_fatal ? 7 : 6;
   return occupants;
 }

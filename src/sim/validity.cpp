@@ -240,8 +240,9 @@ ImpactAssessment actor_impact(const Scene& scene, const ActorBody& body, const V
       cfg.ego.mass_kg, cfg.ego.yaw_inertia_kgm2, {s.x_m, s.y_m}, detail::world_velocity(s), s.yaw_rate_radps};
   const ImpactBody other{body.mass_kg, body.yaw_inertia_kgm2, truck.box.center, truck.velocity_mps, 0.0};
   const ImpactAssessment occupants = assess_impact(ego, other, c, cfg.severity);
-  // A pedestrian's harm is read from the impact speed (docs/physics.md, "Pedestrians").
-  if (body.kind == ActorKind::kPedestrian && c.touching) return with_pedestrian(occupants, closing_speed, cfg.severity);
+  // A pedestrian's and a cyclist's harm is read from the impact speed (docs/physics.md, "Pedestrians").
+  if (vulnerable_road_user(body.kind) && c.touching)
+    return with_road_user(occupants, body.kind, closing_speed, cfg.severity);
   return occupants;
 }
 

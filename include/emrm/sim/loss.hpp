@@ -4,6 +4,7 @@
 // injury and fatality risk curves, and the loss level of an outcome.
 
 #include "emrm/core/geometry.hpp"
+#include "emrm/sim/actor.hpp"
 #include "emrm/sim/scene.hpp"
 
 namespace emrm::sim {
@@ -40,12 +41,19 @@ struct ImpactAssessment {
 /// A pedestrian's risk of a serious injury (AIS 4+, which bounds MAIS3+ from below) when struck at
 /// `impact_kph`: the pedestrian_serious_* logistic (fitted to Tefft 2013).
 [[nodiscard]] double pedestrian_p_serious(double impact_kph, const SeverityConfig& c) noexcept;
-/// The impact on the car's occupants (`occupants`, from assess_impact) with a pedestrian struck at
-/// `closing_speed_mps`: the risks are the worse of the occupants' and the pedestrian's, and the level
-/// is L7 when that P(fatal) reaches l7_p_fatal, else L6 — a person struck is injured
-/// (docs/physics.md, "Pedestrians").
-[[nodiscard]] ImpactAssessment with_pedestrian(ImpactAssessment occupants, double closing_speed_mps,
-                                               const SeverityConfig& c) noexcept;
+/// A cyclist's risk of a serious injury (MAIS3+) when struck at `impact_kph`: the cyclist_serious_*
+/// logistic (Lubbe, Wu & Jeppsson 2022, a 40-year-old rider).
+[[nodiscard]] double cyclist_p_serious(double impact_kph, const SeverityConfig& c) noexcept;
+/// Whether an actor of this kind is a vulnerable road user, harmed by the impact speed rather than by
+/// the occupants' Δv: a pedestrian or a cyclist.
+[[nodiscard]] bool vulnerable_road_user(ActorKind kind) noexcept;
+/// The impact on the car's occupants (`occupants`, from assess_impact) with a vulnerable road user of
+/// `kind` struck at `closing_speed_mps`: the risks are the worse of the occupants' and the road
+/// user's (a cyclist's death risk is the pedestrian's), and the level is L7 when that P(fatal)
+/// reaches l7_p_fatal, else L6 — a person struck is injured (docs/physics.md, "Pedestrians",
+/// "Cyclists").
+[[nodiscard]] ImpactAssessment with_road_user(ImpactAssessment occupants, ActorKind kind, double closing_speed_mps,
+                                              const SeverityConfig& c) noexcept;
 
 /// Whether a departure down an embankment of `slope_h` (horizontal run per unit of drop) rolls the
 /// car over: it is steeper than the critical slope (SeverityConfig::critical_slope_h).

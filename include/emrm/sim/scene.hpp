@@ -126,6 +126,12 @@ struct SeverityConfig {
   double pedestrian_fatal_slope_per_kph = 0.10436;
   double pedestrian_serious_intercept = 4.621;
   double pedestrian_serious_slope_per_kph = 0.08759;
+  /// A cyclist struck by the car's front, by the closing speed in km/h: P(MAIS3+) = 1 / (1 +
+  /// exp(intercept − slope · v)), Lubbe, Wu & Jeppsson 2022's cyclist model (logit −7.467 + 0.079 v
+  /// + 0.047 age) for a 40-year-old rider (docs/physics.md, "Cyclists"). A cyclist's risk of death
+  /// is the pedestrian's (no published cyclist curve is carried; the pedestrian's is the higher).
+  double cyclist_serious_intercept = 5.587;
+  double cyclist_serious_slope_per_kph = 0.079;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, restitution, core::within(0.0, 1.0));
@@ -136,7 +142,7 @@ struct SeverityConfig {
     EMRM_FIELD(a, fatal_exponent, core::positive);
     EMRM_FIELD(a, l6_p_mais3, core::probability);
     EMRM_FIELD(a, l7_p_fatal, core::probability);
-    // The rollover's and the pedestrians' fields came later: written only when changed, so that
+    // The rollover's, the pedestrians' and the cyclists' fields came later: written only when changed, so that
     // stores written before them stay valid.
     const SeverityConfig defaults;
     EMRM_FIELD_UNLESS_DEFAULT(a, critical_slope_h, defaults.critical_slope_h, core::positive);
@@ -147,6 +153,8 @@ struct SeverityConfig {
     EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_serious_intercept, defaults.pedestrian_serious_intercept);
     EMRM_FIELD_UNLESS_DEFAULT(a, pedestrian_serious_slope_per_kph, defaults.pedestrian_serious_slope_per_kph,
                               core::positive);
+    EMRM_FIELD_UNLESS_DEFAULT(a, cyclist_serious_intercept, defaults.cyclist_serious_intercept);
+    EMRM_FIELD_UNLESS_DEFAULT(a, cyclist_serious_slope_per_kph, defaults.cyclist_serious_slope_per_kph, core::positive);
   }
 };
 

@@ -175,6 +175,20 @@ TEST(Assess, EsminiSpeedIsTheCGsFromItsPositionsAndTheWheelAngleIsNotRead) {
   EXPECT_GT(rows.front().speed_mps - omega * radius, 0.01);  // the column would be wrong
 }
 
+// The entity "Truck" is the T-junction's truck about its rear axle; in another family's export a
+// truck is an actor about its box's centre (the highway's), judged as the scene moves it: reading it
+// as the T-junction's put its box metres off and turned grazing hits into direct ones.
+TEST(Assess, OnlyTheTJunctionsTruckIsReadFromTheRecording) {
+  const std::string rows =
+      "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n"
+      "0.000000, 0, Ego, 0, 0, 0, 0, 0, 0, 10, 0, 0\n0.000000, 1, Truck, 30, 0, 0, 1.570796, 0, 0, 0, 0, 0\n"
+      "0.010000, 0, Ego, 0.1, 0, 0, 0, 0, 0, 10, 0, 0\n0.010000, 1, Truck, 30, 0, 0, 1.570796, 0, 0, 0, 0, 0\n";
+  EXPECT_TRUE(parse_trajectory_csv(rows, "sim.csv", TrajectoryFormat::kEsmini, sim::SceneConfig{}).has_truck);
+  const sim::SceneConfig highway =
+      sim::load_scene_config(std::string(EMRM_SOURCE_DIR) + "/examples/highway_obstacle/scene.yaml");
+  EXPECT_FALSE(parse_trajectory_csv(rows, "sim.csv", TrajectoryFormat::kEsmini, highway).has_truck);
+}
+
 // esmini keeps the previous step's speed on the frame that passes a trajectory's end: a car that
 // braked to rest and whose last frame did not move is stopped, whatever that frame's speed says.
 TEST(Assess, EsminiLastFrameThatDidNotMoveIsAtRest) {

@@ -1,6 +1,6 @@
-// The family "pedestrian_crossing" (docs/families.md) and a pedestrian's harm by impact speed
-// (docs/physics.md, "Pedestrians"): the injury-risk curves against their sources' own published
-// numbers, their loss levels, the street's layout from the factors, and what braking does for a
+// The family "pedestrian_crossing" (docs/families.md) and a pedestrian's and a cyclist's harm by
+// impact speed (docs/physics.md, "Pedestrians", "Cyclists"): the injury-risk curves against their
+// sources' own published numbers, their loss levels, the street's layout from the factors, and what braking does for a
 // pedestrian stepping out from behind a parked car.
 
 #include <gmock/gmock.h>
@@ -15,6 +15,7 @@
 #include "emrm/sim/scene.hpp"
 #include "emrm/sim/simulate.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/validity.hpp"
 #include "outcomes.hpp"
 
 namespace emrm::sim {
@@ -67,7 +68,7 @@ TEST(PedestrianHarm, LevelsAreL6ThenL7FromTheTenPercentDeathSpeed) {
   const double l7_from_kph = speed_at(c.l7_p_fatal, c.pedestrian_fatal_intercept, c.pedestrian_fatal_slope_per_kph);
   EXPECT_NEAR(l7_from_kph, 37.0, 1.5);
   for (double kph = 1.0; kph < 90.0; kph += 0.5) {
-    const ImpactAssessment a = with_pedestrian(ImpactAssessment{}, kph / 3.6, c);
+    const ImpactAssessment a = with_road_user(ImpactAssessment{}, ActorKind::kPedestrian, kph / 3.6, c);
     EXPECT_EQ(a.loss_level, kph < l7_from_kph ? 6 : 7) << kph;
     // Hussain et al.'s model itself: odds of death 1.11 times higher per km/h, even odds at 59 km/h.
     EXPECT_NEAR(a.p_fatal, 1.0 / (1.0 + std::pow(1.11, 59.0 - kph)), 1e-3) << kph;
@@ -75,8 +76,45 @@ TEST(PedestrianHarm, LevelsAreL6ThenL7FromTheTenPercentDeathSpeed) {
   // The occupants' risk counts when it is the higher one.
   ImpactAssessment occupants;
   occupants.p_fatal = 0.5;
-  EXPECT_EQ(with_pedestrian(occupants, 5.0 / 3.6, c).p_fatal, 0.5);
-  EXPECT_EQ(with_pedestrian(occupants, 5.0 / 3.6, c).loss_level, 7);
+  EXPECT_EQ(with_road_user(occupants, ActorKind::kPedestrian, 5.0 / 3.6, c).p_fatal, 0.5);
+  EXPECT_EQ(with_road_user(occupants, ActorKind::kPedestrian, 5.0 / 3.6, c).loss_level, 7);
+}
+
+// Lubbe, Wu & Jeppsson 2022 (Traffic Safety Research 2:000006): a cyclist's risk of MAIS3+ is
+// logistic in the closing speed and the rider's age, logit = −7.467 + 0.079 v + 0.047 age; the
+// abstract: "a 10% risk of sustaining at-least-serious injuries corresponds to a closing speed of 29
+// km/h for pedestrians, 44 km/h for cyclists". Ours is that model for a 40-year-old rider.
+TEST(CyclistHarm, SeriousInjuryIsLubbe2022ForAFortyYearOld) {
+  const SeverityConfig c;
+  EXPECT_NEAR(-c.cyclist_serious_intercept, -7.467 + 0.047 * 40.0, 1e-12);
+  EXPECT_EQ(c.cyclist_serious_slope_per_kph, 0.079);
+  EXPECT_NEAR(speed_at(0.10, c.cyclist_serious_intercept, c.cyclist_serious_slope_per_kph), 44.0, 1.5);
+  // The paper's order of vulnerability: at every speed a cyclist fares better than a pedestrian, and
+  // the cyclist's risk grows with the speed.
+  for (double v = 0.0; v < 120.0; v += 1.0) {
+    EXPECT_LT(cyclist_p_serious(v, c), pedestrian_p_serious(v, c)) << v;
+    EXPECT_LT(cyclist_p_serious(v, c), cyclist_p_serious(v + 1.0, c)) << v;
+  }
+}
+
+// A cyclist struck is a person injured (L6), L7 from the pedestrian's 10 % death speed; the serious
+// risk is the cyclist's own curve, the occupants' when higher.
+TEST(CyclistHarm, LevelsAndRisksOfACyclistStruck) {
+  const SeverityConfig c;
+  const double l7_from_kph = speed_at(c.l7_p_fatal, c.pedestrian_fatal_intercept, c.pedestrian_fatal_slope_per_kph);
+  for (double kph = 1.0; kph < 90.0; kph += 0.5) {
+    const ImpactAssessment a = with_road_user(ImpactAssessment{}, ActorKind::kCyclist, kph / 3.6, c);
+    EXPECT_EQ(a.loss_level, kph < l7_from_kph ? 6 : 7) << kph;
+    EXPECT_DOUBLE_EQ(a.p_mais3, cyclist_p_serious(kph, c)) << kph;
+    EXPECT_DOUBLE_EQ(a.p_fatal, pedestrian_p_fatal(kph, c)) << kph;
+  }
+  ImpactAssessment occupants;
+  occupants.p_mais3 = 0.9;
+  EXPECT_EQ(with_road_user(occupants, ActorKind::kCyclist, 5.0 / 3.6, c).p_mais3, 0.9);
+  EXPECT_TRUE(vulnerable_road_user(ActorKind::kCyclist));
+  EXPECT_TRUE(vulnerable_road_user(ActorKind::kPedestrian));
+  for (const ActorKind k : {ActorKind::kCar, ActorKind::kTruck, ActorKind::kAnimal, ActorKind::kStaticObject})
+    EXPECT_FALSE(vulnerable_road_user(k));
 }
 
 SceneConfig crossing_scene() {
@@ -121,6 +159,33 @@ TEST(PedestrianCrossing, LaysOutThePedestrianTheParkedCarAndTheOncomingCar) {
   EXPECT_GT(oncoming.y_extent_at(0.0).first, config.crossing.lane_width_m);
   // A walking pedestrian keeps going: braking need not stop short of them for certain.
   EXPECT_FALSE(hazard_in_the_way(config, cell(config, 40, 1.2, 5, "none")));
+}
+
+// The contact check reads the actor's kind: the same body struck the same way harms a pedestrian by
+// its curve, a cyclist by its own (lower) one, and a car of that mass by the occupants' Δv alone.
+TEST(CyclistHarm, AContactIsJudgedByTheKindOfWhatIsStruck) {
+  const SceneConfig config = crossing_scene();
+  const Scene scene(config, cell(config, 40, 1.2, 5, "none"));
+  const Actor& pedestrian = scene.hazard();
+  const ActorState at = pedestrian.at(0.5);
+  VehicleState s = scene.ego_initial();
+  s.x_m = at.box.center.x - config.ego.length_m / 2.0 - pedestrian.body().length_m / 2.0 + 0.05;
+  s.y_m = at.box.center.y;
+  s.vx_mps = 30.0 / 3.6;
+  ActorBody body = pedestrian.body();
+  const ImpactAssessment walker = actor_impact(scene, body, s, at);
+  body.kind = ActorKind::kCyclist;
+  const ImpactAssessment rider = actor_impact(scene, body, s, at);
+  body.kind = ActorKind::kCar;
+  const ImpactAssessment object = actor_impact(scene, body, s, at);
+  // The ego drives straight along x (heading 0, no side slip): its velocity is (vx, 0).
+  const double closing_kph = std::hypot(s.vx_mps - at.velocity_mps.x, at.velocity_mps.y) * 3.6;
+  EXPECT_GE(walker.loss_level, 6);
+  EXPECT_GE(rider.loss_level, 6);
+  EXPECT_NEAR(walker.p_mais3, pedestrian_p_serious(closing_kph, config.severity), 1e-12);
+  EXPECT_NEAR(rider.p_mais3, cyclist_p_serious(closing_kph, config.severity), 1e-12);
+  EXPECT_LT(rider.p_mais3, walker.p_mais3);
+  EXPECT_LT(object.loss_level, 6);  // a 75 kg body barely changes the occupants' speed
 }
 
 // Braking for a pedestrian who steps out: where the car cannot stop, braking lowers the impact speed
