@@ -239,6 +239,18 @@ class Judge {
     out.end_time_s = t_end;
     out.samples_judged = n;
     if (samples_.back().speed_mps < sim::kStoppedSpeed_mps) {
+      // At rest, unless an actor that moves on (as the scene moves it) meets the standing car.
+      if (const auto touch = sim::touch_at_rest(scene_, end, t_end)) {
+        const sim::Actor& actor = scene_.actors()[touch->actor];
+        core::Contact c;
+        out.contact = true;
+        out.contact_with = actor.body().name;
+        out.impact = sim::actor_impact(scene_, actor.body(), end, actor.at(touch->t_s), &c);
+        out.event_time_s = touch->t_s;
+        out.event_point_m = c.point;
+        out.end_time_s = touch->t_s;
+        return out;
+      }
       out.safe_state = SafeState::kStopped;
     } else {
       const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;

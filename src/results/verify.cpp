@@ -172,9 +172,28 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
         }
     }
   }
-  // The end: at rest, or stable with room to stop on the road.
+  // The end: at rest, and no actor that moves on meets the standing car (every check_step_s over the
+  // scene's horizon after the end, or until every actor rests); or stable with room to stop on the road.
   const sim::VehicleState& s = path.back().state;
-  if (s.speed_mps() < 0.05) return out;
+  if (s.speed_mps() < 0.05) {
+    const double end_s = path.back().t_s;
+    const Polygon standing = ego_outline(config.ego, s.x_m, s.y_m, s.yaw_rad, options.tolerance_m);
+    const double look_s = config.simulation.horizon_s;
+    for (double t = end_s; t <= end_s + look_s; t += options.check_step_s) {
+      bool moving = false;
+      for (const sim::Actor& actor : scene.actors()) {
+        if (t > actor.motion().rest_time_s() + options.check_step_s) continue;
+        moving = true;
+        if (overlap(standing, actor_outline(actor, t))) {
+          out.failure =
+              fmt::format("stands in the way of the {}, which meets it at t = {:.3f} s", actor.body().name, t);
+          return out;
+        }
+      }
+      if (!moving) break;
+    }
+    return out;
+  }
   const auto& bounds = config.safe_state;
   const double heading = std::remainder(s.yaw_rad, 2.0 * std::numbers::pi);
   if (std::abs(s.yaw_rate_radps) > bounds.max_yaw_rate_radps ||

@@ -11,6 +11,7 @@
 #include "check_chain.hpp"
 #include "check_support.hpp"
 #include "emrm/core/trig.hpp"
+#include "emrm/sim/validity.hpp"
 
 namespace emrm::sim {
 namespace detail {
@@ -27,12 +28,30 @@ class PassedTruckTest {
   const Scene& scene_;
 };
 
+// At rest: a safe state, unless an actor that moves on meets the standing car (touch_at_rest); then
+// the rollout ends in that contact, when it happens, the car where it stands.
+bool end_at_rest(const Scene& scene, Step& step, RolloutResult& result, Termination& why) {
+  if (const auto touch = touch_at_rest(scene, step.state, step.t_s)) {
+    const Actor& actor = scene.actors()[touch->actor];
+    if (result.path.empty() || result.path.back().t_s != step.t_s) result.path.push_back({step.t_s, step.state, {}});
+    step.t_s = touch->t_s;
+    step.ego = scene.ego_box(step.state);
+    result.impact = actor_impact(scene, actor.body(), step.state, actor.at(step.t_s));
+    return end(why, Termination::kContact);
+  }
+  return end(why, Termination::kStopped);
+}
+
 class StoppedTest {
  public:
-  bool ends(Step& step, RolloutResult& /*result*/, Termination& why) const {
-    if (step.state.speed_mps() < kStoppedSpeed_mps) return end(why, Termination::kStopped);
+  explicit StoppedTest(const Scene& scene) : scene_(scene) {}
+  bool ends(Step& step, RolloutResult& result, Termination& why) const {
+    if (step.state.speed_mps() < kStoppedSpeed_mps) return end_at_rest(scene_, step, result, why);
     return false;
   }
+
+ private:
+  const Scene& scene_;
 };
 
 // The least gap, from time t_s until both are at rest, between a hazard's near side that drives
@@ -97,7 +116,7 @@ class StopsShortTest {
     s.y_m += stop_distance * std::sin(s.yaw_rad);
     step.t_s += speed / decel_mps2_;
     s.vx_mps = s.vy_mps = s.yaw_rate_radps = 0.0;
-    return end(why, Termination::kStopped);
+    return end_at_rest(scene_, step, result, why);
   }
 
  private:
@@ -178,8 +197,8 @@ struct TerminationTests {
 template class CheckChain<TerminationTest, detail::TerminationTests>;
 
 TerminationTest::TerminationTest(const Scene& scene)
-    : CheckChain(std::make_unique<const detail::TerminationTests>(
-          detail::TerminationTests{detail::PassedTruckTest(scene), detail::StoppedTest(), detail::StopsShortTest(scene),
-                                   detail::HorizonTest(scene), detail::StabilisedTest(scene)})) {}
+    : CheckChain(std::make_unique<const detail::TerminationTests>(detail::TerminationTests{
+          detail::PassedTruckTest(scene), detail::StoppedTest(scene), detail::StopsShortTest(scene),
+          detail::HorizonTest(scene), detail::StabilisedTest(scene)})) {}
 
 }  // namespace emrm::sim

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "check_chain.hpp"
@@ -219,6 +220,56 @@ class RoadDepartureCheck {
 };
 
 }  // namespace detail
+
+namespace {
+
+// Whether an actor is past the box for good: wholly beyond it along its direction of travel, along
+// which it never turns back, and no longer drifting sideways unless across its direction's y (a
+// drift along y cannot bring back a body that is past along x).
+bool moved_past(const Actor& actor, const ActorState& at, const core::OrientedBox& box, double t_s) noexcept {
+  const ActorMotion& m = actor.motion();
+  if (m.lateral_mps != 0.0 && t_s < m.lateral_for_s && m.direction.y != 0.0) return false;
+  double actor_low = std::numeric_limits<double>::infinity();
+  double box_high = -actor_low;
+  for (const core::Vec2& c : at.box.corners()) actor_low = std::min(actor_low, c.dot(m.direction));
+  for (const core::Vec2& c : box.corners()) box_high = std::max(box_high, c.dot(m.direction));
+  return actor_low > box_high;
+}
+
+}  // namespace
+
+std::optional<TouchAtRest> touch_at_rest(const Scene& scene, const VehicleState& s, double t_s) noexcept {
+  constexpr int kMaxAdvances = 1'000'000;  // a guard: an actor gliding past at a hair's breadth takes thousands
+  const core::OrientedBox ego = scene.ego_box(s);
+  std::optional<TouchAtRest> first;
+  for (std::size_t k = 0; k < scene.actors().size(); ++k) {
+    const Actor& actor = scene.actors()[k];
+    const double rate = detail::top_speed_mps(actor);
+    if (!(rate > 0.0)) continue;
+    const double rest_s = std::max(actor.motion().rest_time_s(), t_s);
+    const double until_s = first ? first->t_s : std::numeric_limits<double>::infinity();
+    const auto gap = [&](double t) { return core::separation_lower_bound(ego, actor.at(t).box); };
+    double previous = t_s;
+    double t = t_s;
+    for (int n = 0; n < kMaxAdvances && t < until_s; ++n) {
+      const double g = gap(t);
+      if (g <= 0.0) {
+        double lo = previous;
+        double hi = t;
+        while (hi - lo > 1e-7) {
+          const double mid = 0.5 * (lo + hi);
+          (gap(mid) <= 0.0 ? hi : lo) = mid;
+        }
+        if (hi < until_s) first = TouchAtRest{k, hi};
+        break;
+      }
+      if (t >= rest_s || moved_past(actor, actor.at(t), ego, t)) break;
+      previous = t;
+      t = std::min(rest_s, t + (g + detail::kTolerance_m) / rate);
+    }
+  }
+  return first;
+}
 
 ImpactAssessment actor_impact(const Scene& scene, const ActorBody& body, const VehicleState& s, const ActorState& truck,
                               core::Contact* contact_out) noexcept {

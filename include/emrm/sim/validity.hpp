@@ -41,6 +41,18 @@ extern template class CheckChain<ValidityChecker, detail::ValidityChecks>;
 /// (exchange::assess).
 [[nodiscard]] ImpactAssessment actor_impact(const Scene& scene, const ActorBody& body, const VehicleState& s,
                                             const ActorState& actor, core::Contact* contact_out = nullptr) noexcept;
+/// A touch still to come on the ego standing at `s` from `t_s` on: an actor that moves on (a car still
+/// drifting across, a pedestrian walking on) and meets the car at rest (docs/physics.md, "Safe
+/// state"). Found by conservative advancement of each actor's closed-form motion until it rests or
+/// has moved past the car along its direction for good, timed by bisection; the earliest touch, or
+/// nothing. A rollout that comes to rest ends in that contact rather than stopped; recorded
+/// trajectories share it (exchange::assess).
+struct TouchAtRest {
+  std::size_t actor = 0;  ///< its index in Scene::actors()
+  double t_s = 0.0;
+};
+[[nodiscard]] std::optional<TouchAtRest> touch_at_rest(const Scene& scene, const VehicleState& s, double t_s) noexcept;
+
 /// The ego leaving the drivable area at state `s`, assessed against the scene's roadside: a barrier
 /// is an immovable body met by the corner nearest the edge (written to `point_out` when given);
 /// open ground scores L4 with no impact.
