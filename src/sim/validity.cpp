@@ -113,24 +113,23 @@ class PoseInStep {
   double yaw0_, yaw1_, r0_, r1_, dt_s_;
 };
 
+// The first moment in [lo, hi] the gap closes, to 0.1 µs, given it is open at lo and closed at hi.
+template <class Gap>
+double bisect_touch(double lo, double hi, Gap&& gap) {
+  while (hi - lo > 1e-7) {
+    const double mid = 0.5 * (lo + hi);
+    (gap(mid) <= 0.0 ? hi : lo) = mid;
+  }
+  return hi;
+}
+
 template <class Gap>
 std::optional<double> first_touch(double dt_s, double rate_mps, Gap&& gap) {
   double previous = 0.0;
   double tau = 0.0;
   for (;;) {
     const double g = gap(tau);
-    if (g <= 0.0) {
-      double lo = previous;
-      double hi = tau;
-      while (hi - lo > 1e-7) {
-        const double mid = 0.5 * (lo + hi);
-        if (gap(mid) <= 0.0)
-          hi = mid;
-        else
-          lo = mid;
-      }
-      return hi;
-    }
+    if (g <= 0.0) return bisect_touch(previous, tau, gap);
     if (tau >= dt_s) return std::nullopt;
     previous = tau;
     tau = std::min(dt_s, tau + (g + kTolerance_m) / rate_mps);
@@ -254,13 +253,8 @@ std::optional<TouchAtRest> touch_at_rest(const Scene& scene, const VehicleState&
     for (int n = 0; n < kMaxAdvances && t < until_s; ++n) {
       const double g = gap(t);
       if (g <= 0.0) {
-        double lo = previous;
-        double hi = t;
-        while (hi - lo > 1e-7) {
-          const double mid = 0.5 * (lo + hi);
-          (gap(mid) <= 0.0 ? hi : lo) = mid;
-        }
-        if (hi < until_s) first = TouchAtRest{k, hi};
+        if (const double touch_s = detail::bisect_touch(previous, t, gap); touch_s < until_s)
+          first = TouchAtRest{k, touch_s};
         break;
       }
       if (t >= rest_s || moved_past(actor, actor.at(t), ego, t)) break;
