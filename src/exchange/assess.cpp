@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "emrm/core/error.hpp"
 #include "emrm/core/trig.hpp"
@@ -240,17 +241,8 @@ class Judge {
     out.samples_judged = n;
     if (samples_.back().speed_mps < sim::kStoppedSpeed_mps) {
       // At rest, unless an actor that moves on (as the scene moves it) meets the standing car.
-      if (const auto touch = sim::touch_at_rest(scene_, end, t_end)) {
-        const sim::Actor& actor = scene_.actors()[touch->actor];
-        core::Contact c;
-        out.contact = true;
-        out.contact_with = actor.body().name;
-        out.impact = sim::actor_impact(scene_, actor.body(), end, actor.at(touch->t_s), &c);
-        out.event_time_s = touch->t_s;
-        out.event_point_m = c.point;
-        out.end_time_s = touch->t_s;
-        return out;
-      }
+      if (const auto touch = sim::touch_at_rest(scene_, end, t_end))
+        return contact(out, touch->actor, end, scene_.actors()[touch->actor].at(touch->t_s), touch->t_s);
       out.safe_state = SafeState::kStopped;
     } else {
       const double ego_min_x = sim::extent_of(scene_.ego_box(end)).min_x;
@@ -266,15 +258,19 @@ class Judge {
  private:
   Assessment at_contact(Assessment out, std::size_t k, std::size_t segment, double t) const {
     const std::size_t i = std::min(segment, samples_.size() - 2);
-    const sim::VehicleState s = state(i, t);
+    out.samples_judged = i + 2;
+    return contact(std::move(out), k, state(i, t), actor(k, i, t), t);
+  }
+  // The ego at `s` meets actor k, there at `at`, at time t.
+  Assessment contact(Assessment out, std::size_t k, const sim::VehicleState& s, const sim::ActorState& at,
+                     double t) const {
     core::Contact c;
     out.contact = true;
     out.contact_with = scene_.actors()[k].body().name;
-    out.impact = sim::actor_impact(scene_, scene_.actors()[k].body(), s, actor(k, i, t), &c);
+    out.impact = sim::actor_impact(scene_, scene_.actors()[k].body(), s, at, &c);
     out.event_time_s = t;
     out.event_point_m = c.point;
     out.end_time_s = t;
-    out.samples_judged = i + 2;
     return out;
   }
   Assessment at_departure(Assessment out, std::size_t segment, double t) const {

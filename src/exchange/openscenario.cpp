@@ -252,34 +252,28 @@ double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptio
   return truck.length_m / 2.0 - options.truck_rear_axle_share * truck.length_m;
 }
 
-namespace {
-
-// Whether the scene is the T-junction's geometry, which its own road and scenario describe; every
-// other family exports its straight road and its actors.
-bool tjunction_geometry(const sim::SceneConfig& config) { return sim::find_family(config.family)->tjunction_analytics; }
-
-}  // namespace
-
+// The T-junction's geometry has its own road and scenario (sim::has_tjunction_analytics); every other
+// family exports its straight road and its actors.
 std::string openscenario_xml(const sim::SceneConfig& config, const sim::CellInput& cell,
                              const EgoTrajectory* trajectory, const ExportOptions& options,
                              const std::string& road_file) {
-  if (!tjunction_geometry(config))
+  if (!sim::has_tjunction_analytics(config))
     return detail::family_scenario_xml(config, cell, trajectory, options, road_file, "cell");
   return scenario_xml(config, cell, trajectory, options, road_file, false, "cell", truck_rest_s(config, cell));
 }
 
 std::string road_file_of(const sim::SceneConfig& config) {
-  return tjunction_geometry(config) ? kRoadFile : config.family + ".xodr";
+  return sim::has_tjunction_analytics(config) ? kRoadFile : config.family + ".xodr";
 }
 
 std::string scenario_file_of(const sim::SceneConfig& config) {
-  return tjunction_geometry(config) ? kScenarioFile : config.family + ".xosc";
+  return sim::has_tjunction_analytics(config) ? kScenarioFile : config.family + ".xosc";
 }
 
 std::vector<fs::path> export_cell(const fs::path& dir, const sim::SceneConfig& config, const sim::CellInput& cell,
                                   const EgoTrajectory* trajectory, const ExportOptions& options) {
   require_feasible(config, cell);
-  const bool tjunction = tjunction_geometry(config);
+  const bool tjunction = sim::has_tjunction_analytics(config);
   const std::string road = road_file_of(config);
   const std::vector<core::FileContent> files{
       {dir / road, tjunction ? opendrive_xml(config, cell) : straight_road_xml(config, cell)},

@@ -157,7 +157,7 @@ PlanExport export_concrete_plan(const fs::path& dir, const sim::SceneConfig& con
 
 PlanExport export_plan(const fs::path& dir, const sim::SceneConfig& config, const scenario::ScenarioFile& scenarios,
                        const ExportOptions& options) {
-  if (sim::find_family(config.family)->tjunction_analytics) return export_logical_plan(dir, config, scenarios, options);
+  if (sim::has_tjunction_analytics(config)) return export_logical_plan(dir, config, scenarios, options);
   return export_concrete_plan(dir, config, scenarios, options);
 }
 

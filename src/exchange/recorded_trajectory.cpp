@@ -175,7 +175,7 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   const double truck_back = truck_reference_offset_m(config.truck, options);
   // The T-junction's truck is the entity "Truck" about its rear axle; another family's actors are
   // entities about their boxes' centres (a highway's truck among them), judged as the scene moves them.
-  const bool tjunction_truck = sim::find_family(config.family)->tjunction_analytics;
+  const bool tjunction_truck = sim::has_tjunction_analytics(config);
 
   RecordedTrajectory out;
   out.file = file;

@@ -193,7 +193,7 @@ Figure draw_trajectory_grid(const std::vector<campaign::CellRecord>& records, co
     return figure;
   }
   // The T-junction's panels keep their own titles and columns; another family's name every factor.
-  const bool tjunction = sim::find_family(config.family)->tjunction_analytics;
+  const bool tjunction = sim::has_tjunction_analytics(config);
   const sim::FactorTable factors = sim::scenario_factors(config);
 
   std::filesystem::create_directories(dir);

@@ -230,7 +230,7 @@ bool applicable(const Scene& scene) {
 }  // namespace
 
 std::optional<std::string> no_certificate_bound(const SceneConfig& config) {
-  if (!find_family(config.family)->tjunction_analytics)
+  if (!has_tjunction_analytics(config))
     return fmt::format("scenario family '{}' has no certificate bound: no cell is certified unavoidable",
                        config.family);
   const auto model = find_vehicle_model(config.simulation.vehicle_model);

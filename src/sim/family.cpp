@@ -49,4 +49,6 @@ std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families() {
   return out;
 }
 
+bool has_tjunction_analytics(const SceneConfig& config) { return find_family(config.family)->tjunction_analytics; }
+
 }  // namespace emrm::sim

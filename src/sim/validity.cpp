@@ -222,15 +222,28 @@ class RoadDepartureCheck {
 
 namespace {
 
+// Whether an actor moving along an axis never meets the box: the band it sweeps across that axis
+// (its extent across it, widened along y by the drift still to come) misses the box. An actor moving
+// along y keeps its x; one along x keeps its y but for the drift.
+bool outside_band(const Actor& actor, double t_s, const core::OrientedBox& box) noexcept {
+  const ActorMotion& m = actor.motion();
+  const Extent a = extent_of(actor.at(t_s).box);
+  const Extent b = extent_of(box);
+  if (m.direction.x == 0.0) return a.max_x < b.min_x || a.min_x > b.max_x;
+  if (m.direction.y != 0.0) return false;
+  const double drift_m = m.lateral_mps * std::max(m.lateral_for_s - t_s, 0.0);
+  return a.max_y + std::max(drift_m, 0.0) < b.min_y || a.min_y + std::min(drift_m, 0.0) > b.max_y;
+}
+
 // Whether an actor is past the box for good: wholly beyond it along its direction of travel, along
 // which it never turns back, and no longer drifting sideways unless across its direction's y (a
 // drift along y cannot bring back a body that is past along x).
-bool moved_past(const Actor& actor, const ActorState& at, const core::OrientedBox& box, double t_s) noexcept {
+bool moved_past(const Actor& actor, const core::OrientedBox& at, const core::OrientedBox& box, double t_s) noexcept {
   const ActorMotion& m = actor.motion();
   if (m.lateral_mps != 0.0 && t_s < m.lateral_for_s && m.direction.y != 0.0) return false;
   double actor_low = std::numeric_limits<double>::infinity();
   double box_high = -actor_low;
-  for (const core::Vec2& c : at.box.corners()) actor_low = std::min(actor_low, c.dot(m.direction));
+  for (const core::Vec2& c : at.corners()) actor_low = std::min(actor_low, c.dot(m.direction));
   for (const core::Vec2& c : box.corners()) box_high = std::max(box_high, c.dot(m.direction));
   return actor_low > box_high;
 }
@@ -244,20 +257,21 @@ std::optional<TouchAtRest> touch_at_rest(const Scene& scene, const VehicleState&
   for (std::size_t k = 0; k < scene.actors().size(); ++k) {
     const Actor& actor = scene.actors()[k];
     const double rate = detail::top_speed_mps(actor);
-    if (!(rate > 0.0)) continue;
+    if (!(rate > 0.0) || outside_band(actor, t_s, ego)) continue;
     const double rest_s = std::max(actor.motion().rest_time_s(), t_s);
     const double until_s = first ? first->t_s : std::numeric_limits<double>::infinity();
     const auto gap = [&](double t) { return core::separation_lower_bound(ego, actor.at(t).box); };
     double previous = t_s;
     double t = t_s;
     for (int n = 0; n < kMaxAdvances && t < until_s; ++n) {
-      const double g = gap(t);
+      const core::OrientedBox at = actor.at(t).box;
+      const double g = core::separation_lower_bound(ego, at);
       if (g <= 0.0) {
         if (const double touch_s = detail::bisect_touch(previous, t, gap); touch_s < until_s)
           first = TouchAtRest{k, touch_s};
         break;
       }
-      if (t >= rest_s || moved_past(actor, actor.at(t), ego, t)) break;
+      if (t >= rest_s || moved_past(actor, at, ego, t)) break;
       previous = t;
       t = std::min(rest_s, t + (g + detail::kTolerance_m) / rate);
     }

@@ -93,6 +93,10 @@ class FamilyRegistration {
 [[nodiscard]] std::vector<std::string> family_names();
 /// The registered families, in registration order.
 [[nodiscard]] std::vector<std::shared_ptr<const ScenarioFamilyInfo>> registered_families();
+/// Whether the scene's family has the T-junction's geometry and analytics
+/// (ScenarioFamilyInfo::tjunction_analytics): its certificate, its own road and scenario exports,
+/// its recorded truck, its trajectory panels.
+[[nodiscard]] bool has_tjunction_analytics(const SceneConfig& config);
 
 /// The shipped T-junction family ("tjunction", sim/tjunction.cpp).
 [[nodiscard]] ScenarioFamilyInfo tjunction_family();
