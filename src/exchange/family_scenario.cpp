@@ -83,6 +83,9 @@ std::vector<std::string> entity_names(const sim::Scene& scene) {
   return out;
 }
 
+// An actor's speed at t = 0 (along its heading).
+double start_speed_mps(const sim::ActorMotion& m) { return m.track ? m.track->samples.front().speed_mps : m.speed_mps; }
+
 // The actor's ScenarioObject about its box's centre (its reference point): a Vehicle (a car, a truck,
 // a bicycle), a Pedestrian (a person or an animal) or a MiscObject.
 void actor_entity(XmlWriter& x, const std::string& entity, const sim::Actor& actor, const ExportOptions& options) {
@@ -109,12 +112,12 @@ void actor_entity(XmlWriter& x, const std::string& entity, const sim::Actor& act
       const char* category = truck ? "truck" : b.kind == sim::ActorKind::kCyclist ? "bicycle" : "car";
       x.open("Vehicle", {{"name", model}, {"vehicleCategory", category}, {"mass", num(b.mass_kg)}});
       bounding_box(x, 0.0, height, b.length_m, b.width_m);
-      const sim::ActorMotion& m = actor.motion();
-      const double top_speed = std::max(m.speed_mps, truck ? options.truck_max_speed_mps : options.ego_max_speed_mps);
+      const double top_speed =
+          std::max(start_speed_mps(actor.motion()), truck ? options.truck_max_speed_mps : options.ego_max_speed_mps);
       x.leaf("Performance",
              {{"maxSpeed", num(top_speed)},
               {"maxAcceleration", num(truck ? options.truck_max_acceleration_mps2 : options.ego_max_acceleration_mps2)},
-              {"maxDeceleration", num(std::max(m.decel_mps2, 1.0))}});
+              {"maxDeceleration", num(std::max(actor.motion().decel_mps2, 1.0))}});
       axles(x, 0.6 * b.length_m, 0.5, std::max(b.width_m - 0.2, 0.1),
             truck ? options.truck_wheel_diameter_m : options.ego_wheel_diameter_m);
       break;
@@ -133,6 +136,12 @@ void actor_entity(XmlWriter& x, const std::string& entity, const sim::Actor& act
 // between it moves on a straight line at one speed, which the ends of each stretch give exactly.
 std::vector<double> vertex_times(const sim::ActorMotion& m, double dt_s, double end_s) {
   std::vector<double> times{0.0, end_s};
+  if (m.track) {  // samples: every one of them
+    for (std::size_t k = 1; static_cast<double>(k) * m.track->dt_s < end_s - 1e-9 && k < m.track->samples.size(); ++k)
+      times.push_back(static_cast<double>(k) * m.track->dt_s);
+    std::sort(times.begin(), times.end());
+    return times;
+  }
   const double rest_s = m.rest_time_s();
   for (const double change : {m.lateral_mps != 0.0 ? m.lateral_for_s : 0.0, m.brake_from_s, rest_s})
     if (change > 0.0 && change < end_s) times.push_back(change);
@@ -151,7 +160,8 @@ std::vector<double> vertex_times(const sim::ActorMotion& m, double dt_s, double 
 void actor_maneuver(XmlWriter& x, const std::string& entity, const sim::Actor& actor, bool hazard, double dt_s,
                     double end_s) {
   const sim::ActorMotion& m = actor.motion();
-  if (!hazard && !(m.speed_mps > 0.0) && m.lateral_mps == 0.0) return;
+  const bool stands = m.track ? m.rest_time_s() == 0.0 : !(m.speed_mps > 0.0) && m.lateral_mps == 0.0;
+  if (!hazard && stands) return;
   maneuver_group(x, entity + "ManeuverGroup", entity);
   x.open("Maneuver", {{"name", entity + "Motion"}});
   x.open("Event", {{"name", entity + "Moves"}, {"priority", "override"}, {"maximumExecutionCount", "1"}});
@@ -201,7 +211,7 @@ std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellI
     const sim::Actor& actor = scene.actors()[a];
     const sim::ActorState at = actor.at(0.0);
     start_state(x, names[a], num(at.box.center.x), num(at.box.center.y), num(at.box.heading_rad),
-                num(actor.motion().speed_mps));
+                num(start_speed_mps(actor.motion())));
   }
   x.close();
   x.close();

@@ -139,8 +139,9 @@ AvoidanceCheck check_avoidance(const sim::Scene& scene, const std::vector<sim::P
   // The truncation of a stop in closed form leaves a jump at the very end: a straight line on a
   // straight road, checked at its ends when every actor keeps its place along the road; where one
   // drives along it (a car cutting in), every check_step_s along the stop's own motion.
-  const bool actor_drives =
-      std::ranges::any_of(scene.actors(), [](const sim::Actor& actor) { return actor.motion().direction.x != 0.0; });
+  const bool actor_drives = std::ranges::any_of(scene.actors(), [](const sim::Actor& actor) {
+    return actor.motion().direction.x != 0.0 || actor.motion().track != nullptr;
+  });
   for (std::size_t k = 0; k < path.size(); ++k) {
     const sim::PathPoint& b = path[k];
     const sim::PathPoint& a = k > 0 ? path[k - 1] : path[k];

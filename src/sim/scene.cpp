@@ -145,6 +145,12 @@ core::OrientedBox Scene::ego_box(const VehicleState& s) const noexcept {
   return {core::Vec2{s.x_m, s.y_m} + heading * offset_m, s.yaw_rad, ego.length_m, ego.width_m};
 }
 
+double Scene::passed_x_of_track(double t_s) const noexcept {
+  double far = -std::numeric_limits<double>::infinity();
+  for (const core::Vec2& corner : hazard_at(t_s).box.corners()) far = std::max(far, corner.x);
+  return far;
+}
+
 FreeBands Scene::free_bands(double t_s) const noexcept {
   FreeBands out;
   std::tie(out.hazard_low_m, out.hazard_high_m) = hazard().y_extent_at(t_s);

@@ -41,7 +41,8 @@ namespace {
 // the end, so it never stands in the way for certain.
 bool in_the_way_from(const Scene& s, double from_s) {
   const ActorMotion& motion = s.hazard().motion();
-  if (std::isinf(motion.rest_time_s()) || motion.direction.x != 0.0 || motion.lateral_mps != 0.0) return false;
+  if (motion.track || std::isinf(motion.rest_time_s()) || motion.direction.x != 0.0 || motion.lateral_mps != 0.0)
+    return false;
   const double lane_y = s.ego_initial().y_m;
   const double half_width = s.config().ego.width_m / 2.0;
   const double top = lane_y + half_width;

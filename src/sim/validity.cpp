@@ -65,9 +65,10 @@ class MotionBound {
 };
 
 // The fastest an actor ever moves: its motion only slows along its direction, and drifts sideways
-// at a constant speed.
+// at a constant speed; a Track's is its fastest interval's, its corners' turning included.
 double top_speed_mps(const Actor& actor) noexcept {
   const ActorMotion& m = actor.motion();
+  if (m.track) return m.track->top_speed_mps(actor.body().length_m, actor.body().width_m);
   return m.speed_mps + std::abs(m.lateral_mps);
 }
 
@@ -227,6 +228,7 @@ namespace {
 // along y keeps its x; one along x keeps its y but for the drift.
 bool outside_band(const Actor& actor, double t_s, const core::OrientedBox& box) noexcept {
   const ActorMotion& m = actor.motion();
+  if (m.track) return false;  // no axis to sweep along
   const Extent a = extent_of(actor.at(t_s).box);
   const Extent b = extent_of(box);
   if (m.direction.x == 0.0) return a.max_x < b.min_x || a.min_x > b.max_x;
@@ -240,6 +242,7 @@ bool outside_band(const Actor& actor, double t_s, const core::OrientedBox& box) 
 // drift along y cannot bring back a body that is past along x).
 bool moved_past(const Actor& actor, const core::OrientedBox& at, const core::OrientedBox& box, double t_s) noexcept {
   const ActorMotion& m = actor.motion();
+  if (m.track) return false;  // it may turn back
   if (m.lateral_mps != 0.0 && t_s < m.lateral_for_s && m.direction.y != 0.0) return false;
   double actor_low = std::numeric_limits<double>::infinity();
   double box_high = -actor_low;

@@ -10,10 +10,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "emrm/core/enum_names.hpp"
 #include "emrm/core/geometry.hpp"
@@ -39,6 +41,34 @@ struct ActorState {
   core::Vec2 velocity_mps;
 };
 
+/// An open-loop motion given as samples rather than in closed form: an imported scenario's storyboard
+/// played open loop (docs/import.md). The box's centre, heading and speed every `dt_s` from t = 0;
+/// between samples the pose is interpolated linearly (the heading along the shorter way round), the
+/// velocity is that of the interpolated path (the interval's secant); after the last sample the actor
+/// goes on straight at the last sample's speed (it rests if that is 0).
+struct Track {
+  struct Sample {
+    double x_m = 0.0, y_m = 0.0, heading_rad = 0.0, speed_mps = 0.0;
+  };
+  double dt_s = 0.01;
+  std::vector<Sample> samples;
+
+  /// Throws std::invalid_argument for no samples, a spacing that is not finite and positive, or a
+  /// sample with a value that is not finite or a negative speed.
+  Track(double dt, std::vector<Sample> points);
+  /// The fastest any point of a box of that size moves: the speed, plus the turn rate times the
+  /// half-diagonal, over every interval.
+  [[nodiscard]] double top_speed_mps(double length_m, double width_m) const noexcept;
+  /// From when the actor stands for good: the first sample from which every speed is 0 (and the
+  /// pose no longer changes); +∞ when it moves at the last sample.
+  [[nodiscard]] double rest_time_s() const noexcept { return rest_time_s_; }
+  /// The interpolated centre, heading and velocity at time t (t < 0 counts as 0).
+  [[nodiscard]] Sample at(double t_s, core::Vec2* velocity_mps) const noexcept;
+
+ private:
+  double rest_time_s_ = 0.0;
+};
+
 /// An open-loop motion in closed form, enough for the shipped families. The middle of the actor's
 /// leading edge starts at `front` and moves along the unit vector `direction` (the actor's heading)
 /// at `speed_mps`; from `brake_from_s` on it brakes at `decel_mps2` until it stands (0: it keeps its
@@ -53,6 +83,9 @@ struct ActorMotion {
   double brake_from_s = 0.0;
   double lateral_mps = 0.0;
   double lateral_for_s = 0.0;
+  /// Set: the motion is these samples instead (Track), and the fields above are unused but for
+  /// `direction`, the heading at t = 0.
+  std::shared_ptr<const Track> track{};
 
   /// The distance travelled along `direction` by time t (t < 0 counts as 0).
   [[nodiscard]] double travelled_m(double t_s) const noexcept;
@@ -76,7 +109,7 @@ class Actor {
   [[nodiscard]] const ActorMotion& motion() const noexcept { return motion_; }
   /// The actor at time t (t < 0 counts as 0).
   [[nodiscard]] ActorState at(double t_s) const noexcept;
-  /// Its heading: the direction of its motion.
+  /// Its heading: the direction of its motion (a Track's: at t = 0).
   [[nodiscard]] double heading_rad() const noexcept { return heading_rad_; }
   /// The lowest and the highest y its footprint covers at time t: exact for a motion along an axis
   /// (the leading edge is motion().front_at(t)), from the box's corners otherwise.
@@ -112,6 +145,7 @@ inline double ActorMotion::lateral_m(double t_s) const noexcept {
 }
 
 inline double ActorMotion::rest_time_s() const noexcept {
+  if (track) return track->rest_time_s();
   if (!(speed_mps > 0.0)) return 0.0;
   if (decel_mps2 <= 0.0) return std::numeric_limits<double>::infinity();
   return brake_from_s + speed_mps / decel_mps2;
@@ -137,10 +171,16 @@ inline Actor::Actor(const ActorBody& body, const ActorMotion& motion) noexcept
 inline ActorState Actor::at(double t_s) const noexcept {
   const double t = std::max(t_s, 0.0);
   ActorState out;
-  out.box.center = motion_.front_at(t) - half_length_;
-  out.box.heading_rad = heading_rad_;
   out.box.length_m = body_.length_m;
   out.box.width_m = body_.width_m;
+  if (motion_.track) {
+    const Track::Sample p = motion_.track->at(t, &out.velocity_mps);
+    out.box.center = {p.x_m, p.y_m};
+    out.box.heading_rad = p.heading_rad;
+    return out;
+  }
+  out.box.center = motion_.front_at(t) - half_length_;
+  out.box.heading_rad = heading_rad_;
   out.velocity_mps = motion_.direction * motion_.speed_at_mps(t);
   if (motion_.lateral_mps != 0.0 && t < motion_.lateral_for_s) out.velocity_mps.y += motion_.lateral_mps;
   return out;
@@ -148,10 +188,12 @@ inline ActorState Actor::at(double t_s) const noexcept {
 
 inline std::pair<double, double> Actor::y_extent_at(double t_s) const noexcept {
   const core::Vec2 d = motion_.direction;
-  const core::Vec2 front = motion_.front_at(t_s);
-  if (d.x == 0.0)
-    return d.y < 0.0 ? std::pair{front.y, front.y + body_.length_m} : std::pair{front.y - body_.length_m, front.y};
-  if (d.y == 0.0) return {front.y - body_.width_m / 2.0, front.y + body_.width_m / 2.0};
+  if (!motion_.track) {
+    const core::Vec2 front = motion_.front_at(t_s);
+    if (d.x == 0.0)
+      return d.y < 0.0 ? std::pair{front.y, front.y + body_.length_m} : std::pair{front.y - body_.length_m, front.y};
+    if (d.y == 0.0) return {front.y - body_.width_m / 2.0, front.y + body_.width_m / 2.0};
+  }
   double low = std::numeric_limits<double>::infinity();
   double high = -low;
   for (const core::Vec2& corner : at(t_s).box.corners()) {

@@ -375,7 +375,10 @@ class Scene {
   /// The actor the TTC is measured against (the T-junction's truck).
   [[nodiscard]] const Actor& hazard() const noexcept { return layout_.actors.front(); }
   /// The hazard's speed when it appears (m/s).
-  [[nodiscard]] double hazard_speed_mps() const noexcept { return hazard().motion().speed_mps; }
+  [[nodiscard]] double hazard_speed_mps() const noexcept {
+    const ActorMotion& m = hazard().motion();
+    return m.track ? m.track->samples.front().speed_mps : m.speed_mps;
+  }
   /// Ego CG in its lane, front bumper at x = 0, heading +x at the cell's speed.
   [[nodiscard]] VehicleState ego_initial() const noexcept;
   /// The hazard at time t ≥ 0.
@@ -393,13 +396,17 @@ class Scene {
   /// T-junction's passage is the right one): where a path past it may lie. Bands of no width are left out.
   [[nodiscard]] FreeBands free_bands(double t_s) const noexcept;
   /// The hazard's far side at time t: an ego whose rear is beyond it has got past the hazard. It
-  /// moves with a hazard that drives along the road (a cut-in's car); t < 0 counts as 0.
+  /// moves with a hazard that drives along the road (a cut-in's car; a Track's: its box's farthest
+  /// corner along x); t < 0 counts as 0.
   [[nodiscard]] double passed_x_m(double t_s = 0.0) const noexcept {
     const ActorMotion& m = hazard().motion();
+    if (m.track) return passed_x_of_track(t_s);
     return m.direction.x == 0.0 ? layout_.passed_x_m : layout_.passed_x_m + m.direction.x * m.travelled_m(t_s);
   }
 
  private:
+  [[nodiscard]] double passed_x_of_track(double t_s) const noexcept;
+
   const SceneConfig* config_;  // borrowed: the config outlives every Scene made from it
   CellInput cell_;
   double speed_kph_ = 0.0;
