@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string_view>
 #include <tuple>
@@ -14,6 +17,29 @@
 
 namespace emrm::sim {
 namespace {
+
+// The scene readers of other formats, by extension (SceneReaderRegistration).
+struct SceneReaders {
+  std::mutex mutex;
+  std::map<std::string, std::function<SceneConfig(const std::filesystem::path&)>, std::less<>> by_extension;
+};
+SceneReaders& scene_readers() {
+  static SceneReaders readers;
+  return readers;
+}
+
+// An imported scenario's file, relative to the scene file's folder as written: made absolute, and
+// it must exist.
+void resolve_scenario_file(const core::YamlNode& root, SceneConfig& config, const std::filesystem::path& scene_file) {
+  if (config.family != "openscenario") return;
+  std::filesystem::path file = config.openscenario.file;
+  if (file.is_relative()) file = scene_file.parent_path() / file;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    core::node_at(root, core::FieldPath{{std::string("openscenario"), std::string("file")}})
+        .fail(fmt::format("expected an OpenSCENARIO file (.xosc), but '{}' is not a file", file.string()));
+  config.openscenario.file = std::filesystem::absolute(file).lexically_normal().string();
+}
 
 SceneConfig read_scene(const core::YamlNode& root) {
   SceneConfig config;
@@ -38,7 +64,35 @@ void validate(const RoadsideConfig& roadside) { core::validate_fields("roadside"
 void validate(const SafeStateConfig& safe_state) { core::validate_fields("safe_state", safe_state); }
 void validate(const ActuationConfig& actuation) { core::validate_fields("actuation", actuation); }
 
-SceneConfig load_scene_config(const std::filesystem::path& path) { return read_scene(core::YamlNode::load_file(path)); }
+SceneReaderRegistration::SceneReaderRegistration(std::string extension,
+                                                 std::function<SceneConfig(const std::filesystem::path&)> read)
+    : extension_(std::move(extension)) {
+  SceneReaders& readers = scene_readers();
+  const std::scoped_lock lock(readers.mutex);
+  if (!readers.by_extension.emplace(extension_, std::move(read)).second)
+    throw UsageError(fmt::format("a scene reader for '{}' files is registered already", extension_));
+}
+
+SceneReaderRegistration::~SceneReaderRegistration() {
+  SceneReaders& readers = scene_readers();
+  const std::scoped_lock lock(readers.mutex);
+  readers.by_extension.erase(extension_);
+}
+
+SceneConfig load_scene_config(const std::filesystem::path& path) {
+  std::function<SceneConfig(const std::filesystem::path&)> reader;
+  {
+    SceneReaders& readers = scene_readers();
+    const std::scoped_lock lock(readers.mutex);
+    if (const auto it = readers.by_extension.find(path.extension().string()); it != readers.by_extension.end())
+      reader = it->second;
+  }
+  if (reader) return reader(path);
+  const core::YamlNode root = core::YamlNode::load_file(path);
+  SceneConfig config = read_scene(root);
+  resolve_scenario_file(root, config, path);
+  return config;
+}
 
 SceneConfig parse_scene_config(const std::string& text, const std::string& file_name) {
   return read_scene(core::YamlNode::parse(text, file_name));
@@ -109,6 +163,7 @@ Scene::Scene(const SceneConfig& config, const CellInput& cell)
       layout_(find_family(config.family)->layout(config, cell)) {
   if (layout_.actors.empty())
     throw std::logic_error(fmt::format("scenario family '{}' laid out a cell without a hazard", config.family));
+  if (layout_.ego_speed_mps) speed_kph_ = *layout_.ego_speed_mps * 3.6;
 }
 
 bool Scene::feasible() const noexcept {

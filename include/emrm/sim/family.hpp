@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +29,9 @@ struct SceneLayout {
   /// against it, and an ego whose rear is beyond `passed_x_m` has got past it.
   std::vector<Actor> actors;
   double ego_y_m = 0.0;  ///< the ego's centre line (its lane)
+  /// The ego's speed at t = 0 when the family sets it (an imported scenario's: at the threat onset);
+  /// unset, the cell's speed factor.
+  std::optional<double> ego_speed_mps{};
   /// From the ego's front bumper to the hazard's near side at t = 0 (v·TTC for a hazard across the
   /// ego's path).
   double initial_distance_m = 0.0;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,6 +21,7 @@
 #include "emrm/sim/factors.hpp"
 #include "emrm/sim/family.hpp"
 #include "emrm/sim/highway.hpp"
+#include "emrm/sim/openscenario_config.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::sim {
@@ -199,9 +201,10 @@ struct SceneConfig {
   PlannerConfig planner;
   RoadsideConfig roadside;
   SafeStateConfig safe_state;
-  HighwayConfig highway;    ///< the family highway_obstacle's road and obstacles
-  CrossingConfig crossing;  ///< the family pedestrian_crossing's street and its actors
-  CutInConfig cut_in;       ///< the family cut_in's highway and its cars
+  HighwayConfig highway;            ///< the family highway_obstacle's road and obstacles
+  CrossingConfig crossing;          ///< the family pedestrian_crossing's street and its actors
+  CutInConfig cut_in;               ///< the family cut_in's highway and its cars
+  OpenScenarioConfig openscenario;  ///< the family openscenario's scenario file and its factors
   /// Cells whose hazard appears farther ahead (v·TTC; a cut-in's gap) are infeasible (grey).
   double max_initial_distance_m = 24.5;
 
@@ -226,14 +229,17 @@ struct SceneConfig {
     if (!core::writes_file<A> || family == "highway_obstacle") EMRM_FIELD(a, highway);
     if (!core::writes_file<A> || family == "pedestrian_crossing") EMRM_FIELD(a, crossing);
     if (!core::writes_file<A> || family == "cut_in") EMRM_FIELD(a, cut_in);
+    if (family == "openscenario") EMRM_REQUIRED_FIELD(a, openscenario);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.
+    // An imported scenario's ego starts where its storyboard puts it (checked when a cell is laid out).
     const EgoStart start = ego_start();
     const double half_width = ego.width_m / 2.0;
-    a.ensure(start.y_m - half_width >= start.min_y_m && start.y_m + half_width <= start.max_y_m, start.field,
-             "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m", ego.width_m,
-             start.y_m, start.min_y_m, start.max_y_m);
+    a.ensure(family == "openscenario" ||
+                 (start.y_m - half_width >= start.min_y_m && start.y_m + half_width <= start.max_y_m),
+             start.field, "the ego ({} m wide) centred at y = {} m does not fit on the drivable area y in [{}, {}] m",
+             ego.width_m, start.y_m, start.min_y_m, start.max_y_m);
   }
 
   /// Where the ego starts across the road and the drivable area it must fit on, from the block of
@@ -271,7 +277,25 @@ void validate(const ActuationConfig& actuation);
 /// (file:line:column) for malformed YAML, wrong types, unknown fields, and for a value validate()
 /// rejects: at the field's own node, or at the nearest enclosing mapping the file has when the
 /// field kept its default.
+///
+/// A file whose extension a SceneReaderRegistration names (".xosc") is read by that reader instead.
+/// A scene of the family openscenario has its `openscenario.file` made absolute (relative to the
+/// scene file's folder) and must name an existing file (InputError at the field).
 [[nodiscard]] SceneConfig load_scene_config(const std::filesystem::path& path);
+
+/// Reads scene files of another format into a scene — an OpenSCENARIO scenario (docs/import.md) —
+/// for load_scene_config, by the file's extension (".xosc"), for as long as the object lives.
+/// Throws UsageError for an extension with a reader already.
+class SceneReaderRegistration {
+ public:
+  SceneReaderRegistration(std::string extension, std::function<SceneConfig(const std::filesystem::path&)> read);
+  ~SceneReaderRegistration();
+  SceneReaderRegistration(const SceneReaderRegistration&) = delete;
+  SceneReaderRegistration& operator=(const SceneReaderRegistration&) = delete;
+
+ private:
+  std::string extension_;
+};
 [[nodiscard]] SceneConfig parse_scene_config(const std::string& text, const std::string& file_name);
 /// A scene as a results store keeps it: the same, except that a store written before the actuators
 /// existed has `simulation.latency_s`, read as `actuation.perception_latency_s` (its meaning).
@@ -363,7 +387,9 @@ class Scene {
   [[nodiscard]] std::string infeasible_reason() const;
   /// Distance from the ego's front bumper to the hazard's near side at t = 0.
   [[nodiscard]] double initial_distance_m() const noexcept { return layout_.initial_distance_m; }
-  [[nodiscard]] double initial_speed_mps() const noexcept { return speed_kph_ / 3.6; }
+  [[nodiscard]] double initial_speed_mps() const noexcept {
+    return layout_.ego_speed_mps ? *layout_.ego_speed_mps : speed_kph_ / 3.6;
+  }
   /// The cell's factors the physics reads: the ego's speed (km/h), the TTC (s), the road's friction.
   [[nodiscard]] double speed_kph() const noexcept { return speed_kph_; }
   [[nodiscard]] double ttc_s() const noexcept { return ttc_s_; }
