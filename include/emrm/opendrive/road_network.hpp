@@ -90,8 +90,8 @@ struct Cubic {
   [[nodiscard]] double at(double s) const;
   [[nodiscard]] double derivative(double s) const;
 };
-/// The value at s of the last record starting at or before s (the first before any starts): 0 without
-/// records. Records are in increasing s_start.
+/// The value at s of the last record starting at or before s; 0 before the first and without records.
+/// Records are in increasing s_start.
 [[nodiscard]] double evaluate(const std::vector<Cubic>& records, double s);
 
 enum class TrafficRule { kRightHand, kLeftHand };
@@ -232,6 +232,10 @@ class RoadNetwork {
   std::vector<Junction> junctions_;
   std::unordered_map<std::string, std::size_t> road_index_;
   std::unordered_map<std::string, std::size_t> junction_index_;
+  struct Box {  // a road's lanes lie inside (world x, y)
+    double min_x, min_y, max_x, max_y;
+  };
+  std::vector<Box> boxes_;  // one per road
 };
 
 /// Reads an OpenDRIVE file: validates it against the embedded XSD when its version has one
