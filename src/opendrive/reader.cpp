@@ -13,8 +13,11 @@ namespace {
 
 using detail::number_within;
 
-constexpr double kHuge_m = 1e7;              // no road is longer, and no coordinate further out (m)
+constexpr double kHuge_m = 1e7;              // no coordinate is further out (m)
+constexpr double kLongestRoad_m = 1e5;       // no road is longer (m): the network samples each metre
 constexpr double kMaxCurvature_per_m = 1e3;  // a turn radius of 1 mm
+/// How far a spiral may turn (rad): a point on it costs a Gauss-Legendre panel per radian.
+constexpr double kMostSpiralTurn_rad = 1e3;
 /// How far the plan view's end may miss the road's length, and a geometry's start its predecessor's
 /// end (m): the rounding of the files that write them.
 constexpr double kJoinTolerance_m = 1e-2;
@@ -34,7 +37,13 @@ Shape read_shape(const xml::Element& geometry) {
   };
   if (name == "line") return Line{};
   if (name == "arc") return Arc{curvature("curvature")};
-  if (name == "spiral") return Spiral{curvature("curvStart"), curvature("curvEnd")};
+  if (name == "spiral") {
+    const Spiral spiral{curvature("curvStart"), curvature("curvEnd")};
+    const double length = geometry.number("length");
+    if (std::max(std::abs(spiral.curvature_start), std::abs(spiral.curvature_end)) * length > kMostSpiralTurn_rad)
+      k.fail("<spiral> turns by more than " + std::to_string(kMostSpiralTurn_rad) + " rad over its length");
+    return spiral;
+  }
   if (name == "poly3") return Poly3{k.number("a"), k.number("b"), k.number("c"), k.number("d")};
   if (name == "paramPoly3") {
     const std::string range = k.attribute("pRange").value_or("normalized");
@@ -54,14 +63,15 @@ ReferenceLine read_plan_view(const xml::Element& road, double length) {
   if (geometries.empty()) plan_view.fail("<planView> needs a <geometry>");
   std::vector<Segment> segments;
   for (const xml::Element& g : geometries) {
-    Segment segment{number_within(g, "s", 0.0, kHuge_m),
+    Segment segment{number_within(g, "s", 0.0, kLongestRoad_m),
                     number_within(g, "x", -kHuge_m, kHuge_m),
                     number_within(g, "y", -kHuge_m, kHuge_m),
                     g.number("hdg"),
                     g.number("length"),
                     read_shape(g)};
-    if (!(segment.length > 0.0) || segment.length > kHuge_m)
-      g.fail("length", "<geometry> length=" + g.required("length") + ": expected a length > 0");
+    if (!(segment.length > 0.0) || segment.length > kLongestRoad_m)
+      g.fail("length", "<geometry> length=" + g.required("length") + ": expected a length > 0 and at most " +
+                           std::to_string(kLongestRoad_m) + " m");
     const double expected_s = segments.empty() ? 0.0 : segments.back().s + segments.back().length;
     if (std::abs(segment.s - expected_s) > kJoinTolerance_m)
       g.fail("s", "<geometry> s=" + g.required("s") +
@@ -115,8 +125,9 @@ Road read_road(const xml::Element& e) {
   road.id = e.required("id");
   road.name = e.attribute("name").value_or("");
   road.length = e.number("length");
-  if (!(road.length > 0.0) || road.length > kHuge_m)
-    e.fail("length", "<road> length=" + e.required("length") + ": expected a length > 0");
+  if (!(road.length > 0.0) || road.length > kLongestRoad_m)
+    e.fail("length", "<road> length=" + e.required("length") + ": expected a length > 0 and at most " +
+                         std::to_string(kLongestRoad_m) + " m");
   const std::string junction = e.required("junction");
   road.junction = junction == "-1" ? "" : junction;
   road.rule = read_rule(e);

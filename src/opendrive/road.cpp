@@ -118,6 +118,21 @@ std::optional<int> Road::lane_at(double s, double t) const {
   return search(section.right, -1.0);
 }
 
+std::optional<int> Road::lane_in_next_section(int lane_id, double s, Travel travel) const {
+  const LaneSection& here = section_at(s);
+  const auto index = static_cast<std::size_t>(&here - lane_sections.data());
+  const bool forward = travel == Travel::kAlongS;
+  if (forward ? index + 1 >= lane_sections.size() : index == 0) return std::nullopt;
+  const LaneSection& next = lane_sections[forward ? index + 1 : index - 1];
+  const Lane* lane = here.find(lane_id);
+  if (lane == nullptr) return std::nullopt;
+  const std::vector<int>& linked = forward ? lane->successors : lane->predecessors;
+  for (const int next_id : linked)
+    if (next.find(next_id) != nullptr) return next_id;
+  if (linked.empty() && next.find(lane_id) != nullptr) return lane_id;
+  return std::nullopt;
+}
+
 Travel Road::default_travel(int lane_id) const {
   const bool left = lane_id > 0;
   const bool against = rule == TrafficRule::kRightHand ? left : !left && lane_id != 0;

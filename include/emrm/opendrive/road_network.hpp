@@ -157,6 +157,12 @@ struct Road {
   /// The lane whose borders hold t at s (lane 0 is never returned: a t on the centre lane belongs
   /// to the first lane on the side it leans to); std::nullopt outside every lane.
   [[nodiscard]] std::optional<int> lane_at(double s, double t) const;
+  /// The lane that `lane_id` of the section holding s continues as in the next section in `travel`
+  /// (inside this road; past its ends see RoadNetwork::next_lanes): its successor link for kAlongS,
+  /// predecessor for kAgainstS; without such a link, the same id if that section has it (files often
+  /// leave unchanged lanes unlinked). std::nullopt in the road's last section in `travel`, or when
+  /// the lane ends there.
+  [[nodiscard]] std::optional<int> lane_in_next_section(int lane_id, double s, Travel travel) const;
   /// The direction a lane is driven in by the road's rule (the sign of its id).
   [[nodiscard]] Travel default_travel(int lane_id) const;
   /// The pose at (s, t): t from the reference line (not from the centre lane), heading along s.

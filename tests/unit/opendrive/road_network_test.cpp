@@ -66,6 +66,25 @@ TEST(OpenDriveLanes, BordersAreSumsOfWidthsShiftedByTheLaneOffset) {
   EXPECT_THROW((void)r.lane_borders(-2, 70), std::out_of_range);
 }
 
+TEST(OpenDriveLanes, LanesContinueIntoTheNextSection) {
+  const RoadNetwork network =
+      parse_opendrive(xodr(road("1", 100, geometry(0, 0, 0, 0, 100, "<line/>"), lanes_text())), "n.xodr");
+  const Road& r = network.roads().front();
+  // Unlinked lanes continue by their id where the next section has it; lane -2 ends at s = 60.
+  EXPECT_EQ(r.lane_in_next_section(1, 10, Travel::kAlongS), 1);
+  EXPECT_EQ(r.lane_in_next_section(-1, 59.9, Travel::kAlongS), -1);
+  EXPECT_FALSE(r.lane_in_next_section(-2, 10, Travel::kAlongS).has_value());
+  EXPECT_FALSE(r.lane_in_next_section(1, 70, Travel::kAlongS).has_value());  // the last section
+  EXPECT_EQ(r.lane_in_next_section(1, 70, Travel::kAgainstS), 1);
+  EXPECT_FALSE(r.lane_in_next_section(1, 10, Travel::kAgainstS).has_value());
+  // A link wins over the id: lane -1 of the first section continues as -2 of the second.
+  const std::string linked = section(0, "", lane(-1, "driving", "<link><successor id=\"-2\"/></link>" + width(0, 3))) +
+                             section(50, "", lane(-1, "shoulder", width(0, 1)) + lane(-2, "driving", width(0, 3)));
+  const RoadNetwork second =
+      parse_opendrive(xodr(road("1", 100, geometry(0, 0, 0, 0, 100, "<line/>"), linked)), "k.xodr");
+  EXPECT_EQ(second.roads().front().lane_in_next_section(-1, 0, Travel::kAlongS), -2);
+}
+
 TEST(OpenDriveLanes, BorderRecordsGiveTheSameLanesAsWidths) {
   // Lane 1: width 3 + 0.02 ds; lane 2 by its outer border 5 + 0.02 ds (its width 2).
   const std::string lanes = section(0,
