@@ -2,6 +2,7 @@
 // lanes with types, widths, borders (§9.5) and lane links (§9.4). What is ignored: docs/import.md.
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "reader_parts.hpp"
@@ -12,6 +13,8 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // How far a record may start past its section's end (m): rounding in the files that write it.
 constexpr double kStartTolerance_m = 1e-3;
+// How far below 0 a width may dip (m): the rounding of a lane that narrows to nothing.
+constexpr double kNegativeWidthTolerance_m = 1e-3;
 
 /// A cubic record of `e` with its start at `base` + the attribute `start_name` (s or sOffset).
 Cubic read_cubic(const xml::Element& e, std::string_view start_name, double base, double max_start) {
@@ -31,6 +34,36 @@ std::vector<Cubic> read_records(const std::vector<xml::Element>& elements, std::
   return records;
 }
 
+/// The least value of a record over [from, to]: at the ends or where its derivative vanishes.
+double least_value(const Cubic& record, double from, double to) {
+  double least = std::min(record.at(from), record.at(to));
+  // b + 2c x + 3d x² = 0 for x = ds
+  const double qa = 3.0 * record.d;
+  const double qb = 2.0 * record.c;
+  const double qc = record.b;
+  std::vector<double> roots;
+  if (qa == 0.0) {
+    if (qb != 0.0) roots.push_back(-qc / qb);
+  } else if (const double disc = qb * qb - 4.0 * qa * qc; disc >= 0.0) {
+    roots.push_back((-qb + std::sqrt(disc)) / (2.0 * qa));
+    roots.push_back((-qb - std::sqrt(disc)) / (2.0 * qa));
+  }
+  for (const double ds : roots)
+    if (record.s_start + ds > from && record.s_start + ds < to) least = std::min(least, record.at(record.s_start + ds));
+  return least;
+}
+
+/// Widths must not go negative over their range (up to the next record or the section's end).
+void check_widths(const std::vector<xml::Element>& elements, const std::vector<Cubic>& widths, double section_end) {
+  for (std::size_t i = 0; i < widths.size(); ++i) {
+    const double to = i + 1 < widths.size() ? widths[i + 1].s_start : section_end;
+    if (!std::isfinite(to) || to < widths[i].s_start) continue;
+    if (const double least = least_value(widths[i], widths[i].s_start, to); least < -kNegativeWidthTolerance_m)
+      elements[i].fail("a", "<width> makes the lane's width negative (" + std::to_string(least) +
+                                " m) before s=" + std::to_string(to) + ": expected a width >= 0");
+  }
+}
+
 std::vector<int> linked_ids(const xml::Element& lane, std::string_view which) {
   std::vector<int> ids;
   if (const auto link = lane.child("link"))
@@ -39,6 +72,7 @@ std::vector<int> linked_ids(const xml::Element& lane, std::string_view which) {
 }
 
 Lane read_lane(const xml::Element& e, double section_s, double section_length) {
+  const double max_start = section_length + kStartTolerance_m;
   Lane lane;
   lane.where = e.where();
   lane.id = integer(e, "id");
@@ -46,8 +80,10 @@ Lane read_lane(const xml::Element& e, double section_s, double section_length) {
   const auto known = lane_type_named(type);
   if (!known) e.fail("type", "<lane> type \"" + type + "\" is not a lane type; expected one of " + lane_type_names());
   lane.type = *known;
-  lane.widths = read_records(e.children("width"), "sOffset", section_s, section_length);
-  lane.borders = read_records(e.children("border"), "sOffset", section_s, section_length);
+  const auto widths = e.children("width");
+  lane.widths = read_records(widths, "sOffset", section_s, max_start);
+  check_widths(widths, lane.widths, section_s + section_length);
+  lane.borders = read_records(e.children("border"), "sOffset", section_s, max_start);
   lane.predecessors = linked_ids(e, "predecessor");
   lane.successors = linked_ids(e, "successor");
   return lane;
@@ -97,8 +133,8 @@ std::vector<LaneSection> read_lane_sections(const xml::Element& lanes, double le
     section.single_sided = e.attribute("singleSided").value_or("false") == "true";
     const double end = i + 1 < elements.size() ? elements[i + 1].optional_number("s").value_or(length) : length;
     const double section_length = std::max(0.0, end - section.s);
-    section.left = read_side(e, "left", 1, section.s, section_length + kStartTolerance_m);
-    section.right = read_side(e, "right", -1, section.s, section_length + kStartTolerance_m);
+    section.left = read_side(e, "left", 1, section.s, section_length);
+    section.right = read_side(e, "right", -1, section.s, section_length);
     const auto center = e.required_child("center");
     const auto center_lanes = center.children("lane");
     if (center_lanes.size() != 1) center.fail("<center> needs exactly one <lane id=\"0\">");

@@ -76,6 +76,23 @@ TEST(OpenDriveReader, BadNumbersAndLaneTypesAreRefused) {
   EXPECT_THAT(type.message(), HasSubstr("connectingRamp"));
 }
 
+TEST(OpenDriveReader, WidthsMustNotGoNegative) {
+  // 1 - 0.2 ds + 0.009 ds² is positive at both ends of [0, 30] and -0.11 at ds = 11.1.
+  for (const std::string& bad : {testing::width(0, 3, -0.2), testing::width(0, 1, -0.2, 0.009)}) {
+    const std::string text = xodr(
+        road("1", 30, geometry(0, 0, 0, 0, 30, "<line/>"), testing::section(0, "", testing::lane(-1, "driving", bad))));
+    const InputError e = error_of(text);
+    EXPECT_EQ(std::pair(e.where().line, e.where().column),
+              position_of(text, "a=\"" + bad.substr(bad.find("a=\"") + 3, 1)));
+    EXPECT_THAT(e.message(), HasSubstr("expected a width >= 0"));
+  }
+  // Just touching 0 inside is a lane that narrows to nothing and widens again: accepted.
+  EXPECT_NO_THROW((void)parse_opendrive(
+      xodr(road("1", 30, geometry(0, 0, 0, 0, 30, "<line/>"),
+                testing::section(0, "", testing::lane(-1, "driving", testing::width(0, 1, -0.2, 0.01))))),
+      "ok.xodr"));
+}
+
 TEST(OpenDriveReader, LinkToAMissingRoadIsAnErrorAtTheLink) {
   const std::string text =
       xodr(road("1", 10, geometry(0, 0, 0, 0, 10, "<line/>"), testing::two_lanes(),
