@@ -165,7 +165,8 @@ struct Road {
   [[nodiscard]] std::optional<int> lane_in_next_section(int lane_id, double s, Travel travel) const;
   /// The direction a lane is driven in by the road's rule (the sign of its id).
   [[nodiscard]] Travel default_travel(int lane_id) const;
-  /// The pose at (s, t): t from the reference line (not from the centre lane), heading along s.
+  /// The pose at (s, t): t from the reference line (not from the centre lane), heading along s;
+  /// s clamped to [0, length] (past an end: next_lanes).
   [[nodiscard]] Pose to_world(double s, double t) const;
 };
 

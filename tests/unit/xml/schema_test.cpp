@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "emrm/xml/document.hpp"
 
@@ -97,6 +99,26 @@ TEST(XmlSchema, OpenDriveValidAndInvalid) {
   const Document old = Document::parse(road_network(4, "motorway"), "old.xodr");
   EXPECT_FALSE(has_schema(old, Schema::kOpenDrive));
   EXPECT_NO_THROW(validate(old, Schema::kOpenDrive));
+}
+
+TEST(XmlSchema, ValidatesFromManyThreadsAtOnce) {
+  // The schemas are compiled on first use, whichever thread comes first; validation shares them.
+  std::vector<std::thread> threads;
+  std::vector<int> failures(4, 0);
+  for (std::size_t i = 0; i < failures.size(); ++i) {
+    threads.emplace_back([i, &failures] {
+      for (int round = 0; round < 3; ++round) {
+        try {
+          validate(Document::parse(scenario(static_cast<int>(i % 4), "<Entities/>"), "t.xosc"), Schema::kOpenScenario);
+          validate(Document::parse(road_network(6 + static_cast<int>(i % 2), "driving"), "t.xodr"), Schema::kOpenDrive);
+        } catch (const std::exception&) {
+          ++failures[i];
+        }
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(failures, std::vector<int>(4, 0));
 }
 
 TEST(XmlSchema, TheRootMustBeTheSchemas) {
