@@ -107,7 +107,8 @@ TEST(OpenDriveLanes, TravelFollowsTheTrafficRule) {
   EXPECT_EQ(r.default_travel(1), Travel::kAgainstS);
   std::string text = xodr(road("1", 50, geometry(0, 0, 0, 0, 50, "<line/>")));
   text.replace(text.find("junction=\"-1\""), 13, "junction=\"-1\" rule=\"LHT\"");
-  const Road& left = parse_opendrive(text, "lht.xodr").roads().front();
+  const RoadNetwork left_network = parse_opendrive(text, "lht.xodr");
+  const Road& left = left_network.roads().front();
   EXPECT_EQ(left.rule, TrafficRule::kLeftHand);
   EXPECT_EQ(left.default_travel(1), Travel::kAlongS);
   EXPECT_EQ(left.default_travel(-1), Travel::kAgainstS);
