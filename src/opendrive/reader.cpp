@@ -76,7 +76,7 @@ ReferenceLine read_plan_view(const xml::Element& road, double length) {
     if (std::abs(segment.s - expected_s) > kJoinTolerance_m)
       g.fail("s", "<geometry> s=" + g.required("s") +
                       ": expected it to start where the previous one ends, at s=" + std::to_string(expected_s));
-    segments.push_back(std::move(segment));
+    segments.push_back(segment);
   }
   const double end = segments.back().s + segments.back().length;
   if (std::abs(end - length) > std::max(kJoinTolerance_m, 1e-6 * length))

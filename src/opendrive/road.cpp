@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ranges>
 #include <stdexcept>
 
 #include "emrm/opendrive/road_network.hpp"
@@ -44,7 +45,7 @@ const LaneSection& Road::section_at(double s) const {
 std::vector<int> Road::lane_ids(double s) const {
   const LaneSection& section = section_at(s);
   std::vector<int> ids;
-  for (auto lane = section.left.rbegin(); lane != section.left.rend(); ++lane) ids.push_back(lane->id);
+  for (const Lane& lane : std::views::reverse(section.left)) ids.push_back(lane.id);
   ids.push_back(0);
   for (const Lane& lane : section.right) ids.push_back(lane.id);
   return ids;

@@ -69,10 +69,10 @@ enum class Drivability {
 
 /// A lane type's entry in the roadside table (lane_type_table(), the one owner of these facts).
 struct LaneTypeInfo {
-  LaneType type;
-  std::string_view name;      // as the file writes it ("onRamp")
-  Drivability drivability;    // for a car
-  std::string_view roadside;  // what lies there, for messages and docs
+  LaneType type = LaneType::kNone;
+  std::string_view name;                                // as the file writes it ("onRamp")
+  Drivability drivability = Drivability::kNotDrivable;  // for a car
+  std::string_view roadside;                            // what lies there, for messages and docs
 };
 
 /// Every lane type, in enum order.
@@ -240,7 +240,7 @@ class RoadNetwork {
   std::unordered_map<std::string, std::size_t> road_index_;
   std::unordered_map<std::string, std::size_t> junction_index_;
   struct Box {  // a road's lanes lie inside (world x, y)
-    double min_x, min_y, max_x, max_y;
+    double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
   };
   std::vector<Box> boxes_;  // one per road
 };

@@ -4,7 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <functional>
+#include <algorithm>
+#include <string>
+#include <utility>
 
 #include "emrm/opendrive/road_network.hpp"
 #include "opendrive/xodr_text.hpp"

@@ -2,6 +2,7 @@
 
 // Small OpenDRIVE texts for the tests, built from parts.
 
+#include <cstdio>
 #include <string>
 
 namespace emrm::opendrive::testing {
