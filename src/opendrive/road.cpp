@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ranges>
 #include <stdexcept>
 
 #include "emrm/opendrive/road_network.hpp"
@@ -45,7 +44,7 @@ const LaneSection& Road::section_at(double s) const {
 std::vector<int> Road::lane_ids(double s) const {
   const LaneSection& section = section_at(s);
   std::vector<int> ids;
-  for (const Lane& lane : std::views::reverse(section.left)) ids.push_back(lane.id);
+  for (std::size_t i = section.left.size(); i-- > 0;) ids.push_back(section.left[i].id);  // outer to inner
   ids.push_back(0);
   for (const Lane& lane : section.right) ids.push_back(lane.id);
   return ids;

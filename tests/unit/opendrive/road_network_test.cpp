@@ -135,7 +135,7 @@ void expect_round_trip(const RoadNetwork& network) {
         EXPECT_NEAR(back->s, s, 1e-7) << t;
         EXPECT_NEAR(back->t, t, 1e-7) << s;
         EXPECT_EQ(back->lane_id, id);
-        EXPECT_NEAR(std::remainder(back->heading - p.heading, 2 * M_PI), 0.0, 1e-7);
+        EXPECT_NEAR(std::remainder(back->heading - p.heading, 2 * std::numbers::pi), 0.0, 1e-7);
       }
     }
   }
@@ -192,7 +192,7 @@ TEST(OpenDriveNetwork, LanesLeadThroughRoadLinksAndJunctions) {
                                 link("<predecessor elementType=\"road\" elementId=\"2\" contactPoint=\"end\"/>",
                                      "<successor elementType=\"road\" elementId=\"4\" contactPoint=\"end\"/>"),
                                 "9") +
-                           road("4", 40, geometry(0, 100, 0, M_PI, 40, "<line/>"), testing::two_lanes(),
+                           road("4", 40, geometry(0, 100, 0, std::numbers::pi, 40, "<line/>"), testing::two_lanes(),
                                 link("", "<successor elementType=\"junction\" elementId=\"9\"/>")) +
                            "  <junction id=\"9\" name=\"j\">\n"
                            "    <connection id=\"0\" incomingRoad=\"2\" connectingRoad=\"3\" contactPoint=\"start\">\n"
