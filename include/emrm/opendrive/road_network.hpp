@@ -205,6 +205,8 @@ struct LaneContinuation {
   Travel travel = Travel::kAlongS;
 };
 
+/// The roads and junctions of a file. The Road pointers it hands out (find_road, RoadCoordinates,
+/// LaneContinuation) point into it: valid while it lives, also after it is moved (not into a copy).
 class RoadNetwork {
  public:
   RoadNetwork() = default;

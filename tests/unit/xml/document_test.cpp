@@ -127,6 +127,17 @@ TEST(XmlDocument, RefusesDoctypeAndEntities) {
   EXPECT_THROW((void)Document::parse(external, "ext.xml"), InputError);
 }
 
+TEST(XmlDocument, WindowsLineEndsAndNamespacePrefixes) {
+  const std::string text = "<?xml version=\"1.0\"?>\r\n<a xmlns:p=\"urn:x\">\r\n  <p:b p:v=\"x\" w=\"1\"/>\r\n</a>\r\n";
+  const Element b = Document::parse(text, "crlf.xml").root().children().front();
+  EXPECT_EQ(b.name(), "b");
+  EXPECT_EQ(b.where().line, 3);
+  EXPECT_EQ(b.where().column, 3);
+  EXPECT_EQ(b.where("v").column, 8);  // p:v, asked for by its local name
+  EXPECT_EQ(b.where("w").column, 16);
+  EXPECT_EQ(b.attribute("v"), "x");
+}
+
 TEST(XmlDocument, LoadNamesAnUnreadableFile) {
   const InputError e = error_of([] { (void)Document::load("/nonexistent/emrm/road.xodr"); });
   EXPECT_EQ(e.where().file, "/nonexistent/emrm/road.xodr");
