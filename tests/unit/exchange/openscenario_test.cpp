@@ -1,5 +1,5 @@
 // The OpenSCENARIO/OpenDRIVE export (docs/openscenario.md): every file validates against the
-// official XSDs (tests/schemas), and the geometry read back with libxml2 is the scene's: the main
+// official XSDs (schemas/), and the geometry read back with libxml2 is the scene's: the main
 // road's lane borders, the truck's stopped position and the passage beside it, the vehicles'
 // reference points.
 

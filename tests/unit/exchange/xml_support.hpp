@@ -1,6 +1,6 @@
 #pragma once
 
-// libxml2 for the exchange tests: validation against the official XSDs copied into tests/schemas
+// libxml2 for the exchange tests: validation against the official XSDs copied into schemas/
 // (their ASAM headers intact), and reading numbers back by XPath.
 
 #include <libxml/parser.h>
@@ -16,7 +16,7 @@
 
 namespace emrm::exchange::testing {
 
-inline std::filesystem::path schema_dir() { return std::filesystem::path(EMRM_SOURCE_DIR) / "tests" / "schemas"; }
+inline std::filesystem::path schema_dir() { return std::filesystem::path(EMRM_SOURCE_DIR) / "schemas"; }
 inline std::filesystem::path openscenario_schema() { return schema_dir() / "openscenario" / "OpenSCENARIOv1.2.xsd"; }
 inline std::filesystem::path opendrive_schema() {
   return schema_dir() / "opendrive" / "OpenDRIVE_1.6" / "opendrive_16_core.xsd";
