@@ -19,6 +19,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/interrupt.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/openscenario/family.hpp"
 #include "emrm/version.hpp"
 #include "options.hpp"
 
@@ -80,6 +81,9 @@ int run_cli(int argc, char** argv, Mode mode) {
   app.require_subcommand(1);
   app.fallthrough(false);
 
+  // The family of imported OpenSCENARIO scenarios and `--scene FILE.xosc`, for every command.
+  static const emrm::openscenario::Registration openscenario_family;
+
   int exit_code = 0;
   emrm::cli::register_analyze_command(app, exit_code);
   emrm::cli::register_fsm_command(app, exit_code);
@@ -97,6 +101,7 @@ int run_cli(int argc, char** argv, Mode mode) {
   emrm::cli::register_calibrate_command(app, exit_code);
   emrm::cli::register_export_command(app, exit_code);
   emrm::cli::register_assess_command(app, exit_code);
+  emrm::cli::register_import_command(app, exit_code);
   // Every check of the arguments, none of the work: CLI11 calls this once they all passed, before
   // the command's callback (which owns the command's options, so it must stay).
   struct Parsed {};

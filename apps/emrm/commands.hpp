@@ -11,6 +11,8 @@ namespace emrm::cli {
 void register_analyze_command(CLI::App& app, int& exit_code);
 /// `emrm fsm FSM.yaml`: checks and explores a hazard–loss finite state machine.
 void register_fsm_command(CLI::App& app, int& exit_code);
+/// `emrm import`: an OpenSCENARIO scenario as a scene, and its trace.
+void register_import_command(CLI::App& app, int& exit_code);
 /// `emrm families`: the scenario families and their factors.
 void register_families_command(CLI::App& app, int& exit_code);
 /// `emrm simulate`: one scenario cell under every strategy.

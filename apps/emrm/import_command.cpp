@@ -1,0 +1,78 @@
+// `emrm import`: an OpenSCENARIO scenario as a scene of the family openscenario, and its storyboard
+// played open loop as a trace (docs/import.md).
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "emrm/core/text.hpp"
+#include "emrm/openscenario/family.hpp"
+#include "emrm/openscenario/player.hpp"
+#include "emrm/openscenario/reader.hpp"
+#include "emrm/openscenario/trace.hpp"
+#include "emrm/sim/scene.hpp"
+
+namespace emrm::cli {
+namespace {
+
+struct ImportOptions {
+  std::string scenario;
+  std::string ego;
+  std::string output;
+  std::string trace;
+  double trace_s = 10.0;
+};
+
+int run(const ImportOptions& o) {
+  sim::SceneConfig config = openscenario::scene_of(o.scenario, {o.ego});
+  // Everything is read and checked before anything is written.
+  std::string trace;
+  if (!o.trace.empty()) {
+    openscenario::PlayOptions play;
+    play.dt_s = config.simulation.dt_s;
+    play.duration_s = o.trace_s;
+    std::ostringstream csv;
+    openscenario::write_trace_csv(csv, openscenario::play(openscenario::load_openscenario(o.scenario), play));
+    trace = csv.str();
+  }
+  if (!o.output.empty()) {
+    // The scenario relative to the scene file, so that the two move together.
+    const std::filesystem::path folder = std::filesystem::absolute(o.output).parent_path();
+    config.openscenario.file = std::filesystem::path(config.openscenario.file).lexically_relative(folder).string();
+    core::write_file(o.output, fmt::format("# {} imported by `emrm import` (docs/import.md)\n{}", o.scenario,
+                                           sim::to_yaml(config)));
+    std::cout << fmt::format("Scene written to {} (family openscenario, ego {}, {} factor{} besides speed, TTC and μ)\n",
+                             o.output, config.openscenario.ego, config.openscenario.factors.size(),
+                             config.openscenario.factors.size() == 1 ? "" : "s");
+  } else {
+    std::cout << sim::to_yaml(config);
+  }
+  if (!o.trace.empty()) {
+    core::write_file(o.trace, trace);
+    if (!o.output.empty()) std::cout << fmt::format("Trace of the first {:g} s written to {}\n", o.trace_s, o.trace);
+  }
+  return static_cast<int>(ExitCode::kSuccess);
+}
+
+}  // namespace
+
+void register_import_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<ImportOptions>();
+  auto* cmd = app.add_subcommand("import",
+                                 "Import an ASAM OpenSCENARIO scenario (.xosc, with its OpenDRIVE road) as a scene of\n"
+                                 "the family openscenario that every command takes (docs/import.md); `--scene\n"
+                                 "FILE.xosc` works directly too.");
+  cmd->add_option("scenario", o->scenario, "The scenario (.xosc)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--ego", o->ego, "The entity the EMRM drives (default: Ego, ego or hero, else the first vehicle)");
+  cmd->add_option("-o,--output", o->output, "Write the scene here (default: print it)");
+  cmd->add_option("--trace", o->trace,
+                  "Also write every entity's open-loop trajectory as CSV (t, actor, x, y, heading, speed; OpenDRIVE "
+                  "world frame), to compare with another engine's recording");
+  cmd->add_option("--trace-s", o->trace_s, "How long the trace runs (s)")->check(CLI::PositiveNumber);
+  cmd->callback([o, &exit_code] { exit_code = run(*o); });
+}
+
+}  // namespace emrm::cli

@@ -1,0 +1,319 @@
+// An imported OpenSCENARIO scenario as the scenario family "openscenario" (family.hpp,
+// docs/import.md "A scenario as a family").
+
+#include "emrm/openscenario/family.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "emrm/core/error.hpp"
+#include "emrm/core/trig.hpp"
+#include "emrm/opendrive/road_network.hpp"
+#include "emrm/openscenario/player.hpp"
+#include "emrm/openscenario/reader.hpp"
+#include "emrm/sim/played.hpp"
+
+namespace emrm::openscenario {
+namespace {
+
+// ---- what is read once per file -------------------------------------------------------------
+
+// The scenario as its file declares it (no overrides), read once per file and process.
+std::shared_ptr<const Scenario> base_scenario(const std::string& file) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const Scenario>> read;
+  const std::scoped_lock lock(mutex);
+  auto& slot = read[file];
+  if (!slot) slot = std::make_shared<const Scenario>(load_openscenario(file));
+  return slot;
+}
+
+bool numeric(ParameterType type) {
+  return type == ParameterType::kDouble || type == ParameterType::kInt || type == ParameterType::kUnsignedInt ||
+         type == ParameterType::kUnsignedShort;
+}
+
+const Parameter* find_parameter(const Scenario& scenario, const std::string& name) {
+  for (const Parameter& p : scenario.parameters)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+// The ego's absolute speed in the Init (its first SpeedAction there), if it has one.
+SpeedAction* init_speed(Scenario& scenario, const std::string& ego) {
+  for (Action& a : scenario.storyboard.init)
+    if (a.actor == ego)
+      if (auto* speed = std::get_if<SpeedAction>(&a.kind); speed != nullptr && !speed->relative) return speed;
+  return nullptr;
+}
+
+double init_speed_mps(const Scenario& scenario, const std::string& ego) {
+  Scenario copy = scenario;
+  const SpeedAction* speed = init_speed(copy, ego);
+  return speed != nullptr ? speed->value : 0.0;
+}
+
+// ---- factors --------------------------------------------------------------------------------
+
+constexpr double kDefaultTtc_s = 1.5;
+
+sim::FactorTable scenario_factors(const sim::SceneConfig& config) {
+  const sim::OpenScenarioConfig& o = config.openscenario;
+  // Without a scenario (`emrm families`): the method's factors; a scenario adds its own.
+  if (o.file.empty()) return sim::FactorTable(sim::method_factors(50.0, kDefaultTtc_s, 1.0));
+  const auto scenario = base_scenario(o.file);
+  double speed_kph = init_speed_mps(*scenario, o.ego) * 3.6;
+  if (!o.speed_parameter.empty())
+    if (const Parameter* p = find_parameter(*scenario, o.speed_parameter)) speed_kph = std::stod(p->value) * 3.6;
+  std::vector<sim::Factor> factors = sim::method_factors(speed_kph > 0.0 ? speed_kph : 50.0, kDefaultTtc_s, 1.0);
+  for (const sim::ImportedFactor& f : o.factors) {
+    const Parameter* p = find_parameter(*scenario, f.parameter);
+    const double value = p != nullptr && numeric(p->type) ? std::stod(p->value) : 0.0;
+    factors.push_back({.key = f.parameter,
+                       .unit = f.unit,
+                       .what = "parameter " + f.parameter,
+                       .axis = f.unit == "1" ? f.parameter : fmt::format("{} ({})", f.parameter, f.unit),
+                       .plural = f.parameter,
+                       .held = f.parameter + " = {}",
+                       .brief = f.parameter + " {:g}",
+                       .default_value = value,
+                       .limits = {.low = f.min.value_or(-std::numeric_limits<double>::infinity()),
+                                  .low_inclusive = true,
+                                  .high = f.max.value_or(std::numeric_limits<double>::infinity())},
+                       .name = f.parameter});
+  }
+  return sim::FactorTable(std::move(factors));
+}
+
+// ---- a cell's layout ------------------------------------------------------------------------
+
+// The box's centre of an entity whose reference point is at `s`.
+sim::Track::Sample box_centre(const Sample& s, const BoundingBox& box) {
+  const core::Vec2 along = core::Vec2::unit(s.heading_rad);
+  const core::Vec2 across{-along.y, along.x};
+  const core::Vec2 c = core::Vec2{s.x_m, s.y_m} + along * box.center_x_m + across * box.center_y_m;
+  return {c.x, c.y, s.heading_rad, std::abs(s.speed_mps)};
+}
+
+sim::ActorKind kind_of(const Entity& e) {
+  if (e.kind == EntityKind::kPedestrian)
+    return e.category == "animal" ? sim::ActorKind::kAnimal : sim::ActorKind::kPedestrian;
+  if (e.kind == EntityKind::kMiscObject) return sim::ActorKind::kStaticObject;
+  if (e.category == "truck" || e.category == "bus" || e.category == "semitrailer" || e.category == "trailer")
+    return sim::ActorKind::kTruck;
+  if (e.category == "bicycle" || e.category == "motorbike") return sim::ActorKind::kCyclist;
+  return sim::ActorKind::kCar;
+}
+
+sim::PlayedScenario played_of(const Scenario& scenario, const Trajectories& trajectories, const std::string& ego,
+                              double dt_s) {
+  sim::PlayedScenario out;
+  out.dt_s = dt_s;
+  for (const Entity& e : scenario.entities) {
+    const auto it = trajectories.find(e.name);
+    if (it == trajectories.end()) continue;
+    sim::PlayedUser user;
+    user.body = {kind_of(e), e.box.length_m, e.box.width_m, 0.0, 0.0, e.name};
+    for (const Sample& s : it->second) user.path.push_back(box_centre(s, e.box));
+    if (e.name == ego)
+      out.ego = std::move(user);
+    else
+      out.others.push_back(std::move(user));
+  }
+  return out;
+}
+
+// The drivable band across a straight road at s: the lanes a car may use (in normal driving or to
+// avoid harm) next to the one at t = `ego_t`, outwards until one it may not; its lowest and highest t.
+std::optional<std::pair<double, double>> band_at(const opendrive::Road& road, double s, double ego_t) {
+  const std::optional<int> ego_lane = road.lane_at(s, ego_t);
+  if (!ego_lane) return std::nullopt;
+  const std::vector<int> ids = road.lane_ids(s);  // leftmost first, 0 included
+  const auto here = std::find(ids.begin(), ids.end(), *ego_lane);
+  const auto usable = [&](int id) {
+    return id == 0 || opendrive::info(road.lane_type(id, s)).drivability != opendrive::Drivability::kNotDrivable;
+  };
+  double low = std::numeric_limits<double>::infinity();
+  double high = -low;
+  const auto cover = [&](int id) {
+    const auto [inner, outer] = road.lane_borders(id, s);
+    low = std::min({low, inner, outer});
+    high = std::max({high, inner, outer});
+  };
+  cover(*ego_lane);
+  for (auto it = here; it != ids.begin() && usable(*std::prev(it));) cover(*--it);
+  for (auto it = std::next(here); it != ids.end() && usable(*it); ++it) cover(*it);
+  return std::pair{low, high};
+}
+
+constexpr double kStraight_m = 0.02;       // the reference line's most lateral deviation from a line
+constexpr double kStraight_rad = 0.005;    // and its heading's from the line's
+constexpr double kBehind_m = 20.0;         // the stretch checked behind the ego
+constexpr double kStretchStep_m = 1.0;
+
+// The straight road the ego drives at the onset, in the ego's direction, with the narrowest
+// drivable band over the stretch it may reach; or why there is none.
+std::variant<sim::StraightRoad, std::string> straight_road(const opendrive::RoadNetwork& network,
+                                                          const sim::Track::Sample& ego, double reach_m,
+                                                          const sim::OpenScenarioConfig& o) {
+  const auto at = network.world_to_road(ego.x_m, ego.y_m);
+  if (!at) return std::string("the ego is on no road at the threat onset");
+  const opendrive::Road& road = *at->road;
+  const bool along = std::abs(core::wrap_angle(ego.heading_rad - at->heading)) <= std::numbers::pi / 2.0;
+  const double s_from = std::max(0.0, at->s - (along ? kBehind_m : reach_m));
+  const double s_to = std::min(road.length, at->s + (along ? reach_m : kBehind_m));
+  const opendrive::Pose origin = road.to_world(at->s, 0.0);
+  const core::Vec2 dir = core::Vec2::unit(origin.heading);
+  const core::Vec2 normal{-dir.y, dir.x};
+  double low = -std::numeric_limits<double>::infinity();
+  double high = -low;
+  for (double s = s_from;; s = std::min(s + kStretchStep_m, s_to)) {
+    const opendrive::Pose p = road.to_world(s, 0.0);
+    const double off = (core::Vec2{p.x, p.y} - core::Vec2{origin.x, origin.y}).dot(normal);
+    if (std::abs(off) > kStraight_m || std::abs(core::wrap_angle(p.heading - origin.heading)) > kStraight_rad)
+      return fmt::format(
+          "road {} is not straight where the ego may drive (at s = {:.1f} m it is {:.2f} m and {:.2f}° off the line "
+          "at s = {:.1f} m): emrm lays imported scenes out on straight roads",
+          road.id, s, off, core::wrap_angle(p.heading - origin.heading) * 180.0 / std::numbers::pi, at->s);
+    const auto band = band_at(road, s, at->t);
+    if (!band) return fmt::format("the ego's lane on road {} ends at s = {:.1f} m, within its reach", road.id, s);
+    low = std::max(low, band->first);
+    high = std::min(high, band->second);
+    if (s >= s_to) break;
+  }
+  sim::StraightRoad out{{origin.x, origin.y}, origin.heading, {}};
+  out.band.right = o.right_roadside;
+  out.band.left = o.left_roadside;
+  out.band.min_y_m = low;
+  out.band.max_y_m = high;
+  if (!along) {  // the ego drives against s: the road frame turns round
+    out.heading_rad = core::wrap_angle(origin.heading + std::numbers::pi);
+    out.band.min_y_m = -high;
+    out.band.max_y_m = -low;
+  }
+  return out;
+}
+
+// Plays the scenario for one cell and lays it out.
+sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput& cell) {
+  const sim::OpenScenarioConfig& o = config.openscenario;
+  const auto base = base_scenario(o.file);
+  ParameterOverrides overrides;
+  for (std::size_t i = 0; i < o.factors.size(); ++i)
+    overrides[o.factors[i].parameter] = fmt::format("{:.17g}", cell[sim::kMethodFactors + i]);
+  const double speed_mps = cell.ego_speed_kph() / 3.6;
+  if (!o.speed_parameter.empty()) overrides[o.speed_parameter] = fmt::format("{:.17g}", speed_mps);
+  Scenario scenario = overrides.empty() ? *base : load_openscenario(o.file, overrides);
+  if (o.speed_parameter.empty())
+    if (SpeedAction* speed = init_speed(scenario, o.ego)) speed->value = speed_mps;
+  const double horizon_s = config.simulation.horizon_s;
+  PlayOptions options;
+  options.dt_s = config.simulation.dt_s;
+  options.duration_s = o.onset_search_s + horizon_s + 1.0;
+  const sim::PlayedScenario played = played_of(scenario, play(scenario, options), o.ego, options.dt_s);
+  const auto onset = sim::threat_onset(played, cell.time_to_collision_s(), config.ego.length_m, config.ego.width_m);
+  const sim::Track::Sample& ego = played.ego.path.at(onset ? onset->step : 0);
+  const double reach_m = ego.speed_mps * horizon_s + config.ego.length_m;
+  const auto road = scenario.network ? straight_road(*scenario.network, ego, reach_m, o)
+                                     : std::variant<sim::StraightRoad, std::string>(
+                                           std::string("the scenario has no road network (RoadNetwork/LogicFile)"));
+  if (const auto* why = std::get_if<std::string>(&road)) {
+    sim::SceneLayout out = sim::layout_from_onset(played, {}, onset, config.ego.length_m);
+    out.infeasible = *why;
+    return out;
+  }
+  return sim::layout_from_onset(
+      played, std::get<sim::StraightRoad>(road), onset, config.ego.length_m,
+      fmt::format("the ego's time to collision with every other road user stays above {:g} s over the scenario's "
+                  "first {:g} s (openscenario.onset_search_s)",
+                  cell.time_to_collision_s(), o.onset_search_s));
+}
+
+// The layouts of the last cells: a cell is laid out several times (simulate, verify, the exports),
+// and each time plays the scenario.
+sim::SceneLayout layout_of(const sim::SceneConfig& config, const sim::CellInput& cell) {
+  static std::mutex mutex;
+  static std::deque<std::pair<std::string, sim::SceneLayout>> recent;
+  constexpr std::size_t kKept = 64;
+  const std::string key = sim::to_yaml(config) + fmt::format("{}", fmt::join(cell, "|"));
+  {
+    const std::scoped_lock lock(mutex);
+    for (const auto& [k, layout] : recent)
+      if (k == key) return layout;
+  }
+  sim::SceneLayout layout = play_cell(config, cell);
+  const std::scoped_lock lock(mutex);
+  recent.emplace_back(key, layout);
+  if (recent.size() > kKept) recent.pop_front();
+  return layout;
+}
+
+}  // namespace
+
+sim::ScenarioFamilyInfo scenario_family() {
+  return {.name = "openscenario",
+          .description = "a scenario imported from ASAM OpenSCENARIO with its OpenDRIVE road (emrm import): its "
+                         "declared parameters as factors, the threat onset at the cell's TTC",
+          .factors = scenario_factors,
+          .layout = layout_of,
+          .tjunction_analytics = false,
+          .stop_boundary = false};
+}
+
+sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices& choices) {
+  const std::string path = std::filesystem::absolute(file).lexically_normal().string();
+  const auto scenario = base_scenario(path);
+  sim::SceneConfig config;
+  config.name = scenario->file.stem().string();
+  config.family = "openscenario";
+  config.openscenario.file = path;
+  const Entity* ego = nullptr;
+  if (!choices.ego.empty()) {
+    ego = scenario->find_entity(choices.ego);
+    if (ego == nullptr) {
+      std::vector<std::string> names;
+      for (const Entity& e : scenario->entities) names.push_back(e.name);
+      throw InputError({path, 0, 0}, fmt::format("--ego: the scenario has no entity '{}' (it has {})", choices.ego,
+                                                 fmt::join(names, ", ")));
+    }
+  } else {
+    for (const char* name : {"Ego", "ego", "hero"})
+      if ((ego = scenario->find_entity(name)) != nullptr) break;
+    for (const Entity& e : scenario->entities)
+      if (ego == nullptr && e.kind == EntityKind::kVehicle) ego = &e;
+  }
+  if (ego == nullptr || ego->kind != EntityKind::kVehicle)
+    throw InputError(ego != nullptr ? ego->where : SourceLocation{path, 0, 0},
+                     "the ego must be a Vehicle of the scenario (name it with --ego)");
+  config.openscenario.ego = ego->name;
+  config.ego.length_m = ego->box.length_m;
+  config.ego.width_m = ego->box.width_m;
+  std::vector<std::string> numeric_parameters;
+  for (const Parameter& p : scenario->parameters)
+    if (numeric(p.type)) numeric_parameters.push_back(p.name);
+  if (numeric_parameters.size() > sim::kMaxImportedFactors)
+    throw InputError({path, 0, 0},
+                     fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
+                                 "factors: write a scene file with `emrm import` and keep those you vary under "
+                                 "openscenario.factors",
+                                 numeric_parameters.size(), fmt::join(numeric_parameters, ", "),
+                                 sim::kMaxImportedFactors));
+  for (const std::string& name : numeric_parameters) config.openscenario.factors.push_back({.parameter = name});
+  sim::validate(config);
+  return config;
+}
+
+Registration::Registration()
+    : family_(scenario_family()), reader_(".xosc", [](const std::filesystem::path& file) { return scene_of(file); }) {}
+
+}  // namespace emrm::openscenario

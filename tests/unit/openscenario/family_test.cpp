@@ -1,0 +1,91 @@
+// An imported OpenSCENARIO scenario as the family "openscenario" (openscenario/family.hpp,
+// docs/import.md): the example cut-in read as a scene, its factors, and its cells laid out at the
+// threat onset on the motorway's drivable band.
+
+#include "emrm/openscenario/family.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "emrm/core/error.hpp"
+#include "emrm/sim/scene.hpp"
+#include "emrm/sim/simulate.hpp"
+
+namespace emrm::openscenario {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+const std::string kExample = EMRM_SOURCE_DIR "/examples/openscenario";
+
+std::vector<std::string> keys(const sim::FactorTable& table) {
+  std::vector<std::string> out;
+  for (const sim::Factor& f : table) out.push_back(f.key);
+  return out;
+}
+
+TEST(ImportedFamily, AScenarioFileIsASceneWithEveryNumericParameterAFactor) {
+  const Registration registration;
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/cut_in.xosc");
+  EXPECT_EQ(scene.family, "openscenario");
+  EXPECT_EQ(scene.openscenario.ego, "Ego");
+  EXPECT_EQ(scene.ego.length_m, 4.5);
+  EXPECT_EQ(scene.ego.width_m, 1.8);
+  EXPECT_THAT(keys(sim::scenario_factors(scene)),
+              ElementsAre("speed_kph", "ttc_s", "mu", "EgoSpeed", "RelativeSpeed", "LaneChangeTime", "CutInGap",
+                          "TargetDecel"));
+}
+
+TEST(ImportedFamily, ASceneFileChoosesTheFactorsAndTheSpeedParameter) {
+  const Registration registration;
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/scene.yaml");
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  EXPECT_THAT(keys(factors), ElementsAre("speed_kph", "ttc_s", "mu", "RelativeSpeed", "LaneChangeTime"));
+  EXPECT_NEAR(factors[0].default_value, 27.7778 * 3.6, 1e-9);  // EgoSpeed, in km/h
+  EXPECT_NEAR(factors[3].default_value, 5.5556, 1e-12);
+  EXPECT_TRUE(factors[4].accepts(0.5));
+  EXPECT_FALSE(factors[4].accepts(0.49));
+  EXPECT_TRUE(std::filesystem::path(scene.openscenario.file).is_absolute());
+}
+
+TEST(ImportedFamily, ACellHandsOverAtTheOnsetOnTheMotorwaysDrivableBand) {
+  const Registration registration;
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/scene.yaml");
+  // 100 km/h, TTC 1.5 s, dry, 20 km/h slower, a 2 s lane change.
+  const sim::CellInput cell{100.0, 1.5, 1.0, 20.0 / 3.6, 2.0};
+  const sim::Scene s(scene, cell);
+  ASSERT_TRUE(s.feasible()) << s.infeasible_reason();
+  EXPECT_EQ(s.hazard().body().name, "CutIn");
+  // The lanes -1 and -2 and the shoulder right of them, the border at the median left out: the
+  // band is 8 m wide below the reference line, the ego centred in lane -2.
+  EXPECT_NEAR(s.road().min_y_m, -8.0, 1e-9);
+  EXPECT_NEAR(s.road().max_y_m, 0.0, 1e-9);
+  EXPECT_NEAR(s.ego_initial().y_m, -5.625, 1e-6);
+  EXPECT_NEAR(s.initial_speed_mps(), 100.0 / 3.6, 1e-9);
+  // The car is ahead and drifting towards the ego's lane.
+  const sim::ActorState car = s.hazard_at(0.0);
+  EXPECT_GT(car.box.center.x, 0.0);
+  EXPECT_LT(car.velocity_mps.y, 0.0);
+  const sim::CellResult result = sim::simulate_cell(scene, cell, {});
+  EXPECT_TRUE(result.feasible);
+  EXPECT_EQ(result.unmitigated.loss_level > 0, true);  // doing nothing hits the car
+}
+
+TEST(ImportedFamily, ACellWithoutAThreatIsInfeasibleAndSaysWhy) {
+  const Registration registration;
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/scene.yaml");
+  // The cutting car barely slower, the search too short to reach the cut-in.
+  sim::SceneConfig short_search = scene;
+  short_search.openscenario.onset_search_s = 1.0;
+  const sim::Scene s(short_search, sim::CellInput{100.0, 0.5, 1.0, 0.5, 2.0});
+  EXPECT_FALSE(s.feasible());
+  EXPECT_THAT(s.infeasible_reason(), HasSubstr("stays above 0.5 s"));
+}
+
+}  // namespace
+}  // namespace emrm::openscenario
