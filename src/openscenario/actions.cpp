@@ -110,10 +110,11 @@ void ActionRuntime::start_speed(World& world, const SpeedAction& a) {
     transition_.range = range_of(a.dynamics, transition_.start, transition_.target);
   }
   // A shape steeper than the vehicle accelerates is stretched in time (esmini's SetMaxRate).
-  const double max_rate = transition_.target > transition_.start ? performance.max_acceleration_mps2
-                                                                 : performance.max_deceleration_mps2;
+  const double max_rate =
+      transition_.target > transition_.start ? performance.max_acceleration_mps2 : performance.max_deceleration_mps2;
   const double peak = std::fabs(transition_.slope(transition_.range / 2.0));
-  const double linear_peak = transition_.jumps() ? 0.0 : std::fabs(transition_.target - transition_.start) / transition_.range;
+  const double linear_peak =
+      transition_.jumps() ? 0.0 : std::fabs(transition_.target - transition_.start) / transition_.range;
   const double peak_rate = transition_.shape == DynamicsShape::kLinear ? linear_peak : peak;
   scale_ = (!transition_.jumps() && peak_rate > max_rate) ? peak_rate / max_rate : 1.0;
   reached_ = false;

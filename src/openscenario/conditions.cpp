@@ -107,7 +107,8 @@ bool ConditionRuntime::check(const World& world, double time_s) {
       }
       one = ttc >= 0.0 && holds(ttc, tc->rule, tc->value_s);
     } else if (const auto* rd = std::get_if<RelativeDistanceCondition>(&spec_.kind)) {
-      one = holds(std::fabs(measured_distance(world, e, world.entity(rd->entity), rd->distance)), rd->rule, rd->value_m);
+      one =
+          holds(std::fabs(measured_distance(world, e, world.entity(rd->entity), rd->distance)), rd->rule, rd->value_m);
     } else if (const auto* dc = std::get_if<DistanceCondition>(&spec_.kind)) {
       const WorldPose p = resolve(world, dc->position, &e).pose;
       one = holds(std::fabs(measured_distance(world, e, p, dc->distance)), dc->rule, dc->value_m);

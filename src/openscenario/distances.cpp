@@ -40,8 +40,10 @@ bool overlap(const std::array<Corner, 4>& a, const std::array<Corner, 4>& b) {
       const Corner& q = (*poly)[(i + 1) % 4];
       const double nx = q[1] - p[1], ny = p[0] - q[0];
       double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
-      for (const Corner& c : a) amin = std::min(amin, c[0] * nx + c[1] * ny), amax = std::max(amax, c[0] * nx + c[1] * ny);
-      for (const Corner& c : b) bmin = std::min(bmin, c[0] * nx + c[1] * ny), bmax = std::max(bmax, c[0] * nx + c[1] * ny);
+      for (const Corner& c : a)
+        amin = std::min(amin, c[0] * nx + c[1] * ny), amax = std::max(amax, c[0] * nx + c[1] * ny);
+      for (const Corner& c : b)
+        bmin = std::min(bmin, c[0] * nx + c[1] * ny), bmax = std::max(bmax, c[0] * nx + c[1] * ny);
       if (amax < bmin || bmax < amin) return false;
     }
   return true;
@@ -82,8 +84,8 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
       (spec.system == CoordinateSystem::kLane || spec.system == CoordinateSystem::kRoad) && world.roads != nullptr;
   if (along_road) {
     // s and t differences in the road coordinates of the entity's road (esmini: along the road).
-    const auto here_found =
-        from.on_lane ? std::optional<LaneCoord>(from.lane) : world.roads->world_to_lane(from.pose.x_m, from.pose.y_m, nullptr);
+    const auto here_found = from.on_lane ? std::optional<LaneCoord>(from.lane)
+                                         : world.roads->world_to_lane(from.pose.x_m, from.pose.y_m, nullptr);
     if (!here_found) return std::numeric_limits<double>::infinity();  // off road: no road distance (esmini: none)
     const LaneCoord& here = *here_found;
     const auto there_found = world.roads->world_to_lane(to.x_m, to.y_m, &here);
@@ -113,8 +115,9 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
   }
   const auto own = corners(from.pose, box);
   const std::array<Corner, 4> other =
-      to_box != nullptr ? corners(to, *to_box)
-                        : std::array<Corner, 4>{{{to.x_m, to.y_m}, {to.x_m, to.y_m}, {to.x_m, to.y_m}, {to.x_m, to.y_m}}};
+      to_box != nullptr
+          ? corners(to, *to_box)
+          : std::array<Corner, 4>{{{to.x_m, to.y_m}, {to.x_m, to.y_m}, {to.x_m, to.y_m}, {to.x_m, to.y_m}}};
   const double longitudinal = gap(span(own, from.pose, ux, uy), span(other, from.pose, ux, uy));
   if (spec.type == DistanceType::kLongitudinal) return longitudinal;
   if (spec.type == DistanceType::kLateral) return gap(span(own, from.pose, -uy, ux), span(other, from.pose, -uy, ux));
@@ -124,8 +127,7 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
 
 }  // namespace
 
-double measured_distance(const World& world, const EntityState& from, const EntityState& to,
-                         const DistanceSpec& spec) {
+double measured_distance(const World& world, const EntityState& from, const EntityState& to, const DistanceSpec& spec) {
   return measure(world, from, to.pose, &to.spec->box, spec);
 }
 

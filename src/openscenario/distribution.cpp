@@ -48,17 +48,18 @@ ParameterDistribution load_parameter_distribution(const std::filesystem::path& f
       ValueRange r{limits.number("lowerLimit"), limits.number("upperLimit"), range->number("stepWidth")};
       if (!(r.step > 0.0)) range->fail("stepWidth", fmt::format("stepWidth: expected a step > 0, got {}", r.step));
       if (r.upper < r.lower)
-        limits.fail("upperLimit", fmt::format("upperLimit: expected at least lowerLimit ({}), got {}", r.lower, r.upper));
+        limits.fail("upperLimit",
+                    fmt::format("upperLimit: expected at least lowerLimit ({}), got {}", r.lower, r.upper));
       single.values = r;
     } else if (const auto set = d.child("DistributionSet")) {
       std::vector<std::string> values;
       for (const xml::Element& element : set->children("Element")) values.push_back(element.required("value"));
       single.values = std::move(values);
     } else {
-      d.fail(fmt::format("{} is not supported in DeterministicSingleParameterDistribution (supported: "
-                         "DistributionRange, DistributionSet)",
-                         d.children().empty() ? std::string("an empty distribution")
-                                              : std::string(d.children().front().name())));
+      d.fail(fmt::format(
+          "{} is not supported in DeterministicSingleParameterDistribution (supported: "
+          "DistributionRange, DistributionSet)",
+          d.children().empty() ? std::string("an empty distribution") : std::string(d.children().front().name())));
     }
     out.single.push_back(std::move(single));
   }

@@ -183,12 +183,18 @@ class Evaluator {
     if (word == "false") return 0.0;
     using Unary = double (*)(double);
     static const std::map<std::string, Unary, std::less<>> kUnary = {
-        {"round", [](double x) { return std::round(x); }}, {"floor", [](double x) { return std::floor(x); }},
-        {"ceil", [](double x) { return std::ceil(x); }},   {"sqrt", [](double x) { return std::sqrt(x); }},
-        {"abs", [](double x) { return std::fabs(x); }},    {"exp", [](double x) { return std::exp(x); }},
-        {"log", [](double x) { return std::log(x); }},     {"sin", [](double x) { return std::sin(x); }},
-        {"cos", [](double x) { return std::cos(x); }},     {"tan", [](double x) { return std::tan(x); }},
-        {"asin", [](double x) { return std::asin(x); }},   {"acos", [](double x) { return std::acos(x); }},
+        {"round", [](double x) { return std::round(x); }},
+        {"floor", [](double x) { return std::floor(x); }},
+        {"ceil", [](double x) { return std::ceil(x); }},
+        {"sqrt", [](double x) { return std::sqrt(x); }},
+        {"abs", [](double x) { return std::fabs(x); }},
+        {"exp", [](double x) { return std::exp(x); }},
+        {"log", [](double x) { return std::log(x); }},
+        {"sin", [](double x) { return std::sin(x); }},
+        {"cos", [](double x) { return std::cos(x); }},
+        {"tan", [](double x) { return std::tan(x); }},
+        {"asin", [](double x) { return std::asin(x); }},
+        {"acos", [](double x) { return std::acos(x); }},
         {"atan", [](double x) { return std::atan(x); }},
         {"sign", [](double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }}};
     using Binary = double (*)(double, double);

@@ -29,8 +29,8 @@ bool parses_as_double(const std::string& text, double& value) {
 
 [[noreturn]] void type_error(const std::string& name, ParameterType type, const std::string& value,
                              const SourceLocation& where, std::string_view expected) {
-  throw InputError(where, fmt::format("parameter '{}' of type {}: expected {}, got '{}'", name, type_name(type),
-                                      expected, value));
+  throw InputError(
+      where, fmt::format("parameter '{}' of type {}: expected {}, got '{}'", name, type_name(type), expected, value));
 }
 
 // The value in its type's canonical form, or an InputError.

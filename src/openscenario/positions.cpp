@@ -56,7 +56,8 @@ LaneCoord lane_of(const EntityState& ref, const RoadAccess& roads, const Positio
 
 const RoadAccess& need_roads(const World& world, const Position& position) {
   if (world.roads == nullptr)
-    throw InputError(position.where, "this position needs a road network (RoadNetwork LogicFile) and the scenario has none");
+    throw InputError(position.where,
+                     "this position needs a road network (RoadNetwork LogicFile) and the scenario has none");
   return *world.roads;
 }
 
@@ -94,7 +95,7 @@ ResolvedPosition resolve(const World& world, const Position& position, const Ent
       [&](const auto& p) -> ResolvedPosition {
         using P = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<P, WorldPosition>) {
-          const double h = p.h_rad.value_or(subject != nullptr ? 0.0 : 0.0);
+          const double h = p.h_rad.value_or(0.0);
           return at_world(world, {p.x_m, p.y_m, h}, subject != nullptr && subject->on_lane ? &subject->lane : nullptr);
         } else if constexpr (std::is_same_v<P, LanePosition>) {
           return on_lane(need_roads(world, position), {p.road_id, p.lane_id, p.s_m, p.offset_m}, p.orientation,

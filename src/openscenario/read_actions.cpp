@@ -54,9 +54,10 @@ LaneChangeAction read_lane_change(const xml::Element& e, const ReadContext& c) {
     a.value = c.integer(target, "value", -100, 100);
     if (a.value == 0) target.fail("value", "value: lane 0 is the centre lane, which has no width to drive in");
   } else {
-    target.fail(fmt::format("{} is not supported in LaneChangeTarget (supported: RelativeTargetLane, "
-                            "AbsoluteTargetLane)",
-                            target.name()));
+    target.fail(
+        fmt::format("{} is not supported in LaneChangeTarget (supported: RelativeTargetLane, "
+                    "AbsoluteTargetLane)",
+                    target.name()));
   }
   return a;
 }

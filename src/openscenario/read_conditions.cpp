@@ -11,8 +11,8 @@ constexpr double kMaxDistance_m = 1e7;
 constexpr double kMaxTime_s = 1e7;
 
 Rule read_rule(const xml::Element& e, const ReadContext& c) {
-  return static_cast<Rule>(c.choice(
-      e, "rule", {"greaterThan", "lessThan", "equalTo", "greaterOrEqual", "lessOrEqual", "notEqualTo"}));
+  return static_cast<Rule>(
+      c.choice(e, "rule", {"greaterThan", "lessThan", "equalTo", "greaterOrEqual", "lessOrEqual", "notEqualTo"}));
 }
 
 DistanceSpec read_distance(const xml::Element& e, const ReadContext& c) {
@@ -70,9 +70,10 @@ ConditionKind read_value_condition(const xml::Element& e, const ReadContext& c) 
   if (e.name() == "SimulationTimeCondition")
     return SimulationTimeCondition{c.number(e, "value", "s", -kMaxTime_s, kMaxTime_s), read_rule(e, c)};
   StoryboardElementStateCondition s;
-  static constexpr ElementType kTypes[] = {ElementType::kStory,    ElementType::kAct,   ElementType::kManeuver,
-                                           ElementType::kEvent,    ElementType::kAction, ElementType::kManeuverGroup};
-  s.type = kTypes[c.choice(e, "storyboardElementType", {"story", "act", "maneuver", "event", "action", "maneuverGroup"})];
+  static constexpr ElementType kTypes[] = {ElementType::kStory, ElementType::kAct,    ElementType::kManeuver,
+                                           ElementType::kEvent, ElementType::kAction, ElementType::kManeuverGroup};
+  s.type =
+      kTypes[c.choice(e, "storyboardElementType", {"story", "act", "maneuver", "event", "action", "maneuverGroup"})];
   s.ref = c.text(e, "storyboardElementRef");
   if (c.elements_ != nullptr && !(*c.elements_)[s.type].contains(s.ref))
     e.fail("storyboardElementRef", fmt::format("storyboardElementRef: the storyboard has no {} named '{}'",

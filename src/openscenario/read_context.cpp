@@ -32,8 +32,8 @@ std::string ReadContext::text(const xml::Element& e, std::string_view name) cons
   return *optional_text(e, name);
 }
 
-std::optional<double> ReadContext::optional_number(const xml::Element& e, std::string_view name,
-                                                   std::string_view unit, double low, double high) const {
+std::optional<double> ReadContext::optional_number(const xml::Element& e, std::string_view name, std::string_view unit,
+                                                   double low, double high) const {
   const auto value = optional_text(e, name);
   if (!value) return std::nullopt;
   double number = 0.0;

@@ -23,7 +23,7 @@ struct CatalogEntries {
 /// The catalogs a scenario's CatalogLocations name, by catalog name (read on first use).
 struct Catalogs {
   std::map<std::string, std::filesystem::path> directories;  ///< by location element (VehicleCatalog, ...)
-  std::map<std::string, CatalogEntries> loaded;               ///< by catalog name
+  std::map<std::string, CatalogEntries> loaded;              ///< by catalog name
 };
 
 class ReadContext {
@@ -45,8 +45,8 @@ class ReadContext {
   /// The attribute's text with parameters resolved; InputError at the tag when absent.
   [[nodiscard]] std::string text(const xml::Element& e, std::string_view name) const;
   /// A number in [low, high] (a unit for messages); InputError at the attribute otherwise.
-  [[nodiscard]] double number(const xml::Element& e, std::string_view name, std::string_view unit,
-                              double low = -1e12, double high = 1e12) const;
+  [[nodiscard]] double number(const xml::Element& e, std::string_view name, std::string_view unit, double low = -1e12,
+                              double high = 1e12) const;
   [[nodiscard]] std::optional<double> optional_number(const xml::Element& e, std::string_view name,
                                                       std::string_view unit, double low = -1e12,
                                                       double high = 1e12) const;

@@ -14,8 +14,8 @@ BoundingBox read_box(const xml::Element& object, const ReadContext& c) {
   const xml::Element box = object.required_child("BoundingBox");
   const xml::Element center = box.required_child("Center");
   const xml::Element dimensions = box.required_child("Dimensions");
-  return {c.number(center, "x", "m", -kMaxSize_m, kMaxSize_m),      c.number(center, "y", "m", -kMaxSize_m, kMaxSize_m),
-          c.number(center, "z", "m", -kMaxSize_m, kMaxSize_m),      c.number(dimensions, "width", "m", 0.0, kMaxSize_m),
+  return {c.number(center, "x", "m", -kMaxSize_m, kMaxSize_m),  c.number(center, "y", "m", -kMaxSize_m, kMaxSize_m),
+          c.number(center, "z", "m", -kMaxSize_m, kMaxSize_m),  c.number(dimensions, "width", "m", 0.0, kMaxSize_m),
           c.number(dimensions, "length", "m", 0.0, kMaxSize_m), c.number(dimensions, "height", "m", 0.0, kMaxSize_m)};
 }
 
@@ -35,8 +35,8 @@ void read_object(Entity& entity, const xml::Element& object, const ReadContext& 
     entity.kind = EntityKind::kMiscObject;
     entity.category = c.text(object, "miscObjectCategory");
   } else {
-    object.fail(fmt::format("a catalog entry of kind {} is not an entity (expected Vehicle, Pedestrian or MiscObject)",
-                            kind));
+    object.fail(
+        fmt::format("a catalog entry of kind {} is not an entity (expected Vehicle, Pedestrian or MiscObject)", kind));
   }
 }
 

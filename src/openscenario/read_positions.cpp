@@ -50,15 +50,20 @@ Position read_position(const xml::Element& position, const ReadContext& c) {
     out.kind = RoadPosition{road_ref(p, c), c.number(p, "s", "m", 0.0, kMaxCoordinate),
                             c.number(p, "t", "m", -1000.0, 1000.0), orientation};
   } else if (kind == "RelativeWorldPosition") {
-    out.kind = RelativeWorldPosition{c.entity_ref(p, "entityRef"), c.number(p, "dx", "m", -kMaxCoordinate, kMaxCoordinate),
-                                     c.number(p, "dy", "m", -kMaxCoordinate, kMaxCoordinate), orientation};
+    out.kind =
+        RelativeWorldPosition{c.entity_ref(p, "entityRef"), c.number(p, "dx", "m", -kMaxCoordinate, kMaxCoordinate),
+                              c.number(p, "dy", "m", -kMaxCoordinate, kMaxCoordinate), orientation};
   } else if (kind == "RelativeObjectPosition") {
-    out.kind = RelativeObjectPosition{c.entity_ref(p, "entityRef"),
-                                      c.number(p, "dx", "m", -kMaxCoordinate, kMaxCoordinate),
-                                      c.number(p, "dy", "m", -kMaxCoordinate, kMaxCoordinate), orientation};
+    out.kind =
+        RelativeObjectPosition{c.entity_ref(p, "entityRef"), c.number(p, "dx", "m", -kMaxCoordinate, kMaxCoordinate),
+                               c.number(p, "dy", "m", -kMaxCoordinate, kMaxCoordinate), orientation};
   } else if (kind == "RelativeLanePosition") {
-    RelativeLanePosition r{c.entity_ref(p, "entityRef"), c.integer(p, "dLane", -100, 100), 0.0, false,
-                           c.optional_number(p, "offset", "m", -100.0, 100.0).value_or(0.0), orientation};
+    RelativeLanePosition r{c.entity_ref(p, "entityRef"),
+                           c.integer(p, "dLane", -100, 100),
+                           0.0,
+                           false,
+                           c.optional_number(p, "offset", "m", -100.0, 100.0).value_or(0.0),
+                           orientation};
     const auto ds = c.optional_number(p, "ds", "m", -kMaxCoordinate, kMaxCoordinate);
     const auto ds_lane = c.optional_number(p, "dsLane", "m", -kMaxCoordinate, kMaxCoordinate);
     if (ds.has_value() == ds_lane.has_value()) p.fail("<RelativeLanePosition> needs exactly one of ds and dsLane");
@@ -66,8 +71,9 @@ Position read_position(const xml::Element& position, const ReadContext& c) {
     r.ds_along_lane = ds_lane.has_value();
     out.kind = r;
   } else {
-    out.kind = RelativeRoadPosition{c.entity_ref(p, "entityRef"), c.number(p, "ds", "m", -kMaxCoordinate, kMaxCoordinate),
-                                    c.number(p, "dt", "m", -1000.0, 1000.0), orientation};
+    out.kind =
+        RelativeRoadPosition{c.entity_ref(p, "entityRef"), c.number(p, "ds", "m", -kMaxCoordinate, kMaxCoordinate),
+                             c.number(p, "dt", "m", -1000.0, 1000.0), orientation};
   }
   return out;
 }

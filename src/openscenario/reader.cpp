@@ -109,7 +109,8 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
         const xml::Element actors = g.required_child("Actors");
         if (sc.boolean(actors, "selectTriggeringEntities", false))
           actors.fail("selectTriggeringEntities", "selectTriggeringEntities: true is not supported (name the actors)");
-        for (const xml::Element& ref : actors.children("EntityRef")) group.actors.push_back(sc.entity_ref(ref, "entityRef"));
+        for (const xml::Element& ref : actors.children("EntityRef"))
+          group.actors.push_back(sc.entity_ref(ref, "entityRef"));
         for (const xml::Element& m : g.children()) {
           if (m.name() == "Maneuver") {
             group.maneuvers.push_back(read_maneuver(m, group.actors, sc));
@@ -175,7 +176,8 @@ Scenario load_openscenario(const std::filesystem::path& file, const ParameterOve
   if (const auto network = d.root.child("RoadNetwork"))
     if (const auto logic = network->child("LogicFile")) {
       const std::filesystem::path road_file = dir / c.text(*logic, "filepath");
-      scenario.roads = road_access(std::make_shared<const opendrive::RoadNetwork>(opendrive::load_opendrive(road_file)));
+      scenario.roads =
+          road_access(std::make_shared<const opendrive::RoadNetwork>(opendrive::load_opendrive(road_file)));
     }
   ReadContext rc(scope, dir, catalogs, names, scenario.roads.get());
   rc.rev_minor = d.rev_minor;

@@ -49,8 +49,8 @@ class NetworkAccess final : public RoadAccess {
     // Past an end: into the lane it leads to, as often as the step is long.
     for (int hops = 0; hops < 64 && (s > r->length || s < 0.0); ++hops) {
       const double beyond = along ? s - r->length : -s;
-      const auto next = network_->next_lanes(*r, step.to.lane_id,
-                                             along ? opendrive::Travel::kAlongS : opendrive::Travel::kAgainstS);
+      const auto next =
+          network_->next_lanes(*r, step.to.lane_id, along ? opendrive::Travel::kAlongS : opendrive::Travel::kAgainstS);
       if (next.empty()) {
         step.to.s_m = along ? r->length : 0.0;
         step.end_of_road = true;

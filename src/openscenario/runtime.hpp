@@ -21,9 +21,9 @@ constexpr double kSmall = 1e-10;
 /// following a trajectory, or without roads, it is held in the world frame.
 struct EntityState {
   const Entity* spec = nullptr;
-  bool on_lane = false;      ///< `lane` holds its position (else x, y, heading do)
+  bool on_lane = false;  ///< `lane` holds its position (else x, y, heading do)
   LaneCoord lane;
-  int direction = 1;         ///< +1 driving towards increasing s, -1 towards decreasing s
+  int direction = 1;                ///< +1 driving towards increasing s, -1 towards decreasing s
   double heading_offset_rad = 0.0;  ///< heading relative to the driving direction (a lane change's)
   WorldPose pose;
   double speed_mps = 0.0;
@@ -127,9 +127,9 @@ class StoryboardRuntime {
 /// A trajectory resolved into the world frame when its action starts: poses along its arc length,
 /// and the time (relative to the trajectory's own clock) at which each is reached when timed.
 struct ResolvedTrajectory {
-  std::vector<WorldPose> points;      ///< a polyline's vertices (heading: the segment's)
-  std::vector<double> arc_m;          ///< arc length at each vertex
-  std::vector<double> times_s;        ///< vertex times (empty when the vertices have none)
+  std::vector<WorldPose> points;  ///< a polyline's vertices (heading: the segment's)
+  std::vector<double> arc_m;      ///< arc length at each vertex
+  std::vector<double> times_s;    ///< vertex times (empty when the vertices have none)
   std::optional<ClothoidShape> clothoid;
   WorldPose clothoid_start;
   [[nodiscard]] double length_m() const;
@@ -170,11 +170,11 @@ class ActionRuntime {
   std::string actor_;
   bool running_ = false;
   openscenario::Transition transition_;  // of speed (m/s) or lateral offset (m, lane-agnostic sign)
-  double param_ = 0.0;     // x of the transition: s or m since the start
-  double scale_ = 1.0;     // a speed transition stretched to the vehicle's acceleration
+  double param_ = 0.0;                   // x of the transition: s or m since the start
+  double scale_ = 1.0;                   // a speed transition stretched to the vehicle's acceleration
   bool reached_ = false;
   DynamicsDimension lane_change_dimension_ = DynamicsDimension::kTime;
-  LaneCoord internal_;     // a lane change's position in its target lane
+  LaneCoord internal_;  // a lane change's position in its target lane
   ResolvedTrajectory path_;
   double path_time_s_ = 0.0;
   double path_s_m_ = 0.0;

@@ -11,7 +11,8 @@ namespace emrm::openscenario {
 namespace {
 
 constexpr std::array<SupportedElement, 34> kSupported = {{
-    {"EntityObject", "Vehicle", "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
+    {"EntityObject", "Vehicle",
+     "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
     {"EntityObject", "MiscObject", "BoundingBox, miscObjectCategory; not speed-limited"},
     {"EntityObject", "CatalogReference", "resolved through CatalogLocations, ParameterAssignments applied"},
@@ -62,8 +63,8 @@ void require_supported(std::string_view choice, std::string_view element, const 
   std::string list;
   for (const auto& e : kSupported)
     if (e.choice == choice) list += (list.empty() ? "" : ", ") + std::string(e.element);
-  throw InputError(where, fmt::format("{} is not supported in {} (supported: {})", element, choice,
-                                      list.empty() ? "none" : list));
+  throw InputError(
+      where, fmt::format("{} is not supported in {} (supported: {})", element, choice, list.empty() ? "none" : list));
 }
 
 }  // namespace emrm::openscenario

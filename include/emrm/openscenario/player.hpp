@@ -35,9 +35,9 @@ struct PlayOptions {
   double duration_s = 10.0;  ///< the last sample is at the last step not after it
   /// Parameter values from outside: non-empty, the scenario is read again from its file with them
   /// (load_openscenario), so that every value derived from a parameter follows.
-  ParameterOverrides overrides;
+  ParameterOverrides overrides{};
   /// Called after each step with its states; true ends the play after that step.
-  std::function<bool(double t_s, const StepStates& states)> stop_at;
+  std::function<bool(double t_s, const StepStates& states)> stop_at{};
 };
 
 /// Plays `scenario` from t = 0 until `duration_s`, the storyboard's StopTrigger or `stop_at`.

@@ -107,9 +107,9 @@ struct TransitionDynamics {
 
 struct SpeedAction {
   TransitionDynamics dynamics;
-  double value = 0.0;                    ///< absolute m/s, or the delta (m/s) or factor
-  std::optional<std::string> relative;   ///< RelativeTargetSpeed's entityRef
-  bool delta = true;                     ///< speedTargetValueType delta (or factor)
+  double value = 0.0;                   ///< absolute m/s, or the delta (m/s) or factor
+  std::optional<std::string> relative;  ///< RelativeTargetSpeed's entityRef
+  bool delta = true;                    ///< speedTargetValueType delta (or factor)
   bool continuous = false;
 };
 
