@@ -72,6 +72,11 @@ Maneuver read_maneuver(const xml::Element& m, const std::vector<std::string>& ac
     event.max_executions = max_executions(e, c);
     for (const xml::Element& a : e.children("Action")) {
       const xml::Element kind = c.chosen(a, "Action");
+      if (kind.name() == "GlobalAction") {
+        const xml::Element global = c.chosen(kind, "GlobalAction");
+        event.actions.push_back(Action{c.text(a, "name"), "", EnvironmentAction{}, global.where()});
+        continue;
+      }
       if (actors.empty())
         a.fail(fmt::format("action '{}' is a private action in a maneuver group without actors", c.text(a, "name")));
       event.actions.push_back(detail::read_private_action(kind, "", c));
@@ -89,7 +94,11 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
   const xml::Element init = board.required_child("Init");
   for (const xml::Element& actions : init.children("Actions"))
     for (const xml::Element& child : actions.children()) {
-      if (child.name() != "Private") require_supported("Action", child.name(), child.where());
+      require_supported("InitActions", child.name(), child.where());
+      if (child.name() == "GlobalAction") {
+        (void)c.chosen(child, "GlobalAction");  // an EnvironmentAction: nothing moves by it
+        continue;
+      }
       const std::string actor = c.entity_ref(child, "entityRef");
       for (const xml::Element& pa : child.children("PrivateAction"))
         out.init.push_back(detail::read_private_action(pa, actor, c));

@@ -10,13 +10,17 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 34> kSupported = {{
+constexpr std::array<SupportedElement, 38> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
     {"EntityObject", "MiscObject", "BoundingBox, miscObjectCategory; not speed-limited"},
     {"EntityObject", "CatalogReference", "resolved through CatalogLocations, ParameterAssignments applied"},
-    {"Action", "PrivateAction", "in Init (Private) and in an Event, for each actor of the maneuver group"},
+    {"InitActions", "Private", "the entity's private actions, started at t = 0 in document order"},
+    {"InitActions", "GlobalAction", "EnvironmentAction only"},
+    {"Action", "PrivateAction", "in an Event, for each actor of the maneuver group"},
+    {"Action", "GlobalAction", "EnvironmentAction only"},
+    {"GlobalAction", "EnvironmentAction", "read and ignored: weather, light and friction do not change the motion"},
     {"PrivateAction", "LongitudinalAction", "SpeedAction only"},
     {"PrivateAction", "LateralAction", "LaneChangeAction, LaneOffsetAction"},
     {"PrivateAction", "TeleportAction", "any supported Position"},

@@ -161,12 +161,16 @@ struct FollowTrajectoryAction {
   double initial_distance_offset_m = 0.0;
 };
 
-using PrivateActionKind =
-    std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction, FollowTrajectoryAction>;
+/// A GlobalAction's EnvironmentAction: read and ignored (weather, light and the road's friction do not
+/// change the open-loop motion); an event holding one completes at once, as in esmini.
+struct EnvironmentAction {};
+
+using PrivateActionKind = std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction,
+                                       FollowTrajectoryAction, EnvironmentAction>;
 
 struct Action {
   std::string name;
-  std::string actor;  ///< the entity it acts on (a Private's entityRef, or each of the group's actors)
+  std::string actor;  ///< the entity it acts on (a Private's entityRef; empty: each of the group's actors)
   PrivateActionKind kind;
   SourceLocation where;
 };

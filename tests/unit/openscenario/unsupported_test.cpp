@@ -50,12 +50,17 @@ XoscParts with_condition(const std::string& condition_text) {
   return parts;
 }
 
-TEST(Unsupported, AGlobalActionNamesThePrivateActionAsSupported) {
+TEST(Unsupported, AGlobalActionOtherThanTheEnvironment) {
   expect_unsupported(
       "global",
       with_event_action(
           R"(<GlobalAction><EntityAction entityRef="Ego"><DeleteEntityAction/></EntityAction></GlobalAction>)"),
-      "<GlobalAction>", "GlobalAction is not supported in Action (supported: PrivateAction)");
+      "<EntityAction", "EntityAction is not supported in GlobalAction (supported: EnvironmentAction)");
+  expect_unsupported(
+      "user_defined",
+      with_event_action(
+          R"(<UserDefinedAction><CustomCommandAction type="x">y</CustomCommandAction></UserDefinedAction>)"),
+      "<UserDefinedAction", "UserDefinedAction is not supported in Action (supported: PrivateAction, GlobalAction)");
 }
 
 TEST(Unsupported, APrivateActionOutsideTheSubset) {
