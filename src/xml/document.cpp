@@ -28,9 +28,8 @@ SourceLocation DocumentData::location(std::size_t offset) const {
 }
 
 bool DocumentData::tag_offset(const xmlNode* node, std::size_t& offset) const {
-  const auto k = reinterpret_cast<std::uintptr_t>(node->_private);
-  if (k == 0 || k > tag_offsets.size()) return false;
-  offset = tag_offsets[k - 1];
+  if (node->_private == nullptr) return false;
+  offset = *static_cast<const std::size_t*>(node->_private);
   return true;
 }
 
@@ -84,7 +83,7 @@ std::vector<std::size_t> scan_start_tags(const std::string& text) {
   return tags;
 }
 
-/// Gives each element its start tag's index + 1 in _private, when the elements and the tags found
+/// Points each element's _private at its start tag's offset, when the elements and the tags found
 /// in the text agree in number (they do for any well-formed document without entity references).
 void number_elements(DocumentData& data) {
   std::vector<xmlNode*> elements;
@@ -100,7 +99,7 @@ void number_elements(DocumentData& data) {
     stack.insert(stack.end(), kids.rbegin(), kids.rend());
   }
   if (elements.size() != data.tag_offsets.size()) return;  // columns fall back on the line's first match
-  for (std::size_t k = 0; k < elements.size(); ++k) elements[k]->_private = reinterpret_cast<void*>(k + 1);
+  for (std::size_t k = 0; k < elements.size(); ++k) elements[k]->_private = &data.tag_offsets[k];
 }
 
 const xmlNode* as_node(const void* node) { return static_cast<const xmlNode*>(node); }

@@ -22,7 +22,7 @@ struct DocumentData {
   xmlDocPtr doc = nullptr;               // owned
   std::vector<std::size_t> line_starts;  // byte offset of each line's first character
   std::vector<std::size_t> tag_offsets;  // byte offset of the k-th start tag's '<'; an element's
-                                         // _private holds k + 1 (0: not found, fall back on lines)
+                                         // _private points at its own (null: fall back on lines)
   DocumentData() = default;
   DocumentData(const DocumentData&) = delete;
   DocumentData& operator=(const DocumentData&) = delete;

@@ -155,6 +155,11 @@ void validate(const Document& document, Schema schema) {
   if (node != nullptr && node->type == XML_ATTRIBUTE_NODE) {
     attribute = reinterpret_cast<const char*>(node->name);
     node = node->parent;
+  } else if (const std::size_t at = first.message.find(", attribute '"); at != std::string::npos) {
+    // libxml2 reports an attribute's violation on its element and names the attribute in the text.
+    const std::size_t begin = at + 13;
+    const std::size_t end = first.message.find('\'', begin);
+    if (end != std::string::npos) attribute = first.message.substr(begin, end - begin);
   }
   if (node != nullptr && node->type == XML_ELEMENT_NODE && node->doc == data->doc) {
     const Element element = detail::Access::element(document.root(), node);

@@ -75,10 +75,14 @@ class ReferenceLine {
   [[nodiscard]] std::size_t segment_index(double s) const;
 
  private:
+  // For poly3 and paramPoly3, one per segment (empty for the closed-form kinds): the curve's own
+  // arc length over the segment and its parameter at equal steps of it, where Newton's method starts.
+  struct ArcLengthTable {
+    double own_length = 0.0;
+    std::vector<double> parameter;
+  };
   std::vector<Segment> segments_;
-  // For poly3 and paramPoly3: the curve parameter at equal steps of arc length (one table per
-  // segment, empty for the closed-form kinds), where Newton's method starts.
-  std::vector<std::vector<double>> parameter_tables_;
+  std::vector<ArcLengthTable> tables_;
 };
 
 }  // namespace emrm::opendrive

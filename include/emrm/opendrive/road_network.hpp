@@ -69,10 +69,10 @@ enum class Drivability {
 
 /// A lane type's entry in the roadside table (lane_type_table(), the one owner of these facts).
 struct LaneTypeInfo {
-  LaneType type;
-  std::string_view name;      // as the file writes it ("onRamp")
-  Drivability drivability;    // for a car
-  std::string_view roadside;  // what lies there, for messages and docs
+  LaneType type = LaneType::kNone;
+  std::string_view name;                                // as the file writes it ("onRamp")
+  Drivability drivability = Drivability::kNotDrivable;  // for a car
+  std::string_view roadside;                            // what lies there, for messages and docs
 };
 
 /// Every lane type, in enum order.
@@ -90,8 +90,8 @@ struct Cubic {
   [[nodiscard]] double at(double s) const;
   [[nodiscard]] double derivative(double s) const;
 };
-/// The value at s of the last record starting at or before s (the first before any starts): 0 without
-/// records. Records are in increasing s_start.
+/// The value at s of the last record starting at or before s; 0 before the first and without records.
+/// Records are in increasing s_start.
 [[nodiscard]] double evaluate(const std::vector<Cubic>& records, double s);
 
 enum class TrafficRule { kRightHand, kLeftHand };
@@ -157,9 +157,16 @@ struct Road {
   /// The lane whose borders hold t at s (lane 0 is never returned: a t on the centre lane belongs
   /// to the first lane on the side it leans to); std::nullopt outside every lane.
   [[nodiscard]] std::optional<int> lane_at(double s, double t) const;
+  /// The lane that `lane_id` of the section holding s continues as in the next section in `travel`
+  /// (inside this road; past its ends see RoadNetwork::next_lanes): its successor link for kAlongS,
+  /// predecessor for kAgainstS; without such a link, the same id if that section has it (files often
+  /// leave unchanged lanes unlinked). std::nullopt in the road's last section in `travel`, or when
+  /// the lane ends there.
+  [[nodiscard]] std::optional<int> lane_in_next_section(int lane_id, double s, Travel travel) const;
   /// The direction a lane is driven in by the road's rule (the sign of its id).
   [[nodiscard]] Travel default_travel(int lane_id) const;
-  /// The pose at (s, t): t from the reference line (not from the centre lane), heading along s.
+  /// The pose at (s, t): t from the reference line (not from the centre lane), heading along s;
+  /// s clamped to [0, length] (past an end: next_lanes).
   [[nodiscard]] Pose to_world(double s, double t) const;
 };
 
@@ -198,6 +205,8 @@ struct LaneContinuation {
   Travel travel = Travel::kAlongS;
 };
 
+/// The roads and junctions of a file. The Road pointers it hands out (find_road, RoadCoordinates,
+/// LaneContinuation) point into it: valid while it lives, also after it is moved (not into a copy).
 class RoadNetwork {
  public:
   RoadNetwork() = default;
@@ -232,6 +241,10 @@ class RoadNetwork {
   std::vector<Junction> junctions_;
   std::unordered_map<std::string, std::size_t> road_index_;
   std::unordered_map<std::string, std::size_t> junction_index_;
+  struct Box {  // a road's lanes lie inside (world x, y)
+    double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
+  };
+  std::vector<Box> boxes_;  // one per road
 };
 
 /// Reads an OpenDRIVE file: validates it against the embedded XSD when its version has one
