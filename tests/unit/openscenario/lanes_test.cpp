@@ -15,12 +15,13 @@ namespace {
 using namespace test;
 
 // A straight road along x from (x0, 0): two right lanes of 3.5 m (-1 centred at t = -1.75, -2 at
-// t = -5.25) and one left lane.
+// t = -5.25) and one left lane, each linked to the lane of its id in the roads before and after.
 std::string road(const std::string& id, double x0, double length, const std::string& links) {
   const auto lane = [](int id_, const char* type) {
     return fmt::format(
-        R"(<lane id="{}" type="{}" level="false"><link/><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane>)", id_,
-        type);
+        R"(<lane id="{0}" type="{1}" level="false"><link><predecessor id="{0}"/><successor id="{0}"/></link>
+        <width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane>)",
+        id_, type);
   };
   return fmt::format(R"(<road name="r{0}" length="{1}" id="{0}" junction="-1"><link>{2}</link>
     <planView><geometry s="0" x="{3}" y="0" hdg="0" length="{1}"><line/></geometry></planView>
