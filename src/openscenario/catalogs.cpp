@@ -12,9 +12,12 @@
 namespace emrm::openscenario::detail {
 namespace {
 
-// Reads every .xosc file in the catalog directories once, keeping the catalogs they hold by name.
+// Reads every .xosc file in the catalog directories once, keeping the catalogs they hold by name;
+// a catalog is also found by its file's name (esmini looks for CATALOGNAME.xosc), unless another
+// catalog has that name.
 void load_catalogs(Catalogs& catalogs) {
   if (!catalogs.loaded.empty()) return;
+  std::vector<std::pair<std::string, xml::Element>> by_file;
   for (const auto& [location, dir] : catalogs.directories) {
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec)) continue;
@@ -29,8 +32,15 @@ void load_catalogs(Catalogs& catalogs) {
         CatalogEntries& entries = catalogs.loaded[catalog.required("name")];
         for (const xml::Element& entry : catalog.children())
           if (const auto name = entry.attribute("name")) entries.entries.emplace(*name, entry);
+        by_file.emplace_back(file.stem().string(), catalog);
       }
     }
+  }
+  for (const auto& [stem, catalog] : by_file) {
+    if (catalogs.loaded.contains(stem) && catalog.required("name") != stem) continue;
+    CatalogEntries& entries = catalogs.loaded[stem];
+    for (const xml::Element& entry : catalog.children())
+      if (const auto name = entry.attribute("name")) entries.entries.emplace(*name, entry);
   }
 }
 

@@ -95,9 +95,6 @@ std::string format_number(double value) {
 
 void ParameterScope::declare(const std::string& name, ParameterType type, const std::string& value_text,
                              const SourceLocation& where, const ParameterOverrides& overrides) {
-  for (const auto& p : declared_)
-    if (p.name == name)
-      throw InputError(where, fmt::format("parameter '{}' is declared twice (first at {})", name, p.where.str()));
   const auto overridden = overrides.find(name);
   const std::string& text = overridden != overrides.end() ? overridden->second : value_text;
   std::string value = resolve(text, where);
@@ -106,7 +103,14 @@ void ParameterScope::declare(const std::string& name, ParameterType type, const 
   if (type != ParameterType::kString && type != ParameterType::kDateTime && type != ParameterType::kDouble &&
       type != ParameterType::kBoolean && parses_as_double(value, number))
     value = format_number(number);
-  declared_.push_back({name, type, value_text, typed_value(name, type, value, where), where});
+  Parameter parameter{name, type, value_text, typed_value(name, type, value, where), where};
+  // A name declared again in the same scope takes the later declaration, as esmini does.
+  for (auto& p : declared_)
+    if (p.name == name) {
+      p = std::move(parameter);
+      return;
+    }
+  declared_.push_back(std::move(parameter));
 }
 
 const Parameter* ParameterScope::find(std::string_view name) const {

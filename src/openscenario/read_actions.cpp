@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "read_context.hpp"
 
 namespace emrm::openscenario::detail {
@@ -17,7 +19,9 @@ TransitionDynamics read_dynamics(const xml::Element& e, const ReadContext& c) {
   const std::string_view unit = d.dimension == DynamicsDimension::kTime       ? "s"
                                 : d.dimension == DynamicsDimension::kDistance ? "m"
                                                                               : "per s";
-  d.value = c.number(e, "value", unit, 0.0, kMaxRange);
+  // A rate's sign is the direction of the change, which the target gives (esmini takes its size).
+  d.value = d.dimension == DynamicsDimension::kRate ? std::fabs(c.number(e, "value", unit, -kMaxRange, kMaxRange))
+                                                    : c.number(e, "value", unit, 0.0, kMaxRange);
   if (d.dimension == DynamicsDimension::kRate && d.shape != DynamicsShape::kStep && d.value <= 0.0)
     e.fail("value", "value: expected a rate > 0 (a rate of 0 never reaches the target)");
   return d;

@@ -74,7 +74,10 @@ ConditionKind read_value_condition(const xml::Element& e, const ReadContext& c) 
                                            ElementType::kEvent, ElementType::kAction, ElementType::kManeuverGroup};
   s.type =
       kTypes[c.choice(e, "storyboardElementType", {"story", "act", "maneuver", "event", "action", "maneuverGroup"})];
+  // OpenSCENARIO 1.1+ may name the element by its path, "Story::Act::...::Name": its last part
+  // names it (elements are matched by name and type).
   s.ref = c.text(e, "storyboardElementRef");
+  if (const auto last = s.ref.rfind("::"); last != std::string::npos) s.ref = s.ref.substr(last + 2);
   if (c.elements_ != nullptr && !(*c.elements_)[s.type].contains(s.ref))
     e.fail("storyboardElementRef", fmt::format("storyboardElementRef: the storyboard has no {} named '{}'",
                                                e.attribute("storyboardElementType").value_or(""), s.ref));
@@ -87,7 +90,13 @@ ConditionKind read_value_condition(const xml::Element& e, const ReadContext& c) 
 Condition read_condition(const xml::Element& e, const ReadContext& c) {
   Condition condition;
   condition.where = e.where();
-  condition.name = c.text(e, "name");
+  // A condition's name is referred to by nothing: one written as esmini's string arithmetic
+  // ("${Brake + _ + $Time}", not an expression of the standard) is kept as written.
+  try {
+    condition.name = c.text(e, "name");
+  } catch (const InputError&) {
+    condition.name = e.attribute("name").value_or("");
+  }
   condition.delay_s = c.number(e, "delay", "s", 0.0, kMaxTime_s);
   condition.edge =
       static_cast<ConditionEdge>(c.choice(e, "conditionEdge", {"none", "rising", "falling", "risingOrFalling"}));

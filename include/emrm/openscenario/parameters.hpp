@@ -42,8 +42,9 @@ class ParameterScope {
   explicit ParameterScope(const ParameterScope* parent = nullptr) : parent_(parent) {}
 
   /// Declares `name` with `value_text` (which may refer to parameters declared before it, in this
-  /// scope or its parents), replaced by `overrides[name]` when there is one. Throws InputError at
-  /// `where` for a duplicate name or a value that is not of `type`.
+  /// scope or its parents), replaced by `overrides[name]` when there is one. A name declared again
+  /// in the same scope takes the later declaration (esmini's rule). Throws InputError at `where` for
+  /// a value that is not of `type`.
   void declare(const std::string& name, ParameterType type, const std::string& value_text, const SourceLocation& where,
                const ParameterOverrides& overrides = {});
 

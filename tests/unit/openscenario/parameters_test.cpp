@@ -61,6 +61,15 @@ TEST(OpenScenarioExpression, ParametersAreReadByReference) {
   EXPECT_NE(std::string(e.what()).find("expected an integer"), std::string::npos) << e.what();
 }
 
+TEST(OpenScenarioParameters, ANameDeclaredAgainTakesTheLaterDeclaration) {
+  // esmini's rule: a later declaration in the same scope replaces the earlier one.
+  ParameterScope scope;
+  scope.declare("duration", ParameterType::kDouble, "3", {});
+  scope.declare("duration", ParameterType::kDouble, "${$duration * 2}", {});
+  EXPECT_EQ(scope.find("duration")->value, "6");
+  EXPECT_EQ(scope.declared().size(), 1U);
+}
+
 TEST(OpenScenarioExpression, ErrorsNameTheColumnOfTheOffendingToken) {
   // The text starts at column 10: its character i is at column 10 + i.
   const auto column_of = [](const std::string& text) {
