@@ -10,18 +10,19 @@
 namespace emrm::openscenario::detail {
 namespace {
 
+// esmini's EvaluateRule: strict comparisons need a margin of SMALL_NUMBER, the others allow it.
 bool holds(double value, Rule rule, double threshold) {
   switch (rule) {
     case Rule::kGreaterThan:
-      return value > threshold;
+      return value > threshold + kSmall;
     case Rule::kLessThan:
-      return value < threshold;
+      return value < threshold - kSmall;
     case Rule::kEqualTo:
       return std::fabs(value - threshold) < kSmall;
     case Rule::kGreaterOrEqual:
-      return value >= threshold;
+      return value >= threshold - kSmall;
     case Rule::kLessOrEqual:
-      return value <= threshold;
+      return value <= threshold + kSmall;
     case Rule::kNotEqualTo:
       return std::fabs(value - threshold) >= kSmall;
   }

@@ -8,7 +8,7 @@
 
 namespace emrm::openscenario {
 namespace {
-constexpr double kSmall = 1e-10;
+constexpr double kSmall = 1e-6;  // esmini's SMALL_NUMBER: a shorter range is a jump
 }
 
 std::string_view shape_name(DynamicsShape shape) noexcept {

@@ -15,7 +15,8 @@
 
 namespace emrm::openscenario::detail {
 
-constexpr double kSmall = 1e-10;
+/// esmini's SMALL_NUMBER: the slack of its rules (a > b + 1e-6), of "target reached", of "no speed".
+constexpr double kSmall = 1e-6;
 
 /// An entity as it moves. On a road it is held in lane coordinates and its world pose derived;
 /// following a trajectory, or without roads, it is held in the world frame.

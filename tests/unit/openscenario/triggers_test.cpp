@@ -14,6 +14,9 @@ namespace {
 
 using namespace test;
 
+// esmini's rules: lessThan holds below the threshold by more than 1e-6, greaterThan above it.
+constexpr double kSlack = 1e-6;
+
 // Ego from the origin along x at 10 m/s; Lead at `lead_x` at `lead_v`. The event stops the ego
 // (speed 0 at once) when `start_trigger` fires.
 Trajectories play_stop_on(const std::string& name, const std::string& start_trigger, double lead_x, double lead_v,
@@ -45,7 +48,7 @@ std::size_t expect_fired_at_first(const Trajectories& played, const std::functio
 TEST(Triggers, SimulationTimeFiresAtTheFirstStepPastItsValue) {
   const auto played = play_stop_on("time", trigger("StartTrigger", time_condition(2.0)), 1000, 0);
   const auto& ego = played.at("Ego");
-  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return ego[k].t_s > 2.0; });
+  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return ego[k].t_s > 2.0 + kSlack; });
   EXPECT_NEAR(ego[i].t_s, 2.0, 0.01 + 1e-9);
 }
 
@@ -59,7 +62,8 @@ TEST(Triggers, TimeToCollisionWithAStandingEntity) {
                  <EntityRef entityRef="Lead"/></TimeToCollisionConditionTarget></TimeToCollisionCondition>)")),
       100, 0);
   const auto& ego = played.at("Ego");
-  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return (100 - ego[k].x_m) / 10 < 3; });
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return (100 - ego[k].x_m) / 10 < 3 - kSlack; });
   EXPECT_NEAR(ego[i].t_s, 7.0, 0.01 + 1e-9);
 }
 
@@ -73,7 +77,8 @@ TEST(Triggers, FreespaceTimeToCollisionMeasuresBetweenTheBoxes) {
                  <EntityRef entityRef="Lead"/></TimeToCollisionConditionTarget></TimeToCollisionCondition>)")),
       100, 0);
   const auto& ego = played.at("Ego");
-  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return (96 - ego[k].x_m) / 10 < 3; });
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return (96 - ego[k].x_m) / 10 < 3 - kSlack; });
   EXPECT_NEAR(ego[i].t_s, 6.6, 0.01 + 1e-9);
 }
 
@@ -86,7 +91,7 @@ TEST(Triggers, TimeHeadwayToAMovingLead) {
   const auto& ego = played.at("Ego");
   const auto& lead = played.at("Lead");
   const std::size_t i =
-      expect_fired_at_first(played, [&](std::size_t k) { return (lead[k].x_m - ego[k].x_m) / 10 < 2; });
+      expect_fired_at_first(played, [&](std::size_t k) { return (lead[k].x_m - ego[k].x_m) / 10 < 2 - kSlack; });
   EXPECT_NEAR(ego[i].t_s, 6.0, 0.01 + 1e-9);
 }
 
@@ -99,7 +104,8 @@ TEST(Triggers, RelativeDistance) {
       50, 5);
   const auto& ego = played.at("Ego");
   const auto& lead = played.at("Lead");
-  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return lead[k].x_m - ego[k].x_m < 30; });
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return lead[k].x_m - ego[k].x_m < 30 - kSlack; });
   EXPECT_NEAR(ego[i].t_s, 4.0, 0.01 + 1e-9);
 }
 
