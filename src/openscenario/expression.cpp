@@ -70,8 +70,12 @@ class Evaluator {
   }
 
   double not_expression() {
-    if (take("not")) return not_expression() == 0.0 ? 1.0 : 0.0;
-    return comparison();
+    int nots = 0;  // a run of `not`s, counted instead of recursed into
+    while (take("not")) ++nots;
+    const double value = comparison();
+    if (nots == 0) return value;
+    const bool truth = value != 0.0;
+    return (nots % 2 == 0) == truth ? 1.0 : 0.0;
   }
 
   double comparison() {
@@ -124,8 +128,10 @@ class Evaluator {
   }
 
   double unary() {
-    if (take("-")) return -unary();
-    return primary();
+    int signs = 0;  // a run of minus signs, counted instead of recursed into
+    while (take("-")) ++signs;
+    const double value = primary();
+    return signs % 2 == 0 ? value : -value;
   }
 
   double primary() {
@@ -133,8 +139,11 @@ class Evaluator {
     if (pos_ >= text_.size()) fail(pos_, "expected a number, a parameter or '(' at the end");
     const char c = text_[pos_];
     if (c == '(') {
+      // A hostile file's nesting must not exhaust the stack.
+      if (++depth_ > kMaxDepth) fail(pos_, fmt::format("more than {} nested parentheses", kMaxDepth));
       ++pos_;
       const double value = or_expression();
+      --depth_;
       if (!take(")")) fail(pos_, "expected ')'");
       return value;
     }
@@ -222,8 +231,10 @@ class Evaluator {
     return value;
   }
 
+  static constexpr int kMaxDepth = 200;
   std::string_view text_;
   const ParameterScope& scope_;
+  int depth_ = 0;
   SourceLocation where_;
   std::size_t pos_ = 0;
 };

@@ -42,7 +42,7 @@ Position read_position(const xml::Element& position, const ReadContext& c) {
     LanePosition lane{road_ref(p, c), 0, c.number(p, "s", "m", 0.0, kMaxCoordinate),
                       c.optional_number(p, "offset", "m", -100.0, 100.0).value_or(0.0), orientation};
     const std::string id = c.text(p, "laneId");
-    lane.lane_id = static_cast<int>(c.number(p, "laneId", "", -100, 100));
+    lane.lane_id = c.integer(p, "laneId", -100, 100);
     if (lane.lane_id == 0 || !c.roads()->has_lane(lane.road_id, lane.lane_id, lane.s_m))
       p.fail("laneId", fmt::format("laneId: road '{}' has no lane {} at s = {} m", lane.road_id, id, lane.s_m));
     out.kind = lane;

@@ -81,6 +81,10 @@ TEST(OpenScenarioExpression, ErrorsNameTheColumnOfTheOffendingToken) {
   EXPECT_EQ(column_of("(1 + 2"), 10 + 6);
   EXPECT_EQ(column_of("1 / 0"), 10 + 2);
   EXPECT_EQ(column_of("1 2"), 10 + 2);
+  // Nesting deep enough to exhaust a recursive parser's stack is refused, not followed.
+  EXPECT_EQ(column_of(std::string(100000, '(') + "1" + std::string(100000, ')')), 10 + 200);
+  EXPECT_DOUBLE_EQ(eval(std::string(100001, '-') + "1"), -1.0);
+  EXPECT_DOUBLE_EQ(eval("not not not 0"), 1.0);
   const InputError e = emrm::testing::input_error_of([&] { (void)eval("$nope"); }, "");
   EXPECT_EQ(e.where().line, 3);
   EXPECT_NE(e.message().find("unknown parameter 'nope'"), std::string::npos) << e.what();
