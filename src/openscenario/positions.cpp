@@ -31,11 +31,11 @@ int direction_of(const RoadAccess& roads, const LaneCoord& at, double heading_ra
   return std::cos(heading_rad - road_heading) >= 0.0 ? 1 : -1;
 }
 
-// The heading of a lane's driving direction (right-hand traffic: lanes right of the reference
-// line, negative ids, drive along s).
+// The heading of a lane's driving direction by its road's traffic rule (right-hand: the lanes
+// right of the reference line, negative ids, are driven along s).
 double lane_heading(const RoadAccess& roads, const LaneCoord& at) {
   const double h = lane_to_world(roads, at).heading_rad;
-  return at.lane_id > 0 ? h + std::numbers::pi : h;
+  return roads.driven_along_s(at.road_id, at.lane_id) ? h : h + std::numbers::pi;
 }
 
 double oriented(const std::optional<Orientation>& o, double base_rad) {

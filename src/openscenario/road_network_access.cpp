@@ -26,6 +26,10 @@ class NetworkAccess final : public RoadAccess {
     return {p.x, p.y, p.heading};
   }
 
+  bool driven_along_s(const std::string& road_id, int lane_id) const override {
+    return road(road_id).default_travel(lane_id) == opendrive::Travel::kAlongS;
+  }
+
   double lane_center_t(const std::string& road_id, int lane_id, double s_m) const override {
     const opendrive::Road& r = road(road_id);
     if (r.section_at(s_m).find(lane_id) == nullptr) return r.lane_offset(s_m);

@@ -44,6 +44,8 @@ class RoadAccess {
   [[nodiscard]] virtual bool has_lane(const std::string& road_id, int lane_id, double s_m) const = 0;
   /// The world pose of the point (s, t) of a road; heading: the road's reference direction there.
   [[nodiscard]] virtual WorldPose road_to_world(const std::string& road_id, double s_m, double t_m) const = 0;
+  /// Whether a lane is driven along s by its road's traffic rule (right-hand: the right lanes).
+  [[nodiscard]] virtual bool driven_along_s(const std::string& road_id, int lane_id) const = 0;
   /// The t of a lane's centre at s.
   [[nodiscard]] virtual double lane_center_t(const std::string& road_id, int lane_id, double s_m) const = 0;
   /// The lane coordinates of a world point, preferring the road of `hint` (may be nullptr);
