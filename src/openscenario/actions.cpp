@@ -216,7 +216,8 @@ bool ActionRuntime::step_lane_change(World& world, double dt_s) {
   }
   if (transition_.jumps()) delta_long = step_len;
   internal_.offset_m = offset;
-  const LaneStep moved = world.roads->step_along(internal_, sign(e.speed_mps) * delta_long * e.direction);
+  const LaneStep moved = world.roads->step_along(
+      internal_, s_step_for(*world.roads, internal_, sign(e.speed_mps) * delta_long) * e.direction);
   if (moved.direction_flipped) e.direction = -e.direction;
   internal_ = moved.to;
   const bool done = param_ > transition_.range - kSmall || std::fabs(offset - transition_.target) < kSmall ||

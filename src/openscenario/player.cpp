@@ -25,7 +25,7 @@ void default_controller(const World& world, EntityState& e, double dt_s) {
   if (e.moved_longitudinally || std::fabs(e.speed_mps) < kSmall) return;
   const double step_m = e.speed_mps * dt_s;
   if (e.on_lane) {
-    const LaneStep moved = world.roads->step_along(e.lane, step_m * e.direction);
+    const LaneStep moved = world.roads->step_along(e.lane, s_step_for(*world.roads, e.lane, step_m) * e.direction);
     if (moved.direction_flipped) e.direction = -e.direction;
     e.lane = moved.to;
     if (moved.end_of_road) e.speed_mps = 0.0;

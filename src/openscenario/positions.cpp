@@ -14,6 +14,16 @@ WorldPose lane_to_world(const RoadAccess& roads, const LaneCoord& at) {
   return roads.road_to_world(at.road_id, at.s_m, roads.lane_center_t(at.road_id, at.lane_id, at.s_m) + at.offset_m);
 }
 
+double s_step_for(const RoadAccess& roads, const LaneCoord& at, double distance_m) {
+  constexpr double kSmallNumber = 1e-6;  // esmini's
+  const double curvature = roads.curvature(at.road_id, at.s_m);
+  if (std::fabs(curvature) <= kSmallNumber) return distance_m;
+  const double t = roads.lane_center_t(at.road_id, at.lane_id, at.s_m) + at.offset_m;
+  // Past the centre of curvature (esmini then re-attaches to another road): no scaling.
+  if (curvature * t > 1.0 - kSmallNumber) return distance_m;
+  return distance_m / (1.0 - curvature * t);
+}
+
 const Entity* Scenario::find_entity(const std::string& name) const {
   for (const Entity& e : entities)
     if (e.name == name) return &e;

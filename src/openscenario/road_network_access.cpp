@@ -26,6 +26,10 @@ class NetworkAccess final : public RoadAccess {
     return {p.x, p.y, p.heading};
   }
 
+  double curvature(const std::string& road_id, double s_m) const override {
+    return road(road_id).plan_view.curvature(s_m);
+  }
+
   bool driven_along_s(const std::string& road_id, int lane_id) const override {
     return road(road_id).default_travel(lane_id) == opendrive::Travel::kAlongS;
   }

@@ -46,6 +46,8 @@ class RoadAccess {
   [[nodiscard]] virtual WorldPose road_to_world(const std::string& road_id, double s_m, double t_m) const = 0;
   /// Whether a lane is driven along s by its road's traffic rule (right-hand: the right lanes).
   [[nodiscard]] virtual bool driven_along_s(const std::string& road_id, int lane_id) const = 0;
+  /// The curvature of the road's reference line at s (1/m, positive to the left).
+  [[nodiscard]] virtual double curvature(const std::string& road_id, double s_m) const = 0;
   /// The t of a lane's centre at s.
   [[nodiscard]] virtual double lane_center_t(const std::string& road_id, int lane_id, double s_m) const = 0;
   /// The lane coordinates of a world point, preferring the road of `hint` (may be nullptr);
@@ -60,6 +62,10 @@ class RoadAccess {
 /// (the first connection that takes the lane), a lane that ends within a road continues in the lane
 /// that holds its t. Shares ownership of `network`.
 [[nodiscard]] std::shared_ptr<const RoadAccess> road_access(std::shared_ptr<const opendrive::RoadNetwork> network);
+
+/// The step along the road's s that covers `distance_m` along the lane at `at`'s offset (esmini's
+/// DistanceToDS): distance / (1 - curvature t), the curvature and t taken where the step starts.
+[[nodiscard]] double s_step_for(const RoadAccess& roads, const LaneCoord& at, double distance_m);
 
 /// The world pose of a lane point: the road's pose at the lane centre's t plus the offset.
 [[nodiscard]] WorldPose lane_to_world(const RoadAccess& roads, const LaneCoord& at);

@@ -16,7 +16,8 @@ using namespace test;
 
 // A straight road along x from (x0, 0): two right lanes of 3.5 m (-1 centred at t = -1.75, -2 at
 // t = -5.25) and one left lane, each linked to the lane of its id in the roads before and after.
-std::string road(const std::string& id, double x0, double length, const std::string& links) {
+std::string road(const std::string& id, double x0, double length, const std::string& links,
+                 const std::string& shape = "<line/>") {
   const auto lane = [](int id_, const char* type) {
     return fmt::format(
         R"(<lane id="{0}" type="{1}" level="false"><link><predecessor id="{0}"/><successor id="{0}"/></link>
@@ -24,10 +25,10 @@ std::string road(const std::string& id, double x0, double length, const std::str
         id_, type);
   };
   return fmt::format(R"(<road name="r{0}" length="{1}" id="{0}" junction="-1"><link>{2}</link>
-    <planView><geometry s="0" x="{3}" y="0" hdg="0" length="{1}"><line/></geometry></planView>
+    <planView><geometry s="0" x="{3}" y="0" hdg="0" length="{1}">{7}</geometry></planView>
     <lanes><laneSection s="0"><left>{4}</left><center><lane id="0" type="none" level="false"/></center>
     <right>{5}{6}</right></laneSection></lanes></road>)",
-                     id, length, links, x0, lane(1, "driving"), lane(-1, "driving"), lane(-2, "driving"));
+                     id, length, links, x0, lane(1, "driving"), lane(-1, "driving"), lane(-2, "driving"), shape);
 }
 
 std::string xodr(const std::string& roads) {
@@ -67,6 +68,24 @@ TEST(OnLanes, AnEntityKeepsItsLaneAcrossARoadLink) {
     EXPECT_NEAR(s.x_m, 90.0 + 10.0 * s.t_s, 1e-6) << "t = " << s.t_s;  // on road 2 past 1 s
     EXPECT_NEAR(s.y_m, -1.75, 1e-9) << "t = " << s.t_s;
     EXPECT_NEAR(s.heading_rad, 0.0, 1e-9);
+  }
+}
+
+TEST(OnLanes, OnACurveTheLaneIsCoveredAtTheEntitysSpeed) {
+  // An arc of radius 100 m turning left; lane -1 (t = -1.75) runs on the radius 101.75 m outside it.
+  // At 10 m/s the entity covers 10 m of that circle a second (esmini: ds = distance / (1 - k t)).
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_on_lane("Ego", "1", -1, 0, 10);
+  const auto played =
+      play(load_openscenario(scenario_on_roads("arc", road("1", 0, 300, "", R"(<arc curvature="0.01"/>)"), parts)),
+           {.dt_s = 0.01, .duration_s = 5.0});
+  const double radius = 100.0 + 1.75;
+  for (const Sample& s : played.at("Ego")) {
+    const double angle = 10.0 * s.t_s / radius;
+    EXPECT_NEAR(s.x_m, radius * std::sin(angle), 1e-6) << "t = " << s.t_s;
+    EXPECT_NEAR(s.y_m, 100.0 - radius * std::cos(angle), 1e-6) << "t = " << s.t_s;
+    EXPECT_NEAR(s.heading_rad, angle, 1e-9) << "t = " << s.t_s;
   }
 }
 
