@@ -34,6 +34,7 @@ void read_object(Entity& entity, const xml::Element& object, const ReadContext& 
   } else if (kind == "MiscObject") {
     entity.kind = EntityKind::kMiscObject;
     entity.category = c.text(object, "miscObjectCategory");
+    entity.performance = {0.0, 0.0, 0.0};  // esmini: an object does not drive (its speed is held at 0)
   } else {
     object.fail(
         fmt::format("a catalog entry of kind {} is not an entity (expected Vehicle, Pedestrian or MiscObject)", kind));

@@ -14,7 +14,7 @@ constexpr std::array<SupportedElement, 38> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
-    {"EntityObject", "MiscObject", "BoundingBox, miscObjectCategory; not speed-limited"},
+    {"EntityObject", "MiscObject", "BoundingBox, miscObjectCategory; never drives (esmini)"},
     {"EntityObject", "CatalogReference", "resolved through CatalogLocations, ParameterAssignments applied"},
     {"InitActions", "Private", "the entity's private actions, started at t = 0 in document order"},
     {"InitActions", "GlobalAction", "EnvironmentAction only"},

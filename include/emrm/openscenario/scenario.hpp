@@ -26,7 +26,8 @@ struct BoundingBox {
   double width_m = 0.0, length_m = 0.0, height_m = 0.0;
 };
 
-/// A Vehicle's Performance; a pedestrian or an object is not limited.
+/// A Vehicle's Performance; a pedestrian is not limited, a MiscObject cannot drive (all 0), as in
+/// esmini: a speed action on it leaves it standing; a teleport or a trajectory still moves it.
 struct Performance {
   double max_speed_mps = 1e9;
   double max_acceleration_mps2 = 1e9;
