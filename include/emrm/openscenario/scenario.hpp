@@ -306,7 +306,8 @@ struct Scenario {
   ParameterOverrides overrides;       ///< those it was read with
   std::vector<Entity> entities;
   Storyboard storyboard;
-  std::shared_ptr<const RoadAccess> roads;  ///< the RoadNetwork's LogicFile; null without one
+  std::shared_ptr<const opendrive::RoadNetwork> network;  ///< the RoadNetwork's LogicFile; null without one
+  std::shared_ptr<const RoadAccess> roads;                ///< the player's view of `network`
 
   [[nodiscard]] const Entity* find_entity(const std::string& name) const;
 };
