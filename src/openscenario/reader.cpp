@@ -185,8 +185,8 @@ Scenario load_openscenario(const std::filesystem::path& file, const ParameterOve
   if (const auto network = d.root.child("RoadNetwork"))
     if (const auto logic = network->child("LogicFile")) {
       const std::filesystem::path road_file = dir / c.text(*logic, "filepath");
-      scenario.roads =
-          road_access(std::make_shared<const opendrive::RoadNetwork>(opendrive::load_opendrive(road_file)));
+      scenario.network = std::make_shared<const opendrive::RoadNetwork>(opendrive::load_opendrive(road_file));
+      scenario.roads = road_access(scenario.network);
     }
   ReadContext rc(scope, dir, catalogs, names, scenario.roads.get());
   rc.rev_minor = d.rev_minor;
