@@ -44,7 +44,7 @@ unsigned ActionRuntime::domains() const noexcept {
         if constexpr (std::is_same_v<A, SpeedAction>) return kLongitudinal;
         if constexpr (std::is_same_v<A, LaneChangeAction> || std::is_same_v<A, LaneOffsetAction>) return kLateral;
         if constexpr (std::is_same_v<A, FollowTrajectoryAction>) return a.timing ? kLateral | kLongitudinal : kLateral;
-        if constexpr (std::is_same_v<A, EnvironmentAction>) return 0U;
+        if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction>) return 0U;
         return kLateral | kLongitudinal;
       },
       spec_.kind);
@@ -78,7 +78,8 @@ bool ActionRuntime::start(World& world, double time_s) {
     }
     return true;
   }
-  return std::holds_alternative<EnvironmentAction>(spec_.kind);  // done at once
+  // Done at once: nothing moves by them.
+  return std::holds_alternative<EnvironmentAction>(spec_.kind) || std::holds_alternative<ControllerAction>(spec_.kind);
 }
 
 bool ActionRuntime::step(World& world, double time_s, double dt_s) {

@@ -151,6 +151,28 @@ Action read_private_action(const xml::Element& private_action, const std::string
   Action action{"", actor, SpeedAction{}, kind.where()};
   if (const auto parent = private_action.parent(); parent && parent->name() == "Action")
     action.name = c.text(*parent, "name");
+  if (kind.name() == "ActivateControllerAction") {
+    action.kind = ControllerAction{};
+    return action;
+  }
+  if (kind.name() == "ControllerAction") {
+    for (const xml::Element& child : kind.children()) {
+      if (child.name() == "ActivateControllerAction") continue;
+      if (child.name() != "AssignControllerAction")
+        child.fail(
+            fmt::format("{} is not supported in ControllerAction (supported: AssignControllerAction, "
+                        "ActivateControllerAction)",
+                        child.name()));
+      if (const auto controller = child.child("Controller")) {
+        check_controller(*controller, c);
+      } else if (const auto ref = child.child("CatalogReference")) {
+        const CatalogEntry entry = resolve_catalog_reference(*ref, c);
+        check_controller(entry.element, c.with(*entry.scope));
+      }
+    }
+    action.kind = ControllerAction{};
+    return action;
+  }
   if (kind.name() == "TeleportAction") {
     action.kind = TeleportAction{read_position(kind.required_child("Position"), c)};
     return action;

@@ -98,5 +98,7 @@ struct CatalogEntry {
                                          const ReadContext& context);
 [[nodiscard]] Trigger read_trigger(const xml::Element& trigger, const ReadContext& context);
 [[nodiscard]] Entity read_entity(const xml::Element& scenario_object, const ReadContext& context);
+/// Refuses a Controller other than esmini's default one (read_entities.cpp).
+void check_controller(const xml::Element& controller, const ReadContext& context);
 
 }  // namespace emrm::openscenario::detail

@@ -41,6 +41,8 @@ void read_object(Entity& entity, const xml::Element& object, const ReadContext& 
   }
 }
 
+}  // namespace
+
 // A controller is accepted when esmini would drive the entity with its default controller: no
 // esminiController property, or DefaultController. Any other (interactive, ACC, external, ...)
 // would move the entity in ways the storyboard does not say, so it is refused.
@@ -56,8 +58,6 @@ void check_controller(const xml::Element& controller, const ReadContext& c) {
                                   value));
   }
 }
-
-}  // namespace
 
 Entity read_entity(const xml::Element& scenario_object, const ReadContext& c) {
   Entity entity;

@@ -10,7 +10,7 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 38> kSupported = {{
+constexpr std::array<SupportedElement, 40> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
@@ -25,6 +25,8 @@ constexpr std::array<SupportedElement, 38> kSupported = {{
     {"PrivateAction", "LateralAction", "LaneChangeAction, LaneOffsetAction"},
     {"PrivateAction", "TeleportAction", "any supported Position"},
     {"PrivateAction", "RoutingAction", "FollowTrajectoryAction only"},
+    {"PrivateAction", "ControllerAction", "AssignControllerAction of the default controller, ActivateControllerAction"},
+    {"PrivateAction", "ActivateControllerAction", "OpenSCENARIO 1.0's; no effect (the default controller)"},
     {"LongitudinalAction", "SpeedAction", "SpeedActionDynamics: every shape, time/distance/rate"},
     {"SpeedActionTarget", "AbsoluteTargetSpeed", "value"},
     {"SpeedActionTarget", "RelativeTargetSpeed", "delta or factor of an entity's speed, continuous"},

@@ -166,8 +166,12 @@ struct FollowTrajectoryAction {
 /// change the open-loop motion); an event holding one completes at once, as in esmini.
 struct EnvironmentAction {};
 
+/// A ControllerAction (or 1.0's ActivateControllerAction) that assigns or activates esmini's default
+/// controller: the entity already moves by it, so it has no effect and completes at once.
+struct ControllerAction {};
+
 using PrivateActionKind = std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction,
-                                       FollowTrajectoryAction, EnvironmentAction>;
+                                       FollowTrajectoryAction, EnvironmentAction, ControllerAction>;
 
 struct Action {
   std::string name;

@@ -70,7 +70,7 @@ TEST(Unsupported, APrivateActionOutsideTheSubset) {
           R"(<PrivateAction><VisibilityAction graphics="true" traffic="true" sensors="true"/></PrivateAction>)"),
       "<VisibilityAction",
       "VisibilityAction is not supported in PrivateAction (supported: LongitudinalAction, LateralAction, "
-      "TeleportAction, RoutingAction)");
+      "TeleportAction, RoutingAction, ControllerAction, ActivateControllerAction)");
   expect_unsupported(
       "acquire",
       with_event_action("<PrivateAction><RoutingAction><AcquirePositionAction>" + world_position(1, 2, 0) +
@@ -82,6 +82,21 @@ TEST(Unsupported, APrivateActionOutsideTheSubset) {
       entityRef="Ego" freespace="false" continuous="false" distance="5"/></LongitudinalAction></PrivateAction>)"),
                      "<LongitudinalDistanceAction",
                      "LongitudinalDistanceAction is not supported in LongitudinalAction (supported: SpeedAction)");
+}
+
+TEST(Unsupported, OnlyEsminisDefaultControllerMayBeAssigned) {
+  const auto assign = [](const std::string& controller) {
+    return fmt::format(R"(<PrivateAction><ControllerAction><AssignControllerAction><Controller name="c">
+        <Properties><Property name="esminiController" value="{}"/></Properties></Controller>
+        </AssignControllerAction></ControllerAction></PrivateAction>)",
+                       controller);
+  };
+  // The default controller is what moves the entity anyway: the action has no effect.
+  const XoscParts accepted = with_event_action(assign("DefaultController"));
+  const auto played = play(load_openscenario(write_scenario("default_controller", accepted)), {.duration_s = 2.0});
+  EXPECT_NEAR(played.at("Ego").back().x_m, 20.0, 1e-9);
+  expect_unsupported("interactive_controller", with_event_action(assign("InteractiveController")),
+                     "value=\"InteractiveController\"", "controller InteractiveController is not supported");
 }
 
 TEST(Unsupported, ConditionsOutsideTheSubset) {
