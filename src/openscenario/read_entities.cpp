@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <optional>
+
 #include "read_context.hpp"
 
 namespace emrm::openscenario::detail {
@@ -43,20 +46,43 @@ void read_object(Entity& entity, const xml::Element& object, const ReadContext& 
 
 }  // namespace
 
-// A controller is accepted when esmini would drive the entity with its default controller: no
-// esminiController property, or DefaultController. Any other (interactive, ACC, external, ...)
-// would move the entity in ways the storyboard does not say, so it is refused.
+// A controller is accepted when esmini would drive the entity with its default controller. esmini
+// takes the type from the esminiController property, else from the Controller's name; a type of
+// esmini's other controllers (interactive, ACC, ALKS, external, ...) would move the entity in ways
+// the storyboard does not say, so it is refused.
 void check_controller(const xml::Element& controller, const ReadContext& c) {
-  const auto properties = controller.child("Properties");
-  if (!properties) return;
-  for (const xml::Element& p : properties->children("Property")) {
-    if (c.text(p, "name") != "esminiController") continue;
-    const std::string value = c.text(p, "value");
-    if (value != "DefaultController")
-      p.fail("value", fmt::format("value: controller {} is not supported (supported: esmini's DefaultController, or "
-                                  "no controller; emrm plays the storyboard open loop)",
-                                  value));
-  }
+  static constexpr std::string_view kOtherControllers[] = {"ACCController",
+                                                           "ALKSController",
+                                                           "ALKS_R157SM_Controller",
+                                                           "ECE_ALKS_RefDriverController",
+                                                           "ExternalController",
+                                                           "FollowGhostController",
+                                                           "FollowReferenceController",
+                                                           "FollowRouteController",
+                                                           "HIDController",
+                                                           "InteractiveController",
+                                                           "LoomingController",
+                                                           "NaturalDriver",
+                                                           "OffroadFollower",
+                                                           "SloppyDriverController",
+                                                           "SumoController",
+                                                           "UDPDriverController"};
+  std::optional<xml::Element> where;
+  std::string type = c.optional_text(controller, "name").value_or("");
+  if (const auto properties = controller.child("Properties"))
+    for (const xml::Element& p : properties->children("Property"))
+      if (c.text(p, "name") == "esminiController") {
+        type = c.text(p, "value");
+        where = p;
+      }
+  if (std::find(std::begin(kOtherControllers), std::end(kOtherControllers), type) == std::end(kOtherControllers))
+    return;
+  const std::string message = fmt::format(
+      "controller {} is not supported (supported: esmini's DefaultController, or no controller; emrm plays the "
+      "storyboard open loop)",
+      type);
+  if (where) where->fail("value", "value: " + message);
+  controller.fail("name", "name: " + message);
 }
 
 Entity read_entity(const xml::Element& scenario_object, const ReadContext& c) {
