@@ -1,0 +1,137 @@
+// The player's loop (player.hpp): esmini's ScenarioEngine::step at a fixed step. Each step: the
+// triggers are evaluated on the states at its start time, the running actions stepped (they may
+// move their entity), the time advanced, then every entity no action moved goes along its lane at
+// its speed (esmini's default controller). docs/import.md, "The player's step".
+
+#include "emrm/openscenario/player.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "emrm/openscenario/reader.hpp"
+#include "runtime.hpp"
+
+namespace emrm::openscenario {
+namespace {
+
+using detail::EntityState;
+using detail::kSmall;
+using detail::World;
+
+// esmini's defaultController: s advances by speed * dt in the driving direction, keeping the lane
+// and its offset, into the linked road past an end; without a lane, straight on.
+void default_controller(const World& world, EntityState& e, double dt_s) {
+  if (e.moved_longitudinally || std::fabs(e.speed_mps) < kSmall) return;
+  const double step_m = e.speed_mps * dt_s;
+  if (e.on_lane) {
+    const LaneStep moved = world.roads->step_along(e.lane, s_step_for(*world.roads, e.lane, step_m) * e.direction);
+    if (moved.direction_flipped) e.direction = -e.direction;
+    e.lane = moved.to;
+    if (moved.end_of_road) e.speed_mps = 0.0;
+    world.update_pose(e);
+  } else {
+    e.pose.x_m += step_m * std::cos(e.pose.heading_rad);
+    e.pose.y_m += step_m * std::sin(e.pose.heading_rad);
+  }
+}
+
+Sample sample_of(const EntityState& e, double t_s) {
+  return {t_s, e.pose.x_m, e.pose.y_m, std::remainder(e.pose.heading_rad, 2.0 * std::numbers::pi), e.speed_mps};
+}
+
+Trajectories run(const Scenario& scenario, const PlayOptions& options) {
+  if (!(options.dt_s > 0.0) || !(options.duration_s >= 0.0))
+    throw InputError({}, "play: expected dt_s > 0 and duration_s >= 0");
+  World world;
+  world.scenario = &scenario;
+  world.roads = scenario.roads.get();
+  for (const Entity& entity : scenario.entities) {
+    EntityState state;
+    state.spec = &entity;
+    world.entities.push_back(state);
+  }
+  detail::StoryboardRuntime storyboard(scenario, world);
+
+  Trajectories out;
+  StepStates states;
+  const auto record = [&](double t_s) {
+    for (const EntityState& e : world.entities) {
+      const Sample s = sample_of(e, t_s);
+      out[e.spec->name].push_back(s);
+      states[e.spec->name] = s;
+    }
+  };
+  // esmini's first frame has no duration: Init and the triggers at t = 0, nothing moves.
+  storyboard.start();
+  storyboard.step(0.0, 0.0);
+  record(0.0);
+  if (options.stop_at && options.stop_at(0.0, states)) return out;
+  const auto steps = static_cast<long>(std::floor(options.duration_s / options.dt_s + 1e-9));
+  for (long k = 0; k < steps; ++k) {
+    const double t_s = static_cast<double>(k) * options.dt_s;
+    for (EntityState& e : world.entities) e.moved_longitudinally = false;
+    world.time_s = t_s;
+    if (!storyboard.step(t_s, options.dt_s)) break;  // the StopTrigger ends the play (esmini quits)
+    const double next_t = static_cast<double>(k + 1) * options.dt_s;
+    world.time_s = next_t;
+    for (EntityState& e : world.entities) default_controller(world, e, options.dt_s);
+    record(next_t);
+    if (options.stop_at && options.stop_at(next_t, states)) break;
+  }
+  return out;
+}
+
+}  // namespace
+
+Trajectories play(const Scenario& scenario, const PlayOptions& options) {
+  if (options.overrides.empty()) return run(scenario, options);
+  ParameterOverrides merged = scenario.overrides;
+  for (const auto& [name, value] : options.overrides) merged[name] = value;
+  return run(load_openscenario(scenario.file, merged), options);
+}
+
+double time_to_collision(const Sample& ego, const BoundingBox& ego_box, const Sample& other,
+                         const BoundingBox& other_box) {
+  const double ux = std::cos(ego.heading_rad), uy = std::sin(ego.heading_rad);
+  // The other's box projected on the ego's heading, from the ego's reference point.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, lat_lo = lo, lat_hi = -lo;
+  const double c = std::cos(other.heading_rad), s = std::sin(other.heading_rad);
+  for (const double fx : {-0.5, 0.5})
+    for (const double fy : {-0.5, 0.5}) {
+      const double lx = other_box.center_x_m + fx * other_box.length_m;
+      const double ly = other_box.center_y_m + fy * other_box.width_m;
+      const double x = other.x_m + c * lx - s * ly - ego.x_m, y = other.y_m + s * lx + c * ly - ego.y_m;
+      const double along = x * ux + y * uy, across = -x * uy + y * ux;
+      lo = std::min(lo, along), hi = std::max(hi, along);
+      lat_lo = std::min(lat_lo, across), lat_hi = std::max(lat_hi, across);
+    }
+  const double front = ego_box.center_x_m + ego_box.length_m / 2.0;
+  const double half_width = ego_box.width_m / 2.0;
+  // Only what is ahead and overlaps the ego's width can be hit by going on straight.
+  if (hi < front || lat_lo > ego_box.center_y_m + half_width || lat_hi < ego_box.center_y_m - half_width)
+    return std::numeric_limits<double>::infinity();
+  const double gap = std::max(0.0, lo - front);
+  const double closing = ego.speed_mps - other.speed_mps * std::cos(other.heading_rad - ego.heading_rad);
+  if (gap <= 0.0) return 0.0;
+  return closing > kSmall ? gap / closing : std::numeric_limits<double>::infinity();
+}
+
+double first_ttc_below(const Trajectories& trajectories, const std::string& ego, double ttc_s,
+                       const Scenario& scenario) {
+  const auto ego_samples = trajectories.find(ego);
+  const Entity* ego_entity = scenario.find_entity(ego);
+  if (ego_samples == trajectories.end() || ego_entity == nullptr)
+    throw InputError({}, "first_ttc_below: no entity named '" + ego + "'");
+  for (std::size_t i = 0; i < ego_samples->second.size(); ++i)
+    for (const auto& [name, samples] : trajectories) {
+      if (name == ego || i >= samples.size()) continue;
+      const Entity* other = scenario.find_entity(name);
+      if (other == nullptr) continue;
+      if (time_to_collision(ego_samples->second[i], ego_entity->box, samples[i], other->box) <= ttc_s)
+        return ego_samples->second[i].t_s;
+    }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace emrm::openscenario

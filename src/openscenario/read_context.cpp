@@ -1,0 +1,120 @@
+// The reader's attribute readers and parameter declarations (read_context.hpp).
+
+#include "read_context.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+
+#include "emrm/openscenario/supported.hpp"
+
+namespace emrm::openscenario::detail {
+namespace {
+
+// Where an attribute's value starts: after name=" (the XML reader gives the name's position).
+SourceLocation value_location(const xml::Element& e, std::string_view name) {
+  SourceLocation at = e.where(name);
+  if (at.column > 0 && e.attribute(name)) at.column += static_cast<int>(name.size()) + 2;
+  return at;
+}
+
+}  // namespace
+
+std::optional<std::string> ReadContext::optional_text(const xml::Element& e, std::string_view name) const {
+  const auto raw = e.attribute(name);
+  if (!raw) return std::nullopt;
+  return scope_.resolve(*raw, value_location(e, name));
+}
+
+std::string ReadContext::text(const xml::Element& e, std::string_view name) const {
+  if (!e.attribute(name)) e.fail(fmt::format("<{}> needs the attribute {}", e.name(), name));
+  return *optional_text(e, name);
+}
+
+std::optional<double> ReadContext::optional_number(const xml::Element& e, std::string_view name, std::string_view unit,
+                                                   double low, double high) const {
+  const auto value = optional_text(e, name);
+  if (!value) return std::nullopt;
+  double number = 0.0;
+  std::string_view text = *value;
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(number))
+    e.fail(name, fmt::format("{}: expected a number{}, got '{}'", name, unit.empty() ? "" : fmt::format(" ({})", unit),
+                             *value));
+  if (number < low || number > high)
+    e.fail(name, fmt::format("{}: expected a value in [{}, {}]{}, got {}", name, low, high,
+                             unit.empty() ? "" : fmt::format(" {}", unit), number));
+  return number;
+}
+
+double ReadContext::number(const xml::Element& e, std::string_view name, std::string_view unit, double low,
+                           double high) const {
+  if (!e.attribute(name)) e.fail(fmt::format("<{}> needs the attribute {}", e.name(), name));
+  return *optional_number(e, name, unit, low, high);
+}
+
+int ReadContext::integer(const xml::Element& e, std::string_view name, int low, int high) const {
+  const double value = number(e, name, "", low, high);
+  if (value != std::round(value)) e.fail(name, fmt::format("{}: expected an integer, got {}", name, value));
+  return static_cast<int>(value);
+}
+
+bool ReadContext::boolean(const xml::Element& e, std::string_view name, bool fallback) const {
+  const auto value = optional_text(e, name);
+  if (!value) return fallback;
+  if (*value == "true" || *value == "1") return true;
+  if (*value == "false" || *value == "0") return false;
+  e.fail(name, fmt::format("{}: expected true or false, got '{}'", name, *value));
+}
+
+std::size_t ReadContext::choice(const xml::Element& e, std::string_view name,
+                                std::initializer_list<std::string_view> names) const {
+  const std::string value = text(e, name);
+  std::size_t i = 0;
+  std::string list;
+  for (const auto n : names) {
+    if (n == value) return i;
+    list += (list.empty() ? "" : ", ") + std::string(n);
+    ++i;
+  }
+  e.fail(name, fmt::format("{}: expected one of {}, got '{}'", name, list, value));
+}
+
+std::string ReadContext::entity_ref(const xml::Element& e, std::string_view name) const {
+  const std::string ref = text(e, name);
+  if (!entities_.contains(ref)) {
+    std::string known;
+    for (const auto& n : entities_) known += (known.empty() ? "" : ", ") + n;
+    e.fail(name, fmt::format("{}: no entity named '{}' (entities: {})", name, ref, known));
+  }
+  return ref;
+}
+
+xml::Element ReadContext::chosen(const xml::Element& e, std::string_view choice) const {
+  const auto children = e.children();
+  if (children.empty()) e.fail(fmt::format("<{}> needs a child element", e.name()));
+  const xml::Element& child = children.front();
+  require_supported(choice, child.name(), child.where());
+  return child;
+}
+
+void declare_parameters(const xml::Element& parent, ParameterScope& scope, const ReadContext& context,
+                        const ParameterOverrides& overrides) {
+  (void)context;
+  const auto declarations = parent.child("ParameterDeclarations");
+  if (!declarations) return;
+  for (const xml::Element& p : declarations->children("ParameterDeclaration")) {
+    const ParameterType type = parse_type(p.required("parameterType"), p.where("parameterType"));
+    SourceLocation value_at = p.where("value");
+    if (value_at.column > 0 && p.attribute("value")) value_at.column += 7;
+    // The value is resolved in the scope it is declared in (earlier declarations, then parents).
+    const std::string raw = p.attribute("value").value_or("");
+    if (!p.attribute("value")) p.fail("<ParameterDeclaration> needs the attribute value");
+    scope.declare(p.required("name"), type, raw, value_at, overrides);
+  }
+}
+
+}  // namespace emrm::openscenario::detail

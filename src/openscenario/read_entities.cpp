@@ -1,0 +1,110 @@
+// Entities as the document writes them (read_context.hpp): a Vehicle, Pedestrian or MiscObject,
+// directly or from a catalog, and its controller (esmini's default controller only).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <optional>
+
+#include "read_context.hpp"
+
+namespace emrm::openscenario::detail {
+namespace {
+
+constexpr double kMaxSize_m = 1000.0;
+
+BoundingBox read_box(const xml::Element& object, const ReadContext& c) {
+  const xml::Element box = object.required_child("BoundingBox");
+  const xml::Element center = box.required_child("Center");
+  const xml::Element dimensions = box.required_child("Dimensions");
+  return {c.number(center, "x", "m", -kMaxSize_m, kMaxSize_m),  c.number(center, "y", "m", -kMaxSize_m, kMaxSize_m),
+          c.number(center, "z", "m", -kMaxSize_m, kMaxSize_m),  c.number(dimensions, "width", "m", 0.0, kMaxSize_m),
+          c.number(dimensions, "length", "m", 0.0, kMaxSize_m), c.number(dimensions, "height", "m", 0.0, kMaxSize_m)};
+}
+
+void read_object(Entity& entity, const xml::Element& object, const ReadContext& c) {
+  const std::string_view kind = object.name();
+  entity.box = read_box(object, c);
+  if (kind == "Vehicle") {
+    entity.kind = EntityKind::kVehicle;
+    entity.category = c.text(object, "vehicleCategory");
+    const xml::Element p = object.required_child("Performance");
+    entity.performance = {c.number(p, "maxSpeed", "m/s", 0.0, 1e4), c.number(p, "maxAcceleration", "m/s2", 0.0, 1e4),
+                          c.number(p, "maxDeceleration", "m/s2", 0.0, 1e4)};
+  } else if (kind == "Pedestrian") {
+    entity.kind = EntityKind::kPedestrian;
+    entity.category = c.optional_text(object, "pedestrianCategory").value_or("pedestrian");
+  } else if (kind == "MiscObject") {
+    entity.kind = EntityKind::kMiscObject;
+    entity.category = c.text(object, "miscObjectCategory");
+    entity.performance = {0.0, 0.0, 0.0};  // esmini: an object does not drive (its speed is held at 0)
+  } else {
+    object.fail(
+        fmt::format("a catalog entry of kind {} is not an entity (expected Vehicle, Pedestrian or MiscObject)", kind));
+  }
+}
+
+}  // namespace
+
+// A controller is accepted when esmini would drive the entity with its default controller. esmini
+// takes the type from the esminiController property, else from the Controller's name; a type of
+// esmini's other controllers (interactive, ACC, ALKS, external, ...) would move the entity in ways
+// the storyboard does not say, so it is refused.
+void check_controller(const xml::Element& controller, const ReadContext& c) {
+  static constexpr std::string_view kOtherControllers[] = {"ACCController",
+                                                           "ALKSController",
+                                                           "ALKS_R157SM_Controller",
+                                                           "ECE_ALKS_RefDriverController",
+                                                           "ExternalController",
+                                                           "FollowGhostController",
+                                                           "FollowReferenceController",
+                                                           "FollowRouteController",
+                                                           "HIDController",
+                                                           "InteractiveController",
+                                                           "LoomingController",
+                                                           "NaturalDriver",
+                                                           "OffroadFollower",
+                                                           "SloppyDriverController",
+                                                           "SumoController",
+                                                           "UDPDriverController"};
+  std::optional<xml::Element> where;
+  std::string type = c.optional_text(controller, "name").value_or("");
+  if (const auto properties = controller.child("Properties"))
+    for (const xml::Element& p : properties->children("Property"))
+      if (c.text(p, "name") == "esminiController") {
+        type = c.text(p, "value");
+        where = p;
+      }
+  if (std::find(std::begin(kOtherControllers), std::end(kOtherControllers), type) == std::end(kOtherControllers))
+    return;
+  const std::string message = fmt::format(
+      "controller {} is not supported (supported: esmini's DefaultController, or no controller; emrm plays the "
+      "storyboard open loop)",
+      type);
+  if (where) where->fail("value", "value: " + message);
+  controller.fail("name", "name: " + message);
+}
+
+Entity read_entity(const xml::Element& scenario_object, const ReadContext& c) {
+  Entity entity;
+  entity.name = c.text(scenario_object, "name");
+  entity.where = scenario_object.where();
+  const xml::Element object = c.chosen(scenario_object, "EntityObject");
+  if (object.name() == "CatalogReference") {
+    const CatalogEntry entry = resolve_catalog_reference(object, c);
+    read_object(entity, entry.element, c.with(*entry.scope));
+  } else {
+    read_object(entity, object, c);
+  }
+  for (const xml::Element& controller : scenario_object.children("ObjectController")) {
+    if (const auto direct = controller.child("Controller")) {
+      check_controller(*direct, c);
+    } else if (const auto ref = controller.child("CatalogReference")) {
+      const CatalogEntry entry = resolve_catalog_reference(*ref, c);
+      check_controller(entry.element, c.with(*entry.scope));
+    }
+  }
+  return entity;
+}
+
+}  // namespace emrm::openscenario::detail

@@ -1,0 +1,216 @@
+// Triggers fire at the step their condition first holds on the states at its start, and their
+// event's action shows in the next sample (esmini's order: docs/import.md, "The player's step").
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "emrm/openscenario/reader.hpp"
+#include "openscenario/xosc_builder.hpp"
+
+namespace emrm::openscenario {
+namespace {
+
+using namespace test;
+
+// esmini's rules: lessThan holds below the threshold by more than 1e-6, greaterThan above it.
+constexpr double kSlack = 1e-6;
+
+// Ego from the origin along x at 10 m/s; Lead at `lead_x` at `lead_v`. The event stops the ego
+// (speed 0 at once) when `start_trigger` fires.
+Trajectories play_stop_on(const std::string& name, const std::string& start_trigger, double lead_x, double lead_v,
+                          const std::string& extra_events = "") {
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", lead_x, 0, 0, lead_v);
+  parts.acts = act("Ego", event("stop", speed("0"), start_trigger) + extra_events);
+  return play(load_openscenario(write_scenario(name, parts)), {.dt_s = 0.01, .duration_s = 12.0});
+}
+
+// The index of the first sample at which `holds` is true of the states, and checks that the
+// ego's speed is 10 up to the next sample and 0 from it on: the trigger evaluated those states.
+std::size_t expect_fired_at_first(const Trajectories& played, const std::function<bool(std::size_t)>& holds) {
+  const auto& ego = played.at("Ego");
+  std::size_t first = ego.size();
+  for (std::size_t i = 0; i < ego.size(); ++i)
+    if (holds(i)) {
+      first = i;
+      break;
+    }
+  EXPECT_LT(first + 1, ego.size()) << "the condition never held";
+  if (first + 1 >= ego.size()) return first;
+  for (std::size_t i = 0; i <= first; ++i) EXPECT_DOUBLE_EQ(ego[i].speed_mps, 10.0) << "t = " << ego[i].t_s;
+  for (std::size_t i = first + 1; i < ego.size(); ++i) EXPECT_DOUBLE_EQ(ego[i].speed_mps, 0.0) << "t = " << ego[i].t_s;
+  return first;
+}
+
+TEST(Triggers, SimulationTimeFiresAtTheFirstStepPastItsValue) {
+  const auto played = play_stop_on("time", trigger("StartTrigger", time_condition(2.0)), 1000, 0);
+  const auto& ego = played.at("Ego");
+  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return ego[k].t_s > 2.0 + kSlack; });
+  EXPECT_NEAR(ego[i].t_s, 2.0, 0.01 + 1e-9);
+}
+
+TEST(Triggers, TimeToCollisionWithAStandingEntity) {
+  // Centre to centre 100 - 10 t at 10 m/s: TTC < 3 s from t = 7 s.
+  const auto played = play_stop_on(
+      "ttc",
+      trigger("StartTrigger",
+              entity_condition("Ego", R"(<TimeToCollisionCondition value="3" freespace="false" rule="lessThan"
+                 relativeDistanceType="euclidianDistance" coordinateSystem="entity"><TimeToCollisionConditionTarget>
+                 <EntityRef entityRef="Lead"/></TimeToCollisionConditionTarget></TimeToCollisionCondition>)")),
+      100, 0);
+  const auto& ego = played.at("Ego");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return (100 - ego[k].x_m) / 10 < 3 - kSlack; });
+  EXPECT_NEAR(ego[i].t_s, 7.0, 0.01 + 1e-9);
+}
+
+TEST(Triggers, FreespaceTimeToCollisionMeasuresBetweenTheBoxes) {
+  // Boxes 4 m long: the gap is the centre distance less 4 m; TTC < 3 s from t = 6.6 s.
+  const auto played = play_stop_on(
+      "ttc_freespace",
+      trigger("StartTrigger",
+              entity_condition("Ego", R"(<TimeToCollisionCondition value="3" freespace="true" rule="lessThan"
+                 relativeDistanceType="longitudinal" coordinateSystem="entity"><TimeToCollisionConditionTarget>
+                 <EntityRef entityRef="Lead"/></TimeToCollisionConditionTarget></TimeToCollisionCondition>)")),
+      100, 0);
+  const auto& ego = played.at("Ego");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return (96 - ego[k].x_m) / 10 < 3 - kSlack; });
+  EXPECT_NEAR(ego[i].t_s, 6.6, 0.01 + 1e-9);
+}
+
+TEST(Triggers, TimeHeadwayToAMovingLead) {
+  // Lead 50 m ahead at 5 m/s: distance 50 - 5 t, headway (50 - 5 t) / 10 < 2 s from t = 6 s.
+  const auto played = play_stop_on(
+      "headway", trigger("StartTrigger", entity_condition("Ego", R"(<TimeHeadwayCondition entityRef="Lead" value="2"
+                 freespace="false" rule="lessThan" coordinateSystem="entity" relativeDistanceType="longitudinal"/>)")),
+      50, 5);
+  const auto& ego = played.at("Ego");
+  const auto& lead = played.at("Lead");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return (lead[k].x_m - ego[k].x_m) / 10 < 2 - kSlack; });
+  EXPECT_NEAR(ego[i].t_s, 6.0, 0.01 + 1e-9);
+}
+
+TEST(Triggers, RelativeDistance) {
+  // 50 - 5 t < 30 m from t = 4 s.
+  const auto played = play_stop_on(
+      "relative_distance",
+      trigger("StartTrigger", entity_condition("Ego", R"(<RelativeDistanceCondition entityRef="Lead" value="30"
+                 freespace="false" rule="lessThan" relativeDistanceType="euclidianDistance" coordinateSystem="entity"/>)")),
+      50, 5);
+  const auto& ego = played.at("Ego");
+  const auto& lead = played.at("Lead");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return lead[k].x_m - ego[k].x_m < 30 - kSlack; });
+  EXPECT_NEAR(ego[i].t_s, 4.0, 0.01 + 1e-9);
+}
+
+TEST(Triggers, ReachPosition) {
+  // Within 1 m of x = 50 from t = 4.9 s.
+  const auto played = play_stop_on(
+      "reach",
+      trigger("StartTrigger", entity_condition("Ego", R"(<ReachPositionCondition tolerance="1">)" +
+                                                          world_position(50, 0, 0) + "</ReachPositionCondition>")),
+      1000, 0);
+  const auto& ego = played.at("Ego");
+  const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return std::fabs(ego[k].x_m - 50) < 1; });
+  EXPECT_NEAR(ego[i].t_s, 4.9, 0.01 + 1e-9);
+}
+
+TEST(Triggers, ADelayPostponesTheFiringByItsDuration) {
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  parts.acts = act("Ego", event("stop", speed("0"),
+                                fmt::format("<StartTrigger><ConditionGroup>{}</ConditionGroup></StartTrigger>",
+                                            condition(R"(<ByValueCondition><SimulationTimeCondition value="1"
+                                                rule="greaterThan"/></ByValueCondition>)",
+                                                      "none", 0.5))));
+  const auto played = play(load_openscenario(write_scenario("delay", parts)), {.dt_s = 0.01, .duration_s = 3.0});
+  const auto& ego = played.at("Ego");
+  std::size_t first_stopped = 0;
+  while (first_stopped < ego.size() && ego[first_stopped].speed_mps != 0.0) ++first_stopped;
+  // Without the delay the first stopped sample is at 1.02 s (fired at 1.01 s): 0.5 s later with it.
+  EXPECT_NEAR(ego[first_stopped].t_s, 1.52, 0.01 + 1e-9);
+}
+
+TEST(Triggers, AStoryboardElementStateChainsTwoEvents) {
+  // Event "accelerate" from 1 s: 10 -> 20 m/s linear in 1 s. Event "stop" on its end transition.
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  const std::string on_end = trigger(
+      "StartTrigger", condition(R"(<ByValueCondition><StoryboardElementStateCondition storyboardElementType="event"
+          storyboardElementRef="accelerate" state="endTransition"/></ByValueCondition>)"));
+  parts.acts = act("Ego", event("accelerate", speed("20", "linear", "time", "1"),
+                                trigger("StartTrigger", time_condition(1.0)), "parallel") +
+                              event("stop", speed("0"), on_end, "parallel"));
+  const auto played = play(load_openscenario(write_scenario("chain", parts)), {.dt_s = 0.01, .duration_s = 4.0});
+  const auto& ego = played.at("Ego");
+  // The first sample at 20 m/s is where "accelerate" ends; the next shows "stop".
+  std::size_t reached = 0;
+  while (reached < ego.size() && ego[reached].speed_mps != 20.0) ++reached;
+  ASSERT_LT(reached + 1, ego.size());
+  EXPECT_NEAR(ego[reached].t_s, 2.01, 1e-9);  // fired at 1.01 s, 100 steps of 0.01 s
+  EXPECT_DOUBLE_EQ(ego[reached + 1].speed_mps, 0.0);
+  for (std::size_t i = reached + 1; i < ego.size(); ++i) EXPECT_DOUBLE_EQ(ego[i].speed_mps, 0.0);
+}
+
+TEST(Triggers, TheStoryboardStopTriggerEndsThePlay) {
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  parts.stop = "<ConditionGroup>" + time_condition(1.5) + "</ConditionGroup>";
+  const auto played = play(load_openscenario(write_scenario("stop", parts)), {.dt_s = 0.01, .duration_s = 5.0});
+  // The step at the first time past 1.5 s (1.51 s) does not run: the last sample is at 1.51 s.
+  EXPECT_NEAR(played.at("Ego").back().t_s, 1.51, 1e-9);
+}
+
+}  // namespace
+}  // namespace emrm::openscenario
+
+namespace emrm::openscenario {
+namespace {
+
+using namespace test;
+
+TEST(ThreatOnset, FirstTtcBelowIsTheGapOverTheClosingSpeed) {
+  // Ego at 10 m/s towards a standing car 100 m ahead, both 4 m long: gap 96 - 10 t, TTC 9.6 - t.
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 100, 0, 0, 0);
+  const Scenario scenario = load_openscenario(write_scenario("onset", parts));
+  const Trajectories played = play(scenario, {.dt_s = 0.01, .duration_s = 9.0});
+  const double onset = first_ttc_below(played, "Ego", 2.0, scenario);
+  // The first sample with 9.6 - t <= 2: t = 7.6, to within the rounding of the sample times.
+  EXPECT_NEAR(onset, 7.6, 0.01 + 1e-9);
+  for (const Sample& s : played.at("Ego")) {
+    if (s.t_s < onset) {
+      EXPECT_GT((96.0 - s.x_m) / 10.0, 2.0 - 1e-9);
+    }
+  }
+  // A car in the next lane is not ahead of the ego's box: no onset.
+  XoscParts beside = parts;
+  beside.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 100, 3.5, 0, 0);
+  const Scenario other = load_openscenario(write_scenario("onset_beside", beside));
+  EXPECT_TRUE(std::isnan(first_ttc_below(play(other, {.dt_s = 0.01, .duration_s = 9.0}), "Ego", 2.0, other)));
+}
+
+TEST(ThreatOnset, StopAtEndsThePlayAfterTheStepItReturnsTrue) {
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  const Scenario scenario = load_openscenario(write_scenario("stop_at", parts));
+  const auto played = play(scenario, {.dt_s = 0.01, .duration_s = 9.0, .stop_at = [](double, const StepStates& states) {
+                                        return states.at("Ego").x_m >= 25.0;
+                                      }});
+  EXPECT_NEAR(played.at("Ego").back().x_m, 25.0, 1e-9);
+  EXPECT_NEAR(played.at("Ego").back().t_s, 2.5, 1e-9);
+}
+
+}  // namespace
+}  // namespace emrm::openscenario
