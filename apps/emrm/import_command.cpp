@@ -42,11 +42,12 @@ int run(const ImportOptions& o) {
     // The scenario relative to the scene file, so that the two move together.
     const std::filesystem::path folder = std::filesystem::absolute(o.output).parent_path();
     config.openscenario.file = std::filesystem::path(config.openscenario.file).lexically_relative(folder).string();
-    core::write_file(o.output, fmt::format("# {} imported by `emrm import` (docs/import.md)\n{}", o.scenario,
-                                           sim::to_yaml(config)));
-    std::cout << fmt::format("Scene written to {} (family openscenario, ego {}, {} factor{} besides speed, TTC and μ)\n",
-                             o.output, config.openscenario.ego, config.openscenario.factors.size(),
-                             config.openscenario.factors.size() == 1 ? "" : "s");
+    core::write_file(
+        o.output, fmt::format("# {} imported by `emrm import` (docs/import.md)\n{}", o.scenario, sim::to_yaml(config)));
+    std::cout << fmt::format(
+        "Scene written to {} (family openscenario, ego {}, {} factor{} besides speed, TTC and μ)\n", o.output,
+        config.openscenario.ego, config.openscenario.factors.size(),
+        config.openscenario.factors.size() == 1 ? "" : "s");
   } else {
     std::cout << sim::to_yaml(config);
   }

@@ -156,16 +156,16 @@ std::optional<std::pair<double, double>> band_at(const opendrive::Road& road, do
   return std::pair{low, high};
 }
 
-constexpr double kStraight_m = 0.02;       // the reference line's most lateral deviation from a line
-constexpr double kStraight_rad = 0.005;    // and its heading's from the line's
-constexpr double kBehind_m = 20.0;         // the stretch checked behind the ego
+constexpr double kStraight_m = 0.02;     // the reference line's most lateral deviation from a line
+constexpr double kStraight_rad = 0.005;  // and its heading's from the line's
+constexpr double kBehind_m = 20.0;       // the stretch checked behind the ego
 constexpr double kStretchStep_m = 1.0;
 
 // The straight road the ego drives at the onset, in the ego's direction, with the narrowest
 // drivable band over the stretch it may reach; or why there is none.
 std::variant<sim::StraightRoad, std::string> straight_road(const opendrive::RoadNetwork& network,
-                                                          const sim::Track::Sample& ego, double reach_m,
-                                                          const sim::OpenScenarioConfig& o) {
+                                                           const sim::Track::Sample& ego, double reach_m,
+                                                           const sim::OpenScenarioConfig& o) {
   const auto at = network.world_to_road(ego.x_m, ego.y_m);
   if (!at) return std::string("the ego is on no road at the threat onset");
   const opendrive::Road& road = *at->road;
@@ -262,8 +262,9 @@ sim::SceneLayout layout_of(const sim::SceneConfig& config, const sim::CellInput&
 
 sim::ScenarioFamilyInfo scenario_family() {
   return {.name = "openscenario",
-          .description = "a scenario imported from ASAM OpenSCENARIO with its OpenDRIVE road (emrm import): its "
-                         "declared parameters as factors, the threat onset at the cell's TTC",
+          .description =
+              "a scenario imported from ASAM OpenSCENARIO with its OpenDRIVE road (emrm import): its "
+              "declared parameters as factors, the threat onset at the cell's TTC",
           .factors = scenario_factors,
           .layout = layout_of,
           .tjunction_analytics = false,
@@ -302,13 +303,14 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   for (const Parameter& p : scenario->parameters)
     if (numeric(p.type)) numeric_parameters.push_back(p.name);
   if (numeric_parameters.size() > sim::kMaxImportedFactors)
-    throw InputError({path, 0, 0},
-                     fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
-                                 "factors: write a scene file with `emrm import` and keep those you vary under "
-                                 "openscenario.factors",
-                                 numeric_parameters.size(), fmt::join(numeric_parameters, ", "),
-                                 sim::kMaxImportedFactors));
-  for (const std::string& name : numeric_parameters) config.openscenario.factors.push_back({.parameter = name});
+    throw InputError(
+        {path, 0, 0},
+        fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
+                    "factors: write a scene file with `emrm import` and keep those you vary under "
+                    "openscenario.factors",
+                    numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
+  for (const std::string& name : numeric_parameters)
+    config.openscenario.factors.push_back({.parameter = name, .unit = "1", .min = {}, .max = {}});
   sim::validate(config);
   return config;
 }

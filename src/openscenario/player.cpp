@@ -91,47 +91,4 @@ Trajectories play(const Scenario& scenario, const PlayOptions& options) {
   return run(load_openscenario(scenario.file, merged), options);
 }
 
-double time_to_collision(const Sample& ego, const BoundingBox& ego_box, const Sample& other,
-                         const BoundingBox& other_box) {
-  const double ux = std::cos(ego.heading_rad), uy = std::sin(ego.heading_rad);
-  // The other's box projected on the ego's heading, from the ego's reference point.
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo, lat_lo = lo, lat_hi = -lo;
-  const double c = std::cos(other.heading_rad), s = std::sin(other.heading_rad);
-  for (const double fx : {-0.5, 0.5})
-    for (const double fy : {-0.5, 0.5}) {
-      const double lx = other_box.center_x_m + fx * other_box.length_m;
-      const double ly = other_box.center_y_m + fy * other_box.width_m;
-      const double x = other.x_m + c * lx - s * ly - ego.x_m, y = other.y_m + s * lx + c * ly - ego.y_m;
-      const double along = x * ux + y * uy, across = -x * uy + y * ux;
-      lo = std::min(lo, along), hi = std::max(hi, along);
-      lat_lo = std::min(lat_lo, across), lat_hi = std::max(lat_hi, across);
-    }
-  const double front = ego_box.center_x_m + ego_box.length_m / 2.0;
-  const double half_width = ego_box.width_m / 2.0;
-  // Only what is ahead and overlaps the ego's width can be hit by going on straight.
-  if (hi < front || lat_lo > ego_box.center_y_m + half_width || lat_hi < ego_box.center_y_m - half_width)
-    return std::numeric_limits<double>::infinity();
-  const double gap = std::max(0.0, lo - front);
-  const double closing = ego.speed_mps - other.speed_mps * std::cos(other.heading_rad - ego.heading_rad);
-  if (gap <= 0.0) return 0.0;
-  return closing > kSmall ? gap / closing : std::numeric_limits<double>::infinity();
-}
-
-double first_ttc_below(const Trajectories& trajectories, const std::string& ego, double ttc_s,
-                       const Scenario& scenario) {
-  const auto ego_samples = trajectories.find(ego);
-  const Entity* ego_entity = scenario.find_entity(ego);
-  if (ego_samples == trajectories.end() || ego_entity == nullptr)
-    throw InputError({}, "first_ttc_below: no entity named '" + ego + "'");
-  for (std::size_t i = 0; i < ego_samples->second.size(); ++i)
-    for (const auto& [name, samples] : trajectories) {
-      if (name == ego || i >= samples.size()) continue;
-      const Entity* other = scenario.find_entity(name);
-      if (other == nullptr) continue;
-      if (time_to_collision(ego_samples->second[i], ego_entity->box, samples[i], other->box) <= ttc_s)
-        return ego_samples->second[i].t_s;
-    }
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
 }  // namespace emrm::openscenario

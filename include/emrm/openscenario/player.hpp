@@ -45,14 +45,4 @@ struct PlayOptions {
 /// exist where it starts, a position off every road), at the element that asked for it.
 [[nodiscard]] Trajectories play(const Scenario& scenario, const PlayOptions& options = {});
 
-/// The time to collision of `ego` with `other` at one step: the gap between their bounding boxes
-/// along the ego's heading divided by the speed at which it closes, +infinity when it does not.
-[[nodiscard]] double time_to_collision(const Sample& ego, const BoundingBox& ego_box, const Sample& other,
-                                       const BoundingBox& other_box);
-
-/// The first sample time at which the ego's time to collision with any other entity is at most
-/// `ttc_s` (the family's threat onset), or NaN when it never is. Boxes from `scenario`.
-[[nodiscard]] double first_ttc_below(const Trajectories& trajectories, const std::string& ego, double ttc_s,
-                                     const Scenario& scenario);
-
 }  // namespace emrm::openscenario

@@ -36,9 +36,8 @@ TEST(ImportedFamily, AScenarioFileIsASceneWithEveryNumericParameterAFactor) {
   EXPECT_EQ(scene.openscenario.ego, "Ego");
   EXPECT_EQ(scene.ego.length_m, 4.5);
   EXPECT_EQ(scene.ego.width_m, 1.8);
-  EXPECT_THAT(keys(sim::scenario_factors(scene)),
-              ElementsAre("speed_kph", "ttc_s", "mu", "EgoSpeed", "RelativeSpeed", "LaneChangeTime", "CutInGap",
-                          "TargetDecel"));
+  EXPECT_THAT(keys(sim::scenario_factors(scene)), ElementsAre("speed_kph", "ttc_s", "mu", "EgoSpeed", "RelativeSpeed",
+                                                              "LaneChangeTime", "CutInGap", "TargetDecel"));
 }
 
 TEST(ImportedFamily, ASceneFileChoosesTheFactorsAndTheSpeedParameter) {

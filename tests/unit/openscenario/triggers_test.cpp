@@ -178,29 +178,7 @@ namespace {
 
 using namespace test;
 
-TEST(ThreatOnset, FirstTtcBelowIsTheGapOverTheClosingSpeed) {
-  // Ego at 10 m/s towards a standing car 100 m ahead, both 4 m long: gap 96 - 10 t, TTC 9.6 - t.
-  XoscParts parts;
-  parts.entities = vehicle("Ego") + vehicle("Lead");
-  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 100, 0, 0, 0);
-  const Scenario scenario = load_openscenario(write_scenario("onset", parts));
-  const Trajectories played = play(scenario, {.dt_s = 0.01, .duration_s = 9.0});
-  const double onset = first_ttc_below(played, "Ego", 2.0, scenario);
-  // The first sample with 9.6 - t <= 2: t = 7.6, to within the rounding of the sample times.
-  EXPECT_NEAR(onset, 7.6, 0.01 + 1e-9);
-  for (const Sample& s : played.at("Ego")) {
-    if (s.t_s < onset) {
-      EXPECT_GT((96.0 - s.x_m) / 10.0, 2.0 - 1e-9);
-    }
-  }
-  // A car in the next lane is not ahead of the ego's box: no onset.
-  XoscParts beside = parts;
-  beside.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 100, 3.5, 0, 0);
-  const Scenario other = load_openscenario(write_scenario("onset_beside", beside));
-  EXPECT_TRUE(std::isnan(first_ttc_below(play(other, {.dt_s = 0.01, .duration_s = 9.0}), "Ego", 2.0, other)));
-}
-
-TEST(ThreatOnset, StopAtEndsThePlayAfterTheStepItReturnsTrue) {
+TEST(Player, StopAtEndsThePlayAfterTheStepItReturnsTrue) {
   XoscParts parts;
   parts.entities = vehicle("Ego");
   parts.init = init_at("Ego", 0, 0, 0, 10);
