@@ -311,7 +311,13 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
                     numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
   for (const std::string& name : numeric_parameters)
     config.openscenario.factors.push_back({.parameter = name, .unit = "1", .min = {}, .max = {}});
-  sim::validate(config);
+  try {
+    sim::validate(config);
+  } catch (const InputError& e) {  // the ego's footprint does not fit the car emrm drives
+    throw InputError(ego->where, fmt::format("the ego '{}' cannot be the car emrm drives: {} (choose the ego with "
+                                             "--ego, or write a scene file with an ego: block of its own)",
+                                             ego->name, e.message()));
+  }
   return config;
 }
 

@@ -1,0 +1,77 @@
+// End-to-end: an OpenSCENARIO scenario as a user imports it (docs/import.md) — `emrm import` writing
+// the scene and the trace, every command taking the scene or the .xosc itself, and bad scenario
+// files refused with exit 2 and nothing written.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "run_emrm.hpp"
+
+namespace emrm::e2e {
+namespace import_cli_test {
+
+using ::testing::HasSubstr;
+
+const std::string kExample = std::string(EMRM_SOURCE_DIR) + "/examples/openscenario/";
+
+TEST(ImportCli, WritesASceneEveryCommandTakesAndTheTrace) {
+  const auto dir = scratch_dir("import");
+  const RunResult r = run_emrm("import " + quoted(kExample + "cut_in.xosc") + " -o " + quoted(dir / "scene.yaml") +
+                               " --trace " + quoted(dir / "trace.csv") + " --trace-s 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("family openscenario, ego Ego, 5 factors"));
+  const std::string scene = read_text(dir / "scene.yaml");
+  EXPECT_THAT(scene, HasSubstr("family: openscenario"));
+  // The scenario named relative to the scene file, so that the two move together.
+  EXPECT_THAT(scene, HasSubstr("file: "));
+  EXPECT_THAT(scene, ::testing::Not(HasSubstr("file: /")));
+  // The trace: both cars every 10 ms for 2 s, from t = 0.
+  const auto rows = csv_rows(dir / "trace.csv");
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"t", "actor", "x", "y", "heading", "speed"}));
+  EXPECT_EQ(rows.size(), 1U + 2U * 201U);
+  // The written scene simulates, and so does the scenario itself.
+  for (const std::string& scene_arg : {quoted(dir / "scene.yaml"), quoted(kExample + "cut_in.xosc")}) {
+    const RunResult sim = run_emrm("simulate --scene " + scene_arg + " --speed-kph 100 --ttc-s 1 --json");
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    const auto j = nlohmann::json::parse(sim.out);
+    EXPECT_EQ(j["family"], "openscenario");
+    EXPECT_EQ(j["actors"][0]["name"], "CutIn");
+  }
+}
+
+TEST(ImportCli, TheExampleSweepsAndVerifies) {
+  const auto dir = scratch_dir("import_sweep");
+  const RunResult sweep = run_emrm("sweep " + quoted(kExample + "campaign.yaml") + " -o " + quoted(dir / "store"));
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 80 cells"));
+  const RunResult verify = run_emrm("verify " + quoted(dir / "store"));
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
+}
+
+TEST(ImportCli, ABadScenarioIsExit2AtItsLineAndNothingIsWritten) {
+  const auto dir = scratch_dir("import_bad");
+  write_text(dir / "motorway.xodr", read_text(kExample + "motorway.xodr"));
+  // An expression naming a parameter the scenario does not declare.
+  const std::string unknown = "${$EgoSpeed - $RelativeSpeed}";
+  std::string bad = read_text(kExample + "cut_in.xosc");
+  bad.replace(bad.find(unknown), unknown.size(), "${$EgoSpeed - $NoSuchParameter}");
+  write_text(dir / "bad.xosc", bad);
+  const RunResult r = run_emrm("import " + quoted(dir / "bad.xosc") + " -o " + quoted(dir / "scene.yaml") +
+                               " --trace " + quoted(dir / "trace.csv"));
+  expect_bad_input(r, "bad.xosc:");
+  EXPECT_THAT(r.err, HasSubstr("NoSuchParameter"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "scene.yaml"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "trace.csv"));
+  // A scene naming a scenario that is not there: exit 2 at the field.
+  write_text(dir / "scene2.yaml", "family: openscenario\nopenscenario:\n  file: missing.xosc\n");
+  expect_bad_input(run_emrm("simulate --scene " + quoted(dir / "scene2.yaml")), "scene2.yaml:3:");
+}
+
+}  // namespace import_cli_test
+}  // namespace emrm::e2e
