@@ -37,7 +37,7 @@ double range_of(const TransitionDynamics& d, double start, double target) {
 
 }  // namespace
 
-unsigned ActionRuntime::domains() const noexcept {
+unsigned ActionRuntime::domains() const {
   return std::visit(
       [](const auto& a) -> unsigned {
         using A = std::decay_t<decltype(a)>;

@@ -125,14 +125,12 @@ bool ConditionRuntime::check(const World& world, double time_s) {
 }
 
 void ConditionRuntime::register_value(double time_s, bool value) {
-  if (history_.empty()) {
-    history_.emplace_back(time_s, value);
-  } else if (time_s < history_.back().first + kSmall) {
+  if (!history_.empty() && time_s < history_.back().first + kSmall) {
     history_.back().second = value;  // the same time evaluated again (esmini's first two frames)
     if (history_.size() > 1 && history_[history_.size() - 2].second == value) history_.pop_back();
     history_index_ = std::min(history_index_, history_.size());
-  } else if (value != history_.back().second) {
-    history_.emplace_back(time_s, value);
+  } else if (history_.empty() || value != history_.back().second) {
+    history_.emplace_back(time_s, value);  // the first value, or a change
   }
 }
 

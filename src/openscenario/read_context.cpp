@@ -84,7 +84,7 @@ std::size_t ReadContext::choice(const xml::Element& e, std::string_view name,
 }
 
 std::string ReadContext::entity_ref(const xml::Element& e, std::string_view name) const {
-  const std::string ref = text(e, name);
+  std::string ref = text(e, name);
   if (!entities_.contains(ref)) {
     std::string known;
     for (const auto& n : entities_) known += (known.empty() ? "" : ", ") + n;

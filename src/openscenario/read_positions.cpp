@@ -22,7 +22,7 @@ std::optional<Orientation> read_orientation(const xml::Element& position, const 
 }
 
 std::string road_ref(const xml::Element& e, const ReadContext& c) {
-  const std::string id = c.text(e, "roadId");
+  std::string id = c.text(e, "roadId");
   if (c.roads() == nullptr) e.fail("roadId", "roadId: the scenario has no road network (RoadNetwork LogicFile)");
   if (!c.roads()->has_road(id)) e.fail("roadId", fmt::format("roadId: road '{}' is not in the road network", id));
   return id;

@@ -150,7 +150,7 @@ class ActionRuntime {
   bool start(World& world, double time_s);
   /// Steps the action; returns true when it has ended in this step.
   bool step(World& world, double time_s, double dt_s);
-  [[nodiscard]] unsigned domains() const noexcept;
+  [[nodiscard]] unsigned domains() const;
   [[nodiscard]] const std::string& actor() const noexcept { return actor_; }
   [[nodiscard]] bool running() const noexcept { return running_; }
   void set_running(bool running) noexcept { running_ = running; }

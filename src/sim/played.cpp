@@ -72,11 +72,11 @@ SceneLayout layout_from_onset(const PlayedScenario& played, const StraightRoad& 
     std::vector<Track::Sample> samples;
     for (std::size_t k = std::min(k0, user.path.size() - 1); k < user.path.size(); ++k)
       samples.push_back(in_road_frame(user.path[k], road, shift_m));
-    auto track = std::make_shared<const Track>(played.dt_s, std::move(samples));
-    const core::Vec2 front = {track->samples.front().x_m, track->samples.front().y_m};
-    out.actors.emplace_back(user.body, ActorMotion{.front = front,
-                                                   .direction = core::Vec2::unit(track->samples.front().heading_rad),
-                                                   .track = std::move(track)});
+    const Track::Sample start = samples.front();
+    out.actors.emplace_back(user.body,
+                            ActorMotion{.front = {start.x_m, start.y_m},
+                                        .direction = core::Vec2::unit(start.heading_rad),
+                                        .track = std::make_shared<const Track>(played.dt_s, std::move(samples))});
   }
   // The hazard's near and far side along the road at the onset.
   double near = std::numeric_limits<double>::infinity();

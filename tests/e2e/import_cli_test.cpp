@@ -46,9 +46,14 @@ TEST(ImportCli, WritesASceneEveryCommandTakesAndTheTrace) {
 
 TEST(ImportCli, TheExampleSweepsAndVerifies) {
   const auto dir = scratch_dir("import_sweep");
-  const RunResult sweep = run_emrm("sweep " + quoted(kExample + "campaign.yaml") + " -o " + quoted(dir / "store"));
+  // A corner of the example's campaign, over both declared parameters that are factors.
+  write_text(dir / "campaign.yaml", "scene: " + kExample +
+                                        "scene.yaml\nseed: 1\ngrids:\n  - name: corner\n"
+                                        "    speed_kph: [80, 100]\n    ttc_s: [0.5, 1.0]\n    RelativeSpeed: [11.11]\n"
+                                        "    LaneChangeTime: [1.5, 3.0]\n");
+  const RunResult sweep = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "store"));
   ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
-  EXPECT_THAT(sweep.out, HasSubstr("Swept 80 cells"));
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 8 cells"));
   const RunResult verify = run_emrm("verify " + quoted(dir / "store"));
   EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
   EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
