@@ -52,12 +52,11 @@ void time_cells(benchmark::State& state, const SceneConfig& config, const std::v
       const auto result = emrm::sim::simulate_cell(config, cell, {});
       const double taken = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       const auto region = result.region;
+      const char* group = region == emrm::sim::Region::kG ? "G" : (region == emrm::sim::Region::kY ? "Y" : "OR");
       for (const auto& o : result.strategies)  // the chooser repeats the rollouts of what it chose
-        if (o.chosen_strategy.empty())
-          rollouts[region == emrm::sim::Region::kG ? "G" : (region == emrm::sim::Region::kY ? "Y" : "OR")] +=
-              o.planner.rollouts;
+        if (o.chosen_strategy.empty()) rollouts[group] += o.planner.rollouts;
       ms["all"].push_back(taken);
-      ms[region == emrm::sim::Region::kG ? "G" : (region == emrm::sim::Region::kY ? "Y" : "OR")].push_back(taken);
+      ms[group].push_back(taken);
       // An O or R cell without a certificate runs the strengthened search: dearer than a certified one.
       if (region == emrm::sim::Region::kO || region == emrm::sim::Region::kR)
         ms[result.evidence == emrm::sim::Evidence::kUndecided ? "OR_undecided" : "OR_certified"].push_back(taken);

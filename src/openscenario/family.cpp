@@ -13,6 +13,7 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -49,33 +50,33 @@ const Parameter* find_parameter(const Scenario& scenario, const std::string& nam
   return nullptr;
 }
 
-// The ego's absolute speed in the Init (its first SpeedAction there), if it has one.
-SpeedAction* init_speed(Scenario& scenario, const std::string& ego) {
-  for (Action& a : scenario.storyboard.init)
+// The ego's absolute speed in the Init (its first SpeedAction there), if it has one; const or not
+// as the scenario is.
+template <class S>
+auto* init_speed(S& scenario, const std::string& ego) {
+  using Speed = std::conditional_t<std::is_const_v<S>, const SpeedAction, SpeedAction>;
+  for (auto& a : scenario.storyboard.init)
     if (a.actor == ego)
-      if (auto* speed = std::get_if<SpeedAction>(&a.kind); speed != nullptr && !speed->relative) return speed;
-  return nullptr;
-}
-
-double init_speed_mps(const Scenario& scenario, const std::string& ego) {
-  Scenario copy = scenario;
-  const SpeedAction* speed = init_speed(copy, ego);
-  return speed != nullptr ? speed->value : 0.0;
+      if (Speed* speed = std::get_if<SpeedAction>(&a.kind); speed != nullptr && !speed->relative) return speed;
+  return static_cast<Speed*>(nullptr);
 }
 
 // ---- factors --------------------------------------------------------------------------------
 
+constexpr double kDefaultSpeed_kph = 50.0;  // without a scenario, or an ego without an Init speed
 constexpr double kDefaultTtc_s = 1.5;
 
 sim::FactorTable scenario_factors(const sim::SceneConfig& config) {
   const sim::OpenScenarioConfig& o = config.openscenario;
   // Without a scenario (`emrm families`): the method's factors; a scenario adds its own.
-  if (o.file.empty()) return sim::FactorTable(sim::method_factors(50.0, kDefaultTtc_s, 1.0));
+  if (o.file.empty()) return sim::FactorTable(sim::method_factors(kDefaultSpeed_kph, kDefaultTtc_s, 1.0));
   const auto scenario = base_scenario(o.file);
-  double speed_kph = init_speed_mps(*scenario, o.ego) * 3.6;
+  const SpeedAction* init = init_speed(*scenario, o.ego);
+  double speed_kph = init != nullptr ? init->value * 3.6 : 0.0;
   if (!o.speed_parameter.empty())
     if (const Parameter* p = find_parameter(*scenario, o.speed_parameter)) speed_kph = std::stod(p->value) * 3.6;
-  std::vector<sim::Factor> factors = sim::method_factors(speed_kph > 0.0 ? speed_kph : 50.0, kDefaultTtc_s, 1.0);
+  std::vector<sim::Factor> factors =
+      sim::method_factors(speed_kph > 0.0 ? speed_kph : kDefaultSpeed_kph, kDefaultTtc_s, 1.0);
   for (const sim::ImportedFactor& f : o.factors) {
     const Parameter* p = find_parameter(*scenario, f.parameter);
     const double value = p != nullptr && numeric(p->type) ? std::stod(p->value) : 0.0;

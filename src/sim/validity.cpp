@@ -64,14 +64,6 @@ class MotionBound {
   double actor_speed_mps_;
 };
 
-// The fastest an actor ever moves: its motion only slows along its direction, and drifts sideways
-// at a constant speed; a Track's is its fastest interval's, its corners' turning included.
-double top_speed_mps(const Actor& actor) noexcept {
-  const ActorMotion& m = actor.motion();
-  if (m.track) return m.track->top_speed_mps(actor.body().length_m, actor.body().width_m);
-  return m.speed_mps + std::abs(m.lateral_mps);
-}
-
 // Conservative advancement inside a step: walks τ from the step's start, each time by no more
 // than the distance `gap(τ)` (a lower bound on the true distance) plus kTolerance_m can shrink at
 // `rate_mps`, until the gap closes (τ of the first touch, timed by bisection to well under a
@@ -147,7 +139,7 @@ class ActorContactCheck {
         model_(model),
         actor_(&scene.actors()[actor]),
         hazard_(actor == 0),
-        motion_(scene, model.params(), top_speed_mps(*actor_)),
+        motion_(scene, model.params(), actor_->top_speed_mps()),
         circumradii_m_(0.5 * std::hypot(scene.config().ego.length_m, scene.config().ego.width_m) +
                        0.5 * std::hypot(actor_->body().length_m, actor_->body().width_m)) {}
   bool ends(Step& step, RolloutResult& result, Termination& why) const {
@@ -259,7 +251,7 @@ std::optional<TouchAtRest> touch_at_rest(const Scene& scene, const VehicleState&
   std::optional<TouchAtRest> first;
   for (std::size_t k = 0; k < scene.actors().size(); ++k) {
     const Actor& actor = scene.actors()[k];
-    const double rate = detail::top_speed_mps(actor);
+    const double rate = actor.top_speed_mps();
     if (!(rate > 0.0) || outside_band(actor, t_s, ego)) continue;
     const double rest_s = std::max(actor.motion().rest_time_s(), t_s);
     const double until_s = first ? first->t_s : std::numeric_limits<double>::infinity();

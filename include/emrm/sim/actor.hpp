@@ -57,7 +57,7 @@ struct Track {
   /// sample with a value that is not finite or a negative speed.
   Track(double dt, std::vector<Sample> points);
   /// The fastest any point of a box of that size moves: the speed, plus the turn rate times the
-  /// half-diagonal, over every interval.
+  /// half-diagonal, over every interval (O(samples): Actor keeps its own).
   [[nodiscard]] double top_speed_mps(double length_m, double width_m) const noexcept;
   /// From when the actor stands for good: the first sample from which every speed is 0 (and the
   /// pose no longer changes); +∞ when it moves at the last sample.
@@ -111,6 +111,9 @@ class Actor {
   [[nodiscard]] ActorState at(double t_s) const noexcept;
   /// Its heading: the direction of its motion (a Track's: at t = 0).
   [[nodiscard]] double heading_rad() const noexcept { return heading_rad_; }
+  /// The fastest any point of it ever moves: its motion only slows along its direction and drifts
+  /// sideways at a constant speed; a Track's is its fastest interval's, its corners' turning included.
+  [[nodiscard]] double top_speed_mps() const noexcept { return top_speed_mps_; }
   /// The lowest and the highest y its footprint covers at time t: exact for a motion along an axis
   /// (the leading edge is motion().front_at(t)), from the box's corners otherwise.
   [[nodiscard]] std::pair<double, double> y_extent_at(double t_s) const noexcept;
@@ -119,6 +122,7 @@ class Actor {
   ActorBody body_;
   ActorMotion motion_;
   double heading_rad_ = 0.0;
+  double top_speed_mps_ = 0.0;
   core::Vec2 half_length_;  // from the middle of the box to the middle of its leading edge
 };
 
@@ -158,7 +162,11 @@ inline core::Vec2 ActorMotion::front_at(double t_s) const noexcept {
 }
 
 inline Actor::Actor(const ActorBody& body, const ActorMotion& motion) noexcept
-    : body_(body), motion_(motion), half_length_(motion.direction * (body.length_m / 2.0)) {
+    : body_(body),
+      motion_(motion),
+      top_speed_mps_(motion.track ? motion.track->top_speed_mps(body.length_m, body.width_m)
+                                  : motion.speed_mps + std::abs(motion.lateral_mps)),
+      half_length_(motion.direction * (body.length_m / 2.0)) {
   const core::Vec2 d = motion.direction;
   if (d.x == 0.0)  // along an axis: exact
     heading_rad_ = std::copysign(std::numbers::pi / 2.0, d.y);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "emrm/core/config.hpp"
+#include "emrm/sim/factors.hpp"
 #include "emrm/sim/road.hpp"
 
 namespace emrm::sim {
@@ -37,7 +38,7 @@ struct ImportedFactor {
 };
 
 /// The most declared parameters a scene may make factors: the others besides speed, TTC and friction.
-inline constexpr std::size_t kMaxImportedFactors = 5;
+inline constexpr std::size_t kMaxImportedFactors = kMaxFactors - kMethodFactors;
 
 struct OpenScenarioConfig {
   /// The scenario (.xosc): relative to the scene file's folder as written; absolute once read.

@@ -39,7 +39,10 @@ TEST(Played, TheThreatAppearsWhenTheGapOverTheClosingSpeedFallsToTheTtc) {
   EXPECT_LE(onset->ttc_s, 2.0);
   EXPECT_GT(onset->ttc_s, 2.0 - 0.011);
   EXPECT_EQ(onset->hazard, 0U);
-  EXPECT_FALSE(threat_onset(p, 0.5, 4.5, 1.8) && threat_onset(p, 0.5, 4.5, 1.8)->step < onset->step);
+  // A shorter TTC is reached later, never earlier: at t = 9.5 s (gap 5 m).
+  const auto later = threat_onset(p, 0.5, 4.5, 1.8);
+  ASSERT_TRUE(later);
+  EXPECT_NEAR(static_cast<double>(later->step) * p.dt_s, 9.5, 0.01 + 1e-9);
 }
 
 TEST(Played, TheLayoutIsTheSameWhereverTheRoadLies) {
