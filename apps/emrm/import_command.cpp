@@ -35,7 +35,9 @@ int run(const ImportOptions& o) {
     play.dt_s = config.simulation.dt_s;
     play.duration_s = o.trace_s;
     std::ostringstream csv;
-    openscenario::write_trace_csv(csv, openscenario::play(openscenario::load_openscenario(o.scenario), play));
+    openscenario::write_trace_csv(
+        csv, openscenario::play(
+                 openscenario::load_openscenario(o.scenario, {.overrides = {}, .ego = config.openscenario.ego}), play));
     trace = csv.str();
   }
   if (!o.output.empty()) {

@@ -94,6 +94,10 @@ bool ConditionRuntime::check(const World& world, double time_s) {
     bool one = false;
     if (const auto* sc = std::get_if<SpeedCondition>(&spec_.kind)) {
       one = holds(e.speed_mps, sc->rule, sc->value_mps);
+    } else if (const auto* eor = std::get_if<EndOfRoadCondition>(&spec_.kind)) {
+      one = e.end_of_road_since_s && time_s - *e.end_of_road_since_s > eor->duration_s - kSmall;
+    } else if (const auto* rs = std::get_if<RelativeSpeedCondition>(&spec_.kind)) {
+      one = holds(e.speed_mps - world.entity(rs->entity).speed_mps, rs->rule, rs->value_mps);
     } else if (const auto* hw = std::get_if<TimeHeadwayCondition>(&spec_.kind)) {
       const double d = measured_distance(world, e, world.entity(hw->entity), hw->distance);
       one = d >= 0.0 && e.speed_mps > kSmall && holds(std::fabs(d / e.speed_mps), hw->rule, hw->value_s);

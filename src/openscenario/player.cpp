@@ -29,6 +29,11 @@ void default_controller(const World& world, EntityState& e, double dt_s) {
     if (moved.direction_flipped) e.direction = -e.direction;
     e.lane = moved.to;
     if (moved.end_of_road) e.speed_mps = 0.0;
+    if (!moved.end_of_road) {
+      e.end_of_road_since_s.reset();
+    } else if (!e.end_of_road_since_s) {
+      e.end_of_road_since_s = world.time_s;  // the time after the step, as esmini stamps it
+    }
     world.update_pose(e);
   } else {
     e.pose.x_m += step_m * std::cos(e.pose.heading_rad);
@@ -88,7 +93,7 @@ Trajectories play(const Scenario& scenario, const PlayOptions& options) {
   if (options.overrides.empty()) return run(scenario, options);
   ParameterOverrides merged = scenario.overrides;
   for (const auto& [name, value] : options.overrides) merged[name] = value;
-  return run(load_openscenario(scenario.file, merged), options);
+  return run(load_openscenario(scenario.file, {.overrides = merged, .ego = scenario.ego}), options);
 }
 
 }  // namespace emrm::openscenario

@@ -42,6 +42,14 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
       e.fail("direction", fmt::format("direction: {} is not supported (supported: longitudinal, or none)", *direction));
     return SpeedCondition{c.number(e, "value", "m/s", -1000.0, 1000.0), read_rule(e, c)};
   }
+  if (kind == "EndOfRoadCondition") return EndOfRoadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
+  if (kind == "RelativeSpeedCondition") {
+    if (const auto direction = c.optional_text(e, "direction"))
+      e.fail("direction",
+             fmt::format("direction: {} is not supported (supported: none, the speeds' difference)", *direction));
+    return RelativeSpeedCondition{c.entity_ref(e, "entityRef"), c.number(e, "value", "m/s", -1000.0, 1000.0),
+                                  read_rule(e, c)};
+  }
   if (kind == "TimeHeadwayCondition")
     return TimeHeadwayCondition{c.entity_ref(e, "entityRef"), c.number(e, "value", "s", 0.0, kMaxTime_s),
                                 read_rule(e, c), read_distance(e, c)};

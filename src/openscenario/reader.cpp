@@ -4,6 +4,7 @@
 #include "emrm/openscenario/reader.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "emrm/opendrive/road_network.hpp"
 #include "emrm/openscenario/supported.hpp"
@@ -164,7 +165,8 @@ std::vector<Parameter> declared_parameters(const std::filesystem::path& file) {
   return scope.declared();
 }
 
-Scenario load_openscenario(const std::filesystem::path& file, const ParameterOverrides& overrides) {
+Scenario load_openscenario(const std::filesystem::path& file, const ReadOptions& options) {
+  const ParameterOverrides& overrides = options.overrides;
   const Document d = open(file);
   const std::filesystem::path dir = file.parent_path();
   Scenario scenario;
@@ -200,7 +202,19 @@ Scenario load_openscenario(const std::filesystem::path& file, const ParameterOve
   }
   for (const xml::Element& object : entities.children("ScenarioObject"))
     scenario.entities.push_back(detail::read_entity(object, rc));
+  if (!options.ego.empty()) {
+    if (scenario.find_entity(options.ego) == nullptr) {
+      std::vector<std::string> all;
+      for (const Entity& e : scenario.entities) all.push_back(e.name);
+      throw InputError(entities.where(), fmt::format("the ego '{}' is no entity of the scenario (it has {})",
+                                                     options.ego, fmt::join(all, ", ")));
+    }
+    scenario.ego = options.ego;
+  } else if (const Entity* ego = default_ego(scenario.entities)) {
+    scenario.ego = ego->name;
+  }
   scenario.storyboard = read_storyboard(d.root.required_child("Storyboard"), rc);
+  detail::check_controllers(scenario);
   return scenario;
 }
 

@@ -29,6 +29,9 @@ struct EntityState {
   WorldPose pose;
   double speed_mps = 0.0;
   bool moved_longitudinally = false;  ///< an action moved it this step (the default controller does not)
+  /// When the default controller first found its lane ending without a successor (esmini's end of
+  /// road timestamp); cleared when it moves on.
+  std::optional<double> end_of_road_since_s;
 };
 
 /// What the actions, positions and conditions share: the entities and the roads.

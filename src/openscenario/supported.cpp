@@ -10,7 +10,7 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 40> kSupported = {{
+constexpr std::array<SupportedElement, 42> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
@@ -25,7 +25,8 @@ constexpr std::array<SupportedElement, 40> kSupported = {{
     {"PrivateAction", "LateralAction", "LaneChangeAction, LaneOffsetAction"},
     {"PrivateAction", "TeleportAction", "any supported Position"},
     {"PrivateAction", "RoutingAction", "FollowTrajectoryAction only"},
-    {"PrivateAction", "ControllerAction", "AssignControllerAction of the default controller, ActivateControllerAction"},
+    {"PrivateAction", "ControllerAction",
+     "AssignControllerAction (any controller on the ego, esmini's default on the others), ActivateControllerAction"},
     {"PrivateAction", "ActivateControllerAction", "OpenSCENARIO 1.0's; no effect (the default controller)"},
     {"LongitudinalAction", "SpeedAction", "SpeedActionDynamics: every shape, time/distance/rate"},
     {"SpeedActionTarget", "AbsoluteTargetSpeed", "value"},
@@ -43,6 +44,8 @@ constexpr std::array<SupportedElement, 40> kSupported = {{
     {"EntityCondition", "ReachPositionCondition", "tolerance"},
     {"EntityCondition", "DistanceCondition", "freespace, coordinateSystem, relativeDistanceType"},
     {"EntityCondition", "SpeedCondition", "the entity's speed"},
+    {"EntityCondition", "RelativeSpeedCondition", "the speed minus the entityRef's; no direction"},
+    {"EntityCondition", "EndOfRoadCondition", "duration at the end of a lane without a successor"},
     {"ByValueCondition", "SimulationTimeCondition", "every rule"},
     {"ByValueCondition", "StoryboardElementStateCondition", "every state and transition"},
     {"Position", "WorldPosition", "x, y, h"},

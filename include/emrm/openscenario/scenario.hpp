@@ -34,6 +34,15 @@ struct Performance {
   double max_deceleration_mps2 = 1e9;
 };
 
+/// A controller other than esmini's default, as esmini types it (its esminiController property, else
+/// the Controller's name: InteractiveController, ACCController, ...) and where the type is written.
+/// Only the ego may have one: emrm drives the ego after the threat onset (before it, the ego follows
+/// its storyboard as under esmini's default controller); every other entity plays open loop.
+struct ControllerRef {
+  std::string type;
+  SourceLocation where;
+};
+
 struct Entity {
   std::string name;
   EntityKind kind = EntityKind::kVehicle;
@@ -41,6 +50,7 @@ struct Entity {
   BoundingBox box;
   Performance performance;
   SourceLocation where;
+  std::optional<ControllerRef> controller;  ///< its ObjectController, when not esmini's default
 };
 
 // ---- Positions ----
@@ -166,9 +176,12 @@ struct FollowTrajectoryAction {
 /// change the open-loop motion); an event holding one completes at once, as in esmini.
 struct EnvironmentAction {};
 
-/// A ControllerAction (or 1.0's ActivateControllerAction) that assigns or activates esmini's default
-/// controller: the entity already moves by it, so it has no effect and completes at once.
-struct ControllerAction {};
+/// A ControllerAction (or 1.0's ActivateControllerAction): it has no effect on the open-loop play
+/// and completes at once. `assigned` is the controller an AssignControllerAction gives, when it is
+/// not esmini's default (the ego's only: see ControllerRef).
+struct ControllerAction {
+  std::optional<ControllerRef> assigned;
+};
 
 using PrivateActionKind = std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction,
                                        FollowTrajectoryAction, EnvironmentAction, ControllerAction>;
@@ -229,6 +242,16 @@ struct SpeedCondition {
   double value_mps = 0.0;
   Rule rule = Rule::kGreaterThan;
 };
+/// The entity has stood at the end of a lane without a successor for at least `duration_s`.
+struct EndOfRoadCondition {
+  double duration_s = 0.0;
+};
+/// The triggering entity's speed minus `entity`'s (esmini's, without a direction).
+struct RelativeSpeedCondition {
+  std::string entity;
+  double value_mps = 0.0;
+  Rule rule = Rule::kGreaterThan;
+};
 
 enum class ElementState {
   kStartTransition,
@@ -246,9 +269,9 @@ struct StoryboardElementStateCondition {
   ElementState state = ElementState::kEndTransition;
 };
 
-using ConditionKind =
-    std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition, RelativeDistanceCondition,
-                 ReachPositionCondition, DistanceCondition, SpeedCondition, StoryboardElementStateCondition>;
+using ConditionKind = std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition,
+                                   RelativeDistanceCondition, ReachPositionCondition, DistanceCondition, SpeedCondition,
+                                   RelativeSpeedCondition, EndOfRoadCondition, StoryboardElementStateCondition>;
 
 struct Condition {
   std::string name;
@@ -309,6 +332,8 @@ struct Scenario {
   std::vector<Parameter> parameters;  ///< the global declarations, resolved (overrides applied)
   ParameterOverrides overrides;       ///< those it was read with
   std::vector<Entity> entities;
+  /// The entity emrm drives: ReadOptions::ego, else default_ego's choice; empty when there is none.
+  std::string ego;
   Storyboard storyboard;
   std::shared_ptr<const opendrive::RoadNetwork> network;  ///< the RoadNetwork's LogicFile; null without one
   std::shared_ptr<const RoadAccess> roads;                ///< the player's view of `network`

@@ -190,5 +190,27 @@ TEST(Player, StopAtEndsThePlayAfterTheStepItReturnsTrue) {
   EXPECT_NEAR(played.at("Ego").back().t_s, 2.5, 1e-9);
 }
 
+TEST(Triggers, RelativeSpeedIsTheSpeedMinusTheReferencedEntitys) {
+  // The Lead speeds up from 10 m/s at 1 m/s² from t = 0; the Ego (10 m/s) stops when its speed
+  // minus the Lead's is below -3 m/s: when the Lead is faster than 13 m/s.
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 50, 0, 0, 10);
+  parts.acts =
+      act("Ego", event("stop", speed("0"),
+                       trigger("StartTrigger", entity_condition("Ego", R"(<RelativeSpeedCondition entityRef="Lead"
+                           value="-3" rule="lessThan"/>)")))) +
+      act("Lead",
+          event("faster", speed("20", "linear", "rate", "1"),
+                trigger("StartTrigger", time_condition(0.0, "greaterOrEqual"))),
+          "lead_act");
+  const auto played =
+      play(load_openscenario(write_scenario("relative_speed", parts)), {.dt_s = 0.01, .duration_s = 6.0});
+  const auto& lead = played.at("Lead");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return 10.0 - lead[k].speed_mps < -3.0 - kSlack; });
+  EXPECT_NEAR(lead[i].speed_mps, 13.0, 0.01 + 1e-9);
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
