@@ -75,7 +75,8 @@ ResolvedPosition on_lane(const RoadAccess& roads, const LaneCoord& lane, const s
                          const Position& position) {
   if (!roads.has_road(lane.road_id))
     throw InputError(position.where, fmt::format("road '{}' does not exist in the road network", lane.road_id));
-  if (!roads.has_lane(lane.road_id, lane.lane_id, lane.s_m))
+  // Lane 0, the centre lane, is a position on it (esmini's samples use it as a point to reach).
+  if (lane.lane_id != 0 && !roads.has_lane(lane.road_id, lane.lane_id, lane.s_m))
     throw InputError(position.where,
                      fmt::format("road '{}' has no lane {} at s = {} m", lane.road_id, lane.lane_id, lane.s_m));
   ResolvedPosition r;

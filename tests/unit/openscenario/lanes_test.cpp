@@ -248,5 +248,18 @@ TEST(OnLanes, EndOfRoadHoldsOnceTheEntityHasStoodAtALanesEndForItsDuration) {
     EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.515 ? 5.0 : 0.0) << "t = " << s.t_s;
 }
 
+TEST(OnLanes, LaneZeroIsAPositionOnTheCentreLane) {
+  // esmini's samples name lane 0 as a point on the centre lane (t = the lane offset, 0 here).
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_on_lane("Ego", "1", 0, 50, 10);
+  const auto played = play(load_openscenario(scenario_on_roads("lane_zero", road("1", 0, 100, ""), parts)),
+                           {.dt_s = 0.01, .duration_s = 1.0});
+  for (const Sample& s : played.at("Ego")) {
+    EXPECT_NEAR(s.x_m, 50.0 + 10.0 * s.t_s, 1e-6) << "t = " << s.t_s;
+    EXPECT_NEAR(s.y_m, 0.0, 1e-9) << "t = " << s.t_s;
+  }
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
