@@ -56,6 +56,15 @@ std::map<ElementType, std::set<std::string>> element_names(const xml::Element& s
   return names;
 }
 
+// A start or stop trigger: absent when not written or written without a ConditionGroup. esmini
+// reads an empty StartTrigger as true (the element starts with its parent, as without one) and an
+// empty StopTrigger as false (never), which is what an absent one does (esmini's drive_when_close).
+std::optional<Trigger> read_trigger(const xml::Element& parent, std::string_view tag, const ReadContext& c) {
+  const auto trigger = parent.child(tag);
+  if (!trigger || trigger->children("ConditionGroup").empty()) return std::nullopt;
+  return detail::read_trigger(*trigger, c);
+}
+
 int max_executions(const xml::Element& e, const ReadContext& c) {
   if (!e.attribute("maximumExecutionCount")) return 1;
   return c.integer(e, "maximumExecutionCount", 1, 1000000);
@@ -82,7 +91,7 @@ Maneuver read_maneuver(const xml::Element& m, const std::vector<std::string>& ac
         a.fail(fmt::format("action '{}' is a private action in a maneuver group without actors", c.text(a, "name")));
       event.actions.push_back(detail::read_private_action(kind, "", c));
     }
-    if (const auto start = e.child("StartTrigger")) event.start = detail::read_trigger(*start, c);
+    event.start = read_trigger(e, "StartTrigger", c);
     maneuver.events.push_back(std::move(event));
   }
   return maneuver;
@@ -133,13 +142,13 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
         }
         act.groups.push_back(std::move(group));
       }
-      if (const auto start = a.child("StartTrigger")) act.start = detail::read_trigger(*start, sc);
-      if (const auto stop = a.child("StopTrigger")) act.stop = detail::read_trigger(*stop, sc);
+      act.start = read_trigger(a, "StartTrigger", sc);
+      act.stop = read_trigger(a, "StopTrigger", sc);
       story.acts.push_back(std::move(act));
     }
     out.stories.push_back(std::move(story));
   }
-  if (const auto stop = board.child("StopTrigger")) out.stop = detail::read_trigger(*stop, c);
+  out.stop = read_trigger(board, "StopTrigger", c);
   c.elements_ = nullptr;
   return out;
 }

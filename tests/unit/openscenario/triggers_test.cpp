@@ -212,5 +212,20 @@ TEST(Triggers, RelativeSpeedIsTheSpeedMinusTheReferencedEntitys) {
   EXPECT_NEAR(lead[i].speed_mps, 13.0, 0.01 + 1e-9);
 }
 
+TEST(Triggers, AnEmptyStartTriggerStartsItsActAtOnceAnEmptyStopTriggerNever) {
+  // esmini reads a StartTrigger without a ConditionGroup as true, a StopTrigger without one as
+  // false: the act runs and its event stops the Ego at the first step past 1 s.
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  std::string acts = act("Ego", event("stop", speed("0"), trigger("StartTrigger", time_condition(1.0))));
+  const std::string end = "</ManeuverGroup></Act>";
+  acts.replace(acts.rfind(end), end.size(), "</ManeuverGroup><StartTrigger/><StopTrigger/></Act>");
+  parts.acts = acts;
+  const auto played =
+      play(load_openscenario(write_scenario("empty_triggers", parts)), {.dt_s = 0.01, .duration_s = 2.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
