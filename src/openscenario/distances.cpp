@@ -96,8 +96,11 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
     double ds = (there.s_m - here.s_m) * from.direction;
     double dt = (t_there - t_here) * from.direction;
     if (spec.freespace) {
+      // Each box reaches from its reference point by half its length plus or minus its centre's
+      // offset: the entity's front (or rear) and the other's rear (or front), both heading along s.
       const double own = box.length_m / 2.0 + (ds >= 0.0 ? box.center_x_m : -box.center_x_m);
-      const double other = to_box != nullptr ? to_box->length_m / 2.0 : 0.0;
+      const double other =
+          to_box != nullptr ? to_box->length_m / 2.0 + (ds >= 0.0 ? -to_box->center_x_m : to_box->center_x_m) : 0.0;
       ds = ds >= 0.0 ? std::max(0.0, ds - own - other) : std::min(0.0, ds + own + other);
       const double own_w = box.width_m / 2.0, other_w = to_box != nullptr ? to_box->width_m / 2.0 : 0.0;
       dt = dt >= 0.0 ? std::max(0.0, dt - own_w - other_w) : std::min(0.0, dt + own_w + other_w);

@@ -261,5 +261,26 @@ TEST(OnLanes, LaneZeroIsAPositionOnTheCentreLane) {
   }
 }
 
+TEST(OnLanes, AFreespaceRoadDistanceCountsEachBoxFromItsReferencePoint) {
+  // Boxes 4 m long centred 1.4 m ahead of the reference point: the Ego's front is 3.4 m ahead of
+  // it, the Lead's rear 0.6 m behind its own. 100 m apart the gap is 96 m; at 10 m/s it is below
+  // 50 m from t = 4.6 s, and the Ego stops in the step after.
+  const auto centred = [](const std::string& name) {
+    std::string v = vehicle(name);
+    v.replace(v.find(R"(<Center x="0")"), 13, R"(<Center x="1.4")");
+    return v;
+  };
+  XoscParts parts;
+  parts.entities = centred("Ego") + centred("Lead");
+  parts.init = init_on_lane("Ego", "1", -1, 0, 10) + init_on_lane("Lead", "1", -1, 100, 0);
+  parts.acts =
+      act("Ego", event("stop", speed("0"), trigger("StartTrigger", entity_condition("Ego", R"(<RelativeDistanceCondition
+                                    entityRef="Lead" value="50" freespace="true" rule="lessThan"
+                                    relativeDistanceType="longitudinal" coordinateSystem="road"/>)"))));
+  const auto played = play(load_openscenario(scenario_on_roads("freespace_road", road("1", 0, 200, ""), parts)),
+                           {.dt_s = 0.01, .duration_s = 6.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 4.615 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
