@@ -18,11 +18,9 @@ Rule read_rule(const xml::Element& e, const ReadContext& c) {
 DistanceSpec read_distance(const xml::Element& e, const ReadContext& c) {
   DistanceSpec d;
   d.freespace = c.boolean(e, "freespace", false);
-  if (e.attribute("alongRoute") && c.boolean(e, "alongRoute", false)) {
-    // OpenSCENARIO 1.0: along the route means along the road.
-    d.system = CoordinateSystem::kRoad;
-    d.type = DistanceType::kLongitudinal;
-  }
+  // OpenSCENARIO 1.0: along the route means in road coordinates; esmini leaves the distance's type
+  // at its default, euclidean (its cut-in_external changes lanes by it).
+  if (e.attribute("alongRoute") && c.boolean(e, "alongRoute", false)) d.system = CoordinateSystem::kRoad;
   if (e.attribute("coordinateSystem"))
     d.system = static_cast<CoordinateSystem>(c.choice(e, "coordinateSystem", {"entity", "lane", "road", "trajectory"}));
   if (d.system == CoordinateSystem::kTrajectory)

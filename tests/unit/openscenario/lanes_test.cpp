@@ -282,5 +282,23 @@ TEST(OnLanes, AFreespaceRoadDistanceCountsEachBoxFromItsReferencePoint) {
   for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 4.615 ? 10.0 : 0.0) << "t = " << s.t_s;
 }
 
+TEST(OnLanes, AlongRouteMeansRoadCoordinatesWithTheEuclideanDistance) {
+  // OpenSCENARIO 1.0's alongRoute="true" (deprecated since 1.1, still in the schema), read as esmini does: the road's s
+  // and t, combined euclidean. The Lead stands one lane over (3.5 m in t); the headway sqrt(ds² + 3.5²) / 10 is below 1
+  // s once ds < 9.367 m: from t = 9.07 s (longitudinal alone would give 9.01 s).
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_on_lane("Ego", "1", -1, 0, 10) + init_on_lane("Lead", "1", 1, 100, 0);
+  parts.acts =
+      act("Ego", event("stop", speed("0"), trigger("StartTrigger", entity_condition("Ego", R"(<TimeHeadwayCondition
+                                    entityRef="Lead" value="1" freespace="false" alongRoute="true"
+                                    rule="lessThan"/>)"))));
+  const auto played = play(load_openscenario(scenario_on_roads("along_route", road("1", 0, 200, ""), parts)),
+                           {.dt_s = 0.01, .duration_s = 9.5});
+  const double fires_s = (100.0 - std::sqrt(100.0 - 3.5 * 3.5)) / 10.0;  // 9.0633
+  for (const Sample& s : played.at("Ego"))
+    EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < std::ceil(fires_s * 100.0) / 100.0 + 0.005 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
