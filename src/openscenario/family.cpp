@@ -289,12 +289,19 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   std::vector<std::string> numeric_parameters;
   for (const Parameter& p : scenario->parameters)
     if (numeric(p.type)) numeric_parameters.push_back(p.name);
+  if (!choices.factors.empty()) {
+    for (const std::string& name : choices.factors)
+      if (std::find(numeric_parameters.begin(), numeric_parameters.end(), name) == numeric_parameters.end())
+        throw InputError({path, 0, 0}, fmt::format("--factors: '{}' is no numeric parameter the scenario declares "
+                                                   "(it declares {})",
+                                                   name, fmt::join(numeric_parameters, ", ")));
+    numeric_parameters = choices.factors;
+  }
   if (numeric_parameters.size() > sim::kMaxImportedFactors)
     throw InputError(
         {path, 0, 0},
         fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
-                    "factors: write a scene file with `emrm import` and keep those you vary under "
-                    "openscenario.factors",
+                    "factors: choose those you vary with `emrm import --factors A,B,...`",
                     numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
   for (const std::string& name : numeric_parameters)
     config.openscenario.factors.push_back({.parameter = name, .unit = "1", .min = {}, .max = {}});
