@@ -80,8 +80,10 @@ double gap(std::pair<double, double> a, std::pair<double, double> b) {
 double measure(const World& world, const EntityState& from, const WorldPose& to, const BoundingBox* to_box,
                const DistanceSpec& spec) {
   const BoundingBox& box = from.spec->box;
-  const bool along_road =
-      (spec.system == CoordinateSystem::kLane || spec.system == CoordinateSystem::kRoad) && world.roads != nullptr;
+  // esmini measures a euclidean distance in the world whatever the coordinate system, signed by
+  // whether the target is ahead (+) or not (-) in the entity's frame (Position::getRelativeDistance).
+  const bool along_road = (spec.system == CoordinateSystem::kLane || spec.system == CoordinateSystem::kRoad) &&
+                          spec.type != DistanceType::kEuclidean && world.roads != nullptr;
   if (along_road) {
     // s and t differences in the road coordinates of the entity's road (esmini: along the road).
     const auto here_found = from.on_lane ? std::optional<LaneCoord>(from.lane)
@@ -114,7 +116,7 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
     const double dx = to.x_m - from.pose.x_m, dy = to.y_m - from.pose.y_m;
     if (spec.type == DistanceType::kLongitudinal) return dx * ux + dy * uy;
     if (spec.type == DistanceType::kLateral) return -dx * uy + dy * ux;
-    return std::hypot(dx, dy);
+    return dx * ux + dy * uy > 0.0 ? std::hypot(dx, dy) : -std::hypot(dx, dy);
   }
   const auto own = corners(from.pose, box);
   const std::array<Corner, 4> other =

@@ -227,5 +227,16 @@ TEST(Triggers, AnEmptyStartTriggerStartsItsActAtOnceAnEmptyStopTriggerNever) {
   for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.015 ? 10.0 : 0.0) << "t = " << s.t_s;
 }
 
+TEST(Triggers, AHeadwayToAnEntityBehindIsUndefined) {
+  // The Lead is 5 m behind the Ego: the euclidean distance is negative (esmini signs it by ahead or
+  // behind), so the headway of 0.5 s never counts as below 1 s.
+  const auto played =
+      play_stop_on("headway_behind",
+                   trigger("StartTrigger", entity_condition("Ego", R"(<TimeHeadwayCondition entityRef="Lead" value="1"
+          freespace="false" rule="lessThan" relativeDistanceType="euclidianDistance" coordinateSystem="entity"/>)")),
+                   -5, 10);
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, 10.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
