@@ -44,7 +44,9 @@ unsigned ActionRuntime::domains() const noexcept {
         if constexpr (std::is_same_v<A, SpeedAction>) return kLongitudinal;
         if constexpr (std::is_same_v<A, LaneChangeAction> || std::is_same_v<A, LaneOffsetAction>) return kLateral;
         if constexpr (std::is_same_v<A, FollowTrajectoryAction>) return a.timing ? kLateral | kLongitudinal : kLateral;
-        if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction>) return 0U;
+        if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction> ||
+                      std::is_same_v<A, AppearanceOnlyAction>)
+          return 0U;
         return kLateral | kLongitudinal;
       },
       spec_.kind);
@@ -78,8 +80,9 @@ bool ActionRuntime::start(World& world, double time_s) {
     }
     return true;
   }
-  // Done at once: nothing moves by them.
-  return std::holds_alternative<EnvironmentAction>(spec_.kind) || std::holds_alternative<ControllerAction>(spec_.kind);
+  // A controller action is done at once; an environment, visibility or appearance action ends in
+  // its first step (esmini's Step ends them), so its completion is seen by the next evaluation.
+  return std::holds_alternative<ControllerAction>(spec_.kind);
 }
 
 bool ActionRuntime::step(World& world, double time_s, double dt_s) {

@@ -169,6 +169,18 @@ Action read_private_action(const xml::Element& private_action, const std::string
     action.kind = controller;
     return action;
   }
+  if (kind.name() == "VisibilityAction") {
+    // Graphics and sensors change nothing in the motion; an entity other traffic cannot see may
+    // change how the others move (esmini's traffic), which the open-loop play does not model.
+    if (!c.boolean(kind, "traffic", true))
+      kind.fail("traffic", "traffic: false is not supported (an entity invisible to traffic; supported: true)");
+    action.kind = AppearanceOnlyAction{};
+    return action;
+  }
+  if (kind.name() == "AppearanceAction") {
+    action.kind = AppearanceOnlyAction{};
+    return action;
+  }
   if (kind.name() == "TeleportAction") {
     action.kind = TeleportAction{read_position(kind.required_child("Position"), c)};
     return action;

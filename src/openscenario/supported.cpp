@@ -10,7 +10,7 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 42> kSupported = {{
+constexpr std::array<SupportedElement, 44> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
@@ -28,6 +28,8 @@ constexpr std::array<SupportedElement, 42> kSupported = {{
     {"PrivateAction", "ControllerAction",
      "AssignControllerAction (any controller on the ego, esmini's default on the others), ActivateControllerAction"},
     {"PrivateAction", "ActivateControllerAction", "OpenSCENARIO 1.0's; no effect (the default controller)"},
+    {"PrivateAction", "VisibilityAction", "graphics, sensors; traffic true only; no effect on the motion"},
+    {"PrivateAction", "AppearanceAction", "read and ignored: lights and animations do not change the motion"},
     {"LongitudinalAction", "SpeedAction", "SpeedActionDynamics: every shape, time/distance/rate"},
     {"SpeedActionTarget", "AbsoluteTargetSpeed", "value"},
     {"SpeedActionTarget", "RelativeTargetSpeed", "delta or factor of an entity's speed, continuous"},

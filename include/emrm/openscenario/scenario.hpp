@@ -173,7 +173,7 @@ struct FollowTrajectoryAction {
 };
 
 /// A GlobalAction's EnvironmentAction: read and ignored (weather, light and the road's friction do not
-/// change the open-loop motion); an event holding one completes at once, as in esmini.
+/// change the open-loop motion); it ends in its first step, as in esmini.
 struct EnvironmentAction {};
 
 /// A ControllerAction (or 1.0's ActivateControllerAction): it has no effect on the open-loop play
@@ -183,8 +183,13 @@ struct ControllerAction {
   std::optional<ControllerRef> assigned;
 };
 
-using PrivateActionKind = std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction,
-                                       FollowTrajectoryAction, EnvironmentAction, ControllerAction>;
+/// A VisibilityAction (seen by traffic) or an AppearanceAction (lights, animations): neither changes
+/// the open-loop motion; it ends in its first step, as in esmini.
+struct AppearanceOnlyAction {};
+
+using PrivateActionKind =
+    std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction, FollowTrajectoryAction,
+                 EnvironmentAction, ControllerAction, AppearanceOnlyAction>;
 
 struct Action {
   std::string name;

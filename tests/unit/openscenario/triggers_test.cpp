@@ -238,5 +238,25 @@ TEST(Triggers, AHeadwayToAnEntityBehindIsUndefined) {
   for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, 10.0) << "t = " << s.t_s;
 }
 
+TEST(Triggers, AVisibilityActionEndsInItsFirstStepAsInEsmini) {
+  // Event "hide" (a VisibilityAction) starts in the evaluation at 1.01 s and ends when the actions
+  // are stepped; event "stop" waits for it to complete, sees that at 1.02 s, and the Ego's speed is
+  // 0 from 1.03 s (ending at its start would show at 1.02 s; esmini's light_state).
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  parts.acts =
+      act("Ego",
+          event("hide",
+                R"(<PrivateAction><VisibilityAction graphics="false" traffic="true" sensors="false"/></PrivateAction>)",
+                trigger("StartTrigger", time_condition(1.0))) +
+              event("stop", speed("0"), trigger("StartTrigger", condition(R"(<ByValueCondition>
+              <StoryboardElementStateCondition storyboardElementType="event" storyboardElementRef="hide"
+              state="completeState"/></ByValueCondition>)"))));
+  const auto played =
+      play(load_openscenario(write_scenario("visibility_step", parts)), {.dt_s = 0.01, .duration_s = 2.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.025 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario

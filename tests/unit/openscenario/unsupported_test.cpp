@@ -64,13 +64,22 @@ TEST(Unsupported, AGlobalActionOtherThanTheEnvironment) {
 }
 
 TEST(Unsupported, APrivateActionOutsideTheSubset) {
-  expect_unsupported(
-      "visibility",
-      with_event_action(
-          R"(<PrivateAction><VisibilityAction graphics="true" traffic="true" sensors="true"/></PrivateAction>)"),
-      "<VisibilityAction",
-      "VisibilityAction is not supported in PrivateAction (supported: LongitudinalAction, LateralAction, "
-      "TeleportAction, RoutingAction, ControllerAction, ActivateControllerAction)");
+  expect_unsupported("trailer",
+                     with_event_action(R"(<PrivateAction><TrailerAction><DisconnectTrailerAction/></TrailerAction>
+                         </PrivateAction>)"),
+                     "<TrailerAction",
+                     "TrailerAction is not supported in PrivateAction (supported: LongitudinalAction, LateralAction, "
+                     "TeleportAction, RoutingAction, ControllerAction, ActivateControllerAction, VisibilityAction, "
+                     "AppearanceAction)");
+  // Visibility changes nothing in the motion, unless other traffic cannot see the entity.
+  const auto visible = play(load_openscenario(write_scenario(
+                                "visibility", with_event_action(R"(<PrivateAction><VisibilityAction graphics="false"
+                                    traffic="true" sensors="false"/></PrivateAction>)"))),
+                            {.duration_s = 2.0});
+  EXPECT_NEAR(visible.at("Ego").back().x_m, 20.0, 1e-9);
+  expect_unsupported("invisible_to_traffic", with_event_action(R"(<PrivateAction><VisibilityAction graphics="true"
+                         traffic="false" sensors="true"/></PrivateAction>)"),
+                     "traffic=", "traffic: false is not supported");
   expect_unsupported(
       "acquire",
       with_event_action("<PrivateAction><RoutingAction><AcquirePositionAction>" + world_position(1, 2, 0) +
