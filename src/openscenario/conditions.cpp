@@ -94,6 +94,13 @@ bool ConditionRuntime::check(const World& world, double time_s) {
     bool one = false;
     if (const auto* sc = std::get_if<SpeedCondition>(&spec_.kind)) {
       one = holds(e.speed_mps, sc->rule, sc->value_mps);
+    } else if (const auto* cc = std::get_if<CollisionCondition>(&spec_.kind)) {
+      if (!cc->entity.empty()) {
+        one = boxes_overlap(e, world.entity(cc->entity));
+      } else {
+        for (const EntityState& other : world.entities)
+          one = one || (&other != &e && other.spec->kind == cc->kind && boxes_overlap(e, other));
+      }
     } else if (const auto* eor = std::get_if<EndOfRoadCondition>(&spec_.kind)) {
       one = e.end_of_road_since_s && time_s - *e.end_of_road_since_s > eor->duration_s - kSmall;
     } else if (const auto* rs = std::get_if<RelativeSpeedCondition>(&spec_.kind)) {

@@ -136,6 +136,10 @@ double measured_distance(const World& world, const EntityState& from, const Enti
   return measure(world, from, to.pose, &to.spec->box, spec);
 }
 
+bool boxes_overlap(const EntityState& a, const EntityState& b) {
+  return overlap(corners(a.pose, a.spec->box), corners(b.pose, b.spec->box));
+}
+
 double measured_distance(const World& world, const EntityState& from, const WorldPose& to, const DistanceSpec& spec) {
   return measure(world, from, to, nullptr, spec);
 }

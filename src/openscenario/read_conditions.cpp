@@ -40,6 +40,12 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
       e.fail("direction", fmt::format("direction: {} is not supported (supported: longitudinal, or none)", *direction));
     return SpeedCondition{c.number(e, "value", "m/s", -1000.0, 1000.0), read_rule(e, c)};
   }
+  if (kind == "CollisionCondition") {
+    if (const auto ref = e.child("EntityRef")) return CollisionCondition{c.entity_ref(*ref, "entityRef"), {}};
+    const xml::Element by_type = e.required_child("ByType");
+    const std::size_t type = c.choice(by_type, "type", {"vehicle", "pedestrian", "miscellaneous"});
+    return CollisionCondition{"", static_cast<EntityKind>(type)};
+  }
   if (kind == "EndOfRoadCondition") return EndOfRoadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
   if (kind == "RelativeSpeedCondition") {
     if (const auto direction = c.optional_text(e, "direction"))

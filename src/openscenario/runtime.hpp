@@ -230,5 +230,7 @@ class TriggerRuntime {
                                        const DistanceSpec& spec);
 [[nodiscard]] double measured_distance(const World& world, const EntityState& from, const WorldPose& to,
                                        const DistanceSpec& spec);
+/// Whether the two entities' bounding boxes overlap in the plane (esmini's Object::Collision).
+[[nodiscard]] bool boxes_overlap(const EntityState& a, const EntityState& b);
 
 }  // namespace emrm::openscenario::detail

@@ -247,6 +247,11 @@ struct SpeedCondition {
   double value_mps = 0.0;
   Rule rule = Rule::kGreaterThan;
 };
+/// The entity's bounding box overlaps `entity`'s, or that of any other entity of `kind` (ByType).
+struct CollisionCondition {
+  std::string entity;  ///< empty: by type
+  EntityKind kind = EntityKind::kVehicle;
+};
 /// The entity has stood at the end of a lane without a successor for at least `duration_s`.
 struct EndOfRoadCondition {
   double duration_s = 0.0;
@@ -274,9 +279,10 @@ struct StoryboardElementStateCondition {
   ElementState state = ElementState::kEndTransition;
 };
 
-using ConditionKind = std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition,
-                                   RelativeDistanceCondition, ReachPositionCondition, DistanceCondition, SpeedCondition,
-                                   RelativeSpeedCondition, EndOfRoadCondition, StoryboardElementStateCondition>;
+using ConditionKind =
+    std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition, RelativeDistanceCondition,
+                 ReachPositionCondition, DistanceCondition, SpeedCondition, RelativeSpeedCondition, EndOfRoadCondition,
+                 CollisionCondition, StoryboardElementStateCondition>;
 
 struct Condition {
   std::string name;

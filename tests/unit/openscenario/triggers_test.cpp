@@ -258,5 +258,20 @@ TEST(Triggers, AVisibilityActionEndsInItsFirstStepAsInEsmini) {
   for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.025 ? 10.0 : 0.0) << "t = " << s.t_s;
 }
 
+TEST(Triggers, ACollisionIsTheBoundingBoxesOverlapping) {
+  // 4 m boxes centred on the reference points; the Lead stands at 20.05 m: they overlap once the
+  // Ego is at 16.05 m or beyond. By entity and by type alike.
+  for (const char* target : {R"(<EntityRef entityRef="Lead"/>)", R"(<ByType type="vehicle"/>)"}) {
+    const auto played = play_stop_on(
+        "collision",
+        trigger("StartTrigger",
+                entity_condition("Ego", fmt::format("<CollisionCondition>{}</CollisionCondition>", target))),
+        20.05, 0);
+    const auto& ego = played.at("Ego");
+    const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return ego[k].x_m >= 16.05; });
+    EXPECT_NEAR(ego[i].t_s, 1.61, 1e-9) << target;
+  }
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
