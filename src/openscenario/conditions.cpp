@@ -101,6 +101,8 @@ bool ConditionRuntime::check(const World& world, double time_s) {
         for (const EntityState& other : world.entities)
           one = one || (&other != &e && other.spec->kind == cc->kind && boxes_overlap(e, other));
       }
+    } else if (const auto* off = std::get_if<OffroadCondition>(&spec_.kind)) {
+      one = e.off_road_since_s && time_s - *e.off_road_since_s > off->duration_s;  // esmini: no slack
     } else if (const auto* eor = std::get_if<EndOfRoadCondition>(&spec_.kind)) {
       one = e.end_of_road_since_s && time_s - *e.end_of_road_since_s > eor->duration_s - kSmall;
     } else if (const auto* rs = std::get_if<RelativeSpeedCondition>(&spec_.kind)) {

@@ -41,6 +41,22 @@ void default_controller(const World& world, EntityState& e, double dt_s) {
   }
 }
 
+// esmini's state check after each step: an entity beyond its road's lanes (or on no road's lanes)
+// is off road from the time after the step.
+void check_off_road(const World& world, EntityState& e) {
+  if (world.roads == nullptr) return;
+  std::optional<LaneCoord> at =
+      e.on_lane ? std::optional<LaneCoord>(e.lane) : world.roads->world_to_lane(e.pose.x_m, e.pose.y_m, &e.lane);
+  const bool off =
+      !at || world.roads->off_road(at->road_id, at->s_m,
+                                   world.roads->lane_center_t(at->road_id, at->lane_id, at->s_m) + at->offset_m);
+  if (!off) {
+    e.off_road_since_s.reset();
+  } else if (!e.off_road_since_s) {
+    e.off_road_since_s = world.time_s;
+  }
+}
+
 Sample sample_of(const EntityState& e, double t_s) {
   return {t_s, e.pose.x_m, e.pose.y_m, std::remainder(e.pose.heading_rad, 2.0 * std::numbers::pi), e.speed_mps};
 }
@@ -81,6 +97,7 @@ Trajectories run(const Scenario& scenario, const PlayOptions& options) {
     const double next_t = static_cast<double>(k + 1) * options.dt_s;
     world.time_s = next_t;
     for (EntityState& e : world.entities) default_controller(world, e, options.dt_s);
+    for (EntityState& e : world.entities) check_off_road(world, e);
     record(next_t);
     if (options.stop_at && options.stop_at(next_t, states)) break;
   }

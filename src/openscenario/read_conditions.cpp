@@ -46,6 +46,7 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
     const std::size_t type = c.choice(by_type, "type", {"vehicle", "pedestrian", "miscellaneous"});
     return CollisionCondition{"", static_cast<EntityKind>(type)};
   }
+  if (kind == "OffroadCondition") return OffroadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
   if (kind == "EndOfRoadCondition") return EndOfRoadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
   if (kind == "RelativeSpeedCondition") {
     if (const auto direction = c.optional_text(e, "direction"))

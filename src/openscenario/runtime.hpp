@@ -32,6 +32,9 @@ struct EntityState {
   /// When the default controller first found its lane ending without a successor (esmini's end of
   /// road timestamp); cleared when it moves on.
   std::optional<double> end_of_road_since_s;
+  /// When it was first found beyond its road's lanes (esmini's off road timestamp); cleared when
+  /// it is back on them.
+  std::optional<double> off_road_since_s;
 };
 
 /// What the actions, positions and conditions share: the entities and the roads.

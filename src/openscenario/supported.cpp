@@ -10,7 +10,7 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 45> kSupported = {{
+constexpr std::array<SupportedElement, 46> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
@@ -49,6 +49,7 @@ constexpr std::array<SupportedElement, 45> kSupported = {{
     {"EntityCondition", "RelativeSpeedCondition", "the speed minus the entityRef's; no direction"},
     {"EntityCondition", "EndOfRoadCondition", "duration at the end of a lane without a successor"},
     {"EntityCondition", "CollisionCondition", "EntityRef or ByType: the bounding boxes overlap"},
+    {"EntityCondition", "OffroadCondition", "duration beyond the road's lanes (those of type none left out)"},
     {"ByValueCondition", "SimulationTimeCondition", "every rule"},
     {"ByValueCondition", "StoryboardElementStateCondition", "every state and transition"},
     {"Position", "WorldPosition", "x, y, h"},

@@ -252,6 +252,10 @@ struct CollisionCondition {
   std::string entity;  ///< empty: by type
   EntityKind kind = EntityKind::kVehicle;
 };
+/// The entity has been beyond its road's lanes for more than `duration_s`.
+struct OffroadCondition {
+  double duration_s = 0.0;
+};
 /// The entity has stood at the end of a lane without a successor for at least `duration_s`.
 struct EndOfRoadCondition {
   double duration_s = 0.0;
@@ -282,7 +286,7 @@ struct StoryboardElementStateCondition {
 using ConditionKind =
     std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition, RelativeDistanceCondition,
                  ReachPositionCondition, DistanceCondition, SpeedCondition, RelativeSpeedCondition, EndOfRoadCondition,
-                 CollisionCondition, StoryboardElementStateCondition>;
+                 CollisionCondition, OffroadCondition, StoryboardElementStateCondition>;
 
 struct Condition {
   std::string name;

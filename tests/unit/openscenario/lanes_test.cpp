@@ -300,5 +300,23 @@ TEST(OnLanes, AlongRouteMeansRoadCoordinatesWithTheEuclideanDistance) {
     EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < std::ceil(fires_s * 100.0) / 100.0 + 0.005 ? 10.0 : 0.0) << "t = " << s.t_s;
 }
 
+TEST(OnLanes, OffroadHoldsOnceTheEntityHasBeenBeyondTheLanesForLongerThanItsDuration) {
+  // The right lanes reach t = -7 m; the Ego drives at t = -8 m, off road from the first step
+  // (stamped 0.01 s, the time after it). With duration 0.505 the condition holds from 0.52 s; the
+  // Other then stops, seen in the sample after.
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Other");
+  parts.init = fmt::format(R"(<Private entityRef="Ego">{}{}</Private>)",
+                           teleport(R"(<Position><RoadPosition roadId="1" s="10" t="-8"/></Position>)"), speed("10")) +
+               init_on_lane("Other", "1", -1, 50, 5);
+  parts.acts =
+      act("Other", event("stop", speed("0"),
+                         trigger("StartTrigger", entity_condition("Ego", R"(<OffroadCondition duration="0.505"/>)"))));
+  const auto played = play(load_openscenario(scenario_on_roads("off_road", road("1", 0, 100, ""), parts)),
+                           {.dt_s = 0.01, .duration_s = 1.0});
+  for (const Sample& s : played.at("Other"))
+    EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 0.525 ? 5.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
