@@ -45,7 +45,7 @@ unsigned ActionRuntime::domains() const noexcept {
         if constexpr (std::is_same_v<A, LaneChangeAction> || std::is_same_v<A, LaneOffsetAction>) return kLateral;
         if constexpr (std::is_same_v<A, FollowTrajectoryAction>) return a.timing ? kLateral | kLongitudinal : kLateral;
         if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction> ||
-                      std::is_same_v<A, AppearanceOnlyAction>)
+                      std::is_same_v<A, AppearanceOnlyAction> || std::is_same_v<A, ParameterAction>)
           return 0U;
         return kLateral | kLongitudinal;
       },
@@ -63,6 +63,18 @@ bool ActionRuntime::start(World& world, double time_s) {
     start_lane_offset(world, *offset);
   } else if (const auto* follow = std::get_if<FollowTrajectoryAction>(&spec_.kind)) {
     start_trajectory(world, *follow);
+  } else if (const auto* parameter = std::get_if<ParameterAction>(&spec_.kind)) {
+    std::string& value = world.parameters[parameter->parameter];
+    if (parameter->set) {
+      value = *parameter->set;
+    } else {
+      char* end = nullptr;
+      const double number = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() || *end != '\0')
+        throw InputError(spec_.where,
+                         fmt::format("parameter '{}' is '{}', not a number to modify", parameter->parameter, value));
+      value = fmt::format("{:.17g}", number * parameter->multiply + parameter->add);
+    }
   } else if (const auto* teleport = std::get_if<TeleportAction>(&spec_.kind)) {
     EntityState& e = world.entity(actor_);
     const ResolvedPosition p = resolve(world, teleport->position, &e);

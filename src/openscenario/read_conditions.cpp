@@ -80,6 +80,12 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
 }
 
 ConditionKind read_value_condition(const xml::Element& e, const ReadContext& c) {
+  if (e.name() == "ParameterCondition") {
+    ParameterCondition p{e.required("parameterRef"), c.text(e, "value"), read_rule(e, c)};
+    if (c.scope().find(p.parameter) == nullptr)
+      e.fail("parameterRef", fmt::format("parameterRef: no parameter '{}' is declared", p.parameter));
+    return p;
+  }
   if (e.name() == "SimulationTimeCondition")
     return SimulationTimeCondition{c.number(e, "value", "s", -kMaxTime_s, kMaxTime_s), read_rule(e, c)};
   StoryboardElementStateCondition s;

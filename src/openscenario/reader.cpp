@@ -65,6 +65,28 @@ std::optional<Trigger> read_trigger(const xml::Element& parent, std::string_view
   return detail::read_trigger(*trigger, c);
 }
 
+// A GlobalAction: an EnvironmentAction (nothing moves by it) or a ParameterAction on a global
+// parameter.
+Action read_global_action(const xml::Element& global_action, const ReadContext& c) {
+  const xml::Element global = c.chosen(global_action, "GlobalAction");
+  if (global.name() != "ParameterAction") return Action{"", "", EnvironmentAction{}, global.where()};
+  ParameterAction p;
+  p.parameter = global.required("parameterRef");
+  if (c.scope().find(p.parameter) == nullptr)
+    global.fail("parameterRef", fmt::format("parameterRef: no parameter '{}' is declared", p.parameter));
+  if (const auto set = global.child("SetAction")) {
+    p.set = c.text(*set, "value");
+  } else {
+    const xml::Element rule = global.required_child("ModifyAction").required_child("Rule");
+    if (const auto add = rule.child("AddValue")) {
+      p.add = c.number(*add, "value", "", -1e12, 1e12);
+    } else {
+      p.multiply = c.number(rule.required_child("MultiplyByValue"), "value", "", -1e12, 1e12);
+    }
+  }
+  return Action{"", "", p, global.where()};
+}
+
 int max_executions(const xml::Element& e, const ReadContext& c) {
   if (!e.attribute("maximumExecutionCount")) return 1;
   return c.integer(e, "maximumExecutionCount", 1, 1000000);
@@ -83,8 +105,8 @@ Maneuver read_maneuver(const xml::Element& m, const std::vector<std::string>& ac
     for (const xml::Element& a : e.children("Action")) {
       const xml::Element kind = c.chosen(a, "Action");
       if (kind.name() == "GlobalAction") {
-        const xml::Element global = c.chosen(kind, "GlobalAction");
-        event.actions.push_back(Action{c.text(a, "name"), "", EnvironmentAction{}, global.where()});
+        event.actions.push_back(read_global_action(kind, c));
+        event.actions.back().name = c.text(a, "name");
         continue;
       }
       if (actors.empty())
@@ -106,7 +128,7 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
     for (const xml::Element& child : actions.children()) {
       require_supported("InitActions", child.name(), child.where());
       if (child.name() == "GlobalAction") {
-        (void)c.chosen(child, "GlobalAction");  // an EnvironmentAction: nothing moves by it
+        out.init.push_back(read_global_action(child, c));
         continue;
       }
       const std::string actor = c.entity_ref(child, "entityRef");

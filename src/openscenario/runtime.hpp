@@ -5,6 +5,7 @@
 // conditions' memories.
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,6 +43,7 @@ struct World {
   const Scenario* scenario = nullptr;
   const RoadAccess* roads = nullptr;  ///< null without a road network
   std::vector<EntityState> entities;
+  std::map<std::string, std::string> parameters;  ///< the global parameters' values as ParameterActions set them
   double time_s = 0.0;
 
   [[nodiscard]] EntityState& entity(const std::string& name);

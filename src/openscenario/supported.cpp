@@ -10,17 +10,18 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr std::array<SupportedElement, 46> kSupported = {{
+constexpr std::array<SupportedElement, 48> kSupported = {{
     {"EntityObject", "Vehicle",
      "BoundingBox, Performance (maxSpeed, maxAcceleration, maxDeceleration), vehicleCategory"},
     {"EntityObject", "Pedestrian", "BoundingBox, pedestrianCategory; not speed-limited"},
     {"EntityObject", "MiscObject", "BoundingBox, miscObjectCategory; never drives (esmini)"},
     {"EntityObject", "CatalogReference", "resolved through CatalogLocations, ParameterAssignments applied"},
     {"InitActions", "Private", "the entity's private actions, started at t = 0 in document order"},
-    {"InitActions", "GlobalAction", "EnvironmentAction only"},
+    {"InitActions", "GlobalAction", "EnvironmentAction, ParameterAction"},
     {"Action", "PrivateAction", "in an Event, for each actor of the maneuver group"},
-    {"Action", "GlobalAction", "EnvironmentAction only"},
+    {"Action", "GlobalAction", "EnvironmentAction, ParameterAction"},
     {"GlobalAction", "EnvironmentAction", "read and ignored: weather, light and friction do not change the motion"},
+    {"GlobalAction", "ParameterAction", "SetAction, ModifyAction (AddValue, MultiplyByValue) on a global parameter"},
     {"PrivateAction", "LongitudinalAction", "SpeedAction only"},
     {"PrivateAction", "LateralAction", "LaneChangeAction, LaneOffsetAction"},
     {"PrivateAction", "TeleportAction", "any supported Position"},
@@ -52,6 +53,7 @@ constexpr std::array<SupportedElement, 46> kSupported = {{
     {"EntityCondition", "OffroadCondition", "duration beyond the road's lanes (those of type none left out)"},
     {"ByValueCondition", "SimulationTimeCondition", "every rule"},
     {"ByValueCondition", "StoryboardElementStateCondition", "every state and transition"},
+    {"ByValueCondition", "ParameterCondition", "a global parameter: numbers by the rule, text equal or not"},
     {"Position", "WorldPosition", "x, y, h"},
     {"Position", "LanePosition", "roadId, laneId, s, offset, Orientation"},
     {"Position", "RoadPosition", "roadId, s, t, Orientation"},

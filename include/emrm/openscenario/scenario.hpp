@@ -183,13 +183,22 @@ struct ControllerAction {
   std::optional<ControllerRef> assigned;
 };
 
+/// A GlobalAction's ParameterAction: sets a global parameter's value (SetAction) or adds to or
+/// multiplies it (ModifyAction), for the ParameterConditions; nothing else reads it again (esmini
+/// resolves every other use when reading). The value is set when it starts, as in esmini.
+struct ParameterAction {
+  std::string parameter;
+  std::optional<std::string> set;  ///< SetAction's value; else ModifyAction's rule
+  double add = 0.0, multiply = 1.0;
+};
+
 /// A VisibilityAction (seen by traffic) or an AppearanceAction (lights, animations): neither changes
 /// the open-loop motion; it ends in its first step, as in esmini.
 struct AppearanceOnlyAction {};
 
 using PrivateActionKind =
     std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction, FollowTrajectoryAction,
-                 EnvironmentAction, ControllerAction, AppearanceOnlyAction>;
+                 EnvironmentAction, ControllerAction, AppearanceOnlyAction, ParameterAction>;
 
 struct Action {
   std::string name;
@@ -252,6 +261,13 @@ struct CollisionCondition {
   std::string entity;  ///< empty: by type
   EntityKind kind = EntityKind::kVehicle;
 };
+/// A global parameter's value (as a ParameterAction leaves it) against `value`: as numbers when
+/// both read as numbers, else as text (equalTo, notEqualTo).
+struct ParameterCondition {
+  std::string parameter;
+  std::string value;
+  Rule rule = Rule::kEqualTo;
+};
 /// The entity has been beyond its road's lanes for more than `duration_s`.
 struct OffroadCondition {
   double duration_s = 0.0;
@@ -286,7 +302,7 @@ struct StoryboardElementStateCondition {
 using ConditionKind =
     std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition, RelativeDistanceCondition,
                  ReachPositionCondition, DistanceCondition, SpeedCondition, RelativeSpeedCondition, EndOfRoadCondition,
-                 CollisionCondition, OffroadCondition, StoryboardElementStateCondition>;
+                 CollisionCondition, OffroadCondition, ParameterCondition, StoryboardElementStateCondition>;
 
 struct Condition {
   std::string name;

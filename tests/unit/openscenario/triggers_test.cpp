@@ -273,5 +273,37 @@ TEST(Triggers, ACollisionIsTheBoundingBoxesOverlapping) {
   }
 }
 
+TEST(Triggers, AParameterActionSetsWhatAParameterConditionCompares) {
+  // Gap starts at 5; at t > 1 a SetAction makes it 11, at t > 2 a ModifyAction doubles it. As in
+  // esmini the value is set when the action starts, so a condition evaluated after it in the same
+  // pass (later in the document) sees it: "Gap > 10" holds at 1.01 s, "Gap == 22" at 2.01 s.
+  XoscParts parts;
+  parts.parameters = R"(<ParameterDeclaration name="Gap" parameterType="double" value="5"/>)";
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 0, 10, 0, 10);
+  const auto global = [](const std::string& inner) {
+    return fmt::format(R"(<GlobalAction><ParameterAction parameterRef="Gap">{}</ParameterAction></GlobalAction>)",
+                       inner);
+  };
+  const auto parameter_is = [](const std::string& rule, const std::string& value) {
+    return trigger("StartTrigger",
+                   condition(fmt::format(R"(<ByValueCondition><ParameterCondition parameterRef="Gap" value="{}"
+                       rule="{}"/></ByValueCondition>)",
+                                         value, rule)));
+  };
+  parts.acts =
+      act("Ego", event("set", global(R"(<SetAction value="11"/>)"), trigger("StartTrigger", time_condition(1.0))) +
+                     event("stop_ego", speed("0"), parameter_is("greaterThan", "10"))) +
+      act("Lead",
+          event("double", global(R"(<ModifyAction><Rule><MultiplyByValue value="2"/></Rule></ModifyAction>)"),
+                trigger("StartTrigger", time_condition(2.0))) +
+              event("stop_lead", speed("0"), parameter_is("equalTo", "22")),
+          "lead_act");
+  const auto played = play(load_openscenario(write_scenario("parameters", parts)), {.dt_s = 0.01, .duration_s = 3.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+  for (const Sample& s : played.at("Lead"))
+    EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 2.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario

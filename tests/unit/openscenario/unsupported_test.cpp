@@ -55,7 +55,7 @@ TEST(Unsupported, AGlobalActionOtherThanTheEnvironment) {
       "global",
       with_event_action(
           R"(<GlobalAction><EntityAction entityRef="Ego"><DeleteEntityAction/></EntityAction></GlobalAction>)"),
-      "<EntityAction", "EntityAction is not supported in GlobalAction (supported: EnvironmentAction)");
+      "<EntityAction", "EntityAction is not supported in GlobalAction (supported: EnvironmentAction, ParameterAction)");
   expect_unsupported(
       "user_defined",
       with_event_action(
@@ -140,13 +140,16 @@ TEST(Unsupported, ConditionsOutsideTheSubset) {
   expect_unsupported("standstill", with_condition(entity_condition("Ego", R"(<StandStillCondition duration="1"/>)")),
                      "<StandStillCondition",
                      "StandStillCondition is not supported in EntityCondition (supported: TimeHeadwayCondition");
+  expect_unsupported("time_of_day", with_condition(condition(R"(<ByValueCondition><TimeOfDayCondition rule="greaterThan"
+                         dateTime="2026-01-01T12:00:00"/></ByValueCondition>)")),
+                     "<TimeOfDayCondition",
+                     "TimeOfDayCondition is not supported in ByValueCondition (supported: SimulationTimeCondition, "
+                     "StoryboardElementStateCondition, ParameterCondition)");
   expect_unsupported(
       "parameter_condition",
       with_condition(condition(
           R"(<ByValueCondition><ParameterCondition parameterRef="x" value="1" rule="equalTo"/></ByValueCondition>)")),
-      "<ParameterCondition",
-      "ParameterCondition is not supported in ByValueCondition (supported: SimulationTimeCondition, "
-      "StoryboardElementStateCondition)");
+      "parameterRef=", "parameterRef: no parameter 'x' is declared");
 }
 
 TEST(Unsupported, AReferenceToNothingIsAnErrorAtTheReference) {
