@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "emrm/core/text.hpp"
@@ -21,13 +23,14 @@ namespace {
 struct ImportOptions {
   std::string scenario;
   std::string ego;
+  std::vector<std::string> factors;
   std::string output;
   std::string trace;
   double trace_s = 10.0;
 };
 
 int run(const ImportOptions& o) {
-  sim::SceneConfig config = openscenario::scene_of(o.scenario, {o.ego});
+  sim::SceneConfig config = openscenario::scene_of(o.scenario, {.ego = o.ego, .factors = o.factors});
   // Everything is read and checked before anything is written.
   std::string trace;
   if (!o.trace.empty()) {
@@ -35,7 +38,9 @@ int run(const ImportOptions& o) {
     play.dt_s = config.simulation.dt_s;
     play.duration_s = o.trace_s;
     std::ostringstream csv;
-    openscenario::write_trace_csv(csv, openscenario::play(openscenario::load_openscenario(o.scenario), play));
+    openscenario::write_trace_csv(
+        csv, openscenario::play(
+                 openscenario::load_openscenario(o.scenario, {.overrides = {}, .ego = config.openscenario.ego}), play));
     trace = csv.str();
   }
   if (!o.output.empty()) {
@@ -68,6 +73,10 @@ void register_import_command(CLI::App& app, int& exit_code) {
                                  "FILE.xosc` works directly too.");
   cmd->add_option("scenario", o->scenario, "The scenario (.xosc)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--ego", o->ego, "The entity the EMRM drives (default: Ego, ego or hero, else the first vehicle)");
+  cmd->add_option("--factors", o->factors,
+                  "The declared numeric parameters the scene makes factors, comma-separated (default: every one; "
+                  "at most 5)")
+      ->delimiter(',');
   cmd->add_option("-o,--output", o->output, "Write the scene here (default: print it)");
   cmd->add_option("--trace", o->trace,
                   "Also write every entity's open-loop trajectory as CSV (t, actor, x, y, heading, speed; OpenDRIVE "

@@ -44,7 +44,9 @@ unsigned ActionRuntime::domains() const {
         if constexpr (std::is_same_v<A, SpeedAction>) return kLongitudinal;
         if constexpr (std::is_same_v<A, LaneChangeAction> || std::is_same_v<A, LaneOffsetAction>) return kLateral;
         if constexpr (std::is_same_v<A, FollowTrajectoryAction>) return a.timing ? kLateral | kLongitudinal : kLateral;
-        if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction>) return 0U;
+        if constexpr (std::is_same_v<A, EnvironmentAction> || std::is_same_v<A, ControllerAction> ||
+                      std::is_same_v<A, AppearanceOnlyAction> || std::is_same_v<A, ParameterAction>)
+          return 0U;
         return kLateral | kLongitudinal;
       },
       spec_.kind);
@@ -61,6 +63,18 @@ bool ActionRuntime::start(World& world, double time_s) {
     start_lane_offset(world, *offset);
   } else if (const auto* follow = std::get_if<FollowTrajectoryAction>(&spec_.kind)) {
     start_trajectory(world, *follow);
+  } else if (const auto* parameter = std::get_if<ParameterAction>(&spec_.kind)) {
+    std::string& value = world.parameters[parameter->parameter];
+    if (parameter->set) {
+      value = *parameter->set;
+    } else {
+      char* end = nullptr;
+      const double number = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() || *end != '\0')
+        throw InputError(spec_.where,
+                         fmt::format("parameter '{}' is '{}', not a number to modify", parameter->parameter, value));
+      value = fmt::format("{:.17g}", number * parameter->multiply + parameter->add);
+    }
   } else if (const auto* teleport = std::get_if<TeleportAction>(&spec_.kind)) {
     EntityState& e = world.entity(actor_);
     const ResolvedPosition p = resolve(world, teleport->position, &e);
@@ -78,8 +92,9 @@ bool ActionRuntime::start(World& world, double time_s) {
     }
     return true;
   }
-  // Done at once: nothing moves by them.
-  return std::holds_alternative<EnvironmentAction>(spec_.kind) || std::holds_alternative<ControllerAction>(spec_.kind);
+  // A controller action is done at once; an environment, visibility or appearance action ends in
+  // its first step (esmini's Step ends them), so its completion is seen by the next evaluation.
+  return std::holds_alternative<ControllerAction>(spec_.kind);
 }
 
 bool ActionRuntime::step(World& world, double time_s, double dt_s) {

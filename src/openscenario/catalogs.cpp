@@ -44,6 +44,14 @@ void load_catalogs(Catalogs& catalogs) {
   }
 }
 
+// The parameter a ParameterAssignment names. esmini drops a leading '$' (its samples write
+// parameterRef="$Sloppiness"), so a reference written as a parameter's use names it too.
+// The name is read as written: "$Sloppiness" is no use of the outer scope's parameter.
+std::string parameter_ref(const xml::Element& assignment) {
+  const std::string name = assignment.required("parameterRef");
+  return name.starts_with('$') ? name.substr(1) : name;
+}
+
 }  // namespace
 
 CatalogEntry resolve_catalog_reference(const xml::Element& reference, const ReadContext& context) {
@@ -53,8 +61,14 @@ CatalogEntry resolve_catalog_reference(const xml::Element& reference, const Read
   const auto catalog = context.catalogs().loaded.find(catalog_name);
   if (catalog == context.catalogs().loaded.end()) {
     std::string dirs;
-    for (const auto& [location, dir] : context.catalogs().directories)
-      dirs += (dirs.empty() ? "" : ", ") + fmt::format("{} {}", location, dir.string());
+    for (const auto& [location, dir] : context.catalogs().directories) {
+      std::error_code ec;
+      // esmini falls back on its own installation's resources/xosc/Catalogs; emrm reads only what
+      // the scenario names, so a missing directory is said.
+      dirs += (dirs.empty() ? "" : ", ") +
+              fmt::format("{} {}{}", location, dir.string(),
+                          std::filesystem::is_directory(dir, ec) ? "" : " (no such directory)");
+    }
     reference.fail("catalogName", fmt::format("catalogName: no catalog named '{}' in the CatalogLocations ({})",
                                               catalog_name, dirs.empty() ? "none declared" : dirs));
   }
@@ -68,12 +82,12 @@ CatalogEntry resolve_catalog_reference(const xml::Element& reference, const Read
   ParameterOverrides assigned;
   if (const auto assignments = reference.child("ParameterAssignments"))
     for (const xml::Element& a : assignments->children("ParameterAssignment"))
-      assigned[context.text(a, "parameterRef")] = context.text(a, "value");
+      assigned[parameter_ref(a)] = context.text(a, "value");
   CatalogEntry out{entry->second, std::make_unique<ParameterScope>(&context.scope())};
   declare_parameters(entry->second, *out.scope, context, assigned);
   if (const auto assignments = reference.child("ParameterAssignments"))
     for (const xml::Element& a : assignments->children("ParameterAssignment")) {
-      const std::string name = context.text(a, "parameterRef");
+      const std::string name = parameter_ref(a);
       const auto& declared = out.scope->declared();
       if (std::none_of(declared.begin(), declared.end(), [&](const Parameter& p) { return p.name == name; }))
         a.fail("parameterRef", fmt::format("parameterRef: entry '{}' of catalog '{}' declares no parameter '{}'",

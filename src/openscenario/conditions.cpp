@@ -3,6 +3,7 @@
 // the conditions without delay), triggers as OR of their groups.
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "runtime.hpp"
@@ -51,6 +52,21 @@ double ttc_to_entity(const World& world, const EntityState& from, const EntitySt
   return ttc < 0.0 ? -1.0 : ttc;
 }
 
+// esmini's ParameterCondition: numbers compared by the rule, text only for equality.
+bool parameter_holds(const World& world, const ParameterCondition& p) {
+  const auto found = world.parameters.find(p.parameter);
+  const std::string value = found != world.parameters.end() ? found->second : std::string();
+  char* end_value = nullptr;
+  char* end_threshold = nullptr;
+  const double number = std::strtod(value.c_str(), &end_value);
+  const double threshold = std::strtod(p.value.c_str(), &end_threshold);
+  if (!value.empty() && !p.value.empty() && *end_value == '\0' && *end_threshold == '\0')
+    return holds(number, p.rule, threshold);
+  if (p.rule == Rule::kEqualTo) return value == p.value;
+  if (p.rule == Rule::kNotEqualTo) return value != p.value;
+  return false;
+}
+
 }  // namespace
 
 bool ConditionRuntime::check_state() {
@@ -87,6 +103,7 @@ bool ConditionRuntime::check_state() {
 bool ConditionRuntime::check(const World& world, double time_s) {
   if (const auto* c = std::get_if<SimulationTimeCondition>(&spec_.kind)) return holds(time_s, c->rule, c->value_s);
   if (std::holds_alternative<StoryboardElementStateCondition>(spec_.kind)) return check_state();
+  if (const auto* p = std::get_if<ParameterCondition>(&spec_.kind)) return parameter_holds(world, *p);
   // An entity condition: any (or all) of the triggering entities.
   bool result = false;
   for (const std::string& name : spec_.triggering_entities) {
@@ -94,6 +111,19 @@ bool ConditionRuntime::check(const World& world, double time_s) {
     bool one = false;
     if (const auto* sc = std::get_if<SpeedCondition>(&spec_.kind)) {
       one = holds(e.speed_mps, sc->rule, sc->value_mps);
+    } else if (const auto* cc = std::get_if<CollisionCondition>(&spec_.kind)) {
+      if (!cc->entity.empty()) {
+        one = boxes_overlap(e, world.entity(cc->entity));
+      } else {
+        for (const EntityState& other : world.entities)
+          one = one || (&other != &e && other.spec->kind == cc->kind && boxes_overlap(e, other));
+      }
+    } else if (const auto* off = std::get_if<OffroadCondition>(&spec_.kind)) {
+      one = e.off_road_since_s && time_s - *e.off_road_since_s > off->duration_s;  // esmini: no slack
+    } else if (const auto* eor = std::get_if<EndOfRoadCondition>(&spec_.kind)) {
+      one = e.end_of_road_since_s && time_s - *e.end_of_road_since_s > eor->duration_s - kSmall;
+    } else if (const auto* rs = std::get_if<RelativeSpeedCondition>(&spec_.kind)) {
+      one = holds(e.speed_mps - world.entity(rs->entity).speed_mps, rs->rule, rs->value_mps);
     } else if (const auto* hw = std::get_if<TimeHeadwayCondition>(&spec_.kind)) {
       const double d = measured_distance(world, e, world.entity(hw->entity), hw->distance);
       one = d >= 0.0 && e.speed_mps > kSmall && holds(std::fabs(d / e.speed_mps), hw->rule, hw->value_s);

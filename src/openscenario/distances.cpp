@@ -80,8 +80,10 @@ double gap(std::pair<double, double> a, std::pair<double, double> b) {
 double measure(const World& world, const EntityState& from, const WorldPose& to, const BoundingBox* to_box,
                const DistanceSpec& spec) {
   const BoundingBox& box = from.spec->box;
-  const bool along_road =
-      (spec.system == CoordinateSystem::kLane || spec.system == CoordinateSystem::kRoad) && world.roads != nullptr;
+  // esmini measures a euclidean distance in the world whatever the coordinate system, signed by
+  // whether the target is ahead (+) or not (-) in the entity's frame (Position::getRelativeDistance).
+  const bool along_road = (spec.system == CoordinateSystem::kLane || spec.system == CoordinateSystem::kRoad) &&
+                          spec.type != DistanceType::kEuclidean && world.roads != nullptr;
   if (along_road) {
     // s and t differences in the road coordinates of the entity's road (esmini: along the road).
     const auto here_found = from.on_lane ? std::optional<LaneCoord>(from.lane)
@@ -96,8 +98,11 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
     double ds = (there.s_m - here.s_m) * from.direction;
     double dt = (t_there - t_here) * from.direction;
     if (spec.freespace) {
+      // Each box reaches from its reference point by half its length plus or minus its centre's
+      // offset: the entity's front (or rear) and the other's rear (or front), both heading along s.
       const double own = box.length_m / 2.0 + (ds >= 0.0 ? box.center_x_m : -box.center_x_m);
-      const double other = to_box != nullptr ? to_box->length_m / 2.0 : 0.0;
+      const double other =
+          to_box != nullptr ? to_box->length_m / 2.0 + (ds >= 0.0 ? -to_box->center_x_m : to_box->center_x_m) : 0.0;
       ds = ds >= 0.0 ? std::max(0.0, ds - own - other) : std::min(0.0, ds + own + other);
       const double own_w = box.width_m / 2.0, other_w = to_box != nullptr ? to_box->width_m / 2.0 : 0.0;
       dt = dt >= 0.0 ? std::max(0.0, dt - own_w - other_w) : std::min(0.0, dt + own_w + other_w);
@@ -111,7 +116,7 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
     const double dx = to.x_m - from.pose.x_m, dy = to.y_m - from.pose.y_m;
     if (spec.type == DistanceType::kLongitudinal) return dx * ux + dy * uy;
     if (spec.type == DistanceType::kLateral) return -dx * uy + dy * ux;
-    return std::hypot(dx, dy);
+    return dx * ux + dy * uy > 0.0 ? std::hypot(dx, dy) : -std::hypot(dx, dy);
   }
   const auto own = corners(from.pose, box);
   const std::array<Corner, 4> other =
@@ -129,6 +134,10 @@ double measure(const World& world, const EntityState& from, const WorldPose& to,
 
 double measured_distance(const World& world, const EntityState& from, const EntityState& to, const DistanceSpec& spec) {
   return measure(world, from, to.pose, &to.spec->box, spec);
+}
+
+bool boxes_overlap(const EntityState& a, const EntityState& b) {
+  return overlap(corners(a.pose, a.spec->box), corners(b.pose, b.spec->box));
 }
 
 double measured_distance(const World& world, const EntityState& from, const WorldPose& to, const DistanceSpec& spec) {

@@ -29,13 +29,13 @@ namespace {
 
 // ---- what is read once per file -------------------------------------------------------------
 
-// The scenario as its file declares it (no overrides), read once per file and process.
-std::shared_ptr<const Scenario> base_scenario(const std::string& file) {
+// The scenario as its file declares it (no overrides), read once per file, ego and process.
+std::shared_ptr<const Scenario> base_scenario(const std::string& file, const std::string& ego) {
   static std::mutex mutex;
-  static std::map<std::string, std::shared_ptr<const Scenario>> read;
+  static std::map<std::pair<std::string, std::string>, std::shared_ptr<const Scenario>> read;
   const std::scoped_lock lock(mutex);
-  auto& slot = read[file];
-  if (!slot) slot = std::make_shared<const Scenario>(load_openscenario(file));
+  auto& slot = read[{file, ego}];
+  if (!slot) slot = std::make_shared<const Scenario>(load_openscenario(file, {.overrides = {}, .ego = ego}));
   return slot;
 }
 
@@ -70,7 +70,7 @@ sim::FactorTable scenario_factors(const sim::SceneConfig& config) {
   const sim::OpenScenarioConfig& o = config.openscenario;
   // Without a scenario (`emrm families`): the method's factors; a scenario adds its own.
   if (o.file.empty()) return sim::FactorTable(sim::method_factors(kDefaultSpeed_kph, kDefaultTtc_s, 1.0));
-  const auto scenario = base_scenario(o.file);
+  const auto scenario = base_scenario(o.file, o.ego);
   const SpeedAction* init = init_speed(*scenario, o.ego);
   double speed_kph = init != nullptr ? init->value * 3.6 : 0.0;
   if (!o.speed_parameter.empty())
@@ -208,13 +208,13 @@ std::variant<sim::StraightRoad, std::string> straight_road(const opendrive::Road
 // Plays the scenario for one cell and lays it out.
 sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput& cell) {
   const sim::OpenScenarioConfig& o = config.openscenario;
-  const auto base = base_scenario(o.file);
+  const auto base = base_scenario(o.file, o.ego);
   ParameterOverrides overrides;
   for (std::size_t i = 0; i < o.factors.size(); ++i)
     overrides[o.factors[i].parameter] = fmt::format("{:.17g}", cell[sim::kMethodFactors + i]);
   const double speed_mps = cell.ego_speed_kph() / 3.6;
   if (!o.speed_parameter.empty()) overrides[o.speed_parameter] = fmt::format("{:.17g}", speed_mps);
-  Scenario scenario = overrides.empty() ? *base : load_openscenario(o.file, overrides);
+  Scenario scenario = overrides.empty() ? *base : load_openscenario(o.file, {.overrides = overrides, .ego = o.ego});
   if (o.speed_parameter.empty())
     if (SpeedAction* speed = init_speed(scenario, o.ego)) speed->value = speed_mps;
   const double horizon_s = config.simulation.horizon_s;
@@ -274,26 +274,13 @@ sim::ScenarioFamilyInfo scenario_family() {
 
 sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices& choices) {
   const std::string path = std::filesystem::absolute(file).lexically_normal().string();
-  const auto scenario = base_scenario(path);
+  // The reader chooses the ego (--ego, else default_ego) and refuses a name that is no entity.
+  const auto scenario = base_scenario(path, choices.ego);
   sim::SceneConfig config;
   config.name = scenario->file.stem().string();
   config.family = "openscenario";
   config.openscenario.file = path;
-  const Entity* ego = nullptr;
-  if (!choices.ego.empty()) {
-    ego = scenario->find_entity(choices.ego);
-    if (ego == nullptr) {
-      std::vector<std::string> names;
-      for (const Entity& e : scenario->entities) names.push_back(e.name);
-      throw InputError({path, 0, 0}, fmt::format("--ego: the scenario has no entity '{}' (it has {})", choices.ego,
-                                                 fmt::join(names, ", ")));
-    }
-  } else {
-    for (const char* name : {"Ego", "ego", "hero"})
-      if ((ego = scenario->find_entity(name)) != nullptr) break;
-    for (const Entity& e : scenario->entities)
-      if (ego == nullptr && e.kind == EntityKind::kVehicle) ego = &e;
-  }
+  const Entity* ego = scenario->find_entity(scenario->ego);
   if (ego == nullptr || ego->kind != EntityKind::kVehicle)
     throw InputError(ego != nullptr ? ego->where : SourceLocation{path, 0, 0},
                      "the ego must be a Vehicle of the scenario (name it with --ego)");
@@ -303,12 +290,19 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   std::vector<std::string> numeric_parameters;
   for (const Parameter& p : scenario->parameters)
     if (numeric(p.type)) numeric_parameters.push_back(p.name);
+  if (!choices.factors.empty()) {
+    for (const std::string& name : choices.factors)
+      if (std::find(numeric_parameters.begin(), numeric_parameters.end(), name) == numeric_parameters.end())
+        throw InputError({path, 0, 0}, fmt::format("--factors: '{}' is no numeric parameter the scenario declares "
+                                                   "(it declares {})",
+                                                   name, fmt::join(numeric_parameters, ", ")));
+    numeric_parameters = choices.factors;
+  }
   if (numeric_parameters.size() > sim::kMaxImportedFactors)
     throw InputError(
         {path, 0, 0},
         fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
-                    "factors: write a scene file with `emrm import` and keep those you vary under "
-                    "openscenario.factors",
+                    "factors: choose those you vary with `emrm import --factors A,B,...`",
                     numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
   for (const std::string& name : numeric_parameters)
     config.openscenario.factors.push_back({.parameter = name, .unit = "1", .min = {}, .max = {}});

@@ -29,10 +29,31 @@ void default_controller(const World& world, EntityState& e, double dt_s) {
     if (moved.direction_flipped) e.direction = -e.direction;
     e.lane = moved.to;
     if (moved.end_of_road) e.speed_mps = 0.0;
+    if (!moved.end_of_road) {
+      e.end_of_road_since_s.reset();
+    } else if (!e.end_of_road_since_s) {
+      e.end_of_road_since_s = world.time_s;  // the time after the step, as esmini stamps it
+    }
     world.update_pose(e);
   } else {
     e.pose.x_m += step_m * std::cos(e.pose.heading_rad);
     e.pose.y_m += step_m * std::sin(e.pose.heading_rad);
+  }
+}
+
+// esmini's state check after each step: an entity beyond its road's lanes (or on no road's lanes)
+// is off road from the time after the step.
+void check_off_road(const World& world, EntityState& e) {
+  if (world.roads == nullptr) return;
+  std::optional<LaneCoord> at =
+      e.on_lane ? std::optional<LaneCoord>(e.lane) : world.roads->world_to_lane(e.pose.x_m, e.pose.y_m, &e.lane);
+  const bool off =
+      !at || world.roads->off_road(at->road_id, at->s_m,
+                                   world.roads->lane_center_t(at->road_id, at->lane_id, at->s_m) + at->offset_m);
+  if (!off) {
+    e.off_road_since_s.reset();
+  } else if (!e.off_road_since_s) {
+    e.off_road_since_s = world.time_s;
   }
 }
 
@@ -46,6 +67,7 @@ Trajectories run(const Scenario& scenario, const PlayOptions& options) {
   World world;
   world.scenario = &scenario;
   world.roads = scenario.roads.get();
+  for (const Parameter& p : scenario.parameters) world.parameters[p.name] = p.value;
   for (const Entity& entity : scenario.entities) {
     EntityState state;
     state.spec = &entity;
@@ -76,6 +98,7 @@ Trajectories run(const Scenario& scenario, const PlayOptions& options) {
     const double next_t = static_cast<double>(k + 1) * options.dt_s;
     world.time_s = next_t;
     for (EntityState& e : world.entities) default_controller(world, e, options.dt_s);
+    for (EntityState& e : world.entities) check_off_road(world, e);
     record(next_t);
     if (options.stop_at && options.stop_at(next_t, states)) break;
   }
@@ -88,7 +111,7 @@ Trajectories play(const Scenario& scenario, const PlayOptions& options) {
   if (options.overrides.empty()) return run(scenario, options);
   ParameterOverrides merged = scenario.overrides;
   for (const auto& [name, value] : options.overrides) merged[name] = value;
-  return run(load_openscenario(scenario.file, merged), options);
+  return run(load_openscenario(scenario.file, {.overrides = merged, .ego = scenario.ego}), options);
 }
 
 }  // namespace emrm::openscenario

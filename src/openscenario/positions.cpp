@@ -75,7 +75,8 @@ ResolvedPosition on_lane(const RoadAccess& roads, const LaneCoord& lane, const s
                          const Position& position) {
   if (!roads.has_road(lane.road_id))
     throw InputError(position.where, fmt::format("road '{}' does not exist in the road network", lane.road_id));
-  if (!roads.has_lane(lane.road_id, lane.lane_id, lane.s_m))
+  // Lane 0, the centre lane, is a position on it (esmini's samples use it as a point to reach).
+  if (lane.lane_id != 0 && !roads.has_lane(lane.road_id, lane.lane_id, lane.s_m))
     throw InputError(position.where,
                      fmt::format("road '{}' has no lane {} at s = {} m", lane.road_id, lane.lane_id, lane.s_m));
   ResolvedPosition r;
@@ -94,6 +95,47 @@ ResolvedPosition at_world(const World& world, WorldPose pose, const LaneCoord* h
     r.lane = world.roads->world_to_lane(pose.x_m, pose.y_m, hint);
     if (r.lane) r.direction = direction_of(*world.roads, *r.lane, pose.heading_rad);
   }
+  return r;
+}
+
+// esmini's RelativeLanePosition (RoadManager's Position::ReleaseRelation): `ds` moves along the
+// road's s and dLane counts towards higher lane ids, the heading relative to the road's s; `dsLane`
+// moves in the driving direction of the referred entity's lane and counts dLane to its left (as
+// esmini decides it: the entity heading along s in a right-hand-traffic right lane, or against s
+// in a left-hand-traffic left lane), the heading relative to the new lane's driving direction.
+ResolvedPosition relative_lane(const RoadAccess& roads, const LaneCoord& from, const EntityState& ref,
+                               const RelativeLanePosition& p, const Position& position) {
+  const bool along_s = roads.driven_along_s(from.road_id, from.lane_id);
+  const double ds = p.ds_along_lane ? (along_s ? p.ds_m : -p.ds_m) : p.ds_m;
+  int d_lane = p.d_lane;
+  double offset = p.offset_m;
+  if (p.ds_along_lane) {
+    const bool rule_right = roads.driven_along_s(from.road_id, -1);
+    const bool forward = ref.direction > 0;
+    if (!((forward && from.lane_id < 0 && rule_right) || (!forward && from.lane_id > 0 && !rule_right))) {
+      d_lane = -d_lane;
+      offset = -offset;
+    }
+  }
+  // esmini's GetRelativeLaneId: skips lane 0 when the sign changes.
+  int lane = from.lane_id + d_lane;
+  if (from.lane_id != 0 && d_lane != 0 && (lane == 0 || (lane > 0) != (from.lane_id > 0))) lane += d_lane > 0 ? 1 : -1;
+  // As esmini: the referred entity's lane moved along, then the lane id counted from its own.
+  LaneCoord at = roads.step_along({from.road_id, from.lane_id, from.s_m, 0.0}, ds).to;
+  at.lane_id = lane;
+  at.offset_m = offset;
+  if (!roads.has_road(at.road_id))
+    throw InputError(position.where, fmt::format("road '{}' does not exist in the road network", at.road_id));
+  if (!roads.has_lane(at.road_id, at.lane_id, at.s_m))
+    throw InputError(position.where,
+                     fmt::format("road '{}' has no lane {} at s = {} m", at.road_id, at.lane_id, at.s_m));
+  ResolvedPosition r;
+  r.lane = at;
+  r.pose = lane_to_world(roads, at);
+  const double road_heading = r.pose.heading_rad;
+  const double base = p.ds_along_lane ? lane_heading(roads, at) : road_heading;
+  r.pose.heading_rad = wrap(oriented(p.orientation, base));
+  r.direction = direction_of(roads, at, r.pose.heading_rad);
   return r;
 }
 
@@ -132,17 +174,7 @@ ResolvedPosition resolve(const World& world, const Position& position, const Ent
           const RoadAccess& roads = need_roads(world, position);
           const EntityState& ref = relative_to(p.entity);
           const LaneCoord from = lane_of(ref, roads, position);
-          // dLane counts lanes to the left of the entity's driving direction, skipping lane 0.
-          int lane = from.lane_id;
-          const int left = ref.direction > 0 ? 1 : -1;
-          for (int i = 0; i < std::abs(p.d_lane); ++i) {
-            lane += (p.d_lane > 0 ? left : -left);
-            if (lane == 0) lane += (p.d_lane > 0 ? left : -left);
-          }
-          const LaneStep moved = roads.step_along({from.road_id, lane, from.s_m, 0.0}, p.ds_m * ref.direction);
-          LaneCoord at = moved.to;
-          at.offset_m = p.offset_m;
-          return on_lane(roads, at, p.orientation, position);
+          return relative_lane(roads, from, ref, p, position);
         } else {
           static_assert(std::is_same_v<P, RelativeRoadPosition>);
           const RoadAccess& roads = need_roads(world, position);

@@ -156,6 +156,7 @@ Action read_private_action(const xml::Element& private_action, const std::string
     return action;
   }
   if (kind.name() == "ControllerAction") {
+    ControllerAction controller;
     for (const xml::Element& child : kind.children()) {
       if (child.name() == "ActivateControllerAction") continue;
       if (child.name() != "AssignControllerAction")
@@ -163,14 +164,21 @@ Action read_private_action(const xml::Element& private_action, const std::string
             fmt::format("{} is not supported in ControllerAction (supported: AssignControllerAction, "
                         "ActivateControllerAction)",
                         child.name()));
-      if (const auto controller = child.child("Controller")) {
-        check_controller(*controller, c);
-      } else if (const auto ref = child.child("CatalogReference")) {
-        const CatalogEntry entry = resolve_catalog_reference(*ref, c);
-        check_controller(entry.element, c.with(*entry.scope));
-      }
+      controller.assigned = read_controller(child, c);
     }
-    action.kind = ControllerAction{};
+    action.kind = controller;
+    return action;
+  }
+  if (kind.name() == "VisibilityAction") {
+    // Graphics and sensors change nothing in the motion; an entity other traffic cannot see may
+    // change how the others move (esmini's traffic), which the open-loop play does not model.
+    if (!c.boolean(kind, "traffic", true))
+      kind.fail("traffic", "traffic: false is not supported (an entity invisible to traffic; supported: true)");
+    action.kind = AppearanceOnlyAction{};
+    return action;
+  }
+  if (kind.name() == "AppearanceAction") {
+    action.kind = AppearanceOnlyAction{};
     return action;
   }
   if (kind.name() == "TeleportAction") {

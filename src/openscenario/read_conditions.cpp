@@ -18,11 +18,9 @@ Rule read_rule(const xml::Element& e, const ReadContext& c) {
 DistanceSpec read_distance(const xml::Element& e, const ReadContext& c) {
   DistanceSpec d;
   d.freespace = c.boolean(e, "freespace", false);
-  if (e.attribute("alongRoute") && c.boolean(e, "alongRoute", false)) {
-    // OpenSCENARIO 1.0: along the route means along the road.
-    d.system = CoordinateSystem::kRoad;
-    d.type = DistanceType::kLongitudinal;
-  }
+  // OpenSCENARIO 1.0: along the route means in road coordinates; esmini leaves the distance's type
+  // at its default, euclidean (its cut-in_external changes lanes by it).
+  if (e.attribute("alongRoute") && c.boolean(e, "alongRoute", false)) d.system = CoordinateSystem::kRoad;
   if (e.attribute("coordinateSystem"))
     d.system = static_cast<CoordinateSystem>(c.choice(e, "coordinateSystem", {"entity", "lane", "road", "trajectory"}));
   if (d.system == CoordinateSystem::kTrajectory)
@@ -41,6 +39,21 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
     if (const auto direction = c.optional_text(e, "direction"); direction && *direction != "longitudinal")
       e.fail("direction", fmt::format("direction: {} is not supported (supported: longitudinal, or none)", *direction));
     return SpeedCondition{c.number(e, "value", "m/s", -1000.0, 1000.0), read_rule(e, c)};
+  }
+  if (kind == "CollisionCondition") {
+    if (const auto ref = e.child("EntityRef")) return CollisionCondition{c.entity_ref(*ref, "entityRef"), {}};
+    const xml::Element by_type = e.required_child("ByType");
+    const std::size_t type = c.choice(by_type, "type", {"vehicle", "pedestrian", "miscellaneous"});
+    return CollisionCondition{"", static_cast<EntityKind>(type)};
+  }
+  if (kind == "OffroadCondition") return OffroadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
+  if (kind == "EndOfRoadCondition") return EndOfRoadCondition{c.number(e, "duration", "s", 0.0, kMaxTime_s)};
+  if (kind == "RelativeSpeedCondition") {
+    if (const auto direction = c.optional_text(e, "direction"))
+      e.fail("direction",
+             fmt::format("direction: {} is not supported (supported: none, the speeds' difference)", *direction));
+    return RelativeSpeedCondition{c.entity_ref(e, "entityRef"), c.number(e, "value", "m/s", -1000.0, 1000.0),
+                                  read_rule(e, c)};
   }
   if (kind == "TimeHeadwayCondition")
     return TimeHeadwayCondition{c.entity_ref(e, "entityRef"), c.number(e, "value", "s", 0.0, kMaxTime_s),
@@ -67,6 +80,12 @@ ConditionKind read_entity_condition(const xml::Element& e, const ReadContext& c)
 }
 
 ConditionKind read_value_condition(const xml::Element& e, const ReadContext& c) {
+  if (e.name() == "ParameterCondition") {
+    ParameterCondition p{e.required("parameterRef"), c.text(e, "value"), read_rule(e, c)};
+    if (c.scope().find(p.parameter) == nullptr)
+      e.fail("parameterRef", fmt::format("parameterRef: no parameter '{}' is declared", p.parameter));
+    return p;
+  }
   if (e.name() == "SimulationTimeCondition")
     return SimulationTimeCondition{c.number(e, "value", "s", -kMaxTime_s, kMaxTime_s), read_rule(e, c)};
   StoryboardElementStateCondition s;

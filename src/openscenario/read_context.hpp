@@ -98,7 +98,11 @@ struct CatalogEntry {
                                          const ReadContext& context);
 [[nodiscard]] Trigger read_trigger(const xml::Element& trigger, const ReadContext& context);
 [[nodiscard]] Entity read_entity(const xml::Element& scenario_object, const ReadContext& context);
-/// Refuses a Controller other than esmini's default one (read_entities.cpp).
-void check_controller(const xml::Element& controller, const ReadContext& context);
+/// The controller an ObjectController or AssignControllerAction holds (directly or from a catalog)
+/// when it is not esmini's default; nullopt for the default (controllers.cpp).
+[[nodiscard]] std::optional<ControllerRef> read_controller(const xml::Element& holder, const ReadContext& context);
+/// Refuses a controller other than esmini's default on any entity but `scenario.ego`, at the
+/// controller's type (controllers.cpp).
+void check_controllers(const Scenario& scenario);
 
 }  // namespace emrm::openscenario::detail

@@ -1,9 +1,8 @@
 // Entities as the document writes them (read_context.hpp): a Vehicle, Pedestrian or MiscObject,
-// directly or from a catalog, and its controller (esmini's default controller only).
+// directly or from a catalog, and its controller (controllers.cpp).
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <optional>
 
 #include "read_context.hpp"
@@ -46,45 +45,6 @@ void read_object(Entity& entity, const xml::Element& object, const ReadContext& 
 
 }  // namespace
 
-// A controller is accepted when esmini would drive the entity with its default controller. esmini
-// takes the type from the esminiController property, else from the Controller's name; a type of
-// esmini's other controllers (interactive, ACC, ALKS, external, ...) would move the entity in ways
-// the storyboard does not say, so it is refused.
-void check_controller(const xml::Element& controller, const ReadContext& c) {
-  static constexpr std::string_view kOtherControllers[] = {"ACCController",
-                                                           "ALKSController",
-                                                           "ALKS_R157SM_Controller",
-                                                           "ECE_ALKS_RefDriverController",
-                                                           "ExternalController",
-                                                           "FollowGhostController",
-                                                           "FollowReferenceController",
-                                                           "FollowRouteController",
-                                                           "HIDController",
-                                                           "InteractiveController",
-                                                           "LoomingController",
-                                                           "NaturalDriver",
-                                                           "OffroadFollower",
-                                                           "SloppyDriverController",
-                                                           "SumoController",
-                                                           "UDPDriverController"};
-  std::optional<xml::Element> where;
-  std::string type = c.optional_text(controller, "name").value_or("");
-  if (const auto properties = controller.child("Properties"))
-    for (const xml::Element& p : properties->children("Property"))
-      if (c.text(p, "name") == "esminiController") {
-        type = c.text(p, "value");
-        where = p;
-      }
-  if (std::find(std::begin(kOtherControllers), std::end(kOtherControllers), type) == std::end(kOtherControllers))
-    return;
-  const std::string message = fmt::format(
-      "controller {} is not supported (supported: esmini's DefaultController, or no controller; emrm plays the "
-      "storyboard open loop)",
-      type);
-  if (where) where->fail("value", "value: " + message);
-  controller.fail("name", "name: " + message);
-}
-
 Entity read_entity(const xml::Element& scenario_object, const ReadContext& c) {
   Entity entity;
   entity.name = c.text(scenario_object, "name");
@@ -96,14 +56,8 @@ Entity read_entity(const xml::Element& scenario_object, const ReadContext& c) {
   } else {
     read_object(entity, object, c);
   }
-  for (const xml::Element& controller : scenario_object.children("ObjectController")) {
-    if (const auto direct = controller.child("Controller")) {
-      check_controller(*direct, c);
-    } else if (const auto ref = controller.child("CatalogReference")) {
-      const CatalogEntry entry = resolve_catalog_reference(*ref, c);
-      check_controller(entry.element, c.with(*entry.scope));
-    }
-  }
+  for (const xml::Element& controller : scenario_object.children("ObjectController"))
+    if (auto other = read_controller(controller, c)) entity.controller = std::move(other);
   return entity;
 }
 

@@ -43,7 +43,7 @@ Position read_position(const xml::Element& position, const ReadContext& c) {
                       c.optional_number(p, "offset", "m", -100.0, 100.0).value_or(0.0), orientation};
     const std::string id = c.text(p, "laneId");
     lane.lane_id = c.integer(p, "laneId", -100, 100);
-    if (lane.lane_id == 0 || !c.roads()->has_lane(lane.road_id, lane.lane_id, lane.s_m))
+    if (lane.lane_id != 0 && !c.roads()->has_lane(lane.road_id, lane.lane_id, lane.s_m))  // 0: the centre lane
       p.fail("laneId", fmt::format("laneId: road '{}' has no lane {} at s = {} m", lane.road_id, id, lane.s_m));
     out.kind = lane;
   } else if (kind == "RoadPosition") {

@@ -4,6 +4,7 @@
 #include "emrm/openscenario/reader.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "emrm/opendrive/road_network.hpp"
 #include "emrm/openscenario/supported.hpp"
@@ -55,6 +56,37 @@ std::map<ElementType, std::set<std::string>> element_names(const xml::Element& s
   return names;
 }
 
+// A start or stop trigger: absent when not written or written without a ConditionGroup. esmini
+// reads an empty StartTrigger as true (the element starts with its parent, as without one) and an
+// empty StopTrigger as false (never), which is what an absent one does (esmini's drive_when_close).
+std::optional<Trigger> read_trigger(const xml::Element& parent, std::string_view tag, const ReadContext& c) {
+  const auto trigger = parent.child(tag);
+  if (!trigger || trigger->children("ConditionGroup").empty()) return std::nullopt;
+  return detail::read_trigger(*trigger, c);
+}
+
+// A GlobalAction: an EnvironmentAction (nothing moves by it) or a ParameterAction on a global
+// parameter.
+Action read_global_action(const xml::Element& global_action, const ReadContext& c) {
+  const xml::Element global = c.chosen(global_action, "GlobalAction");
+  if (global.name() != "ParameterAction") return Action{"", "", EnvironmentAction{}, global.where()};
+  ParameterAction p;
+  p.parameter = global.required("parameterRef");
+  if (c.scope().find(p.parameter) == nullptr)
+    global.fail("parameterRef", fmt::format("parameterRef: no parameter '{}' is declared", p.parameter));
+  if (const auto set = global.child("SetAction")) {
+    p.set = c.text(*set, "value");
+  } else {
+    const xml::Element rule = global.required_child("ModifyAction").required_child("Rule");
+    if (const auto add = rule.child("AddValue")) {
+      p.add = c.number(*add, "value", "", -1e12, 1e12);
+    } else {
+      p.multiply = c.number(rule.required_child("MultiplyByValue"), "value", "", -1e12, 1e12);
+    }
+  }
+  return Action{"", "", p, global.where()};
+}
+
 int max_executions(const xml::Element& e, const ReadContext& c) {
   if (!e.attribute("maximumExecutionCount")) return 1;
   return c.integer(e, "maximumExecutionCount", 1, 1000000);
@@ -73,15 +105,15 @@ Maneuver read_maneuver(const xml::Element& m, const std::vector<std::string>& ac
     for (const xml::Element& a : e.children("Action")) {
       const xml::Element kind = c.chosen(a, "Action");
       if (kind.name() == "GlobalAction") {
-        const xml::Element global = c.chosen(kind, "GlobalAction");
-        event.actions.push_back(Action{c.text(a, "name"), "", EnvironmentAction{}, global.where()});
+        event.actions.push_back(read_global_action(kind, c));
+        event.actions.back().name = c.text(a, "name");
         continue;
       }
       if (actors.empty())
         a.fail(fmt::format("action '{}' is a private action in a maneuver group without actors", c.text(a, "name")));
       event.actions.push_back(detail::read_private_action(kind, "", c));
     }
-    if (const auto start = e.child("StartTrigger")) event.start = detail::read_trigger(*start, c);
+    event.start = read_trigger(e, "StartTrigger", c);
     maneuver.events.push_back(std::move(event));
   }
   return maneuver;
@@ -96,7 +128,7 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
     for (const xml::Element& child : actions.children()) {
       require_supported("InitActions", child.name(), child.where());
       if (child.name() == "GlobalAction") {
-        (void)c.chosen(child, "GlobalAction");  // an EnvironmentAction: nothing moves by it
+        out.init.push_back(read_global_action(child, c));
         continue;
       }
       const std::string actor = c.entity_ref(child, "entityRef");
@@ -132,13 +164,13 @@ Storyboard read_storyboard(const xml::Element& board, ReadContext& c) {
         }
         act.groups.push_back(std::move(group));
       }
-      if (const auto start = a.child("StartTrigger")) act.start = detail::read_trigger(*start, sc);
-      if (const auto stop = a.child("StopTrigger")) act.stop = detail::read_trigger(*stop, sc);
+      act.start = read_trigger(a, "StartTrigger", sc);
+      act.stop = read_trigger(a, "StopTrigger", sc);
       story.acts.push_back(std::move(act));
     }
     out.stories.push_back(std::move(story));
   }
-  if (const auto stop = board.child("StopTrigger")) out.stop = detail::read_trigger(*stop, c);
+  out.stop = read_trigger(board, "StopTrigger", c);
   c.elements_ = nullptr;
   return out;
 }
@@ -164,7 +196,8 @@ std::vector<Parameter> declared_parameters(const std::filesystem::path& file) {
   return scope.declared();
 }
 
-Scenario load_openscenario(const std::filesystem::path& file, const ParameterOverrides& overrides) {
+Scenario load_openscenario(const std::filesystem::path& file, const ReadOptions& options) {
+  const ParameterOverrides& overrides = options.overrides;
   const Document d = open(file);
   const std::filesystem::path dir = file.parent_path();
   Scenario scenario;
@@ -200,7 +233,19 @@ Scenario load_openscenario(const std::filesystem::path& file, const ParameterOve
   }
   for (const xml::Element& object : entities.children("ScenarioObject"))
     scenario.entities.push_back(detail::read_entity(object, rc));
+  if (!options.ego.empty()) {
+    if (scenario.find_entity(options.ego) == nullptr) {
+      std::vector<std::string> all;
+      for (const Entity& e : scenario.entities) all.push_back(e.name);
+      throw InputError(entities.where(), fmt::format("the ego '{}' is no entity of the scenario (it has {})",
+                                                     options.ego, fmt::join(all, ", ")));
+    }
+    scenario.ego = options.ego;
+  } else if (const Entity* ego = default_ego(scenario.entities)) {
+    scenario.ego = ego->name;
+  }
   scenario.storyboard = read_storyboard(d.root.required_child("Storyboard"), rc);
+  detail::check_controllers(scenario);
   return scenario;
 }
 

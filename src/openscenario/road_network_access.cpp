@@ -48,6 +48,16 @@ class NetworkAccess final : public RoadAccess {
     return LaneCoord{r.id, found->lane_id, found->s, found->t - r.lane_center_t(found->lane_id, found->s)};
   }
 
+  bool off_road(const std::string& road_id, double s_m, double t_m) const override {
+    const opendrive::Road& r = road(road_id);
+    const double from_centre = t_m - r.lane_offset(s_m);
+    double width = 0.0;
+    for (const int id : r.lane_ids(s_m))
+      if (id != 0 && (id > 0) == (from_centre > 0.0) && r.lane_type(id, s_m) != opendrive::LaneType::kNone)
+        width += r.lane_width(id, s_m);
+    return std::fabs(from_centre) > width;
+  }
+
   LaneStep step_along(const LaneCoord& from, double ds_m) const override {
     LaneStep step;
     step.to = from;

@@ -5,6 +5,7 @@
 // conditions' memories.
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,6 +30,12 @@ struct EntityState {
   WorldPose pose;
   double speed_mps = 0.0;
   bool moved_longitudinally = false;  ///< an action moved it this step (the default controller does not)
+  /// When the default controller first found its lane ending without a successor (esmini's end of
+  /// road timestamp); cleared when it moves on.
+  std::optional<double> end_of_road_since_s;
+  /// When it was first found beyond its road's lanes (esmini's off road timestamp); cleared when
+  /// it is back on them.
+  std::optional<double> off_road_since_s;
 };
 
 /// What the actions, positions and conditions share: the entities and the roads.
@@ -36,6 +43,7 @@ struct World {
   const Scenario* scenario = nullptr;
   const RoadAccess* roads = nullptr;  ///< null without a road network
   std::vector<EntityState> entities;
+  std::map<std::string, std::string> parameters;  ///< the global parameters' values as ParameterActions set them
   double time_s = 0.0;
 
   [[nodiscard]] EntityState& entity(const std::string& name);
@@ -227,5 +235,7 @@ class TriggerRuntime {
                                        const DistanceSpec& spec);
 [[nodiscard]] double measured_distance(const World& world, const EntityState& from, const WorldPose& to,
                                        const DistanceSpec& spec);
+/// Whether the two entities' bounding boxes overlap in the plane (esmini's Object::Collision).
+[[nodiscard]] bool boxes_overlap(const EntityState& a, const EntityState& b);
 
 }  // namespace emrm::openscenario::detail

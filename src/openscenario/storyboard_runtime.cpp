@@ -46,7 +46,8 @@ void StoryboardRuntime::build(const Scenario& scenario) {
             if (event.start) event_node->start_trigger = std::make_unique<TriggerRuntime>(*event.start);
             for (const Action& action : event.actions) {
               // One action per actor of the group (a Private action names none of its own).
-              const bool global = std::holds_alternative<EnvironmentAction>(action.kind);
+              const bool global = std::holds_alternative<EnvironmentAction>(action.kind) ||
+                                  std::holds_alternative<ParameterAction>(action.kind);
               const std::vector<std::string> actors =
                   action.actor.empty() && !global ? group.actors : std::vector<std::string>{action.actor};
               for (const std::string& actor : actors) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "emrm/opendrive/geometry.hpp"
 #include "runtime.hpp"
@@ -127,12 +128,16 @@ bool ActionRuntime::step_trajectory(World& world, const FollowTrajectoryAction& 
   }
   WorldPose pose = path_.at_arc(path_s_m_);
   if (done) {
-    // The rest of the step along the last heading; then the entity keeps to the lane it is in.
+    // The rest of the step along the last heading; then the entity keeps to the lane it is in, at
+    // its offset and with its heading relative to the road (esmini keeps h_relative: a following
+    // trajectory with a relative orientation starts from it).
     pose.x_m += overshoot_m * std::cos(pose.heading_rad);
     pose.y_m += overshoot_m * std::sin(pose.heading_rad);
     if (world.place_at(e, pose)) {
       e.on_lane = true;
       e.heading_offset_rad = 0.0;
+      world.update_pose(e);
+      e.heading_offset_rad = std::remainder(pose.heading_rad - e.pose.heading_rad, 2.0 * std::numbers::pi);
       world.update_pose(e);
     }
     return true;

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "emrm/sim/family.hpp"
 #include "emrm/sim/scene.hpp"
@@ -22,13 +23,17 @@ namespace emrm::openscenario {
 /// What `emrm import` chooses that a scenario file does not say.
 struct ImportChoices {
   std::string ego;  ///< the entity the EMRM drives; empty: one named Ego, ego or hero, else the first vehicle
+  /// The declared numeric parameters the scene makes factors (`emrm import --factors`), at most
+  /// sim::kMaxImportedFactors; empty: every one the scenario declares.
+  std::vector<std::string> factors;
 };
 
 /// The scene an OpenSCENARIO file makes: family openscenario, the file (absolute), the ego, its
-/// footprint from the ego's bounding box, every declared numeric parameter a factor (at most
-/// sim::kMaxImportedFactors: more is an InputError that asks for a scene file choosing them), the
+/// footprint from the ego's bounding box, the chosen declared numeric parameters as factors, else
+/// every one (at most sim::kMaxImportedFactors: more is an InputError that asks to choose), the
 /// parameter that sets the ego's speed when its Init takes it from one; the rest at its defaults.
-/// Throws InputError as the reader does, and for an ego that is not a vehicle of the scenario.
+/// Throws InputError as the reader does, for an ego that is not a vehicle of the scenario, and for
+/// a chosen factor that is no numeric parameter the scenario declares.
 [[nodiscard]] sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices& choices = {});
 
 /// Registers the family and the ".xosc" scene reader (load_scene_config, hence every command's

@@ -53,6 +53,9 @@ class RoadAccess {
   /// The lane coordinates of a world point, preferring the road of `hint` (may be nullptr);
   /// std::nullopt off every road's lanes.
   [[nodiscard]] virtual std::optional<LaneCoord> world_to_lane(double x_m, double y_m, const LaneCoord* hint) const = 0;
+  /// Whether (s, t) lies beyond the road's lanes on its side of the centre lane, lanes of type none
+  /// left out (esmini's Position::IsOffRoad).
+  [[nodiscard]] virtual bool off_road(const std::string& road_id, double s_m, double t_m) const = 0;
   /// `from` moved by `ds_m` along s (negative: towards s = 0) keeping its lane and offset, into the
   /// linked road and lane past either end of the road.
   [[nodiscard]] virtual LaneStep step_along(const LaneCoord& from, double ds_m) const = 0;

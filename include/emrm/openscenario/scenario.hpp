@@ -34,6 +34,15 @@ struct Performance {
   double max_deceleration_mps2 = 1e9;
 };
 
+/// A controller other than esmini's default, as esmini types it (its esminiController property, else
+/// the Controller's name: InteractiveController, ACCController, ...) and where the type is written.
+/// Only the ego may have one: emrm drives the ego after the threat onset (before it, the ego follows
+/// its storyboard as under esmini's default controller); every other entity plays open loop.
+struct ControllerRef {
+  std::string type;
+  SourceLocation where;
+};
+
 struct Entity {
   std::string name;
   EntityKind kind = EntityKind::kVehicle;
@@ -41,6 +50,7 @@ struct Entity {
   BoundingBox box;
   Performance performance;
   SourceLocation where;
+  std::optional<ControllerRef> controller;  ///< its ObjectController, when not esmini's default
 };
 
 // ---- Positions ----
@@ -163,15 +173,32 @@ struct FollowTrajectoryAction {
 };
 
 /// A GlobalAction's EnvironmentAction: read and ignored (weather, light and the road's friction do not
-/// change the open-loop motion); an event holding one completes at once, as in esmini.
+/// change the open-loop motion); it ends in its first step, as in esmini.
 struct EnvironmentAction {};
 
-/// A ControllerAction (or 1.0's ActivateControllerAction) that assigns or activates esmini's default
-/// controller: the entity already moves by it, so it has no effect and completes at once.
-struct ControllerAction {};
+/// A ControllerAction (or 1.0's ActivateControllerAction): it has no effect on the open-loop play
+/// and completes at once. `assigned` is the controller an AssignControllerAction gives, when it is
+/// not esmini's default (the ego's only: see ControllerRef).
+struct ControllerAction {
+  std::optional<ControllerRef> assigned;
+};
 
-using PrivateActionKind = std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction,
-                                       FollowTrajectoryAction, EnvironmentAction, ControllerAction>;
+/// A GlobalAction's ParameterAction: sets a global parameter's value (SetAction) or adds to or
+/// multiplies it (ModifyAction), for the ParameterConditions; nothing else reads it again (esmini
+/// resolves every other use when reading). The value is set when it starts, as in esmini.
+struct ParameterAction {
+  std::string parameter;
+  std::optional<std::string> set;  ///< SetAction's value; else ModifyAction's rule
+  double add = 0.0, multiply = 1.0;
+};
+
+/// A VisibilityAction (seen by traffic) or an AppearanceAction (lights, animations): neither changes
+/// the open-loop motion; it ends in its first step, as in esmini.
+struct AppearanceOnlyAction {};
+
+using PrivateActionKind =
+    std::variant<SpeedAction, LaneChangeAction, LaneOffsetAction, TeleportAction, FollowTrajectoryAction,
+                 EnvironmentAction, ControllerAction, AppearanceOnlyAction, ParameterAction>;
 
 struct Action {
   std::string name;
@@ -229,6 +256,32 @@ struct SpeedCondition {
   double value_mps = 0.0;
   Rule rule = Rule::kGreaterThan;
 };
+/// The entity's bounding box overlaps `entity`'s, or that of any other entity of `kind` (ByType).
+struct CollisionCondition {
+  std::string entity;  ///< empty: by type
+  EntityKind kind = EntityKind::kVehicle;
+};
+/// A global parameter's value (as a ParameterAction leaves it) against `value`: as numbers when
+/// both read as numbers, else as text (equalTo, notEqualTo).
+struct ParameterCondition {
+  std::string parameter;
+  std::string value;
+  Rule rule = Rule::kEqualTo;
+};
+/// The entity has been beyond its road's lanes for more than `duration_s`.
+struct OffroadCondition {
+  double duration_s = 0.0;
+};
+/// The entity has stood at the end of a lane without a successor for at least `duration_s`.
+struct EndOfRoadCondition {
+  double duration_s = 0.0;
+};
+/// The triggering entity's speed minus `entity`'s (esmini's, without a direction).
+struct RelativeSpeedCondition {
+  std::string entity;
+  double value_mps = 0.0;
+  Rule rule = Rule::kGreaterThan;
+};
 
 enum class ElementState {
   kStartTransition,
@@ -248,7 +301,8 @@ struct StoryboardElementStateCondition {
 
 using ConditionKind =
     std::variant<SimulationTimeCondition, TimeHeadwayCondition, TimeToCollisionCondition, RelativeDistanceCondition,
-                 ReachPositionCondition, DistanceCondition, SpeedCondition, StoryboardElementStateCondition>;
+                 ReachPositionCondition, DistanceCondition, SpeedCondition, RelativeSpeedCondition, EndOfRoadCondition,
+                 CollisionCondition, OffroadCondition, ParameterCondition, StoryboardElementStateCondition>;
 
 struct Condition {
   std::string name;
@@ -309,6 +363,8 @@ struct Scenario {
   std::vector<Parameter> parameters;  ///< the global declarations, resolved (overrides applied)
   ParameterOverrides overrides;       ///< those it was read with
   std::vector<Entity> entities;
+  /// The entity emrm drives: ReadOptions::ego, else default_ego's choice; empty when there is none.
+  std::string ego;
   Storyboard storyboard;
   std::shared_ptr<const opendrive::RoadNetwork> network;  ///< the RoadNetwork's LogicFile; null without one
   std::shared_ptr<const RoadAccess> roads;                ///< the player's view of `network`

@@ -52,6 +52,18 @@ TEST(ImportedFamily, ASceneFileChoosesTheFactorsAndTheSpeedParameter) {
   EXPECT_TRUE(std::filesystem::path(scene.openscenario.file).is_absolute());
 }
 
+TEST(ImportedFamily, ImportChoosesTheFactorsAmongTheDeclaredNumericParameters) {
+  const Registration registration;
+  const sim::SceneConfig scene = scene_of(kExample + "/cut_in.xosc", {.ego = "", .factors = {"CutInGap", "EgoSpeed"}});
+  EXPECT_THAT(keys(sim::scenario_factors(scene)), ElementsAre("speed_kph", "ttc_s", "mu", "CutInGap", "EgoSpeed"));
+  try {
+    (void)scene_of(kExample + "/cut_in.xosc", {.ego = "", .factors = {"Nope"}});
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.message(), HasSubstr("--factors: 'Nope' is no numeric parameter the scenario declares"));
+  }
+}
+
 TEST(ImportedFamily, ACellHandsOverAtTheOnsetOnTheMotorwaysDrivableBand) {
   const Registration registration;
   const sim::SceneConfig scene = sim::load_scene_config(kExample + "/scene.yaml");

@@ -109,7 +109,7 @@ TEST(OpenScenarioParameters, OverridesReplaceDefaultsAndAreListedWithTypes) {
   EXPECT_EQ(declared[1].value, "20");
   EXPECT_EQ(declared[3].type, ParameterType::kBoolean);
 
-  const Scenario scenario = load_openscenario(file, overrides_from({{"EgoSpeed", 7.5}}));
+  const Scenario scenario = load_openscenario(file, {.overrides = overrides_from({{"EgoSpeed", 7.5}}), .ego = {}});
   const auto played = play(scenario, {.dt_s = 0.01, .duration_s = 0.1});
   EXPECT_DOUBLE_EQ(played.at("Ego").back().speed_mps, 15.0);  // the override reached the derived parameter
 
@@ -120,13 +120,13 @@ TEST(OpenScenarioParameters, OverridesReplaceDefaultsAndAreListedWithTypes) {
 
   const InputError unknown = emrm::testing::input_error_of(
       [&] {
-        (void)load_openscenario(file, {{"Nope", "1"}});
+        (void)load_openscenario(file, {.overrides = {{"Nope", "1"}}, .ego = {}});
       },
       "override");
   EXPECT_NE(unknown.message().find("'Nope'"), std::string::npos) << unknown.what();
   const InputError typed = emrm::testing::input_error_of(
       [&] {
-        (void)load_openscenario(file, {{"On", "maybe"}});
+        (void)load_openscenario(file, {.overrides = {{"On", "maybe"}}, .ego = {}});
       },
       "override");
   EXPECT_NE(typed.message().find("true or false"), std::string::npos) << typed.what();

@@ -190,5 +190,120 @@ TEST(Player, StopAtEndsThePlayAfterTheStepItReturnsTrue) {
   EXPECT_NEAR(played.at("Ego").back().t_s, 2.5, 1e-9);
 }
 
+TEST(Triggers, RelativeSpeedIsTheSpeedMinusTheReferencedEntitys) {
+  // The Lead speeds up from 10 m/s at 1 m/s² from t = 0; the Ego (10 m/s) stops when its speed
+  // minus the Lead's is below -3 m/s: when the Lead is faster than 13 m/s.
+  XoscParts parts;
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 50, 0, 0, 10);
+  parts.acts =
+      act("Ego", event("stop", speed("0"),
+                       trigger("StartTrigger", entity_condition("Ego", R"(<RelativeSpeedCondition entityRef="Lead"
+                           value="-3" rule="lessThan"/>)")))) +
+      act("Lead",
+          event("faster", speed("20", "linear", "rate", "1"),
+                trigger("StartTrigger", time_condition(0.0, "greaterOrEqual"))),
+          "lead_act");
+  const auto played =
+      play(load_openscenario(write_scenario("relative_speed", parts)), {.dt_s = 0.01, .duration_s = 6.0});
+  const auto& lead = played.at("Lead");
+  const std::size_t i =
+      expect_fired_at_first(played, [&](std::size_t k) { return 10.0 - lead[k].speed_mps < -3.0 - kSlack; });
+  EXPECT_NEAR(lead[i].speed_mps, 13.0, 0.01 + 1e-9);
+}
+
+TEST(Triggers, AnEmptyStartTriggerStartsItsActAtOnceAnEmptyStopTriggerNever) {
+  // esmini reads a StartTrigger without a ConditionGroup as true, a StopTrigger without one as
+  // false: the act runs and its event stops the Ego at the first step past 1 s.
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  std::string acts = act("Ego", event("stop", speed("0"), trigger("StartTrigger", time_condition(1.0))));
+  const std::string end = "</ManeuverGroup></Act>";
+  acts.replace(acts.rfind(end), end.size(), "</ManeuverGroup><StartTrigger/><StopTrigger/></Act>");
+  parts.acts = acts;
+  const auto played =
+      play(load_openscenario(write_scenario("empty_triggers", parts)), {.dt_s = 0.01, .duration_s = 2.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
+TEST(Triggers, AHeadwayToAnEntityBehindIsUndefined) {
+  // The Lead is 5 m behind the Ego: the euclidean distance is negative (esmini signs it by ahead or
+  // behind), so the headway of 0.5 s never counts as below 1 s.
+  const auto played =
+      play_stop_on("headway_behind",
+                   trigger("StartTrigger", entity_condition("Ego", R"(<TimeHeadwayCondition entityRef="Lead" value="1"
+          freespace="false" rule="lessThan" relativeDistanceType="euclidianDistance" coordinateSystem="entity"/>)")),
+                   -5, 10);
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, 10.0) << "t = " << s.t_s;
+}
+
+TEST(Triggers, AVisibilityActionEndsInItsFirstStepAsInEsmini) {
+  // Event "hide" (a VisibilityAction) starts in the evaluation at 1.01 s and ends when the actions
+  // are stepped; event "stop" waits for it to complete, sees that at 1.02 s, and the Ego's speed is
+  // 0 from 1.03 s (ending at its start would show at 1.02 s; esmini's light_state).
+  XoscParts parts;
+  parts.entities = vehicle("Ego");
+  parts.init = init_at("Ego", 0, 0, 0, 10);
+  parts.acts =
+      act("Ego",
+          event("hide",
+                R"(<PrivateAction><VisibilityAction graphics="false" traffic="true" sensors="false"/></PrivateAction>)",
+                trigger("StartTrigger", time_condition(1.0))) +
+              event("stop", speed("0"), trigger("StartTrigger", condition(R"(<ByValueCondition>
+              <StoryboardElementStateCondition storyboardElementType="event" storyboardElementRef="hide"
+              state="completeState"/></ByValueCondition>)"))));
+  const auto played =
+      play(load_openscenario(write_scenario("visibility_step", parts)), {.dt_s = 0.01, .duration_s = 2.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.025 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
+TEST(Triggers, ACollisionIsTheBoundingBoxesOverlapping) {
+  // 4 m boxes centred on the reference points; the Lead stands at 20.05 m: they overlap once the
+  // Ego is at 16.05 m or beyond. By entity and by type alike.
+  for (const char* target : {R"(<EntityRef entityRef="Lead"/>)", R"(<ByType type="vehicle"/>)"}) {
+    const auto played = play_stop_on(
+        "collision",
+        trigger("StartTrigger",
+                entity_condition("Ego", fmt::format("<CollisionCondition>{}</CollisionCondition>", target))),
+        20.05, 0);
+    const auto& ego = played.at("Ego");
+    const std::size_t i = expect_fired_at_first(played, [&](std::size_t k) { return ego[k].x_m >= 16.05; });
+    EXPECT_NEAR(ego[i].t_s, 1.61, 1e-9) << target;
+  }
+}
+
+TEST(Triggers, AParameterActionSetsWhatAParameterConditionCompares) {
+  // Gap starts at 5; at t > 1 a SetAction makes it 11, at t > 2 a ModifyAction doubles it. As in
+  // esmini the value is set when the action starts, so a condition evaluated after it in the same
+  // pass (later in the document) sees it: "Gap > 10" holds at 1.01 s, "Gap == 22" at 2.01 s.
+  XoscParts parts;
+  parts.parameters = R"(<ParameterDeclaration name="Gap" parameterType="double" value="5"/>)";
+  parts.entities = vehicle("Ego") + vehicle("Lead");
+  parts.init = init_at("Ego", 0, 0, 0, 10) + init_at("Lead", 0, 10, 0, 10);
+  const auto global = [](const std::string& inner) {
+    return fmt::format(R"(<GlobalAction><ParameterAction parameterRef="Gap">{}</ParameterAction></GlobalAction>)",
+                       inner);
+  };
+  const auto parameter_is = [](const std::string& rule, const std::string& value) {
+    return trigger("StartTrigger",
+                   condition(fmt::format(R"(<ByValueCondition><ParameterCondition parameterRef="Gap" value="{}"
+                       rule="{}"/></ByValueCondition>)",
+                                         value, rule)));
+  };
+  parts.acts =
+      act("Ego", event("set", global(R"(<SetAction value="11"/>)"), trigger("StartTrigger", time_condition(1.0))) +
+                     event("stop_ego", speed("0"), parameter_is("greaterThan", "10"))) +
+      act("Lead",
+          event("double", global(R"(<ModifyAction><Rule><MultiplyByValue value="2"/></Rule></ModifyAction>)"),
+                trigger("StartTrigger", time_condition(2.0))) +
+              event("stop_lead", speed("0"), parameter_is("equalTo", "22")),
+          "lead_act");
+  const auto played = play(load_openscenario(write_scenario("parameters", parts)), {.dt_s = 0.01, .duration_s = 3.0});
+  for (const Sample& s : played.at("Ego")) EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 1.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+  for (const Sample& s : played.at("Lead"))
+    EXPECT_DOUBLE_EQ(s.speed_mps, s.t_s < 2.015 ? 10.0 : 0.0) << "t = " << s.t_s;
+}
+
 }  // namespace
 }  // namespace emrm::openscenario

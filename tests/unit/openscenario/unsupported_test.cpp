@@ -55,7 +55,7 @@ TEST(Unsupported, AGlobalActionOtherThanTheEnvironment) {
       "global",
       with_event_action(
           R"(<GlobalAction><EntityAction entityRef="Ego"><DeleteEntityAction/></EntityAction></GlobalAction>)"),
-      "<EntityAction", "EntityAction is not supported in GlobalAction (supported: EnvironmentAction)");
+      "<EntityAction", "EntityAction is not supported in GlobalAction (supported: EnvironmentAction, ParameterAction)");
   expect_unsupported(
       "user_defined",
       with_event_action(
@@ -64,13 +64,22 @@ TEST(Unsupported, AGlobalActionOtherThanTheEnvironment) {
 }
 
 TEST(Unsupported, APrivateActionOutsideTheSubset) {
-  expect_unsupported(
-      "visibility",
-      with_event_action(
-          R"(<PrivateAction><VisibilityAction graphics="true" traffic="true" sensors="true"/></PrivateAction>)"),
-      "<VisibilityAction",
-      "VisibilityAction is not supported in PrivateAction (supported: LongitudinalAction, LateralAction, "
-      "TeleportAction, RoutingAction, ControllerAction, ActivateControllerAction)");
+  expect_unsupported("trailer",
+                     with_event_action(R"(<PrivateAction><TrailerAction><DisconnectTrailerAction/></TrailerAction>
+                         </PrivateAction>)"),
+                     "<TrailerAction",
+                     "TrailerAction is not supported in PrivateAction (supported: LongitudinalAction, LateralAction, "
+                     "TeleportAction, RoutingAction, ControllerAction, ActivateControllerAction, VisibilityAction, "
+                     "AppearanceAction)");
+  // Visibility changes nothing in the motion, unless other traffic cannot see the entity.
+  const auto visible = play(load_openscenario(write_scenario(
+                                "visibility", with_event_action(R"(<PrivateAction><VisibilityAction graphics="false"
+                                    traffic="true" sensors="false"/></PrivateAction>)"))),
+                            {.duration_s = 2.0});
+  EXPECT_NEAR(visible.at("Ego").back().x_m, 20.0, 1e-9);
+  expect_unsupported("invisible_to_traffic", with_event_action(R"(<PrivateAction><VisibilityAction graphics="true"
+                         traffic="false" sensors="true"/></PrivateAction>)"),
+                     "traffic=", "traffic: false is not supported");
   expect_unsupported(
       "acquire",
       with_event_action("<PrivateAction><RoutingAction><AcquirePositionAction>" + world_position(1, 2, 0) +
@@ -84,7 +93,7 @@ TEST(Unsupported, APrivateActionOutsideTheSubset) {
                      "LongitudinalDistanceAction is not supported in LongitudinalAction (supported: SpeedAction)");
 }
 
-TEST(Unsupported, OnlyEsminisDefaultControllerMayBeAssigned) {
+TEST(Unsupported, OnlyTheEgoMayHaveAControllerOtherThanEsminisDefault) {
   const auto assign = [](const std::string& controller) {
     return fmt::format(R"(<PrivateAction><ControllerAction><AssignControllerAction><Controller name="c">
         <Properties><Property name="esminiController" value="{}"/></Properties></Controller>
@@ -95,21 +104,52 @@ TEST(Unsupported, OnlyEsminisDefaultControllerMayBeAssigned) {
   const XoscParts accepted = with_event_action(assign("DefaultController"));
   const auto played = play(load_openscenario(write_scenario("default_controller", accepted)), {.duration_s = 2.0});
   EXPECT_NEAR(played.at("Ego").back().x_m, 20.0, 1e-9);
-  expect_unsupported("interactive_controller", with_event_action(assign("InteractiveController")),
-                     "value=\"InteractiveController\"", "controller InteractiveController is not supported");
+  // On the ego (Ego by default) another controller is accepted: emrm drives the ego; until then it
+  // follows its storyboard.
+  const auto ego_file = write_scenario("ego_interactive", with_event_action(assign("InteractiveController")));
+  const Scenario ego_scenario = load_openscenario(ego_file);
+  EXPECT_EQ(ego_scenario.ego, "Ego");
+  EXPECT_NEAR(play(ego_scenario, {.duration_s = 2.0}).at("Ego").back().x_m, 20.0, 1e-9);
+  // On another entity it is refused at the controller's type, naming the entity.
+  XoscParts other = with_event_action(assign("InteractiveController"));
+  other.entities = vehicle("Lead") + vehicle("Ego");
+  other.init += init_at("Lead", 30, 0, 0, 10);
+  other.acts = act("Lead", fmt::format(R"(<Event name="e" priority="override"><Action name="a">{}</Action>
+      <StartTrigger><ConditionGroup>{}</ConditionGroup></StartTrigger></Event>)",
+                                       assign("InteractiveController"), time_condition(1.0)));
+  expect_unsupported("other_interactive", other, "value=\"InteractiveController\"",
+                     "controller InteractiveController on 'Lead' is not supported: only the ego (Ego)");
+  // An ObjectController the same way; naming the other entity the ego accepts it.
+  XoscParts object = with_condition(time_condition(1.0));
+  object.entities =
+      vehicle("Ego") + R"(<ScenarioObject name="Lead"><Vehicle name="Lead" vehicleCategory="car">)" + vehicle_body() +
+      R"(</Vehicle><ObjectController><Controller name="ACCController"><Properties/></Controller></ObjectController>
+                    </ScenarioObject>)";
+  object.init += init_at("Lead", 30, 0, 0, 10);
+  expect_unsupported("object_controller", object, "name=\"ACCController\"",
+                     "controller ACCController on 'Lead' is not supported");
+  const auto object_file = write_scenario("object_controller_lead", object);
+  EXPECT_EQ(load_openscenario(object_file, {.overrides = {}, .ego = "Lead"}).ego, "Lead");
+  const InputError e = emrm::testing::input_error_of(
+      [&] { (void)load_openscenario(object_file, {.overrides = {}, .ego = "Nobody"}); }, xosc(object));
+  EXPECT_NE(e.message().find("the ego 'Nobody' is no entity of the scenario (it has Ego, Lead)"), std::string::npos)
+      << e.what();
 }
 
 TEST(Unsupported, ConditionsOutsideTheSubset) {
   expect_unsupported("standstill", with_condition(entity_condition("Ego", R"(<StandStillCondition duration="1"/>)")),
                      "<StandStillCondition",
                      "StandStillCondition is not supported in EntityCondition (supported: TimeHeadwayCondition");
+  expect_unsupported("time_of_day", with_condition(condition(R"(<ByValueCondition><TimeOfDayCondition rule="greaterThan"
+                         dateTime="2026-01-01T12:00:00"/></ByValueCondition>)")),
+                     "<TimeOfDayCondition",
+                     "TimeOfDayCondition is not supported in ByValueCondition (supported: SimulationTimeCondition, "
+                     "StoryboardElementStateCondition, ParameterCondition)");
   expect_unsupported(
       "parameter_condition",
       with_condition(condition(
           R"(<ByValueCondition><ParameterCondition parameterRef="x" value="1" rule="equalTo"/></ByValueCondition>)")),
-      "<ParameterCondition",
-      "ParameterCondition is not supported in ByValueCondition (supported: SimulationTimeCondition, "
-      "StoryboardElementStateCondition)");
+      "parameterRef=", "parameterRef: no parameter 'x' is declared");
 }
 
 TEST(Unsupported, AReferenceToNothingIsAnErrorAtTheReference) {
