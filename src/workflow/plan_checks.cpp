@@ -159,26 +159,39 @@ std::vector<std::string> placement_warnings(const scenario::Odd& odd, const scen
                                             const sim::SceneConfig& scene) {
   std::size_t beyond = 0;
   double farthest_m = 0.0;
+  std::size_t other = 0;  // infeasible for a reason of the family's (SceneLayout::infeasible)
+  std::string first_reason;
   const sim::FactorTable factors = sim::scenario_factors(scene);
   for (const auto& s : plan.scenarios) {
     sim::CellInput cell = factors.defaults();
     for (std::size_t i = 0; i < odd.factors.size(); ++i) (void)factors.set(cell, odd.factors[i].name, s.values[i]);
     const sim::Scene placed(scene, cell);
     if (placed.feasible()) continue;
+    if (!placed.layout().infeasible.empty()) {
+      if (other++ == 0) first_reason = placed.layout().infeasible;
+      continue;
+    }
     ++beyond;
     farthest_m = std::max(farthest_m, placed.initial_distance_m());
   }
-  if (beyond == 0) return {};
+  std::vector<std::string> warnings;
   const SourceLocation where = odd.relevance ? odd.relevance->where() : SourceLocation{odd.file, 1, 1};
-  const std::string rule = odd.relevance ? fmt::format("the relevance rule '{}' admits them", odd.relevance->text())
-                                         : std::string("the ODD has no relevance rule");
-  return {located_warning(
-      where,
-      fmt::format("{} of {} planned scenarios lie beyond the scene's max_initial_distance_m = {:g} m ({}): their "
-                  "initial distance v·TTC reaches {:.3g} m, so `emrm run` finds them infeasible; {}: make it "
-                  "agree with the scene",
-                  beyond, plan.scenarios.size(), scene.max_initial_distance_m, distance_limit_place(odd), farthest_m,
-                  rule))};
+  if (beyond > 0) {
+    const std::string rule = odd.relevance ? fmt::format("the relevance rule '{}' admits them", odd.relevance->text())
+                                           : std::string("the ODD has no relevance rule");
+    warnings.push_back(located_warning(
+        where, fmt::format("{} of {} planned scenarios lie beyond the scene's max_initial_distance_m = {:g} m ({}): "
+                           "their initial distance reaches {:.3g} m, so `emrm run` finds them infeasible; {}: make "
+                           "it agree with the scene",
+                           beyond, plan.scenarios.size(), scene.max_initial_distance_m, distance_limit_place(odd),
+                           farthest_m, rule)));
+  }
+  if (other > 0)
+    warnings.push_back(located_warning(
+        where, fmt::format("{} of {} planned scenarios cannot be laid out in the scene, so `emrm run` finds them "
+                           "infeasible (the first: {}); narrow the ODD or its relevance rule",
+                           other, plan.scenarios.size(), first_reason)));
+  return warnings;
 }
 
 }  // namespace emrm::workflow

@@ -59,6 +59,34 @@ TEST(ImportCli, TheExampleSweepsAndVerifies) {
   EXPECT_THAT(verify.out, HasSubstr("All claims hold."));
 }
 
+TEST(ImportCli, PlansAndRunsAMinimumScenarioSetOverTheDeclaredParameters) {
+  const auto dir = scratch_dir("import_plan");
+  // An ODD of its own over the two declared parameters the example's scene makes factors: four
+  // cells, each tested.
+  write_text(dir / "odd.yaml", "name: imported\nscene: " + kExample +
+                                   "scene.yaml\nseed: 3\nfactors:\n"
+                                   "  - {name: speed_kph, unit: km/h, bins: [90, 110]}\n"
+                                   "  - {name: ttc_s, unit: s, bins: [0.4, 0.8]}\n"
+                                   "  - {name: RelativeSpeed, unit: m/s, bins: [5, 8, 11]}\n"
+                                   "  - {name: LaneChangeTime, unit: s, bins: [1.5, 2.5, 3.5]}\n"
+                                   "coverage: {strength: 2, n_c: 1, n_m: 1, epsilon: 0.45, delta: 0.1, budget: 12}\n"
+                                   "acceptance: {strategy: emrm, outcome: mitigated}\n");
+  const RunResult plan = run_emrm("plan " + quoted(dir / "odd.yaml") + " -o " + quoted(dir / "plan"));
+  ASSERT_EQ(plan.exit_code, 0) << plan.out << plan.err;
+  EXPECT_THAT(plan.out, HasSubstr("cells 100.0 % (4/4)"));
+  const auto scenarios = csv_rows(dir / "plan" / "scenarios.csv");
+  ASSERT_GE(scenarios.size(), 5U);
+  EXPECT_THAT(scenarios[0], ::testing::Contains("RelativeSpeed"));
+  EXPECT_THAT(scenarios[0], ::testing::Contains("LaneChangeTime"));
+  const RunResult run = run_emrm("run " + quoted(dir / "plan" / "scenarios.csv") + " -o " + quoted(dir / "run"));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_THAT(run.out, HasSubstr("4 cells"));
+  // Every planned scenario has its outcome, with the cell's declared parameters as planned.
+  const auto outcomes = csv_rows(dir / "run" / "outcomes.csv");
+  ASSERT_EQ(outcomes.size(), scenarios.size());
+  EXPECT_THAT(outcomes[0], ::testing::Contains("RelativeSpeed"));
+}
+
 TEST(ImportCli, ABadScenarioIsExit2AtItsLineAndNothingIsWritten) {
   const auto dir = scratch_dir("import_bad");
   write_text(dir / "motorway.xodr", read_text(kExample + "motorway.xodr"));

@@ -379,6 +379,8 @@ class Scene {
 
   [[nodiscard]] const SceneConfig& config() const noexcept { return *config_; }
   [[nodiscard]] const CellInput& cell() const noexcept { return cell_; }
+  /// The cell as its family laid it out.
+  [[nodiscard]] const SceneLayout& layout() const noexcept { return layout_; }
   /// The family laid the cell out (SceneLayout::infeasible) and the hazard appears within
   /// max_initial_distance_m.
   [[nodiscard]] bool feasible() const noexcept;
