@@ -196,6 +196,13 @@ void fail_at(const YamlNode& root, const ConfigError& error, bool with_path) {
   node_at(root, error.path()).fail(with_path && !path.empty() ? path + ": " + error.detail() : error.detail());
 }
 
+YAML::Node yaml_number(double v) {
+  if (!std::isfinite(v)) return YAML::Node(v);
+  std::array<char, 32> text{};
+  char* end = std::to_chars(text.data(), text.data() + text.size(), v).ptr;
+  return YAML::Node(std::string(text.data(), static_cast<std::size_t>(end - text.data())));
+}
+
 std::string to_yaml_text(const YAML::Node& node) {
   YAML::Emitter out;
   out << node;

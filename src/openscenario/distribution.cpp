@@ -18,6 +18,10 @@ std::vector<double> ValueRange::values() const {
   return out;
 }
 
+bool is_parameter_distribution(const std::filesystem::path& file) {
+  return xml::Document::load(file).root().child("ParameterValueDistribution").has_value();
+}
+
 ParameterDistribution load_parameter_distribution(const std::filesystem::path& file) {
   const xml::Document document = xml::Document::load(file);
   xml::validate(document, xml::Schema::kOpenScenario);
@@ -25,6 +29,7 @@ ParameterDistribution load_parameter_distribution(const std::filesystem::path& f
   const auto distribution = root.child("ParameterValueDistribution");
   if (!distribution) root.fail("expected a ParameterValueDistribution (this file is a scenario or a catalog)");
   ParameterDistribution out;
+  out.file = file;
   const xml::Element scenario = distribution->required_child("ScenarioFile");
   out.scenario_file = file.parent_path() / scenario.required("filepath");
   if (const auto stochastic = distribution->child("Stochastic"))
@@ -32,17 +37,17 @@ ParameterDistribution load_parameter_distribution(const std::filesystem::path& f
   const xml::Element deterministic = distribution->required_child("Deterministic");
   for (const xml::Element& d : deterministic.children()) {
     if (d.name() == "DeterministicMultiParameterDistribution") {
-      ValueSets sets;
+      ValueSets sets{{}, d.where()};
       for (const xml::Element& set : d.required_child("ValueSetDistribution").children("ParameterValueSet")) {
         std::map<std::string, std::string> assignment;
         for (const xml::Element& a : set.children("ParameterAssignment"))
           assignment[a.required("parameterRef")] = a.required("value");
-        sets.push_back(std::move(assignment));
+        sets.sets.push_back(std::move(assignment));
       }
       out.multi.push_back(std::move(sets));
       continue;
     }
-    SingleParameterValues single{d.required("parameterName"), std::vector<std::string>{}};
+    SingleParameterValues single{d.required("parameterName"), std::vector<std::string>{}, d.where()};
     if (const auto range = d.child("DistributionRange")) {
       const xml::Element limits = range->required_child("Range");
       ValueRange r{limits.number("lowerLimit"), limits.number("upperLimit"), range->number("stepWidth")};

@@ -20,6 +20,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/trig.hpp"
 #include "emrm/opendrive/road_network.hpp"
+#include "emrm/openscenario/import.hpp"
 #include "emrm/openscenario/player.hpp"
 #include "emrm/openscenario/reader.hpp"
 #include "emrm/sim/played.hpp"
@@ -59,6 +60,17 @@ auto* init_speed(S& scenario, const std::string& ego) {
     if (a.actor == ego)
       if (Speed* speed = std::get_if<SpeedAction>(&a.kind); speed != nullptr && !speed->relative) return speed;
   return static_cast<Speed*>(nullptr);
+}
+
+// The unit of the attributes a parameter is ($name) when they all agree, else "1".
+std::string unit_of(const Scenario& scenario, const std::string& parameter) {
+  std::string unit;
+  for (const ParameterUse& use : scenario.uses) {
+    if (use.parameter != parameter || use.unit.empty()) continue;
+    if (!unit.empty() && unit != use.unit) return "1";
+    unit = use.unit;
+  }
+  return unit.empty() ? "1" : unit;
 }
 
 // ---- factors --------------------------------------------------------------------------------
@@ -287,6 +299,10 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   config.openscenario.ego = ego->name;
   config.ego.length_m = ego->box.length_m;
   config.ego.width_m = ego->box.width_m;
+  // The parameter the ego's Init speed is ($name): the factor speed_kph sets it.
+  if (const SpeedAction* init = init_speed(*scenario, ego->name); init != nullptr && !init->parameter.empty())
+    if (const Parameter* p = find_parameter(*scenario, init->parameter); p != nullptr && numeric(p->type))
+      config.openscenario.speed_parameter = p->name;
   std::vector<std::string> numeric_parameters;
   for (const Parameter& p : scenario->parameters)
     if (numeric(p.type)) numeric_parameters.push_back(p.name);
@@ -298,6 +314,7 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
                                                    name, fmt::join(numeric_parameters, ", ")));
     numeric_parameters = choices.factors;
   }
+  std::erase(numeric_parameters, config.openscenario.speed_parameter);  // speed_kph is it
   if (numeric_parameters.size() > sim::kMaxImportedFactors)
     throw InputError(
         {path, 0, 0},
@@ -305,7 +322,7 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
                     "factors: choose those you vary with `emrm import --factors A,B,...`",
                     numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
   for (const std::string& name : numeric_parameters)
-    config.openscenario.factors.push_back({.parameter = name, .unit = "1", .min = {}, .max = {}});
+    config.openscenario.factors.push_back({.parameter = name, .unit = unit_of(*scenario, name), .min = {}, .max = {}});
   try {
     sim::validate(config);
   } catch (const InputError& e) {  // the ego's footprint does not fit the car emrm drives
@@ -317,6 +334,7 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
 }
 
 Registration::Registration()
-    : family_(scenario_family()), reader_(".xosc", [](const std::filesystem::path& file) { return scene_of(file); }) {}
+    : family_(scenario_family()),
+      reader_(".xosc", [](const std::filesystem::path& file) { return import_scenario(file).scene; }) {}
 
 }  // namespace emrm::openscenario

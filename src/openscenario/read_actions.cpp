@@ -12,13 +12,14 @@ namespace {
 constexpr double kMaxSpeed_mps = 300.0;
 constexpr double kMaxRange = 1e6;  // s, m or units per s of a transition
 
-TransitionDynamics read_dynamics(const xml::Element& e, const ReadContext& c) {
+// A transition's dynamics; `rate_unit` is that of a rate (the changed quantity's per second).
+TransitionDynamics read_dynamics(const xml::Element& e, std::string_view rate_unit, const ReadContext& c) {
   TransitionDynamics d;
   d.shape = static_cast<DynamicsShape>(c.choice(e, "dynamicsShape", {"step", "linear", "cubic", "sinusoidal"}));
   d.dimension = static_cast<DynamicsDimension>(c.choice(e, "dynamicsDimension", {"time", "distance", "rate"}));
   const std::string_view unit = d.dimension == DynamicsDimension::kTime       ? "s"
                                 : d.dimension == DynamicsDimension::kDistance ? "m"
-                                                                              : "per s";
+                                                                              : rate_unit;
   // A rate's sign is the direction of the change, which the target gives (esmini takes its size).
   d.value = d.dimension == DynamicsDimension::kRate ? std::fabs(c.number(e, "value", unit, -kMaxRange, kMaxRange))
                                                     : c.number(e, "value", unit, 0.0, kMaxRange);
@@ -29,10 +30,11 @@ TransitionDynamics read_dynamics(const xml::Element& e, const ReadContext& c) {
 
 SpeedAction read_speed(const xml::Element& e, const ReadContext& c) {
   SpeedAction a;
-  a.dynamics = read_dynamics(e.required_child("SpeedActionDynamics"), c);
+  a.dynamics = read_dynamics(e.required_child("SpeedActionDynamics"), "m/s2", c);
   const xml::Element target = c.chosen(e.required_child("SpeedActionTarget"), "SpeedActionTarget");
   if (target.name() == "AbsoluteTargetSpeed") {
     a.value = c.number(target, "value", "m/s", -kMaxSpeed_mps, kMaxSpeed_mps);
+    a.parameter = c.parameter_of(target, "value").value_or("");
   } else {
     a.relative = c.entity_ref(target, "entityRef");
     a.delta = c.choice(target, "speedTargetValueType", {"delta", "factor"}) == 0;
@@ -45,7 +47,7 @@ SpeedAction read_speed(const xml::Element& e, const ReadContext& c) {
 
 LaneChangeAction read_lane_change(const xml::Element& e, const ReadContext& c) {
   LaneChangeAction a;
-  a.dynamics = read_dynamics(e.required_child("LaneChangeActionDynamics"), c);
+  a.dynamics = read_dynamics(e.required_child("LaneChangeActionDynamics"), "m/s", c);
   a.target_lane_offset_m = c.optional_number(e, "targetLaneOffset", "m", -100.0, 100.0).value_or(0.0);
   const xml::Element holder = e.required_child("LaneChangeTarget");
   const auto children = holder.children();

@@ -27,6 +27,19 @@ std::optional<std::string> ReadContext::optional_text(const xml::Element& e, std
   return scope_.resolve(*raw, value_location(e, name));
 }
 
+std::optional<std::string> ReadContext::parameter_of(const xml::Element& e, std::string_view name) const {
+  const auto raw = e.attribute(name);
+  if (!raw || global_ == nullptr) return std::nullopt;
+  std::string_view text = *raw;
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  if (text.size() < 2 || text.front() != '$' || text[1] == '{') return std::nullopt;
+  const std::string_view parameter = text.substr(1);
+  const Parameter* p = scope_.find(parameter);
+  if (p == nullptr || p != global_->find(parameter)) return std::nullopt;
+  return std::string(parameter);
+}
+
 std::string ReadContext::text(const xml::Element& e, std::string_view name) const {
   if (!e.attribute(name)) e.fail(fmt::format("<{}> needs the attribute {}", e.name(), name));
   return *optional_text(e, name);
@@ -47,6 +60,9 @@ std::optional<double> ReadContext::optional_number(const xml::Element& e, std::s
   if (number < low || number > high)
     e.fail(name, fmt::format("{}: expected a value in [{}, {}]{}, got {}", name, low, high,
                              unit.empty() ? "" : fmt::format(" {}", unit), number));
+  if (uses_ != nullptr)
+    if (auto parameter = parameter_of(e, name))
+      uses_->push_back({std::move(*parameter), std::string(unit), value_location(e, name)});
   return number;
 }
 

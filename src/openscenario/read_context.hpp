@@ -37,6 +37,8 @@ class ReadContext {
     ReadContext c(scope, dir_, catalogs_, entities_, roads_);
     c.elements_ = elements_;
     c.rev_minor = rev_minor;
+    c.global_ = global_;
+    c.uses_ = uses_;
     return c;
   }
 
@@ -63,6 +65,10 @@ class ReadContext {
   /// supported table (supported.hpp) under `choice`.
   [[nodiscard]] xml::Element chosen(const xml::Element& e, std::string_view choice) const;
 
+  /// The global parameter the attribute's whole value names (`$name`, not shadowed by a catalog's
+  /// own), if it does.
+  [[nodiscard]] std::optional<std::string> parameter_of(const xml::Element& e, std::string_view name) const;
+
   [[nodiscard]] const ParameterScope& scope() const noexcept { return scope_; }
   [[nodiscard]] const std::filesystem::path& dir() const noexcept { return dir_; }
   [[nodiscard]] Catalogs& catalogs() const noexcept { return catalogs_; }
@@ -70,6 +76,10 @@ class ReadContext {
   /// The storyboard's element names by type (for StoryboardElementStateCondition).
   std::map<ElementType, std::set<std::string>>* elements_ = nullptr;
   int rev_minor = 3;  ///< the FileHeader's revMinor (defaults differ between versions)
+  /// The scenario's global scope, and where the numbers read from its parameters are recorded
+  /// (Scenario::uses); null while the globals themselves are read.
+  const ParameterScope* global_ = nullptr;
+  std::vector<ParameterUse>* uses_ = nullptr;
 
  private:
   const ParameterScope& scope_;

@@ -223,6 +223,8 @@ Scenario load_openscenario(const std::filesystem::path& file, const ReadOptions&
     }
   ReadContext rc(scope, dir, catalogs, names, scenario.roads.get());
   rc.rev_minor = d.rev_minor;
+  rc.global_ = &scope;
+  rc.uses_ = &scenario.uses;
 
   const xml::Element entities = d.root.required_child("Entities");
   for (const xml::Element& object : entities.children()) {

@@ -23,7 +23,7 @@ TEST(ImportCli, WritesASceneEveryCommandTakesAndTheTrace) {
   const RunResult r = run_emrm("import " + quoted(kExample + "cut_in.xosc") + " -o " + quoted(dir / "scene.yaml") +
                                " --trace " + quoted(dir / "trace.csv") + " --trace-s 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.out, HasSubstr("family openscenario, ego Ego, 5 factors"));
+  EXPECT_THAT(r.out, HasSubstr("family openscenario, ego Ego, 4 factors"));
   const std::string scene = read_text(dir / "scene.yaml");
   EXPECT_THAT(scene, HasSubstr("family: openscenario"));
   // The scenario named relative to the scene file, so that the two move together.
@@ -85,6 +85,48 @@ TEST(ImportCli, PlansAndRunsAMinimumScenarioSetOverTheDeclaredParameters) {
   const auto outcomes = csv_rows(dir / "run" / "outcomes.csv");
   ASSERT_EQ(outcomes.size(), scenarios.size());
   EXPECT_THAT(outcomes[0], ::testing::Contains("RelativeSpeed"));
+}
+
+TEST(ImportCli, ADistributionFileAndFactorRangesMakeACampaignThatSweeps) {
+  const auto dir = scratch_dir("import_distribution");
+  write_text(dir / "motorway.xodr", read_text(kExample + "motorway.xodr"));
+  write_text(dir / "cut_in.xosc", read_text(kExample + "cut_in.xosc"));
+  // The distribution varies the ego's speed (m/s) and the gap; the command line narrows the speed
+  // and sets the TTC.
+  write_text(dir / "distribution.xosc", R"(<?xml version="1.0" encoding="UTF-8"?>
+<OpenSCENARIO>
+  <FileHeader revMajor="1" revMinor="2" date="2026-01-01T00:00:00" description="d" author="emrm"/>
+  <ParameterValueDistribution>
+    <ScenarioFile filepath="cut_in.xosc"/>
+    <Deterministic>
+      <DeterministicSingleParameterDistribution parameterName="EgoSpeed">
+        <DistributionRange stepWidth="5"><Range lowerLimit="20" upperLimit="30"/></DistributionRange>
+      </DeterministicSingleParameterDistribution>
+      <DeterministicSingleParameterDistribution parameterName="CutInGap">
+        <DistributionSet><Element value="10"/></DistributionSet>
+      </DeterministicSingleParameterDistribution>
+    </Deterministic>
+  </ParameterValueDistribution>
+</OpenSCENARIO>
+)");
+  const RunResult r = run_emrm("import " + quoted(dir / "distribution.xosc") + " -o " + quoted(dir / "scene.yaml") +
+                               " --campaign " + quoted(dir / "campaign.yaml") +
+                               " --factor-range speed_kph=90:100:10 --factor-range ttc_s=0.5:1:0.5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("speed_kph sets EgoSpeed"));
+  EXPECT_THAT(r.out, HasSubstr("Campaign written to"));
+  EXPECT_THAT(r.out, HasSubstr("speed_kph × ttc_s × CutInGap"));
+  const RunResult sweep = run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "store"));
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_THAT(sweep.out, HasSubstr("Swept 4 cells"));
+  // Bad ranges and a campaign without its scene: exit 2, nothing written.
+  for (const std::string& bad : {std::string(" --factor-range ttc_s=1:0.5:0.1 -o "), std::string(" --factor-range nope=1:2:1 -o "),
+                                 std::string(" --campaign c.yaml --trace ")}) {
+    const auto out = dir / "bad";
+    const RunResult refused = run_emrm("import " + quoted(dir / "distribution.xosc") + bad + quoted(out));
+    EXPECT_EQ(refused.exit_code, 2) << bad << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << bad;
+  }
 }
 
 TEST(ImportCli, ABadScenarioIsExit2AtItsLineAndNothingIsWritten) {

@@ -198,10 +198,14 @@ struct YamlCodec<std::string> {
   static void read(const YamlNode& n, std::string& v) { v = n.as_string(); }
   static YAML::Node write(const std::string& v) { return YAML::Node(v); }
 };
+/// A number as a scalar of its shortest text that reads back the same double (1.156, not
+/// 1.1559999999999999); infinities and NaN as YAML spells them.
+[[nodiscard]] YAML::Node yaml_number(double v);
+
 template <>
 struct YamlCodec<double> {
   static void read(const YamlNode& n, double& v) { v = n.as_double(); }
-  static YAML::Node write(double v) { return YAML::Node(v); }
+  static YAML::Node write(double v) { return yaml_number(v); }
 };
 template <>
 struct YamlCodec<bool> {

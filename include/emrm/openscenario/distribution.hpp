@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "emrm/core/error.hpp"
+
 namespace emrm::openscenario {
 
 /// DistributionRange: lower, lower + step, ..., up to upper.
@@ -25,17 +27,26 @@ struct ValueRange {
 struct SingleParameterValues {
   std::string parameter;
   std::variant<ValueRange, std::vector<std::string>> values;
+  SourceLocation where;  ///< the distribution element
 };
 
-/// A DeterministicMultiParameterDistribution's ValueSetDistribution: sets of assignments, each a
-/// concrete scenario.
-using ValueSets = std::vector<std::map<std::string, std::string>>;
+/// A DeterministicMultiParameterDistribution's ValueSetDistribution: sets of assignments
+/// (parameter → value text), each a concrete scenario.
+struct ValueSets {
+  std::vector<std::map<std::string, std::string>> sets;
+  SourceLocation where;  ///< the distribution element
+};
 
 struct ParameterDistribution {
+  std::filesystem::path file;           ///< the distribution file
   std::filesystem::path scenario_file;  ///< ScenarioFile filepath, relative paths against the file's folder
   std::vector<SingleParameterValues> single;
   std::vector<ValueSets> multi;
 };
+
+/// Whether the file is an OpenSCENARIO document holding a ParameterValueDistribution (rather than a
+/// scenario or a catalog). Throws InputError for a file that is no XML.
+[[nodiscard]] bool is_parameter_distribution(const std::filesystem::path& file);
 
 /// Reads a ParameterValueDistribution file (XSD-validated). Throws InputError at the element for a
 /// Stochastic distribution ("not supported"), an empty or inverted range, a step <= 0.

@@ -119,6 +119,7 @@ struct TransitionDynamics {
 struct SpeedAction {
   TransitionDynamics dynamics;
   double value = 0.0;                   ///< absolute m/s, or the delta (m/s) or factor
+  std::string parameter;                ///< the global parameter an absolute value is ($name), if it is one
   std::optional<std::string> relative;  ///< RelativeTargetSpeed's entityRef
   bool delta = true;                    ///< speedTargetValueType delta (or factor)
   bool continuous = false;
@@ -358,9 +359,18 @@ struct Storyboard {
 };
 
 /// A scenario read by load_openscenario (reader.hpp).
+/// A numeric attribute whose whole value is a global parameter (`$name`): the parameter, the
+/// attribute's unit (m, s, m/s, ...; empty for a pure number) and where it is.
+struct ParameterUse {
+  std::string parameter;
+  std::string unit;
+  SourceLocation where;
+};
+
 struct Scenario {
   std::filesystem::path file;
   std::vector<Parameter> parameters;  ///< the global declarations, resolved (overrides applied)
+  std::vector<ParameterUse> uses;     ///< in document order (units of the parameters, emrm import)
   ParameterOverrides overrides;       ///< those it was read with
   std::vector<Entity> entities;
   /// The entity emrm drives: ReadOptions::ego, else default_ego's choice; empty when there is none.

@@ -106,8 +106,8 @@ TEST(ParameterDistribution, DeterministicRangesSetsAndValueSetsAreRead) {
   EXPECT_EQ(range.values(), (std::vector<double>{1.0, 1.5, 2.0, 2.5, 3.0}));
   EXPECT_EQ(std::get<std::vector<std::string>>(d.single[1].values), (std::vector<std::string>{"dry", "wet"}));
   ASSERT_EQ(d.multi.size(), 1U);
-  ASSERT_EQ(d.multi[0].size(), 2U);
-  EXPECT_EQ(d.multi[0][1].at("B"), "4");
+  ASSERT_EQ(d.multi[0].sets.size(), 2U);
+  EXPECT_EQ(d.multi[0].sets[1].at("B"), "4");
 }
 
 TEST(ParameterDistribution, AStochasticDistributionIsNotSupported) {

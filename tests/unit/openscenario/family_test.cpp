@@ -29,15 +29,24 @@ std::vector<std::string> keys(const sim::FactorTable& table) {
   return out;
 }
 
-TEST(ImportedFamily, AScenarioFileIsASceneWithEveryNumericParameterAFactor) {
+TEST(ImportedFamily, AScenarioFileIsASceneWithEveryNumericParameterAFactorButTheEgosSpeed) {
   const Registration registration;
   const sim::SceneConfig scene = sim::load_scene_config(kExample + "/cut_in.xosc");
   EXPECT_EQ(scene.family, "openscenario");
   EXPECT_EQ(scene.openscenario.ego, "Ego");
   EXPECT_EQ(scene.ego.length_m, 4.5);
   EXPECT_EQ(scene.ego.width_m, 1.8);
-  EXPECT_THAT(keys(sim::scenario_factors(scene)), ElementsAre("speed_kph", "ttc_s", "mu", "EgoSpeed", "RelativeSpeed",
-                                                              "LaneChangeTime", "CutInGap", "TargetDecel"));
+  // The ego's Init speed is $EgoSpeed: speed_kph sets it, and its default is the declared value.
+  EXPECT_EQ(scene.openscenario.speed_parameter, "EgoSpeed");
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  EXPECT_THAT(keys(factors),
+              ElementsAre("speed_kph", "ttc_s", "mu", "RelativeSpeed", "LaneChangeTime", "CutInGap", "TargetDecel"));
+  EXPECT_NEAR(factors[0].default_value, 27.7778 * 3.6, 1e-9);
+  // Each factor's unit is that of the attributes it is ($name); RelativeSpeed is only used in an
+  // expression, so it has none.
+  std::vector<std::string> units;
+  for (const sim::ImportedFactor& f : scene.openscenario.factors) units.push_back(f.unit);
+  EXPECT_THAT(units, ElementsAre("1", "s", "m", "m/s2"));
 }
 
 TEST(ImportedFamily, ASceneFileChoosesTheFactorsAndTheSpeedParameter) {
@@ -54,8 +63,9 @@ TEST(ImportedFamily, ASceneFileChoosesTheFactorsAndTheSpeedParameter) {
 
 TEST(ImportedFamily, ImportChoosesTheFactorsAmongTheDeclaredNumericParameters) {
   const Registration registration;
+  // The ego's speed parameter is speed_kph's whether --factors names it or not.
   const sim::SceneConfig scene = scene_of(kExample + "/cut_in.xosc", {.ego = "", .factors = {"CutInGap", "EgoSpeed"}});
-  EXPECT_THAT(keys(sim::scenario_factors(scene)), ElementsAre("speed_kph", "ttc_s", "mu", "CutInGap", "EgoSpeed"));
+  EXPECT_THAT(keys(sim::scenario_factors(scene)), ElementsAre("speed_kph", "ttc_s", "mu", "CutInGap"));
   try {
     (void)scene_of(kExample + "/cut_in.xosc", {.ego = "", .factors = {"Nope"}});
     FAIL() << "expected an InputError";
