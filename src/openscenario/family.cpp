@@ -226,14 +226,26 @@ sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput&
     overrides[o.factors[i].parameter] = fmt::format("{:.17g}", cell[sim::kMethodFactors + i]);
   const double speed_mps = cell.ego_speed_kph() / 3.6;
   if (!o.speed_parameter.empty()) overrides[o.speed_parameter] = fmt::format("{:.17g}", speed_mps);
-  Scenario scenario = overrides.empty() ? *base : load_openscenario(o.file, {.overrides = overrides, .ego = o.ego});
-  if (o.speed_parameter.empty())
-    if (SpeedAction* speed = init_speed(scenario, o.ego)) speed->value = speed_mps;
   const double horizon_s = config.simulation.horizon_s;
   PlayOptions options;
   options.dt_s = config.simulation.dt_s;
   options.duration_s = o.onset_search_s + horizon_s + 1.0;
-  const sim::PlayedScenario played = played_of(scenario, play(scenario, options), o.ego, options.dt_s);
+  Scenario scenario;
+  sim::PlayedScenario played;
+  try {
+    scenario = overrides.empty() ? *base : load_openscenario(o.file, {.overrides = overrides, .ego = o.ego});
+    if (o.speed_parameter.empty())
+      if (SpeedAction* speed = init_speed(scenario, o.ego)) speed->value = speed_mps;
+    played = played_of(scenario, play(scenario, options), o.ego, options.dt_s);
+  } catch (const InputError& e) {
+    // The storyboard does not read or play with this cell's values (a parameter that makes a
+    // duration negative, a lane change to a lane that is not there): the cell is infeasible, laid
+    // out as the scenario's declared values play, and the sweep goes on.
+    sim::SceneLayout out =
+        sim::layout_from_onset(played_of(*base, play(*base, options), o.ego, options.dt_s), {}, {}, config.ego.length_m);
+    out.infeasible = fmt::format("the scenario does not play with this cell's values: {}", e.what());
+    return out;
+  }
   const auto onset = sim::threat_onset(played, cell.time_to_collision_s(), config.ego.length_m, config.ego.width_m);
   const sim::Track::Sample& ego = played.ego.path.at(onset ? onset->step : 0);
   const double reach_m = ego.speed_mps * horizon_s + config.ego.length_m;

@@ -108,5 +108,23 @@ TEST(ImportedFamily, ACellWithoutAThreatIsInfeasibleAndSaysWhy) {
   EXPECT_THAT(s.infeasible_reason(), HasSubstr("stays above 0.5 s"));
 }
 
+TEST(ImportedFamily, ACellWhoseValuesTheStoryboardDoesNotTakeIsInfeasibleAndSaysWhy) {
+  const Registration registration;
+  // The scenario itself: its factors have no limits, so a cell may give a lane change of -1 s,
+  // which the reader refuses for that cell only.
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/cut_in.xosc");
+  const sim::FactorTable factors = sim::scenario_factors(scene);
+  sim::CellInput cell = factors.defaults();
+  cell[*factors.find("LaneChangeTime")] = -1.0;
+  const sim::Scene s(scene, cell);
+  EXPECT_FALSE(s.feasible());
+  EXPECT_THAT(s.infeasible_reason(), HasSubstr("the scenario does not play with this cell's values"));
+  EXPECT_THAT(s.infeasible_reason(), HasSubstr("cut_in.xosc:"));
+  const sim::CellResult result = sim::simulate_cell(scene, cell, {});
+  EXPECT_FALSE(result.feasible);
+  // The declared values still play.
+  EXPECT_TRUE(sim::Scene(scene, factors.defaults()).layout().infeasible.empty());
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
