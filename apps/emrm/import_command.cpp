@@ -52,8 +52,9 @@ int run(const ImportOptions& o) {
     play.duration_s = o.trace_s;
     std::ostringstream csv;
     openscenario::write_trace_csv(
-        csv, openscenario::play(
-                 openscenario::load_openscenario(config.openscenario.file, {.overrides = {}, .ego = config.openscenario.ego}), play));
+        csv, openscenario::play(openscenario::load_openscenario(config.openscenario.file,
+                                                                {.overrides = {}, .ego = config.openscenario.ego}),
+                                play));
     trace = csv.str();
   }
   if (!o.output.empty()) {
@@ -63,10 +64,10 @@ int run(const ImportOptions& o) {
     core::write_file(
         o.output, fmt::format("# {} imported by `emrm import` (docs/import.md)\n{}", o.scenario, sim::to_yaml(config)));
     const sim::OpenScenarioConfig& block = config.openscenario;
-    std::cout << fmt::format("Scene written to {} (family openscenario, ego {}, {} factor{} besides speed, TTC and μ{})\n",
-                             o.output, block.ego, block.factors.size(), block.factors.size() == 1 ? "" : "s",
-                             block.speed_parameter.empty() ? std::string()
-                                                           : fmt::format("; speed_kph sets {}", block.speed_parameter));
+    std::cout << fmt::format(
+        "Scene written to {} (family openscenario, ego {}, {} factor{} besides speed, TTC and μ{})\n", o.output,
+        block.ego, block.factors.size(), block.factors.size() == 1 ? "" : "s",
+        block.speed_parameter.empty() ? std::string() : fmt::format("; speed_kph sets {}", block.speed_parameter));
   } else {
     std::cout << sim::to_yaml(config);
   }
@@ -75,9 +76,9 @@ int run(const ImportOptions& o) {
         std::filesystem::absolute(o.output).lexically_relative(std::filesystem::absolute(o.campaign).parent_path());
     core::write_file(o.campaign, openscenario::campaign_yaml(imported, scene_ref.string()));
     std::cout << fmt::format("Campaign written to {} ({}{})\n", o.campaign,
-                             imported.value_sets.empty() ? std::string("one grid")
-                                                         : fmt::format("{} grids, one per value set",
-                                                                       imported.value_sets.size()),
+                             imported.value_sets.empty()
+                                 ? std::string("one grid")
+                                 : fmt::format("{} grids, one per value set", imported.value_sets.size()),
                              imported.sweeps.empty() ? std::string(", over the TTC only")
                                                      : fmt::format(" over {}", describe(imported.sweeps)));
   }
@@ -96,7 +97,9 @@ void register_import_command(CLI::App& app, int& exit_code) {
                                  "Import an ASAM OpenSCENARIO scenario (.xosc, with its OpenDRIVE road) as a scene of\n"
                                  "the family openscenario that every command takes (docs/import.md); `--scene\n"
                                  "FILE.xosc` works directly too.");
-  cmd->add_option("scenario", o->scenario, "The scenario (.xosc), or a ParameterValueDistribution file naming one")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scenario", o->scenario, "The scenario (.xosc), or a ParameterValueDistribution file naming one")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--ego", o->ego, "The entity the EMRM drives (default: Ego, ego or hero, else the first vehicle)");
   cmd->add_option("--factors", o->factors,
                   "The declared numeric parameters the scene makes factors, comma-separated (default: every one; "

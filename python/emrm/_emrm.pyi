@@ -148,6 +148,22 @@ class CutInConfig(_Part):
     following_gap_s: Final[float]
     follower_faster_kph: Final[float]
 
+class ImportedFactor(_Part):
+    parameter: Final[str]
+    unit: Final[str]
+    min: Final[Optional[float]]
+    max: Final[Optional[float]]
+
+class OpenScenarioConfig(_Part):
+    file: Final[str]
+    ego: Final[str]
+    speed_parameter: Final[str]
+    factors: Final[list[ImportedFactor]]
+    onset_search_s: Final[float]
+    handover: Final[str]
+    right_roadside: Final[str]
+    left_roadside: Final[str]
+
 class Scene(_Part):
     """Scene() is the built-in scene; every field of scene.yaml is a read-only attribute."""
 
@@ -166,6 +182,7 @@ class Scene(_Part):
     highway: Final[HighwayConfig]
     crossing: Final[CrossingConfig]
     cut_in: Final[CutInConfig]
+    openscenario: Final[OpenScenarioConfig]
     max_initial_distance_m: Final[float]
     @staticmethod
     def load(path: _Path, profile: Optional[str] = None) -> "Scene": ...

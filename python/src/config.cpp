@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "emrm/core/enum_names.hpp"
 
 namespace emrm::python {
 namespace {
@@ -46,21 +47,35 @@ void for_each_field(const T& config, Visit visit) {
   const_cast<T&>(config).serialize(archive);  // serialize() only reads fields when not reading
 }
 
-// A field as Python sees it: a part (a copy; parts are read-only) or a number, count or name.
+// A field as Python sees it: a part (a copy; parts are read-only) or a number, count or name (an
+// enumeration by the name the YAML spells it).
 template <class V>
 py::object field_object(const V& value) {
-  return py::cast(value, py::return_value_policy::copy);
+  if constexpr (std::is_enum_v<V>)
+    return py::str(std::string(core::enum_name(value)));
+  else
+    return py::cast(value, py::return_value_policy::copy);
 }
+
+template <class V>
+struct IsPartList : std::false_type {};
+template <Config T>
+struct IsPartList<std::vector<T>> : std::true_type {};
 
 template <Config T>
 py::dict to_dict(const T& config) {
   py::dict dict;
   for_each_field(config, [&](std::string_view key, const auto& value) {
     using V = std::decay_t<decltype(value)>;
-    if constexpr (Config<V>)
+    if constexpr (Config<V>) {
       dict[py::str(key)] = to_dict(value);
-    else
-      dict[py::str(key)] = py::cast(value);
+    } else if constexpr (IsPartList<V>::value) {  // a list of parts: a list of dicts
+      py::list parts;
+      for (const auto& part : value) parts.append(to_dict(part));
+      dict[py::str(key)] = parts;
+    } else {
+      dict[py::str(key)] = field_object(value);
+    }
   });
   return dict;
 }
@@ -176,6 +191,11 @@ void bind_config(py::module_& m) {
   bind_part<sim::CarBody>(m, "CarBody", "A car of the cut-in's traffic (`cut_in.cutting:`, `cut_in.follower:`).");
   bind_part<sim::CutInConfig>(m, "CutInConfig",
                               "The highway and cars of the family cut_in (`cut_in:`, docs/families.md).");
+  bind_part<sim::ImportedFactor>(
+      m, "ImportedFactor", "A declared parameter of an imported scenario that is a factor (`openscenario.factors`).");
+  bind_part<sim::OpenScenarioConfig>(
+      m, "OpenScenarioConfig",
+      "The scenario of the family openscenario and how it is handed over (`openscenario:`, docs/import.md).");
 
   py::class_<sim::SceneConfig, std::shared_ptr<sim::SceneConfig>> scene(
       m, "Scene",

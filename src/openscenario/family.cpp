@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -73,6 +74,57 @@ std::string unit_of(const Scenario& scenario, const std::string& parameter) {
   return unit.empty() ? "1" : unit;
 }
 
+// Whether anything in the scenario refers to the parameter: an attribute, or another parameter's
+// declared value (which may be used in turn). A parameter nothing refers to changes nothing.
+bool referenced(const Scenario& scenario, const std::string& parameter) {
+  for (const ParameterUse& use : scenario.uses)
+    if (use.parameter == parameter) return true;
+  for (const Parameter& p : scenario.parameters) {
+    const std::string& text = p.default_text;
+    for (std::size_t i = text.find("$" + parameter); i != std::string::npos; i = text.find("$" + parameter, i + 1)) {
+      const std::size_t end = i + 1 + parameter.size();
+      if (end == text.size() || (std::isalnum(static_cast<unsigned char>(text[end])) == 0 && text[end] != '_'))
+        return true;
+    }
+  }
+  return false;
+}
+
+// ---- the scene's names ----------------------------------------------------------------------
+
+// What the scene's openscenario block names must be in the scenario: its factors and speed
+// parameter declared numbers, its hand-over a storyboard element.
+void check_scene(const sim::SceneConfig& config) {
+  const sim::OpenScenarioConfig& o = config.openscenario;
+  const auto scenario = base_scenario(o.file, o.ego);
+  const auto fail = [](core::FieldPath path, std::string detail) {
+    throw core::ConfigError("scene", std::move(path), std::move(detail));
+  };
+  std::vector<std::string> numbers;
+  for (const Parameter& p : scenario->parameters)
+    if (numeric(p.type)) numbers.push_back(p.name);
+  const auto check_number = [&](const std::string& name, core::FieldPath path) {
+    if (std::find(numbers.begin(), numbers.end(), name) == numbers.end())
+      fail(std::move(path),
+           fmt::format("'{}' is no numeric parameter {} declares (it declares {})", name,
+                       scenario->file.filename().string(),
+                       numbers.empty() ? std::string("none") : fmt::format("{}", fmt::join(numbers, ", "))));
+  };
+  if (!o.speed_parameter.empty())
+    check_number(o.speed_parameter, {{std::string("openscenario"), std::string("speed_parameter")}});
+  for (std::size_t i = 0; i < o.factors.size(); ++i)
+    check_number(o.factors[i].parameter,
+                 {{std::string("openscenario"), std::string("factors"), i, std::string("parameter")}});
+  if (!o.handover.empty()) {
+    const std::vector<std::string> names = scenario->element_names();
+    if (std::find(names.begin(), names.end(), o.handover) == names.end())
+      fail(
+          {{std::string("openscenario"), std::string("handover")}},
+          fmt::format("'{}' is no storyboard element of {} (it has {})", o.handover, scenario->file.filename().string(),
+                      names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+  }
+}
+
 // ---- factors --------------------------------------------------------------------------------
 
 constexpr double kDefaultSpeed_kph = 50.0;  // without a scenario, or an ego without an Init speed
@@ -128,6 +180,26 @@ sim::ActorKind kind_of(const Entity& e) {
   return sim::ActorKind::kCar;
 }
 
+// An actor's mass when its entity gives none (or 0) (kg): a car's, a truck's, a rider's with the
+// bicycle, a walker's, a deer's; a misc object without one is immovable (ActorBody: a mass of 0).
+double default_mass_kg(sim::ActorKind kind) {
+  switch (kind) {
+    case sim::ActorKind::kTruck:
+      return 12000.0;
+    case sim::ActorKind::kCyclist:
+      return 90.0;
+    case sim::ActorKind::kPedestrian:
+      return 75.0;
+    case sim::ActorKind::kAnimal:
+      return 70.0;
+    case sim::ActorKind::kStaticObject:
+      return 0.0;
+    case sim::ActorKind::kCar:
+      break;
+  }
+  return 1500.0;
+}
+
 sim::PlayedScenario played_of(const Scenario& scenario, const Trajectories& trajectories, const std::string& ego,
                               double dt_s) {
   sim::PlayedScenario out;
@@ -136,7 +208,11 @@ sim::PlayedScenario played_of(const Scenario& scenario, const Trajectories& traj
     const auto it = trajectories.find(e.name);
     if (it == trajectories.end()) continue;
     sim::PlayedUser user;
-    user.body = {kind_of(e), e.box.length_m, e.box.width_m, 0.0, 0.0, e.name};
+    const sim::ActorKind kind = kind_of(e);
+    const double mass_kg = e.mass_kg.value_or(default_mass_kg(kind));
+    // A uniform box's yaw inertia, m (l² + w²) / 12.
+    const double inertia_kgm2 = mass_kg * (e.box.length_m * e.box.length_m + e.box.width_m * e.box.width_m) / 12.0;
+    user.body = {kind, e.box.length_m, e.box.width_m, mass_kg, inertia_kgm2, e.name};
     for (const Sample& s : it->second) user.path.push_back(box_centre(s, e.box));
     if (e.name == ego)
       out.ego = std::move(user);
@@ -230,6 +306,11 @@ sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput&
   PlayOptions options;
   options.dt_s = config.simulation.dt_s;
   options.duration_s = o.onset_search_s + horizon_s + 1.0;
+  std::optional<std::size_t> armed;  // the step the hand-over element starts in
+  if (!o.handover.empty())
+    options.element_started = [&](double t_s, const std::string& element) {
+      if (!armed && element == o.handover) armed = static_cast<std::size_t>(std::llround(t_s / options.dt_s));
+    };
   Scenario scenario;
   sim::PlayedScenario played;
   try {
@@ -241,12 +322,23 @@ sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput&
     // The storyboard does not read or play with this cell's values (a parameter that makes a
     // duration negative, a lane change to a lane that is not there): the cell is infeasible, laid
     // out as the scenario's declared values play, and the sweep goes on.
-    sim::SceneLayout out =
-        sim::layout_from_onset(played_of(*base, play(*base, options), o.ego, options.dt_s), {}, {}, config.ego.length_m);
+    options.element_started = nullptr;
+    sim::SceneLayout out = sim::layout_from_onset(played_of(*base, play(*base, options), o.ego, options.dt_s), {}, {},
+                                                  config.ego.length_m);
     out.infeasible = fmt::format("the scenario does not play with this cell's values: {}", e.what());
     return out;
   }
-  const auto onset = sim::threat_onset(played, cell.time_to_collision_s(), config.ego.length_m, config.ego.width_m);
+  if (!o.handover.empty() && !armed) {
+    sim::SceneLayout out = sim::layout_from_onset(played, {}, {}, config.ego.length_m);
+    out.infeasible = fmt::format(
+        "the storyboard element '{}' (openscenario.handover) does not start over the scenario's first {:g} s",
+        o.handover, options.duration_s);
+    return out;
+  }
+  // The hand-over: at the named element's start, else where the TTC first falls to the cell's.
+  const auto onset =
+      armed ? std::optional(sim::onset_at(played, *armed, config.ego.length_m, config.ego.width_m))
+            : sim::threat_onset(played, cell.time_to_collision_s(), config.ego.length_m, config.ego.width_m);
   const sim::Track::Sample& ego = played.ego.path.at(onset ? onset->step : 0);
   const double reach_m = ego.speed_mps * horizon_s + config.ego.length_m;
   const auto road = scenario.network ? straight_road(*scenario.network, ego, reach_m, o)
@@ -292,6 +384,7 @@ sim::ScenarioFamilyInfo scenario_family() {
               "declared parameters as factors, the threat onset at the cell's TTC",
           .factors = scenario_factors,
           .layout = layout_of,
+          .check_scene = check_scene,
           .tjunction_analytics = false,
           .stop_boundary = false};
 }
@@ -311,14 +404,21 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   config.openscenario.ego = ego->name;
   config.ego.length_m = ego->box.length_m;
   config.ego.width_m = ego->box.width_m;
+  if (ego->mass_kg) config.ego.mass_kg = *ego->mass_kg;
   // The parameter the ego's Init speed is ($name): the factor speed_kph sets it.
   if (const SpeedAction* init = init_speed(*scenario, ego->name); init != nullptr && !init->parameter.empty())
     if (const Parameter* p = find_parameter(*scenario, init->parameter); p != nullptr && numeric(p->type))
       config.openscenario.speed_parameter = p->name;
-  std::vector<std::string> numeric_parameters;
+  std::vector<std::string> numeric_parameters;  // those --factors may name
+  std::vector<std::string> used;                // the default: those the scenario refers to
   for (const Parameter& p : scenario->parameters)
-    if (numeric(p.type)) numeric_parameters.push_back(p.name);
-  if (!choices.factors.empty()) {
+    if (numeric(p.type)) {
+      numeric_parameters.push_back(p.name);
+      if (referenced(*scenario, p.name)) used.push_back(p.name);
+    }
+  if (choices.factors.empty()) {
+    numeric_parameters = used;
+  } else {
     for (const std::string& name : choices.factors)
       if (std::find(numeric_parameters.begin(), numeric_parameters.end(), name) == numeric_parameters.end())
         throw InputError({path, 0, 0}, fmt::format("--factors: '{}' is no numeric parameter the scenario declares "
@@ -330,7 +430,7 @@ sim::SceneConfig scene_of(const std::filesystem::path& file, const ImportChoices
   if (numeric_parameters.size() > sim::kMaxImportedFactors)
     throw InputError(
         {path, 0, 0},
-        fmt::format("the scenario declares {} numeric parameters ({}); a scene makes at most {} of them "
+        fmt::format("the scenario uses {} numeric parameters ({}); a scene makes at most {} of them "
                     "factors: choose those you vary with `emrm import --factors A,B,...`",
                     numeric_parameters.size(), fmt::join(numeric_parameters, ", "), sim::kMaxImportedFactors));
   for (const std::string& name : numeric_parameters)

@@ -189,7 +189,8 @@ ImportedScenario import_scenario(const std::filesystem::path& file, const Import
   }
   const sim::FactorTable table = sim::scenario_factors(out.scene);
   for (const FactorSweep& range : ranges) {
-    if (const auto problem = sweep_problem(table, range)) throw UsageError(fmt::format("{}: {}", range.source, *problem));
+    if (const auto problem = sweep_problem(table, range))
+      throw UsageError(fmt::format("{}: {}", range.source, *problem));
     std::erase_if(out.sweeps, [&](const FactorSweep& s) { return s.factor == range.factor; });
     for (auto& set : out.value_sets) set.erase(range.factor);
     out.sweeps.push_back(range);

@@ -67,6 +67,7 @@ Trajectories run(const Scenario& scenario, const PlayOptions& options) {
   World world;
   world.scenario = &scenario;
   world.roads = scenario.roads.get();
+  if (options.element_started) world.element_started = &options.element_started;
   for (const Parameter& p : scenario.parameters) world.parameters[p.name] = p.value;
   for (const Entity& entity : scenario.entities) {
     EntityState state;

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 
@@ -24,7 +25,20 @@ SourceLocation value_location(const xml::Element& e, std::string_view name) {
 std::optional<std::string> ReadContext::optional_text(const xml::Element& e, std::string_view name) const {
   const auto raw = e.attribute(name);
   if (!raw) return std::nullopt;
+  if (uses_ != nullptr) record_references(*raw, value_location(e, name));
   return scope_.resolve(*raw, value_location(e, name));
+}
+
+void ReadContext::record_references(std::string_view text, const SourceLocation& where) const {
+  const auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+  for (std::size_t i = text.find('$'); i != std::string_view::npos; i = text.find('$', i + 1)) {
+    std::size_t end = i + 1;
+    while (end < text.size() && identifier(text[end])) ++end;
+    const std::string_view parameter = text.substr(i + 1, end - i - 1);
+    if (parameter.empty()) continue;
+    const Parameter* p = scope_.find(parameter);
+    if (p != nullptr && p == global_->find(parameter)) uses_->push_back({std::string(parameter), "", where});
+  }
 }
 
 std::optional<std::string> ReadContext::parameter_of(const xml::Element& e, std::string_view name) const {

@@ -65,6 +65,9 @@ class ReadContext {
   /// supported table (supported.hpp) under `choice`.
   [[nodiscard]] xml::Element chosen(const xml::Element& e, std::string_view choice) const;
 
+  /// Records in uses_ (without a unit) every global parameter `text` refers to ($name, also inside
+  /// ${...}).
+  void record_references(std::string_view text, const SourceLocation& where) const;
   /// The global parameter the attribute's whole value names (`$name`, not shadowed by a catalog's
   /// own), if it does.
   [[nodiscard]] std::optional<std::string> parameter_of(const xml::Element& e, std::string_view name) const;

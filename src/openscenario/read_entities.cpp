@@ -24,6 +24,8 @@ BoundingBox read_box(const xml::Element& object, const ReadContext& c) {
 void read_object(Entity& entity, const xml::Element& object, const ReadContext& c) {
   const std::string_view kind = object.name();
   entity.box = read_box(object, c);
+  entity.mass_kg = c.optional_number(object, "mass", "kg", 0.0, 1e6);
+  if (entity.mass_kg && *entity.mass_kg <= 0.0) entity.mass_kg.reset();  // esmini's samples write 0 for none
   if (kind == "Vehicle") {
     entity.kind = EntityKind::kVehicle;
     entity.category = c.text(object, "vehicleCategory");

@@ -196,6 +196,27 @@ std::vector<Parameter> declared_parameters(const std::filesystem::path& file) {
   return scope.declared();
 }
 
+std::vector<std::string> Scenario::element_names() const {
+  std::vector<std::string> out;
+  for (const Story& story : storyboard.stories) {
+    out.push_back(story.name);
+    for (const Act& act : story.acts) {
+      out.push_back(act.name);
+      for (const ManeuverGroup& group : act.groups) {
+        out.push_back(group.name);
+        for (const Maneuver& maneuver : group.maneuvers) {
+          out.push_back(maneuver.name);
+          for (const Event& event : maneuver.events) {
+            out.push_back(event.name);
+            for (const Action& action : event.actions) out.push_back(action.name);
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
 Scenario load_openscenario(const std::filesystem::path& file, const ReadOptions& options) {
   const ParameterOverrides& overrides = options.overrides;
   const Document d = open(file);

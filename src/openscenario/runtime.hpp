@@ -45,6 +45,8 @@ struct World {
   std::vector<EntityState> entities;
   std::map<std::string, std::string> parameters;  ///< the global parameters' values as ParameterActions set them
   double time_s = 0.0;
+  /// PlayOptions::element_started, when given.
+  const std::function<void(double, const std::string&)>* element_started = nullptr;
 
   [[nodiscard]] EntityState& entity(const std::string& name);
   [[nodiscard]] const EntityState& entity(const std::string& name) const;

@@ -81,6 +81,8 @@ void StoryboardRuntime::set_state(Node& node, State state, StateTransition trans
   node.transition = transition;
   if (node.state == state) return;
   node.state = state;
+  if (state == State::kRunning && world_.element_started != nullptr && !node.is_storyboard)
+    (*world_.element_started)(world_.time_s, node.name);
   for (ConditionRuntime* listener : node.listeners) listener->notify({state, transition});
 }
 

@@ -34,22 +34,50 @@ Track::Sample in_road_frame(const Track::Sample& p, const StraightRoad& road, do
 
 }  // namespace
 
-std::optional<Onset> threat_onset(const PlayedScenario& played, double ttc_s, double ego_length_m, double ego_width_m) {
-  for (std::size_t k = 0; k < played.ego.path.size(); ++k) {
-    const Track::Sample& e = played.ego.path[k];
-    const core::OrientedBox ego = box_of(e, ego_length_m, ego_width_m);
-    std::optional<Onset> nearest;
-    for (std::size_t a = 0; a < played.others.size(); ++a) {
-      const PlayedUser& other = played.others[a];
-      if (k >= other.path.size()) continue;
-      const Track::Sample& o = other.path[k];
-      const auto ttc = core::time_to_overlap(ego, velocity_of(e), box_of(o, other.body.length_m, other.body.width_m),
-                                             velocity_of(o), ttc_s);
-      if (ttc && (!nearest || *ttc < nearest->ttc_s)) nearest = Onset{k, a, *ttc};
-    }
-    if (nearest) return nearest;
+namespace {
+
+// The road user with the least TTC at step k, if any has one within `ttc_s`.
+std::optional<Onset> least_ttc_at(const PlayedScenario& played, std::size_t k, double ttc_s, double ego_length_m,
+                                  double ego_width_m) {
+  const Track::Sample& e = played.ego.path[k];
+  const core::OrientedBox ego = box_of(e, ego_length_m, ego_width_m);
+  std::optional<Onset> nearest;
+  for (std::size_t a = 0; a < played.others.size(); ++a) {
+    const PlayedUser& other = played.others[a];
+    if (k >= other.path.size()) continue;
+    const Track::Sample& o = other.path[k];
+    const auto ttc = core::time_to_overlap(ego, velocity_of(e), box_of(o, other.body.length_m, other.body.width_m),
+                                           velocity_of(o), ttc_s);
+    if (ttc && (!nearest || *ttc < nearest->ttc_s)) nearest = Onset{k, a, *ttc};
   }
+  return nearest;
+}
+
+}  // namespace
+
+std::optional<Onset> threat_onset(const PlayedScenario& played, double ttc_s, double ego_length_m, double ego_width_m) {
+  for (std::size_t k = 0; k < played.ego.path.size(); ++k)
+    if (auto onset = least_ttc_at(played, k, ttc_s, ego_length_m, ego_width_m)) return onset;
   return std::nullopt;
+}
+
+Onset onset_at(const PlayedScenario& played, std::size_t step, double ego_length_m, double ego_width_m) {
+  if (auto onset = least_ttc_at(played, step, std::numeric_limits<double>::max(), ego_length_m, ego_width_m))
+    return *onset;
+  // No road user is on a collision course: the nearest one is the hazard.
+  const Track::Sample& e = played.ego.path.at(step);
+  Onset out{step, 0, std::numeric_limits<double>::infinity()};
+  double nearest_m = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < played.others.size(); ++a) {
+    if (step >= played.others[a].path.size()) continue;
+    const Track::Sample& o = played.others[a].path[step];
+    const double d = std::hypot(o.x_m - e.x_m, o.y_m - e.y_m);
+    if (d < nearest_m) {
+      nearest_m = d;
+      out.hazard = a;
+    }
+  }
+  return out;
 }
 
 SceneLayout layout_from_onset(const PlayedScenario& played, const StraightRoad& road, const std::optional<Onset>& onset,

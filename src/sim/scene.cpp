@@ -91,6 +91,11 @@ SceneConfig load_scene_config(const std::filesystem::path& path) {
   const core::YamlNode root = core::YamlNode::load_file(path);
   SceneConfig config = read_scene(root);
   resolve_scenario_file(root, config, path);
+  if (const auto family = find_family(config.family); family->check_scene) try {
+      family->check_scene(config);
+    } catch (const core::ConfigError& e) {
+      core::fail_at(root, e, /*with_path=*/true);
+    }
   return config;
 }
 

@@ -109,9 +109,9 @@ TEST(ImportCli, ADistributionFileAndFactorRangesMakeACampaignThatSweeps) {
   </ParameterValueDistribution>
 </OpenSCENARIO>
 )");
-  const RunResult r = run_emrm("import " + quoted(dir / "distribution.xosc") + " -o " + quoted(dir / "scene.yaml") +
-                               " --campaign " + quoted(dir / "campaign.yaml") +
-                               " --factor-range speed_kph=90:100:10 --factor-range ttc_s=0.5:1:0.5");
+  const RunResult r =
+      run_emrm("import " + quoted(dir / "distribution.xosc") + " -o " + quoted(dir / "scene.yaml") + " --campaign " +
+               quoted(dir / "campaign.yaml") + " --factor-range speed_kph=90:100:10 --factor-range ttc_s=0.5:1:0.5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("speed_kph sets EgoSpeed"));
   EXPECT_THAT(r.out, HasSubstr("Campaign written to"));
@@ -120,8 +120,9 @@ TEST(ImportCli, ADistributionFileAndFactorRangesMakeACampaignThatSweeps) {
   ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
   EXPECT_THAT(sweep.out, HasSubstr("Swept 4 cells"));
   // Bad ranges and a campaign without its scene: exit 2, nothing written.
-  for (const std::string& bad : {std::string(" --factor-range ttc_s=1:0.5:0.1 -o "), std::string(" --factor-range nope=1:2:1 -o "),
-                                 std::string(" --campaign c.yaml --trace ")}) {
+  for (const std::string& bad :
+       {std::string(" --factor-range ttc_s=1:0.5:0.1 -o "), std::string(" --factor-range nope=1:2:1 -o "),
+        std::string(" --campaign c.yaml --trace ")}) {
     const auto out = dir / "bad";
     const RunResult refused = run_emrm("import " + quoted(dir / "distribution.xosc") + bad + quoted(out));
     EXPECT_EQ(refused.exit_code, 2) << bad << refused.err;

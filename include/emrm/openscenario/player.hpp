@@ -38,6 +38,9 @@ struct PlayOptions {
   ParameterOverrides overrides{};
   /// Called after each step with its states; true ends the play after that step.
   std::function<bool(double t_s, const StepStates& states)> stop_at{};
+  /// Called when a storyboard element starts running, with the time of the step it starts in (the
+  /// time before the step: the sample at that time is the last one without it).
+  std::function<void(double t_s, const std::string& element)> element_started{};
 };
 
 /// Plays `scenario` from t = 0 until `duration_s`, the storyboard's StopTrigger or `stop_at`.

@@ -49,6 +49,7 @@ struct Entity {
   std::string category;  ///< vehicleCategory, pedestrianCategory or miscObjectCategory
   BoundingBox box;
   Performance performance;
+  std::optional<double> mass_kg;  ///< its mass attribute (optional on a Vehicle before 1.1)
   SourceLocation where;
   std::optional<ControllerRef> controller;  ///< its ObjectController, when not esmini's default
 };
@@ -358,19 +359,20 @@ struct Storyboard {
   std::optional<Trigger> stop;
 };
 
-/// A scenario read by load_openscenario (reader.hpp).
-/// A numeric attribute whose whole value is a global parameter (`$name`): the parameter, the
-/// attribute's unit (m, s, m/s, ...; empty for a pure number) and where it is.
+/// An attribute that refers to a global parameter: the parameter, and where. A numeric attribute
+/// whose whole value it is (`$name`) also has the attribute's unit (m, s, m/s, ...); others (an
+/// expression, a text, a pure number) have none.
 struct ParameterUse {
   std::string parameter;
   std::string unit;
   SourceLocation where;
 };
 
+/// A scenario read by load_openscenario (reader.hpp).
 struct Scenario {
   std::filesystem::path file;
   std::vector<Parameter> parameters;  ///< the global declarations, resolved (overrides applied)
-  std::vector<ParameterUse> uses;     ///< in document order (units of the parameters, emrm import)
+  std::vector<ParameterUse> uses;     ///< in document order (the parameters that matter, their units)
   ParameterOverrides overrides;       ///< those it was read with
   std::vector<Entity> entities;
   /// The entity emrm drives: ReadOptions::ego, else default_ego's choice; empty when there is none.
@@ -380,6 +382,9 @@ struct Scenario {
   std::shared_ptr<const RoadAccess> roads;                ///< the player's view of `network`
 
   [[nodiscard]] const Entity* find_entity(const std::string& name) const;
+  /// The names of the storyboard's elements (stories, acts, maneuver groups, maneuvers, events,
+  /// actions), in document order.
+  [[nodiscard]] std::vector<std::string> element_names() const;
 };
 
 }  // namespace emrm::openscenario

@@ -66,6 +66,10 @@ struct ScenarioFamilyInfo {
   /// Optional: the lanes of the road across its drivable width, for the exports (their widths add up
   /// to it). Unset: one driving lane over the whole width.
   std::function<std::vector<RoadLane>(const SceneConfig&)> lanes = nullptr;
+  /// Optional: checks what a scene file's family settings name against what they name it in (an
+  /// imported scenario's parameters and storyboard elements); throws core::ConfigError at the field.
+  /// load_scene_config calls it, so the error names the scene file's line and column.
+  std::function<void(const SceneConfig&)> check_scene = nullptr;
   /// Whether the results derived for the T-junction's geometry hold for this family: the
   /// unavoidability certificate (certificate.hpp), the exports and `assess`. Without the certificate
   /// a family's unavoidable cells stay `undecided`.

@@ -52,6 +52,10 @@ struct OpenScenarioConfig {
   std::vector<ImportedFactor> factors;
   /// How long the storyboard is played looking for the threat onset.
   double onset_search_s = 60.0;
+  /// A storyboard element (event, action, maneuver, act, ...) at whose start the strategies take
+  /// over, whatever the TTC then (the cell's ttc_s does not move it). Empty: the onset is where the
+  /// ego's TTC first falls to the cell's.
+  std::string handover;
   /// What lies beyond each edge of the drivable area (OpenDRIVE draws no guardrail into the lanes).
   Roadside right_roadside = Roadside::kBarrier;
   Roadside left_roadside = Roadside::kBarrier;
@@ -63,6 +67,7 @@ struct OpenScenarioConfig {
     EMRM_FIELD(a, speed_parameter);
     EMRM_FIELD(a, factors);
     EMRM_FIELD(a, onset_search_s, core::positive);
+    EMRM_FIELD(a, handover);
     EMRM_FIELD(a, right_roadside);
     EMRM_FIELD(a, left_roadside);
     a.ensure(!ego.empty(), "ego", "expected the name of the entity the EMRM drives, got an empty one");

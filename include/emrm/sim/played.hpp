@@ -58,6 +58,10 @@ struct Onset {
 [[nodiscard]] std::optional<Onset> threat_onset(const PlayedScenario& played, double ttc_s, double ego_length_m,
                                                 double ego_width_m);
 
+/// The hand-over at a given step (a storyboard element's start): the hazard is the road user with
+/// the least TTC then, else (none on a collision course, ttc_s infinite) the nearest one.
+[[nodiscard]] Onset onset_at(const PlayedScenario& played, std::size_t step, double ego_length_m, double ego_width_m);
+
 /// The cell's layout from the onset on, in the road frame of `road` shifted along it so that the
 /// ego's front bumper is at x = 0 at the onset: the hazard first, then the others in their order, on
 /// tracks; the ego in its place across the road at its speed then. `ego_cg_to_front_m` places the

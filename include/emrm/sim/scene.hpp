@@ -229,7 +229,10 @@ struct SceneConfig {
     if (!core::writes_file<A> || family == "highway_obstacle") EMRM_FIELD(a, highway);
     if (!core::writes_file<A> || family == "pedestrian_crossing") EMRM_FIELD(a, crossing);
     if (!core::writes_file<A> || family == "cut_in") EMRM_FIELD(a, cut_in);
-    if (family == "openscenario") EMRM_REQUIRED_FIELD(a, openscenario);
+    if (family == "openscenario")
+      EMRM_REQUIRED_FIELD(a, openscenario);
+    else if (!core::writes_file<A>)  // every field for Python's attributes and the checks
+      EMRM_FIELD(a, openscenario);
     EMRM_FIELD(a, max_initial_distance_m, core::positive);
     // Checked last: it depends on the road and on the ego's width, which must be sane first. The
     // whole car must start on the drivable area, or every run would begin with a road departure.

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/openscenario/family.hpp"
 #include "emrm/openscenario/player.hpp"
 #include "emrm/openscenario/reader.hpp"
 #include "emrm/sim/scene.hpp"
@@ -63,6 +65,56 @@ TEST(ExportedScenario, ACutInExportedByEmrmPlaysItsOwnTrajectoriesBack) {
               }
             }
   EXPECT_GE(followed, 2);  // the ego and the cutting car
+}
+
+// A cell exported with `emrm export` and imported again, in a scene with the same car, simulation
+// and road edges, handed over where the export starts (its story's start, t = 0), gives the same
+// outcome: the same initial gap, hazard mass, region and braking.
+TEST(ExportedScenario, ACellExportedAndImportedAgainHasTheSameOutcome) {
+  const Registration registration;
+  const sim::SceneConfig original =
+      sim::load_scene_config(std::string(EMRM_SOURCE_DIR) + "/examples/highway_obstacle/scene.yaml");
+  const sim::FactorTable factors = sim::scenario_factors(original);
+  for (const auto& [speed_kph, ttc_s, obstacle] : {std::tuple{100.0, 1.2, "truck"}, std::tuple{80.0, 2.0, "deer"}}) {
+    sim::CellInput cell = factors.defaults();
+    cell[sim::kEgoSpeedFactor] = speed_kph;
+    cell[sim::kTtcFactor] = ttc_s;
+    cell[*factors.find("obstacle")] = factors[*factors.find("obstacle")].parse(obstacle);
+    const auto dir = emrm::test::scratch_dir("openscenario", std::string("round_trip_") + obstacle);
+    const auto files = exchange::export_cell(dir, original, cell, nullptr, {});
+    const auto xosc = *std::find_if(files.begin(), files.end(), [](const auto& f) { return f.extension() == ".xosc"; });
+
+    sim::SceneConfig imported = scene_of(xosc);
+    EXPECT_TRUE(imported.openscenario.factors.empty());  // the export's parameters are only informational
+    EXPECT_EQ(imported.ego.mass_kg, original.ego.mass_kg);
+    imported.ego = original.ego;
+    imported.simulation = original.simulation;
+    imported.actuation = original.actuation;
+    imported.severity = original.severity;
+    imported.planner = original.planner;
+    imported.safe_state = original.safe_state;
+    imported.max_initial_distance_m = original.max_initial_distance_m;
+    // The export starts at the hand-over: its story starts at t = 0.
+    imported.openscenario.handover = load_openscenario(xosc).element_names().front();
+    sim::CellInput again = sim::scenario_factors(imported).defaults();
+    again[sim::kEgoSpeedFactor] = speed_kph;
+    again[sim::kTtcFactor] = 10.0;
+    again[sim::kFrictionFactor] = cell[sim::kFrictionFactor];
+
+    const sim::Scene before(original, cell);
+    const sim::Scene after(imported, again);
+    ASSERT_TRUE(after.feasible()) << after.infeasible_reason();
+    EXPECT_NEAR(after.initial_distance_m(), before.initial_distance_m(), 0.01) << obstacle;
+    EXPECT_NEAR(after.hazard().body().mass_kg, before.hazard().body().mass_kg, 1e-9) << obstacle;
+    const sim::CellResult a = sim::simulate_cell(original, cell, {});
+    const sim::CellResult b = sim::simulate_cell(imported, again, {});
+    EXPECT_EQ(b.region, a.region) << obstacle;
+    ASSERT_EQ(a.strategies.front().strategy, "emergency_stop");
+    ASSERT_EQ(b.strategies.front().strategy, "emergency_stop");
+    EXPECT_EQ(b.strategies.front().avoided, a.strategies.front().avoided) << obstacle;
+    EXPECT_NEAR(b.strategies.front().impact.impact_speed_mps, a.strategies.front().impact.impact_speed_mps, 0.3)
+        << obstacle;
+  }
 }
 
 }  // namespace

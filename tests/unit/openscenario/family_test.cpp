@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -124,6 +126,61 @@ TEST(ImportedFamily, ACellWhoseValuesTheStoryboardDoesNotTakeIsInfeasibleAndSays
   EXPECT_FALSE(result.feasible);
   // The declared values still play.
   EXPECT_TRUE(sim::Scene(scene, factors.defaults()).layout().infeasible.empty());
+}
+
+TEST(ImportedFamily, ANamedStoryboardElementIsTheHandOver) {
+  const Registration registration;
+  const sim::SceneConfig scene = sim::load_scene_config(kExample + "/scene.yaml");
+  // A TTC of 3 s is reached while the car still drifts across; at the start of its braking it is in
+  // the ego's lane, and the TTC no longer moves the hand-over.
+  const sim::CellInput cell{100.0, 3.0, 1.0, 20.0 / 3.6, 2.0};
+  const sim::Scene early(scene, cell);
+  ASSERT_TRUE(early.feasible()) << early.infeasible_reason();
+  EXPECT_LT(early.hazard_at(0.0).velocity_mps.y, -0.1);
+  sim::SceneConfig braking = scene;
+  braking.openscenario.handover = "BrakeEvent";
+  const sim::Scene armed(braking, cell);
+  ASSERT_TRUE(armed.feasible()) << armed.infeasible_reason();
+  EXPECT_EQ(armed.hazard().body().name, "CutIn");
+  EXPECT_NEAR(armed.hazard_at(0.0).velocity_mps.y, 0.0, 1e-6);
+  EXPECT_LT(armed.hazard_at(0.5).velocity_mps.x, armed.hazard_at(0.0).velocity_mps.x);  // braking
+  const sim::Scene later(braking, sim::CellInput{100.0, 0.5, 1.0, 20.0 / 3.6, 2.0});
+  EXPECT_EQ(later.initial_distance_m(), armed.initial_distance_m());
+  // An element that never starts within the search makes the cell infeasible, saying so.
+  sim::SceneConfig never = braking;
+  never.openscenario.onset_search_s = 0.5;
+  const sim::Scene s(never, cell);
+  EXPECT_FALSE(s.feasible());
+  EXPECT_THAT(s.infeasible_reason(), HasSubstr("'BrakeEvent' (openscenario.handover) does not start"));
+}
+
+TEST(ImportedFamily, ASceneNamingWhatTheScenarioDoesNotHaveIsRefusedAtTheField) {
+  const Registration registration;
+  const auto dir = std::filesystem::temp_directory_path() / "emrm-imported-family-names";
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const std::string& block) {
+    const auto file = dir / "scene.yaml";
+    std::ofstream(file) << "family: openscenario\nopenscenario:\n  file: " << kExample << "/cut_in.xosc\n" << block;
+    return file;
+  };
+  const auto refused = [&](const std::string& block) {
+    try {
+      (void)sim::load_scene_config(write(block));
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "expected an InputError for " << block;
+    return InputError({}, "none");
+  };
+  InputError e = refused("  handover: NoSuchEvent\n");
+  EXPECT_THAT(e.message(), HasSubstr("'NoSuchEvent' is no storyboard element of cut_in.xosc"));
+  EXPECT_EQ(e.where().line, 4);
+  e = refused("  factors:\n    - {parameter: Nope}\n");
+  EXPECT_THAT(e.message(), HasSubstr("'Nope' is no numeric parameter cut_in.xosc declares"));
+  EXPECT_EQ(e.where().line, 5);
+  e = refused("  speed_parameter: Speed\n");
+  EXPECT_EQ(e.where().line, 4);
+  EXPECT_NO_THROW((void)sim::load_scene_config(write("  handover: CutInLaneChange\n")));
 }
 
 }  // namespace

@@ -151,7 +151,8 @@ TEST(ImportScenario, ADistributionOfAnUndeclaredOrTextParameterIsRefusedAtItsEle
       <DeterministicSingleParameterDistribution parameterName="EgoSpeed">
         <DistributionSet><Element value="0"/></DistributionSet>
       </DeterministicSingleParameterDistribution>)");
-  EXPECT_THAT(emrm::testing::input_error_of([&] { (void)import_scenario(zero); }, "zero").message(), HasSubstr("speed_kph"));
+  EXPECT_THAT(emrm::testing::input_error_of([&] { (void)import_scenario(zero); }, "zero").message(),
+              HasSubstr("speed_kph"));
   const auto text = distribution("text", R"(
       <DeterministicSingleParameterDistribution parameterName="CutInGap">
         <DistributionSet><Element value="near"/></DistributionSet>
