@@ -32,6 +32,7 @@ ParameterDistribution load_parameter_distribution(const std::filesystem::path& f
   out.file = file;
   const xml::Element scenario = distribution->required_child("ScenarioFile");
   out.scenario_file = file.parent_path() / scenario.required("filepath");
+  out.scenario_where = scenario.where();
   if (const auto stochastic = distribution->child("Stochastic"))
     stochastic->fail("Stochastic is not supported (supported: Deterministic)");
   const xml::Element deterministic = distribution->required_child("Deterministic");

@@ -175,6 +175,10 @@ ImportedScenario import_scenario(const std::filesystem::path& file, const Import
     out.scene = scene_of(path, choices);
   } else {
     const ParameterDistribution d = load_parameter_distribution(path);
+    if (std::error_code ec; !std::filesystem::is_regular_file(d.scenario_file, ec))
+      throw InputError(d.scenario_where, fmt::format("ScenarioFile: expected the scenario the distribution varies, but "
+                                                     "'{}' is not a file",
+                                                     d.scenario_file.string()));
     const std::vector<std::string> varied = varied_parameters(d, declared_parameters(d.scenario_file));
     ImportChoices chosen = choices;
     if (chosen.factors.empty()) {

@@ -40,6 +40,7 @@ struct ValueSets {
 struct ParameterDistribution {
   std::filesystem::path file;           ///< the distribution file
   std::filesystem::path scenario_file;  ///< ScenarioFile filepath, relative paths against the file's folder
+  SourceLocation scenario_where;        ///< the ScenarioFile element
   std::vector<SingleParameterValues> single;
   std::vector<ValueSets> multi;
 };

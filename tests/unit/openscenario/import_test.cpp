@@ -143,6 +143,12 @@ TEST(ImportScenario, ADistributionOfAnUndeclaredOrTextParameterIsRefusedAtItsEle
       <DeterministicSingleParameterDistribution parameterName="NoSuch">
         <DistributionSet><Element value="1"/></DistributionSet>
       </DeterministicSingleParameterDistribution>)");
+  // A scenario file that is not there: at the ScenarioFile element.
+  std::filesystem::remove(undeclared.parent_path() / "cut_in.xosc");
+  const InputError missing = emrm::testing::input_error_of([&] { (void)import_scenario(undeclared); }, "missing");
+  EXPECT_THAT(missing.message(), HasSubstr("ScenarioFile: expected the scenario the distribution varies"));
+  EXPECT_EQ(missing.where().line, 5);
+  std::filesystem::copy_file(kExample / "cut_in.xosc", undeclared.parent_path() / "cut_in.xosc");
   const InputError e = emrm::testing::input_error_of([&] { (void)import_scenario(undeclared); }, "undeclared");
   EXPECT_THAT(e.message(), HasSubstr("the distribution varies 'NoSuch', which cut_in.xosc does not declare"));
   EXPECT_EQ(e.where().line, 8);  // the distribution element, after the blank line the body opens with
