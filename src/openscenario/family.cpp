@@ -41,11 +41,6 @@ std::shared_ptr<const Scenario> base_scenario(const std::string& file, const std
   return slot;
 }
 
-bool numeric(ParameterType type) {
-  return type == ParameterType::kDouble || type == ParameterType::kInt || type == ParameterType::kUnsignedInt ||
-         type == ParameterType::kUnsignedShort;
-}
-
 const Parameter* find_parameter(const Scenario& scenario, const std::string& name) {
   for (const Parameter& p : scenario.parameters)
     if (p.name == name) return &p;
@@ -136,9 +131,10 @@ sim::FactorTable scenario_factors(const sim::SceneConfig& config) {
   if (o.file.empty()) return sim::FactorTable(sim::method_factors(kDefaultSpeed_kph, kDefaultTtc_s, 1.0));
   const auto scenario = base_scenario(o.file, o.ego);
   const SpeedAction* init = init_speed(*scenario, o.ego);
-  double speed_kph = init != nullptr ? init->value * 3.6 : 0.0;
+  double speed_kph = init != nullptr ? init->value * sim::kKphPerMps : 0.0;
   if (!o.speed_parameter.empty())
-    if (const Parameter* p = find_parameter(*scenario, o.speed_parameter)) speed_kph = std::stod(p->value) * 3.6;
+    if (const Parameter* p = find_parameter(*scenario, o.speed_parameter))
+      speed_kph = std::stod(p->value) * sim::kKphPerMps;
   std::vector<sim::Factor> factors =
       sim::method_factors(speed_kph > 0.0 ? speed_kph : kDefaultSpeed_kph, kDefaultTtc_s, 1.0);
   for (const sim::ImportedFactor& f : o.factors) {
@@ -300,7 +296,7 @@ sim::SceneLayout play_cell(const sim::SceneConfig& config, const sim::CellInput&
   ParameterOverrides overrides;
   for (std::size_t i = 0; i < o.factors.size(); ++i)
     overrides[o.factors[i].parameter] = fmt::format("{:.17g}", cell[sim::kMethodFactors + i]);
-  const double speed_mps = cell.ego_speed_kph() / 3.6;
+  const double speed_mps = cell.ego_speed_kph() / sim::kKphPerMps;
   if (!o.speed_parameter.empty()) overrides[o.speed_parameter] = fmt::format("{:.17g}", speed_mps);
   const double horizon_s = config.simulation.horizon_s;
   PlayOptions options;

@@ -17,8 +17,6 @@
 namespace emrm::openscenario {
 namespace {
 
-constexpr double kKphPerMps = 3.6;
-
 std::optional<double> number_of(std::string_view text) {
   double value = 0.0;
   while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
@@ -26,11 +24,6 @@ std::optional<double> number_of(std::string_view text) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
   return value;
-}
-
-bool numeric(ParameterType type) {
-  return type == ParameterType::kDouble || type == ParameterType::kInt || type == ParameterType::kUnsignedInt ||
-         type == ParameterType::kUnsignedShort;
 }
 
 // The parameters a distribution varies, in the order it names them; each once, declared by the
@@ -67,7 +60,7 @@ struct FactorOf {
 };
 
 FactorOf factor_of(const sim::SceneConfig& scene, const std::string& parameter) {
-  if (parameter == scene.openscenario.speed_parameter) return {"speed_kph", kKphPerMps};
+  if (parameter == scene.openscenario.speed_parameter) return {"speed_kph", sim::kKphPerMps};
   return {parameter, 1.0};
 }
 

@@ -72,6 +72,11 @@ std::string_view type_name(ParameterType type) noexcept {
   return "string";
 }
 
+bool numeric(ParameterType type) noexcept {
+  return type == ParameterType::kDouble || type == ParameterType::kInt || type == ParameterType::kUnsignedInt ||
+         type == ParameterType::kUnsignedShort;
+}
+
 ParameterType parse_type(std::string_view name, const SourceLocation& where) {
   for (const auto& [t, spelled] : kTypeNames)
     if (spelled == name) return t;

@@ -20,6 +20,9 @@ enum class ParameterType { kDouble, kInt, kUnsignedInt, kUnsignedShort, kString,
 [[nodiscard]] std::string_view type_name(ParameterType type) noexcept;
 /// The type a spelling names; throws InputError at `where` when there is none.
 [[nodiscard]] ParameterType parse_type(std::string_view name, const SourceLocation& where);
+/// Whether parameters of the type are numbers (double, int, unsignedInt, unsignedShort): those a
+/// scene may make factors.
+[[nodiscard]] bool numeric(ParameterType type) noexcept;
 
 /// Values from outside (the factors of a cell), by parameter name: numbers or texts. An override
 /// replaces the declared default before anything refers to it.
