@@ -15,7 +15,7 @@
 #include "input_error.hpp"
 #include "scratch.hpp"
 
-namespace emrm::openscenario {
+namespace emrm::openscenario::import_test {  // its own names in the unity build
 namespace {
 
 using ::testing::ElementsAre;
@@ -168,4 +168,4 @@ TEST(ImportScenario, ADistributionOfAnUndeclaredOrTextParameterIsRefusedAtItsEle
 }
 
 }  // namespace
-}  // namespace emrm::openscenario
+}  // namespace emrm::openscenario::import_test
