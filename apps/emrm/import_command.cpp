@@ -102,8 +102,8 @@ void register_import_command(CLI::App& app, int& exit_code) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--ego", o->ego, "The entity the EMRM drives (default: Ego, ego or hero, else the first vehicle)");
   cmd->add_option("--factors", o->factors,
-                  "The declared numeric parameters the scene makes factors, comma-separated (default: every one; "
-                  "at most 5)")
+                  "The declared numeric parameters the scene makes factors, comma-separated (default: every one the "
+                  "scenario refers to; at most 5)")
       ->delimiter(',');
   cmd->add_option_function<std::vector<std::string>>(
       "--factor-range",

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -74,14 +73,9 @@ std::string unit_of(const Scenario& scenario, const std::string& parameter) {
 bool referenced(const Scenario& scenario, const std::string& parameter) {
   for (const ParameterUse& use : scenario.uses)
     if (use.parameter == parameter) return true;
-  for (const Parameter& p : scenario.parameters) {
-    const std::string& text = p.default_text;
-    for (std::size_t i = text.find("$" + parameter); i != std::string::npos; i = text.find("$" + parameter, i + 1)) {
-      const std::size_t end = i + 1 + parameter.size();
-      if (end == text.size() || (std::isalnum(static_cast<unsigned char>(text[end])) == 0 && text[end] != '_'))
-        return true;
-    }
-  }
+  for (const Parameter& p : scenario.parameters)
+    for (const std::string_view name : parameter_references(p.default_text))
+      if (name == parameter) return true;
   return false;
 }
 

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <set>
 
@@ -16,15 +15,6 @@
 
 namespace emrm::openscenario {
 namespace {
-
-std::optional<double> number_of(std::string_view text) {
-  double value = 0.0;
-  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
 
 // The parameters a distribution varies, in the order it names them; each once, declared by the
 // scenario and numeric (InputError at the distribution element otherwise).
@@ -90,7 +80,7 @@ void add_distribution(const ParameterDistribution& d, const sim::FactorTable& ta
     } else {
       std::vector<double> values;
       for (const std::string& text : std::get<std::vector<std::string>>(s.values)) {
-        const auto v = number_of(text);
+        const auto v = parse_number(text);
         if (!v) throw InputError(s.where, fmt::format("{}: expected a number, got '{}'", s.parameter, text));
         values.push_back(*v * f.scale);
       }
@@ -111,7 +101,7 @@ void add_distribution(const ParameterDistribution& d, const sim::FactorTable& ta
         auto joined = before;
         for (const auto& [parameter, text] : set) {
           const FactorOf f = factor_of(out.scene, parameter);
-          const auto v = number_of(text);
+          const auto v = parse_number(text);
           if (!v) throw InputError(m.where, fmt::format("{}: expected a number, got '{}'", parameter, text));
           const sim::Factor& factor = table[*table.find(f.key)];
           if (!factor.accepts(*v * f.scale)) throw InputError(m.where, factor.refusal(*v * f.scale));
@@ -150,7 +140,7 @@ FactorSweep parse_factor_range(const std::string& text) {
   std::vector<double> parts;
   std::string_view rest = std::string_view(text).substr(eq + 1);
   for (std::size_t colon = rest.find(':');; colon = rest.find(':')) {
-    const auto v = number_of(rest.substr(0, colon));
+    const auto v = parse_number(rest.substr(0, colon));
     if (!v) throw fail();
     parts.push_back(*v);
     if (colon == std::string_view::npos) break;

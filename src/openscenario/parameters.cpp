@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <utility>
@@ -70,6 +71,31 @@ std::string_view type_name(ParameterType type) noexcept {
   for (const auto& [t, name] : kTypeNames)
     if (t == type) return name;
   return "string";
+}
+
+std::string_view trim_spaces(std::string_view text) noexcept {
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  return text;
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  text = trim_spaces(text);
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+std::vector<std::string_view> parameter_references(std::string_view text) {
+  const auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+  std::vector<std::string_view> out;
+  for (std::size_t i = text.find('$'); i != std::string_view::npos; i = text.find('$', i + 1)) {
+    std::size_t end = i + 1;
+    while (end < text.size() && identifier(text[end])) ++end;
+    if (end > i + 1) out.push_back(text.substr(i + 1, end - i - 1));
+  }
+  return out;
 }
 
 bool numeric(ParameterType type) noexcept {

@@ -4,8 +4,6 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
-#include <charconv>
 #include <cmath>
 
 #include "emrm/openscenario/supported.hpp"
@@ -30,12 +28,7 @@ std::optional<std::string> ReadContext::optional_text(const xml::Element& e, std
 }
 
 void ReadContext::record_references(std::string_view text, const SourceLocation& where) const {
-  const auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; };
-  for (std::size_t i = text.find('$'); i != std::string_view::npos; i = text.find('$', i + 1)) {
-    std::size_t end = i + 1;
-    while (end < text.size() && identifier(text[end])) ++end;
-    const std::string_view parameter = text.substr(i + 1, end - i - 1);
-    if (parameter.empty()) continue;
+  for (const std::string_view parameter : parameter_references(text)) {
     const Parameter* p = scope_.find(parameter);
     if (p != nullptr && p == global_->find(parameter)) uses_->push_back({std::string(parameter), "", where});
   }
@@ -44,9 +37,7 @@ void ReadContext::record_references(std::string_view text, const SourceLocation&
 std::optional<std::string> ReadContext::parameter_of(const xml::Element& e, std::string_view name) const {
   const auto raw = e.attribute(name);
   if (!raw || global_ == nullptr) return std::nullopt;
-  std::string_view text = *raw;
-  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  const std::string_view text = trim_spaces(*raw);
   if (text.size() < 2 || text.front() != '$' || text[1] == '{') return std::nullopt;
   const std::string_view parameter = text.substr(1);
   const Parameter* p = scope_.find(parameter);
@@ -63,14 +54,11 @@ std::optional<double> ReadContext::optional_number(const xml::Element& e, std::s
                                                    double low, double high) const {
   const auto value = optional_text(e, name);
   if (!value) return std::nullopt;
-  double number = 0.0;
-  std::string_view text = *value;
-  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(number))
+  const std::optional<double> parsed = parse_number(*value);
+  if (!parsed)
     e.fail(name, fmt::format("{}: expected a number{}, got '{}'", name, unit.empty() ? "" : fmt::format(" ({})", unit),
                              *value));
+  const double number = *parsed;
   if (number < low || number > high)
     e.fail(name, fmt::format("{}: expected a value in [{}, {}]{}, got {}", name, low, high,
                              unit.empty() ? "" : fmt::format(" {}", unit), number));

@@ -32,10 +32,6 @@ Track::Sample in_road_frame(const Track::Sample& p, const StraightRoad& road, do
   return {d.dot(along) - shift_m, d.dot(across), core::wrap_angle(p.heading_rad - road.heading_rad), p.speed_mps};
 }
 
-}  // namespace
-
-namespace {
-
 // The road user with the least TTC at step k, if any has one within `ttc_s`.
 std::optional<Onset> least_ttc_at(const PlayedScenario& played, std::size_t k, double ttc_s, double ego_length_m,
                                   double ego_width_m) {

@@ -5,6 +5,7 @@
 // catalog entry whose parent is the scope the reference was read in.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,13 @@ enum class ParameterType { kDouble, kInt, kUnsignedInt, kUnsignedShort, kString,
 [[nodiscard]] std::string_view type_name(ParameterType type) noexcept;
 /// The type a spelling names; throws InputError at `where` when there is none.
 [[nodiscard]] ParameterType parse_type(std::string_view name, const SourceLocation& where);
+/// The text without the spaces around it.
+[[nodiscard]] std::string_view trim_spaces(std::string_view text) noexcept;
+/// A finite number written as the whole text, spaces around it allowed; none otherwise.
+[[nodiscard]] std::optional<double> parse_number(std::string_view text);
+/// The parameter names `text` refers to, in order: each `$name`, also inside `${...}`.
+[[nodiscard]] std::vector<std::string_view> parameter_references(std::string_view text);
+
 /// Whether parameters of the type are numbers (double, int, unsignedInt, unsignedShort): those a
 /// scene may make factors.
 [[nodiscard]] bool numeric(ParameterType type) noexcept;

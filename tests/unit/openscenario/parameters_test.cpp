@@ -148,5 +148,14 @@ TEST(OpenScenarioParameters, AnExpressionErrorInADocumentNamesItsLineAndColumn) 
   EXPECT_EQ(e.where().column, static_cast<int>(at - line_start) + 1) << e.what();
 }
 
+TEST(ParameterText, NumbersAndReferencesAreReadFromTheWholeText) {
+  EXPECT_EQ(parse_number(" 1.5 "), 1.5);
+  for (const std::string_view bad : {"", "1x", "nan", "inf", "1 2", "$A"})
+    EXPECT_FALSE(parse_number(bad).has_value()) << bad;
+  EXPECT_EQ(parameter_references("${$A - $B_2 * 2} $ $$C"), (std::vector<std::string_view>{"A", "B_2", "C"}));
+  EXPECT_TRUE(parameter_references("3.5").empty());
+  EXPECT_EQ(trim_spaces("  a b "), "a b");
+}
+
 }  // namespace
 }  // namespace emrm::openscenario
