@@ -104,7 +104,7 @@ class PlannerConfig(_Part):
     max_duration_s: Final[float]
     goal_bias: Final[float]
     restarts: Final[int]
-    plausible_miss_m: Final[float]
+    falsifier_evaluations: Final[int]
 
 class RoadsideConfig(_Part):
     type: Final[str]

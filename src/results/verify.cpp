@@ -316,6 +316,9 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     if (r.evidence == campaign::CellEvidence::kUndecided) ++report.undecided;
     if (r.evidence == campaign::CellEvidence::kCertificate && r.certificate.empty())
       fail("", "evidence 'certificate' without one");
+    // "Nothing below the reference's L4" is a proof only when no avoidance exists either.
+    if (r.mitigation_evidence == sim::MitigationEvidence::kProof && r.evidence != campaign::CellEvidence::kCertificate)
+      fail("", "mitigation evidence 'proof' without a certificate that nothing avoids");
     if (!r.certificate.empty()) {
       const std::string where = fmt::format("{}: cell {}#{} certificate", results_sqlite.string(), r.grid, r.index);
       nlohmann::json json;

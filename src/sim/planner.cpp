@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "emrm/core/registry.hpp"
+#include "emrm/sim/falsifier.hpp"
 
 namespace emrm::sim {
 namespace {
@@ -12,7 +13,8 @@ using PlannerPtr = std::shared_ptr<const Planner>;
 
 core::Registry<PlannerPtr>& planner_registry() {
   static core::Registry<PlannerPtr> planners("planner",
-                                             {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>()},
+                                             {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>(),
+                                              std::make_shared<FalsifierPlanner>()},
                                              [](const PlannerPtr& p) { return p->name(); });
   return planners;
 }

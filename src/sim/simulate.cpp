@@ -15,6 +15,7 @@
 #include "emrm/core/text.hpp"
 #include "emrm/fsm/load.hpp"
 #include "emrm/fsm/operations.hpp"
+#include "emrm/sim/falsifier.hpp"
 #include "emrm/sim/strategy.hpp"
 
 namespace emrm::sim {
@@ -104,14 +105,14 @@ const StrategyInfo* most_permissive_search(const StrategyTable& strategies) {
   return nullptr;
 }
 
-// More search where the first found no avoidance: the reference planner (deterministic), then,
-// where avoidance is plausible (some rollout came within planner.plausible_miss_m of squeezing past
-// the truck's front, or got past it), restarts of the strategy's planner with seeds that depend on
-// the cell alone (not on the campaign's seed). An avoidance any of them finds is replayed into the
-// strategy's outcome.
+// More search where the first found no avoidance and nothing proves that none exists: the
+// falsifier (deterministic: the reference grid, then trajectory optimisation from the nearest misses
+// and from the searches' own least-loss failures, `hints`), then restarts of the strategy's planner
+// with seeds that depend on the cell alone (not on the campaign's seed). An avoidance any of them
+// finds is replayed into the strategy's outcome.
 std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const VehicleModel& model,
                                                    const StrategyInfo& info, const ImpactAssessment& unmitigated,
-                                                   PlannerStats& stats) {
+                                                   const std::vector<Maneuver>& hints, PlannerStats& stats) {
   const PlannerConfig& budget = scene.config().planner;
   const auto found = [&](const PlanResult& plan) -> std::optional<StrategyOutcome> {
     stats.nodes += plan.stats.nodes;
@@ -121,13 +122,7 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
     if (!plan.avoidance) return std::nullopt;
     return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
   };
-  double closest_miss_m = 0.0;  // without a reference planner, every cell counts as plausible
-  if (const Planner* reference = find_planner("reference"); reference != nullptr && info.planner != "reference") {
-    const PlanResult plan = reference->plan({scene, model, info.limits, 0, false});
-    if (auto outcome = found(plan)) return outcome;
-    closest_miss_m = plan.closest_miss_m;
-  }
-  if (!(closest_miss_m <= budget.plausible_miss_m)) return std::nullopt;
+  if (auto outcome = found(falsify(scene, model, info.limits, hints))) return outcome;
   const Planner* own = find_planner(info.planner);
   if (own == nullptr) return std::nullopt;
   const CellInput& c = scene.cell();
@@ -232,8 +227,13 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   if (options.strengthen && at_risk && !certified && !any_avoided()) {
     if (const StrategyInfo* permissive = most_permissive_search(strategies)) {
       result.strengthened = true;
+      std::vector<Maneuver> hints;  // the searches' least-loss failures
+      for (const auto& entry : strategies.entries())
+        if (const auto it = outcomes.find(entry.info.name);
+            it != outcomes.end() && !entry.info.planner.empty() && !it->second.maneuver.plan.empty())
+          hints.push_back(it->second.maneuver);
       StrategyOutcome& current = outcomes.at(permissive->name);
-      if (auto found = strengthened_search(scene, *model, *permissive, result.unmitigated, current.planner)) {
+      if (auto found = strengthened_search(scene, *model, *permissive, result.unmitigated, hints, current.planner)) {
         found->planner = current.planner;
         found->fsm_trace = trace_for(true);
         share_avoidance(strategies, *permissive, *found, outcomes, trace_for(true));
@@ -262,9 +262,11 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
   if (result.region == Region::kO || result.region == Region::kR) {
     result.evidence = certified ? Evidence::kCertificate : Evidence::kUndecided;
     if (!certified && options.certify) result.no_certificate = no_certificate_bound(config).value_or("");
-    result.mitigation_evidence = result.region == Region::kO          ? MitigationEvidence::kWitness
-                                 : result.unmitigated.loss_level <= 4 ? MitigationEvidence::kProof
-                                                                      : MitigationEvidence::kSearch;
+    // "Nothing scores below the reference" is a proof at L4 only when no avoidance (L0) exists
+    // either, which needs the certificate; without one it rests on the search.
+    result.mitigation_evidence = result.region == Region::kO                      ? MitigationEvidence::kWitness
+                                 : certified && result.unmitigated.loss_level <= 4 ? MitigationEvidence::kProof
+                                                                                   : MitigationEvidence::kSearch;
   }
   result.strategies.reserve(options.strategies.size());
   for (const auto& name : options.strategies) result.strategies.push_back(outcomes.at(name));
