@@ -95,7 +95,8 @@ std::string controller_vs_oracle_note(const std::vector<campaign::CellRecord>& c
   return fmt::format(
       "`{}` is a controller: it chooses from its own predictions (the stop rolled out, the evasive strategies "
       "planned with the on-board budget, scene.controller) and is judged on what its maneuver does; `{}`, the "
-      "oracle, is the best simulated outcome of the strategies EMRM may choose, in hindsight. Their outcomes "
+      "oracle, is the best simulated outcome of the strategies EMRM may choose and of the controller, in "
+      "hindsight. Their outcomes "
       "differ in {} of {} cells ({} %): in {} only the oracle avoids, in {} only the controller does.",
       c.controller, c.oracle, c.differ, c.cells, format_number(c.pct(c.differ), 1), c.only_oracle_avoids,
       c.only_controller_avoids);
