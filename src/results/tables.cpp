@@ -158,8 +158,7 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   row("Mean impact speed, collisions only (km/h)", 1, 1, &StrategyKpis::mean_impact_speed_collisions_kph, nullptr);
   row("Mean minimum TTC (s)", 2, 2, &StrategyKpis::mean_min_ttc_s, nullptr);
   // How far each column is from the best outcome in hindsight (the oracle's own column reads 0).
-  const auto beside_oracle = [](const StrategyKpis& k) { return k.beside_oracle > 0; };
-  if (std::any_of(kpis.begin(), kpis.end(), beside_oracle))
+  if (std::any_of(kpis.begin(), kpis.end(), [](const StrategyKpis& k) { return k.beside_oracle > 0; }))
     row("Outcome differs from the oracle's (% of cells)", 1, 0, &StrategyKpis::differs_from_oracle_pct, nullptr);
   const std::string controller_vs_oracle = controller_vs_oracle_note(cells);
 
