@@ -6,6 +6,7 @@
 
 #include "cell_options.hpp"
 #include "commands.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/report/trajectory_figure.hpp"
 #include "emrm/sim/json.hpp"
 #include "emrm/sim/scene.hpp"
@@ -59,8 +60,7 @@ void register_simulate_command(CLI::App& app, int& exit_code) {
                                  "Simulate one scenario cell of the T-junction under every strategy and report\n"
                                  "avoidance, impact, loss level and the cell's region (G, Y, O, R).");
   add_cell_options(cmd, o->cell, true, true);
-  cmd->add_option("--strategy", o->strategies,
-                  "emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm, or all (repeatable)")
+  cmd->add_option("--strategy", o->strategies, core::join(sim::strategy_names(), ", ") + ", or all (repeatable)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the stable JSON form (docs/simulate.md)");
   cmd->add_flag("--timing", o->timing, "Add planner wall-clock times to the JSON (they vary run to run)");

@@ -24,6 +24,7 @@ from ._emrm import (
     ActuationConfig,
     CarBody,
     CellResult,
+    ControllerConfig,
     Error,
     CrossingConfig,
     CutInConfig,
@@ -59,7 +60,7 @@ if TYPE_CHECKING:
 PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
-    "ActuationConfig", "Analysis", "CarBody", "CellResult", "CrossingConfig", "CutInConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",
+    "ActuationConfig", "Analysis", "CarBody", "CellResult", "ControllerConfig", "CrossingConfig", "CutInConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",
     "InputError", "Interrupted", "ObstacleConfig", "Outcome", "Plan", "PlannerConfig", "Results", "RoadConfig", "RoadsideConfig",
     "SafeStateConfig", "Scene", "SeverityConfig", "SimulationConfig", "Trajectory", "TruckConfig",
     "UsageError", "VehicleParams", "__version__", "analyze", "check_covering_array", "check_fsm",

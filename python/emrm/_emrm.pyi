@@ -106,6 +106,9 @@ class PlannerConfig(_Part):
     restarts: Final[int]
     falsifier_evaluations: Final[int]
 
+class ControllerConfig(_Part):
+    max_nodes: Final[int]
+
 class RoadsideConfig(_Part):
     type: Final[str]
     embankment_slope_h: Final[float]
@@ -177,6 +180,7 @@ class Scene(_Part):
     actuation: Final[ActuationConfig]
     severity: Final[SeverityConfig]
     planner: Final[PlannerConfig]
+    controller: Final[ControllerConfig]
     roadside: Final[RoadsideConfig]
     safe_state: Final[SafeStateConfig]
     highway: Final[HighwayConfig]

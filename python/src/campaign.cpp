@@ -298,6 +298,7 @@ py::dict kpi_columns(const std::vector<campaign::CellRecord>& records, const res
   c.add("finite_min_ttc_cells", [](const StrategyKpis& k) { return k.finite_min_ttc; });
   c.add("mitigability_success_pct", [](const StrategyKpis& k) { return k.mitigability_success_pct; });
   c.add("mean_delta_loss", [](const StrategyKpis& k) { return k.mean_delta_loss; });
+  c.add("differs_from_oracle_pct", [](const StrategyKpis& k) { return k.differs_from_oracle_pct; });
   return c.dict();
 }
 

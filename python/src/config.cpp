@@ -182,6 +182,8 @@ void bind_config(py::module_& m) {
                                   "Perception latency, brake and steering actuators (`actuation:`).");
   bind_part<sim::SeverityConfig>(m, "SeverityConfig", "The impact and injury model (`severity:`).");
   bind_part<sim::PlannerConfig>(m, "PlannerConfig", "The RRT planners' budget (`planner:`).");
+  bind_part<sim::ControllerConfig>(m, "ControllerConfig",
+                                   "The EMRM controller's on-board planning budget (`controller:`).");
   bind_part<sim::RoadsideConfig>(m, "RoadsideConfig", "What lies beyond the road's edges (`roadside:`).");
   bind_part<sim::SafeStateConfig>(m, "SafeStateConfig", "When an avoidance counts: the safe state (`safe_state:`).");
   bind_part<sim::HighwayConfig>(

@@ -136,11 +136,12 @@ const campaign::OutcomeRecord* tree_source(const campaign::CellRecord& r, const 
   return nullptr;
 }
 
-// The outcome a panel draws: the chooser's (EMRM's), whose path is what the car would do.
+// The outcome a panel draws: the controller's (EMRM's), whose path is what the car would do (not
+// the oracle's, which picks in hindsight).
 bool is_chooser(std::string_view strategy) {
   const sim::StrategyTable registered = sim::registered_strategies();
   const sim::StrategyInfo* info = registered.info(strategy);
-  return info != nullptr && info->role == sim::StrategyRole::kChooser;
+  return info != nullptr && info->role == sim::StrategyRole::kChooser && !info->hindsight;
 }
 
 // The factors a panel's row names: the T-junction's speed, TTC, friction and passage (its truck's

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "emrm/core/error.hpp"
+#include "emrm/sim/planner.hpp"
+#include "emrm/sim/strategy.hpp"
 #include "emrm/sim/vehicle.hpp"
 
 namespace emrm::results {
@@ -175,11 +177,16 @@ StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std
   k.factor = factor;
   k.level = std::string(level);
   double impact_sum = 0.0, ttc_sum = 0.0, delta_loss_sum = 0.0;
+  const std::string oracle = oracle_strategy();
   for (const auto& cell : records) {
     if (!cell.feasible) continue;
     const campaign::OutcomeRecord* o = cell.outcome(strategy);
     if (o == nullptr) continue;
     ++k.cells;
+    if (const campaign::OutcomeRecord* best = oracle.empty() ? nullptr : cell.outcome(oracle)) {
+      ++k.beside_oracle;
+      if (better_record(*o, *best) || better_record(*best, *o)) ++k.differs_from_oracle;
+    }
     if (o->avoided) {
       ++k.avoided;
     } else {
@@ -202,7 +209,51 @@ StrategyKpis strategy_kpis(const std::vector<campaign::CellRecord>& records, std
   k.mean_impact_speed_collisions_kph = k.collisions == 0 ? kNaN : impact_sum / static_cast<double>(k.collisions);
   k.mean_min_ttc_s = k.finite_min_ttc == 0 ? kNaN : ttc_sum / static_cast<double>(k.finite_min_ttc);
   k.mean_delta_loss = k.cells == 0 ? kNaN : delta_loss_sum / n;
+  k.differs_from_oracle_pct = ratio_pct(k.differs_from_oracle, k.beside_oracle);
   return k;
+}
+
+bool better_record(const campaign::OutcomeRecord& a, const campaign::OutcomeRecord& b) {
+  if (a.avoided != b.avoided) return a.avoided;
+  if (a.avoided) return false;
+  const auto impact = [](const campaign::OutcomeRecord& o) {
+    sim::ImpactAssessment i;
+    i.loss_level = o.loss_level;
+    i.p_fatal = o.p_fatal;
+    i.p_mais3 = o.p_mais3;
+    i.delta_v_mps = o.delta_v_kph / 3.6;
+    return i;
+  };
+  return sim::less_loss(impact(a), impact(b));
+}
+
+std::string oracle_strategy() {
+  for (const auto& entry : sim::registered_strategies().entries())
+    if (entry.info.role == sim::StrategyRole::kChooser && entry.info.hindsight) return entry.info.name;
+  return {};
+}
+
+double OracleComparison::pct(std::size_t n) const noexcept { return ratio_pct(n, cells); }
+
+OracleComparison compare_with_oracle(const std::vector<campaign::CellRecord>& records) {
+  OracleComparison c;
+  c.oracle = oracle_strategy();
+  for (const auto& entry : sim::registered_strategies().entries())
+    if (entry.info.role == sim::StrategyRole::kChooser && !entry.info.hindsight) {
+      c.controller = entry.info.name;
+      break;
+    }
+  if (c.oracle.empty() || c.controller.empty()) return c;
+  for (const auto& r : records) {
+    const campaign::OutcomeRecord* mine = r.feasible ? r.outcome(c.controller) : nullptr;
+    const campaign::OutcomeRecord* best = r.feasible ? r.outcome(c.oracle) : nullptr;
+    if (mine == nullptr || best == nullptr) continue;
+    ++c.cells;
+    if (better_record(*mine, *best) || better_record(*best, *mine)) ++c.differ;
+    c.only_oracle_avoids += best->avoided && !mine->avoided;
+    c.only_controller_avoids += mine->avoided && !best->avoided;
+  }
+  return c;
 }
 
 std::vector<std::string> strategy_names_of(const std::vector<campaign::CellRecord>& records) {

@@ -88,6 +88,20 @@ bool is_chooser(std::string_view s) {
   return info != nullptr && info->role == sim::StrategyRole::kChooser;
 }
 
+// The controller against the oracle over `cells`; empty without both.
+std::string controller_vs_oracle_note(const std::vector<campaign::CellRecord>& cells) {
+  const OracleComparison c = compare_with_oracle(cells);
+  if (c.cells == 0) return {};
+  return fmt::format(
+      "`{}` is a controller: it chooses from its own predictions (the stop rolled out, the evasive strategies "
+      "planned with the on-board budget, scene.controller) and is judged on what its maneuver does; `{}`, the "
+      "oracle, is the best simulated outcome of the strategies EMRM may choose and of the controller, in "
+      "hindsight. Their outcomes "
+      "differ in {} of {} cells ({} %): in {} only the oracle avoids, in {} only the controller does.",
+      c.controller, c.oracle, c.differ, c.cells, format_number(c.pct(c.differ), 1), c.only_oracle_avoids,
+      c.only_controller_avoids);
+}
+
 std::string difference_phrase(double ours, double paper, double tolerance, std::string_view unit) {
   if (std::isnan(ours)) return "no cells of ours";
   const double d = ours - paper;
@@ -143,6 +157,10 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
   row("ΔLoss (avg. level reduction)", 2, 2, &StrategyKpis::mean_delta_loss, &PaperBaselineColumn::delta_loss);
   row("Mean impact speed, collisions only (km/h)", 1, 1, &StrategyKpis::mean_impact_speed_collisions_kph, nullptr);
   row("Mean minimum TTC (s)", 2, 2, &StrategyKpis::mean_min_ttc_s, nullptr);
+  // How far each column is from the best outcome in hindsight (the oracle's own column reads 0).
+  if (std::any_of(kpis.begin(), kpis.end(), [](const StrategyKpis& k) { return k.beside_oracle > 0; }))
+    row("Outcome differs from the oracle's (% of cells)", 1, 0, &StrategyKpis::differs_from_oracle_pct, nullptr);
+  const std::string controller_vs_oracle = controller_vs_oracle_note(cells);
 
   // ΔLoss cannot exceed the mean unmitigated level: the number that explains a ΔLoss gap.
   double unmitigated_sum = 0.0;
@@ -161,6 +179,7 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
         "paper_reference.yaml). Our emergency stop avoids exactly the cells on or above its stop boundary through "
         "the actuators (diagnostics.json); the evasive strategies are a seeded RRT on our single-track model. " +
         delta_loss_bound("L0-L7"));
+    if (!controller_vs_oracle.empty()) t.notes.push_back(controller_vs_oracle);
     return t;
   }
   std::vector<std::string> mapping;
@@ -170,7 +189,9 @@ Table emrm_vs_baseline_table(const std::vector<campaign::CellRecord>& records, c
                                        : fmt::format("; {} {} ours only.", core::join(ours_only, ", "),
                                                      ours_only.size() == 1 ? "is" : "are")) +
                     " The paper's \"EMRM (All)\" is the EMRM feature choosing a strategy through the loss-evaluation "
-                    "FSM, which is our `emrm`.");
+                    "FSM, which is our `emrm`: a controller that decides from its own predictions and commits before "
+                    "it knows the outcome.");
+  if (!controller_vs_oracle.empty()) t.notes.push_back(controller_vs_oracle);
   std::vector<std::string> diffs;
   for (std::size_t i = 0; i < columns.size(); ++i) {
     const auto& k = kpis[i];
@@ -531,14 +552,16 @@ std::string kpis_csv(const std::vector<campaign::CellRecord>& records, const Lev
                          "mean_min_ttc_s",
                          "finite_min_ttc_cells",
                          "mitigability_success_pct",
-                         "mean_delta_loss"};
+                         "mean_delta_loss",
+                         "differs_from_oracle_pct"};
   const auto num = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.6g}", v); };
   std::vector<core::Row> rows;
   const auto row = [&](const StrategyKpis& k, const std::string& factor, const std::string& range) {
     rows.push_back({k.grid, k.strategy, factor, k.level, range, std::to_string(k.cells), std::to_string(k.avoided),
                     std::to_string(k.collisions), std::to_string(k.mitigated), num(k.collision_avoidance_rate_pct),
                     num(k.mean_impact_speed_kph), num(k.mean_impact_speed_collisions_kph), num(k.mean_min_ttc_s),
-                    std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss)});
+                    std::to_string(k.finite_min_ttc), num(k.mitigability_success_pct), num(k.mean_delta_loss),
+                    num(k.differs_from_oracle_pct)});
   };
   for (const auto& grid : grid_names(records)) {
     for (const auto& k : grid_kpis(records, grid, cuts))

@@ -14,6 +14,7 @@
 #include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/aggregate.hpp"
 #include "emrm/results/results_dir.hpp"
 #include "emrm/sim/certificate.hpp"
 #include "emrm/sim/json.hpp"
@@ -234,20 +235,21 @@ sim::Region region_from(const sim::StrategyTable& table, const campaign::CellRec
   return best < r.unmitigated_loss_level ? sim::Region::kO : sim::Region::kR;
 }
 
-// An avoidance beats a failure; between failures sim::less_loss's order (the level, P(fatal),
-// P(MAIS3+), then Δv), as sim::better_outcome has it.
-bool better(const campaign::OutcomeRecord& a, const campaign::OutcomeRecord& b) {
-  if (a.avoided != b.avoided) return a.avoided;
-  if (a.avoided) return false;
-  const auto impact = [](const campaign::OutcomeRecord& o) {
-    sim::ImpactAssessment i;
-    i.loss_level = o.loss_level;
-    i.p_fatal = o.p_fatal;
-    i.p_mais3 = o.p_mais3;
-    i.delta_v_mps = o.delta_v_kph / 3.6;
-    return i;
-  };
-  return sim::less_loss(impact(a), impact(b));
+// The strategy whose limits a stored maneuver obeys: the one that found an adopted outcome; for the
+// controller's own maneuver (adopted from nobody), the strategy it committed to; for an outcome the
+// oracle took from the controller, the controller's.
+std::string limits_source(const sim::StrategyTable& table, const campaign::CellRecord& r,
+                          const campaign::OutcomeRecord& o) {
+  const campaign::OutcomeRecord* at = &o;
+  if (!at->adopted_from.empty()) {
+    const sim::StrategyInfo* from = table.info(at->adopted_from);
+    const campaign::OutcomeRecord* next = r.outcome(at->adopted_from);
+    if (from == nullptr || from->role != sim::StrategyRole::kChooser || next == nullptr || next == at)
+      return at->adopted_from;
+    at = next;
+  }
+  if (at->adopted_from.empty() && table.info(at->chosen_strategy) != nullptr) return at->chosen_strategy;
+  return at->adopted_from.empty() ? at->strategy : at->adopted_from;
 }
 
 }  // namespace
@@ -335,19 +337,22 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
         fail("", fmt::format("region {} although a certificate says nothing avoids", core::enum_name(r.region)));
     }
 
-    // A chooser is never worse than an option it had.
+    // The oracle is never worse than an option it had: a strategy EMRM may choose, or the
+    // controller's executed maneuver (the controller, which commits before it knows the outcomes,
+    // may be worse than a strategy).
     for (const auto& chooser : r.outcomes) {
       const sim::StrategyInfo* info = table.info(chooser.strategy);
-      if (info == nullptr || info->role != sim::StrategyRole::kChooser) continue;
+      if (info == nullptr || info->role != sim::StrategyRole::kChooser || !info->hindsight) continue;
       for (const auto& option : r.outcomes) {
         const sim::StrategyInfo* other = table.info(option.strategy);
-        if (other != nullptr && other->emrm_may_choose && better(option, chooser))
+        const bool controller = other != nullptr && other->role == sim::StrategyRole::kChooser && !other->hindsight;
+        if (other != nullptr && (other->emrm_may_choose || controller) && better_record(option, chooser))
           fail(chooser.strategy, fmt::format("worse than {}, which it may choose", option.strategy));
       }
     }
 
     for (const auto& o : r.outcomes) {
-      const std::string& source = o.adopted_from.empty() ? o.strategy : o.adopted_from;
+      const std::string source = limits_source(table, r, o);
       const sim::StrategyInfo* info = table.info(source);
       if (info == nullptr) {
         fail(o.strategy, fmt::format("unknown strategy '{}'", source));

@@ -68,6 +68,19 @@ std::vector<RegisteredStrategy> builtin_strategies() {
                   .emrm_may_choose = false,
                   .controllability = {}},
                  emrm_chooser_strategy()});
+  all.push_back({{.name = "best_strategy",
+                  .label = "oracle (best strategy in hindsight)",
+                  .title = "Oracle (best strategy in hindsight)",
+                  .colour = "#8c564b",
+                  .order = 110,
+                  .role = StrategyRole::kChooser,
+                  .limits = {},
+                  .planner = {},
+                  .may_adopt = {},
+                  .emrm_may_choose = false,
+                  .controllability = {},
+                  .hindsight = true},
+                 oracle_chooser_strategy()});
   return all;
 }
 

@@ -8,7 +8,8 @@
 
 namespace emrm::sim {
 
-/// Emergency stop, dodge, drift to avoid, drift to accident and EMRM, in evaluation order.
+/// Emergency stop, dodge, drift to avoid, drift to accident, EMRM and the oracle (best_strategy), in
+/// evaluation order.
 [[nodiscard]] std::vector<RegisteredStrategy> builtin_strategies();
 
 }  // namespace emrm::sim

@@ -54,7 +54,7 @@ std::vector<std::string> emrm_events(bool at_risk, bool avoided) {
 }
 
 // G when the baseline avoids; Y when another strategy does; O when the best of them lowers the
-// loss level below the unmitigated one; R otherwise. A chooser (EMRM) only repeats one of them.
+// loss level below the unmitigated one; R otherwise. A chooser (EMRM, the oracle) does not count.
 Region region_of(const StrategyTable& strategies, const std::map<std::string, StrategyOutcome>& outcomes,
                  const ImpactAssessment& unmitigated) {
   const StrategyInfo* baseline = strategies.first_of(StrategyRole::kBaseline);

@@ -15,6 +15,17 @@ namespace {
 
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
 
+// A row's note: whose outcome a strategy adopted; what the controller read and chose (the events of
+// its loss-evaluation trace, its own predictions); which outcome the oracle took in hindsight.
+std::string note_of(const StrategyOutcome& o) {
+  if (o.chosen_strategy.empty()) return o.adopted_from;
+  if (o.chosen_strategy == "none") return "no risk";
+  if (o.loss_evaluation_trace.empty()) return "best in hindsight: " + o.chosen_strategy;
+  std::vector<std::string> read;
+  for (std::size_t i = 1; i < o.loss_evaluation_trace.size(); i += 2) read.push_back(o.loss_evaluation_trace[i]);
+  return fmt::format("chose {} (predicted {})", o.chosen_strategy, core::join(read, " "));
+}
+
 }  // namespace
 
 std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_t seed) {
@@ -42,14 +53,14 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
                     fmt::format("{:.1f}", o.impact.delta_v_mps * 3.6), fmt::format("{:.3f}", o.impact.p_mais3),
                     fmt::format("{:.3f}", o.impact.p_fatal), fmt::format("L{}", o.impact.loss_level),
                     std::to_string(o.delta_loss), fmt::format("{:.3f}", o.min_ttc_s), std::to_string(o.planner.nodes),
-                    o.chosen_strategy.empty() ? o.adopted_from : "chose " + o.chosen_strategy});
+                    note_of(o)});
   out += core::markdown_table({"strategy", "avoided", "impact_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss",
                                "delta_loss", "min_ttc_s", "nodes", "note"},
                               rows);
   const StrategyTable strategies = registered_strategies();
   for (const auto& o : r.strategies)
     if (const StrategyInfo* info = strategies.info(o.strategy);
-        info != nullptr && info->role == StrategyRole::kChooser) {
+        info != nullptr && info->role == StrategyRole::kChooser && !info->hindsight) {
       out += "\nEMRM FSM trace: " + core::join(o.fsm_trace, " ") + "\n";
       if (!o.loss_evaluation_trace.empty())
         out += "Loss-evaluation FSM trace: " + core::join(o.loss_evaluation_trace, " ") + "\n";

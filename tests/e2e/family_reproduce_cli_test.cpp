@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 // Two speeds x two TTCs for each obstacle: the deer's braked hit beside the truck's evasion.
 constexpr const char* kCampaign = R"(scene: scene.yaml
 seed: 1
-strategies: [emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm]
+strategies: [emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm, best_strategy]
 grids:
   - name: speed_ttc
     speed_kph: [80, 120]

@@ -15,7 +15,7 @@ namespace emrm::e2e {
 // grid canonical: two of the twelve validation scenarios, with their trees kept.
 inline constexpr const char* kSmallCampaign = R"(scene: scene.yaml
 seed: 1
-strategies: [emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm]
+strategies: [emergency_stop, dodge, drift_to_avoid, drift_to_accident, emrm, best_strategy]
 grids:
   - name: fine
     speed_kph: [30, 50, 72]

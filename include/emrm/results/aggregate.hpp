@@ -117,7 +117,30 @@ struct StrategyKpis {
   std::size_t finite_min_ttc = 0;                 ///< cells with a finite minimum TTC
   double mitigability_success_pct = 0.0;          ///< 100·mitigated / cells
   double mean_delta_loss = 0.0;                   ///< mean of unmitigated level − outcome level
+  std::size_t beside_oracle = 0;                  ///< of the cells, those with an oracle's outcome too
+  /// Of those, where this outcome differs from the oracle's (best_strategy, the best outcome in
+  /// hindsight): one avoided and the other not, or another loss (better_record either way).
+  std::size_t differs_from_oracle = 0;
+  double differs_from_oracle_pct = 0.0;  ///< 100·differs_from_oracle / beside_oracle; NaN without any
 };
+
+/// Whether stored outcome `a` is better than `b`, in sim::better_outcome's order: an avoidance beats
+/// a failure; between failures sim::less_loss (the level, P(fatal), P(MAIS3+), then Δv).
+[[nodiscard]] bool better_record(const campaign::OutcomeRecord& a, const campaign::OutcomeRecord& b);
+/// The oracle's name: the first registered chooser that picks in hindsight; empty without one.
+[[nodiscard]] std::string oracle_strategy();
+
+/// The controller (`emrm`: the first registered chooser that does not pick in hindsight) against the
+/// oracle, over the feasible records that hold both outcomes.
+struct OracleComparison {
+  std::string controller, oracle;  ///< their names; empty when not registered
+  std::size_t cells = 0;           ///< feasible records with both outcomes
+  std::size_t differ = 0;          ///< one avoided and the other not, or another loss
+  std::size_t only_oracle_avoids = 0;
+  std::size_t only_controller_avoids = 0;
+  [[nodiscard]] double pct(std::size_t n) const noexcept;  ///< 100·n / cells; NaN without cells
+};
+[[nodiscard]] OracleComparison compare_with_oracle(const std::vector<campaign::CellRecord>& records);
 
 /// KPIs of `strategy` over the feasible records given (any grid mix; `grid`, `factor` and `level`
 /// are only copied into the result). With no matching cell every mean and rate is NaN.

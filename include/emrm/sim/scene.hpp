@@ -190,6 +190,17 @@ struct PlannerConfig {
   }
 };
 
+/// The EMRM controller's on-board computer (docs/simulate.md, "emrm"; docs/decisions.md): the
+/// search it affords for each evasive strategy before it must commit, on the scene it perceives.
+struct ControllerConfig {
+  /// Extension attempts of one on-board search (the full search's are planner.max_nodes).
+  int max_nodes = 300;
+  template <class A>
+  void serialize(A& a) {
+    EMRM_FIELD(a, max_nodes, core::at_least(1, "node"));
+  }
+};
+
 /// Everything about the scene; one YAML file (examples/tjunction/scene.yaml, docs/scene-yaml.md).
 struct SceneConfig {
   std::string name = "EMRM Scene 1";
@@ -202,6 +213,7 @@ struct SceneConfig {
   ActuationConfig actuation;
   SeverityConfig severity;
   PlannerConfig planner;
+  ControllerConfig controller;
   RoadsideConfig roadside;
   SafeStateConfig safe_state;
   HighwayConfig highway;            ///< the family highway_obstacle's road and obstacles
@@ -226,6 +238,7 @@ struct SceneConfig {
     EMRM_FIELD(a, actuation);
     EMRM_FIELD(a, severity);
     EMRM_FIELD(a, planner);
+    EMRM_FIELD(a, controller);
     EMRM_FIELD(a, roadside);
     EMRM_FIELD(a, safe_state);
     // A family's own block is written for a scene of that family only.

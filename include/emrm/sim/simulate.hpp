@@ -70,7 +70,7 @@ struct CellResult {
 [[nodiscard]] const fsm::Generator& default_loss_evaluation_fsm();
 
 /// The registered strategies' names in evaluation order (strategy.hpp); shipped: emergency_stop,
-/// dodge, drift_to_avoid, drift_to_accident, emrm.
+/// dodge, drift_to_avoid, drift_to_accident, emrm, best_strategy.
 [[nodiscard]] std::vector<std::string> strategy_names();
 /// Throws UsageError naming the registered strategies when `name` is not one.
 void validate_strategy(std::string_view name);

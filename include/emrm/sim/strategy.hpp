@@ -31,7 +31,7 @@ namespace emrm::sim {
 enum class StrategyRole {
   kBaseline,  ///< the reference maneuver: its avoidance makes a cell G (the emergency stop)
   kEvasive,   ///< an alternative: its avoidance (when the baseline's fails) makes a cell Y
-  kChooser,   ///< picks among the others (EMRM); does not count for the region
+  kChooser,   ///< picks among the others (EMRM, the oracle); does not count for the region
 };
 
 /// Everything the program knows of a strategy besides how it drives.
@@ -51,12 +51,18 @@ struct StrategyInfo {
   /// The controllability class its avoidance shows (0 for C0 … 2 for C2; see docs/simulate.md);
   /// unset when its avoidance says nothing about controllability.
   std::optional<int> controllability;
+  /// A chooser that picks in hindsight from the simulated outcomes (the oracle, `best_strategy`):
+  /// never worse than a strategy EMRM may choose (`emrm verify`, check 4). A chooser without it
+  /// (`emrm`) is a controller: it decides before it knows any outcome and may be worse.
+  bool hindsight = false;
 };
 
 class StrategyTable;
 
 /// What a strategy sees: the cell, the vehicle model, its seed, the outcomes of the strategies
-/// evaluated before it, and (for a chooser) the FSMs and the no-action rollout.
+/// evaluated before it, and (for a chooser) the FSMs and the no-action rollout. The EMRM controller
+/// reads none of the outcomes: it runs the strategies itself, on the scene it perceives, with a
+/// context of its own whose `earlier` holds its own predictions.
 struct StrategyContext {
   const Scene& scene;
   const VehicleModel& model;
@@ -130,8 +136,19 @@ class StrategyRegistration {
 [[nodiscard]] std::shared_ptr<const Strategy> emergency_stop_strategy();
 /// A planned maneuver: adopt an earlier avoidance if allowed, else search with self.planner.
 [[nodiscard]] std::shared_ptr<const Strategy> planned_strategy();
-/// EMRM: the loss-evaluation FSM chooses among the strategies EMRM may choose.
+/// EMRM, a controller: the loss-evaluation FSM chooses among the strategies EMRM may choose from the
+/// controller's own predictions (the perceived scene, its vehicle model, the on-board planning
+/// budget `scene.controller`), and the controller commits to that strategy's on-board maneuver,
+/// judged by replaying it in the true scene (docs/simulate.md, "emrm").
 [[nodiscard]] std::shared_ptr<const Strategy> emrm_chooser_strategy();
+/// The oracle: the best simulated outcome of the strategies EMRM may choose (better_outcome), in
+/// hindsight; what no controller that commits before it knows the outcome can beat.
+[[nodiscard]] std::shared_ptr<const Strategy> oracle_chooser_strategy();
+
+/// What the on-board system perceives of a cell: today the true scene itself. A perception model
+/// (a misjudged distance, a late detection) would return a scene of its own; the controller plans
+/// on it and is judged on the true one.
+[[nodiscard]] const Scene& perceived_scene(const Scene& truth) noexcept;
 
 /// The outcome of one rollout, with its loss fields against the unmitigated reference and its
 /// least time to collision along the path (min_ttc_along; 0 on contact).
@@ -139,7 +156,8 @@ class StrategyRegistration {
                                          const ImpactAssessment& unmitigated, const Scene& scene);
 
 /// Whether outcome `a` is better than `b`: an avoidance beats a failure; between failures the lower
-/// loss level, then the lower risks and Δv (less_loss). EMRM is never worse than its options by this order.
+/// loss level, then the lower risks and Δv (less_loss). The oracle is never worse than EMRM's options by
+/// this order.
 [[nodiscard]] bool better_outcome(const StrategyOutcome& a, const StrategyOutcome& b) noexcept;
 
 /// Whether an avoidance found under `found_with` obeys `limits` too: no rear lock unless `limits`

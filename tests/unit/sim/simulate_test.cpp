@@ -3,6 +3,7 @@
 
 #include "emrm/sim/simulate.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -180,25 +181,33 @@ TEST(Outcomes, FsmTracesFollowTheOutcome) {
 }
 
 TEST(Outcomes, EmrmChoosesByTheLossEvaluationRule) {
+  // The controller reads its own predictions (docs/simulate.md, "emrm"): braking alone is a fixed
+  // maneuver, so its prediction is the stop's outcome; an evasive strategy's on-board plan avoids
+  // in prediction exactly when the committed maneuver avoids (it perceives the true scene).
   const SceneConfig config;
   for (double ttc : {0.3, 0.5, 0.7, 0.9, 1.2})
     for (double mu : {0.2, 0.5, 1.0}) {
       const auto r = simulate_cell(config, {60.0, ttc, mu, 3.0, 10.0}, {});
       if (!r.feasible) continue;
       const auto& emrm = outcome(r, "emrm");
-      std::string expected;
-      if (outcome(r, "emergency_stop").avoided)
-        expected = "emergency_stop";
-      else if (outcome(r, "dodge").avoided)
-        expected = "dodge";
-      else if (outcome(r, "drift_to_avoid").avoided || outcome(r, "drift_to_accident").avoided)
-        expected = "drift_to_avoid";
-      else if (r.unmitigated.loss_level <= 4 || mu < 0.35)
-        expected = "emergency_stop";
-      else
-        expected = "drift_to_accident";
-      EXPECT_EQ(emrm.chosen_strategy, expected) << "TTC " << ttc << " mu " << mu;
-      EXPECT_EQ(emrm.avoided, outcome(r, expected).avoided);
+      const std::string where = fmt::format("TTC {} mu {}", ttc, mu);
+      ASSERT_EQ(emrm.loss_evaluation_trace.size(), 9u) << where;
+      const std::string& controllability = emrm.loss_evaluation_trace[5];
+      if (outcome(r, "emergency_stop").avoided) {
+        EXPECT_EQ(controllability, "C0") << where;
+        EXPECT_EQ(emrm.chosen_strategy, "emergency_stop") << where;
+      } else if (controllability == "C1") {
+        EXPECT_EQ(emrm.chosen_strategy, "dodge") << where;
+      } else if (controllability == "C2") {
+        EXPECT_EQ(emrm.chosen_strategy, "drift_to_avoid") << where;
+      } else {
+        EXPECT_EQ(controllability, "C3") << where;
+        EXPECT_EQ(emrm.chosen_strategy,
+                  r.unmitigated.loss_level <= 4 || mu < 0.35 ? "emergency_stop" : "drift_to_accident")
+            << where;
+      }
+      // It avoids exactly when it predicted an avoidance (C0-C2).
+      EXPECT_EQ(emrm.avoided, controllability != "C3") << where;
     }
 }
 
