@@ -103,8 +103,9 @@ class PlannerConfig(_Part):
     min_duration_s: Final[float]
     max_duration_s: Final[float]
     goal_bias: Final[float]
-    restarts: Final[int]
     falsifier_evaluations: Final[int]
+    restarts: Final[int]
+    plausible_miss_m: Final[float]
 
 class ControllerConfig(_Part):
     max_nodes: Final[int]

@@ -53,8 +53,8 @@ class Search {
   double evaluate(const Maneuver& maneuver) {
     RolloutResult r = roller_.roll(start_, 0.0, maneuver.plan, maneuver.tail, 5);
     ++result_.stats.rollouts;
-    result_.closest_miss_m = std::min(result_.closest_miss_m, lateral_miss_m(scene_, r));
     const double score = falsifier_score(scene_, r);
+    result_.closest_miss_m = std::min(result_.closest_miss_m, std::max(0.0, score));
     if (r.avoided()) {
       if (!result_.avoidance) result_.avoidance = std::move(r);
     } else if (r.termination != Termination::kConstraint &&

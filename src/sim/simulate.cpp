@@ -106,10 +106,11 @@ const StrategyInfo* most_permissive_search(const StrategyTable& strategies) {
 }
 
 // More search where the first found no avoidance and nothing proves that none exists: the
-// falsifier (deterministic: the reference grid, then trajectory optimisation from the nearest misses
-// and from the searches' own least-loss failures, `hints`), then restarts of the strategy's planner
-// with seeds that depend on the cell alone (not on the campaign's seed). An avoidance any of them
-// finds is replayed into the strategy's outcome.
+// falsifier (deterministic: its grid, then trajectory optimisation from the searches' own least-loss
+// failures, `hints`, and from its grid's nearest misses), then, where it came within
+// planner.plausible_miss_m of an avoidance (across the hazard's edge, or short of stopping),
+// restarts of the strategy's planner with seeds that depend on the cell alone (not on the campaign's
+// seed). An avoidance any of them finds is replayed into the strategy's outcome.
 std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const VehicleModel& model,
                                                    const StrategyInfo& info, const ImpactAssessment& unmitigated,
                                                    const std::vector<Maneuver>& hints, PlannerStats& stats) {
@@ -122,7 +123,9 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
     if (!plan.avoidance) return std::nullopt;
     return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
   };
-  if (auto outcome = found(falsify(scene, model, info.limits, hints))) return outcome;
+  const PlanResult falsified = falsify(scene, model, info.limits, hints);
+  if (auto outcome = found(falsified)) return outcome;
+  if (!(falsified.closest_miss_m <= budget.plausible_miss_m)) return std::nullopt;
   const Planner* own = find_planner(info.planner);
   if (own == nullptr) return std::nullopt;
   const CellInput& c = scene.cell();

@@ -151,7 +151,7 @@ TEST_F(ReportCli, FigureDataAgreesWithTheResultsStore) {
     EXPECT_NEAR(std::stod(loss[i][column_of(lh, "collision_avoidance_rate_pct")]), expected, 1e-3) << s;  // 6 digits
     ++checked;
   }
-  EXPECT_EQ(checked, 5);
+  EXPECT_EQ(checked, 6);  // the five strategies and the oracle
 
   // The EMRM FSM figure's counts are the transitions of the stored traces: every count is a number
   // and the detection transition was taken at least once.

@@ -33,7 +33,7 @@ TEST(SimulateCli, JsonHasTheDocumentedShape) {
   EXPECT_THAT(std::string("G Y O R"), HasSubstr(j["region"].get<std::string>()));
   for (const char* key : {"impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level"})
     EXPECT_TRUE(j["unmitigated"].contains(key)) << key;
-  ASSERT_EQ(j["strategies"].size(), 5u);
+  ASSERT_EQ(j["strategies"].size(), 6u);  // every registered strategy, the oracle included
   for (const auto& [name, s] : j["strategies"].items()) {
     for (const char* key : {"avoided", "impact_speed_kph", "delta_v_kph", "p_mais3", "p_fatal", "loss_level",
                             "delta_loss", "min_ttc_s", "fsm_trace", "planner"})

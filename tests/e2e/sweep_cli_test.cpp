@@ -113,7 +113,7 @@ TEST(SweepCli, AKilledSweepResumesWithNothingLostOrWrittenTwice) {
                          "SELECT COUNT(*), COUNT(DISTINCT grid || ' ' || cell_index) FROM cells"),
             "16|16");
   EXPECT_EQ(sqlite_query(killed_dir / "results.sqlite",
-                         "SELECT (SELECT COUNT(*) FROM outcomes) = 5 * (SELECT SUM(feasible) FROM cells)"),
+                         "SELECT (SELECT COUNT(*) FROM outcomes) = 6 * (SELECT SUM(feasible) FROM cells)"),
             "1");
 }
 

@@ -127,8 +127,6 @@ class YamlReader {
   }
   /// A key that used to belong here: its presence is an error that says where it went.
   void moved(std::string_view key, std::string_view now_at) const;
-  /// A key that no longer means anything: accepted and ignored, so that older files keep loading.
-  void retired(std::string_view key) { known_.emplace_back(key); }
   /// Records where the mapping being read starts.
   void location(SourceLocation& where) const { where = node_.location(); }
   /// Rules are checked by Validator once the whole configuration is read.

@@ -167,13 +167,16 @@ struct PlannerConfig {
   double min_duration_s = 0.1;  ///< control intervals are sampled in [min, max]
   double max_duration_s = 0.4;
   double goal_bias = 0.3;  ///< probability of extending towards the passage
-  /// Restarts of the strengthened search, each with the full budget and a seed from the cell alone,
-  /// wherever no strategy avoided and no certificate proves that none can (docs/planner.md, "A region
-  /// that does not depend on the seed").
-  int restarts = 6;
-  /// Rollouts of each local optimisation of the falsifier, which runs before the restarts
-  /// (docs/planner.md, "The falsifier"); 0 leaves it its grid alone.
+  /// Rollouts of each local optimisation of the falsifier, which runs first in the strengthened
+  /// search, wherever no strategy avoided and no certificate proves that none can (docs/planner.md,
+  /// "The falsifier"); 0 leaves it its grid alone.
   int falsifier_evaluations = 150;
+  /// Restarts of the strengthened search after the falsifier, each with the full budget and a seed
+  /// from the cell alone (docs/planner.md, "A region that does not depend on the seed") ...
+  int restarts = 6;
+  /// ... where avoidance is plausible: the falsifier came within this of one (across the hazard's
+  /// edge, or short of stopping: its closest miss).
+  double plausible_miss_m = 0.4;
   template <class A>
   void serialize(A& a) {
     EMRM_FIELD(a, max_nodes, core::at_least(1, "node"));
@@ -183,10 +186,9 @@ struct PlannerConfig {
     a.ensure(!(min_duration_s > max_duration_s), "min_duration_s",
              "expected min_duration_s <= max_duration_s ({} s), got {} s", max_duration_s, min_duration_s);
     EMRM_FIELD(a, goal_bias, core::within(0.0, 1.0));
-    EMRM_FIELD(a, restarts, core::non_negative);
     EMRM_FIELD(a, falsifier_evaluations, core::non_negative);
-    // Restarts no longer wait for a near miss (2026-11-30): older scene files keep loading.
-    if constexpr (requires { a.retired(""); }) a.retired("plausible_miss_m");
+    EMRM_FIELD(a, restarts, core::non_negative);
+    EMRM_FIELD(a, plausible_miss_m, core::non_negative);
   }
 };
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "emrm/sim/simulate.hpp"
@@ -13,12 +14,12 @@
 namespace emrm::sim {
 namespace falsifier_test {
 
-const ActuationConfig kProduction{.perception_latency_s = 0.25,
-                                  .brake_dead_time_s = 0.1,
-                                  .brake_ramp_s = 0.25,
-                                  .max_decel_mps2 = 0.0,
-                                  .steer_dead_time_s = 0.05,
-                                  .steer_time_constant_s = 0.1};
+// The shipped `production` profile, read from its file.
+SceneConfig production() {
+  SceneConfig config;
+  (void)apply_profile(config, "production", std::string(EMRM_SOURCE_DIR) + "/examples/tjunction");
+  return config;
+}
 
 const ControlLimits kDriftToAvoid{.allow_rear_lock = true};
 
@@ -57,8 +58,7 @@ TEST(FalsifierScore, AnAvoidanceScoresLowestAndAContactByHowFarItWasFromMissing)
 // nothing: whatever the falsifier finds replays as an avoidance under the limits it was asked
 // for, it finds some, and it finds the same again.
 TEST(Falsifier, WhatItFindsReplaysAsAnAvoidanceAndItFindsWhatTheGridMisses) {
-  SceneConfig config;
-  config.actuation = kProduction;
+  const SceneConfig config = production();
   const auto model = make_vehicle_model("single_track_fiala", config.ego);
   int grid_missed = 0;
   int found = 0;
