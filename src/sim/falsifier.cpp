@@ -1,11 +1,10 @@
 #include "emrm/sim/falsifier.hpp"
 
-#include <nlopt.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <nlopt.hpp>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -176,7 +175,8 @@ PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlL
     const auto order = nearest_first(hint_scores);
     for (std::size_t k = 0; k < order.size() && k < kHintStarts; ++k) {
       Maneuver& m = starts[order[k]];
-      search.optimise(segment_knobs(m, scene), [&m] { return m; }, evaluations);
+      search.optimise(
+          segment_knobs(m, scene), [&m] { return m; }, evaluations);
     }
   }
   // The swerve family from its nearest misses.
@@ -191,7 +191,11 @@ PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlL
                                     {&s.counter, 0.0, 1.5, 0.15},         {&s.counter_hold_s, 0.0, 1.0, 0.1},
                                     {&s.brake, 0.0, 1.0, 0.15},           {&s.brake_out, 0.0, 1.0, 0.15}};
       search.optimise(
-          knobs, [&] { return Maneuver{swerve_plan(scene, s), Tail::full_stop()}; }, evaluations);
+          knobs,
+          [&] {
+            return Maneuver{swerve_plan(scene, s), Tail::full_stop()};
+          },
+          evaluations);
     }
   }
   PlanResult result = search.take();

@@ -12,10 +12,10 @@ namespace {
 using PlannerPtr = std::shared_ptr<const Planner>;
 
 core::Registry<PlannerPtr>& planner_registry() {
-  static core::Registry<PlannerPtr> planners("planner",
-                                             {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>(),
-                                              std::make_shared<FalsifierPlanner>()},
-                                             [](const PlannerPtr& p) { return p->name(); });
+  static core::Registry<PlannerPtr> planners(
+      "planner",
+      {std::make_shared<RrtPlanner>(), std::make_shared<ReferencePlanner>(), std::make_shared<FalsifierPlanner>()},
+      [](const PlannerPtr& p) { return p->name(); });
   return planners;
 }
 

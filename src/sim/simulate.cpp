@@ -267,7 +267,7 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
     if (!certified && options.certify) result.no_certificate = no_certificate_bound(config).value_or("");
     // "Nothing scores below the reference" is a proof at L4 only when no avoidance (L0) exists
     // either, which needs the certificate; without one it rests on the search.
-    result.mitigation_evidence = result.region == Region::kO                      ? MitigationEvidence::kWitness
+    result.mitigation_evidence = result.region == Region::kO                       ? MitigationEvidence::kWitness
                                  : certified && result.unmitigated.loss_level <= 4 ? MitigationEvidence::kProof
                                                                                    : MitigationEvidence::kSearch;
   }

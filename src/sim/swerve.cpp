@@ -56,7 +56,8 @@ std::vector<Swerve> reference_swerves(const Scene& scene, bool allow_rear_lock) 
         for (const double counter : counters)
           for (const double counter_hold : counter_holds)
             for (const double brake : brakes)
-              for (const bool lock : locks) family.push_back({side, peak, hold_s, counter, counter_hold, brake, brake, lock});
+              for (const bool lock : locks)
+                family.push_back({side, peak, hold_s, counter, counter_hold, brake, brake, lock});
   return family;
 }
 
@@ -67,7 +68,8 @@ std::vector<Swerve> falsifier_swerves(const Scene& scene, bool allow_rear_lock) 
     for (const double peak : {0.1, 0.2, 0.3, 0.45, 0.6})
       for (const double hold_s : {0.0, 0.2, 0.4})
         for (const double counter : {0.0, 0.5, 1.0})
-          for (const bool lock : {false, true}) family.push_back({side, peak, hold_s, counter, 0.3, 1.0, 1.0, lock, true});
+          for (const bool lock : {false, true})
+            family.push_back({side, peak, hold_s, counter, 0.3, 1.0, 1.0, lock, true});
   return family;
 }
 
