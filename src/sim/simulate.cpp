@@ -250,8 +250,18 @@ CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const
                      ? Evidence::kWitness
                      : (certified ? Evidence::kCertificate : Evidence::kUndecided);
   }
-  for (const auto& entry : strategies.entries())
-    if (entry.info.role == StrategyRole::kChooser) run(entry);
+  // The choosers decide nothing the other strategies or the region depend on: they run only when
+  // one of them is asked for (the controller's on-board searches are a quarter of a sweep's
+  // rollouts), all of them then, since the oracle weighs the controller's outcome.
+  const auto asked = [&](const RegisteredStrategy& entry) {
+    return std::find(options.strategies.begin(), options.strategies.end(), entry.info.name) != options.strategies.end();
+  };
+  const auto& entries = strategies.entries();
+  const bool choosers_asked = std::any_of(entries.begin(), entries.end(), [&](const RegisteredStrategy& e) {
+    return e.info.role == StrategyRole::kChooser && asked(e);
+  });
+  for (const auto& entry : entries)
+    if (entry.info.role == StrategyRole::kChooser && choosers_asked) run(entry);
 
   result.region = region_of(strategies, outcomes, result.unmitigated);
   double best_p_mais3 = result.unmitigated.p_mais3;
