@@ -90,9 +90,9 @@ struct CellOptions {
 };
 
 /// Simulates one cell: every registered strategy in evaluation order (strategy.hpp; the choosers
-/// only when one of them is in `options.strategies`), then the region. Infeasible cells are returned with no strategies simulated. Throws core::ConfigError
-/// (an InputError) for a scene validate(config) rejects, UsageError for an unknown strategy in
-/// `options` or a cell the scene rejects (validate_cell).
+/// only when one of them is in `options.strategies`), then the region. Infeasible cells are returned with no strategies
+/// simulated. Throws core::ConfigError (an InputError) for a scene validate(config) rejects, UsageError for an unknown
+/// strategy in `options` or a cell the scene rejects (validate_cell).
 [[nodiscard]] CellResult simulate_cell(const SceneConfig& config, const CellInput& cell, const CellOptions& options);
 
 /// Seeds of strategies and cells (core/random.hpp).
