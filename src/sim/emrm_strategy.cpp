@@ -41,9 +41,7 @@ std::string maneuverability_event(double mu) {
 // The seed of an on-board search: the perceived cell's factors and the strategy, not the
 // campaign's seed, so that the controller's decision does not depend on it.
 std::uint64_t onboard_seed(const Scene& seen, std::string_view strategy) {
-  const std::uint64_t cell_key =
-      derive_seed(0x0b0a5d0b0a5d0b0aULL, fmt::format("{:.17g}", fmt::join(seen.cell(), "|")));
-  return derive_seed(cell_key, strategy);
+  return derive_seed(cell_key(seen.cell(), 0x0b0a5d0b0a5d0b0aULL), strategy);
 }
 
 // Nothing to evade: the EMRM FSM returns to normal driving and the car carries on.
@@ -78,10 +76,7 @@ class OnboardPlans {
         scene, truth_.model, truth_.strategies, onboard_seed(seen_, name),  false, unmitigated_, no_action_,
         true,  plans_,       truth_.emrm_fsm,   truth_.loss_evaluation_fsm, false};
     StrategyOutcome o = entry.strategy->run(entry.info, context);
-    stats_.nodes += o.planner.nodes;
-    stats_.rollouts += o.planner.rollouts;
-    stats_.time_ms += o.planner.time_ms;
-    stats_.time_limited = stats_.time_limited || o.planner.time_limited;
+    stats_.add(o.planner);
     return plans_.insert_or_assign(name, std::move(o)).first->second;
   }
 

@@ -116,10 +116,7 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
                                                    const std::vector<Maneuver>& hints, PlannerStats& stats) {
   const PlannerConfig& budget = scene.config().planner;
   const auto found = [&](const PlanResult& plan) -> std::optional<StrategyOutcome> {
-    stats.nodes += plan.stats.nodes;
-    stats.rollouts += plan.stats.rollouts;
-    stats.time_ms += plan.stats.time_ms;
-    stats.time_limited = stats.time_limited || plan.stats.time_limited;
+    stats.add(plan.stats);
     if (!plan.avoidance) return std::nullopt;
     return outcome_of(info.name, replay(scene, model, info.limits, plan.avoidance->maneuver), unmitigated, scene);
   };
@@ -129,7 +126,7 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
   const Planner* own = find_planner(info.planner);
   if (own == nullptr) return std::nullopt;
   const CellInput& c = scene.cell();
-  const std::uint64_t cell_key = derive_seed(0x5eed5eed5eed5eedULL, fmt::format("{:.17g}", fmt::join(c, "|")));
+  const std::uint64_t key = cell_key(c, 0x5eed5eed5eed5eedULL);
   // The restarts are independent: they run side by side where a worker is free (a sweep's other
   // cells keep the workers busy, a lone cell or the tail of a sweep does not), and the outcome is
   // the first in order that avoids, counted as if they had run one after another: a restart after
@@ -147,7 +144,7 @@ std::optional<StrategyOutcome> strengthened_search(const Scene& scene, const Veh
       [&](int k) {
         if (k > first_avoiding.load()) return;
         auto& plan = plans[static_cast<std::size_t>(k)];
-        plan = own->plan({scene, model, info.limits, derive_seed(cell_key, fmt::format("restart-{}", k)), false});
+        plan = own->plan({scene, model, info.limits, derive_seed(key, fmt::format("restart-{}", k)), false});
         if (!plan->avoidance) return;
         int current = first_avoiding.load();
         while (k < current && !first_avoiding.compare_exchange_weak(current, k)) {

@@ -6,10 +6,15 @@
 #include <utility>
 
 #include "builtin_strategies.hpp"
+#include "emrm/core/random.hpp"
 #include "emrm/core/registry.hpp"
 #include "emrm/core/text.hpp"
 
 namespace emrm::sim {
+
+std::uint64_t cell_key(const CellInput& cell, std::uint64_t salt) {
+  return core::derive_seed(salt, fmt::format("{:.17g}", fmt::join(cell, "|")));
+}
 namespace {
 
 core::Registry<RegisteredStrategy>& strategy_registry() {

@@ -37,6 +37,13 @@ struct PlannerStats {
   int rollouts = 0;
   double time_ms = 0.0;
   bool time_limited = false;  ///< the wall-clock guard stopped the search (results may then vary)
+  /// Counts another search's work into this one.
+  void add(const PlannerStats& other) noexcept {
+    nodes += other.nodes;
+    rollouts += other.rollouts;
+    time_ms += other.time_ms;
+    time_limited = time_limited || other.time_limited;
+  }
 };
 
 /// The planner's answer: the best avoidance (if any) and the least-loss collision (if any).

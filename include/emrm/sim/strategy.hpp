@@ -145,6 +145,10 @@ class StrategyRegistration {
 /// hindsight; what no controller that commits before it knows the outcome can beat.
 [[nodiscard]] std::shared_ptr<const Strategy> oracle_chooser_strategy();
 
+/// A key from a cell's factors alone (not the campaign's seed), salted by its user (the strengthened
+/// search's restarts, the controller's on-board searches), from which they derive their seeds.
+[[nodiscard]] std::uint64_t cell_key(const CellInput& cell, std::uint64_t salt);
+
 /// What the on-board system perceives of a cell: today the true scene itself. A perception model
 /// (a misjudged distance, a late detection) would return a scene of its own; the controller plans
 /// on it and is judged on the true one.
