@@ -137,12 +137,62 @@ std::vector<Knob> segment_knobs(Maneuver& m, const Scene& scene) {
   return knobs;
 }
 
+// The drift family: after the perception latency's wait, a braking pursuit with the rear locked
+// (when the limits allow it) towards a point of a free passage beside the hazard, a second one
+// further along it at half the brake, then the full stop: the class of the narrow braking drifts
+// an RRT finds at the braking boundary (docs/planner.md, "The falsifier"). Its numbers are those
+// segment_knobs moves. Per free passage: 3 target heights (its middle and halfway to either edge
+// of the room the car's centre has) × 3 distances ahead (1.5, 5, 10 m) × brakes {0.6, 1} × grips
+// {0.9, 2} × first durations {0.2, 0.4} s × second durations {0.15, 0.35} s.
+std::vector<Maneuver> drift_starts(const Scene& scene, bool allow_rear_lock) {
+  const auto& cfg = scene.config();
+  const double latency = cfg.actuation.perception_latency_s;
+  const double x_acts = scene.ego_initial().x_m + scene.initial_speed_mps() * latency;  // where the car acts first
+  const double half_width = cfg.ego.width_m / 2.0;
+  const FreeBands free = scene.free_bands(cfg.simulation.horizon_s);
+  const auto drift = [&](double x, double y, double brake, double grip, double first_s, double second_s) {
+    Maneuver m;
+    if (latency > 0.0) m.plan.push_back(hold(Control{}, latency));
+    Control locked;
+    locked.brake = brake;
+    locked.rear_lock = allow_rear_lock;
+    ControlSegment first = hold(locked, first_s);
+    first.pursue = core::Vec2{x, y};
+    first.pursuit_grip = grip;
+    m.plan.push_back(first);
+    ControlSegment second = first;
+    second.duration_s = second_s;
+    second.control.brake = 0.5 * brake;
+    second.pursue = core::Vec2{x + 4.0, y};
+    second.pursuit_grip = 2.0;
+    m.plan.push_back(second);
+    m.tail = Tail::full_stop();
+    return m;
+  };
+  std::vector<Maneuver> starts;
+  for (std::size_t i = 0; i < free.count; ++i) {
+    const double lo = free.band[i].low_m + half_width + 0.1;
+    const double hi = free.band[i].high_m - half_width - 0.1;
+    if (hi <= lo) continue;
+    const double middle = 0.5 * (lo + hi);
+    for (const double y : {middle, 0.5 * (middle + hi), 0.5 * (middle + lo)})
+      for (const double ahead : {1.5, 5.0, 10.0})
+        for (const double brake : {0.6, 1.0})
+          for (const double grip : {0.9, 2.0})
+            for (const double first_s : {0.2, 0.4})
+              for (const double second_s : {0.15, 0.35})
+                starts.push_back(drift(x_acts + ahead, y, brake, grip, first_s, second_s));
+  }
+  return starts;
+}
+
 }  // namespace
 
 PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,
                    const std::vector<Maneuver>& hints) {
   constexpr std::size_t kHintStarts = 3;
   constexpr std::size_t kSwerveStarts = 4;
+  constexpr std::size_t kDriftStarts = 3;
   const int evaluations = scene.config().planner.falsifier_evaluations;
   const auto started = std::chrono::steady_clock::now();
   Search search(scene, model, limits);
@@ -179,6 +229,21 @@ PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlL
           segment_knobs(m, scene), [&m] { return m; }, evaluations);
     }
   }
+  // The drift family, scored, and the nearest of it optimised like the hints.
+  if (!search.found()) {
+    std::vector<Maneuver> drifts = drift_starts(scene, limits.allow_rear_lock);
+    std::vector<double> drift_scores;
+    for (const Maneuver& m : drifts) {
+      if (search.found()) break;
+      drift_scores.push_back(search.evaluate(m));
+    }
+    const auto order = nearest_first(drift_scores);
+    for (std::size_t k = 0; k < order.size() && k < kDriftStarts && !search.found(); ++k) {
+      Maneuver& m = drifts[order[k]];
+      search.optimise(
+          segment_knobs(m, scene), [&m] { return m; }, evaluations);
+    }
+  }
   // The swerve family from its nearest misses.
   if (!search.found()) {
     const double max_steer = scene.config().ego.max_steer_rad;
@@ -189,7 +254,8 @@ PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlL
       Swerve s = grid[order[k]];
       const std::vector<Knob> knobs{{&s.peak_rad, 0.02, max_steer, 0.04}, {&s.hold_s, 0.0, 1.2, 0.08},
                                     {&s.counter, 0.0, 1.5, 0.15},         {&s.counter_hold_s, 0.0, 1.0, 0.1},
-                                    {&s.brake, 0.0, 1.0, 0.15},           {&s.brake_out, 0.0, 1.0, 0.15}};
+                                    {&s.brake, 0.0, 1.0, 0.15},           {&s.brake_hold, 0.0, 1.0, 0.15},
+                                    {&s.brake_out, 0.0, 1.0, 0.15}};
       search.optimise(
           knobs,
           [&] {

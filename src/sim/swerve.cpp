@@ -19,6 +19,7 @@ std::vector<ControlSegment> swerve_plan(const Scene& scene, const Swerve& swerve
   plan.push_back(hold(in, in_time));
   Control held = in;
   held.steer_rate_radps = 0.0;
+  held.brake = swerve.brake_hold;
   held.rear_lock = swerve.rear_lock;
   plan.push_back(hold(held, swerve.hold_s));
   Control counter = in;
@@ -57,7 +58,7 @@ std::vector<Swerve> reference_swerves(const Scene& scene, bool allow_rear_lock) 
           for (const double counter_hold : counter_holds)
             for (const double brake : brakes)
               for (const bool lock : locks)
-                family.push_back({side, peak, hold_s, counter, counter_hold, brake, brake, lock});
+                family.push_back({side, peak, hold_s, counter, counter_hold, brake, brake, brake, lock});
   return family;
 }
 
@@ -69,7 +70,7 @@ std::vector<Swerve> falsifier_swerves(const Scene& scene, bool allow_rear_lock) 
       for (const double hold_s : {0.0, 0.2, 0.4})
         for (const double counter : {0.0, 0.5, 1.0})
           for (const bool lock : {false, true})
-            family.push_back({side, peak, hold_s, counter, 0.3, 1.0, 1.0, lock, true});
+            family.push_back({side, peak, hold_s, counter, 0.3, 1.0, 1.0, 1.0, lock, true});
   return family;
 }
 

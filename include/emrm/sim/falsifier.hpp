@@ -2,11 +2,12 @@
 
 // The falsifier: a trajectory optimisation that looks for the avoidance a search missed
 // (docs/planner.md, "The falsifier"). It rolls out the reference planner's grid of the swerve family
-// (swerve.hpp) and optimises continuously from the nearest misses: over the family's parameters
-// (peak, hold, counter-steer, its hold, the brake levels in and out), and over the numbers of given
-// maneuvers (the searches' least-loss failures, a neighbour's witness: each segment's duration,
-// brake, steering rate or pursuit target and grip), with NLopt's Subplex on a score that falls as a
-// rollout comes nearer an avoidance. Deterministic: no random choice.
+// (swerve.hpp) and a drift family (braking pursuits into a free passage with the rear locked) and
+// optimises continuously from the nearest misses: over the swerve family's parameters (peak, hold,
+// counter-steer, its hold, the brake levels in, held and out), and over the numbers of given
+// maneuvers and of the drifts (the searches' least-loss failures, a neighbour's witness: each
+// segment's duration, brake, steering rate or pursuit target and grip), with NLopt's Subplex on a
+// score that falls as a rollout comes nearer an avoidance. Deterministic: no random choice.
 
 #include <vector>
 
@@ -23,8 +24,8 @@ namespace emrm::sim {
 
 /// The falsifier: its grid (the reference planner's, and handbrake kicks where the rear may lock),
 /// then local optimisations, until an avoidance: from the given maneuvers (`hints`, any strategy's,
-/// replayed under `limits`), the nearest three first, then from the grid's four nearest misses, each
-/// of `planner.falsifier_evaluations` rollouts. Its avoidance, if any, is an ordinary rollout from
+/// replayed under `limits`), the nearest three first, then from the drift family's three nearest
+/// misses, then from the grid's four, each of `planner.falsifier_evaluations` rollouts. Its avoidance, if any, is an ordinary rollout from
 /// t = 0 (a witness). Its `closest_miss_m` is the least falsifier_score of its failures, at least 0:
 /// how far the nearest came from getting across the hazard's edge or from stopping short of it.
 [[nodiscard]] PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,

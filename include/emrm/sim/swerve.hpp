@@ -1,8 +1,9 @@
 #pragma once
 
 // The swerve family: steer in towards a free side at the full rate to a peak, hold, counter-steer,
-// hold, straighten, braking throughout, then the full-stop tail. The reference planner enumerates a
-// grid of it (docs/planner.md, "Reference planner"); the falsifier optimises over it continuously
+// hold, straighten, braking throughout (at a level of its own while steering in, holding and after), then the full-stop
+// tail. The reference planner enumerates a grid of it (docs/planner.md, "Reference planner"); the falsifier optimises
+// over it continuously
 // ("The falsifier").
 
 #include <vector>
@@ -19,7 +20,8 @@ struct Swerve {
   double hold_s = 0.0;          ///< held at the peak
   double counter = 0.0;         ///< counter-steer to −counter × peak
   double counter_hold_s = 0.3;  ///< held there
-  double brake = 0.0;           ///< brake level (0…1) while steering in and holding
+  double brake = 0.0;           ///< brake level (0…1) while steering in
+  double brake_hold = 0.0;      ///< while holding at the peak
   double brake_out = 0.0;       ///< and from the counter-steer on
   bool rear_lock = false;       ///< rear wheels locked during the hold
   bool lock_in = false;         ///< and while steering in (a handbrake kick)
