@@ -25,9 +25,9 @@ namespace emrm::sim {
 /// The falsifier: its grid (the reference planner's, and handbrake kicks where the rear may lock),
 /// then local optimisations, until an avoidance: from the given maneuvers (`hints`, any strategy's,
 /// replayed under `limits`), the nearest three first, then from the drift family's three nearest
-/// misses, then from the grid's four, each of `planner.falsifier_evaluations` rollouts. Its avoidance, if any, is an ordinary rollout from
-/// t = 0 (a witness). Its `closest_miss_m` is the least falsifier_score of its failures, at least 0:
-/// how far the nearest came from getting across the hazard's edge or from stopping short of it.
+/// misses, then from the grid's four, each of `planner.falsifier_evaluations` rollouts. Its avoidance, if any, is an
+/// ordinary rollout from t = 0 (a witness). Its `closest_miss_m` is the least falsifier_score of its failures, at least
+/// 0: how far the nearest came from getting across the hazard's edge or from stopping short of it.
 [[nodiscard]] PlanResult falsify(const Scene& scene, const VehicleModel& model, const ControlLimits& limits,
                                  const std::vector<Maneuver>& hints = {});
 
