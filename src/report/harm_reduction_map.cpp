@@ -42,20 +42,16 @@ using detail::region_colour;
 using detail::write_csv;
 
 constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
+constexpr double kHarmKeyHeight = detail::kHarmMapKeyHeight;
 
 }  // namespace
 
-Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
-                               const fs::path& dir, const MapPanels& panels, double latency_s) {
+namespace detail {
+
+Figure draw_harm_map(const MapLayout& layout, const fs::path& dir, double latency_s, const std::string& name,
+                     std::string_view what) {
   Figure figure;
-  figure.name = "harm_reduction_map";
-  figure.title = "Harm reduction by the best strategy";  // replaced by the full caption once drawn
-  // A taller key strip: the colour bar sits above the key entries.
-  const MapLayout layout = lay_out_map(records, factors, panels, 0.11);
-  if (layout.panels.empty()) {
-    figure.note = no_map_note("harm reduction map", panels);
-    return figure;
-  }
+  figure.name = name;
   // One scale for all panels, so that a colour means the same reduction everywhere.
   double largest = 0.0;
   for (const MapPanel& p : layout.panels)
@@ -125,17 +121,18 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim
 
   figure.note = core::join(layout.missing, "; ");
   figure.title = fmt::format(
-      "Harm reduction by the best strategy over {} simulated cells: {}. Each feasible cell is coloured by the "
+      "Harm reduction by the best strategy{} over {} simulated cells: {}. Each feasible cell is coloured by the "
       "unmitigated reference's P(MAIS3+) minus the lowest P(MAIS3+) of the strategies (0 to {:.3f}): an avoided "
       "cell (G, Y) counts its whole unmitigated risk, an O or R cell the mitigation inside its loss level, which the "
       "mitigability map does not show. Grey: infeasible. Dashed: the analytic stop boundary {} at the panel's fixed "
       "parameter.",
-      layout.total_cells, core::join(caption_parts, "; "), largest, boundary_text(latency_s));
-  write_csv(figure, dir,
-            detail::cell_header(
-                factors, {"panel", "grid"},
-                {"region", "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}),
-            rows);
+      what.empty() ? std::string() : fmt::format(" in {}", what), layout.total_cells, core::join(caption_parts, "; "),
+      largest, boundary_text(latency_s));
+  write_csv(
+      figure, dir,
+      cell_header(layout.factors, {"panel", "grid"},
+                  {"region", "unmitigated_p_mais3", "p_mais3_reduction", "unmitigated_p_fatal", "p_fatal_reduction"}),
+      rows);
 
   // Sequential, light to dark, and apart from the region colours and the grey of infeasible cells.
   const std::string scale = fmt::format(
@@ -146,10 +143,28 @@ Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim
                                                  single_quoted(region_colour("infeasible"))),
                                      boundary_key_entry("stop boundary " + boundary_text(latency_s))};
   const std::string body =
-      map_script(layout, fmt::format("Harm reduction by the best strategy ({} cells)", layout.total_cells),
+      map_script(layout,
+                 what.empty() ? fmt::format("Harm reduction by the best strategy ({} cells)", layout.total_cells)
+                              : fmt::format("Harm reduction by the best strategy, {}", enhanced_literal(what)),
                  scale + panel_plots, key, 1, 0, 0.035);
-  render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
+  render_png_and_svg(figure.png, figure.svg, data, body, layout.width_px, layout.height_px, kMapFontPt);
   return figure;
+}
+
+}  // namespace detail
+
+Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
+                               const fs::path& dir, const MapPanels& panels, double latency_s) {
+  // A taller key strip: the colour bar sits above the key entries.
+  const MapLayout layout = lay_out_map(records, factors, panels, kHarmKeyHeight);
+  if (layout.panels.empty()) {
+    Figure figure;
+    figure.name = "harm_reduction_map";
+    figure.title = "Harm reduction by the best strategy";
+    figure.note = no_map_note("harm reduction map", panels);
+    return figure;
+  }
+  return detail::draw_harm_map(layout, dir, latency_s, "harm_reduction_map", "");
 }
 
 }  // namespace emrm::report

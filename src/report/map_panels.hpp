@@ -46,7 +46,7 @@ struct PanelSpec {
   char letter = 0;
   std::string grid;
   Axis x, y, fixed;
-  std::string_view name;  ///< "Speed × TTC, coarse grid"
+  std::string name;  ///< "Speed × TTC, coarse grid"
 };
 
 /// One panel whose grid has cells: its cells, their extent, and where it sits on the page.
@@ -143,5 +143,15 @@ inline constexpr double kMapTop = 0.955;  // below the multiplot's title
 [[nodiscard]] std::string map_script(const MapLayout& layout, std::string_view title, const std::string& panels,
                                      const std::vector<std::string>& key, int key_rows, int key_width_adjust,
                                      double strip_h);
+
+/// The harm-reduction map's key strip (screen units): taller than the region maps', the colour bar
+/// sits above the key entries.
+inline constexpr double kHarmMapKeyHeight = 0.11;
+
+/// The harm-reduction map (harm_reduction_map.cpp) of `layout`'s panels, with the stop boundary at
+/// `latency_s`, written to `dir` as `name`.png|svg|csv. `what` ("grid 'wet', slice μ = 0.5") says
+/// in its title what it maps; empty for the paper's four grids.
+[[nodiscard]] Figure draw_harm_map(const MapLayout& layout, const std::filesystem::path& dir, double latency_s,
+                                   const std::string& name, std::string_view what);
 
 }  // namespace emrm::report::detail

@@ -28,6 +28,14 @@ namespace {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
+
+// What the colours mean, and what R does not say: the region is about loss levels, so an R cell
+// whose Δv the strategies lower by 20 km/h is R all the same (the harm-reduction map shows it).
+constexpr std::string_view kRegionMeaning =
+    "G (green) fully avoidable, Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not "
+    "mitigatable, grey infeasible. O and R speak of loss levels only: R means no strategy brings the loss below the "
+    "unmitigated level, not that nothing lowers the harm; the harm-reduction map shows how much the best strategy "
+    "lowers P(MAIS3+) inside a level.";
 using detail::add_panel;
 using detail::Axis;
 using detail::boundary_function;
@@ -190,11 +198,10 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const sim::
 
   figure.note = core::join(layout.missing, "; ");
   figure.title = fmt::format(
-      "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: G (green) fully avoidable, "
-      "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey infeasible. "
-      "Dashed: the analytic stop boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
-      layout.total_cells, core::join(caption_parts, "; "), boundary_text(latency_s), plot_number(sim::kGravity_mps2),
-      evidence.caption());
+      "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: {} Dashed: the analytic stop "
+      "boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
+      layout.total_cells, core::join(caption_parts, "; "), kRegionMeaning, boundary_text(latency_s),
+      plot_number(sim::kGravity_mps2), evidence.caption());
   write_csv(figure, dir, cell_header(factors, {"panel", "grid"}, {"region", "evidence"}), rows);
 
   const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
@@ -342,15 +349,17 @@ std::string slice_stem(const sim::FactorTable& factors, const std::string& grid,
 
 constexpr int kSliceWidthPx = 1000, kSliceHeightPx = 760;
 
-/// One slice of a grid as a map of one panel, in the mitigability map's colours and crosses.
-Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
-                      const GridSlice& slice, const std::string& name, const fs::path& dir, double latency_s) {
-  Figure figure;
-  figure.name = name;
+/// "grid 'wet'", "grid 'wet', slice μ = 0.5": what a slice's maps show.
+std::string slice_what(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
+                       const GridSlice& slice) {
   const std::string slice_label = held_text(factors, cut, slice, cut.sliced);
-  const std::string what = fmt::format("grid '{}'{}", grid, slice_label.empty() ? "" : ", slice " + slice_label);
-  const EvidenceCounts evidence = count_evidence(slice.cells);
-  MapLayout layout = empty_layout(factors, evidence.undecided == 0 ? 0.13 : 0.17);  // three key rows, or four
+  return fmt::format("grid '{}'{}", grid, slice_label.empty() ? "" : ", slice " + slice_label);
+}
+
+/// A slice of a grid as the one panel of a page, above a key strip `key_h` high.
+MapLayout slice_layout(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
+                       const GridSlice& slice, double key_h) {
+  MapLayout layout = empty_layout(factors, key_h);
   layout.panel_w = 1.0;
   layout.cell_h = kMapTop - layout.key_h;
   layout.width_px = kSliceWidthPx;
@@ -364,6 +373,21 @@ Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, 
   fill_panel(p, slice.cells);
   p.held = held_text(factors, cut, slice, cut.held);
   layout.total_cells = p.cells.size();
+  layout.panels.push_back(std::move(p));
+  return layout;
+}
+
+/// One slice of a grid as a map of one panel, in the mitigability map's colours and crosses.
+Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, const GridCut& cut,
+                      const GridSlice& slice, const std::string& name, const fs::path& dir, double latency_s) {
+  Figure figure;
+  figure.name = name;
+  const std::string slice_label = held_text(factors, cut, slice, cut.sliced);
+  const std::string what = slice_what(factors, grid, cut, slice);
+  const EvidenceCounts evidence = count_evidence(slice.cells);
+  // three key rows, or four
+  const MapLayout layout = slice_layout(factors, grid, cut, slice, evidence.undecided == 0 ? 0.13 : 0.17);
+  const MapPanel& p = layout.panels.front();
 
   std::vector<core::Row> rows;
   std::string data;
@@ -371,10 +395,8 @@ Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, 
   for (auto& row : rows) row[0] = slice_label;
   const bool boundary = !boundary_function(p, latency_s).empty();
   figure.title = fmt::format(
-      "Mitigability regions of {}: {} ({} cells; {}). Each rectangle is one cell: G (green) fully avoidable, "
-      "Y (yellow) aggressive avoidance required, O (orange) mitigatable, R (red) not mitigatable, grey "
-      "infeasible.{}{}",
-      what, panel_extent(p), p.cells.size(), drawn.shares,
+      "Mitigability regions of {}: {} ({} cells; {}). Each rectangle is one cell: {}{}{}", what, panel_extent(p),
+      p.cells.size(), drawn.shares, kRegionMeaning,
       boundary ? fmt::format(" Dashed: the analytic stop boundary {} (g = {} m/s²) at {}.", boundary_text(latency_s),
                              plot_number(sim::kGravity_mps2), fixed_text(factors, p.spec.fixed, p.fixed))
                : std::string(),
@@ -414,10 +436,15 @@ std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const
     const GridCut cut = cut_grid(cells, factors);
     const std::vector<GridSlice> slices = slices_of(cells, cut);
     const std::size_t drawn = std::min(slices.size(), options.max_slices_per_grid);
-    for (std::size_t i = 0; i < drawn; ++i)
-      figures.push_back(draw_slice_map(factors, grid, cut, slices[i],
-                                       stems.unique(slice_stem(factors, grid, cut, slices[i])), dir,
-                                       options.latency_s));
+    for (std::size_t i = 0; i < drawn; ++i) {
+      const std::string stem = stems.unique(slice_stem(factors, grid, cut, slices[i]));
+      figures.push_back(draw_slice_map(factors, grid, cut, slices[i], stem, dir, options.latency_s));
+      // Beside it the harm reduction, which the regions hide inside a loss level (an R cell whose
+      // Δv the strategies lower by 20 km/h is R all the same).
+      figures.push_back(detail::draw_harm_map(slice_layout(factors, grid, cut, slices[i], detail::kHarmMapKeyHeight),
+                                              dir, options.latency_s, stems.unique("harm_" + stem),
+                                              slice_what(factors, grid, cut, slices[i])));
+    }
     if (drawn < slices.size())
       figures.push_back(
           undrawn_slices(factors, grid, stems.unique("map_" + file_stem(grid) + "_more"), cut, slices, drawn));

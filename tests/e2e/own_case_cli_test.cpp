@@ -125,6 +125,11 @@ TEST_F(OwnCase, ASweepOfGridsOfTheirOwnNamesGetsAMapPerSlice) {
   for (const auto& id : ids) slices += id.rfind("map_wet_or_damp", 0) == 0;
   EXPECT_EQ(slices, 2u);
   EXPECT_EQ(maps.count("mitigability_map"), 0u);  // none of the paper's grids
+  // And the harm reduction of each, which R hides inside a loss level, whatever the grid is named.
+  EXPECT_TRUE(maps.count("harm_map_wet_road")) << html.substr(0, 200);
+  std::size_t harm_slices = 0;
+  for (const auto& id : ids) harm_slices += id.rfind("harm_map_wet_or_damp", 0) == 0;
+  EXPECT_EQ(harm_slices, 2u);
   expect_clean_in_chromium(out / "report.html", "own_case_sweep");
 }
 

@@ -72,7 +72,8 @@ struct GridMapOptions {
 /// letters, digits, '.', '-' and '_' become '_'). At most `max_slices_per_grid` slices a grid are
 /// drawn; then one more Figure, map_GRID_more, has no files and a note listing the slices left out.
 /// Each caption names the grid, the slice and the region shares. CSV columns: slice, grid, the
-/// factors' keys, region, evidence.
+/// factors' keys, region, evidence. After each slice's map comes its harm-reduction map, harm_STEM,
+/// drawn as draw_harm_reduction_map draws the paper's grids.
 std::vector<Figure> draw_grid_maps(const std::vector<campaign::CellRecord>& records, const sim::FactorTable& factors,
                                    const std::filesystem::path& dir, const GridMapOptions& options = {});
 

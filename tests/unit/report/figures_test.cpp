@@ -176,10 +176,23 @@ TEST_F(FigureGridMaps, AGridOfAnyNameIsMappedWithItsUndecidedCellsCrossed) {
   const std::size_t undecided = count_evidence(cells, campaign::CellEvidence::kUndecided);
   ASSERT_GT(undecided, 0u);
   const auto figures = draw_grid_maps_t(cells, out());
-  ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_wet"});
+  ASSERT_EQ(names_of(figures), (std::vector<std::string>{"map_wet", "harm_map_wet"}));
   const Figure& f = figures.front();
   expect_drawn(f, out(), "map_wet");
   EXPECT_NE(f.title.find("grid 'wet': 6 speeds × 5 TTCs, μ = 0.5"), std::string::npos) << f.title;
+  // What R does not say, said where R is drawn.
+  EXPECT_NE(f.title.find("not that nothing lowers the harm"), std::string::npos) << f.title;
+  // Beside it the harm reduction of the same cells, whatever the grid's name.
+  const Figure& harm = figures.back();
+  expect_drawn(harm, out(), "harm_map_wet");
+  EXPECT_NE(harm.title.find("Harm reduction by the best strategy in grid 'wet'"), std::string::npos) << harm.title;
+  const auto harm_csv = csv_of(harm.csv);
+  ASSERT_EQ(harm_csv.size(), 1 + cells.size());
+  const std::size_t reduction = column_of(harm_csv, "p_mais3_reduction");
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (!cells[i].feasible) continue;
+    EXPECT_NEAR(std::stod(harm_csv[i + 1][reduction]), cells[i].p_mais3_reduction, 1e-9) << i;
+  }
   EXPECT_NE(f.title.find(fmt::format("A cross marks the {} undecided O/R cells", undecided)), std::string::npos);
   EXPECT_EQ(crosses_in(f.svg), undecided + 1);  // and the key's
   const auto csv = csv_of(f.csv);
@@ -194,14 +207,17 @@ TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
   GridMapOptions options;
   options.max_slices_per_grid = 3;
   const auto figures = draw_grid_maps_t(cells, out(), options);
-  ASSERT_EQ(names_of(figures), (std::vector<std::string>{"map_g_4_mu_0.3_passage_m_2", "map_g_4_mu_0.3_passage_m_3",
-                                                         "map_g_4_mu_0.6_passage_m_2", "map_g_4_more"}));
-  for (std::size_t i = 0; i < 3; ++i) {
+  // Each slice's region map, then its harm-reduction map.
+  ASSERT_EQ(names_of(figures), (std::vector<std::string>{
+                                   "map_g_4_mu_0.3_passage_m_2", "harm_map_g_4_mu_0.3_passage_m_2",
+                                   "map_g_4_mu_0.3_passage_m_3", "harm_map_g_4_mu_0.3_passage_m_3",
+                                   "map_g_4_mu_0.6_passage_m_2", "harm_map_g_4_mu_0.6_passage_m_2", "map_g_4_more"}));
+  for (std::size_t i = 0; i < 6; ++i) {
     expect_drawn(figures[i], out(), figures[i].name);
     EXPECT_EQ(csv_of(figures[i].csv).size(), 1u + 4u);  // its own four cells
   }
-  EXPECT_NE(figures[1].title.find("grid 'g 4', slice μ = 0.3, passage 3 m: 2 speeds × 2 TTCs"), std::string::npos)
-      << figures[1].title;
+  EXPECT_NE(figures[2].title.find("grid 'g 4', slice μ = 0.3, passage 3 m: 2 speeds × 2 TTCs"), std::string::npos)
+      << figures[2].title;
   const Figure& more = figures.back();
   EXPECT_TRUE(more.png.empty() && more.csv.empty());
   EXPECT_NE(more.note.find("4 slices; the first 3 are drawn, these not: μ = 0.6, passage 3 m"), std::string::npos)
@@ -211,7 +227,7 @@ TEST_F(FigureGridMaps, OneMapPerSliceNamedByItsValuesAndTheRestNamedInANote) {
 TEST_F(FigureGridMaps, AGridVaryingOneFactorIsAStrip) {
   const auto cells = product_grid("speeds", {30, 40, 50, 60, 70}, {1.0}, {1.0});
   const auto figures = draw_grid_maps_t(cells, out());
-  ASSERT_EQ(names_of(figures), std::vector<std::string>{"map_speeds"});
+  ASSERT_EQ(names_of(figures), (std::vector<std::string>{"map_speeds", "harm_map_speeds"}));
   expect_drawn(figures.front(), out(), "map_speeds");
   EXPECT_NE(figures.front().title.find("5 speeds × 1 TTCs"), std::string::npos) << figures.front().title;
 }
