@@ -16,8 +16,11 @@
 #include <variant>
 #include <vector>
 
+#include "emrm/campaign/store.hpp"
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/results/results_dir.hpp"
+#include "emrm/sim/json.hpp"
 #include "emrm/sim/scene.hpp"
 #include "options.hpp"
 
@@ -69,8 +72,9 @@ inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<C
                                       bool with_seed) {
   CellOptionSet o;
   command->add_option("--scene", args->scene_file,
-                      "Scene file (default: the built-in T-junction, examples/tjunction/scene.yaml with instant "
-                      "actuators; pass that file for the production car of the shipped campaigns)");
+                      "Scene file, or a results folder (the scene its sweep stored) (default: the built-in "
+                      "T-junction, examples/tjunction/scene.yaml with instant actuators; pass that file for the "
+                      "production car of the shipped campaigns)");
   o.assignments = command
                       ->add_option_function<std::vector<std::string>>(
                           "--factor",
@@ -107,7 +111,20 @@ inline CellOptionSet add_cell_options(CLI::App* command, const std::shared_ptr<C
 
 /// The scene the options name, with the profile applied.
 inline sim::SceneConfig load_scene(const CellArgs& args) {
-  sim::SceneConfig config = args.scene_file.empty() ? sim::SceneConfig{} : sim::load_scene_config(args.scene_file);
+  sim::SceneConfig config;
+  if (const results::ResultsDir folder(args.scene_file);
+      !args.scene_file.empty() && std::filesystem::is_directory(args.scene_file)) {
+    // A results folder: the scene its sweep stored (profile included).
+    if (!std::filesystem::is_regular_file(folder.store()))
+      throw UsageError(
+          fmt::format("--scene {}: a folder, but no results folder (it has no {}); expected a scene "
+                      "file or a folder written by 'emrm sweep'",
+                      args.scene_file, folder.store().filename().string()));
+    config = sim::parse_stored_scene_config(campaign::read_meta(folder.store()).scene_yaml,
+                                            folder.store().string() + " (scene)");
+  } else if (!args.scene_file.empty()) {
+    config = sim::load_scene_config(args.scene_file);
+  }
   // A profile NAME is looked up beside the scene file (the current folder without one).
   if (!args.profile.empty())
     sim::apply_profile(config, args.profile, std::filesystem::path(args.scene_file).parent_path());
@@ -135,6 +152,26 @@ inline sim::CellInput cell_of(const CellArgs& args, const sim::SceneConfig& conf
     cell[*i] = number != nullptr ? *number : factors[*i].parse(std::get<std::string>(value));
   }
   return cell;
+}
+
+/// The scene a cell was judged in, as the output names it: the file (or "the built-in T-junction"),
+/// its family, the profile and the actuation in effect. One line of text.
+inline std::string scene_text(const CellArgs& args, const sim::SceneConfig& config) {
+  return fmt::format(
+      "Scene: {} (family {}{}); actuation: {}",
+      args.scene_file.empty() ? std::string("the built-in T-junction, instant actuators") : args.scene_file,
+      config.family, args.profile.empty() ? std::string() : ", profile " + args.profile, config.actuation.summary());
+}
+
+/// The same as JSON: {"file": path or null (the built-in scene), "family", "profile": name or null,
+/// "actuation": {…}} (docs/simulate.md).
+inline nlohmann::json scene_json(const CellArgs& args, const sim::SceneConfig& config) {
+  nlohmann::json j;
+  j["file"] = args.scene_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.scene_file);
+  j["family"] = config.family;
+  j["profile"] = args.profile.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.profile);
+  j["actuation"] = sim::to_json(config.actuation);
+  return j;
 }
 
 }  // namespace emrm::cli

@@ -116,6 +116,13 @@ struct AssessOptions {
 
 int run_assess(const AssessOptions& options) {
   if (!options.strategy.empty()) sim::validate_strategy(options.strategy);
+  // The car, its actuators and the hazard decide the contact, the Δv and the loss: judged against the
+  // built-in car, a recording of the production car reads several km/h off without a word.
+  if (options.cell->scene_file.empty())
+    throw UsageError(
+        "emrm assess: name the scene the trajectory was driven in with --scene FILE (its car, actuators and hazard "
+        "decide the contact, the delta-v and the loss; examples/tjunction/scene.yaml is the shipped production car, "
+        "and --scene DIR takes the scene a results folder's sweep stored)");
   const sim::SceneConfig config = load_scene(*options.cell);
   const sim::CellInput cell = cell_of(*options.cell, config);
   sim::validate_cell(config, cell);
@@ -123,11 +130,16 @@ int run_assess(const AssessOptions& options) {
       options.format == "esmini" ? exchange::TrajectoryFormat::kEsmini : exchange::TrajectoryFormat::kEmrm;
   const exchange::RecordedTrajectory trajectory = exchange::read_trajectory_csv(options.file, format, config);
   const exchange::Assessment a = exchange::assess(config, cell, trajectory);
-  if (options.json)
-    std::cout << exchange::to_json(a, trajectory, format, sim::scenario_factors(config), cell, options.strategy).dump(2)
-              << "\n";
-  else
-    std::cout << exchange::to_text(a, trajectory, options.strategy);
+  if (options.json) {
+    nlohmann::ordered_json j =
+        exchange::to_json(a, trajectory, format, sim::scenario_factors(config), cell, options.strategy);
+    j["scene"] = scene_json(*options.cell, config);
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << scene_text(*options.cell, config) << "\n"
+              << "Cell: " << sim::cell_text(sim::scenario_factors(config), cell) << "\n"
+              << exchange::to_text(a, trajectory, options.strategy);
+  }
   return static_cast<int>(ExitCode::kSuccess);
 }
 

@@ -41,9 +41,11 @@ int run(const SimulateOptions& options) {
   }
   const sim::CellResult result = sim::simulate_cell(config, cell, cell_options);
   if (options.json) {
-    std::cout << sim::to_json(result, sim::Scene(config, result.input), seed, {options.timing}).dump(2) << "\n";
+    nlohmann::json j = sim::to_json(result, sim::Scene(config, result.input), seed, {options.timing});
+    j["scene"] = scene_json(*options.cell, config);
+    std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << sim::to_text(result, config, seed);
+    std::cout << scene_text(*options.cell, config) << "\n" << sim::to_text(result, config, seed);
   }
   if (!options.figure.empty()) {
     report::draw_cell_figure(result, config, options.figure);

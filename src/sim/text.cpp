@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <vector>
 
 #include "emrm/core/text.hpp"
@@ -23,7 +24,7 @@ std::string note_of(const StrategyOutcome& o) {
   if (o.loss_evaluation_trace.empty()) return "best in hindsight: " + o.chosen_strategy;
   std::vector<std::string> read;
   for (std::size_t i = 1; i < o.loss_evaluation_trace.size(); i += 2) read.push_back(o.loss_evaluation_trace[i]);
-  return fmt::format("chose {} (predicted {})", o.chosen_strategy, core::join(read, " "));
+  return fmt::format("chose {} (predicted {}), its own plan", o.chosen_strategy, core::join(read, " "));
 }
 
 }  // namespace
@@ -33,10 +34,18 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
   out += fmt::format("Cell: {} (seed {})\n", cell_text(scenario_factors(config), r.input), seed);
   const Scene scene(config, r.input);
   const double v = scene.initial_speed_mps();
-  if (stop_boundary_applies(config))
-    out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
-                       scene.initial_distance_m(), v / (2.0 * scene.friction() * kGravity_mps2));
-  else
+  if (stop_boundary_applies(config)) {
+    // Through the scene's actuators, as the map's boundary: the latency and dead time, the ramp, a cap.
+    const double alone_s = v / (2.0 * scene.friction() * kGravity_mps2);
+    const double needed_s = stop_boundary_ttc_s(v * 3.6, scene.friction(), config.actuation);
+    out += std::abs(needed_s - alone_s) < 1e-12
+               ? fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
+                             scene.initial_distance_m(), needed_s)
+               : fmt::format(
+                     "Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (stopping through the actuation: "
+                     "{:.3f} s more than v/(2 mu g) = {:.3f} s)\n",
+                     scene.initial_distance_m(), needed_s, needed_s - alone_s, alone_s);
+  } else
     out += fmt::format("Initial gap {:.2f} m\n", scene.initial_distance_m());
   if (!r.feasible) {
     out += fmt::format("Infeasible: {}\n", scene.infeasible_reason());

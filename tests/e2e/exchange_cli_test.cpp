@@ -71,10 +71,13 @@ TEST(ExportCli, BadArgumentsAreExitTwo) {
   for (const char* name : {"a", "b", "c", "d", "e", "f"}) EXPECT_FALSE(fs::exists(dir / name)) << name;
 }
 
+// The shipped production car: a recording is judged against the scene it was driven in.
+const std::string kScene = " --scene " + quoted(std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/scene.yaml");
+
 // The trajectory of every strategy in one cell, from `emrm simulate --json`, judged again.
 TEST(AssessCli, SimulatedTrajectoriesGiveTheSimulatedOutcome) {
   const auto dir = scratch_dir("assess-roundtrip");
-  const std::string cell = " --speed-kph 45 --ttc-s 0.7 --mu 0.7 --passage-m 2.5";
+  const std::string cell = kScene + " --speed-kph 45 --ttc-s 0.7 --mu 0.7 --passage-m 2.5";
   const auto sim = run_emrm("simulate --json --seed 4" + cell);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const auto json = nlohmann::json::parse(sim.out);
@@ -98,7 +101,7 @@ TEST(AssessCli, SimulatedTrajectoriesGiveTheSimulatedOutcome) {
 
 TEST(AssessCli, BadInputNamesFileLineAndColumn) {
   const auto dir = scratch_dir("assess-bad");
-  const std::string cell = " --speed-kph 50 --ttc-s 1";
+  const std::string cell = kScene + " --speed-kph 50 --ttc-s 1";
   const auto bad = [&](const std::string& name, const std::string& text, const std::string& where,
                        const std::string& what) {
     write_text(dir / name, text);
@@ -115,10 +118,49 @@ TEST(AssessCli, BadInputNamesFileLineAndColumn) {
   bad("empty.csv", "", "1:1", "empty");
   write_text(dir / "good.csv", "t,x,y,psi,v\n0,-2.12,-1.75,0,10\n0.01,-2.02,-1.75,0,10\n");
   expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + cell + " --strategy nosuch"), "nosuch");
-  expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + " --speed-kph 70 --ttc-s 3"), "infeasible");
+  expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + kScene + " --speed-kph 90 --ttc-s 3"), "infeasible");
   expect_usage_error(run_emrm("assess " + quoted(dir / "good.csv") + cell + " --format carla"), "--format");
   expect_bad_input(run_emrm("assess " + quoted(dir / "nosuch.csv") + cell), "nosuch.csv");
   EXPECT_EQ(run_emrm("assess " + quoted(dir / "good.csv") + cell).exit_code, 0);
+}
+
+// Judged against the built-in car, a recording of the production car read Δv 57.9 instead of
+// 49.6 km/h without a word: the scene must be named (a file, or a results folder's stored scene),
+// and the output says which scene, actuation and cell it assumed.
+TEST(AssessCli, TheSceneIsNamedNeverAssumed) {
+  const auto dir = scratch_dir("assess-scene");
+  write_text(dir / "good.csv", "t,x,y,psi,v\n0,-2.12,-1.75,0,10\n0.01,-2.02,-1.75,0,10\n");
+  const std::string cell = " --speed-kph 50 --ttc-s 1";
+  const auto unnamed = run_emrm("assess " + quoted(dir / "good.csv") + cell);
+  expect_bad_input(unnamed, "--scene");
+  EXPECT_THAT(unnamed.err, HasSubstr("name the scene the trajectory was driven in"));
+  EXPECT_TRUE(unnamed.out.empty()) << unnamed.out;
+
+  const auto text = run_emrm("assess " + quoted(dir / "good.csv") + kScene + cell + " --profile ideal");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("Scene: " + std::string(EMRM_SOURCE_DIR) + "/examples/tjunction/scene.yaml"));
+  EXPECT_THAT(text.out, HasSubstr("profile ideal"));
+  EXPECT_THAT(text.out, HasSubstr("actuation: instant"));
+  EXPECT_THAT(text.out, HasSubstr("Cell: 50 km/h, TTC 1 s"));
+  const auto json = run_emrm("assess " + quoted(dir / "good.csv") + kScene + cell + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(j["scene"]["family"], "tjunction");
+  EXPECT_TRUE(j["scene"]["profile"].is_null());
+  EXPECT_GT(j["scene"]["actuation"]["perception_latency_s"].get<double>(), 0.0);  // the production car's
+
+  // A results folder's stored scene, as its sweep simulated it.
+  write_text(dir / "campaign.yaml", "scene: " + std::string(EMRM_SOURCE_DIR) +
+                                        "/examples/tjunction/scene.yaml\nstrategies: [emergency_stop]\ngrids:\n"
+                                        "  - name: one\n    speed_kph: 50\n    ttc_s: 1.5\n");
+  ASSERT_EQ(run_emrm("sweep " + quoted(dir / "campaign.yaml") + " -o " + quoted(dir / "out")).exit_code, 0);
+  const auto stored =
+      run_emrm("assess " + quoted(dir / "good.csv") + " --scene " + quoted(dir / "out") + cell + " --json");
+  ASSERT_EQ(stored.exit_code, 0) << stored.err;
+  EXPECT_EQ(nlohmann::json::parse(stored.out)["scene"]["actuation"], j["scene"]["actuation"]);
+  EXPECT_EQ(nlohmann::json::parse(stored.out)["outcome"], j["outcome"]);
+  expect_bad_input(run_emrm("assess " + quoted(dir / "good.csv") + " --scene " + quoted(dir) + cell),
+                   "no results folder");
 }
 
 }  // namespace exchange_cli_test

@@ -69,7 +69,16 @@ TEST(SimulateCli, ShippedSceneFileEqualsTheBuiltInDefaults) {
   const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) +
                                 " --profile ideal --speed-kph 55 --ttc-s 0.8 --json");
   ASSERT_EQ(shipped.exit_code, 0) << shipped.err;
-  EXPECT_EQ(builtin.out, shipped.out);
+  // The same simulation; only the "scene" key names what each was told (file, profile), and the
+  // actuation in effect is the same.
+  auto a = nlohmann::json::parse(builtin.out);
+  auto b = nlohmann::json::parse(shipped.out);
+  EXPECT_EQ(a["scene"]["actuation"], b["scene"]["actuation"]);
+  EXPECT_TRUE(a["scene"]["file"].is_null());
+  EXPECT_EQ(b["scene"]["profile"], "ideal");
+  a.erase("scene");
+  b.erase("scene");
+  EXPECT_EQ(a, b);
 }
 
 TEST(SimulateCli, OneStrategyCanBeAskedFor) {
@@ -141,11 +150,27 @@ TEST(SimulateCli, ProductionProfileMovesTheStopBoundary) {
   ASSERT_EQ(file.exit_code, 0) << file.err;
   EXPECT_TRUE(nlohmann::json::parse(ideal.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
   EXPECT_FALSE(nlohmann::json::parse(production.out)["strategies"]["emergency_stop"]["avoided"].get<bool>());
-  EXPECT_EQ(production.out, file.out);
+  // Apart from the "scene" key, which names what each was told, the same simulation.
+  const auto without_scene = [](const std::string& out) {
+    auto j = nlohmann::json::parse(out);
+    j.erase("scene");
+    return j;
+  };
+  EXPECT_EQ(without_scene(production.out), without_scene(file.out));
+  EXPECT_EQ(nlohmann::json::parse(production.out)["scene"]["profile"], "production");
   // The shipped scene is the production car: the profile changes nothing in it.
   const auto shipped = run_emrm("simulate --scene " + quoted(example("scene.yaml")) + cell);
   ASSERT_EQ(shipped.exit_code, 0) << shipped.err;
-  EXPECT_EQ(shipped.out, production.out);
+  EXPECT_EQ(without_scene(shipped.out), without_scene(production.out));
+  EXPECT_EQ(nlohmann::json::parse(shipped.out)["scene"]["actuation"],
+            nlohmann::json::parse(production.out)["scene"]["actuation"]);
+  // And the text says which actuation it used, and the stop boundary through it.
+  const auto text = run_emrm("simulate --scene " + quoted(example("scene.yaml")) +
+                             " --speed-kph 50 --ttc-s 1.0 --strategy emergency_stop");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("actuation: perception latency 0.25 s"));
+  EXPECT_THAT(text.out, HasSubstr("braking alone needs TTC >= 1.1"));  // 0.708 s without the actuators
+  EXPECT_THAT(text.out, HasSubstr("stopping through the actuation"));
 }
 
 TEST(SimulateCli, BadProfilesAreBadInput) {
