@@ -96,8 +96,8 @@ std::string diagnostics_html(const fs::path& dir) {
 std::string verification_html(const fs::path& dir) {
   const std::string text = read_or_empty(results::ResultsDir(dir).verify_json());
   if (text.empty())
-    return "<p>No verification in this folder (<code>emrm verify DIR</code> re-checks a store; <code>emrm "
-           "reproduce</code> keeps its result in verify.json).</p>\n";
+    return "<p>No verification in this folder (<code>emrm verify DIR</code> re-checks the store and keeps its "
+           "result in DIR/verify.json, as <code>emrm reproduce</code> does).</p>\n";
   return "<details open><summary>verify.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 

@@ -1,10 +1,14 @@
 #include "emrm/results/verify.hpp"
 
 #include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -252,6 +256,24 @@ std::string limits_source(const sim::StrategyTable& table, const campaign::CellR
   return at->adopted_from.empty() ? at->strategy : at->adopted_from;
 }
 
+// Cells checked side by side at a time: enough to keep every core busy, few enough to hold.
+constexpr std::size_t kVerifyBatch = 256;
+
+// Adds one part of the report (a cell's) to the whole.
+void merge_into(VerifyReport& whole, VerifyReport&& part) {
+  whole.cells += part.cells;
+  whole.witnesses += part.witnesses;
+  whole.avoidances += part.avoidances;
+  whole.certificates += part.certificates;
+  whole.undecided += part.undecided;
+  whole.inferred += part.inferred;
+  for (const auto& [region, counts] : part.by_region)
+    for (const auto& [evidence, n] : counts) whole.by_region[region][evidence] += n;
+  whole.least_clearance_m = std::min(whole.least_clearance_m, part.least_clearance_m);
+  whole.failures.insert(whole.failures.end(), std::make_move_iterator(part.failures.begin()),
+                        std::make_move_iterator(part.failures.end()));
+}
+
 }  // namespace
 
 VerifyReport verify_results(const std::filesystem::path& results_sqlite, const VerifyOptions& options) {
@@ -274,9 +296,8 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
     if (g < store.meta().grids.size()) simulated[store.meta().grids[g]].insert(i);
   });
 
-  VerifyReport report;
-  report.least_clearance_m = std::numeric_limits<double>::infinity();
-  store.for_each_cell([&](const campaign::CellRecord& r) {
+  // One cell's checks, counted into `report` (a part of the whole, merged in store order).
+  const auto check_cell = [&](const campaign::CellRecord& r, VerifyReport& report) {
     if (!r.feasible) return;
     ++report.cells;
     ++report.by_region[core::enum_text(r.region)][core::enum_text(r.evidence)];
@@ -297,8 +318,9 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
           (r.region != sim::Region::kG || sim::stop_call(config, scene.cell()) != sim::StopCall::kStops))
         fail("", fmt::format("region {} inferred without grounds, and the stop boundary does not prove G",
                              core::enum_name(r.region)));
+      const auto grid_cells = simulated.find(r.grid);  // read only: the cells are checked side by side
       for (const std::int64_t from : r.inferred_from)
-        if (simulated[r.grid].count(from) == 0)
+        if (grid_cells == simulated.end() || grid_cells->second.count(from) == 0)
           fail("", fmt::format("inferred from cell {}#{}, which is not a simulated cell", r.grid, from));
       return;
     }
@@ -392,7 +414,38 @@ VerifyReport verify_results(const std::filesystem::path& results_sqlite, const V
       if (check.failure) fail(o.strategy, *check.failure);
       report.least_clearance_m = std::min(report.least_clearance_m, check.clearance_m);
     }
+  };
+
+  // The cells are checked side by side in batches and merged in store order, so the report (and
+  // the first error thrown, if a stored maneuver cannot be read) is the same for any thread count.
+  std::optional<tbb::global_control> limit;
+  if (options.threads > 0)
+    limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  VerifyReport report;
+  report.least_clearance_m = std::numeric_limits<double>::infinity();
+  std::vector<campaign::CellRecord> batch;
+  const auto check_batch = [&] {
+    std::vector<VerifyReport> parts(batch.size());
+    std::vector<std::exception_ptr> errors(batch.size());
+    tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t k) {
+      parts[k].least_clearance_m = std::numeric_limits<double>::infinity();
+      try {
+        check_cell(batch[k], parts[k]);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    });
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+      if (errors[k]) std::rethrow_exception(errors[k]);
+      merge_into(report, std::move(parts[k]));
+    }
+    batch.clear();
+  };
+  store.for_each_cell([&](const campaign::CellRecord& r) {
+    batch.push_back(r);
+    if (batch.size() >= kVerifyBatch) check_batch();
   });
+  check_batch();
   if (!std::isfinite(report.least_clearance_m)) report.least_clearance_m = 0.0;
   return report;
 }

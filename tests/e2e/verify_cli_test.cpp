@@ -64,6 +64,29 @@ TEST_F(VerifyCli, AStoreFromASweepHoldsEveryClaim) {
   EXPECT_THAT(j.out, HasSubstr("\"ok\": true"));
 }
 
+// A user's own `verify` keeps its result beside the store, where the report shows it (it was
+// written only by reproduce, so the report said "No verification" after a user's verify), and
+// takes --threads as every command that works in parallel does, with the same result.
+TEST_F(VerifyCli, ItKeepsItsResultForTheReportWhateverTheThreads) {
+  const fs::path out = *dir_ / "kept";
+  fs::create_directories(out);
+  fs::copy_file(*dir_ / "out" / "results.sqlite", out / "results.sqlite", fs::copy_options::overwrite_existing);
+  const auto one = run_emrm("verify " + quoted(out) + " --threads 1 --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_TRUE(fs::exists(out / "verify.json"));
+  EXPECT_EQ(read_text(out / "verify.json"), one.out);
+  const auto two = run_emrm("verify " + quoted(out) + " --threads 2");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_THAT(two.out, HasSubstr("Wrote " + (out / "verify.json").string()));
+  EXPECT_EQ(read_text(out / "verify.json"), one.out);
+  EXPECT_NE(run_emrm("verify " + quoted(out) + " --threads -1").exit_code, 0);
+  const auto report = run_emrm("report " + quoted(out));
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = read_text(out / "report.html");
+  EXPECT_THAT(html, HasSubstr("<summary>verify.json</summary>"));
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("No verification in this folder")));
+}
+
 // A store damaged by hand is bad input with the damage named, for every reader (report, verify,
 // diagnose), never a crash: a NULL key in its metadata (was SIGSEGV), a seed that is not a number
 // (was an uncaught std::stoull exception), another schema version, a region, method or evidence

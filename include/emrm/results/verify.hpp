@@ -18,6 +18,7 @@ namespace emrm::results {
 struct VerifyOptions {
   double check_step_s = 0.001;  ///< the avoidances' trajectories are checked at this spacing
   double tolerance_m = 0.001;   ///< overlaps and departures shallower than this are not failures
+  int threads = 0;              ///< cells checked side by side on this many threads (0: every core)
 };
 
 /// One claim that did not hold.
