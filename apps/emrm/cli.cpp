@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "commands.hpp"
@@ -137,7 +138,9 @@ int report_error() {
     std::fprintf(stderr, "%s\n", e.what());
     return 128 + e.signal();
   } catch (const emrm::Error& e) {
-    std::fprintf(stderr, "%s\n", e.what());
+    // FILE:LINE:COLUMN: error: ..., or with no file to name the same "error:" a reader looks for.
+    const bool said = std::string_view(e.what()).find("error: ") != std::string_view::npos;
+    std::fprintf(stderr, "%s%s\n", said ? "" : "error: ", e.what());
     return static_cast<int>(emrm::ExitCode::kBadInput);
   } catch (const std::filesystem::filesystem_error& e) {  // a path the system refuses (too long, no access)
     std::fprintf(stderr, "%s: error: %s\n", emrm::cli::shortened(e.path1().string(), 80).c_str(),

@@ -79,8 +79,10 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
       factors[*f] = core::expand_values(value, table[*f].levels);
       nodes.factors[*f] = value;
     } else {
-      key.fail("unknown grid field '" + k + "'; expected name, description, keep_trees, adaptive, cells or a factor (" +
-               factor_list(table) + ")");
+      std::vector<std::string> known{"name", "description", "keep_trees", "adaptive", "cells"};
+      for (std::size_t i = 0; i < table.size(); ++i) known.push_back(table[i].key);
+      key.fail("unknown grid field '" + k + "'" + core::did_you_mean(k, known) +
+               "; expected name, description, keep_trees, adaptive, cells or a factor (" + factor_list(table) + ")");
     }
   }
   if (!named) node.fail("a grid needs a 'name'");
@@ -257,8 +259,9 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name, c
     } else if (k == "name" || k == "description") {
       (void)value.as_string();
     } else {
-      key.fail("unknown campaign field '" + k +
-               "'; expected scene, seed, strategies, max_cells, grids, name or description");
+      key.fail("unknown campaign field '" + k + "'" +
+               core::did_you_mean(k, {"scene", "seed", "strategies", "max_cells", "grids", "name", "description"}) +
+               "; expected scene, seed, strategies, max_cells, grids, name or description");
     }
   }
   if (!grids_node) root.fail("a campaign needs 'grids'");

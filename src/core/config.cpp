@@ -27,6 +27,13 @@ std::string expected_got(std::string_view what, long long value) {
 
 std::string Within::message(double v) const { return expected_got(fmt::format("a value in [{}, {}]", low, high), v); }
 
+std::string Plausible::message(double v) const {
+  // A unit's slip scales a value: a negative or zero one is no slip.
+  const std::string_view slip = v > 0.0 && v < low ? below : (v > high ? above : std::string_view());
+  return expected_got(fmt::format("{} in [{:g}, {:g}] {} for a road vehicle", what, low, high, unit), v) +
+         (slip.empty() ? std::string() : fmt::format(" ({})", slip));
+}
+
 std::string OpenInterval::message(double v) const { return expected_got(fmt::format("a value in {}", text), v); }
 
 std::string AtLeast::message(long long v) const {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -163,6 +164,19 @@ YamlReader::YamlReader(YamlNode map) : node_(std::move(map)) {
 void YamlReader::moved(std::string_view key, std::string_view now_at) const {
   if (auto child = node_.find(key))
     child->fail(fmt::format("'{}' has moved: write it as {} (docs/scene-yaml.md)", key, now_at));
+}
+
+void YamlReader::missing(std::string_view key) const {
+  // Short names are too near each other (x, y) for a guess; a key a field already claimed is no slip.
+  constexpr std::size_t kShortest = 4;
+  const std::vector<std::string> wanted{std::string(key)};
+  for (const auto& [written, value] : node_.entries()) {
+    const std::string name = written.as_string();
+    if (key.size() < kShortest || std::find(known_.begin(), known_.end(), name) != known_.end()) continue;
+    if (const std::string hint = did_you_mean(name, wanted); !hint.empty())
+      written.fail(fmt::format("unknown field '{}'{}; missing required field '{}'", name, hint, key));
+  }
+  node_.fail(fmt::format("missing required field '{}'", key));
 }
 
 void YamlReader::finish() const {

@@ -351,7 +351,10 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
       if (!fs::is_regular_file(p)) value.fail("scene file '" + p.string() + "' does not exist");
       odd.scene_file = p;
     } else if (k == "strategies") {
-      for (const auto& s : value.elements()) odd.strategies.push_back(s.as_string());
+      for (const auto& s : value.elements()) {
+        odd.strategies.push_back(s.as_string());
+        odd.strategies_where.push_back(s.location());
+      }
     } else {
       key.fail("unknown field '" + k +
                "'; expected name, description, seed, safety, scene, strategies, factors, relevance, constraints, "
@@ -397,6 +400,8 @@ Odd parse_odd(const std::string& text, const std::string& file_name, const fs::p
     core::read_yaml(*acceptance_node, a);
     odd.acceptance_strategy = a.strategy;
     odd.acceptance = a.outcome;
+    const auto strategy = acceptance_node->is_map() ? acceptance_node->find("strategy") : std::nullopt;
+    odd.acceptance_where = strategy ? strategy->location() : acceptance_node->location();
   }
 
   // Malfunction modes: the safety case's UCAs, then the file's own list.

@@ -25,9 +25,15 @@ std::string Factor::refusal(double value) const {
     for (std::size_t i = 0; i < levels.size(); ++i) indexed.push_back(fmt::format("{} ({})", levels[i], i));
     return fmt::format("{} must be one of the levels {}, got {}", key, fmt::join(indexed, ", "), value);
   }
+  const std::string slip = slip_hint(value);
   return fmt::format("{} must be a finite {} with {}{}, got {}{}", key, what, inequality(),
-                     unit == "1" ? "" : " " + unit, value,
-                     value > limits.high && !why_high.empty() ? ": " + why_high : std::string());
+                     unit == "1" ? "" : " " + unit, value, slip.empty() ? std::string() : "; " + slip);
+}
+
+std::string Factor::slip_hint(double value) const {
+  if (categorical() || !(value > limits.high)) return "";
+  if (unit == "1" && value <= 100.0 * limits.high) return "a percentage?";
+  return why_high;
 }
 
 std::optional<std::size_t> Factor::level(std::string_view level_name) const noexcept {

@@ -11,6 +11,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
+#include "emrm/sim/strategy.hpp"
 
 namespace emrm::workflow {
 namespace {
@@ -59,9 +60,8 @@ std::string expected_text(const sim::Factor& l) {
 
 // A likely slip behind a rejected value: a percentage for a plain number, a wider road than the scene's.
 std::string hint(const sim::Factor& l, double v) {
-  if (l.unit == "1" && v > l.limits.high && v <= 100.0 * l.limits.high) return "; a percentage?";
-  if (v > l.limits.high && !l.why_high.empty()) return "; " + l.why_high;
-  return "";
+  const std::string slip = l.slip_hint(v);
+  return slip.empty() ? slip : "; " + slip;
 }
 
 // A categorical factor of the family: the ODD names its levels as classes, each class's number the
@@ -129,6 +129,18 @@ void check_odd_against_scene(const scenario::Odd& odd, const sim::SceneConfig& s
   const sim::FactorTable factors = sim::scenario_factors(scene);
   for (const auto& f : odd.factors)
     if (const auto i = factors.find(f.name)) check_factor(f, factors[*i]);
+  // The strategies `emrm run` will simulate, named at plan time where the ODD names them (an
+  // unknown one passed `plan` and failed in `run`, at the generated scenarios.json:1:1).
+  const sim::StrategyTable table = sim::registered_strategies();
+  const auto check_strategy = [&](const std::string& name, const SourceLocation& where, std::string_view what) {
+    if (table.find(name) != nullptr) return;
+    throw InputError(where, fmt::format("{}: unknown strategy '{}'{}; expected one of: {}", what, name,
+                                        core::did_you_mean(name, table.names()), core::join(table.names(), ", ")));
+  };
+  for (std::size_t k = 0; k < odd.strategies.size(); ++k)
+    check_strategy(odd.strategies[k], k < odd.strategies_where.size() ? odd.strategies_where[k] : SourceLocation{},
+                   "strategies");
+  if (!odd.acceptance_strategy.empty()) check_strategy(odd.acceptance_strategy, odd.acceptance_where, "acceptance");
 }
 
 std::vector<std::string> safety_range_warnings(const scenario::Odd& odd, const safety::SafetyCase& sc) {

@@ -252,6 +252,17 @@ TEST(PlanCli, FrictionAsAPercentageIsBadInputAtTheOdd) {
                     "mu 50: expected a friction coefficient in (0, 2]; a percentage?");
 }
 
+// An unknown strategy is found by `plan`, at its name in the ODD, not by `run` at the generated
+// scenarios.json:1:1; likewise the acceptance's strategy.
+TEST(PlanCli, AnUnknownStrategyIsBadInputAtItsName) {
+  const fs::path dir = small_example("plan-strategy");
+  const std::string odd = read_text(dir / "odd.yaml");
+  expect_bad_odd_at(dir / "odd.yaml", odd + "strategies: [emergency_stpo, dodge]\n", "emergency_stpo", 0,
+                    "unknown strategy 'emergency_stpo' (did you mean 'emergency_stop'?)");
+  expect_bad_odd_at(dir / "odd.yaml", odd + "acceptance: {strategy: emmr, outcome: avoided}\n", "emmr", 0,
+                    "acceptance: unknown strategy 'emmr'");
+}
+
 TEST(PlanCli, SpeedInAnotherUnitThanTheSimulatorsIsBadInputAtTheUnit) {
   const fs::path dir = small_example("plan-speed-unit");
   const std::string text =

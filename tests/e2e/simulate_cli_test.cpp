@@ -118,6 +118,29 @@ TEST(SimulateCli, BadCellsExitTwoWithOneMessage) {
   expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --passage-m 12"), "passage");
   expect_bad_input(run_emrm("simulate --speed-kph 50 --ttc-s 1 --strategy teleport"), "unknown strategy 'teleport'");
   EXPECT_EQ(run_emrm("simulate --ttc-s 1").exit_code, 2);
+  // The slip named, and "error:" as every other message has it (a file's errors after its place).
+  const auto percent = run_emrm("simulate --speed-kph 50 --ttc-s 1 --mu 50");
+  expect_bad_input(percent, "error: mu must be a finite friction coefficient with 0 < mu <= 2, got 50; a percentage?");
+  EXPECT_EQ(percent.err.rfind("error: ", 0), 0u) << percent.err;
+}
+
+// A 2 kg car (the mass in tonnes) was accepted: every vehicle parameter has the range of road
+// vehicles, and a value outside it names the unit slip behind it.
+TEST(SimulateCli, AnImplausibleVehicleNamesTheUnitSlip) {
+  const auto dir = scratch_dir("simulate-vehicle");
+  const auto refused = [&](const std::string& field, const std::string& value, const std::string& words) {
+    write_text(dir / "scene.yaml", "ego:\n  " + field + ": " + value + "\n");
+    const auto r = run_emrm("simulate --scene " + quoted(dir / "scene.yaml") + " --speed-kph 50 --ttc-s 1");
+    expect_bad_input(r, (dir / "scene.yaml").string() + ":2:");
+    EXPECT_THAT(r.err, HasSubstr(words)) << field;
+  };
+  refused("mass_kg", "2", "ego.mass_kg: expected a mass in [50, 60000] kg for a road vehicle, got 2 (in tonnes?)");
+  refused("length_m", "4508", "(in millimetres?)");
+  refused("front_cornering_stiffness_n_per_rad", "70", "(in kN/rad?)");
+  refused("max_steer_rate_radps", "45", "(in degrees per second?)");
+  refused("width_m", "0", "expected a width in [0.4, 3] m for a road vehicle, got 0");
+  write_text(dir / "scene.yaml", "ego:\n  mass_kg: 2000\n");  // a large car is one
+  EXPECT_EQ(run_emrm("simulate --scene " + quoted(dir / "scene.yaml") + " --speed-kph 50 --ttc-s 1").exit_code, 0);
 }
 
 TEST(SimulateCli, MalformedSceneFileExitsTwoNamingLineAndColumn) {

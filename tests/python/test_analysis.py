@@ -38,7 +38,7 @@ def test_findings_are_rows_and_a_malformed_case_raises(tmp_path, examples):
     assert run.returncode == 2
     with pytest.raises(emrm.InputError) as error:
         emrm.analyze(safety)
-    assert str(error.value) == run.stderr.strip()
+    assert str(error.value) == run.stderr.strip().removeprefix("error: ")  # the CLI says "error:" first
     with pytest.raises(emrm.InputError) as error:
         emrm.analyze(tmp_path / "missing.yaml")
     assert error.value.file == str(tmp_path / "missing.yaml") and error.value.line is None

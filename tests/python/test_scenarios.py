@@ -99,7 +99,7 @@ def test_a_bad_odd_raises_input_error(tmp_path, examples):
     assert run.returncode == 2
     with pytest.raises(emrm.InputError) as error:
         emrm.plan(odd)
-    assert str(error.value) == run.stderr.strip()
+    assert str(error.value) == run.stderr.strip().removeprefix("error: ")  # the CLI says "error:" first
     with pytest.raises(emrm.InputError) as error:
         emrm.plan({"name": "empty"})
     assert error.value.file == "<odd mapping>"

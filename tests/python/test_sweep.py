@@ -148,7 +148,7 @@ def test_bad_campaigns_raise_input_error_with_the_cli_message(tmp_path):
     assert run.returncode == 2
     with pytest.raises(emrm.InputError) as error:
         emrm.sweep(campaign, tmp_path / "out")
-    assert str(error.value) == run.stderr.strip()
+    assert str(error.value) == run.stderr.strip().removeprefix("error: ")  # the CLI says "error:" first
     assert error.value.line == 3
     with pytest.raises(emrm.InputError) as error:
         emrm.sweep({"grids": [{"name": "g", "mu": 3}]})

@@ -112,6 +112,24 @@ struct Within {
 /// The value lies in the closed interval [low, high].
 [[nodiscard]] constexpr Within within(double low, double high) noexcept { return {low, high}; }
 
+/// A quantity of a road vehicle: outside [low, high] (in `unit`) no road vehicle has it, and the
+/// likely slip is a unit, which the message names: "expected a mass in [300, 60000] kg for a road
+/// vehicle, got 2 (in tonnes?)". NaN fails.
+struct Plausible {
+  double low = 0.0;
+  double high = 0.0;
+  std::string_view what;   ///< "a mass"
+  std::string_view unit;   ///< "kg"
+  std::string_view below;  ///< the slip behind a value below `low`: "in tonnes?" ("" for none)
+  std::string_view above;  ///< and above `high`: "in grams?"
+  [[nodiscard]] bool holds(double v) const noexcept { return v >= low && v <= high; }
+  [[nodiscard]] std::string message(double v) const;
+};
+[[nodiscard]] constexpr Plausible plausible(double low, double high, std::string_view what, std::string_view unit,
+                                            std::string_view below, std::string_view above) noexcept {
+  return {low, high, what, unit, below, above};
+}
+
 struct OpenInterval {
   double low = 0.0;
   double high = 0.0;

@@ -112,9 +112,9 @@ class YamlReader {
   template <class T, class... Constraints>
   void required(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
     known_.emplace_back(key);
+    const auto child = node_.find(key);
+    if (!child) missing(key);
     if constexpr (kIsOptional<T>) {  // the key must be there, its value may be null (none)
-      const auto child = node_.find(key);
-      if (!child) node_.fail("missing required field '" + std::string(key) + "'");
       YamlCodec<T>::read(*child, value);
     } else {
       YamlCodec<T>::read(node_.at(key), value);
@@ -127,6 +127,9 @@ class YamlReader {
   }
   /// A key that used to belong here: its presence is an error that says where it went.
   void moved(std::string_view key, std::string_view now_at) const;
+  /// A required `key` is absent: the error is at a key of the mapping that is a misspelling of it
+  /// ("unknown field 'severty' (did you mean 'severity'?)"), else at the mapping.
+  [[noreturn]] void missing(std::string_view key) const;
   /// Records where the mapping being read starts.
   void location(SourceLocation& where) const { where = node_.location(); }
   /// Rules are checked by Validator once the whole configuration is read.

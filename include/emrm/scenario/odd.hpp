@@ -89,8 +89,10 @@ struct Odd {
   std::vector<std::string> hazards;
   std::optional<std::filesystem::path> safety_file;  ///< as resolved against the ODD file
   std::optional<std::filesystem::path> scene_file;
-  std::vector<std::string> strategies;  ///< for `emrm run`; empty = all
-  std::string acceptance_strategy;      ///< empty = the registered chooser (resolved by `emrm run`)
+  std::vector<std::string> strategies;           ///< for `emrm run`; empty = all
+  std::vector<SourceLocation> strategies_where;  ///< each name as written (`emrm plan` checks them)
+  std::string acceptance_strategy;               ///< empty = the registered chooser (resolved by `emrm run`)
+  SourceLocation acceptance_where;               ///< the acceptance's strategy as written
   Acceptance acceptance = Acceptance::kAvoided;
   int strength = 2;           ///< t
   int n_c = 1;                ///< tests per cell (C1)

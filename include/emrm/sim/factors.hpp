@@ -92,8 +92,12 @@ struct Factor {
   [[nodiscard]] double parse(std::string_view text) const;
   /// "0 < mu <= 2", "speed_kph > 0", "truck_speed_kph >= 0", "obstacle one of truck, deer".
   [[nodiscard]] std::string inequality() const;
-  /// The message for a value accepts() refuses: "mu must be a finite friction coefficient with 0 < mu <= 2, got 3".
+  /// The message for a value accepts() refuses: "mu must be a finite friction coefficient with 0 < mu <= 2, got 3",
+  /// and the likely slip behind it (slip_hint).
   [[nodiscard]] std::string refusal(double value) const;
+  /// The likely slip behind a refused value, or "": "a percentage?" for a plain number above its
+  /// limit and within a hundred times it (μ 50), else why_high for any value above the limit.
+  [[nodiscard]] std::string slip_hint(double value) const;
 };
 
 /// The factor values of one scenario cell, in the order of its scenario's table. A small value:

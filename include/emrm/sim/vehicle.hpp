@@ -46,17 +46,23 @@ struct VehicleParams {
 
   template <class A>
   void serialize(A& a) {
-    EMRM_FIELD(a, length_m, core::positive);
-    EMRM_FIELD(a, width_m, core::positive);
-    EMRM_FIELD(a, mass_kg, core::positive);
-    EMRM_FIELD(a, yaw_inertia_kgm2, core::positive);
-    EMRM_FIELD(a, cg_to_front_axle_m, core::positive);
-    EMRM_FIELD(a, cg_to_rear_axle_m, core::positive);
-    EMRM_FIELD(a, cg_height_m, core::positive);
+    // The ranges hold every road vehicle from a microcar to a loaded articulated truck (docs/scene-yaml.md);
+    // outside them the value is a slip of unit, and the message says which.
+    EMRM_FIELD(a, length_m, core::plausible(1.0, 30.0, "a length", "m", "", "in millimetres?"));
+    EMRM_FIELD(a, width_m, core::plausible(0.4, 3.0, "a width", "m", "", "in millimetres?"));
+    EMRM_FIELD(a, mass_kg, core::plausible(50.0, 60000.0, "a mass", "kg", "in tonnes?", "in grams?"));
+    EMRM_FIELD(a, yaw_inertia_kgm2, core::plausible(10.0, 2.0e6, "a yaw inertia", "kg·m²", "in tonne·m²?", ""));
+    EMRM_FIELD(a, cg_to_front_axle_m, core::plausible(0.1, 15.0, "a CG-to-axle distance", "m", "", "in millimetres?"));
+    EMRM_FIELD(a, cg_to_rear_axle_m, core::plausible(0.1, 15.0, "a CG-to-axle distance", "m", "", "in millimetres?"));
+    EMRM_FIELD(a, cg_height_m, core::plausible(0.1, 4.0, "a CG height", "m", "", "in millimetres?"));
     EMRM_FIELD(a, max_steer_rad, core::open_interval(0.0, std::numbers::pi / 2, "(0, pi/2)"));
-    EMRM_FIELD(a, max_steer_rate_radps, core::positive);
-    EMRM_FIELD(a, front_cornering_stiffness_n_per_rad, core::positive);
-    EMRM_FIELD(a, rear_cornering_stiffness_n_per_rad, core::positive);
+    EMRM_FIELD(
+        a, max_steer_rate_radps,
+        core::plausible(0.01, 20.0, "a steering rate of the road wheels", "rad/s", "", "in degrees per second?"));
+    EMRM_FIELD(a, front_cornering_stiffness_n_per_rad,
+               core::plausible(500.0, 5.0e6, "an axle's cornering stiffness", "N/rad", "in kN/rad?", ""));
+    EMRM_FIELD(a, rear_cornering_stiffness_n_per_rad,
+               core::plausible(500.0, 5.0e6, "an axle's cornering stiffness", "N/rad", "in kN/rad?", ""));
     EMRM_FIELD(a, kinematic_blend_speed_mps, core::non_negative);
     // Overhangs are (length − wheelbase)/2 each; a negative one would put the bumper behind the axle.
     a.ensure(!(wheelbase_m() > length_m), "length_m",

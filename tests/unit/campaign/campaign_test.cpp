@@ -155,6 +155,11 @@ TEST(LoadCampaign, ReportsMistakesAtTheirLineAndColumn) {
   EXPECT_THAT(error_of("grids:\n  - name: g\n    mu: [0.5, 3.0]\n"), HasSubstr("c.yaml:3:9: error: grid 'g': mu"));
   EXPECT_THAT(error_of("grids:\n  - name: g\n  - name: g\n"), HasSubstr("c.yaml:3:5: error: duplicate grid name 'g'"));
   EXPECT_THAT(error_of("seeds: 1\ngrids: []\n"), HasSubstr("c.yaml:1:1: error: unknown campaign field"));
+  // The nearest known field, as the scene's and the ODD's errors say it.
+  EXPECT_THAT(error_of("seeds: 1\ngrids: []\n"), HasSubstr("'seeds' (did you mean 'seed'?)"));
+  EXPECT_THAT(error_of("grids:\n  - name: g\n    muu: 0.5\n"),
+              HasSubstr("c.yaml:3:5: error: unknown grid field 'muu' (did you mean 'mu'?)"));
+
   EXPECT_THAT(error_of("scene: nowhere.yaml\ngrids:\n  - name: g\n"), HasSubstr("c.yaml:1:8:"));
   EXPECT_THAT(error_of("grids:\n  - name: g\n    cells:\n      - {speed_kph: 30, ttc: 1}\n"),
               HasSubstr("c.yaml:4:25: error: unknown factor 'ttc'"));

@@ -96,6 +96,16 @@ TEST(SafetyLoad, MissingFieldNamesTheFieldAndTheEntity) {
   EXPECT_EQ(e.where().line, line_of(text, "id: H7"));
 }
 
+// A misspelt required key is named at the misspelling with the field it stands for, not reported
+// as the field missing (which sent a user hunting for a field they had written).
+TEST(SafetyLoad, AMisspeltRequiredKeyIsNamedWhereItIsWritten) {
+  const std::string text = replace_once(example_text(), "    severity: S3\n", "    severty: S3\n");
+  const auto e = parse_error(text);
+  EXPECT_THAT(e.message(), HasSubstr("unknown field 'severty' (did you mean 'severity'?)"));
+  EXPECT_THAT(e.message(), HasSubstr("missing required field 'severity'"));
+  EXPECT_EQ(e.where().line, line_of(text, "severty: S3"));
+}
+
 TEST(SafetyLoad, DuplicateIdPointsAtTheSecondAndNamesTheFirst) {
   const std::string text = replace_once(example_text(), "id: H9", "id: H4");
   const auto e = parse_error(text);

@@ -322,7 +322,7 @@ TEST(SceneLoad, BadInputNamesLineAndColumn) {
       {"truck:\n  mass: 1\n", "mass", "unknown field 'mass'"},
       {"road:\n  lane_width: 3\n", "lane_width", "unknown field"},
       {"colour: red\n", "colour", "unknown field"},
-      {"ego:\n  mass_kg: -5\n", "-5", "ego.mass_kg: expected a value > 0"},
+      {"ego:\n  mass_kg: -5\n", "-5", "ego.mass_kg: expected a mass in [50, 60000] kg for a road vehicle, got -5"},
       {"ego:\n  yaw_inertia_kgm2: 0\n", "0", "ego.yaw_inertia_kgm2"},
       {"ego:\n  front_cornering_stiffness_n_per_rad: 0\n", "0", "stiffness"},
       {"ego:\n  length_m: 2\n", "2", "wheelbase"},
@@ -489,7 +489,7 @@ TEST(SceneValidate, EachPartValidatesOnItsOwnNamedAfterThePart) {
   EXPECT_EQ(message(PlannerConfig{}, [](PlannerConfig& p) { p.goal_bias = -0.5; }),
             "planner: goal_bias: expected a value in [0, 1], got -0.5");
   EXPECT_EQ(message(VehicleParams{}, [](VehicleParams& p) { p.cg_height_m = 0; }),
-            "vehicle: cg_height_m: expected a value > 0, got 0");
+            "vehicle: cg_height_m: expected a CG height in [0.1, 4] m for a road vehicle, got 0");
   EXPECT_EQ(message(RoadConfig{}, [](RoadConfig&) {}), "no error");
 }
 
