@@ -11,6 +11,7 @@
 #include <set>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/measured.hpp"
 #include "emrm/core/text.hpp"
 #include "fit.hpp"
 
@@ -109,9 +110,12 @@ std::vector<TraceSample> read_decel_trace(const std::filesystem::path& file) {
     TraceSample s;
     s.run = trim(r.fields[col.at("run")]);
     s.t_s = number_at(r, col.at("t_s"), "t_s", f);
-    s.speed_mps = number_at(r, col.at("speed_mps"), "speed_mps", f);
-    require(s.speed_mps >= 0.0, r, col.at("speed_mps"), f,
-            fmt::format("speed_mps: expected a speed >= 0, got {}", s.speed_mps));
+    const double measured = number_at(r, col.at("speed_mps"), "speed_mps", f);
+    const auto speed = core::measured_speed_mps(measured);
+    require(speed.has_value(), r, col.at("speed_mps"), f,
+            fmt::format("speed_mps: expected a speed >= 0 (a car at rest may dither down to -{} m/s), got {}",
+                        core::kStandstillDither_mps, measured));
+    s.speed_mps = speed.value_or(0.0);
     if (const auto it = last_t.find(s.run); it != last_t.end())
       require(
           s.t_s > it->second, r, col.at("t_s"), f,

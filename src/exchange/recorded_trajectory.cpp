@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "emrm/core/error.hpp"
+#include "emrm/core/measured.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/sim/family.hpp"
 #include "slopes.hpp"
@@ -76,8 +77,14 @@ void check_time(const RecordedTrajectory& out, double t, const RowReader& r, std
                                                   out.samples.back().t_s, t));
 }
 
-void check_speed(double v, const RowReader& r, std::size_t column) {
-  if (v < 0.0) throw InputError(r.where(column), fmt::format("expected a speed >= 0 m/s, got {}", v));
+// The speed as read: the dither of a car at rest is 0 (core/measured.hpp); below it, refused.
+double checked_speed(double v, const RowReader& r, std::size_t column) {
+  const auto speed = core::measured_speed_mps(v);
+  if (!speed)
+    throw InputError(r.where(column),
+                     fmt::format("expected a speed >= 0 m/s (a car at rest may dither down to -{} m/s), got {}",
+                                 core::kStandstillDither_mps, v));
+  return *speed;
 }
 
 // Headings continuous from sample to sample, so that interpolation turns the short way.
@@ -120,8 +127,7 @@ RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const
     s.x_m = r.number(x, "x");
     s.y_m = r.number(y, "y");
     s.yaw_rad = r.number(psi, "psi");
-    s.speed_mps = r.number(v, "v");
-    check_speed(s.speed_mps, r, v);
+    s.speed_mps = checked_speed(r.number(v, "v"), r, v);
     if (steer) s.steer_rad = r.number(*steer, "steer");
     if (out.has_truck) {
       s.truck_x_m = r.number(*tx, "truck_x");

@@ -44,7 +44,8 @@ struct RecordedTrajectory {
 
 /// Parses a recorded trajectory. Throws InputError at `file_name`:line:column for malformed CSV, a
 /// missing column, a row of the wrong length, a value that is not a finite number, a time not
-/// after the previous one (esmini: repeated frames of one time are skipped), a negative speed, or
+/// after the previous one (esmini: repeated frames of one time are skipped), a speed below the
+/// dither of a car at rest (core/measured.hpp: down to -0.05 m/s is read as 0), or
 /// fewer than two samples. `config` and `options` convert esmini's reference points.
 [[nodiscard]] RecordedTrajectory parse_trajectory_csv(std::string_view text, const std::string& file_name,
                                                       TrajectoryFormat format, const sim::SceneConfig& config,

@@ -178,6 +178,16 @@ TEST_F(CalibrateFiles, TraceFilesAreCheckedFieldByField) {
               HasSubstr("back.csv:3:3: error: t_s: expected the times of run 'a' to increase"));
   EXPECT_THAT(error_of([&] { (void)read_decel_trace(write("x.csv", "run,t_s,speed_mps\na,0,fast\n")); }),
               HasSubstr("x.csv:2:5: error: speed_mps: expected a finite number"));
+  // A wheel-speed trace dithers around zero at rest: read as 0, not refused (it stopped a user's
+  // calibration at -0.0047 m/s); a speed below the dither is refused at its field.
+  const auto at_rest =
+      read_decel_trace(write("rest.csv", "run,t_s,speed_mps\na,0,20\na,1,0.01\na,1.01,-0.0047\na,1.02,-0.05\n"));
+  ASSERT_EQ(at_rest.size(), 4u);
+  EXPECT_EQ(at_rest[2].speed_mps, 0.0);
+  EXPECT_EQ(at_rest[3].speed_mps, 0.0);
+  EXPECT_THAT(error_of([&] { (void)read_decel_trace(write("back2.csv", "run,t_s,speed_mps\na,0,20\na,1,-0.5\n")); }),
+              HasSubstr("back2.csv:3:5: error: speed_mps: expected a speed >= 0 (a car at rest may dither down to "
+                        "-0.05 m/s), got -0.5"));
 }
 
 TEST_F(CalibrateFiles, RegionTargetsOfBothShapesAreRead) {

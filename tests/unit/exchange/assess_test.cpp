@@ -235,6 +235,12 @@ TEST(Assess, BadFilesNameLineAndColumn) {
   expect_error_at("t,x,y,psi,v\n0,0,0,0,10\n0,1,0,0,10\n", 3, 1, "expected a time after");
   expect_error_at("t,x,y,psi,v\n0,0,0,0,10\n", 2, 1, "expected at least two samples");
   expect_error_at("t,x,y,psi,v\n0,0,0,0,10\n0.1,1,0,0,-1\n", 3, 11, "expected a speed >= 0");
+  // The dither of a car at rest is read as 0, not refused.
+  EXPECT_EQ(parse_trajectory_csv("t,x,y,psi,v\n0,0,0,0,0.01\n0.1,0,0,0,-0.004\n", "rest.csv", TrajectoryFormat::kEmrm,
+                                 sim::SceneConfig{})
+                .samples.back()
+                .speed_mps,
+            0.0);
   expect_error_at("t,x,y,psi,v\n0,0,0,0,\"10\n", 2, 0, "");
   expect_error_at("t,x,y,psi,v,truck_x\n0,0,0,0,10,1\n0.1,1,0,0,10,1\n", 1, 1, "truck_y");
   expect_error_at(
