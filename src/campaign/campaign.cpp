@@ -80,7 +80,7 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
       nodes.factors[*f] = value;
     } else {
       std::vector<std::string> known{"name", "description", "keep_trees", "adaptive", "cells"};
-      for (std::size_t i = 0; i < table.size(); ++i) known.push_back(table[i].key);
+      for (const sim::Factor& factor : table) known.push_back(factor.key);
       key.fail("unknown grid field '" + k + "'" + core::did_you_mean(k, known) +
                "; expected name, description, keep_trees, adaptive, cells or a factor (" + factor_list(table) + ")");
     }

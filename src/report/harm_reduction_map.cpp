@@ -22,24 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using campaign::CellRecord;
-using detail::boundary_key_entry;
-using detail::boundary_text;
-using detail::boxes;
-using detail::cell_box;
-using detail::cell_columns;
-using detail::is_o_or_r;
-using detail::kMapFontPt;
-using detail::kMapHeightPx;
-using detail::kMapWidthPx;
 using detail::lay_out_map;
-using detail::map_script;
 using detail::MapLayout;
-using detail::MapPanel;
 using detail::no_map_note;
-using detail::panel_caption;
-using detail::panel_script;
-using detail::region_colour;
-using detail::write_csv;
 
 constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
 constexpr double kHarmKeyHeight = detail::kHarmMapKeyHeight;
