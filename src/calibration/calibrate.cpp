@@ -112,9 +112,7 @@ std::vector<TraceSample> read_decel_trace(const std::filesystem::path& file) {
     s.t_s = number_at(r, col.at("t_s"), "t_s", f);
     const double measured = number_at(r, col.at("speed_mps"), "speed_mps", f);
     const auto speed = core::measured_speed_mps(measured);
-    require(speed.has_value(), r, col.at("speed_mps"), f,
-            fmt::format("speed_mps: expected a speed >= 0 (a car at rest may dither down to -{} m/s), got {}",
-                        core::kStandstillDither_mps, measured));
+    require(speed.has_value(), r, col.at("speed_mps"), f, "speed_mps: " + core::measured_speed_refusal(measured));
     s.speed_mps = speed.value_or(0.0);
     if (const auto it = last_t.find(s.run); it != last_t.end())
       require(

@@ -19,6 +19,11 @@ namespace {
 using core::scalar_number;
 
 /// "A, B, C or D": the scenario's factors' keys, for messages.
+// The fields a campaign and a grid take besides a grid's factors: what an unknown one is told.
+const std::vector<std::string> kCampaignFields{"scene", "seed", "strategies", "max_cells",
+                                               "grids", "name", "description"};
+const std::vector<std::string> kGridFields{"name", "description", "keep_trees", "adaptive", "cells"};
+
 std::string factor_list(const sim::FactorTable& factors) {
   std::vector<std::string> keys = factors.keys();
   if (keys.size() < 2) return core::join(keys, "");
@@ -79,10 +84,11 @@ GridSpec read_grid(const core::YamlNode& node, const sim::FactorTable& table, st
       factors[*f] = core::expand_values(value, table[*f].levels);
       nodes.factors[*f] = value;
     } else {
-      std::vector<std::string> known{"name", "description", "keep_trees", "adaptive", "cells"};
-      for (const sim::Factor& factor : table) known.push_back(factor.key);
-      key.fail("unknown grid field '" + k + "'" + core::did_you_mean(k, known) +
-               "; expected name, description, keep_trees, adaptive, cells or a factor (" + factor_list(table) + ")");
+      std::vector<std::string> known(kGridFields.begin(), kGridFields.end());
+      const std::vector<std::string> keys = table.keys();
+      known.insert(known.end(), keys.begin(), keys.end());
+      key.fail("unknown grid field '" + k + "'" + core::did_you_mean(k, known) + "; expected " +
+               core::join(kGridFields, ", ") + " or a factor (" + factor_list(table) + ")");
     }
   }
   if (!named) node.fail("a grid needs a 'name'");
@@ -259,9 +265,8 @@ Campaign parse_campaign(const std::string& text, const std::string& file_name, c
     } else if (k == "name" || k == "description") {
       (void)value.as_string();
     } else {
-      key.fail("unknown campaign field '" + k + "'" +
-               core::did_you_mean(k, {"scene", "seed", "strategies", "max_cells", "grids", "name", "description"}) +
-               "; expected scene, seed, strategies, max_cells, grids, name or description");
+      key.fail("unknown campaign field '" + k + "'" + core::did_you_mean(k, kCampaignFields) + "; expected " +
+               core::join(kCampaignFields, ", "));
     }
   }
   if (!grids_node) root.fail("a campaign needs 'grids'");

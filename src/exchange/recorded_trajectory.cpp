@@ -80,10 +80,7 @@ void check_time(const RecordedTrajectory& out, double t, const RowReader& r, std
 // The speed as read: the dither of a car at rest is 0 (core/measured.hpp); below it, refused.
 double checked_speed(double v, const RowReader& r, std::size_t column) {
   const auto speed = core::measured_speed_mps(v);
-  if (!speed)
-    throw InputError(r.where(column),
-                     fmt::format("expected a speed >= 0 m/s (a car at rest may dither down to -{} m/s), got {}",
-                                 core::kStandstillDither_mps, v));
+  if (!speed) throw InputError(r.where(column), core::measured_speed_refusal(v));
   return *speed;
 }
 

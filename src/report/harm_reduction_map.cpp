@@ -27,7 +27,6 @@ using detail::MapLayout;
 using detail::no_map_note;
 
 constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best strategy";
-constexpr double kHarmKeyHeight = detail::kHarmMapKeyHeight;
 
 }  // namespace
 
@@ -140,8 +139,7 @@ Figure draw_harm_map(const MapLayout& layout, const fs::path& dir, double latenc
 
 Figure draw_harm_reduction_map(const std::vector<CellRecord>& records, const sim::FactorTable& factors,
                                const fs::path& dir, const MapPanels& panels, double latency_s) {
-  // A taller key strip: the colour bar sits above the key entries.
-  const MapLayout layout = lay_out_map(records, factors, panels, kHarmKeyHeight);
+  const MapLayout layout = lay_out_map(records, factors, panels, detail::kHarmMapKeyHeight);
   if (layout.panels.empty()) {
     Figure figure;
     figure.name = "harm_reduction_map";

@@ -38,11 +38,16 @@ const fsm::Generator& default_loss_evaluation_fsm() {
 
 std::vector<std::string> strategy_names() { return registered_strategies().names(); }
 
+bool known_strategy(std::string_view name) { return registered_strategies().find(name) != nullptr; }
+
+std::string unknown_strategy_message(std::string_view name) {
+  const std::vector<std::string> names = registered_strategies().names();
+  return fmt::format("unknown strategy '{}'{}; expected one of: {}", name, core::did_you_mean(name, names),
+                     core::join(names, ", "));
+}
+
 void validate_strategy(std::string_view name) {
-  const StrategyTable strategies = registered_strategies();
-  if (strategies.find(name) == nullptr)
-    throw UsageError(
-        fmt::format("unknown strategy '{}'; expected one of: {}, or all", name, core::join(strategies.names(), ", ")));
+  if (!known_strategy(name)) throw UsageError(unknown_strategy_message(name) + ", or all");
 }
 
 namespace {

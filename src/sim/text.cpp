@@ -38,13 +38,13 @@ std::string to_text(const CellResult& r, const SceneConfig& config, std::uint64_
     // Through the scene's actuators, as the map's boundary: the latency and dead time, the ramp, a cap.
     const double alone_s = v / (2.0 * scene.friction() * kGravity_mps2);
     const double needed_s = stop_boundary_ttc_s(v * 3.6, scene.friction(), config.actuation);
-    out += std::abs(needed_s - alone_s) < 1e-12
-               ? fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (v/(2 mu g))\n",
-                             scene.initial_distance_m(), needed_s)
-               : fmt::format(
-                     "Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s (stopping through the actuation: "
-                     "{:.3f} s more than v/(2 mu g) = {:.3f} s)\n",
-                     scene.initial_distance_m(), needed_s, needed_s - alone_s, alone_s);
+    const std::string how =
+        std::abs(needed_s - alone_s) < 1e-12
+            ? std::string("v/(2 mu g)")
+            : fmt::format("stopping through the actuation: {:.3f} s more than v/(2 mu g) = {:.3f} s",
+                          needed_s - alone_s, alone_s);
+    out += fmt::format("Initial distance {:.2f} m; braking alone needs TTC >= {:.3f} s ({})\n",
+                       scene.initial_distance_m(), needed_s, how);
   } else
     out += fmt::format("Initial gap {:.2f} m\n", scene.initial_distance_m());
   if (!r.feasible) {

@@ -11,7 +11,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/core/yaml.hpp"
-#include "emrm/sim/strategy.hpp"
+#include "emrm/sim/simulate.hpp"
 
 namespace emrm::workflow {
 namespace {
@@ -131,11 +131,9 @@ void check_odd_against_scene(const scenario::Odd& odd, const sim::SceneConfig& s
     if (const auto i = factors.find(f.name)) check_factor(f, factors[*i]);
   // The strategies `emrm run` will simulate, named at plan time where the ODD names them (an
   // unknown one passed `plan` and failed in `run`, at the generated scenarios.json:1:1).
-  const sim::StrategyTable table = sim::registered_strategies();
   const auto check_strategy = [&](const std::string& name, const SourceLocation& where, std::string_view what) {
-    if (table.find(name) != nullptr) return;
-    throw InputError(where, fmt::format("{}: unknown strategy '{}'{}; expected one of: {}", what, name,
-                                        core::did_you_mean(name, table.names()), core::join(table.names(), ", ")));
+    if (!sim::known_strategy(name))
+      throw InputError(where, fmt::format("{}: {}", what, sim::unknown_strategy_message(name)));
   };
   for (std::size_t k = 0; k < odd.strategies.size(); ++k)
     check_strategy(odd.strategies[k], k < odd.strategies_where.size() ? odd.strategies_where[k] : SourceLocation{},

@@ -187,12 +187,23 @@ TEST(SimulateCli, ProductionProfileMovesTheStopBoundary) {
   EXPECT_EQ(without_scene(shipped.out), without_scene(production.out));
   EXPECT_EQ(nlohmann::json::parse(shipped.out)["scene"]["actuation"],
             nlohmann::json::parse(production.out)["scene"]["actuation"]);
-  // And the text says which actuation it used, and the stop boundary through it.
+  // And the text says which actuation it used, and the stop boundary through it, the closed form of
+  // full braking after the latency and dead time along a linear ramp t_r (v > a·t_r/2):
+  // TTC = L + t_d + v/(2a) + t_r/2 − a·t_r²/(24 v), a = μg; 0.708 s would be v/(2μg) alone.
   const auto text = run_emrm("simulate --scene " + quoted(example("scene.yaml")) +
                              " --speed-kph 50 --ttc-s 1.0 --strategy emergency_stop");
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_THAT(text.out, HasSubstr("actuation: perception latency 0.25 s"));
-  EXPECT_THAT(text.out, HasSubstr("braking alone needs TTC >= 1.1"));  // 0.708 s without the actuators
+  const nlohmann::json act = nlohmann::json::parse(shipped.out)["scene"]["actuation"];
+  const double wait_s = act["perception_latency_s"].get<double>() + act["brake_dead_time_s"].get<double>();
+  const double ramp_s = act["brake_ramp_s"].get<double>();
+  ASSERT_GT(wait_s, 0.0);
+  const double v = 50.0 / 3.6, a = 9.81;
+  const double expected_s = wait_s + v / (2.0 * a) + ramp_s / 2.0 - a * ramp_s * ramp_s / (24.0 * v);
+  const std::string said = "braking alone needs TTC >= ";
+  const auto at = text.out.find(said);
+  ASSERT_NE(at, std::string::npos) << text.out;
+  EXPECT_NEAR(std::stod(text.out.substr(at + said.size())), expected_s, 0.0006) << text.out;  // printed to 1 ms
   EXPECT_THAT(text.out, HasSubstr("stopping through the actuation"));
 }
 

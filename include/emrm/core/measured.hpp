@@ -4,7 +4,10 @@
 // what is physically wrong, refused. Shared by every reader of recorded data (calibration traces,
 // recorded trajectories).
 
+#include <fmt/format.h>
+
 #include <optional>
+#include <string>
 
 namespace emrm::core {
 
@@ -18,6 +21,13 @@ inline constexpr double kStandstillDither_mps = 0.05;
   if (v >= 0.0) return v;
   if (v >= -kStandstillDither_mps) return 0.0;
   return std::nullopt;
+}
+
+/// What a refused measured speed is told: "expected a speed >= 0 m/s (a car at rest may dither down
+/// to -0.05 m/s), got -0.5".
+[[nodiscard]] inline std::string measured_speed_refusal(double v) {
+  return fmt::format("expected a speed >= 0 m/s (a car at rest may dither down to -{} m/s), got {}",
+                     kStandstillDither_mps, v);
 }
 
 }  // namespace emrm::core

@@ -112,13 +112,10 @@ class YamlReader {
   template <class T, class... Constraints>
   void required(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {
     known_.emplace_back(key);
+    // The key must be there; its value may be null (none) only for an optional value.
     const auto child = node_.find(key);
-    if (!child) missing(key);
-    if constexpr (kIsOptional<T>) {  // the key must be there, its value may be null (none)
-      YamlCodec<T>::read(*child, value);
-    } else {
-      YamlCodec<T>::read(node_.at(key), value);
-    }
+    if (!child || (!kIsOptional<T> && child->is_null())) missing(key);
+    YamlCodec<T>::read(*child, value);
   }
   template <class T, class... Constraints>
   void optional(std::string_view key, T& value, const Constraints&... /*checked by Validator*/) {

@@ -72,7 +72,12 @@ struct CellResult {
 /// The registered strategies' names in evaluation order (strategy.hpp); shipped: emergency_stop,
 /// dodge, drift_to_avoid, drift_to_accident, emrm, best_strategy.
 [[nodiscard]] std::vector<std::string> strategy_names();
-/// Throws UsageError naming the registered strategies when `name` is not one.
+/// Whether `name` is a registered strategy.
+[[nodiscard]] bool known_strategy(std::string_view name);
+/// "unknown strategy 'emergency_stpo' (did you mean 'emergency_stop'?); expected one of: …": what
+/// every reader of a strategy name says of one that is not registered.
+[[nodiscard]] std::string unknown_strategy_message(std::string_view name);
+/// Throws UsageError naming the registered strategies when `name` is not one (the CLI's "all" besides).
 void validate_strategy(std::string_view name);
 
 struct CellOptions {

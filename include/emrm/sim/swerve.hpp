@@ -1,10 +1,9 @@
 #pragma once
 
 // The swerve family: steer in towards a free side at the full rate to a peak, hold, counter-steer,
-// hold, straighten, braking throughout (at a level of its own while steering in, holding and after), then the full-stop
-// tail. The reference planner enumerates a grid of it (docs/planner.md, "Reference planner"); the falsifier optimises
-// over it continuously
-// ("The falsifier").
+// hold, straighten, braking throughout (at a level of its own while steering in, holding and
+// after), then the full-stop tail. The reference planner enumerates a grid of it (docs/planner.md,
+// "Reference planner"); the falsifier optimises over it continuously ("The falsifier").
 
 #include <vector>
 

@@ -186,8 +186,8 @@ TEST_F(CalibrateFiles, TraceFilesAreCheckedFieldByField) {
   EXPECT_EQ(at_rest[2].speed_mps, 0.0);
   EXPECT_EQ(at_rest[3].speed_mps, 0.0);
   EXPECT_THAT(error_of([&] { (void)read_decel_trace(write("back2.csv", "run,t_s,speed_mps\na,0,20\na,1,-0.5\n")); }),
-              HasSubstr("back2.csv:3:5: error: speed_mps: expected a speed >= 0 (a car at rest may dither down to "
-                        "-0.05 m/s), got -0.5"));
+              HasSubstr("back2.csv:3:5: error: speed_mps: expected a speed >= 0 m/s (a car at rest may dither "
+                        "down to -0.05 m/s), got -0.5"));
 }
 
 TEST_F(CalibrateFiles, RegionTargetsOfBothShapesAreRead) {
