@@ -20,6 +20,7 @@
 #include "emrm/exchange/plan_export.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/termination.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -98,7 +99,7 @@ int run_export(const ExportOptions& options) {
   if (trajectory)
     note = fmt::format(
         " (the ego follows its {} trajectory, {} points)", trajectory->strategy,
-        exchange::thin_path(exchange::with_final_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m)
+        exchange::thin_path(sim::with_closed_form_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m)
             .size());
   else if (!options.strategy.empty())
     note = fmt::format(" ({} executed no trajectory in this cell: the ego keeps its speed)", options.strategy);

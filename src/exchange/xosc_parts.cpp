@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "emrm/sim/termination.hpp"
+
 namespace emrm::exchange::detail {
 
 void time_condition(XmlWriter& x, const std::string& name, const char* rule, double t_s) {
@@ -142,8 +144,9 @@ void start_state(XmlWriter& x, const std::string& entity, const std::string& px,
 
 std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
                                          const ExportOptions& options) {
-  return ended_on_frame_grid(thin_path(with_final_stop(trajectory.path, config.simulation.dt_s), options.tolerance_m),
-                             config.simulation.dt_s);
+  return ended_on_frame_grid(
+      thin_path(sim::with_closed_form_stop(trajectory.path, config.simulation.dt_s), options.tolerance_m),
+      config.simulation.dt_s);
 }
 
 void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const sim::CellInput& cell,

@@ -9,6 +9,7 @@
 #include "emrm/core/random.hpp"
 #include "emrm/core/registry.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/sim/termination.hpp"
 
 namespace emrm::sim {
 
@@ -107,8 +108,9 @@ StrategyOutcome outcome_of(std::string_view strategy, const RolloutResult& rollo
   o.road_departure = rollout.termination == Termination::kRoadDeparture;
   if (!o.avoided) o.impact = rollout.impact;
   o.delta_loss = unmitigated.loss_level - o.impact.loss_level;
-  o.min_ttc_s = o.contact ? 0.0 : min_ttc_along(scene, rollout.path);
-  o.path = rollout.path;
+  // Every integration step, the closed-form final stop's too: the least TTC lies inside a stop.
+  o.path = with_closed_form_stop(rollout.path, scene.config().simulation.dt_s);
+  o.min_ttc_s = o.contact ? 0.0 : min_ttc_along(scene, o.path);
   o.maneuver = rollout.maneuver;
   return o;
 }

@@ -206,4 +206,30 @@ TerminationTest::TerminationTest(const Scene& scene)
           detail::PassedTruckTest(scene), detail::StoppedTest(scene), detail::StopsShortTest(scene),
           detail::HorizonTest(scene), detail::StabilisedTest(scene)})) {}
 
+std::vector<PathPoint> with_closed_form_stop(const std::vector<PathPoint>& path, double dt_s) {
+  if (path.size() < 2) return path;
+  const PathPoint& from = path[path.size() - 2];
+  const PathPoint& rest = path.back();
+  const double span_s = rest.t_s - from.t_s;
+  const double speed = from.state.speed_mps();
+  if (!(rest.state.speed_mps() == 0.0 && speed > 0.0 && span_s > 1.5 * dt_s)) return path;
+  std::vector<PathPoint> out(path.begin(), path.end() - 1);
+  const double decel = speed / span_s;
+  const auto [c, s] = core::cos_sin(from.state.yaw_rad);
+  for (double tau = dt_s; tau < span_s - 0.5 * dt_s; tau += dt_s) {
+    PathPoint p = from;
+    const double travelled = speed * tau - 0.5 * decel * tau * tau;
+    p.t_s = from.t_s + tau;
+    p.state.x_m += travelled * c;
+    p.state.y_m += travelled * s;
+    const double k = (speed - decel * tau) / speed;
+    p.state.vx_mps *= k;
+    p.state.vy_mps *= k;
+    p.state.yaw_rate_radps = 0.0;
+    out.push_back(p);
+  }
+  out.push_back(rest);
+  return out;
+}
+
 }  // namespace emrm::sim

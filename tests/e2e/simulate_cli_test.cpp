@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -89,6 +91,31 @@ TEST(SimulateCli, OneStrategyCanBeAskedFor) {
   EXPECT_FALSE(j["strategies"]["emergency_stop"]["avoided"].get<bool>());
 }
 
+// Issue 40, 9: a straight stop short of the truck is finished in closed form; its JSON trajectory
+// held three samples, and re-checking it by interpolation was off by metres at mid-stop. Every
+// integration step is there now, each on the closed form x0 + v0 t - a t^2 / 2 at the deceleration
+// the first step shows, ending where v0^2 / (2a) puts it.
+TEST(SimulateCli, AStraightStopCarriesEveryIntegrationStep) {
+  const auto r = run_emrm("simulate --speed-kph 40 --ttc-s 2 --mu 0.7 --strategy emergency_stop --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& path = j["strategies"]["emergency_stop"]["trajectory"];
+  ASSERT_TRUE(j["strategies"]["emergency_stop"]["avoided"].get<bool>());
+  const double dt = 0.01;
+  const double x0 = path[0]["x"], v0 = path[0]["v"];
+  const double a = (v0 - path[1]["v"].get<double>()) / dt;
+  ASSERT_GT(a, 0.0);
+  const double stop_s = v0 / a;
+  EXPECT_GE(path.size(), static_cast<std::size_t>(stop_s / dt));
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    const double t = path[k]["t"];
+    EXPECT_LE(t - path[k - 1]["t"].get<double>(), dt + 1e-9) << "at sample " << k;
+    const double tau = std::min(t, stop_s);
+    EXPECT_NEAR(path[k]["x"].get<double>(), x0 + v0 * tau - 0.5 * a * tau * tau, 1e-6) << "at t = " << t;
+    EXPECT_NEAR(path[k]["v"].get<double>(), v0 - a * tau, 1e-6) << "at t = " << t;
+  }
+  EXPECT_NEAR(path.back()["x"].get<double>() - x0, v0 * v0 / (2.0 * a), 1e-6);
+}
 TEST(SimulateCli, InfeasibleCellsAreReportedNotSimulated) {
   const auto r = run_emrm("simulate --speed-kph 72 --ttc-s 2.9 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;

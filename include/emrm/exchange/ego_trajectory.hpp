@@ -1,8 +1,8 @@
 #pragma once
 
 // The ego's executed trajectory as the vertices another simulator follows (docs/openscenario.md):
-// its closed-form final stop filled in, thinned to a tolerance, and ended on the simulator's frame
-// grid.
+// its closed-form final stop filled in (sim::with_closed_form_stop, for a store written before
+// outcomes held it), thinned to a tolerance, and ended on the simulator's frame grid.
 
 #include <string>
 #include <vector>
@@ -16,12 +16,6 @@ struct EgoTrajectory {
   std::string strategy;
   std::vector<sim::PathPoint> path;
 };
-
-/// The path with its closed-form final stop filled in: a rollout braking straight short of the truck
-/// ends in one step to where it comes to rest (sim's "stops short" test); the braking in between
-/// is added at steps of `dt_s` at the constant deceleration that step implies, so that a simulator
-/// interpolating the vertices brakes instead of coasting. Other paths are returned unchanged.
-[[nodiscard]] std::vector<sim::PathPoint> with_final_stop(const std::vector<sim::PathPoint>& path, double dt_s);
 
 /// The path's points that a polyline within `tolerance_m` of every dropped point (at its time)
 /// needs; the first and last always. tolerance 0: all of them.

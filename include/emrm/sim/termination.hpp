@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "emrm/core/geometry.hpp"
 #include "emrm/sim/scene.hpp"
@@ -38,5 +39,12 @@ extern template class CheckChain<TerminationTest, detail::TerminationTests>;
 /// The same with the ego's box at `s` already computed (the rollout's hot path has it).
 [[nodiscard]] bool stable_with_room_to_stop(const Scene& scene, const VehicleState& s,
                                             const core::OrientedBox& ego_box) noexcept;
+
+/// The path with its closed-form final stop filled in: a rollout braking straight short of the
+/// hazard ends in one step to where it comes to rest (the "stops short" test above); the braking in
+/// between is added at steps of `dt_s` at the constant deceleration that step implies, the motion
+/// the closed form stands for, so that every trajectory shown or exported holds every integration
+/// step. Other paths (and paths already filled in) are returned unchanged.
+[[nodiscard]] std::vector<PathPoint> with_closed_form_stop(const std::vector<PathPoint>& path, double dt_s);
 
 }  // namespace emrm::sim

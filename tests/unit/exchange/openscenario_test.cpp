@@ -277,7 +277,7 @@ TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
       EXPECT_EQ(std::stod(times.back()), ended_on_frame_grid(o.path, dt).back().t_s);
       if (tolerance == 0.0) {
         // Every vertex is the rear axle of a path point: back to the CG along the heading.
-        const auto points = ended_on_frame_grid(with_final_stop(o.path, dt), dt);
+        const auto points = ended_on_frame_grid(sim::with_closed_form_stop(o.path, dt), dt);
         ASSERT_EQ(times.size(), points.size());
         const auto xs = doc.all(ego + "/Position/WorldPosition/@x");
         const auto ys = doc.all(ego + "/Position/WorldPosition/@y");
@@ -436,38 +436,6 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
   std::filesystem::remove_all(dir);
 }
 
-// A stop the simulator finishes in closed form (one jump to the rest point) is filled in at the
-// step: the vertices brake at one deceleration and arrive at the rest point at its time.
-TEST(OpenScenario, FinalStopIsFilledInAtConstantDeceleration) {
-  const sim::SceneConfig config;
-  sim::CellOptions options;
-  options.strategies = {"emergency_stop"};
-  const sim::CellResult result = sim::simulate_cell(config, cell_of(50, 1.5, 1.0, 3.0, 10), options);
-  const auto& path = result.strategies.front().path;
-  ASSERT_TRUE(result.strategies.front().avoided);
-  const double dt = config.simulation.dt_s;
-  ASSERT_GT(path.back().t_s - path[path.size() - 2].t_s, 2 * dt) << "expected a closed-form stop";
-  const auto filled = with_final_stop(path, dt);
-  ASSERT_GT(filled.size(), path.size());
-  EXPECT_EQ(filled.back().t_s, path.back().t_s);
-  EXPECT_EQ(filled.back().state.x_m, path.back().state.x_m);
-  const std::size_t from = path.size() - 2;
-  const double v0 = path[from].state.speed_mps();
-  const double decel = v0 / (path.back().t_s - path[from].t_s);
-  for (std::size_t k = from + 1; k < filled.size(); ++k) {
-    EXPECT_NEAR(filled[k].t_s - filled[k - 1].t_s, dt, dt * 0.51 + 1e-12);  // the last step may be shorter
-    EXPECT_LT(filled[k].state.speed_mps(), filled[k - 1].state.speed_mps());
-    EXPECT_GT(filled[k].state.x_m, filled[k - 1].state.x_m);
-    const double tau = filled[k].t_s - path[from].t_s;
-    if (k + 1 < filled.size()) {
-      EXPECT_NEAR(filled[k].state.speed_mps(), v0 - decel * tau, 1e-9);
-    }
-  }
-  // Unchanged: a path that does not end in such a stop.
-  const auto short_path = std::vector<sim::PathPoint>(path.begin(), path.end() - 1);
-  EXPECT_EQ(with_final_stop(short_path, dt).size(), short_path.size());
-}
-
 // A simulator stepping at dt records the first frame at or after a trajectory's end with the speed
 // of the step before (esmini): the export ends every trajectory on a frame. A run that ends at rest
 // holds its pose one frame past that one (a frame that does not move); one that ends moving goes
@@ -479,7 +447,7 @@ TEST(OpenScenario, TrajectoryEndsOnTheFrameGrid) {
   for (const auto& cell : {cell_of(30, 2.0, 1.0, 3.5, 20), cell_of(50, 0.8, 0.6, 2.0, 0),
                            cell_of(65, 1.0, 0.5, 2.0, 20), cell_of(40, 0.8, 0.3, 3.5, 20)}) {
     for (const auto& o : sim::simulate_cell(config, cell, {}).strategies) {
-      const auto path = with_final_stop(o.path, dt);
+      const auto path = sim::with_closed_form_stop(o.path, dt);
       const auto ended = ended_on_frame_grid(path, dt);
       ASSERT_GE(ended.size(), path.size());
       ASSERT_LE(ended.size(), path.size() + 1);

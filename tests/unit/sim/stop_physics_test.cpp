@@ -8,7 +8,9 @@
 #include <array>
 #include <random>
 
+#include "emrm/sim/rollout.hpp"
 #include "emrm/sim/simulate.hpp"
+#include "emrm/sim/termination.hpp"
 #include "test_scale.hpp"
 
 namespace emrm::sim {
@@ -137,6 +139,46 @@ TEST(MayPassEarly, IsRuledOutOnlyWhereNoStrategyAvoids) {
   }
   TJunctionCell standing{50.0, 0.25, 0.8, 2.0, 0.0};
   EXPECT_FALSE(may_pass_early(config, standing));
+}
+
+// A rollout braking straight short of the truck ends in one step where it comes to rest (the
+// "stops short" test); with_closed_form_stop fills in every step between at one deceleration, and
+// that filled path is what an outcome carries (its JSON, Python and exported trajectories).
+TEST(ClosedFormStop, IsFilledInAtEveryStepAtConstantDeceleration) {
+  const SceneConfig config;
+  const TJunctionCell cell{50, 1.5, 1.0, 3.0, 10};
+  CellOptions options;
+  options.strategies = {"emergency_stop"};
+  const StrategyOutcome outcome = simulate_cell(config, cell, options).strategies.front();
+  ASSERT_TRUE(outcome.avoided);
+  const Scene scene(config, cell);
+  const auto model = make_vehicle_model(config.simulation.vehicle_model, config.ego);
+  const std::vector<PathPoint> path = replay(scene, *model, ControlLimits{}, outcome.maneuver).path;
+  const double dt = config.simulation.dt_s;
+  ASSERT_GT(path.back().t_s - path[path.size() - 2].t_s, 2 * dt) << "expected a closed-form stop";
+  const auto filled = with_closed_form_stop(path, dt);
+  ASSERT_GT(filled.size(), path.size());
+  ASSERT_EQ(outcome.path.size(), filled.size());
+  for (std::size_t k = 0; k < filled.size(); ++k) EXPECT_EQ(outcome.path[k].state.x_m, filled[k].state.x_m);
+  EXPECT_EQ(filled.back().t_s, path.back().t_s);
+  EXPECT_EQ(filled.back().state.x_m, path.back().state.x_m);
+  const std::size_t from = path.size() - 2;
+  const double v0 = path[from].state.speed_mps();
+  const double decel = v0 / (path.back().t_s - path[from].t_s);
+  for (std::size_t k = from + 1; k < filled.size(); ++k) {
+    EXPECT_NEAR(filled[k].t_s - filled[k - 1].t_s, dt, dt * 0.51 + 1e-12);  // the last step may be shorter
+    EXPECT_LT(filled[k].state.speed_mps(), filled[k - 1].state.speed_mps());
+    EXPECT_GT(filled[k].state.x_m, filled[k - 1].state.x_m);
+    const double tau = filled[k].t_s - path[from].t_s;
+    if (k + 1 < filled.size()) {
+      EXPECT_NEAR(filled[k].state.speed_mps(), v0 - decel * tau, 1e-9);
+      EXPECT_NEAR(filled[k].state.x_m, path[from].state.x_m + v0 * tau - 0.5 * decel * tau * tau, 1e-9);
+    }
+  }
+  // Unchanged: a path that does not end in such a stop, and a path already filled in.
+  const auto short_path = std::vector<PathPoint>(path.begin(), path.end() - 1);
+  EXPECT_EQ(with_closed_form_stop(short_path, dt).size(), short_path.size());
+  EXPECT_EQ(with_closed_form_stop(filled, dt).size(), filled.size());
 }
 
 }  // namespace stop_physics_test
