@@ -45,6 +45,28 @@ bool is_baseline(std::string_view strategy) {
   return info != nullptr && info->role == sim::StrategyRole::kBaseline;
 }
 
+// An adaptive sweep's inferred cells have a region and no strategy outcome (docs/adaptive.md): a
+// rate per strategy is over the simulated cells only, and its figure says so.
+struct SimulatedShare {
+  std::size_t feasible = 0, inferred = 0;
+  [[nodiscard]] std::string caption() const {
+    if (inferred == 0) return "";
+    return fmt::format(
+        " Per strategy over the {} simulated of the {} feasible cells only: an adaptive sweep inferred the other {} "
+        "cells' regions and ran no strategy there, and the cells it simulates lie near the region boundaries, so "
+        "these rates are not the grid's.",
+        feasible - inferred, feasible, inferred);
+  }
+};
+SimulatedShare simulated_share(const std::vector<CellRecord>& cells) {
+  SimulatedShare share;
+  for (const auto& c : cells) {
+    share.feasible += c.feasible;
+    share.inferred += c.feasible && c.method == campaign::CellMethod::kInferred;
+  }
+  return share;
+}
+
 // A figure of one grid: named and titled, with the grid's cells; a note when the store lacks it.
 std::vector<CellRecord> figure_of_grid(Figure& figure, std::string name, std::string title, std::string_view what,
                                        const std::vector<CellRecord>& records, const std::string& grid) {
@@ -83,10 +105,11 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
     figure.note = fmt::format("no loss comparison: grid '{}' has no feasible cell with a strategy outcome", grid);
     return figure;
   }
+  const SimulatedShare share = simulated_share(cells);
   figure.title = fmt::format(
-      "Loss comparison over the {} feasible cells of grid '{}'. Left: collision-avoidance rate per strategy; "
-      "right: mean residual impact speed (0 km/h for an avoided cell).",
-      feasible, grid);
+      "Loss comparison over the {} {} cells of grid '{}'. Left: collision-avoidance rate per strategy; "
+      "right: mean residual impact speed (0 km/h for an avoided cell).{}",
+      feasible, share.inferred == 0 ? "feasible" : "simulated", grid, share.caption());
   write_csv(figure, dir, {"strategy", "cells", "collision_avoidance_rate_pct", "mean_impact_speed_kph"}, rows);
 
   const std::string xtics = fmt::format("set xtics ({}) noenhanced rotate by -20\n", core::join(tics, ", "));
@@ -95,7 +118,8 @@ Figure draw_loss_comparison(const std::vector<CellRecord>& records, const std::s
       "set multiplot layout 1,2 title {} font ',16'\n"
       "set style fill solid 0.9 border rgb 'black'\nset boxwidth 0.65\nset tics out nomirror\nset border 3\n"
       "set key off\nset grid ytics lc rgb '#dddddd'\nset xrange [-0.6:{}]\nset bmargin 5\n{}",
-      single_quoted(fmt::format("Loss comparison, grid '{}' ({} feasible cells)", enhanced_literal(grid), feasible)),
+      single_quoted(fmt::format("Loss comparison, grid '{}' ({} {} cells)", enhanced_literal(grid), feasible,
+                                share.inferred == 0 ? "feasible" : "simulated")),
       plot_number(n - 0.4), xtics);
   body +=
       "set title 'Collision avoidance'\nset ylabel 'collision-avoidance rate (%)'\nset yrange [0:100]\n"
@@ -124,6 +148,10 @@ struct SweepPoint {
   std::vector<CellRecord> cells;
 };
 
+/// The rows of the regions' curve (sweep curves over inferred cells): named in the CSV and the key.
+constexpr std::string_view kByRegion = "regions_every_cell";
+constexpr std::string_view kByRegionLabel = "every cell by its region (G or Y; not R)";
+
 /// The x axis of the sweep: its label and range, the tics when it is categorical, the multiplot's title.
 struct SweepAxis {
   std::string label, tics, title;
@@ -138,6 +166,10 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
   const auto strategies = ordered_strategies(cells);
   std::vector<core::Row> rows;
   std::vector<std::vector<std::string>> per_strategy(strategies.size());
+  // With inferred cells, beside the strategies' rates over the simulated cells, the regions' over
+  // every feasible cell: avoided somehow (G, Y), and mitigated somehow (not R).
+  const bool by_region = simulated_share(cells).inferred > 0;
+  std::vector<std::string> region_points;
   for (const SweepPoint& point : points) {
     for (std::size_t s = 0; s < strategies.size(); ++s) {
       const auto k = results::strategy_kpis(point.cells, strategies[s], grid);
@@ -146,6 +178,15 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
       row.insert(row.end(), {strategies[s], std::to_string(k.cells), plot_percent(k.collision_avoidance_rate_pct),
                              plot_percent(k.mitigability_success_pct)});
       per_strategy[s].push_back(fmt::format("{} {} {}", plot_number(point.x), row[row.size() - 2], row.back()));
+      rows.push_back(std::move(row));
+    }
+    const auto regions = results::count_regions(point.cells, grid);
+    if (by_region && regions.feasible > 0) {
+      core::Row row = point.key;
+      row.insert(row.end(), {std::string(kByRegion), std::to_string(regions.feasible),
+                             plot_percent(regions.pct(regions.g + regions.y)),
+                             plot_percent(regions.pct(regions.g + regions.y + regions.o))});
+      region_points.push_back(fmt::format("{} {} {}", plot_number(point.x), row[row.size() - 2], row.back()));
       rows.push_back(std::move(row));
     }
   }
@@ -167,7 +208,15 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
     ms_plot.push_back(fmt::format("${} using 1:3 with linespoints {} notitle", block, style));
     key.push_back(fmt::format("NaN with linespoints {} title {}", style, single_quoted(strategy_label(strategies[s]))));
   }
-  const double key_h = 0.08, top = 0.93;
+  if (!region_points.empty()) {
+    data += datablock("sweep_regions", region_points);
+    constexpr std::string_view kStyle = "lc rgb 'black' lw 3 pt 7 ps 0.6 dt 1";
+    car_plot.push_back(fmt::format("$sweep_regions using 1:2 with linespoints {} notitle", kStyle));
+    ms_plot.push_back(fmt::format("$sweep_regions using 1:3 with linespoints {} notitle", kStyle));
+    key.push_back(fmt::format("NaN with linespoints {} title {}", kStyle, single_quoted(kByRegionLabel)));
+  }
+  const int key_rows = key.size() <= 4 ? 1 : 2;  // a long key wraps
+  const double key_h = key_rows == 1 ? 0.08 : 0.13, top = 0.93;
   std::string body = fmt::format(
       "set multiplot title {} font ',16'\n"
       "set tics out nomirror\nset border 3\nset key off\nset grid lc rgb '#dddddd'\n"
@@ -181,7 +230,7 @@ bool draw_curves(Figure& figure, const std::vector<SweepPoint>& points, const st
       "set origin 0.5,{0}\nset size 0.5,{1}\nset title 'Mitigability success'\n"
       "set ylabel 'mitigability success (%)'\nplot {2}\n",
       key_h, top - key_h, core::join(ms_plot, ", "));
-  body += "set key on\n" + key_strip(key_h, 1, 0, key) + "unset multiplot\n";
+  body += "set key on\n" + key_strip(key_h, key_rows, 0, key) + "unset multiplot\n";
   render_png_and_svg(figure.png, figure.svg, data, body, 1400, 650, 13);
   return true;
 }
@@ -208,11 +257,16 @@ Figure draw_sweep_curves(const std::vector<CellRecord>& records, const sim::Fact
     figure.note = fmt::format("no sweep curves: grid '{}' has no feasible cell with a strategy outcome", grid);
     return figure;
   }
+  const SimulatedShare share = simulated_share(cells);
   figure.title = fmt::format(
       "Parameter sweep over grid '{}' ({} cells, {} ego speeds from {} to {} km/h), per strategy. Left: "
       "collision-avoidance rate; right: mitigability success (loss level below the unmitigated one), each over the "
-      "feasible cells at that speed.",
-      grid, cells.size(), speeds.size(), plot_number(speeds.front()), plot_number(speeds.back()));
+      "feasible cells at that speed.{}",
+      grid, cells.size(), speeds.size(), plot_number(speeds.front()), plot_number(speeds.back()), share.caption());
+  if (share.inferred > 0)
+    figure.title +=
+        " The black line is over every feasible cell at that speed, inferred ones by their region: the share some "
+        "strategy avoids (G or Y, left) and the share some strategy mitigates (not R, right).";
   return figure;
 }
 

@@ -145,8 +145,9 @@ inline constexpr double kMapTop = 0.955;  // below the multiplot's title
                                      double strip_h);
 
 /// The harm-reduction map's key strip (screen units): taller than the region maps', the colour bar
-/// sits above the key entries.
-inline constexpr double kHarmMapKeyHeight = 0.11;
+/// sits above the key entries, which take a second row when some of `cells` are inferred (an
+/// adaptive sweep's: hatched, with no reduction to show).
+[[nodiscard]] double harm_map_key_height(const std::vector<campaign::CellRecord>& cells);
 
 /// The harm-reduction map (harm_reduction_map.cpp) of `layout`'s panels, with the stop boundary at
 /// `latency_s`, written to `dir` as `name`.png|svg|csv. `what` ("grid 'wet', slice μ = 0.5") says

@@ -74,33 +74,45 @@ using detail::write_csv;
 
 constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
 constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
+constexpr std::string_view kInferredLabel = "inferred, not simulated";
+constexpr std::string_view kDotKeyStyle = "pt 7 ps 0.5 lc rgb 'black'";
 
-/// The cross over an undecided cell, sized by the cell on the page (a panel's plot area is roughly
-/// 80 % of its width and 70 % of its height): readable on the fine grid's flat cells, and not
-/// filling a coarse grid's cell.
-std::string cross_style(const MapLayout& layout, const MapPanel& p) {
+/// The point size of a mark over a cell, sized by the cell on the page (a panel's plot area is
+/// roughly 80 % of its width and 70 % of its height): readable on the fine grid's flat cells, and
+/// not filling a coarse grid's cell.
+double mark_size(const MapLayout& layout, const MapPanel& p) {
   const double cell_w_px = layout.panel_w * layout.width_px * 0.8 / static_cast<double>(p.xs.size());
   const double cell_h_px = layout.cell_h * layout.height_px * 0.7 / static_cast<double>(p.ys.size());
   constexpr double kPointPx = 9.0;  // about the size of a cross at point size 1 at this size and font
-  const double size = std::clamp(0.6 * std::sqrt(cell_w_px * cell_h_px) / kPointPx, 0.5, 1.5);
-  return fmt::format("pt 2 ps {:.2f} lw 1.5 lc rgb 'black'", size);
+  return std::clamp(0.6 * std::sqrt(cell_w_px * cell_h_px) / kPointPx, 0.5, 1.5);
+}
+/// The cross over an undecided cell; the dot, smaller, over an inferred one.
+std::string cross_style(const MapLayout& layout, const MapPanel& p) {
+  return fmt::format("pt 2 ps {:.2f} lw 1.5 lc rgb 'black'", mark_size(layout, p));
+}
+std::string dot_style(const MapLayout& layout, const MapPanel& p) {
+  return fmt::format("pt 7 ps {:.2f} lc rgb 'black'", 0.4 * mark_size(layout, p));
 }
 
-/// A panel's cells in their region colours, undecided O/R cells crossed: its plot items, appended
-/// to `data` as datablocks; one CSV row per cell (cell_columns, then evidence) appended to `rows`.
+/// A panel's cells in their region colours, undecided O/R cells crossed, inferred cells dotted: its
+/// plot items, appended to `data` as datablocks; one CSV row per cell (cell_columns, then evidence)
+/// appended to `rows`.
 struct RegionPanel {
   std::vector<std::string> layers;
-  std::string shares;  ///< "G a %, Y b %, O c %, R d % of N feasible[, k undecided]"
+  std::string shares;  ///< "G a %, Y b %, O c %, R d % of N feasible[, k undecided][, j inferred]"
+  std::size_t undecided = 0, inferred = 0;
 };
 RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector<core::Row>& rows, std::string& data) {
   const auto regions = results::count_regions(p.cells, p.spec.grid);  // throws on a corrupt region
-  std::vector<std::string> lines, crosses;
+  std::vector<std::string> lines, crosses, dots;
   for (const auto& c : p.cells) {
     core::Row row = cell_columns(p, c);
     row.push_back(c.feasible ? core::enum_text(c.evidence) : std::string());
     lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(region_of(c)))));
     if (is_undecided(c))
       crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
+    else if (c.feasible && c.method == campaign::CellMethod::kInferred)
+      dots.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
     rows.push_back(std::move(row));
   }
   RegionPanel out;
@@ -112,18 +124,26 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
     data += datablock(cross_block, crosses);
     out.layers.push_back(fmt::format("${} using 1:2 with points {} notitle", cross_block, cross_style(layout, p)));
   }
+  if (!dots.empty()) {
+    const std::string dot_block = fmt::format("inferred_{}", p.spec.letter);
+    data += datablock(dot_block, dots);
+    out.layers.push_back(fmt::format("${} using 1:2 with points {} notitle", dot_block, dot_style(layout, p)));
+  }
   const auto share = [&](std::size_t n) { return fmt::format("{:.1f} %", regions.pct(n)); };
   out.shares = regions.feasible == 0
                    ? std::string("no feasible cell")
                    : fmt::format("G {}, Y {}, O {}, R {} of {} feasible", share(regions.g), share(regions.y),
                                  share(regions.o), share(regions.r), regions.feasible);
   if (!crosses.empty()) out.shares += fmt::format(", {} undecided", crosses.size());
+  if (!dots.empty()) out.shares += fmt::format(", {} inferred", dots.size());
+  out.undecided = crosses.size();
+  out.inferred = dots.size();
   return out;
 }
 
 /// What backs the O/R cells of a map, as its caption says it.
 struct EvidenceCounts {
-  std::size_t undecided = 0, certified = 0, unproven = 0;
+  std::size_t undecided = 0, certified = 0, unproven = 0, inferred = 0;
   [[nodiscard]] std::string caption() const {
     std::string out;
     if (undecided > 0)
@@ -136,29 +156,37 @@ struct EvidenceCounts {
                  ? fmt::format(" {} O/R cells ({}) are certified unavoidable.", undecided == 0 ? "All" : "The unmarked",
                                certified)
                  : fmt::format(" {} O/R cells are certified unavoidable, {} carry no evidence.", certified, unproven);
+    if (inferred > 0)
+      out += fmt::format(
+          " A dot marks the {} cells an adaptive sweep inferred from the simulated cells around them "
+          "(docs/adaptive.md): their region, not a simulation of their own.",
+          inferred);
     return out;
   }
 };
 EvidenceCounts count_evidence(const std::vector<CellRecord>& cells) {
   EvidenceCounts n;
   for (const auto& c : cells) {
+    n.inferred += c.feasible && c.method == campaign::CellMethod::kInferred;
     if (!is_o_or_r(c)) continue;
     n.undecided += is_undecided(c);
     n.certified += c.evidence == campaign::CellEvidence::kCertificate;
-    n.unproven +=
-        c.evidence != campaign::CellEvidence::kUndecided && c.evidence != campaign::CellEvidence::kCertificate;
+    n.unproven += c.evidence != campaign::CellEvidence::kUndecided &&
+                  c.evidence != campaign::CellEvidence::kCertificate && c.evidence != campaign::CellEvidence::kInferred;
   }
   return n;
 }
 
 /// The key of a region map: the regions, the stop boundary (`boundary` its label; none when empty),
-/// and the cross when some cell is undecided.
-std::vector<std::string> region_key(const std::string& boundary, bool undecided) {
+/// the dot when some cell is inferred, the cross when some cell is undecided.
+std::vector<std::string> region_key(const std::string& boundary, bool undecided, bool inferred) {
   std::vector<std::string> key;
   for (const auto& s : kRegions)
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
   if (!boundary.empty()) key.push_back(boundary_key_entry(boundary));
+  // The dot before the cross, whose two-line label has room below it at the end of the key.
+  if (inferred) key.push_back(fmt::format("NaN with points {} title {}", kDotKeyStyle, double_quoted(kInferredLabel)));
   if (undecided)
     key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));
   return key;
@@ -180,8 +208,10 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const sim::
     for (const auto& c : records)
       if (c.grid == grid) mapped.push_back(c);
   const EvidenceCounts evidence = count_evidence(mapped);
-  const std::size_t undecided = evidence.undecided;
-  const MapLayout layout = lay_out_map(records, factors, panels, undecided == 0 ? 0.06 : 0.1);  // a third key row
+  const std::vector<std::string> key =
+      region_key("stop boundary " + boundary_text(latency_s), evidence.undecided > 0, evidence.inferred > 0);
+  const bool third_row = key.size() > 6;  // the cross or the dot: a third key row
+  const MapLayout layout = lay_out_map(records, factors, panels, third_row ? 0.1 : 0.06);
   if (layout.panels.empty()) {
     figure.note = no_map_note("mitigability map", panels);
     return figure;
@@ -198,15 +228,14 @@ Figure draw_mitigability_map(const std::vector<CellRecord>& records, const sim::
 
   figure.note = core::join(layout.missing, "; ");
   figure.title = fmt::format(
-      "Mitigability regions over {} simulated cells: {}. Each rectangle is one cell: {} Dashed: the analytic stop "
+      "Mitigability regions over {} cells: {}. Each rectangle is one cell: {} Dashed: the analytic stop "
       "boundary {} (g = {} m/s²) at the panel's fixed parameter.{}",
       layout.total_cells, core::join(caption_parts, "; "), kRegionMeaning, boundary_text(latency_s),
       plot_number(sim::kGravity_mps2), evidence.caption());
   write_csv(figure, dir, cell_header(factors, {"panel", "grid"}, {"region", "evidence"}), rows);
 
-  const std::vector<std::string> key = region_key("stop boundary " + boundary_text(latency_s), undecided > 0);
   const std::string body = map_script(layout, fmt::format("Mitigability regions ({} cells)", layout.total_cells),
-                                      panel_plots, key, undecided == 0 ? 2 : 3, undecided == 0 ? -6 : 0, layout.key_h);
+                                      panel_plots, key, third_row ? 3 : 2, third_row ? 0 : -6, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }
@@ -237,7 +266,7 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
   std::vector<core::Row> rows;
   std::vector<std::string> caption_parts;
   std::string data, panel_plots;
-  bool undecided = false;
+  bool undecided = false, inferred = false;
   for (std::size_t k = 0; k < layout.panels.size(); ++k) {
     const MapPanel& p = layout.panels[k];
     const results::ProfileRun& run = runs[run_of[k]];
@@ -246,7 +275,8 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
     const std::size_t before = rows.size();
     const RegionPanel drawn = region_panel(layout, p, rows, data);
     for (std::size_t r = before; r < rows.size(); ++r) rows[r].insert(rows[r].begin() + 1, run.name);
-    undecided = undecided || drawn.layers.size() > 1;
+    undecided = undecided || drawn.undecided > 0;
+    inferred = inferred || drawn.inferred > 0;
     caption_parts.push_back(
         panel_caption(p, fmt::format("{}; {}; stop boundary {}", drawn.shares, a.summary(), boundary_text(latency_s))));
     panel_plots += panel_script(layout, p, drawn.shares, drawn.layers, latency_s);
@@ -258,9 +288,9 @@ Figure draw_profile_maps(const std::vector<results::ProfileRun>& runs,
       "v/(2μg)).",
       core::join(caption_parts, "; "));
   write_csv(figure, dir, cell_header(factors, {"panel", "profile", "grid"}, {"region", "evidence"}), rows);
-  const std::string body =
-      map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
-                 region_key("stop boundary of the profile", undecided), 2, undecided ? 0 : -6, layout.key_h);
+  const std::string body = map_script(layout, "Mitigability regions under each actuation profile", panel_plots,
+                                      region_key("stop boundary of the profile", undecided, inferred), 2,
+                                      undecided || inferred ? 0 : -6, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kMapWidthPx, kMapHeightPx, kMapFontPt);
   return figure;
 }
@@ -385,15 +415,21 @@ Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, 
   const std::string slice_label = held_text(factors, cut, slice, cut.sliced);
   const std::string what = slice_what(factors, grid, cut, slice);
   const EvidenceCounts evidence = count_evidence(slice.cells);
-  // three key rows, or four
-  const MapLayout layout = slice_layout(factors, grid, cut, slice, evidence.undecided == 0 ? 0.13 : 0.17);
+  // The key in two columns: three rows, or four with the cross or the dot (the key's height does
+  // not move whether the panel has a stop boundary).
+  const auto laid_out = [&](int key_rows) { return slice_layout(factors, grid, cut, slice, 0.01 + 0.04 * key_rows); };
+  const bool boundary = !boundary_function(laid_out(3).panels.front(), latency_s).empty();
+  const std::vector<std::string> key =
+      region_key(boundary ? "stop boundary " + boundary_text(latency_s) : std::string(), evidence.undecided > 0,
+                 evidence.inferred > 0);
+  const int key_rows = std::max(3, static_cast<int>((key.size() + 1) / 2));
+  const MapLayout layout = laid_out(key_rows);
   const MapPanel& p = layout.panels.front();
 
   std::vector<core::Row> rows;
   std::string data;
   const RegionPanel drawn = region_panel(layout, p, rows, data);
   for (auto& row : rows) row[0] = slice_label;
-  const bool boundary = !boundary_function(p, latency_s).empty();
   figure.title = fmt::format(
       "Mitigability regions of {}: {} ({} cells; {}). Each rectangle is one cell: {}{}{}", what, panel_extent(p),
       p.cells.size(), drawn.shares, kRegionMeaning,
@@ -402,11 +438,9 @@ Figure draw_slice_map(const sim::FactorTable& factors, const std::string& grid, 
                : std::string(),
       evidence.caption());
   write_csv(figure, dir, cell_header(factors, {"slice", "grid"}, {"region", "evidence"}), rows);
-  const std::vector<std::string> key =
-      region_key(boundary ? "stop boundary " + boundary_text(latency_s) : std::string(), evidence.undecided > 0);
-  const std::string body = map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
-                                      panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key,
-                                      evidence.undecided == 0 ? 3 : 4, 0, layout.key_h);
+  const std::string body =
+      map_script(layout, fmt::format("Mitigability regions, {}", enhanced_literal(what)),
+                 panel_script(layout, p, drawn.shares, drawn.layers, latency_s), key, key_rows, 0, layout.key_h);
   render_png_and_svg(figure.png, figure.svg, data, body, kSliceWidthPx, kSliceHeightPx, kMapFontPt);
   return figure;
 }
@@ -441,9 +475,9 @@ std::vector<Figure> draw_grid_maps(const std::vector<CellRecord>& records, const
       figures.push_back(draw_slice_map(factors, grid, cut, slices[i], stem, dir, options.latency_s));
       // Beside it the harm reduction, which the regions hide inside a loss level (an R cell whose
       // Δv the strategies lower by 20 km/h is R all the same).
-      figures.push_back(detail::draw_harm_map(slice_layout(factors, grid, cut, slices[i], detail::kHarmMapKeyHeight),
-                                              dir, options.latency_s, stems.unique("harm_" + stem),
-                                              slice_what(factors, grid, cut, slices[i])));
+      figures.push_back(detail::draw_harm_map(
+          slice_layout(factors, grid, cut, slices[i], detail::harm_map_key_height(slices[i].cells)), dir,
+          options.latency_s, stems.unique("harm_" + stem), slice_what(factors, grid, cut, slices[i])));
     }
     if (drawn < slices.size())
       figures.push_back(
@@ -464,7 +498,7 @@ constexpr int kOverlaidKeyWidthAdjust = 0;
 
 MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   const EvidenceCounts evidence = count_evidence(map.cells);
-  std::vector<std::string> key = region_key("", evidence.undecided > 0);
+  std::vector<std::string> key = region_key("", evidence.undecided > 0, evidence.inferred > 0);
   key.insert(key.end(), map.key.begin(), map.key.end());
   const std::size_t key_rows = (key.size() + kOverlaidKeyColumns - 1) / kOverlaidKeyColumns;
   MapLayout layout = empty_layout(map.factors, 0.025 + 0.03 * static_cast<double>(key_rows));

@@ -9,7 +9,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include "headless_chromium.hpp"
 #include "run_emrm.hpp"
@@ -34,6 +38,18 @@ grids:
     speed_kph: [40, 60]
     ttc_s: [1.0, 2.0]
     mu: [0.4, 0.6]
+    passage_m: 2.0
+)";
+
+// Their own grid, large enough that an adaptive sweep infers most of it.
+constexpr const char* kWetAdaptive = R"(scene: scene.yaml
+seed: 2
+strategies: [emergency_stop, emrm]
+grids:
+  - name: suv_wet
+    speed_kph: {from: 25, to: 75, step: 10}
+    ttc_s: {from: 0.4, to: 2.8, step: 0.3}
+    mu: 0.5
     passage_m: 2.0
 )";
 
@@ -99,6 +115,7 @@ class OwnCase : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(small_example("own_case"));
     write_text(*dir_ / "wet.yaml", kWetCampaign);
+    write_text(*dir_ / "wet_adaptive.yaml", kWetAdaptive);
     write_text(*dir_ / "odd.yaml", kWetOdd);
     std::string safety = read_text(*dir_ / "safety.yaml");
     safety = replaced_once(safety, "control_actions:", kNewHazard);
@@ -170,6 +187,62 @@ TEST_F(OwnCase, APlanFromTheEditedCaseRunsAndItsReportShowsMapsBinsEstimatesAndT
   // The coverage of the plan beside the scenarios the run read.
   EXPECT_THAT(html, ::testing::Not(HasSubstr("no coverage.json in this folder")));
   expect_clean_in_chromium(out / "report.html", "own_case_run");
+}
+
+// Issue 40, 3: an adaptive sweep's curves were computed from its simulated cells, which lie near
+// the boundaries, and captioned with the grid's cell count. Now they say which cells they are over,
+// a curve over every feasible cell comes from the regions (inferred ones included), and the maps
+// mark the inferred cells.
+TEST_F(OwnCase, AnAdaptiveSweepSaysWhichCellsItsCurvesAreOverAndMarksInferredCells) {
+  const fs::path out = dir_->parent_path() / "adaptive";
+  const auto sweep =
+      run_emrm("sweep " + quoted(*dir_ / "wet_adaptive.yaml") + " -o " + quoted(out) + " --adaptive --threads 2");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.out << sweep.err;
+  const auto report = run_emrm("report " + quoted(out));
+  ASSERT_EQ(report.exit_code, 0) << report.out << report.err;
+
+  // Per speed from cells.json: feasible cells, inferred ones, and those avoided or mitigated by region.
+  const auto cells = nlohmann::json::parse(read_text(out / "cells.json"));
+  std::map<std::string, std::array<int, 4>> by_speed;  // feasible, inferred, G or Y, not R
+  int inferred = 0, simulated = 0;
+  for (const auto& c : cells) {
+    if (!c["feasible"].get<bool>()) continue;
+    std::ostringstream speed;  // as the CSV writes it: 25, 35, …
+    speed << c["speed_kph"].get<double>();
+    auto& n = by_speed[speed.str()];
+    const std::string region = c["region"];
+    const bool is_inferred = c["method"] == "inferred";
+    inferred += is_inferred;
+    simulated += !is_inferred;
+    n[0] += 1;
+    n[1] += is_inferred;
+    n[2] += region == "G" || region == "Y";
+    n[3] += region != "R";
+  }
+  ASSERT_GT(inferred, 0) << "expected an adaptive sweep to infer cells";
+  const auto curves = csv_rows(out / "figures" / "sweep_curves.csv");
+  const auto& header = curves.at(0);
+  std::size_t region_rows = 0;
+  for (std::size_t i = 1; i < curves.size(); ++i) {
+    const auto& row = curves[i];
+    const auto& n = by_speed.at(row[column_of(header, "speed_kph")]);
+    const int count = std::stoi(row[column_of(header, "cells")]);
+    if (row[column_of(header, "strategy")] == "regions_every_cell") {
+      ++region_rows;
+      EXPECT_EQ(count, n[0]);
+      EXPECT_NEAR(std::stod(row[column_of(header, "collision_avoidance_rate_pct")]), 100.0 * n[2] / n[0], 1e-3);
+      EXPECT_NEAR(std::stod(row[column_of(header, "mitigability_success_pct")]), 100.0 * n[3] / n[0], 1e-3);
+    } else {
+      EXPECT_EQ(count, n[0] - n[1]) << "a strategy's rate is over the simulated cells";
+    }
+  }
+  EXPECT_EQ(region_rows, by_speed.size());
+  const std::string html = read_text(out / "report.html");
+  EXPECT_THAT(html, HasSubstr("Per strategy over the " + std::to_string(simulated) + " simulated of the " +
+                              std::to_string(simulated + inferred) + " feasible cells only"));
+  EXPECT_THAT(html, HasSubstr("A dot marks the " + std::to_string(inferred) + " cells an adaptive sweep inferred"));
+  EXPECT_THAT(html, HasSubstr("Hatched: the " + std::to_string(inferred) + " cells an adaptive sweep inferred"));
+  expect_clean_in_chromium(out / "report.html", "own_case_adaptive");
 }
 
 }  // namespace own_case_cli_test
