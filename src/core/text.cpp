@@ -47,6 +47,8 @@ std::string csv_line(const Row& fields) {
   return out;
 }
 
+std::string readable_number(double value) { return fmt::format("{:.15g}", value == 0.0 ? 0.0 : value); }
+
 std::optional<double> parse_finite_number(const std::string& text) {
   std::size_t used = 0;
   double value = 0.0;

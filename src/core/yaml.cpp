@@ -223,4 +223,30 @@ std::string to_yaml_text(const YAML::Node& node) {
   return std::string(out.c_str()) + "\n";
 }
 
+namespace {
+void make_numbers_readable(YAML::Node node) {
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it) make_numbers_readable(it->second);
+  } else if (node.IsSequence()) {
+    for (auto child : node) make_numbers_readable(child);
+  } else if (node.IsScalar()) {
+    // A number emrm or yaml-cpp wrote: its shortest exact form, or yaml-cpp's 17 digits.
+    const std::string text = node.Scalar();
+    const auto value = parse_finite_number(text);
+    if (value && (fmt::format("{}", *value) == text || fmt::format("{:.17g}", *value) == text))
+      node = readable_number(*value);
+  }
+}
+}  // namespace
+
+std::string readable_yaml(const std::string& text) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    make_numbers_readable(root);
+    return to_yaml_text(root);
+  } catch (const YAML::Exception&) {
+    return text;
+  }
+}
+
 }  // namespace emrm::core

@@ -1,7 +1,7 @@
 #pragma once
 
 // A small indenting XML writer for the exchange formats: elements with attributes, escaped values,
-// numbers in their shortest exact form. Internal to src/exchange.
+// numbers as people read them (core::readable_number). Internal to src/exchange.
 
 #include <fmt/format.h>
 
@@ -10,10 +10,13 @@
 #include <utility>
 #include <vector>
 
+#include "emrm/core/text.hpp"
+
 namespace emrm::exchange {
 
-/// A number as XML holds it: the shortest text that reads back as the same double.
-inline std::string xml_number(double x) { return fmt::format("{}", x == 0.0 ? 0.0 : x); }
+/// A number as XML holds it: at most 15 significant digits, no float noise (4.95, not
+/// 4.9500000000000002); within 5e-15 of the double, far below a simulator's millimetre.
+inline std::string xml_number(double x) { return core::readable_number(x); }
 
 class XmlWriter {
  public:

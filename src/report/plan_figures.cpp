@@ -201,9 +201,7 @@ std::string pair_script(const PlanFactor& fa, const PlanFactor& fb, const PairDa
   body += "plot " + core::join(layers, ", ") + "\n";
   std::vector<std::string> key{"NaN with boxes fs solid 1.0 lc rgb '#bdbdbd' title 'all its scenarios infeasible'"};
   if (!d.crosses.empty())
-    key.push_back(
-        "NaN with points pt 2 ps 1.2 lw 1.5 lc rgb 'black' title 'undecided scenario (no avoidance found, "
-        "none proven impossible)'");
+    key.push_back("NaN with points pt 2 ps 1.2 lw 1.5 lc rgb 'black' title 'undecided scenario (no proof either way)'");
   return body + "set key on\n" + key_strip(kKeyH, 1, 0, key) + "unset multiplot\n";
 }
 

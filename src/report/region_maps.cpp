@@ -72,7 +72,7 @@ using detail::value_label;
 using detail::value_of;
 using detail::write_csv;
 
-constexpr std::string_view kUndecidedLabel = "undecided (no avoidance found,\nnone proven impossible)";
+constexpr std::string_view kUndecidedLabel = "undecided (no proof either way)";
 constexpr std::string_view kCrossKeyStyle = "pt 2 ps 1.2 lw 1.5 lc rgb 'black'";
 constexpr std::string_view kInferredLabel = "inferred, not simulated";
 constexpr std::string_view kDotKeyStyle = "pt 7 ps 0.5 lc rgb 'black'";

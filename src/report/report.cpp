@@ -16,6 +16,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/process.hpp"
 #include "emrm/core/text.hpp"
+#include "emrm/core/yaml.hpp"
 #include "emrm/fsm/dot.hpp"
 #include "emrm/report/plan_figures.hpp"
 #include "emrm/report/trajectory_figure.hpp"
@@ -37,8 +38,10 @@ namespace fs = std::filesystem;
 using detail::coverage_candidates;
 using detail::html_table;
 using detail::read_or_empty;
+using detail::Section;
+using detail::sections_html;
 using detail::shortfalls_html;
-using detail::side_sections_html;
+using detail::side_sections;
 using Clock = std::chrono::steady_clock;
 
 // The folder must be a results folder of this version: checked before anything is written.
@@ -124,12 +127,9 @@ std::string inline_markdown(std::string_view text) {
   return code ? out + "</code>" : out;
 }
 
+// A drawn figure (one not drawn is listed among what the folder lacks).
 std::string figure_html(const Figure& f, const fs::path& dir) {
   std::string out = fmt::format("<figure id=\"fig-{}\">\n", f.name);
-  if (f.png.empty()) {
-    out += fmt::format("<p class=\"missing\">{}: not drawn — {}</p>\n", html_escape(f.title), html_escape(f.note));
-    return out + "</figure>\n";
-  }
   out += fmt::format("<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n", base64(core::read_file(f.png)),
                      html_escape(f.title));
   const auto rel = [&](const fs::path& p) { return html_escape(fs::relative(p, dir).generic_string()); };
@@ -202,7 +202,8 @@ std::string regions_html(const std::vector<campaign::CellRecord>& records) {
          "found no avoidance and no proof exists (docs/verify.md).</p>\n";
 }
 
-// The grid whose trajectories the trajectory figure shows: `canonical`, else the first with any.
+// The grid whose trajectories the trajectory figure shows: `canonical`, else the first with any;
+// empty when no grid has stored trajectories.
 std::string trajectory_grid(const std::vector<campaign::CellRecord>& records) {
   std::string first;
   for (const auto& r : records)
@@ -211,7 +212,7 @@ std::string trajectory_grid(const std::vector<campaign::CellRecord>& records) {
         if (r.grid == "canonical") return r.grid;
         if (first.empty()) first = r.grid;
       }
-  return first.empty() ? "canonical" : first;
+  return first;
 }
 
 std::vector<safety::TraceRow> find_traceability(const fs::path& dir, std::string& source) {
@@ -370,6 +371,7 @@ ReportSummary write_report(const fs::path& dir) {
   const std::optional<PlannedRun>& planned = in.planned;
 
   ReportSummary summary;
+  std::vector<std::string> absent;  // what the folder lacks, and how to make it (the report's last list)
   const auto start = Clock::now();
   const std::string grid = results::headline_grid(records);
   // The dashed stop boundary as a latency: perception, brake dead time and half the ramp (the ramp's
@@ -399,21 +401,22 @@ ReportSummary write_report(const fs::path& dir) {
   if (stop_boundary) summary.figures.push_back(draw_brake_sensitivity(records, grid, scene.actuation, figures_dir));
   if (!in.runs.empty())
     summary.figures.push_back(draw_profile_maps(in.runs, in.per_profile, factors, grid, figures_dir));
-  summary.figures.push_back(draw_trajectory_grid(records, scene, trajectory_grid(records), figures_dir));
+  if (const std::string trees = trajectory_grid(records); !trees.empty())
+    summary.figures.push_back(draw_trajectory_grid(records, scene, trees, figures_dir));
+  else
+    absent.push_back(
+        "the planners' trajectory trees: a grid swept with <code>keep_trees: true</code> in its campaign (the "
+        "paper's <code>canonical</code> grid)");
   summary.figures.push_back(draw_loss_comparison(records, grid, figures_dir));
   summary.figures.push_back(sweep_curves(records, factors, grid, planned, figures_dir));
   if (planned && !planned->factors.empty() && grid != campaign::kPlanGrid)
     summary.figures.push_back(draw_plan_sweep_curves(*planned, factors, figures_dir, "plan_sweep_curves"));
-  {
-    Figure coverage;
-    coverage.name = "coverage_comparison";
-    coverage.title = "Coverage comparison";
-    coverage.note =
-        "no coverage.json (written by emrm plan and emrm reproduce) in this folder, nor beside the "
-        "scenarios.csv a run here read";
-    if (in.coverage) coverage = draw_coverage_comparison(*in.coverage, figures_dir);
-    summary.figures.push_back(coverage);
-  }
+  if (in.coverage)
+    summary.figures.push_back(draw_coverage_comparison(*in.coverage, figures_dir));
+  else
+    absent.push_back(
+        "the coverage of a minimum scenario set against its baselines: <code>emrm plan</code> writes coverage.json "
+        "(here, or beside the scenarios.csv a run here read)");
   const auto emrm_coverage = results::emrm_fsm_coverage(records, sim::default_emrm_fsm());
   summary.figures.push_back(draw_fsm_figure(sim::default_emrm_fsm(), emrm_coverage.coverage.counts, "emrm_fsm",
                                             "EMRM hazard–loss FSM, transitions coloured by how often the runs took "
@@ -426,11 +429,9 @@ ReportSummary write_report(const fs::path& dir) {
                                             "took them (dashed red: never)",
                                             figures_dir));
   if (in.trace_rows.empty()) {
-    Figure f;
-    f.name = "traceability_matrix";
-    f.title = "Traceability matrix";
-    f.note = "no traceability.csv (written by emrm analyze, run and reproduce) in this folder";
-    summary.figures.push_back(f);
+    absent.push_back(
+        "the traceability matrix (hazards, UCAs, FSM transitions and scenarios): <code>emrm analyze</code>, "
+        "<code>emrm run</code> or <code>emrm reproduce</code> write traceability.csv");
   } else {
     summary.figures.push_back(draw_traceability(in.trace_rows, figures_dir));
     summary.figures.back().note = "from " + in.trace_source;
@@ -451,30 +452,46 @@ ReportSummary write_report(const fs::path& dir) {
       html_escape(meta.emrm_version), html_escape(meta.config_hash), kVersion);
   html += shortfalls_html(in.estimates);
   html += actuation_html(scene.actuation, in.runs);
-  html +=
-      "<nav><ul><li><a href=\"#regions\">Regions</a></li><li><a href=\"#tables\">Tables</a></li>"
-      "<li><a href=\"#figures\">Figures</a></li><li><a href=\"#plan\">Minimum scenario set</a></li>"
-      "<li><a href=\"#verification\">Verification</a></li>"
-      "<li><a href=\"#diagnostics\">Diagnostics</a></li><li><a href=\"#findings\">Findings</a></li>"
-      "<li><a href=\"#configuration\">Configuration</a></li></ul></nav>\n";
-  html += "<h2 id=\"regions\">Regions per grid</h2>\n" + regions_html(records);
+  // A section shows when it has something to say; what the folder lacks is listed once, at the end.
+  std::vector<Section> sections{{"regions", "Regions", "Regions per grid", regions_html(records), ""}};
   // The paper's claims table is written only where its numbers stand beside ours (docs/results.md).
   const bool beside_paper =
       std::any_of(in.tables.begin(), in.tables.end(), [](const auto& t) { return t.name == "claims"; });
-  html += fmt::format("<h2 id=\"tables\">Tables{}</h2>\n", beside_paper ? " (ours beside the paper's)" : "");
-  if (in.tables.empty()) html += "<p>No tables in this folder (they are written by <code>emrm reproduce</code>).</p>\n";
+  Section& tables =
+      sections.emplace_back(Section{"tables", "Tables", beside_paper ? "Tables (ours beside the paper's)" : "Tables",
+                                    "", "the KPI tables: <code>emrm reproduce</code> writes them"});
   for (const auto& t : in.tables) {
-    html += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
-    html += html_table(t.rows);
-    for (const auto& note : t.notes) html += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";
+    tables.body += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
+    tables.body += html_table(t.rows);
+    for (const auto& note : t.notes) tables.body += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";
   }
-  html += "<h2 id=\"figures\">Figures</h2>\n";
-  for (const auto& f : summary.figures) html += figure_html(f, dir);
-  html += side_sections_html(dir, in.estimates);
+  Section& drawn = sections.emplace_back(Section{"figures", "Figures", "Figures", "", ""});
+  for (const auto& f : summary.figures) {
+    if (f.png.empty())
+      absent.push_back(html_escape(f.title) + ": " + html_escape(f.note));
+    else
+      drawn.body += figure_html(f, dir);
+  }
+  for (Section& s : side_sections(dir, in.estimates)) sections.push_back(std::move(s));
+  for (const auto& s : sections)
+    if (s.body.empty() && !s.absent.empty()) absent.push_back(s.absent);
+  if (!absent.empty()) {
+    std::string list = "<p>Not in this folder, and what would add it:</p>\n<ul>\n";
+    for (const auto& line : absent) list += "<li>" + line + "</li>\n";
+    sections.push_back({"absent", "Not in this folder", "Not in this folder", list + "</ul>\n", ""});
+  }
+  sections.push_back({"configuration", "Configuration", "Effective configuration", "", ""});
+  html += "<nav><ul>";
+  for (const auto& s : sections)
+    if (!s.body.empty() || s.id == "configuration") html += fmt::format("<li><a href=\"#{}\">{}</a></li>", s.id, s.nav);
+  html += "</ul></nav>\n";
+  sections.pop_back();  // the configuration, written below
+  html += sections_html(sections);
   html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
   html +=
       "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) + "</pre></details>\n";
-  html += "<details><summary>scene</summary><pre>" + html_escape(meta.scene_yaml) + "</pre></details>\n";
+  html += "<details><summary>scene</summary><pre>" + html_escape(core::readable_yaml(meta.scene_yaml)) +
+          "</pre></details>\n";
   html += "</body>\n</html>\n";
   summary.html = folder.report_html();
   core::write_file(summary.html, html);

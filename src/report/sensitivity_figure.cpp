@@ -44,11 +44,11 @@ Figure draw_brake_sensitivity(const std::vector<campaign::CellRecord>& records, 
       "set ylabel 'G (% of feasible cells)'\n"
       "set title 'Brake dead time'\nset xlabel 'brake dead time (s)'\nset xrange [0:0.6]\n"
       "plot $dead using 1:2 with linespoints lw 2 pt 7 lc rgb '#2e7d32', {0} with lines dt 2 lc rgb '#555555'\n"
-      "set title 'Peak deceleration'\nset xlabel 'peak deceleration (m/s²)'\nset xrange [4:10]\n"
+      "set title 'Peak deceleration'\nset xlabel 'peak deceleration (m/s²)'\nset xrange [{2}:{3}]\n"
       "plot $cap using 1:2 with linespoints lw 2 pt 7 lc rgb '#2e7d32', {0} with lines dt 2 lc rgb '#555555'\n"
       "unset multiplot\n",
-      plot_number(s.base_g_pct),
-      single_quoted(fmt::format("How the brakes move G, grid '{}'", enhanced_literal(grid))));
+      plot_number(s.base_g_pct), single_quoted(fmt::format("How the brakes move G, grid '{}'", enhanced_literal(grid))),
+      plot_number(s.peak_decels_mps2.back()), plot_number(s.peak_decels_mps2.front()));
   render_png_and_svg(figure.png, figure.svg, datablock("dead", dead) + datablock("cap", cap), body, 1300, 600, 13);
   return figure;
 }

@@ -1,7 +1,8 @@
 // The sections of report.html that come from side files of the results folder (docs/report.md):
 // the planned run's shortfalls and estimates, the verification, the diagnostics and the findings of
-// the safety analysis. No content of these files makes them throw: a missing file is said so and
-// one of another shape is shown as it is.
+// the safety analysis. No content of these files makes them throw: a missing file leaves its
+// section out (the report's list of what the folder lacks says how to make it) and one of another
+// shape is shown as it is.
 
 #include "side_sections.hpp"
 
@@ -38,7 +39,7 @@ std::string findings_table(const std::vector<safety::Finding>& findings) {
 std::string findings_html(const fs::path& dir) {
   const fs::path file = results::ResultsDir(dir).findings_json();
   const std::string text = read_or_empty(file);
-  if (text.empty()) return "<p>No safety analysis in this folder (run <code>emrm analyze</code> or reproduce).</p>\n";
+  if (text.empty()) return "";
   try {
     const auto findings = safety::read_findings_json(file);
     return findings.empty() ? "<p class=\"ok\">No findings.</p>\n" : findings_table(findings);
@@ -81,9 +82,7 @@ std::string diagnostics_table(const results::DiagnosticsSummary& d) {
 std::string diagnostics_html(const fs::path& dir) {
   const fs::path file = results::ResultsDir(dir).diagnostics_json();
   const std::string text = read_or_empty(file);
-  if (text.empty())
-    return "<p>No diagnostics in this folder: <code>emrm diagnose " + html_escape(dir.string()) +
-           "</code> writes them (<code>emrm reproduce</code> does so itself).</p>\n";
+  if (text.empty()) return "";
   std::string table;
   try {
     table = diagnostics_table(results::read_diagnostics_summary(file));
@@ -95,9 +94,7 @@ std::string diagnostics_html(const fs::path& dir) {
 
 std::string verification_html(const fs::path& dir) {
   const std::string text = read_or_empty(results::ResultsDir(dir).verify_json());
-  if (text.empty())
-    return "<p>No verification in this folder (<code>emrm verify DIR</code> re-checks the store and keeps its "
-           "result in DIR/verify.json, as <code>emrm reproduce</code> does).</p>\n";
+  if (text.empty()) return "";
   return "<details open><summary>verify.json</summary><pre>" + html_escape(text) + "</pre></details>\n";
 }
 
@@ -122,18 +119,37 @@ std::string shortfalls_html(const results::FoundRunEstimates& run) {
   return out + "</ul></div>\n";
 }
 
-std::string side_sections_html(const fs::path& dir, const results::FoundRunEstimates& run) {
-  return "<h2 id=\"plan\">Minimum scenario set: estimates</h2>\n" + detail::statistics_html(run, dir) +
-         "<h2 id=\"verification\">Verification (emrm verify)</h2>\n" + verification_html(dir) +
-         "<h2 id=\"diagnostics\">Diagnostics</h2>\n" + diagnostics_html(dir) +
-         "<h2 id=\"findings\">Findings of the safety analysis</h2>\n" + findings_html(dir);
+std::vector<Section> side_sections(const fs::path& dir, const results::FoundRunEstimates& run) {
+  const std::string folder = html_escape(dir.string());
+  return {
+      {"plan", "Minimum scenario set", "Minimum scenario set: estimates", detail::statistics_html(run, dir),
+       "the estimates of a planned scenario set: <code>emrm plan ODD.yaml -o PLAN</code>, then <code>emrm run "
+       "PLAN/scenarios.csv -o DIR</code>"},
+      {"verification", "Verification", "Verification (emrm verify)", verification_html(dir),
+       "a verification: <code>emrm verify " + folder +
+           "</code> re-checks every witness and certificate and keeps its result in verify.json"},
+      {"diagnostics", "Diagnostics", "Diagnostics", diagnostics_html(dir),
+       "diagnostics (the stop boundary, monotonicity, the RRT against the reference planner): <code>emrm "
+       "diagnose " +
+           folder + "</code>"},
+      {"findings", "Findings", "Findings of the safety analysis", findings_html(dir),
+       "the findings of a safety analysis: <code>emrm analyze</code> on the safety case, or <code>emrm "
+       "reproduce</code>"},
+  };
+}
+
+std::string sections_html(const std::vector<Section>& sections) {
+  std::string out;
+  for (const auto& s : sections)
+    if (!s.body.empty()) out += fmt::format("<h2 id=\"{}\">{}</h2>\n{}", s.id, s.heading, s.body);
+  return out;
 }
 
 }  // namespace detail
 
 std::string side_files_html(const fs::path& dir) {
   const results::FoundRunEstimates run = results::find_run_estimates(dir);
-  return detail::shortfalls_html(run) + detail::side_sections_html(dir, run);
+  return detail::shortfalls_html(run) + detail::sections_html(detail::side_sections(dir, run));
 }
 
 }  // namespace emrm::report

@@ -21,8 +21,18 @@ namespace emrm::report::detail {
 /// "" when the run has none (or there is no run).
 [[nodiscard]] std::string shortfalls_html(const results::FoundRunEstimates& run);
 
+/// A section of report.html: its anchor, its name in the navigation, its heading and its HTML;
+/// empty when the folder has nothing for it, and then `absent` says what would fill it and how.
+struct Section {
+  std::string id, nav, heading, body, absent;
+};
+
 /// The sections after the figures that come from side files: the planned run's estimates
 /// (statistics_html), the verification, the diagnostics and the findings of the safety analysis.
-[[nodiscard]] std::string side_sections_html(const std::filesystem::path& dir, const results::FoundRunEstimates& run);
+[[nodiscard]] std::vector<Section> side_sections(const std::filesystem::path& dir,
+                                                 const results::FoundRunEstimates& run);
+
+/// The sections that have a body, each under its heading.
+[[nodiscard]] std::string sections_html(const std::vector<Section>& sections);
 
 }  // namespace emrm::report::detail

@@ -140,7 +140,7 @@ std::string statistics_html(const results::FoundRunEstimates& found, const fs::p
   if (!found.file.empty())
     return fmt::format("<p class=\"warning\">{} is not in the form emrm run writes ({}); no statistics shown.</p>\n",
                        html_escape(found.file.string()), html_escape(found.error));
-  return "<p>No planned scenario set was run in this folder (<code>emrm plan</code>, <code>emrm run</code>).</p>\n";
+  return "";  // no planned run here
 }
 
 }  // namespace emrm::report::detail

@@ -13,7 +13,7 @@ namespace emrm::report::detail {
 /// in DIR): per cell the estimate, Wilson interval, n and whether the precision target
 /// is met; the Hoeffding bound in a sentence with the n that would meet the target; the weighted
 /// Ŝ(A) with its intervals; for every cell that misses its target, how many more scenarios it
-/// needs. A note when no run is found or the file is not in emrm's form.
+/// needs. A note when the file is not in emrm's form; "" when no run is found.
 [[nodiscard]] std::string statistics_html(const results::FoundRunEstimates& found, const std::filesystem::path& dir);
 
 }  // namespace emrm::report::detail

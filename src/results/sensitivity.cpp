@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "emrm/results/aggregate.hpp"
 #include "emrm/sim/stop_physics.hpp"
+#include "emrm/sim/vehicle.hpp"
 
 namespace emrm::results {
 namespace {
@@ -35,7 +37,14 @@ BrakeSensitivity brake_sensitivity(const std::vector<campaign::CellRecord>& reco
     out.dead_times_s.push_back(a.brake_dead_time_s);
     out.dead_time_g_pct.push_back(green_pct(records, grid, a));
   }
-  for (const double cap : {10.0, 9.0, 8.0, 7.0, 6.0, 5.0, 4.0}) {
+  // The caps that bite: from the grid's friction limit, rounded up to a whole m/s², down to 40 % of
+  // it (10, 9, …, 4 where μ reaches 1; 5, 4.5, …, 2 on a wet grid whose μ is 0.5).
+  double mu_max = 0.0;
+  for (const auto& r : records)
+    if (r.grid == grid && r.feasible) mu_max = std::max(mu_max, r.factors.friction());
+  const double top = std::max(1.0, std::ceil(mu_max * sim::kGravity_mps2 - 1e-9));
+  for (int k = 0; k <= 6; ++k) {
+    const double cap = top * (1.0 - 0.1 * k);
     sim::ActuationConfig a = base;
     a.max_decel_mps2 = cap;
     out.peak_decels_mps2.push_back(cap);

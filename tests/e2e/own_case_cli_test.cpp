@@ -147,6 +147,26 @@ TEST_F(OwnCase, ASweepOfGridsOfTheirOwnNamesGetsAMapPerSlice) {
   std::size_t harm_slices = 0;
   for (const auto& id : ids) harm_slices += id.rfind("harm_map_wet_or_damp", 0) == 0;
   EXPECT_EQ(harm_slices, 2u);
+  // Issue 40, 7: no section of the paper's case that has nothing to say on their store: no empty
+  // tables, no trajectory trees of a 'canonical' grid they never had; what is missing is listed
+  // once, with the command that adds it.
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("id=\"tables\"")));
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("canonical'")));
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("not drawn")));
+  const auto absent = html.find("id=\"absent\"");
+  ASSERT_NE(absent, std::string::npos);
+  EXPECT_NE(html.find("emrm verify", absent), std::string::npos);
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("id=\"verification\"")));
+
+  // Their own verify, then the report again: it shows the verification, and no longer lists it.
+  const auto verify = run_emrm("verify " + quoted(out) + " --threads 2");
+  ASSERT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  ASSERT_EQ(run_emrm("report " + quoted(out)).exit_code, 0);
+  const std::string verified = read_text(out / "report.html");
+  const auto section = verified.find("id=\"verification\"");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(verified.find("verify.json", section), std::string::npos);
+  EXPECT_THAT(verified, ::testing::Not(HasSubstr("a verification: <code>emrm verify")));
   expect_clean_in_chromium(out / "report.html", "own_case_sweep");
 }
 

@@ -54,6 +54,11 @@ struct CsvRecord {
 /// a row too short (file_name:line:column).
 void check_row_length(const CsvRecord& row, std::size_t expected, const std::string& file_name);
 
+/// A number as people and other tools read it: 15 significant digits at most, so that the last bit
+/// of a sum or a unit conversion (0.1 + 0.2, 4.9500000000000002) does not show, while every value
+/// within 5e-15 of its own keeps all its digits ("0.30000000000000004" is written "0.3"). −0 is 0.
+[[nodiscard]] std::string readable_number(double value);
+
 /// The finite number the whole of `text` spells (strtod's syntax), or nothing: empty text, trailing
 /// characters, NaN, infinities and out-of-range values are not numbers here.
 [[nodiscard]] std::optional<double> parse_finite_number(const std::string& text);

@@ -183,6 +183,13 @@ template <class T>
 /// YAML text of a node, block style.
 [[nodiscard]] std::string to_yaml_text(const YAML::Node& node);
 
+/// YAML text as emrm emits it (to_yaml_text), every number written as people read it
+/// (readable_number: 4.95, not 4.9500000000000002), for showing a stored configuration. Only a
+/// scalar spelled as a double's shortest exact form or its 17 digits (yaml-cpp's) changes; other
+/// text is kept. Text that is
+/// not YAML is returned as it is.
+[[nodiscard]] std::string readable_yaml(const std::string& text);
+
 /// The node a field path names below `root`: the field's own node if the file has it, else the
 /// nearest enclosing mapping or list that it has (for a default that another field made invalid).
 [[nodiscard]] YamlNode node_at(const YamlNode& root, const FieldPath& path);

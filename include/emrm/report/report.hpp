@@ -36,8 +36,8 @@ ReportSummary write_report(const std::filesystem::path& dir);
 /// The report's sections that come from side files of DIR, as report.html shows them: the plan's
 /// shortfalls first, then the planned run's estimates (estimates.json and the coverage.json it
 /// names), the verification (verify.json), the diagnostics (diagnostics.json) and the findings
-/// (analysis/findings.json). A missing file is said so and one of another shape is shown as it is
-/// with a note: no content of these files makes it throw.
+/// (analysis/findings.json). A missing file leaves its section out, and one of another shape is
+/// shown as it is with a note: no content of these files makes it throw.
 [[nodiscard]] std::string side_files_html(const std::filesystem::path& dir);
 
 /// Base64 (RFC 4648) of bytes, for data: URIs.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -221,5 +222,24 @@ TEST(ReadInputFile, NamesTheLineAndColumnOfABadByteAndDropsAByteOrderMark) {
   EXPECT_EQ(read_input_file(dir / "bom.yaml"), "name: x\n");
   std::filesystem::remove_all(dir);
 }
+
+namespace text_test {
+
+// Issue 40, 7: float noise (4.9500000000000002) in the report's configuration and the exported XML.
+// At most 15 significant digits: the noise goes, and the value read back is within 5e-15 of it.
+TEST(ReadableNumber, DropsTheLastBitsNoiseAndKeepsTheValue) {
+  EXPECT_EQ(readable_number(0.1 + 0.2), "0.3");
+  EXPECT_EQ(readable_number(4.95 + 1e-15), "4.95");
+  EXPECT_EQ(readable_number(1.4100000000000001), "1.41");
+  EXPECT_EQ(readable_number(-0.0), "0");
+  EXPECT_EQ(readable_number(42.0), "42");
+  EXPECT_EQ(readable_number(1e-7), "1e-07");
+  for (const double v : {22.916666666666668, -1.5707963267948966, 125.67466666666667, 1.0 / 3.0, 6.02214076e23}) {
+    const double back = std::stod(readable_number(v));
+    EXPECT_NEAR(back, v, 5e-15 * std::abs(v)) << readable_number(v);
+  }
+}
+
+}  // namespace text_test
 
 }  // namespace emrm::core

@@ -158,5 +158,19 @@ TEST(YamlNode, UnreadableFileIsAnInputErrorNamingIt) {
   }
 }
 
+// The stored scene as the report shows it: emrm's own noisy numbers readable, other text kept.
+TEST(ReadableYaml, WritesNumbersAsPeopleReadThemAndKeepsTheRest) {
+  const std::string text =
+      "actuation:\n  max_decel_mps2: 4.9500000000000002\n  brake_ramp_s: 0.25\nname: 007\nlanes: [0.30000000000000004, "
+      "2]\nlabel: \"1.4100000000000001 m\"\n";
+  const std::string shown = readable_yaml(text);
+  EXPECT_THAT(shown, ::testing::HasSubstr("max_decel_mps2: 4.95\n"));
+  EXPECT_THAT(shown, ::testing::HasSubstr("brake_ramp_s: 0.25"));
+  EXPECT_THAT(shown, ::testing::HasSubstr("name: 007"));  // not the shortest form of a number: kept
+  EXPECT_THAT(shown, ::testing::HasSubstr("[0.3, 2]"));
+  EXPECT_THAT(shown, ::testing::HasSubstr("1.4100000000000001 m"));  // a string that holds a number: kept
+  EXPECT_EQ(readable_yaml("a: [unclosed"), "a: [unclosed");          // not YAML: as it is
+}
+
 }  // namespace yaml_test
 }  // namespace emrm::core

@@ -285,7 +285,7 @@ TEST(OpenScenario, ExportedFilesValidateAgainstTheSchemas) {
         const double l_r = config.ego.cg_to_rear_axle_m;
         for (std::size_t k = 0; k < points.size(); ++k) {
           const double h = std::stod(hs[k]);
-          EXPECT_EQ(std::stod(times[k]), points[k].t_s);
+          EXPECT_NEAR(std::stod(times[k]), points[k].t_s, 1e-14);  // 15 significant digits
           EXPECT_NEAR(std::stod(xs[k]) + l_r * std::cos(h), points[k].state.x_m, 1e-9) << o.strategy << " " << k;
           EXPECT_NEAR(std::stod(ys[k]) + l_r * std::sin(h), points[k].state.y_m, 1e-9) << o.strategy << " " << k;
         }
@@ -431,7 +431,8 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
     const Document road(read(dir / assigned[5]));
     const JunctionLayout layout = junction_layout(config, cell);
     EXPECT_NEAR(road.number("/OpenDRIVE/road[@id='3']/planView/geometry/@x"), layout.side_road_x_m, 1e-3) << row.id;
-    EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m) << row.id;
+    // Numbers are written to 15 significant digits (core::readable_number): equal to within 1e-12 m.
+    EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m - 1e-12) << row.id;
   }
   std::filesystem::remove_all(dir);
 }
