@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libxml2-dev
   graphviz gnuplot-nox libsqlite3-dev sqlite3 libtbb-dev libboost-dev libnlopt-cxx-dev
   openmpi-bin libopenmpi-dev libcereal-dev
-  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest python3-matplotlib
   chromium fonts-dejavu-core
 )
 missing=()

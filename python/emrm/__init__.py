@@ -13,7 +13,11 @@ A short tour is in docs/python.md::
 
 from __future__ import annotations
 
+import ast
+import functools
+import inspect
 import os
+import re
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -58,6 +62,104 @@ if TYPE_CHECKING:
     import pandas
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+
+# ---- signatures ----------------------------------------------------------------------------
+# The extension's functions are builtins, which inspect.signature cannot read: IDEs, Jupyter's
+# hints and help() showed none. pybind11 writes each one's signature as the first line of its
+# docstring, from the C++ argument list (their one owner); these Python functions forward to them
+# and carry that line as their __signature__.
+
+
+class _Default:
+    """A default that is not a Python literal, shown as pybind11 spells it."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def _documented_signature(function: Any) -> Optional[inspect.Signature]:
+    """The signature the first line of a pybind11 docstring gives, or None (overloads, no doc)."""
+    line = (function.__doc__ or "").split("\n", 1)[0]
+    match = re.fullmatch(r"\w+\((.*)\)(?:\s*->\s*(.+))?", line)
+    if not match:
+        return None
+    try:
+        tree = ast.parse(f"def _f({match.group(1)}): pass")
+    except SyntaxError:
+        return None
+    args = tree.body[0].args  # type: ignore[attr-defined]
+
+    def annotation(node: Optional[ast.expr]) -> Any:  # pybind11's "handle" and "object": any
+        text = "" if node is None else ast.unparse(node)
+        return inspect.Parameter.empty if text in ("", "handle", "object") else text
+
+    def default(node: ast.expr) -> Any:
+        try:
+            return ast.literal_eval(node)
+        except ValueError:
+            return _Default(ast.unparse(node))
+
+    P = inspect.Parameter
+    parameters = []
+    positional = args.posonlyargs + args.args
+    first_default = len(positional) - len(args.defaults)
+    for i, a in enumerate(positional):
+        kind = P.POSITIONAL_ONLY if i < len(args.posonlyargs) else P.POSITIONAL_OR_KEYWORD
+        d = default(args.defaults[i - first_default]) if i >= first_default else P.empty
+        parameters.append(P(a.arg, kind, default=d, annotation=annotation(a.annotation)))
+    if args.vararg:
+        parameters.append(P(args.vararg.arg, P.VAR_POSITIONAL, annotation=annotation(args.vararg.annotation)))
+    for a, d in zip(args.kwonlyargs, args.kw_defaults):
+        parameters.append(
+            P(a.arg, P.KEYWORD_ONLY, default=P.empty if d is None else default(d), annotation=annotation(a.annotation))
+        )
+    if args.kwarg:
+        parameters.append(P(args.kwarg.arg, P.VAR_KEYWORD, annotation=annotation(args.kwarg.annotation)))
+    returns = match.group(2)
+    return inspect.Signature(parameters, return_annotation=returns if returns else inspect.Signature.empty)
+
+
+def _with_signature(function: Any) -> Any:
+    """`function` (an extension builtin) behind a Python function that inspect.signature reads."""
+    signature = _documented_signature(function)
+    if signature is None:
+        return function
+
+    @functools.wraps(function)
+    def forward(*args: Any, **kwargs: Any) -> Any:
+        return function(*args, **kwargs)
+
+    forward.__signature__ = signature  # type: ignore[attr-defined]
+    return forward
+
+
+def _with_method_signatures(cls: type) -> None:
+    """The extension class `cls` with each of its own methods behind a _with_signature function."""
+    for name, member in list(vars(cls).items()):
+        if isinstance(member, staticmethod):
+            wrapped = _with_signature(member.__func__)
+            if wrapped is not member.__func__:
+                setattr(cls, name, staticmethod(wrapped))
+        elif type(member).__name__ == "instancemethod" and (name == "__init__" or not name.startswith("_")):
+            wrapped = _with_signature(member.__func__)
+            if wrapped is not member.__func__:
+                setattr(cls, name, wrapped)
+
+
+for _class in vars(_emrm).values():
+    if isinstance(_class, type) and _class.__module__ == _emrm.__name__ and not issubclass(_class, BaseException):
+        _with_method_signatures(_class)
+
+check_covering_array = _with_signature(check_covering_array)
+check_fsm = _with_signature(check_fsm)
+covering_array = _with_signature(covering_array)
+merge = _with_signature(merge)
+simulate = _with_signature(simulate)
+strategy_names = _with_signature(strategy_names)
 
 __all__ = [
     "ActuationConfig", "Analysis", "CarBody", "CellResult", "ControllerConfig", "CrossingConfig", "CutInConfig", "Error", "FindingsError", "FsmReport", "HighwayConfig",

@@ -233,3 +233,32 @@ def test_another_family_takes_its_factors_and_its_levels_by_name():
     assert isinstance(motorway.cut_in, emrm.CutInConfig) and motorway.cut_in.cutting.mass_kg == 1500
     cut = emrm.simulate(motorway, speed_kph=100, ttc_s=1.0, relative_speed_kph=30, following="car")
     assert [a["name"] for a in cut.actors] == ["cutting car", "following car"]
+
+
+def test_every_function_and_method_has_a_signature_ides_and_jupyter_read():
+    """Issue 40, 13: inspect.signature(emrm.simulate) raised (the extension's builtins carry none)."""
+    import inspect
+
+    unreadable = []
+    for name in emrm.__all__:
+        value = getattr(emrm, name)
+        members = [(name, value)]
+        if isinstance(value, type) and not issubclass(value, BaseException):
+            members += [(f"{name}.{m}", getattr(value, m)) for m in vars(value) if not m.startswith("_")]
+        for label, member in members:
+            if callable(member) and not isinstance(member, type):
+                try:
+                    inspect.signature(member)
+                except (TypeError, ValueError):
+                    unreadable.append(label)
+    assert unreadable == []
+    # The signature is the C++ argument list's, defaults included, and it is what the call takes.
+    simulate = inspect.signature(emrm.simulate).parameters
+    assert {k: p.default for k, p in simulate.items() if p.default is not inspect.Parameter.empty} == {
+        "scene": None, "strategy": None, "seed": 1, "certify": True, "timing": False}
+    assert simulate["strategy"].kind is inspect.Parameter.KEYWORD_ONLY
+    assert inspect.signature(emrm.check_fsm).parameters["max_states"].default == 100000
+    assert list(inspect.signature(emrm.Scene.load).parameters) == ["path", "profile"]
+    with pytest.raises(TypeError):
+        emrm.simulate(None, "dodge", speed_kph=50, ttc_s=1)  # strategy is keyword-only, as the signature says
+    assert emrm.simulate.__doc__ == emrm._emrm.simulate.__doc__

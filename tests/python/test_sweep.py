@@ -274,4 +274,5 @@ def test_the_example_draws_the_map_of_a_results_folder(tmp_path):
     run = subprocess.run([sys.executable, example, "--results", tmp_path / "out"], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert "regions: G " in run.stdout
-    assert (tmp_path / "out" / "mitigability_map.png").exists() or (tmp_path / "out" / "mitigability_map.csv").exists()
+    # scripts/install-deps.sh installs matplotlib (python3-matplotlib): the example draws the map.
+    assert (tmp_path / "out" / "mitigability_map.png").exists(), run.stdout
