@@ -5,8 +5,11 @@
 // src/exchange.
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "emrm/exchange/openscenario.hpp"
+#include "emrm/sim/factors.hpp"
 #include "emrm/sim/scene.hpp"
 #include "xml_writer.hpp"
 
@@ -17,8 +20,14 @@ inline constexpr const char* kDate = "2026-01-01T00:00:00";
 
 inline std::string num(double x) { return xml_number(x); }
 
-// The OpenSCENARIO FileHeader, with the fixed date and emrm's version.
-void file_header(XmlWriter& x, const std::string& description);
+// The OpenSCENARIO FileHeader, with the fixed date and emrm's version, and `properties` (name,
+// value) when there are any.
+void file_header(XmlWriter& x, const std::string& description,
+                 const std::vector<std::pair<std::string, std::string>>& properties = {});
+// A concrete scenario's FileHeader: its cell's factors, road file and id as properties
+// (scenario_fields, xosc_parts.hpp).
+void cell_header(XmlWriter& x, const std::string& description, const sim::FactorTable& factors,
+                 const sim::CellInput& cell, const std::string& road_file, const std::string& scenario_id);
 
 // One cell's scenario document; `parametric`: the logical scenario, its positions and speeds as
 // expressions of its parameters (the cell gives their default values).

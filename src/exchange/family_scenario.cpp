@@ -25,6 +25,7 @@ namespace {
 using detail::act_end;
 using detail::axles;
 using detail::bounding_box;
+using detail::cell_header;
 using detail::ego_entity;
 using detail::ego_vertices;
 using detail::file_header;
@@ -32,7 +33,6 @@ using detail::follow_trajectory;
 using detail::maneuver_group;
 using detail::maneuver_group_end;
 using detail::num;
-using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
 using detail::start_state;
@@ -190,9 +190,10 @@ std::string family_scenario_xml(const sim::SceneConfig& config, const sim::CellI
   const double end_s = storyboard_end_s(config, vertices);
   XmlWriter x;
   x.open("OpenSCENARIO");
-  file_header(x, fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
-                             trajectory != nullptr ? ", strategy " + trajectory->strategy : ""));
-  parameter_declarations(x, factors, cell, road_file, scenario_id);
+  cell_header(x,
+              fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
+                          trajectory != nullptr ? ", strategy " + trajectory->strategy : ""),
+              factors, cell, road_file, scenario_id);
   x.leaf("CatalogLocations");
   x.open("RoadNetwork");
   x.leaf("LogicFile", {{"filepath", road_file}});

@@ -194,12 +194,30 @@ void truck_maneuver(XmlWriter& x, const sim::SceneConfig& config, const sim::Cel
 
 namespace detail {
 
-void file_header(XmlWriter& x, const std::string& description) {
-  x.leaf("FileHeader", {{"revMajor", "1"},
-                        {"revMinor", "2"},
-                        {"date", kDate},
-                        {"description", description},
-                        {"author", fmt::format("emrm {}", kVersion)}});
+void file_header(XmlWriter& x, const std::string& description,
+                 const std::vector<std::pair<std::string, std::string>>& properties) {
+  const XmlWriter::Attributes attributes{{"revMajor", "1"},
+                                         {"revMinor", "2"},
+                                         {"date", kDate},
+                                         {"description", description},
+                                         {"author", fmt::format("emrm {}", kVersion)}};
+  if (properties.empty()) {
+    x.leaf("FileHeader", attributes);
+    return;
+  }
+  x.open("FileHeader", attributes);
+  x.open("Properties");
+  for (const auto& [name, value] : properties) x.leaf("Property", {{"name", name}, {"value", value}});
+  x.close();
+  x.close();
+}
+
+void cell_header(XmlWriter& x, const std::string& description, const sim::FactorTable& factors,
+                 const sim::CellInput& cell, const std::string& road_file, const std::string& scenario_id) {
+  std::vector<std::pair<std::string, std::string>> properties;
+  for (auto& f : scenario_fields(factors, cell, road_file, scenario_id))
+    properties.emplace_back(std::move(f.name), std::move(f.value));
+  file_header(x, description, properties);
 }
 
 // `truck_rest_s`: when the truck comes to rest (the latest over the scenarios a logical scenario
@@ -214,10 +232,15 @@ std::string scenario_xml(const sim::SceneConfig& config, const sim::CellInput& c
   const double end_s = storyboard_end_s(config, vertices);
   XmlWriter x;
   x.open("OpenSCENARIO");
-  file_header(x, parametric ? fmt::format("{}: logical scenario of an emrm plan", config.name)
-                            : fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
-                                          trajectory != nullptr ? ", strategy " + trajectory->strategy : ""));
-  parameter_declarations(x, factors, cell, road_file, scenario_id);
+  if (parametric) {
+    file_header(x, fmt::format("{}: logical scenario of an emrm plan", config.name));
+    parameter_declarations(x, scenario_fields(factors, cell, road_file, scenario_id));
+  } else {
+    cell_header(x,
+                fmt::format("{}: {}{}", config.name, cell_text(factors, cell),
+                            trajectory != nullptr ? ", strategy " + trajectory->strategy : ""),
+                factors, cell, road_file, scenario_id);
+  }
   x.leaf("CatalogLocations");
   x.open("RoadNetwork");
   x.leaf("LogicFile", {{"filepath", parametric ? "$road_network" : road_file}});

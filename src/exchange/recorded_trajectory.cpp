@@ -94,9 +94,28 @@ void unwrap(RecordedTrajectory& t) {
   }
 }
 
+// A file in the other format than the one asked for says so, with the flag that reads it: esmini's
+// dat2csv output (a "Version:" line, or the columns time, name and h) read as emrm's CSV, or
+// emrm's (t, psi and v) read as esmini's.
+void refuse_the_other_format(const core::CsvRecord& header, const std::string& file, bool reading_esmini) {
+  const Columns c = header_of(header);
+  const bool esmini =
+      trimmed(header.fields.front()).rfind("Version:", 0) == 0 || (c.find("time") && c.find("name") && c.find("h"));
+  const bool emrm = c.find("t") && c.find("psi") && c.find("v");
+  if (!reading_esmini && esmini && !emrm)
+    throw InputError({file, header.lines.front(), 1},
+                     "expected emrm's trajectory CSV (columns t, x, y, psi, v), got esmini's dat2csv output "
+                     "(columns time, id, name, x, y, h, …): pass --format esmini to read it");
+  if (reading_esmini && emrm && !esmini)
+    throw InputError({file, header.lines.front(), 1},
+                     "expected esmini's dat2csv output (columns time, id, name, x, y, h, …), got emrm's trajectory "
+                     "CSV (columns t, x, y, psi, v): leave out --format esmini to read it");
+}
+
 RecordedTrajectory parse_emrm(const std::vector<core::CsvRecord>& records, const std::string& file) {
   constexpr std::string_view kExpected = "t, x, y, psi, v; optional truck_x, truck_y, truck_psi, steer";
   const core::CsvRecord& header = records.front();
+  refuse_the_other_format(header, file, false);
   const Columns c = header_of(header);
   const std::size_t t = require_column(c, "t", header, file, kExpected);
   const std::size_t x = require_column(c, "x", header, file, kExpected);
@@ -168,6 +187,7 @@ RecordedTrajectory parse_esmini(const std::vector<core::CsvRecord>& records, con
   if (!records.empty() && trimmed(records.front().fields.front()).rfind("Version:", 0) == 0) first = 1;
   if (first >= records.size()) throw InputError({file, 1, 1}, fmt::format("expected a header ({})", kExpected));
   const core::CsvRecord& header = records[first];
+  refuse_the_other_format(header, file, true);
   const Columns c = header_of(header);
   const std::size_t time = require_column(c, "time", header, file, kExpected);
   const std::size_t name = require_column(c, "name", header, file, kExpected);

@@ -149,13 +149,19 @@ std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const E
       config.simulation.dt_s);
 }
 
-void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const sim::CellInput& cell,
-                            const std::string& road_file, const std::string& scenario_id) {
+std::vector<ScenarioField> scenario_fields(const sim::FactorTable& factors, const sim::CellInput& cell,
+                                           const std::string& road_file, const std::string& scenario_id) {
+  std::vector<ScenarioField> out;
+  for (std::size_t f = 0; f < factors.size(); ++f) out.push_back({factors[f].key, "double", num(cell[f])});
+  out.push_back({"road_network", "string", road_file});
+  out.push_back({"scenario_id", "string", scenario_id});
+  return out;
+}
+
+void parameter_declarations(XmlWriter& x, const std::vector<ScenarioField>& fields) {
   x.open("ParameterDeclarations");
-  for (std::size_t f = 0; f < factors.size(); ++f)
-    x.leaf("ParameterDeclaration", {{"name", factors[f].key}, {"parameterType", "double"}, {"value", num(cell[f])}});
-  x.leaf("ParameterDeclaration", {{"name", "road_network"}, {"parameterType", "string"}, {"value", road_file}});
-  x.leaf("ParameterDeclaration", {{"name", "scenario_id"}, {"parameterType", "string"}, {"value", scenario_id}});
+  for (const auto& f : fields)
+    x.leaf("ParameterDeclaration", {{"name", f.name}, {"parameterType", f.type}, {"value", f.value}});
   x.close();
 }
 

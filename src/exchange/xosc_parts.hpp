@@ -30,9 +30,16 @@ void speed_action(XmlWriter& x, const char* shape, const char* dimension, const 
 void maneuver_group(XmlWriter& x, const std::string& name, const std::string& entity);
 void maneuver_group_end(XmlWriter& x, const std::string& trigger);
 
-// The scenario's parameters: each factor at the cell's value, the road network's file and the id.
-void parameter_declarations(XmlWriter& x, const sim::FactorTable& factors, const sim::CellInput& cell,
-                            const std::string& road_file, const std::string& scenario_id);
+// What a scenario is of: each factor at the cell's value, the road network's file and the id. A
+// logical scenario declares them as parameters, which its expressions read; a concrete scenario,
+// whose positions are numbers, names them as its FileHeader's properties instead, so that it
+// declares no parameter that changing would not act on.
+struct ScenarioField {
+  std::string name, type, value;  // type: an OpenSCENARIO parameterType
+};
+[[nodiscard]] std::vector<ScenarioField> scenario_fields(const sim::FactorTable& factors, const sim::CellInput& cell,
+                                                         const std::string& road_file, const std::string& scenario_id);
+void parameter_declarations(XmlWriter& x, const std::vector<ScenarioField>& fields);
 // The ego's ScenarioObject: its box about the rear axle, performance, axles and properties.
 void ego_entity(XmlWriter& x, const sim::SceneConfig& config, const ExportOptions& options);
 // The road's friction as the Init's global EnvironmentAction.

@@ -248,6 +248,21 @@ TEST(Assess, BadFilesNameLineAndColumn) {
       "'Ego'", TrajectoryFormat::kEsmini);
 }
 
+// Issue 40, 8: esmini's recording read without --format esmini said only "expected a column 't'".
+// Each format read as the other names the file's format and the flag that reads it.
+TEST(Assess, AFileInTheOtherFormatSaysWhichFlagReadsIt) {
+  const std::string esmini =
+      "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n0, 0, Ego, 0, 0, 0, 0, 0, 0, 1, 0, 0\n";
+  expect_error_at(esmini, 1, 1,
+                  "got esmini's dat2csv output (columns time, id, name, x, y, h, …): pass --format esmini");
+  expect_error_at("Version: 2, OpenDRIVE: tjunction.xodr, 3DModel: \n" + esmini, 1, 1, "pass --format esmini");
+  expect_error_at("t,x,y,psi,v\n0,0,0,0,10\n0.1,1,0,0,10\n", 1, 1,
+                  "got emrm's trajectory CSV (columns t, x, y, psi, v): leave out --format esmini",
+                  TrajectoryFormat::kEsmini);
+  // A header of neither keeps the missing column's message.
+  expect_error_at("time,x,y\n0,0,0\n", 1, 1, "expected a column 't'");
+}
+
 TEST(Assess, InfeasibleCellIsRejected) {
   const sim::SceneConfig config;
   const auto recorded =

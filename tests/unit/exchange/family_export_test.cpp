@@ -157,9 +157,10 @@ TEST(FamilyExport, PlanExportsEachScenarioAsTheCellsDocument) {
     const std::string xosc = read(dir / row.id / scenario_file_of(config));
     EXPECT_EQ(testing::openscenario().errors_of(xosc), "") << row.id;
     std::string expected = openscenario_xml(config, cell, nullptr, {}, road_file_of(config));
-    const std::string cell_id = R"(name="scenario_id" parameterType="string" value="cell")";
+    const std::string cell_id = R"(<Property name="scenario_id" value="cell"/>)";
+    ASSERT_NE(expected.find(cell_id), std::string::npos);
     expected.replace(expected.find(cell_id), cell_id.size(),
-                     R"(name="scenario_id" parameterType="string" value=")" + row.id + "\"");
+                     R"(<Property name="scenario_id" value=")" + row.id + "\"/>");
     EXPECT_EQ(xosc, expected) << row.id;
     EXPECT_EQ(read(dir / row.id / road_file_of(config)), straight_road_xml(config, cell)) << row.id;
   }

@@ -14,6 +14,8 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
+#include <memory>
 #include <numbers>
 #include <random>
 
@@ -324,6 +326,12 @@ TEST(OpenScenario, PlanIsOneLogicalScenarioWithEveryConcreteOne) {
   const Document l(logical);
   EXPECT_EQ(l.all("/OpenSCENARIO/ParameterDeclarations/ParameterDeclaration/@name"),
             plan_parameter_names(sim::scenario_factors(sim::SceneConfig{})));
+  // Every parameter it declares acts: an expression or a reference reads it (scenario_id, the
+  // label of each value set, is the one that names rather than moves).
+  for (const auto& name : l.all("/OpenSCENARIO/ParameterDeclarations/ParameterDeclaration/@name"))
+    if (name != "scenario_id") {
+      EXPECT_NE(logical.find("$" + name), std::string::npos) << name << " is declared, never read";
+    }
   // Every road network named in the distribution was written and validates.
   for (const auto& file : d.all("//ParameterAssignment[@parameterRef='road_network']/@value")) {
     ASSERT_TRUE(std::filesystem::is_regular_file(dir / file)) << file;
@@ -435,6 +443,37 @@ TEST(OpenScenario, LogicalScenarioAtEachParameterSetIsTheConcreteScenario) {
     EXPECT_GE(road.number("/OpenDRIVE/road[@id='3']/@length"), layout.side_road_length_m - 1e-12) << row.id;
   }
   std::filesystem::remove_all(dir);
+}
+
+// Issue 40, 8: a cell's export declared the factors as parameters that no position read, so
+// `esmini --param speed_kph=60` changed nothing. A concrete scenario now declares no parameter;
+// the cell's values are its FileHeader's properties, and the positions are the cell's numbers.
+TEST(OpenScenario, ACellDeclaresNoParameterItsPositionsIgnore) {
+  const sim::SceneConfig config;
+  const auto cell = cell_of(60, 1.3, 0.5, 2.0, 10);
+  for (const bool with_trajectory : {false, true}) {
+    std::unique_ptr<EgoTrajectory> trajectory;
+    if (with_trajectory) {
+      sim::CellOptions options;
+      options.strategies = {"emergency_stop"};
+      const auto o = sim::simulate_cell(config, cell, options).strategies.front();
+      trajectory = std::make_unique<EgoTrajectory>(EgoTrajectory{o.strategy, o.path});
+    }
+    const std::string xosc = openscenario_xml(config, cell, trajectory.get(), {}, kRoadFile);
+    EXPECT_EQ(testing::openscenario().errors_of(xosc), "");
+    const Document d(xosc);
+    EXPECT_TRUE(d.all("//ParameterDeclaration").empty());
+    EXPECT_EQ(xosc.find('$'), std::string::npos) << "a reference to a parameter it does not declare";
+    const auto names = d.all("/OpenSCENARIO/FileHeader/Properties/Property/@name");
+    const auto values = d.all("/OpenSCENARIO/FileHeader/Properties/Property/@value");
+    ASSERT_EQ(names.size(), values.size());
+    std::map<std::string, std::string> property;
+    for (std::size_t k = 0; k < names.size(); ++k) property[names[k]] = values[k];
+    EXPECT_EQ(property["speed_kph"], "60");
+    EXPECT_EQ(property["ttc_s"], "1.3");
+    EXPECT_EQ(property["mu"], "0.5");
+    EXPECT_EQ(property["road_network"], kRoadFile);
+  }
 }
 
 // A simulator stepping at dt records the first frame at or after a trajectory's end with the speed
