@@ -3,7 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -16,7 +18,9 @@
 #include "emrm/campaign/sweep.hpp"
 #include "emrm/cluster/mpi_sweep.hpp"
 #include "emrm/core/interrupt.hpp"
+#include "emrm/core/text.hpp"
 #include "emrm/results/results_dir.hpp"
+#include "emrm/sim/scene.hpp"
 #include "mpi_options.hpp"
 #include "options.hpp"
 
@@ -94,6 +98,21 @@ void print_swept(const campaign::SweepSummary& s, const SweepCommandOptions& o, 
       shard, o.output_dir, s.cells_simulated, s.cells_done_before, s.seconds, rate);
 }
 
+// A grid none of whose cells is feasible is almost always a unit slip (a TTC in ms, a speed in
+// m/s): the sweep succeeds, and says so on stderr with the first cell's reason.
+void warn_of_infeasible_grids(const SweepCommandOptions& o, const campaign::Campaign& c,
+                              const std::vector<campaign::GridCount>& grids) {
+  for (const auto& g : grids) {
+    if (g.cells == 0 || g.feasible > 0) continue;
+    const auto spec = std::find_if(c.grids.begin(), c.grids.end(), [&](const auto& s) { return s.name == g.grid; });
+    const std::string reason = spec != c.grids.end() && !spec->cells.empty()
+                                   ? sim::Scene(c.scene, spec->cells.front()).infeasible_reason()
+                                   : std::string("the factors' units are those 'emrm families' names");
+    fmt::print(stderr, "{}: warning: grid '{}' has no feasible cell among its {}; its first: {}\n", o.campaign_file,
+               g.grid, core::counted(g.cells, "cell", "cells"), reason);
+  }
+}
+
 void print_wrote(const SweepCommandOptions& o) {
   std::cout << fmt::format("Wrote {0}/results.sqlite, {0}/regions.csv, {0}/cells.csv, {0}/cells.json\n", o.output_dir);
 }
@@ -101,12 +120,14 @@ void print_wrote(const SweepCommandOptions& o) {
 int run_sweep(const SweepCommandOptions& o) {
   campaign::SweepOptions options = sweep_options(o);
   campaign::parse_shard(o.shard, options.shard_index, options.shard_count);
-  const campaign::SweepSummary s = campaign::sweep(load(o), options);
+  const campaign::Campaign c = load(o);
+  const campaign::SweepSummary s = campaign::sweep(c, options);
   print_swept(s, o,
               options.shard_count > 1 ? fmt::format(" (shard {}/{})", options.shard_index, options.shard_count)
                                       : std::string());
   for (const auto& a : s.adaptive) print_adaptive(a);
   print_wrote(o);
+  warn_of_infeasible_grids(o, c, s.grids);
   return static_cast<int>(ExitCode::kSuccess);
 }
 
@@ -117,7 +138,8 @@ int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
     throw UsageError("--mpi with --shard: the ranks share the campaign out among themselves; leave out --shard");
   campaign::SweepOptions options = sweep_options(o);
   options.distributor = &ranks.distributor();
-  const auto s = ranks.summary(campaign::sweep(load(o), options));
+  const campaign::Campaign c = load(o);
+  const auto s = ranks.summary(campaign::sweep(c, options));
   print_swept(s.sweep, o, fmt::format(" on {} MPI rank{}", ranks.size(), ranks.size() == 1 ? "" : "s"));
   for (const auto& a : s.sweep.adaptive) print_adaptive(a);
   std::string per_rank;
@@ -137,6 +159,7 @@ int run_sweep_mpi(const SweepCommandOptions& o, cluster::Ranks& ranks) {
     std::cout << fmt::format("Rank {} said nothing for {:g} s and was given up; the other ranks simulated its cells\n",
                              rank, o.mpi.hung_after_s);
   print_wrote(o);
+  warn_of_infeasible_grids(o, c, s.sweep.grids);
   return static_cast<int>(ExitCode::kSuccess);
 }
 

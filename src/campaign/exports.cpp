@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -20,7 +21,7 @@ std::string number(double v) {
 
 }  // namespace
 
-void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir) {
+std::vector<GridCount> write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir) {
   const ResultStore store = ResultStore::open_for_reading(results_sqlite);
   const sim::FactorTable table = scenario_factors(store.meta());
   const auto keys = table.keys();
@@ -46,7 +47,12 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
                    "road_departure", "departure_speed_kph", "evidence"});
   json << "[";
   bool first = true;
+  std::vector<GridCount> counts;
   store.for_each_cell([&](const CellRecord& r) {
+    auto count = std::find_if(counts.begin(), counts.end(), [&](const GridCount& c) { return c.grid == r.grid; });
+    if (count == counts.end()) count = counts.insert(counts.end(), GridCount{r.grid, 0, 0});
+    ++count->cells;
+    count->feasible += r.feasible;
     core::Row factors{r.grid};
     for (const double v : r.factors) factors.push_back(number(v));
     core::Row region = factors;
@@ -121,6 +127,7 @@ void write_exports(const std::filesystem::path& results_sqlite, const std::files
   json << "\n]\n";
   for (auto* file : {&regions_file, &cells_file, &json_file}) file->close();
   for (auto* file : {&regions_file, &cells_file, &json_file}) file->commit();
+  return counts;
 }
 
 }  // namespace emrm::campaign

@@ -197,7 +197,7 @@ SweepSummary sweep(const Campaign& campaign, const SweepOptions& options) {
         signal, fmt::format("interrupted: {} of {} {} stored in {}; rerun the same command to resume",
                             summary.cells_done_before + summary.cells_simulated, summary.cells_total, options.unit,
                             store_path.string()));
-  write_exports(store_path, options.output_dir);
+  summary.grids = write_exports(store_path, options.output_dir);
   summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return summary;
 }

@@ -124,7 +124,10 @@ TEST(SweepCli, ThreadCountAndShardingDoNotChangeTheResults) {
   const auto one = run_emrm("sweep " + quoted(campaign) + " -o " + quoted(dir / "one") + " --threads 1");
   ASSERT_EQ(one.exit_code, 0) << one.err;
   EXPECT_THAT(one.out, HasSubstr("Swept 13 cells"));
-  EXPECT_TRUE(one.err.empty()) << "no progress bar when stderr is not a terminal: " << one.err;
+  // No progress bar when stderr is not a terminal: only the warning that grid 'b' (72 km/h, TTC
+  // from 1.5 s) has no feasible cell.
+  EXPECT_THAT(one.err, HasSubstr("warning: grid 'b' has no feasible cell"));
+  EXPECT_EQ(std::count(one.err.begin(), one.err.end(), '\n'), 1) << one.err;
   const auto two = run_emrm("sweep " + quoted(campaign) + " -o " + quoted(dir / "two") + " --threads 2");
   ASSERT_EQ(two.exit_code, 0) << two.err;
   for (const char* file : {"cells.csv", "regions.csv", "cells.json"})
@@ -144,6 +147,23 @@ TEST(SweepCli, ThreadCountAndShardingDoNotChangeTheResults) {
   EXPECT_THAT(merged.out, HasSubstr("13 cells"));
   for (const char* file : {"cells.csv", "regions.csv"})
     EXPECT_EQ(read_text(dir / "merged" / file), read_text(dir / "one" / file)) << file;
+}
+
+// Issue 40, 5: a grid with its TTC in milliseconds has no feasible cell, and the sweep said nothing.
+// It still succeeds (such a grid is legal), warning on stderr with the file, the grid and why its
+// first cell is infeasible; a grid with a feasible cell draws no warning.
+TEST(SweepCli, AGridWithoutAFeasibleCellIsWarnedOf) {
+  const auto dir = scratch_dir("sweep_infeasible");
+  const auto campaign = dir / "ms.yaml";
+  write_text(campaign,
+             "strategies: [emergency_stop]\ngrids:\n  - name: in_ms\n    speed_kph: [40, 60]\n    ttc_s: [800, 1200]\n"
+             "  - name: fine_one\n    speed_kph: 40\n    ttc_s: 1.0\n");
+  const auto r = run_emrm("sweep " + quoted(campaign) + " -o " + quoted(dir / "out") + " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("ms.yaml: warning: grid 'in_ms' has no feasible cell among its 4 cells; its first: "
+                               "the truck would appear 8888.89 m ahead"));
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("fine_one")));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
 }
 
 TEST(SweepCli, RefusesAChangedConfigurationInTheSameFolder) {

@@ -3,8 +3,11 @@
 // The exports of a results store (docs/campaign.md): the stored cells as CSV and JSON for other
 // tools, streamed from the store so that nothing holds all results at once.
 
+#include <cstddef>
 #include <filesystem>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace emrm::campaign {
 
@@ -18,6 +21,11 @@ inline constexpr std::string_view kCellsJson = "cells.json";
 /// CSV numbers with {:.6g}; the three are streamed into temporaries and renamed into place once all
 /// three are complete (core::OutputFile), so a failure leaves the previous exports. Throws
 /// as read_meta for a missing or foreign store, and emrm::Error when a file cannot be written.
-void write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir);
+/// Returns each grid's cells and feasible cells, in the store's order.
+struct GridCount {
+  std::string grid;
+  std::size_t cells = 0, feasible = 0;
+};
+std::vector<GridCount> write_exports(const std::filesystem::path& results_sqlite, const std::filesystem::path& dir);
 
 }  // namespace emrm::campaign

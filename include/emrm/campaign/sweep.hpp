@@ -10,6 +10,7 @@
 
 #include "emrm/campaign/adaptive.hpp"
 #include "emrm/campaign/campaign.hpp"
+#include "emrm/campaign/exports.hpp"
 
 namespace emrm::campaign {
 
@@ -57,6 +58,7 @@ struct SweepSummary {
   double seconds = 0.0;
   double simulation_seconds = 0.0;        ///< thread-seconds this process's threads spent simulating cells
   std::vector<AdaptiveSummary> adaptive;  ///< one per grid swept adaptively, in grid order
+  std::vector<GridCount> grids;           ///< every grid's cells and feasible cells in the store
 };
 
 /// "K/N" → (K, N). Throws UsageError unless 1 <= K <= N.
