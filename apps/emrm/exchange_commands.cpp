@@ -184,6 +184,9 @@ void register_assess_command(CLI::App& app, int& exit_code) {
                   "truck_psi, steer; or esmini's dat2csv output with --format esmini")
       ->required();
   add_cell_options(cmd, o->cell, true, false);
+  // A trajectory is judged in the scene it was driven in: no built-in default here (run_assess).
+  cmd->get_option("--scene")->description(
+      "Scene file the trajectory was driven in, or a results folder (the scene its sweep stored); required");
   cmd->add_option("--format", o->format, "emrm or esmini")
       ->check(CLI::IsMember({"emrm", "esmini"}))
       ->capture_default_str();

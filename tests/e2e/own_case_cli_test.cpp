@@ -3,13 +3,16 @@
 // edited ODD (μ 0.5) and an edited safety case (a new hazard and a UCA whose region the wet ODD
 // cannot reach), the run, and both reports. The reports hold a map for every grid slice and for
 // the planned run, curves per ODD bin, estimates labelled with their bins, and the plan's
-// shortfall first; both open in headless Chromium without errors (screenshots in
-// BUILD/test-artefacts/).
+// shortfall first. Then (issue 40) their own `verify` and the report again (the verification shown,
+// no section without something to say), an adaptive sweep of a grid of their own (its curves say
+// which cells they are over, inferred cells marked), and `assess` of their esmini recording. Every
+// report opens in headless Chromium without errors (screenshots in BUILD/test-artefacts/).
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -207,6 +210,47 @@ TEST_F(OwnCase, APlanFromTheEditedCaseRunsAndItsReportShowsMapsBinsEstimatesAndT
   // The coverage of the plan beside the scenarios the run read.
   EXPECT_THAT(html, ::testing::Not(HasSubstr("no coverage.json in this folder")));
   expect_clean_in_chromium(out / "report.html", "own_case_run");
+}
+
+// Their esmini recording of the EMRM's run, judged by `emrm assess` in their own scene: the
+// outcome is the simulator's (the recording is the simulated run, logged as esmini's dat2csv logs
+// it: the rear axle's position every frame); read without --format esmini it names that flag.
+TEST_F(OwnCase, AssessJudgesTheirEsminiRecordingAsTheSimulatorDid) {
+  const std::string cell = " --speed-kph 60 --ttc-s 0.8 --mu 0.5 --passage-m 2";
+  const std::string scene = " --scene " + quoted(*dir_ / "scene.yaml");
+  const auto simulated = run_emrm("simulate" + scene + cell + " --strategy emrm --json");
+  ASSERT_EQ(simulated.exit_code, 0) << simulated.err;
+  const auto outcome = nlohmann::json::parse(simulated.out)["strategies"]["emrm"];
+  // l_r, the CG's distance ahead of the rear axle, as their scene file gives it.
+  const std::string scene_text = read_text(*dir_ / "scene.yaml");
+  const auto at = scene_text.find("cg_to_rear_axle_m:");
+  ASSERT_NE(at, std::string::npos);
+  const double l_r = std::stod(scene_text.substr(at + std::string("cg_to_rear_axle_m:").size()));
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "Version: 2, OpenDRIVE: tjunction.xodr, 3DModel: \n"
+      << "time, id, name, x, y, z, h, p, r, speed, wheel_angle, wheel_rot\n";
+  for (const auto& p : outcome["trajectory"]) {
+    const double psi = p["psi"];
+    csv << p["t"].get<double>() << ", 0, Ego, " << p["x"].get<double>() - l_r * std::cos(psi) << ", "
+        << p["y"].get<double>() - l_r * std::sin(psi) << ", 0, " << psi << ", 0, 0, " << p["v"].get<double>()
+        << ", 0, 0\n";
+  }
+  const fs::path recording = dir_->parent_path() / "esmini_emrm.csv";
+  write_text(recording, csv.str());
+
+  const auto assessed = run_emrm("assess " + quoted(recording) + " --format esmini" + scene + cell + " --json");
+  ASSERT_EQ(assessed.exit_code, 0) << assessed.err;
+  const auto judged = nlohmann::json::parse(assessed.out)["outcome"];
+  EXPECT_EQ(judged["avoided"], outcome["avoided"]);
+  EXPECT_EQ(judged["loss_level"], outcome["loss_level"]);
+  EXPECT_NEAR(judged["delta_v_kph"].get<double>(), outcome["delta_v_kph"].get<double>(), 0.1);
+  EXPECT_NEAR(judged["impact_speed_kph"].get<double>(), outcome["impact_speed_kph"].get<double>(), 0.1);
+
+  const auto unflagged = run_emrm("assess " + quoted(recording) + scene + cell);
+  EXPECT_EQ(unflagged.exit_code, 2);
+  EXPECT_THAT(unflagged.err, HasSubstr("esmini_emrm.csv:1:1: error: expected emrm's trajectory CSV"));
+  EXPECT_THAT(unflagged.err, HasSubstr("pass --format esmini"));
 }
 
 // Issue 40, 3: an adaptive sweep's curves were computed from its simulated cells, which lie near
