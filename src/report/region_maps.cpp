@@ -493,6 +493,7 @@ namespace detail {
 namespace {
 constexpr int kOverlaidWidthPx = 1300, kOverlaidHeightPx = 900;
 constexpr std::size_t kOverlaidKeyColumns = 3;
+constexpr std::size_t kThreeColumnTitle = 40;  // characters of the longest title three columns fit
 constexpr int kOverlaidKeyWidthAdjust = 0;
 }  // namespace
 
@@ -500,7 +501,15 @@ MapCaption draw_overlaid_map(const Figure& figure, const OverlaidMap& map) {
   const EvidenceCounts evidence = count_evidence(map.cells);
   std::vector<std::string> key = region_key("", evidence.undecided > 0, evidence.inferred > 0);
   key.insert(key.end(), map.key.begin(), map.key.end());
-  const std::size_t key_rows = (key.size() + kOverlaidKeyColumns - 1) / kOverlaidKeyColumns;
+  // Gnuplot lays the key out in as many columns as its longest title lets fit across the figure:
+  // three up to about 40 characters, two beyond ("oracle (best strategy in hindsight) avoids
+  // above"); the strip is given the rows that takes, or the last rows fall off the figure.
+  std::size_t longest = 0;
+  for (const auto& entry : key)
+    if (const auto at = entry.rfind(" title "); at != std::string::npos)
+      longest = std::max(longest, entry.size() - at - std::string_view(" title ''").size());
+  const std::size_t columns = longest > kThreeColumnTitle ? kOverlaidKeyColumns - 1 : kOverlaidKeyColumns;
+  const std::size_t key_rows = (key.size() + columns - 1) / columns;
   MapLayout layout = empty_layout(map.factors, 0.025 + 0.03 * static_cast<double>(key_rows));
   layout.panel_w = 1.0;
   layout.cell_h = kMapTop - layout.key_h;

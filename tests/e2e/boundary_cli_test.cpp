@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -29,7 +30,7 @@ std::string campaign_text() {
   return "scene: " + example("scene.yaml") +
          "\n"
          "seed: 5\n"
-         "strategies: [emergency_stop, dodge, emrm]\n"
+         "strategies: [emergency_stop, dodge, emrm, best_strategy]\n"
          "grids:\n"
          "  - name: wet\n"
          "    speed_kph: [30, 50, 70]\n"
@@ -70,13 +71,13 @@ TEST_F(BoundaryCli, WritesTheCsvFilesWithTheirColumnsAndSaysWhatItDid) {
   EXPECT_THAT(run_->out, HasSubstr("1 grid with boundaries (wet), 1 grid skipped"));
   EXPECT_THAT(run_->out, HasSubstr("grid 'single' skipped: 1 TTC level"));
   EXPECT_THAT(run_->out, HasSubstr("6 lines"));
-  EXPECT_THAT(run_->out, HasSubstr("36 boundaries written (stop, avoid, mitigate, strategy:emergency_stop, "
-                                   "strategy:dodge, strategy:emrm)"));
+  EXPECT_THAT(run_->out, HasSubstr("42 boundaries written (stop, avoid, mitigate, strategy:emergency_stop, "
+                                   "strategy:dodge, strategy:emrm, strategy:best_strategy)"));
   EXPECT_THAT(run_->out, HasSubstr("Drew 2 figures"));
   EXPECT_THAT(run_->out, HasSubstr((*dir_ / "out" / "boundary" / "boundary.csv").string()));
 
   const auto rows = csv_rows(*dir_ / "out" / "boundary" / "boundary.csv");
-  ASSERT_EQ(rows.size(), 37u);  // header + 2 μ × 6 boundaries × 3 speeds
+  ASSERT_EQ(rows.size(), 43u);  // header + 2 μ × 7 boundaries × 3 speeds
   EXPECT_EQ(rows[0], (std::vector<std::string>{"grid", "mu", "passage_m", "truck_speed_kph", "boundary", "speed_kph",
                                                "ttc_below_s", "ttc_at_s", "exceptions", "cells_used"}));
   const auto analytic = csv_rows(*dir_ / "out" / "boundary" / "analytic_stop.csv");
@@ -139,6 +140,31 @@ TEST_F(BoundaryCli, DrawsOneFigurePerCombinationOfTheOtherFactors) {
   EXPECT_EQ(figure[0],
             (std::vector<std::string>{"series", "speed_kph", "ttc_below_s", "ttc_at_s", "drawn_ttc_s", "exceptions"}));
   EXPECT_THAT(read_text(*dir_ / "out" / "boundary" / "boundary_wet_mu_1.svg"), HasSubstr("analytic stop boundary"));
+}
+
+// Issue 40, 7: with many boundary lines and a long title ("oracle (best strategy in hindsight)
+// avoids above") gnuplot puts the key in two columns, and its last rows fell off the figure. Every
+// text of the figure, the key's last row among them, lies inside it.
+TEST_F(BoundaryCli, EveryKeyEntryLiesInsideTheFigure) {
+  const std::string svg = read_text(*dir_ / "out" / "boundary" / "boundary_wet_mu_1.svg");
+  ASSERT_THAT(svg, HasSubstr("oracle (best strategy in hindsight) avoids above"));
+  const auto box = svg.find("viewBox=\"0 0 ");
+  ASSERT_NE(box, std::string::npos);
+  std::istringstream view(svg.substr(box + 13, 20));
+  double width = 0.0, height = 0.0;
+  view >> width >> height;
+  ASSERT_GT(height, 0.0);
+  std::size_t texts = 0;
+  for (auto at = svg.find("<g transform=\"translate("); at != std::string::npos;
+       at = svg.find("<g transform=\"translate(", at + 1)) {
+    const auto open = svg.find('(', at) + 1;
+    const double x = std::stod(svg.substr(open));
+    const double y = std::stod(svg.substr(svg.find(',', open) + 1));
+    EXPECT_LE(y, height - 2.0) << svg.substr(at, 160);
+    EXPECT_LE(x, width) << svg.substr(at, 160);
+    ++texts;
+  }
+  EXPECT_GT(texts, 20u);
 }
 
 TEST_F(BoundaryCli, CapsTheFiguresAndWritesCsvAloneOnRequest) {
