@@ -457,21 +457,22 @@ ReportSummary write_report(const fs::path& dir) {
   // The paper's claims table is written only where its numbers stand beside ours (docs/results.md).
   const bool beside_paper =
       std::any_of(in.tables.begin(), in.tables.end(), [](const auto& t) { return t.name == "claims"; });
-  Section& tables =
-      sections.emplace_back(Section{"tables", "Tables", beside_paper ? "Tables (ours beside the paper's)" : "Tables",
-                                    "", "the KPI tables: <code>emrm reproduce</code> writes them"});
+  std::string tables;
   for (const auto& t : in.tables) {
-    tables.body += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
-    tables.body += html_table(t.rows);
-    for (const auto& note : t.notes) tables.body += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";
+    tables += fmt::format("<h3 id=\"table-{}\">{}</h3>\n", html_escape(t.name), html_escape(t.title));
+    tables += html_table(t.rows);
+    for (const auto& note : t.notes) tables += "<p class=\"note\">" + inline_markdown(note) + "</p>\n";
   }
-  Section& drawn = sections.emplace_back(Section{"figures", "Figures", "Figures", "", ""});
+  sections.push_back({"tables", "Tables", beside_paper ? "Tables (ours beside the paper's)" : "Tables",
+                      std::move(tables), "the KPI tables: <code>emrm reproduce</code> writes them"});
+  std::string figures;
   for (const auto& f : summary.figures) {
     if (f.png.empty())
       absent.push_back(html_escape(f.title) + ": " + html_escape(f.note));
     else
-      drawn.body += figure_html(f, dir);
+      figures += figure_html(f, dir);
   }
+  sections.push_back({"figures", "Figures", "Figures", std::move(figures), ""});
   for (Section& s : side_sections(dir, in.estimates)) sections.push_back(std::move(s));
   for (const auto& s : sections)
     if (s.body.empty() && !s.absent.empty()) absent.push_back(s.absent);
@@ -480,18 +481,15 @@ ReportSummary write_report(const fs::path& dir) {
     for (const auto& line : absent) list += "<li>" + line + "</li>\n";
     sections.push_back({"absent", "Not in this folder", "Not in this folder", list + "</ul>\n", ""});
   }
-  sections.push_back({"configuration", "Configuration", "Effective configuration", "", ""});
+  sections.push_back({"configuration", "Configuration", "Effective configuration",
+                      "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) +
+                          "</pre></details>\n<details><summary>scene</summary><pre>" +
+                          html_escape(core::readable_yaml(meta.scene_yaml)) + "</pre></details>\n",
+                      ""});
   html += "<nav><ul>";
   for (const auto& s : sections)
-    if (!s.body.empty() || s.id == "configuration") html += fmt::format("<li><a href=\"#{}\">{}</a></li>", s.id, s.nav);
-  html += "</ul></nav>\n";
-  sections.pop_back();  // the configuration, written below
-  html += sections_html(sections);
-  html += "<h2 id=\"configuration\">Effective configuration</h2>\n";
-  html +=
-      "<details><summary>campaign (as stored)</summary><pre>" + html_escape(meta.campaign_yaml) + "</pre></details>\n";
-  html += "<details><summary>scene</summary><pre>" + html_escape(core::readable_yaml(meta.scene_yaml)) +
-          "</pre></details>\n";
+    if (!s.body.empty()) html += fmt::format("<li><a href=\"#{}\">{}</a></li>", s.id, s.nav);
+  html += "</ul></nav>\n" + sections_html(sections);
   html += "</body>\n</html>\n";
   summary.html = folder.report_html();
   core::write_file(summary.html, html);
