@@ -22,21 +22,13 @@
 namespace emrm::exchange {
 namespace {
 
-using detail::act_end;
 using detail::axles;
 using detail::bounding_box;
-using detail::cell_header;
-using detail::ego_entity;
-using detail::ego_vertices;
-using detail::file_header;
 using detail::follow_trajectory;
 using detail::maneuver_group;
 using detail::maneuver_group_end;
 using detail::num;
 using detail::pline_interpolation;
-using detail::road_friction;
-using detail::start_state;
-using detail::storyboard_end_s;
 using detail::world_position;
 
 // How tall each kind of actor is drawn (the scene models bodies on the road plane): a car and a

@@ -27,22 +27,17 @@ using detail::require_feasible;
 using detail::scenario_xml;
 using detail::truck_rest_s;
 // The parts of a scenario document (xosc_parts.hpp).
-using detail::act_end;
 using detail::axles;
 using detail::bounding_box;
 using detail::ego_entity;
-using detail::ego_vertices;
 using detail::follow_trajectory;
 using detail::maneuver_group;
 using detail::maneuver_group_end;
-using detail::parameter_declarations;
 using detail::pline_interpolation;
 using detail::road_friction;
 using detail::start_state;
-using detail::storyboard_end_s;
 using detail::world_position;
 
-using sim::kKphPerMps;
 
 // " + 1.25" or " - 3.75": a constant appended to an expression.
 std::string plus(double c) { return c < 0.0 ? " - " + num(-c) : " + " + num(c); }
