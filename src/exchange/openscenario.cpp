@@ -38,7 +38,6 @@ using detail::road_friction;
 using detail::start_state;
 using detail::world_position;
 
-
 // " + 1.25" or " - 3.75": a constant appended to an expression.
 std::string plus(double c) { return c < 0.0 ? " - " + num(-c) : " + " + num(c); }
 
