@@ -20,7 +20,6 @@
 #include "emrm/exchange/plan_export.hpp"
 #include "emrm/scenario/plan_io.hpp"
 #include "emrm/sim/simulate.hpp"
-#include "emrm/sim/termination.hpp"
 
 namespace emrm::cli {
 namespace {
@@ -97,10 +96,8 @@ int run_export(const ExportOptions& options) {
   const auto files = exchange::export_cell(options.output, config, cell, trajectory.get(), export_options);
   std::string note;
   if (trajectory)
-    note = fmt::format(
-        " (the ego follows its {} trajectory, {} points)", trajectory->strategy,
-        exchange::thin_path(sim::with_closed_form_stop(trajectory->path, config.simulation.dt_s), options.tolerance_m)
-            .size());
+    note = fmt::format(" (the ego follows its {} trajectory, {} points)", trajectory->strategy,
+                       exchange::ego_vertices(config, *trajectory, export_options).size());
   else if (!options.strategy.empty())
     note = fmt::format(" ({} executed no trajectory in this cell: the ego keeps its speed)", options.strategy);
   fmt::print("Wrote {}{}\n", written(files), note);

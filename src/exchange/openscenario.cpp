@@ -13,6 +13,7 @@
 #include "emrm/core/error.hpp"
 #include "emrm/core/text.hpp"
 #include "emrm/sim/family.hpp"
+#include "emrm/sim/termination.hpp"
 #include "emrm/version.hpp"
 #include "export_support.hpp"
 #include "xml_writer.hpp"
@@ -264,6 +265,13 @@ void require_feasible(const sim::SceneConfig& config, const sim::CellInput& cell
 }  // namespace detail
 
 double ego_reference_offset_m(const sim::VehicleParams& ego) noexcept { return ego.cg_to_rear_axle_m; }
+
+std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
+                                         const ExportOptions& options) {
+  return ended_on_frame_grid(
+      thin_path(sim::with_closed_form_stop(trajectory.path, config.simulation.dt_s), options.tolerance_m),
+      config.simulation.dt_s);
+}
 
 double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptions& options) noexcept {
   return truck.length_m / 2.0 - options.truck_rear_axle_share * truck.length_m;

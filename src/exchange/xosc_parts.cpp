@@ -142,13 +142,6 @@ void start_state(XmlWriter& x, const std::string& entity, const std::string& px,
   x.close();
 }
 
-std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
-                                         const ExportOptions& options) {
-  return ended_on_frame_grid(
-      thin_path(sim::with_closed_form_stop(trajectory.path, config.simulation.dt_s), options.tolerance_m),
-      config.simulation.dt_s);
-}
-
 std::vector<ScenarioField> scenario_fields(const sim::FactorTable& factors, const sim::CellInput& cell,
                                            const std::string& road_file, const std::string& scenario_id) {
   std::vector<ScenarioField> out;

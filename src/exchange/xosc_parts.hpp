@@ -47,10 +47,6 @@ void road_friction(XmlWriter& x, const std::string& friction);
 // An entity's Init: teleported to a world position, at a speed from the start.
 void start_state(XmlWriter& x, const std::string& entity, const std::string& px, const std::string& py,
                  const std::string& heading, const std::string& speed);
-// The vertices the ego's trajectory is written with: the final stop filled in, thinned to
-// options.tolerance_m, ended on the frame grid.
-[[nodiscard]] std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
-                                                       const ExportOptions& options);
 // When a cell's storyboard stops: at the ego's last vertex when it follows a trajectory, else after
 // the longest run the simulator would make (the horizon, then the recovery after the hazard).
 [[nodiscard]] double storyboard_end_s(const sim::SceneConfig& config, const std::vector<sim::PathPoint>& vertices);

@@ -40,6 +40,15 @@ TEST(ExportCli, WritesTheCellsTwoFiles) {
   EXPECT_EQ(files_in(dir / "out"), 2u);  // no temporaries left
   EXPECT_THAT(read_text(dir / "out" / "tjunction.xosc"), HasSubstr("<FollowTrajectoryAction>"));
   EXPECT_THAT(read_text(dir / "out" / "tjunction.xosc"), HasSubstr("<LogicFile filepath=\"tjunction.xodr\"/>"));
+  // The count it prints is the file's: the ego's trajectory's vertices, ended on the frame grid.
+  const std::string xosc = read_text(dir / "out" / "tjunction.xosc");
+  const auto from = xosc.find("<Trajectory name=\"emrm_dodge\"");
+  ASSERT_NE(from, std::string::npos);
+  const auto to = xosc.find("</Trajectory>", from);
+  std::size_t vertices = 0;
+  for (auto at = xosc.find("<Vertex ", from); at != std::string::npos && at < to; at = xosc.find("<Vertex ", at + 1))
+    ++vertices;
+  EXPECT_THAT(r.out, HasSubstr("(the ego follows its dodge trajectory, " + std::to_string(vertices) + " points)"));
 }
 
 TEST(ExportCli, ExportsTheShippedPlan) {

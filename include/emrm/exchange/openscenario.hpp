@@ -47,6 +47,12 @@ struct ExportOptions {
 /// From the truck's centre to its reference point (its rear axle), backwards along its heading.
 [[nodiscard]] double truck_reference_offset_m(const sim::TruckConfig& truck, const ExportOptions& options) noexcept;
 
+/// The vertices the ego's trajectory is written with: the final stop filled in
+/// (sim::with_closed_form_stop), thinned to options.tolerance_m (thin_path), ended on the frame grid
+/// (ended_on_frame_grid).
+[[nodiscard]] std::vector<sim::PathPoint> ego_vertices(const sim::SceneConfig& config, const EgoTrajectory& trajectory,
+                                                       const ExportOptions& options);
+
 /// One cell as an OpenSCENARIO 1.2 scenario referencing `road_file`; the truck (in a family other
 /// than the T-junction: every actor) follows its motion in the cell as a timed trajectory; with
 /// `trajectory`, the ego follows it (ended on the frame grid, ended_on_frame_grid) and the
