@@ -62,7 +62,7 @@ SimulatedShare simulated_share(const std::vector<CellRecord>& cells) {
   SimulatedShare share;
   for (const auto& c : cells) {
     share.feasible += c.feasible;
-    share.inferred += c.feasible && c.method == campaign::CellMethod::kInferred;
+    share.inferred += c.inferred();
   }
   return share;
 }

@@ -31,8 +31,6 @@ constexpr std::string_view kReductionLabel = "reduction of P(MAIS3+) by the best
 constexpr std::string_view kInferredFill = "fs pattern 2 noborder lc rgb '#8c8c8c'";
 constexpr std::string_view kInferredLabel = "inferred region, not simulated";
 
-bool inferred(const CellRecord& c) { return c.feasible && c.method == campaign::CellMethod::kInferred; }
-
 // The key strip's rows below the colour bar: one, or two with the hatched inferred cells.
 constexpr double kKeyRow = 0.03;
 constexpr double kColourBarStrip = 0.075;  // the colour bar, its label and tics, above the rows
@@ -42,7 +40,7 @@ constexpr double kColourBarStrip = 0.075;  // the colour bar, its label and tics
 namespace detail {
 
 double harm_map_key_height(const std::vector<CellRecord>& cells) {
-  const bool any_inferred = std::any_of(cells.begin(), cells.end(), inferred);
+  const bool any_inferred = std::any_of(cells.begin(), cells.end(), [](const CellRecord& c) { return c.inferred(); });
   return kColourBarStrip + 0.005 + kKeyRow * (any_inferred ? 2 : 1);
 }
 
@@ -54,7 +52,7 @@ Figure draw_harm_map(const MapLayout& layout, const fs::path& dir, double latenc
   double largest = 0.0;
   for (const MapPanel& p : layout.panels)
     for (const auto& c : p.cells)
-      if (c.feasible && !inferred(c)) largest = std::max(largest, c.p_mais3_reduction);
+      if (c.simulated()) largest = std::max(largest, c.p_mais3_reduction);
 
   std::vector<core::Row> rows;
   std::vector<std::string> caption_parts;
@@ -71,7 +69,7 @@ Figure draw_harm_map(const MapLayout& layout, const fs::path& dir, double latenc
       // is the emergency stop's, a lower bound on what a least-loss search might find.
       unsearched += c.feasible && c.evidence == campaign::CellEvidence::kCertificate &&
                     c.mitigation_evidence == sim::MitigationEvidence::kProof;
-      if (inferred(c)) {
+      if (c.inferred()) {
         row.insert(row.end(), 4, std::string());
         unknown.push_back(fmt::format("{} 0", cell_box(p, c)));
       } else if (c.feasible) {

@@ -111,7 +111,7 @@ RegionPanel region_panel(const MapLayout& layout, const MapPanel& p, std::vector
     lines.push_back(fmt::format("{} {}", cell_box(p, c), rgb_value(region_colour(region_of(c)))));
     if (is_undecided(c))
       crosses.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
-    else if (c.feasible && c.method == campaign::CellMethod::kInferred)
+    else if (c.inferred())
       dots.push_back(fmt::format("{} {}", plot_number(value_of(c, p.spec.x)), plot_number(value_of(c, p.spec.y))));
     rows.push_back(std::move(row));
   }
@@ -167,7 +167,7 @@ struct EvidenceCounts {
 EvidenceCounts count_evidence(const std::vector<CellRecord>& cells) {
   EvidenceCounts n;
   for (const auto& c : cells) {
-    n.inferred += c.feasible && c.method == campaign::CellMethod::kInferred;
+    n.inferred += c.inferred();
     if (!is_o_or_r(c)) continue;
     n.undecided += is_undecided(c);
     n.certified += c.evidence == campaign::CellEvidence::kCertificate;
@@ -185,7 +185,6 @@ std::vector<std::string> region_key(const std::string& boundary, bool undecided,
     key.push_back(
         fmt::format("NaN with boxes fs solid 1.0 lc rgb {} title {}", single_quoted(s.colour), single_quoted(s.label)));
   if (!boundary.empty()) key.push_back(boundary_key_entry(boundary));
-  // The dot before the cross, whose two-line label has room below it at the end of the key.
   if (inferred) key.push_back(fmt::format("NaN with points {} title {}", kDotKeyStyle, double_quoted(kInferredLabel)));
   if (undecided)
     key.push_back(fmt::format("NaN with points {} title {}", kCrossKeyStyle, double_quoted(kUndecidedLabel)));

@@ -147,6 +147,8 @@ struct CellRecord {
 
   /// Feasible and simulated, not inferred: the unmitigated reference and the harm reduction are known.
   [[nodiscard]] bool simulated() const noexcept { return feasible && method == CellMethod::kSimulated; }
+  /// Feasible and inferred by an adaptive sweep: a region, no outcomes.
+  [[nodiscard]] bool inferred() const noexcept { return feasible && method == CellMethod::kInferred; }
   /// The outcome of `strategy`, or null when the cell has none (an inferred cell, a strategy not run).
   [[nodiscard]] const OutcomeRecord* outcome(std::string_view strategy) const noexcept {
     for (const auto& o : outcomes)
